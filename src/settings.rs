@@ -1,0 +1,121 @@
+//! Settings of the engines and optimisers, one struct each, with their defaults in one place.
+
+use serde::{Deserialize, Serialize};
+
+use crate::problem::{bad, positive, positive_opt, ProblemError};
+
+/// Settings of the exact (momentum-map) engine.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ExactSettings {
+    /// Target error of the final twist and swing, rad; the integrator refines its steps until
+    /// its error estimate is below it.
+    pub tolerance: f64,
+    /// Samples per phase on which torques are evaluated before refining each peak.
+    pub torque_samples: usize,
+}
+
+impl Default for ExactSettings {
+    fn default() -> Self {
+        Self { tolerance: 1e-10, torque_samples: 400 }
+    }
+}
+
+impl ExactSettings {
+    pub(crate) fn validate(&self) -> Result<(), ProblemError> {
+        positive("exact.tolerance", self.tolerance)?;
+        if self.tolerance < 1e-14 {
+            return Err(bad("exact.tolerance", self.tolerance, "is below what double precision can deliver (≥ 1e-14)"));
+        }
+        if self.torque_samples < 8 {
+            return Err(bad("exact.torque_samples", self.torque_samples, "must be at least 8"));
+        }
+        Ok(())
+    }
+}
+
+/// Settings of the rapier3d verification.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RapierSettings {
+    /// Time step, s.
+    pub dt: f64,
+    /// Mass of the cross of the universal joint as a fraction of a half's mass (rapier needs a
+    /// body there; it should be negligible).
+    pub cross_mass_fraction: f64,
+}
+
+impl Default for RapierSettings {
+    fn default() -> Self {
+        Self { dt: 1e-3, cross_mass_fraction: 1e-6 }
+    }
+}
+
+impl RapierSettings {
+    pub(crate) fn validate(&self) -> Result<(), ProblemError> {
+        positive("rapier.dt", self.dt)?;
+        positive("rapier.cross_mass_fraction", self.cross_mass_fraction)?;
+        if self.cross_mass_fraction > 0.01 {
+            return Err(bad("rapier.cross_mass_fraction", self.cross_mass_fraction, "must be at most 0.01 (the cross is meant to be negligible)"));
+        }
+        Ok(())
+    }
+}
+
+/// Boundary conditions of the circulation rate in the profile QP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Boundary {
+    /// `ω = 0` at the start only, as the paper's profile.
+    StartAtRest,
+    /// `ω = 0` at both ends.
+    RestToRest,
+}
+
+/// Settings of the optimisers (DESIGN.md §5).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OptimizeSettings {
+    /// Number of nodes of the discretised circulation rate.
+    pub nodes: usize,
+    /// Boundary conditions of the circulation rate.
+    pub boundary: Boundary,
+    /// Bound on `|ω|`, rad/s; none when absent.
+    pub rate_limit: Option<f64>,
+    /// Bound on `|dω/ds|` differences per unit time squared (jerk of φ), rad/s³; none when absent.
+    pub jerk_limit: Option<f64>,
+    /// Weight of the smoothness term `Σ (Δ²ω)²`, relative to the peak; zero for none.
+    pub smoothness: f64,
+    /// Outer iterations of the exact-dynamics refinement.
+    pub refine_iterations: usize,
+}
+
+impl Default for OptimizeSettings {
+    fn default() -> Self {
+        Self {
+            nodes: 200,
+            boundary: Boundary::RestToRest,
+            rate_limit: None,
+            jerk_limit: None,
+            smoothness: 0.0,
+            refine_iterations: 30,
+        }
+    }
+}
+
+impl OptimizeSettings {
+    pub(crate) fn validate(&self) -> Result<(), ProblemError> {
+        if self.nodes < 4 {
+            return Err(bad("optimize.nodes", self.nodes, "must be at least 4"));
+        }
+        if self.nodes > 1_000_000 {
+            return Err(bad("optimize.nodes", self.nodes, "must be at most 1000000"));
+        }
+        positive_opt("optimize.rate_limit", self.rate_limit)?;
+        positive_opt("optimize.jerk_limit", self.jerk_limit)?;
+        if !self.smoothness.is_finite() || self.smoothness < 0.0 {
+            return Err(bad("optimize.smoothness", self.smoothness, "must be a finite, non-negative weight"));
+        }
+        Ok(())
+    }
+}
