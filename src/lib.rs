@@ -26,3 +26,6 @@ pub mod profile;
 pub mod schedule;
 pub mod settings;
 pub mod orientation;
+pub mod audit;
+pub mod qp;
+pub mod rapier;
