@@ -29,3 +29,5 @@ pub mod orientation;
 pub mod audit;
 pub mod qp;
 pub mod rapier;
+pub mod exact;
+pub mod torque;

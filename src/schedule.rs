@@ -58,6 +58,42 @@ impl Phase {
     }
 }
 
+/// A joint trajectory made of pieces, each smooth on its closed interval; rates may jump
+/// between pieces. Engines integrate piece by piece and never step across a boundary.
+pub trait Trajectory {
+    /// Durations of the pieces, s, in order.
+    fn piece_durations(&self) -> Vec<f64>;
+    /// State at local time `s ∈ [0, duration]` of a piece, by that piece's own formula.
+    fn piece_state(&self, piece: usize, s: f64) -> JointState;
+}
+
+/// A trajectory run backwards in time: `q_r(t) = q(T − t)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Reversed<'a, T: Trajectory>(pub &'a T);
+
+impl<T: Trajectory> Trajectory for Reversed<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        let mut d = self.0.piece_durations();
+        d.reverse();
+        d
+    }
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        let d = self.0.piece_durations();
+        let i = d.len() - 1 - piece;
+        let st = self.0.piece_state(i, d[i] - s);
+        JointState { q: st.q, qd: st.qd.map(|v| -v), qdd: st.qdd }
+    }
+}
+
+impl Trajectory for Schedule {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.durations.to_vec()
+    }
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        self.phase_state(Phase::ALL[piece.min(2)], s)
+    }
+}
+
 /// A complete manoeuvre: bend, twist along a path with a profile, unbend.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Schedule {
