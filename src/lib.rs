@@ -31,3 +31,6 @@ pub mod qp;
 pub mod rapier;
 pub mod exact;
 pub mod torque;
+pub mod calibrate;
+pub mod roots;
+pub mod simulate;

@@ -1,0 +1,162 @@
+//! Scalar root finding: bracket expansion and Brent's method.
+//!
+//! ## References
+//! - R. P. Brent, *Algorithms for Minimization without Derivatives* (1973), ch. 4.
+
+use serde::Serialize;
+
+/// How a root search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RootStatus {
+    /// The bracket shrank below the tolerance.
+    Converged,
+    /// No sign change was found.
+    NoBracket,
+    /// The iteration budget ran out; the best iterate is returned.
+    MaxIterations,
+}
+
+/// The outcome of a root search.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Root {
+    /// Best abscissa found.
+    pub x: f64,
+    /// Function value there.
+    pub fx: f64,
+    /// Function evaluations used.
+    pub evaluations: usize,
+    /// How the search ended.
+    pub status: RootStatus,
+}
+
+/// Expands `[x0 − s, x0 + s]` geometrically (`s = step·2^k`) on both sides until `f` changes
+/// sign between `x0` and one end; returns the bracket with its function values.
+pub fn expand_bracket(
+    f: &mut impl FnMut(f64) -> f64,
+    x0: f64,
+    f0: f64,
+    step: f64,
+    max_doublings: usize,
+    evaluations: &mut usize,
+) -> Option<((f64, f64), (f64, f64))> {
+    let mut s = step;
+    for _ in 0..max_doublings {
+        for x in [x0 + s, x0 - s] {
+            let fx = f(x);
+            *evaluations += 1;
+            if fx.is_finite() && fx * f0 <= 0.0 {
+                return Some(if x > x0 { ((x0, f0), (x, fx)) } else { ((x, fx), (x0, f0)) });
+            }
+        }
+        s *= 2.0;
+    }
+    None
+}
+
+/// Brent's method on a bracket `[a, b]` with `f(a) f(b) ≤ 0`, to `|b − a| ≤ xtol` or `f = 0`.
+pub fn brent(
+    f: &mut impl FnMut(f64) -> f64,
+    (a0, fa0): (f64, f64),
+    (b0, fb0): (f64, f64),
+    xtol: f64,
+    max_iter: usize,
+) -> Root {
+    let (mut a, mut fa, mut b, mut fb) = (a0, fa0, b0, fb0);
+    let mut evaluations = 0;
+    if fa * fb > 0.0 {
+        return Root { x: b, fx: fb, evaluations, status: RootStatus::NoBracket };
+    }
+    if fa.abs() < fb.abs() {
+        std::mem::swap(&mut a, &mut b);
+        std::mem::swap(&mut fa, &mut fb);
+    }
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    for _ in 0..max_iter {
+        if fb == 0.0 {
+            return Root { x: b, fx: fb, evaluations, status: RootStatus::Converged };
+        }
+        if fb.signum() == fc.signum() {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol = 2.0 * f64::EPSILON * b.abs() + 0.5 * xtol;
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol {
+            return Root { x: b, fx: fb, evaluations, status: RootStatus::Converged };
+        }
+        if e.abs() >= tol && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q) = if a == c {
+                (2.0 * m * s, 1.0 - s)
+            } else {
+                let qa = fa / fc;
+                let r = fb / fc;
+                (s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0)), (qa - 1.0) * (r - 1.0) * (s - 1.0))
+            };
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;
+            e = m;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol { d } else { tol.copysign(m) };
+        fb = f(b);
+        evaluations += 1;
+    }
+    Root { x: b, fx: fb, evaluations, status: RootStatus::MaxIterations }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn finds_cube_root_of_two() {
+        // Reference: 2^(1/3) = 1.259921049894873… (closed form).
+        let mut f = |x: f64| x * x * x - 2.0;
+        let r = brent(&mut f, (0.0, -2.0), (2.0, 6.0), 1e-14, 100);
+        assert_eq!(r.status, RootStatus::Converged);
+        assert_relative_eq!(r.x, 2f64.cbrt(), epsilon = 1e-13);
+    }
+
+    #[test]
+    fn bracket_expands_to_a_far_root() {
+        let mut n = 0;
+        let mut f = |x: f64| x - 37.0;
+        let ((a, _), (b, _)) = expand_bracket(&mut f, 1.0, -36.0, 0.5, 20, &mut n).expect("bracket");
+        assert!(a <= 37.0 && 37.0 <= b, "[{a}, {b}] should hold 37");
+    }
+
+    #[test]
+    fn reports_missing_bracket() {
+        let mut f = |x: f64| x * x + 1.0;
+        let r = brent(&mut f, (-1.0, 2.0), (1.0, 2.0), 1e-12, 50);
+        assert_eq!(r.status, RootStatus::NoBracket);
+    }
+}
