@@ -22,8 +22,10 @@ pub enum ProfileKind {
     /// Modified sine (quarter-sine, three-quarter long sine, quarter-sine): coefficient ≈ 5.528.
     ModifiedSine,
     /// Position `10u³ − 15u⁴ + 6u⁵`: coefficient ≈ 5.774.
+    #[serde(rename = "poly-345")]
     Poly345,
-    /// Position `35u⁴ − 84u⁵ + 70u⁶ − 20u⁷`: coefficient ≈ 7.52.
+    /// Position `35u⁴ − 84u⁵ + 70u⁶ − 20u⁷`: coefficient `840/(25√20) ≈ 7.513`.
+    #[serde(rename = "poly-4567")]
     Poly4567,
     /// Jerk-limited S-curve: trapezoidal acceleration with linear ramps over eighths.
     SCurve,

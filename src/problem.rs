@@ -18,7 +18,7 @@ pub use crate::manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
 #[derive(Debug, thiserror::Error)]
 pub enum ProblemError {
     /// The file could not be read.
-    #[error("cannot read problem file {path}: {source}")]
+    #[error("cannot read problem file {path}")]
     Io {
         /// The path given.
         path: String,
@@ -123,9 +123,12 @@ impl Problem {
     /// Parses TOML text, applies `key=value` overrides (values in TOML syntax; a bare word is
     /// taken as a string) and validates.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
-        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| ProblemError::Parse {
-            origin: origin.to_string(),
-            message: one_line(e.message()),
+        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
+            ProblemError::Parse {
+                origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")),
+                message: one_line(e.message()),
+            }
         })?;
         for assignment in overrides {
             apply_override(&mut table, assignment)?;

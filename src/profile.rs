@@ -18,6 +18,7 @@
 use std::f64::consts::PI;
 
 use crate::manoeuvre::ProfileKind;
+use crate::roots::golden_max;
 
 /// One piece of acceleration on `[start, end)` in normalised time, in local time `τ = u − start`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -142,9 +143,7 @@ impl Profile {
         if area == 0.0 || !area.is_finite() {
             return None;
         }
-        let mut p = Profile::from_pieces(name, rates[0], pieces);
-        p.rescale(1.0 / area);
-        Some(p)
+        Some(Profile::from_pieces(name, rates[0], pieces))
     }
 
     /// Builds the segments' starting values and scales the whole to `P(1) = 1`.
@@ -199,17 +198,21 @@ impl Profile {
         self.at(0.0).rate.abs() < 1e-12 && self.at(1.0).rate.abs() < 1e-12
     }
 
-    /// The peak-acceleration coefficient `max |A(u)|`, on a fine grid that includes every
-    /// breakpoint and each segment's end.
+    /// The peak-acceleration coefficient `max |A(u)|`: each segment sampled on a fine grid, the
+    /// best sample refined by golden-section search, and each sine crest checked exactly.
     pub fn peak_accel_coefficient(&self) -> f64 {
         const PER_SEGMENT: usize = 64;
         let mut peak: f64 = 0.0;
         let ends: Vec<f64> = self.segments.iter().skip(1).map(|s| s.start).chain(std::iter::once(1.0)).collect();
         for (seg, end) in self.segments.iter().zip(ends) {
-            for i in 0..=PER_SEGMENT {
-                let tau = (end - seg.start) * i as f64 / PER_SEGMENT as f64;
-                peak = peak.max(seg.shape.integrate(tau).2.abs());
-            }
+            let len = end - seg.start;
+            let acc = |tau: f64| seg.shape.integrate(tau).2.abs();
+            let best = (0..=PER_SEGMENT)
+                .map(|i| len * i as f64 / PER_SEGMENT as f64)
+                .fold((0.0, 0.0), |b: (f64, f64), tau| if acc(tau) > b.1 { (tau, acc(tau)) } else { b });
+            let h = len / PER_SEGMENT as f64;
+            let (_, refined) = golden_max(acc, (best.0 - h).max(0.0), (best.0 + h).min(len), 80);
+            peak = peak.max(best.1).max(refined);
             if let Shape::Sine { amp, freq, phase } = seg.shape {
                 // A sine segment may crest between samples: at freq·τ + phase = π/2 + nπ.
                 let n = ((phase - PI / 2.0) / PI).ceil();
@@ -222,3 +225,4 @@ impl Profile {
         peak
     }
 }
+

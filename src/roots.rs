@@ -131,6 +131,35 @@ pub fn brent(
     Root { x: b, fx: fb, evaluations, status: RootStatus::MaxIterations }
 }
 
+/// Golden-section search for the maximum of a locally unimodal `f` on `[lo, hi]`;
+/// returns the abscissa and value of the better final point.
+pub fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, iters: usize) -> (f64, f64) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = hi - g * (hi - lo);
+    let mut x2 = lo + g * (hi - lo);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..iters {
+        if f1 < f2 {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = f(x2);
+        } else {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = f(x1);
+        }
+    }
+    if f1 > f2 {
+        (x1, f1)
+    } else {
+        (x2, f2)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

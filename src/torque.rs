@@ -28,6 +28,7 @@ use serde::Serialize;
 
 use crate::exact::{joint2_axis, relative_rate, solve_spd};
 use crate::model::{skew, Cylinder};
+use crate::roots::golden_max;
 use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// Everything Newton–Euler needs at one instant, in A's frame.
@@ -200,34 +201,6 @@ pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> P
     }
     let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
     PeakTorques { per_piece, max, action_reaction_gap: gap }
-}
-
-/// Golden-section search for the maximum of `f` on `[lo, hi]`.
-fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, iters: usize) -> (f64, f64) {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut x1 = hi - g * (hi - lo);
-    let mut x2 = lo + g * (hi - lo);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..iters {
-        if f1 < f2 {
-            lo = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = lo + g * (hi - lo);
-            f2 = f(x2);
-        } else {
-            hi = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = hi - g * (hi - lo);
-            f1 = f(x1);
-        }
-    }
-    if f1 > f2 {
-        (x1, f1)
-    } else {
-        (x2, f2)
-    }
 }
 
 /// A joint-rate jump: an impulse, not a torque.

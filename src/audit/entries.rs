@@ -6,8 +6,8 @@ use std::f64::consts::PI;
 use super::formulas::{
     c_section4, c_worked_example, cosine_peak_torque, first_root_theta, k_consistent, k_paper,
     one_turn_printed_argument, one_turn_residual_consistent, one_turn_residual_paper,
-    paper_end_transverse, paper_transverse, sin_half_root, stability_threshold, theta_from_sin_half,
-    whole_cat_moments, y_axis_rank,
+    paper_end_transverse, paper_transverse, sin_half_root, stability_threshold,
+    theta_from_sin_half, whole_cat_moments, y_axis_rank,
 };
 use super::{reproduces, Entry, Reading, ALPHA_ONE_TURN};
 use crate::manoeuvre::{BendPath, ProfileKind};
@@ -53,7 +53,10 @@ impl Entry {
     }
 
     fn reading(mut self, label: &str, value: Option<f64>) -> Entry {
-        self.readings.push(Reading { label: label.to_string(), value: value.filter(|x| x.is_finite()) });
+        self.readings.push(Reading {
+            label: label.to_string(),
+            value: value.filter(|x| x.is_finite()),
+        });
         self
     }
 
@@ -83,6 +86,18 @@ fn no(x: Option<f64>) -> String {
 /// `Some(x)` for positive `x`.
 fn positive(x: f64) -> Option<f64> {
     (x > 0.0).then_some(x)
+}
+
+/// A clause for entries built on `π/C` when the slipped inertia makes the literal `C ≤ 0`.
+fn lit_undefined(c: &Ctx) -> String {
+    if c.circ_lit.is_none() {
+        format!(
+            "; the slipped inertia gives C = {} ≤ 0, so the literal π/C is undefined",
+            n(c.c_lit)
+        )
+    } else {
+        String::new()
+    }
 }
 
 /// Everything the entries share, computed once.
@@ -167,7 +182,13 @@ pub(super) fn build(p: &Problem, worked: bool) -> Vec<Entry> {
 fn inertia(c: &Ctx) -> Vec<Entry> {
     let w = c.worked;
     let (s2, c2) = ((0.5 * c.theta).sin().powi(2), (0.5 * c.theta).cos().powi(2));
-    let reproduced = |what: &str| if w { format!("literal reproduces {what}; ") } else { String::new() };
+    let reproduced = |what: &str| {
+        if w {
+            format!("literal reproduces {what}; ")
+        } else {
+            String::new()
+        }
+    };
     vec![
         Entry::new("fall_time", "§7", "s", "fall time Δt = √(2h/g)")
             .printed(w, 1.428, Some(3))
@@ -226,10 +247,18 @@ fn stability(c: &Ctx) -> Vec<Entry> {
         n(shift)
     );
     let lit_min = stability_threshold(c.it_lit, c.ia, 0.0).map(f64::to_degrees);
-    let cor_min = stability_threshold(c.it, c.ia, cat.mass * cat.length.powi(2) / 4.0).map(f64::to_degrees);
+    let cor_min =
+        stability_threshold(c.it, c.ia, cat.mass * cat.length.powi(2) / 4.0).map(f64::to_degrees);
+    let from = match cor_min {
+        Some(m) => format!(
+            "with the parallel-axis terms the whole cat's y axis is least from θ = {}°",
+            n(m)
+        ),
+        None => "the threshold needs I_x'x' > I_z'z'".to_string(),
+    };
     let where_this = match cor_min {
         Some(m) if c.theta_deg() >= m => format!("this problem's θ = {}° is inside", c.theta_deg()),
-        Some(_) => format!("this problem's θ = {}° is outside (as is the worked example's 45°)", c.theta_deg()),
+        Some(_) => format!("this problem's θ = {}° is outside", c.theta_deg()),
         None => "this cat has I_x'x' ≤ I_z'z' (L < √3 R), outside §3's argument".to_string(),
     };
     let ratio = cat.length / cat.radius;
@@ -252,8 +281,7 @@ fn stability(c: &Ctx) -> Vec<Entry> {
             .printed(true, 90.0, None)
             .values(lit_min, cor_min)
             .why(format!(
-                "the printed range \"π ≤ θ ≤ π/2\" is empty: it means π/2 ≤ θ ≤ π, where sin(θ/2) ≥ cos(θ/2) (printed \"≤\", true only below π/2); with the parallel-axis terms the whole cat's y axis is least from θ = {}°; {where_this}",
-                no(cor_min)
+                "the printed range \"π ≤ θ ≤ π/2\" is empty: it means π/2 ≤ θ ≤ π, where sin(θ/2) ≥ cos(θ/2) (printed \"≤\", true only below π/2); {from}; {where_this}"
             )),
         Entry::new("length_ratio_min", "§3", "1", "least L/R for I_x'x' ≥ I_z'z' (§3's \"sufficiently large length\")")
             .printed(true, 3f64.sqrt(), None)
@@ -269,7 +297,15 @@ fn stability(c: &Ctx) -> Vec<Entry> {
 
 fn c_forms(c: &Ctx) -> Vec<Entry> {
     let c4 = c_section4(c.it_lit, c.ia, c.theta);
-    let slip = format!("differs from corrected by the inertia slip only ({:+.3}%)", 100.0 * (c.c_lit / c.c - 1.0));
+    let ratio = c.c_lit / c.c - 1.0;
+    let slip = if ratio.is_finite() {
+        format!(
+            "differs from corrected by the inertia slip only ({:+.3}%)",
+            100.0 * ratio
+        )
+    } else {
+        "differs from corrected by the inertia slip only".to_string()
+    };
     vec![
         Entry::new("c_section4", "§4", "1", "C = 1 − 2 (I_zz/I_cc) sin(θ/2)")
             .values(Some(c4), Some(c.c))
@@ -289,10 +325,12 @@ fn c_forms(c: &Ctx) -> Vec<Entry> {
             .why(format!("sin(θ/2) unsquared here: the code's C, inconsistent with the ω line above it; {slip}")),
         Entry::new("circulation", "§4", "rad", "circulation ∫ω ds = π/C (the code's C)")
             .values(c.circ_lit, c.circ)
-            .why(if c.circ.is_some() {
-                format!("{slip} (in C); circulation = \"calibrated\" instead finds the circulation that turns the cat by exactly π on the exact engine")
-            } else {
-                format!("C = {} ≤ 0: π/C is no circulation for this cat", n(c.c))
+            .why(match c.circ {
+                Some(_) => format!(
+                    "differs by the inertia slip in C only; circulation = \"calibrated\" instead finds the circulation that turns the cat by exactly π on the exact engine{}",
+                    lit_undefined(c)
+                ),
+                None => format!("C = {} ≤ 0: π/C is no circulation for this cat", n(c.c)),
             }),
     ]
 }
@@ -302,17 +340,29 @@ fn rates(c: &Ctx) -> Vec<Entry> {
     let c_we = c_worked_example(c.it_lit, c.ia, c.theta);
     let omega_lit = positive(c_we).map(|k| PI / (c.t_fall * k));
     let omega_sin = positive(c.c_lit).map(|k| PI / (c.t_fall * k));
-    let s = (0.5 * c.theta).sin();
-    let nearest = positive(1.0 - c.ia / c.it_lit * s).map(|k| PI / (1.428 * k));
-    let mut omega = Entry::new("omega_worked_example", "§7", "rad/s", "§7's rate ω = π/(Δt C), C with sin²(θ/2), over the whole fall")
-        .printed(w, 2.2514, Some(4))
-        .values(omega_lit, c.omega0)
-        .reading("printed formula π/(Δt (1 − (I_z'z'/I_yy) sin²(θ/2)))", omega_lit)
-        .reading("sin(θ/2) unsquared (§7's τ line, the code's C), whole Δt", omega_sin);
-    if w {
-        omega = omega.reading("π/(1.428 (1 − (I_z'z'/I_x'x') sin(θ/2))), the nearest reading found", nearest);
-    }
-    let omega = omega.reading("the code's π/(T2 C), slipped inertia", c.omega0_lit);
+    // The C that the printed ω would need with the printed formula's π/(Δt C).
+    let implied = PI / (c.t_fall * 2.2514);
+    let omega = Entry::new(
+        "omega_worked_example",
+        "§7",
+        "rad/s",
+        "§7's rate ω = π/(Δt C), C with sin²(θ/2), over the whole fall",
+    )
+    .printed(w, 2.2514, Some(4))
+    .values(omega_lit, c.omega0)
+    .reading(
+        "printed formula π/(Δt (1 − (I_z'z'/I_yy) sin²(θ/2)))",
+        omega_lit,
+    )
+    .reading(
+        "sin(θ/2) unsquared (§7's τ line, the code's C), whole Δt",
+        omega_sin,
+    )
+    .reading(
+        "§4's C (factor 2, per-half I_cc), whole Δt",
+        positive(c_section4(c.it_lit, c.ia, c.theta)).map(|k| PI / (c.t_fall * k)),
+    )
+    .reading("the code's π/(T2 C), slipped inertia", c.omega0_lit);
     let right = format!(
         "right: the code's C with the correct inertia over the twist phase T2 = {} s, not the whole fall: ω0 = π/(C T2) = {}",
         n(c.t[1]),
@@ -320,21 +370,29 @@ fn rates(c: &Ctx) -> Vec<Entry> {
     );
     let omega = omega.why(if w {
         format!(
-            "no literal reading reproduces 2.2514 to its 4 decimals: the printed formula gives {}, sin(θ/2) unsquared {}, the nearest reading found (I_x'x' for I_yy, Δt = 1.428) {}; {right}",
+            "no literal reading reproduces 2.2514 to its 4 decimals: the printed formula gives {}, sin(θ/2) unsquared {} (see readings); the C it implies, π/(Δt · 2.2514) = {}, matches none of the printed forms ({}, {}, {}); {right}",
             no(omega_lit),
             no(omega_sin),
-            no(nearest)
+            n(implied),
+            n(c_we),
+            n(c.c_lit),
+            n(c_section4(c.it_lit, c.ia, c.theta))
         )
     } else {
         format!("§7's formula squares sin(θ/2), which the code does not, and spreads the turn over the whole fall; {right}")
     });
-    let split = if (c.t2_code - c.t[1]).abs() > 1e-12 * c.t[1] { " and the phase split" } else { "" };
+    let split = if (c.t2_code - c.t[1]).abs() > 1e-12 * c.t[1] {
+        " and the phase split"
+    } else {
+        ""
+    };
     vec![
         omega,
         Entry::new("omega0", "§6.3", "rad/s", "ω0 = π/(T2 C) as the code computes it (omega_0 = π/(dt·c))")
             .values(c.omega0_lit, c.omega0)
             .why(format!(
-                "the code's ω0 with dt = step_3 − step_2 the twist duration (the listing writes `cloud` for `c`); differs by the inertia slip{split}; ω0 is the mean of ω(s) = ω0(1 − cos(πs/T2)), which ends at 2ω0, not at rest"
+                "the code's ω0 with dt = step_3 − step_2 the twist duration (the listing writes `cloud` for `c`); differs by the inertia slip{split}; ω0 is the mean of ω(s) = ω0(1 − cos(πs/T2)), which ends at 2ω0, not at rest{}",
+                lit_undefined(c)
             )),
         Entry::new("i_star", "§7", "kg·m²", "I*: a half's moment about a transverse axis through its end")
             .printed(w, 0.3342, Some(4))
@@ -356,13 +414,24 @@ fn torques(c: &Ctx) -> Vec<Entry> {
     let c_we = c_worked_example(c.it_lit, c.ia, c.theta);
     let from_omega = positive(c_we).map(|k| PI / (c.t_fall * k) * PI / c.t_fall * c.star_lit);
     let from_printed = 2.2514 * PI / 1.428 * 0.3342;
-    let mut we = Entry::new("tau_twist_worked_example", "§7", "N·m", "§7's peak twist torque ω (π/Δt) I*")
-        .printed(w, 1.655, Some(3))
-        .values(tau_we_lit, tau2)
-        .reading("ω (π/Δt) I* with the literal ω (sin²)", from_omega)
-        .reading("printed final form π² I*/(Δt² (1 − (I_z'z'/I_yy) sin(θ/2)))", tau_we_lit);
+    let mut we = Entry::new(
+        "tau_twist_worked_example",
+        "§7",
+        "N·m",
+        "§7's peak twist torque ω (π/Δt) I*",
+    )
+    .printed(w, 1.655, Some(3))
+    .values(tau_we_lit, tau2)
+    .reading("ω (π/Δt) I* with the literal ω (sin²)", from_omega)
+    .reading(
+        "printed final form π² I*/(Δt² (1 − (I_z'z'/I_yy) sin(θ/2)))",
+        tau_we_lit,
+    );
     if w {
-        we = we.reading("printed ω = 2.2514 × π/1.428 × printed I* = 0.3342", Some(from_printed));
+        we = we.reading(
+            "printed ω = 2.2514 × π/1.428 × printed I* = 0.3342",
+            Some(from_printed),
+        );
     }
     let tail = format!(
         "both use the whole fall where the twist lasts T2 = {}·Δt, which enters squared; corrected: §8's bound I* ω0 π/T2 with correct I*, C and T2 (tau_twist); the exact inverse dynamics is the reference",
@@ -379,7 +448,8 @@ fn torques(c: &Ctx) -> Vec<Entry> {
         format!("the printed expressions disagree (sin² in ω, sin here): {} and {}; {tail}", no(from_omega), no(tau_we_lit))
     });
     let joint = twist_joint_accel_peak(c).map(|a| c.star * a);
-    let one_link = "still a one-link estimate: the exact inverse dynamics (exact engine) is the reference";
+    let one_link =
+        "still a one-link estimate: the exact inverse dynamics (exact engine) is the reference";
     let dropped = |t: f64| {
         format!(
             "A(1 − cos(πt/T)) peaks at A π²/T²: §8's π² I*/T² drops A = β/2 = {} rad (×{}) and uses the slipped I*; {one_link}",
@@ -401,8 +471,9 @@ fn torques(c: &Ctx) -> Vec<Entry> {
         Entry::new("tau_twist", "§8", "N·m", "peak twist torque, §8's bound max τ2 = I* ω0 π/T2")
             .values(tau2_lit, tau2)
             .why(format!(
-                "ω0(1 − cos(πs/T2)) peaks at dω/ds = ω0 π/T2 (s = T2/2): the bound is right for I* dω/ds and differs by the inertia slips{}; but ω is no joint acceleration: the joint circle accelerates the joints by β φ̈ and β φ̇² (tau_twist_joint_accel); {one_link}",
-                if (c.t2_code - t2).abs() > 1e-12 * t2 { " and the phase split" } else { "" }
+                "ω0(1 − cos(πs/T2)) peaks at dω/ds = ω0 π/T2 (s = T2/2): the bound is right for I* dω/ds and differs by the inertia slips{}; but ω is no joint acceleration: the joint circle accelerates the joints by β φ̈ and β φ̇² (tau_twist_joint_accel); {one_link}{}",
+                if (c.t2_code - t2).abs() > 1e-12 * t2 { " and the phase split" } else { "" },
+                lit_undefined(c)
             )),
         Entry::new("tau_twist_joint_accel", "§8", "N·m", "I* × peak joint acceleration of the paper's twist (joint circle, paper cosine, π/C)")
             .values(None, joint)
@@ -427,7 +498,11 @@ fn twist_joint_accel_peak(c: &Ctx) -> Option<f64> {
     };
     let t2 = c.t[1];
     let peak = (0..TWIST_SAMPLES)
-        .map(|k| schedule.phase_state(Phase::Twist, t2 * k as f64 / (TWIST_SAMPLES - 1) as f64).qdd)
+        .map(|k| {
+            schedule
+                .phase_state(Phase::Twist, t2 * k as f64 / (TWIST_SAMPLES - 1) as f64)
+                .qdd
+        })
         .fold(0.0f64, |m, a| m.max(a[0].abs()).max(a[1].abs()));
     Some(peak)
 }
@@ -437,11 +512,18 @@ fn one_turn(c: &Ctx) -> Vec<Entry> {
     let deg = |x: Option<f64>| x.map(f64::to_degrees);
     let printed_arg = one_turn_printed_argument(c.it_lit, c.ia, a);
     let printed = printed_arg.and_then(theta_from_sin_half);
-    let root = deg(first_root_theta(|th| one_turn_residual_consistent(c.it, c.ia, a, th)));
+    let root = deg(first_root_theta(|th| {
+        one_turn_residual_consistent(c.it, c.ia, a, th)
+    }));
     let closed = deg(sin_half_root(c.it, c.ia, k_consistent(a)).and_then(theta_from_sin_half));
-    let paper_lit = deg(first_root_theta(|th| one_turn_residual_paper(c.it_lit, c.ia, a, th)));
-    let paper_cor = deg(first_root_theta(|th| one_turn_residual_paper(c.it, c.ia, a, th)));
-    let paper_closed_lit = deg(sin_half_root(c.it_lit, c.ia, k_paper(a)).and_then(theta_from_sin_half));
+    let paper_lit = deg(first_root_theta(|th| {
+        one_turn_residual_paper(c.it_lit, c.ia, a, th)
+    }));
+    let paper_cor = deg(first_root_theta(|th| {
+        one_turn_residual_paper(c.it, c.ia, a, th)
+    }));
+    let paper_closed_lit =
+        deg(sin_half_root(c.it_lit, c.ia, k_paper(a)).and_then(theta_from_sin_half));
     let paper_closed = deg(sin_half_root(c.it, c.ia, k_paper(a)).and_then(theta_from_sin_half));
     let gap = root.zip(closed).map(|(r, k)| (r - k).abs());
     vec![
@@ -454,10 +536,10 @@ fn one_turn(c: &Ctx) -> Vec<Entry> {
             .reading("closed form of C(θ) = α: x = I_y'y'/(I_z'z'/(2(1 − α)) + √(…)), θ = 2 arcsin x", closed)
             .reading("root of §9's equation as printed (one_turn_theta_paper_equation), correct inertia", paper_cor)
             .why(format!(
-                "the printed closed form takes the wrong root of its quadratic: arcsin of {} (the other root lies outside [−1, 1] for every cat with I_y'y' ≠ I_z'z'); right: C(θ) = α with the code's C and correct inertia, I_z'z' sin(θ/2)/I_yy = 1 − α, solved by bracketing: θ = {}° (closed form within {} deg); a root in (0°, 180°) exists for every cat since the residual changes sign",
+                "the printed closed form takes the wrong root of its quadratic: arcsin of {} (the other root lies outside [−1, 1] for every cat with I_y'y' ≠ I_z'z'); right: C(θ) = α with the code's C and correct inertia, I_z'z' sin(θ/2)/I_yy = 1 − α, solved by bracketing: θ = {}° (the closed form agrees within {} deg); a root in (0°, 180°) exists for every cat since the residual changes sign",
                 no(printed_arg),
                 no(root),
-                no(gap)
+                gap.map_or_else(|| "undefined".to_string(), |g| format!("{g:.1e}"))
             )),
         Entry::new("one_turn_theta_paper_equation", "§9", "deg", "root of §9's equation as printed, 1 = (α + 1)(2 I_z'z'/I_yy) sin(θ/2), α = 1/2")
             .values(paper_lit, paper_cor)

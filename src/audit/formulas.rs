@@ -20,10 +20,20 @@ pub fn paper_end_transverse(cat: &Cylinder) -> f64 {
 /// Principal moments per half about the *whole cat's* centre of mass: §3's values plus the
 /// parallel-axis term `m (l/2)² sin²(θ/2)` on `x` and `z` (each half's centre lies `(l/2) sin(θ/2)`
 /// from the cat's centre along `y`, so `I_yy` gets none).
-pub fn whole_cat_moments(transverse: f64, axial: f64, mass: f64, length: f64, theta: f64) -> BentMoments {
+pub fn whole_cat_moments(
+    transverse: f64,
+    axial: f64,
+    mass: f64,
+    length: f64,
+    theta: f64,
+) -> BentMoments {
     let b = BentMoments::new(transverse, axial, theta);
     let shift = mass * (0.5 * length * (0.5 * theta).sin()).powi(2);
-    BentMoments { xx: b.xx + shift, yy: b.yy, zz: b.zz + shift }
+    BentMoments {
+        xx: b.xx + shift,
+        yy: b.yy,
+        zz: b.zz + shift,
+    }
 }
 
 /// §4's `C = 1 − 2 (I_zz/I_cc) sin(θ/2)` read with `I_zz = I_z'z'` and `I_cc` the code's `ic`,

@@ -220,8 +220,16 @@ mod tests {
     #[test]
     fn set_exact_names_an_unknown_key() {
         let mut a = audit(&Problem::default());
-        assert_eq!(a.set_exact("no_such_key", 1.0), Err(AuditError::UnknownKey("no_such_key".into())));
+        assert_eq!(
+            a.set_exact("no_such_key", 1.0),
+            Err(AuditError::UnknownKey("no_such_key".into()))
+        );
         assert!(a.set_exact("tau_twist", 2.5).is_ok());
-        assert_eq!(a.entry("tau_twist").and_then(|e| e.exact).map(|x| x.to_bits()), Some(2.5f64.to_bits()));
+        assert_eq!(
+            a.entry("tau_twist")
+                .and_then(|e| e.exact)
+                .map(|x| x.to_bits()),
+            Some(2.5f64.to_bits())
+        );
     }
 }

@@ -1,0 +1,146 @@
+//! Problem files: loading, overrides, and one clear error per class of bad input.
+#![deny(clippy::float_cmp)]
+
+use catflip::manoeuvre::{BendPath, Circulation, ProfileKind};
+use catflip::problem::{Problem, ProblemError};
+
+const PAPER: &str = include_str!("../problems/paper.toml");
+
+fn error_of(text: &str, overrides: &[&str]) -> String {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    match Problem::from_toml(text, "test.toml", &o) {
+        Ok(p) => panic!("expected an error, loaded {p:?}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn shipped_problems_load_and_round_trip() {
+    for path in ["problems/paper.toml", "problems/script-defaults.toml"] {
+        let p = Problem::load(std::path::Path::new(path), &[]).expect(path);
+        let text = toml::to_string(&p).expect("serialises");
+        let back = Problem::from_toml(&text, path, &[]).expect("round trip");
+        assert_eq!(p, back, "{path} does not round-trip through serde");
+    }
+}
+
+#[test]
+fn paper_problem_is_the_worked_example() {
+    let p = Problem::from_toml(PAPER, "paper.toml", &[]).expect("loads");
+    assert_eq!(p.name, "paper");
+    assert_eq!(p.manoeuvre.profile, ProfileKind::PaperCosine);
+    assert_eq!(p.manoeuvre.circulation, Circulation::Paper);
+    assert_eq!(p.manoeuvre.bend_path, BendPath::JointCircle);
+    assert!((p.manoeuvre.theta() - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+}
+
+#[test]
+fn overrides_apply_with_toml_values_and_bare_words() {
+    let o = [
+        "manoeuvre.profile=poly-4567".to_string(),
+        "manoeuvre.circulation=3.5".to_string(),
+        "manoeuvre.phases=[0.1, 0.8, 0.1]".to_string(),
+        "cat.mass = 2".to_string(),
+    ];
+    let p = Problem::from_toml(PAPER, "paper.toml", &o).expect("loads");
+    assert_eq!(p.manoeuvre.profile, ProfileKind::Poly4567);
+    assert_eq!(p.manoeuvre.circulation, Circulation::Angle(3.5));
+    assert!((p.manoeuvre.phases[1] - 0.8).abs() < 1e-15);
+    assert!((p.cat.mass - 2.0).abs() < 1e-15);
+}
+
+#[test]
+fn every_profile_name_parses() {
+    for kind in ProfileKind::ALL {
+        let p = Problem::from_toml(PAPER, "paper.toml", &[format!("manoeuvre.profile={}", kind.name())]).expect(kind.name());
+        assert_eq!(p.manoeuvre.profile, kind);
+    }
+}
+
+#[test]
+fn non_finite_or_non_positive_sizes_are_refused() {
+    assert_eq!(error_of(PAPER, &["cat.mass=0"]), "cat.mass = 0: must be positive");
+    assert_eq!(error_of(PAPER, &["cat.length=-1"]), "cat.length = -1: must be positive");
+    assert_eq!(error_of(PAPER, &["cat.radius=nan"]), "cat.radius = NaN: must be a finite number");
+    assert_eq!(error_of(PAPER, &["drop.height=inf"]), "drop.height = inf: must be a finite number");
+    assert_eq!(error_of(PAPER, &["drop.gravity=-9.8"]), "drop.gravity = -9.8: must be positive");
+}
+
+#[test]
+fn theta_outside_its_range_is_refused() {
+    let msg = "must lie in (0, 180] degrees (180 is a straight cat)";
+    assert_eq!(error_of(PAPER, &["manoeuvre.theta_deg=0"]), format!("manoeuvre.theta_deg = 0: {msg}"));
+    assert_eq!(error_of(PAPER, &["manoeuvre.theta_deg=180.5"]), format!("manoeuvre.theta_deg = 180.5: {msg}"));
+    assert_eq!(error_of(PAPER, &["manoeuvre.theta_deg=nan"]), "manoeuvre.theta_deg = NaN: must be a finite number");
+}
+
+#[test]
+fn bad_phases_are_refused() {
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.phases=[0.5, 0.6, 0.2]"]),
+        "manoeuvre.phases = [0.5, 0.6, 0.2]: fractions must sum to 1 (they sum to 1.3)"
+    );
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.phases=[-0.2, 1.0, 0.2]"]),
+        "manoeuvre.phases[0] = -0.2: each phase must take a positive fraction of the fall"
+    );
+    assert!(error_of(PAPER, &["manoeuvre.phases=[0.5, 0.5]"]).contains("manoeuvre.phases"));
+}
+
+#[test]
+fn unknown_keys_and_profiles_are_refused() {
+    assert_eq!(
+        error_of(PAPER, &["cat.colour=3"]),
+        "problem file test.toml: unknown field `colour`, expected one of `mass`, `length`, `radius` in `cat`"
+    );
+    let e = error_of(PAPER, &["manoeuvre.profile=wobble"]);
+    assert!(e.starts_with("problem file test.toml: unknown variant `wobble`, expected one of `paper-cosine`"), "{e}");
+    assert!(e.ends_with("in `manoeuvre.profile`"), "{e}");
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.circulation=lots"]),
+        "problem file test.toml: invalid value: string \"lots\", expected \"paper\", \"calibrated\" or a number of radians in `manoeuvre.circulation`"
+    );
+    assert_eq!(
+        error_of(PAPER, &["speed=3"]),
+        "problem file test.toml: unknown field `speed`, expected one of `name`, `cat`, `drop`, `manoeuvre`, `exact`, `rapier`, `optimize`"
+    );
+}
+
+#[test]
+fn malformed_toml_names_its_line() {
+    assert_eq!(error_of("name = \"x\"\n[cat\nmass = 1\n", &[]), "problem file test.toml, line 2: unclosed table, expected `]`");
+    assert_eq!(
+        error_of("[cat]\nmass = \"heavy\"\n", &[]),
+        "problem file test.toml: invalid type: string \"heavy\", expected f64 in `cat.mass`"
+    );
+}
+
+#[test]
+fn malformed_override_is_refused() {
+    assert_eq!(error_of(PAPER, &["cat.mass"]), "--set cat.mass: expected key=value");
+    assert_eq!(
+        error_of(PAPER, &["name.first=3"]),
+        "--set name.first=3: `name` is not a section"
+    );
+}
+
+#[test]
+fn cone_near_gimbal_lock_is_refused() {
+    let e = error_of(PAPER, &["manoeuvre.bend_path=cone", "manoeuvre.theta_deg=92"]);
+    assert!(e.starts_with("manoeuvre.theta_deg = 92: the cone path meets gimbal lock"), "{e}");
+    assert!(Problem::from_toml(PAPER, "t", &["manoeuvre.bend_path=cone".into(), "manoeuvre.theta_deg=60".into()]).is_ok());
+}
+
+#[test]
+fn unreadable_file_is_an_io_error() {
+    let e = Problem::load(std::path::Path::new("problems/does-not-exist.toml"), &[]);
+    assert!(matches!(e, Err(ProblemError::Io { .. })), "{e:?}");
+}
+
+#[test]
+fn bad_name_is_refused() {
+    assert_eq!(
+        error_of(PAPER, &["name=\"../etc\""]),
+        "name = ../etc: must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)"
+    );
+}
