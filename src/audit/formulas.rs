@@ -49,7 +49,7 @@ pub fn c_worked_example(transverse: f64, axial: f64, theta: f64) -> f64 {
     1.0 - axial * (0.5 * theta).sin().powi(2) / yy
 }
 
-/// The root in `[0, 1]` of `(I_y − I_z) x² + k I_z x − I_y = 0`, i.e. of `k I_z x = I_yy(x)` with
+/// The `−√` root (in the form below) of `(I_y − I_z) x² + k I_z x − I_y = 0`, i.e. of `k I_z x = I_yy(x)` with
 /// `I_yy = I_y (1 − x²) + I_z x²` and `x = sin(θ/2)`, in the cancellation-free form
 /// `x = I_y / (k I_z/2 + √((k I_z/2)² + I_y (I_y − I_z)))`.
 ///
@@ -128,4 +128,39 @@ pub fn cosine_peak_torque(i_star: f64, amplitude: f64, duration: f64) -> f64 {
 /// The first root in `θ ∈ [0, π]` of a residual, by [`super::root::first_root`] on 720 steps.
 pub fn first_root_theta(f: impl Fn(f64) -> f64) -> Option<f64> {
     super::root::first_root(f, 0.0, std::f64::consts::PI, 720)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn stability_threshold_of_the_papers_model_is_a_right_angle() {
+        let t = stability_threshold(0.3, 0.05, 0.0).unwrap_or(f64::NAN);
+        assert_relative_eq!(t, std::f64::consts::FRAC_PI_2, max_relative = 1e-15);
+        assert!(stability_threshold(0.05, 0.3, 0.1).is_none());
+    }
+
+    #[test]
+    fn sin_half_root_with_k_one_includes_the_straight_cat() {
+        // k = 1: k I_z x = I_yy holds at x = 1 (I_yy = I_z there); for I_y ≥ I_z that is the root
+        // returned, for I_y < I_z the smaller root I_y/(I_z − I_y) (product of the roots) comes first.
+        for (it, ia, want) in [(0.3, 0.05, 1.0), (0.2, 0.2, 1.0), (0.05, 0.3, 0.2)] {
+            assert_relative_eq!(
+                sin_half_root(it, ia, 1.0).unwrap_or(f64::NAN),
+                want,
+                max_relative = 1e-14
+            );
+        }
+    }
+
+    #[test]
+    fn printed_argument_is_the_other_root_of_the_quadratic() {
+        // Product of the roots of (I_y − I_z) x² + k I_z x − I_y = 0 is −I_y/(I_y − I_z).
+        let (it, ia, alpha) = (1.01 / 12.0, 0.005, 0.5);
+        let good = sin_half_root(it, ia, k_paper(alpha)).unwrap_or(f64::NAN);
+        let other = one_turn_printed_argument(it, ia, alpha).unwrap_or(f64::NAN);
+        assert_relative_eq!(good * other, -it / (it - ia), max_relative = 1e-13);
+    }
 }
