@@ -34,3 +34,6 @@ pub mod torque;
 pub mod calibrate;
 pub mod roots;
 pub mod simulate;
+pub mod compare;
+pub mod refine;
+pub mod optimize;

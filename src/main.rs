@@ -50,6 +50,8 @@ enum Command {
         #[arg(long)]
         dt: Option<f64>,
     },
+    /// Every profile side by side: the peak-torque table.
+    Compare(Common),
 }
 
 fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
@@ -92,6 +94,15 @@ fn run() -> anyhow::Result<()> {
                 print_json(&report)?;
             } else {
                 print!("{}", report.to_text());
+            }
+        }
+        Command::Compare(common) => {
+            let problem = load(&common, &[])?;
+            let table = catflip::compare::compare(&problem, &[])?;
+            if common.json {
+                print_json(&table)?;
+            } else {
+                print!("{}", table.to_markdown());
             }
         }
     }

@@ -99,6 +99,9 @@ pub fn brent(
         }
         if e.abs() >= tol && fa.abs() > fb.abs() {
             let s = fb / fa;
+            // Secant when only two distinct points are known (c was just reset to a): an exact
+            // identity test, as in Brent's algorithm.
+            #[allow(clippy::float_cmp)]
             let (mut p, mut q) = if a == c {
                 (2.0 * m * s, 1.0 - s)
             } else {

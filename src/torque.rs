@@ -178,10 +178,10 @@ pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> P
         let mut best = [(0.0f64, 0usize); 2];
         for k in 0..=samples {
             let jt = tau(k as f64 * h);
-            for j in 0..2 {
+            for (j, b) in best.iter_mut().enumerate() {
                 gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
-                if jt.tau[j].abs() > best[j].0 {
-                    best[j] = (jt.tau[j].abs(), k);
+                if jt.tau[j].abs() > b.0 {
+                    *b = (jt.tau[j].abs(), k);
                 }
             }
         }

@@ -1,0 +1,116 @@
+//! `catflip optimize`: torque-optimal twist profiles, checked by the exact engine.
+//!
+//! 1. The profile QP on the paper's model `I* |ω̇|` (Clarabel), with the problem's boundary
+//!    conditions and limits; its closed form with rest-to-rest ends is bang-bang,
+//!    `4 D I*/T²`.
+//! 2. The exact-dynamics refinement ([`crate::refine`]) started from the QP's optimum.
+//!
+//! Each result is reported with its peak torque in the paper's model and in the exact dynamics
+//! (per phase, per joint), and with the exact twist and swing for the problem's circulation and
+//! for the calibrated one (the calibrated circulation depends on the joint path only, so one
+//! calibration serves every profile).
+
+use serde::Serialize;
+
+use crate::calibrate::{calibrate, Calibration};
+use crate::compare::{row, CompareRow};
+use crate::exact::flip;
+use crate::problem::Problem;
+use crate::profile::Profile;
+use crate::qp::{ProfileQp, ProfileQpSolution, QpError};
+use crate::refine::{refine, Refinement};
+use crate::schedule::Schedule;
+use crate::simulate::{resolve_circulation, ResolvedCirculation, SimulateError};
+
+/// Why optimisation could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum OptimizeError {
+    /// The schedule or circulation could not be resolved.
+    #[error(transparent)]
+    Simulate(#[from] SimulateError),
+    /// A QP's data was refused.
+    #[error(transparent)]
+    Qp(#[from] QpError),
+}
+
+/// One optimised profile, evaluated.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Optimum {
+    /// The evaluation on the problem's circulation (a peak-torque table row).
+    pub evaluation: CompareRow,
+    /// Twist with the calibrated circulation, degrees.
+    pub calibrated_twist_deg: f64,
+    /// Swing with the calibrated circulation, degrees.
+    pub calibrated_swing_deg: f64,
+    /// Node rates, rad/s.
+    pub rates: Vec<f64>,
+}
+
+/// Everything `catflip optimize` reports.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OptimizeReport {
+    /// Problem name.
+    pub problem: String,
+    /// The circulation the profiles realise.
+    pub circulation: ResolvedCirculation,
+    /// The calibration of this joint path (π exactly).
+    pub calibration: Calibration,
+    /// The profile QP's solve: status, iterations, residuals, gap.
+    pub qp: ProfileQpSolution,
+    /// The QP's closed-form optimum with rest-to-rest ends and no limits, `4 D I*/T²`, N·m.
+    pub qp_closed_form_nm: f64,
+    /// The QP optimum, evaluated (absent when the QP did not solve).
+    pub qp_optimum: Option<Optimum>,
+    /// The exact-dynamics refinement's history.
+    pub refinement: Option<Refinement>,
+    /// The refined profile, evaluated.
+    pub refined_optimum: Option<Optimum>,
+    /// The best library profile by exact twist-phase peak: name and peak, N·m.
+    pub best_library: (String, f64),
+}
+
+/// Runs the profile QP and the exact refinement on a problem.
+pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
+    let circulation = resolve_circulation(problem)?;
+    let base = Schedule::new(problem, circulation.radians);
+    let t2 = base.durations[1];
+    let inertia = problem.cat.end_transverse();
+    let qp = ProfileQp::new(&problem.optimize, t2, circulation.radians, inertia).solve()?;
+    let calibration = match circulation.calibration {
+        Some(c) => c,
+        None => calibrate(&problem.cat, &base, problem.exact.tolerance),
+    };
+    let calibrated = base.with_circulation(calibration.circulation);
+    let evaluate = |profile: Profile, origin: &str, rates: Vec<f64>| {
+        let f = flip(&problem.cat, &calibrated.with_profile(profile.clone()), problem.exact.tolerance);
+        Optimum {
+            evaluation: row(problem, &base.with_profile(profile), origin),
+            calibrated_twist_deg: f.twist.to_degrees(),
+            calibrated_swing_deg: f.swing.to_degrees(),
+            rates,
+        }
+    };
+    let qp_optimum = qp.to_profile().map(|p| evaluate(p, "qp", qp.rates.clone()));
+    let refinement = if qp.status.is_solved() { Some(refine(problem, &base, &qp.rates)?) } else { None };
+    let refined_optimum = refinement
+        .as_ref()
+        .and_then(|r| r.to_profile().map(|p| evaluate(p, "refined", r.rates.clone())));
+    let best_library = crate::manoeuvre::ProfileKind::ALL
+        .iter()
+        .map(|&k| {
+            let r = row(problem, &base.with_profile(Profile::library(k)), "library");
+            (r.profile, r.exact_peak_nm.twist[0].max(r.exact_peak_nm.twist[1]))
+        })
+        .fold((String::new(), f64::INFINITY), |best, r| if r.1 < best.1 { r } else { best });
+    Ok(OptimizeReport {
+        problem: problem.name.clone(),
+        circulation,
+        calibration,
+        qp_closed_form_nm: 4.0 * circulation.radians.abs() * inertia / (t2 * t2),
+        qp,
+        qp_optimum,
+        refinement,
+        refined_optimum,
+        best_library,
+    })
+}
