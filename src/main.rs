@@ -88,7 +88,7 @@ fn run() -> anyhow::Result<()> {
             let problem = load(&common, &extra)?;
             let report = match engine {
                 Engine::Exact => catflip::simulate::simulate_exact(&problem)?,
-                Engine::Rapier => anyhow::bail!("--engine rapier: not wired yet"),
+                Engine::Rapier => catflip::simulate::simulate_rapier(&problem)?,
             };
             if common.json {
                 print_json(&report)?;

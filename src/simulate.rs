@@ -34,7 +34,7 @@ pub enum SimulateError {
     },
     /// The rapier engine failed.
     #[error("rapier: {0}")]
-    Rapier(String),
+    Rapier(#[from] crate::rapier::RapierError),
 }
 
 /// Where a circulation came from.
@@ -135,6 +135,12 @@ pub struct SimulationReport {
     pub error_estimate_rad: Option<f64>,
     /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
     pub action_reaction_gap_nm: Option<f64>,
+    /// The motors' torque spikes at rate jumps, as rapier measured them (rapier only).
+    pub rapier_jumps: Option<Vec<crate::rapier::JumpTorque>>,
+    /// Exact engine's twist minus this engine's, degrees (rapier only).
+    pub twist_error_deg: Option<f64>,
+    /// Relative error of the peak torque against the exact engine's (rapier only).
+    pub peak_torque_rel_error: Option<f64>,
     /// Wall-clock time of the engine run, s.
     pub run_time_s: f64,
 }
@@ -172,8 +178,49 @@ pub fn exact_report(problem: &Problem, schedule: &Schedule, circ: ResolvedCircul
         steps: f.steps_per_phase,
         error_estimate_rad: Some(f.error_estimate),
         action_reaction_gap_nm: Some(peaks.action_reaction_gap),
+        rapier_jumps: None,
+        twist_error_deg: None,
+        peak_torque_rel_error: None,
         run_time_s,
     }
+}
+
+/// Runs the rapier verification on a problem's schedule, beside the exact engine.
+pub fn simulate_rapier(problem: &Problem) -> Result<SimulationReport, SimulateError> {
+    let circ = resolve_circulation(problem)?;
+    let schedule = Schedule::new(problem, circ.radians);
+    rapier_report(problem, &schedule, circ)
+}
+
+/// The rapier engine's report on a given schedule, compared with the exact engine's.
+pub fn rapier_report(
+    problem: &Problem,
+    schedule: &Schedule,
+    circ: ResolvedCirculation,
+) -> Result<SimulationReport, SimulateError> {
+    let exact = exact_report(problem, schedule, circ);
+    let start = Instant::now();
+    let run = crate::rapier::simulate(&problem.cat, schedule, &problem.rapier)?;
+    let run_time_s = start.elapsed().as_secs_f64();
+    let p = &run.peak_torque;
+    let peaks = PhasePeaks { bend: p.bend, twist: p.twist, unbend: p.unbend, max: p.max };
+    Ok(SimulationReport {
+        engine: "rapier".into(),
+        twist_deg: run.twist.to_degrees(),
+        swing_deg: run.swing.to_degrees(),
+        twist_error_deg: Some(exact.twist_deg - run.twist.to_degrees()),
+        peak_torque_rel_error: Some((peaks.max - exact.peak_torque_nm.max) / exact.peak_torque_nm.max),
+        peak_torque_nm: peaks,
+        momentum_max: run.momentum.max_rel,
+        dt: Some(run.dt),
+        tracking_error_rad: Some(run.tracking_error),
+        steps: run.steps,
+        error_estimate_rad: None,
+        action_reaction_gap_nm: None,
+        rapier_jumps: Some(run.jumps),
+        run_time_s,
+        ..exact
+    })
 }
 
 /// Joint-rate jumps smaller than this (rad/s) are round-off, not jumps.
@@ -233,6 +280,9 @@ impl SimulationReport {
         }
         if let Some(e) = self.tracking_error_rad {
             let _ = writeln!(s, "  tracking error   [{:.3e}, {:.3e}] rad", e[0], e[1]);
+        }
+        if let (Some(e), Some(p)) = (self.twist_error_deg, self.peak_torque_rel_error) {
+            let _ = writeln!(s, "  vs exact engine  twist {e:+.4e}°, peak torque {:+.3}%", 100.0 * p);
         }
         if let Some(e) = self.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);
