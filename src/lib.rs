@@ -37,3 +37,4 @@ pub mod simulate;
 pub mod compare;
 pub mod refine;
 pub mod optimize;
+pub mod export;

@@ -76,7 +76,7 @@ fn run() -> anyhow::Result<()> {
     match cli.command {
         Command::Audit(common) => {
             let problem = load(&common, &[])?;
-            let audit = catflip::audit::audit(&problem);
+            let audit = catflip::audit::audit_with_exact(&problem)?;
             if common.json {
                 print_json(&audit)?;
             } else {

@@ -510,3 +510,21 @@ fn markdown_lists_every_entry_warning_and_note() {
     // Printed values keep their printed decimals.
     assert!(md.contains("| 0.071841 |") && md.contains("| 1.428 |"));
 }
+
+#[test]
+fn exact_column_holds_the_exact_engine_numbers() {
+    // The exact engine's peaks of the paper's schedule, and the calibrated circulation, go into
+    // the audit's `exact` column; each is checked against a direct call of the engine.
+    let p = catflip::problem::Problem::default();
+    let a = catflip::audit::audit_with_exact(&p).expect("the paper's schedule runs");
+    let r = catflip::simulate::simulate_exact(&p).expect("runs");
+    let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);
+    let pk = r.peak_torque_nm;
+    assert!((exact("tau_bend") - pk.bend[0].max(pk.bend[1])).abs() < 1e-12);
+    assert!((exact("tau_twist") - pk.twist[0].max(pk.twist[1])).abs() < 1e-12);
+    assert!((exact("tau_unbend") - pk.unbend[0].max(pk.unbend[1])).abs() < 1e-12);
+    // The calibrated circulation turns the cat by π (to the engine's tolerance).
+    let s = catflip::schedule::Schedule::new(&p, exact("circulation"));
+    let f = catflip::exact::flip(&p.cat, &s, 1e-11);
+    assert!((f.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", f.twist);
+}

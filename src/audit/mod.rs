@@ -233,3 +233,28 @@ mod tests {
         );
     }
 }
+
+/// The audit with its `exact` column filled in by the exact engine: the peak torques of the
+/// problem's own schedule per phase (largest of the two joints) and the calibrated circulation.
+pub fn audit_with_exact(problem: &Problem) -> Result<Audit, crate::simulate::SimulateError> {
+    use crate::schedule::{paper_circulation, Schedule};
+    let mut a = audit(problem);
+    let near = paper_circulation(&problem.cat, problem.manoeuvre.theta())?;
+    let circ = crate::simulate::resolve_circulation(problem)?;
+    let report = crate::simulate::exact_report(problem, &Schedule::new(problem, circ.radians), circ);
+    let p = report.peak_torque_nm;
+    let cal = crate::calibrate::calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance);
+    let mut values = vec![
+        ("tau_bend", p.bend[0].max(p.bend[1])),
+        ("tau_twist", p.twist[0].max(p.twist[1])),
+        ("tau_unbend", p.unbend[0].max(p.unbend[1])),
+    ];
+    if cal.status == crate::roots::RootStatus::Converged {
+        values.push(("circulation", cal.circulation));
+    }
+    for (key, value) in values {
+        // The keys are this module's own (a test checks that each is filled in).
+        a.set_exact(key, value).ok();
+    }
+    Ok(a)
+}
