@@ -52,6 +52,8 @@ enum Command {
     },
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
+    /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement.
+    Optimize(Common),
 }
 
 fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
@@ -94,6 +96,15 @@ fn run() -> anyhow::Result<()> {
                 print_json(&report)?;
             } else {
                 print!("{}", report.to_text());
+            }
+        }
+        Command::Optimize(common) => {
+            let problem = load(&common, &[])?;
+            let report = catflip::optimize::optimize(&problem)?;
+            if common.json {
+                print_json(&report)?;
+            } else {
+                print!("{}", report.to_markdown());
             }
         }
         Command::Compare(common) => {
