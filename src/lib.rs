@@ -38,3 +38,7 @@ pub mod compare;
 pub mod refine;
 pub mod optimize;
 pub mod export;
+pub mod plot;
+pub mod provenance;
+pub mod run;
+pub mod benchmark;

@@ -54,6 +54,30 @@ enum Command {
     Compare(Common),
     /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement.
     Optimize(Common),
+    /// Everything above for each problem, written to <out>/<name>/.
+    Run {
+        /// Problem files (TOML).
+        #[arg(required = true)]
+        problems: Vec<PathBuf>,
+        /// Override a problem field in every problem (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        overrides: Vec<String>,
+        /// Where results go.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Run time against error for every engine, and stress tests; written to <out>/bench/.
+    Bench {
+        /// The problem to measure on.
+        #[arg(long, default_value = "problems/paper.toml")]
+        problem: PathBuf,
+        /// Where results go.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
@@ -105,6 +129,38 @@ fn run() -> anyhow::Result<()> {
                 print_json(&report)?;
             } else {
                 print!("{}", report.to_markdown());
+            }
+        }
+        Command::Run { problems, overrides, out } => {
+            // Load every problem first, so a bad one stops the run before anything is written.
+            let loaded = problems
+                .iter()
+                .map(|p| Problem::load(p, &overrides).map(|x| (p, x)))
+                .collect::<Result<Vec<_>, _>>()?;
+            for (path, problem) in loaded {
+                for w in problem.warnings() {
+                    eprintln!("warning: {}: {w}", path.display());
+                }
+                let mut command = format!("cargo run --release -- run {}", path.display());
+                for o in &overrides {
+                    command.push_str(&format!(" --set '{o}'"));
+                }
+                let outcome = catflip::run::run(&problem, &command, &out)?;
+                println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
+                print!("{}", outcome.summary);
+            }
+        }
+        Command::Bench { problem, out, json } => {
+            let p = Problem::load(&problem, &[])?;
+            let command = format!("cargo run --release -- bench --problem {}", problem.display());
+            let dts = [1.0 / 60.0, 1.0 / 125.0, 1.0 / 250.0, 1.0 / 500.0, 1.0 / 1000.0, 1.0 / 2000.0, 1.0 / 4000.0, 1.0 / 8000.0];
+            let outcome = catflip::run::run_bench(&p, &command, &out, &dts)?;
+            if json {
+                let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
+                print!("{text}");
+            } else {
+                println!("{} files in {}", outcome.files.len(), outcome.dir.display());
+                print!("{}", outcome.summary);
             }
         }
         Command::Compare(common) => {

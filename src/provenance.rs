@@ -1,0 +1,55 @@
+//! The provenance header of generated reports: version, date, machine, settings, command.
+
+use std::time::{SystemTime, UNIX_EPOCH};
+
+/// A UTC timestamp `YYYY-MM-DD HH:MM:SS UTC` of now (civil-from-days, H. Hinnant's algorithm).
+pub fn utc_now() -> String {
+    let secs = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs()) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+/// One line describing the machine: CPU model, logical cores, memory, OS.
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_string()))
+        .unwrap_or_else(|| "unknown CPU".to_string());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let mem = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|s| s.lines().next().and_then(|l| l.split_whitespace().nth(1)).and_then(|k| k.parse::<f64>().ok()))
+        .map_or_else(|| "unknown memory".to_string(), |kb| format!("{:.1} GiB", kb / 1024.0 / 1024.0));
+    format!("{cpu}, {cores} logical cores, {mem}, {} {}", std::env::consts::OS, std::env::consts::ARCH)
+}
+
+/// The Markdown provenance header of a report.
+pub fn header(title: &str, command: &str, settings_toml: &str) -> String {
+    format!(
+        "# {title}\n\nRegenerate with `{command}`.\n\n| | |\n|---|---|\n| catflip | {} |\n| date | {} |\n| machine | {} |\n| build | {} |\n\n<details><summary>Problem and settings</summary>\n\n```toml\n{}```\n\n</details>\n\n",
+        env!("CARGO_PKG_VERSION"),
+        utc_now(),
+        machine(),
+        if cfg!(debug_assertions) { "debug" } else { "release" },
+        settings_toml
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn timestamp_has_the_expected_shape() {
+        let s = super::utc_now();
+        assert_eq!(s.len(), 23, "{s}");
+        assert!(s.starts_with("20") && s.ends_with(" UTC"), "{s}");
+    }
+}
