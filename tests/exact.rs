@@ -211,3 +211,20 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn fast_body_rate_matches_the_general_momentum_map() {
+    // Second derivation: Ω = −I_lock⁻¹(R I_B Rᵀ ω_rel + μ p × ṗ) with full matrices from
+    // `Cylinder::configuration`.
+    let cat = Cylinder { mass: 1.3, length: 0.9, radius: 0.15 };
+    for (q, qd) in [([0.3, -1.1], [2.0, 0.5]), ([2.5, 1.4], [-1.0, 3.0]), ([-0.7, 0.2], [0.1, -4.0])] {
+        let cfg = cat.configuration(q);
+        let w_rel = catflip::exact::relative_rate(q, qd);
+        let e = cfg.rotation * nalgebra::Vector3::z();
+        let pd = -0.5 * cat.length * w_rel.cross(&e);
+        let rhs = cfg.inertia_b * w_rel + cat.reduced_mass() * cfg.offset.cross(&pd);
+        let general = -(cfg.locked_inertia.try_inverse().expect("SPD") * rhs);
+        let fast = body_rate(&cat, q, qd);
+        assert!((fast - general).norm() < 1e-13 * general.norm().max(1.0), "{fast} vs {general}");
+    }
+}
