@@ -1,0 +1,539 @@
+//! The flip as a picture: the two cylinders in 3D, orthographic projection, as an animated GIF
+//! and as a PNG filmstrip.
+//!
+//! The camera looks at the centre of mass from the cat's left (`−x`), a little above (`+y`, drawn
+//! upwards) and ahead (`+z`), so that the head points right and the end faces are ellipses. Each
+//! half is drawn as its silhouette (the convex hull of its two projected end circles, filled), its
+//! axis, the end circles and generator lines facing the viewer, and, on its belly (local `+y`,
+//! the inside of the bend), a red stripe and two legs; A carries the head (ears on its back), B
+//! the tail. Hidden lines are left out; the halves are painted far to near. One scale fits every
+//! frame, so sizes compare across frames.
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::Vector3;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::pose::{cat_poses, BodyPose, CatPose};
+use super::style::{bold, create_dir, ensure_fonts, failed, text, GUIDE};
+use super::PlotError;
+use crate::problem::Problem;
+use crate::schedule::{Phase, Schedule};
+
+/// Frames in the PNG filmstrip written beside the GIF.
+pub const FILMSTRIP_PANELS: usize = 6;
+/// GIF size, pixels.
+const GIF_SIZE: (u32, u32) = (600, 600);
+/// Size of one filmstrip panel, pixels; a title row sits above the panels.
+const PANEL_SIZE: (u32, u32) = (340, 380);
+const STRIP_TITLE: u32 = 40;
+/// Length of one loop of the GIF, s (the manoeuvre in slow motion).
+const LOOP_SECONDS: f64 = 6.0;
+const CIRCLE_SIDES: usize = 28;
+const GENERATORS: usize = 8;
+
+const A_FILL: RGBColor = RGBColor(253, 208, 162);
+const A_EDGE: RGBColor = RGBColor(200, 85, 0);
+const B_FILL: RGBColor = RGBColor(189, 215, 238);
+const B_EDGE: RGBColor = RGBColor(33, 102, 172);
+const BELLY: RGBColor = RGBColor(215, 25, 60);
+const JOINT: RGBColor = RGBColor(60, 60, 60);
+
+/// Writes the flip as an animated GIF at `path` (`frames` instants evenly spaced over the
+/// manoeuvre, 600 × 600, looping) and a PNG filmstrip of [`FILMSTRIP_PANELS`] instants beside
+/// it (`<stem>_filmstrip.png`); returns both paths.
+pub fn flip_animation(
+    path: &Path,
+    problem: &Problem,
+    schedule: &Schedule,
+    frames: usize,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let bad = |reason: String| PlotError::BadArgument { path: path.to_path_buf(), reason };
+    if frames < 2 {
+        return Err(bad(format!("an animation needs at least 2 frames, {frames} asked")));
+    }
+    let total = schedule.duration();
+    if !(total.is_finite() && total > 0.0) {
+        return Err(bad(format!("the schedule lasts {total} s; it must last a positive, finite time")));
+    }
+    ensure_fonts()?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        create_dir(dir)?;
+    }
+    let scene = Scene::new(problem, schedule);
+    let poses = cat_poses(problem, schedule, &spaced(total, frames));
+    let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
+
+    let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
+    {
+        let root = BitMapBackend::gif(path, GIF_SIZE, delay_ms)
+            .map_err(|e| write_error(path)(e.to_string()))?
+            .into_drawing_area();
+        for pose in &poses {
+            scene
+                .draw(&root, pose, &extent, false)
+                .and_then(|()| root.present().map_err(failed))
+                .map_err(write_error(path))?;
+        }
+    }
+
+    let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
+    let strip = path.with_file_name(format!("{stem}_filmstrip.png"));
+    let size = (PANEL_SIZE.0 * FILMSTRIP_PANELS as u32, PANEL_SIZE.1 + STRIP_TITLE);
+    {
+        let root = BitMapBackend::new(&strip, size).into_drawing_area();
+        let panels = cat_poses(problem, schedule, &spaced(total, FILMSTRIP_PANELS));
+        scene
+            .draw_filmstrip(&root, &panels, &extent)
+            .and_then(|()| root.present().map_err(failed))
+            .map_err(write_error(&strip))?;
+    }
+    Ok(vec![path.to_path_buf(), strip])
+}
+
+/// Turns a backend's message into a [`PlotError::Write`] naming `path`.
+fn write_error(path: &Path) -> impl Fn(String) -> PlotError + '_ {
+    move |message| PlotError::Write { path: path.to_path_buf(), message }
+}
+
+/// `n ≥ 2` instants from 0 to `total`, both ends included.
+fn spaced(total: f64, n: usize) -> Vec<f64> {
+    (0..n).map(|k| total * k as f64 / (n - 1) as f64).collect()
+}
+
+/// An orthographic camera: `toward` points from the scene to the viewer.
+struct Camera {
+    right: Vector3<f64>,
+    up: Vector3<f64>,
+    toward: Vector3<f64>,
+}
+
+impl Camera {
+    fn new() -> Self {
+        let toward = Vector3::new(-1.0, 0.55, 0.35).normalize();
+        let up = (Vector3::y() - toward * toward.y).normalize();
+        Self { right: up.cross(&toward), up, toward }
+    }
+    fn project(&self, p: &Vector3<f64>) -> (f64, f64) {
+        (p.dot(&self.right), p.dot(&self.up))
+    }
+    fn depth(&self, p: &Vector3<f64>) -> f64 {
+        p.dot(&self.toward)
+    }
+    fn faces(&self, normal: &Vector3<f64>) -> bool {
+        normal.dot(&self.toward) > 0.0
+    }
+}
+
+/// Something to paint, in projected world units (m); widths in pixels of a 600-pixel frame.
+#[derive(Clone, Debug)]
+enum Mark {
+    Fill { points: Vec<(f64, f64)>, fill: RGBColor, edge: RGBColor },
+    Line { points: Vec<(f64, f64)>, colour: RGBColor, width: f64 },
+    Disc { centre: (f64, f64), radius: f64, fill: RGBColor, edge: RGBColor },
+}
+
+/// A mark with its painting order: by group depth (far first), then layer.
+#[derive(Clone, Debug)]
+struct Layered {
+    depth: f64,
+    layer: u8,
+    mark: Mark,
+}
+
+/// Layers within one half: hidden legs, silhouette, outline, features, head.
+const BEHIND: u8 = 0;
+const HULL: u8 = 1;
+const OUTLINE: u8 = 2;
+const FEATURE: u8 = 3;
+const HEAD: u8 = 4;
+
+/// What stays the same from frame to frame.
+struct Scene {
+    camera: Camera,
+    half: f64,
+    radius: f64,
+    title: String,
+    durations: [f64; 3],
+}
+
+/// The projected bounding box of every frame, m.
+#[derive(Clone, Copy, Debug)]
+struct Extent {
+    lo: (f64, f64),
+    hi: (f64, f64),
+}
+
+impl Extent {
+    const EMPTY: Extent = Extent { lo: (f64::INFINITY, f64::INFINITY), hi: (f64::NEG_INFINITY, f64::NEG_INFINITY) };
+
+    fn with(self, marks: &[Layered]) -> Extent {
+        let mut e = self;
+        let mut add = |(x, y): (f64, f64), r: f64| {
+            e.lo = (e.lo.0.min(x - r), e.lo.1.min(y - r));
+            e.hi = (e.hi.0.max(x + r), e.hi.1.max(y + r));
+        };
+        for m in marks {
+            match &m.mark {
+                Mark::Fill { points, .. } | Mark::Line { points, .. } => points.iter().for_each(|&p| add(p, 0.0)),
+                Mark::Disc { centre, radius, .. } => add(*centre, *radius),
+            }
+        }
+        e
+    }
+}
+
+/// Maps projected world coordinates into a pixel rectangle, one scale for both axes.
+struct Fit {
+    scale: f64,
+    centre: (f64, f64),
+    origin: (f64, f64),
+}
+
+impl Fit {
+    fn new(extent: &Extent, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> Fit {
+        let w = (extent.hi.0 - extent.lo.0).max(1e-9);
+        let h = (extent.hi.1 - extent.lo.1).max(1e-9);
+        let scale = 0.94 * ((x1 - x0) / w).min((y1 - y0) / h);
+        let centre = (0.5 * (extent.lo.0 + extent.hi.0), 0.5 * (extent.lo.1 + extent.hi.1));
+        Fit { scale, centre, origin: (0.5 * (x0 + x1), 0.5 * (y0 + y1)) }
+    }
+    fn px(&self, (x, y): (f64, f64)) -> (i32, i32) {
+        let px = self.origin.0 + (x - self.centre.0) * self.scale;
+        let py = self.origin.1 - (y - self.centre.1) * self.scale;
+        (px.round() as i32, py.round() as i32)
+    }
+}
+
+/// Where things go in one frame, from the bottom up: two caption lines, the phase bar, the
+/// ground line, and the cat above it; pixels.
+struct Layout {
+    /// Pixels per pixel of a 600-pixel frame.
+    u: f64,
+    w: f64,
+    /// Caption and small text sizes.
+    caption: f64,
+    small: f64,
+    /// Centres of the two caption lines.
+    captions: [f64; 2],
+    /// Top and height of the phase bar.
+    bar: (f64, f64),
+    ground: f64,
+    /// The cat's rectangle `(x0, y0, x1, y1)`.
+    cat: (f64, f64, f64, f64),
+}
+
+impl Layout {
+    fn new(w: f64, h: f64, compact: bool) -> Layout {
+        let u = w.min(h) / 600.0;
+        let caption = (20.0 * u).max(13.0);
+        let small = (13.0 * u).max(11.0);
+        let line = 1.35 * caption;
+        let second = h - 0.85 * line;
+        let first = second - line;
+        let bar_h = (18.0 * u).max(small + 3.0);
+        let bar_y = first - 0.75 * line - bar_h;
+        let ground = bar_y - (14.0 * u).max(8.0);
+        let top = if compact { 8.0 * u } else { 78.0 * u };
+        Layout {
+            u,
+            w,
+            caption,
+            small,
+            captions: [first, second],
+            bar: (bar_y, bar_h),
+            ground,
+            cat: (12.0 * u, top, w - 12.0 * u, ground - 8.0 * u),
+        }
+    }
+}
+
+impl Scene {
+    fn new(problem: &Problem, schedule: &Schedule) -> Scene {
+        Scene {
+            camera: Camera::new(),
+            half: 0.5 * problem.cat.length,
+            radius: problem.cat.radius,
+            title: format!("catflip: problem \u{201c}{}\u{201d}, {}", problem.name, schedule.profile.name()),
+            durations: schedule.durations,
+        }
+    }
+
+    /// Every mark of one pose, in painting order.
+    fn marks(&self, pose: &CatPose) -> Vec<Layered> {
+        let cam = &self.camera;
+        let (h, r) = (self.half, self.radius);
+        let mut out = Vec::new();
+        self.cylinder(&pose.a, A_FILL, A_EDGE, 0.55 * h, &mut out);
+        self.cylinder(&pose.b, B_FILL, B_EDGE, -0.55 * h, &mut out);
+        let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
+        // The head on A's front end, ears on its back (−y, away from the belly).
+        let head = Vector3::new(0.0, 0.0, h + 1.3 * r);
+        for s in [-1.0, 1.0] {
+            let ear = [(0.35, -1.0), (1.45, -0.3), (1.55, -2.9)]
+                .map(|(x, y)| pose.a.point(head + Vector3::new(s * x * r, y * r, 0.0)));
+            let points = ear.iter().map(|p| cam.project(p)).collect();
+            out.push(Layered { depth: da, layer: HEAD, mark: Mark::Fill { points, fill: A_EDGE, edge: A_EDGE } });
+        }
+        let centre = cam.project(&pose.a.point(head));
+        out.push(Layered {
+            depth: da,
+            layer: HEAD,
+            mark: Mark::Disc { centre, radius: 1.5 * r, fill: A_FILL, edge: A_EDGE },
+        });
+        // The tail from B's rear end, curling up to its back.
+        let tail = (0..=12).map(|k| {
+            let s = 0.7 * h * k as f64 / 12.0;
+            cam.project(&pose.b.point(Vector3::new(0.0, -1.2 * s * s / h, -h - s)))
+        });
+        out.push(Layered {
+            depth: db,
+            layer: FEATURE,
+            mark: Mark::Line { points: tail.collect(), colour: B_EDGE, width: 4.0 },
+        });
+        // The joint, painted with the nearer half.
+        let joint = cam.project(&pose.a.point(Vector3::new(0.0, 0.0, -h)));
+        out.push(Layered {
+            depth: da.max(db),
+            layer: HEAD,
+            mark: Mark::Disc { centre: joint, radius: 0.7 * r, fill: JOINT, edge: JOINT },
+        });
+        out.sort_by(|x, y| x.depth.total_cmp(&y.depth).then(x.layer.cmp(&y.layer)));
+        out
+    }
+
+    /// One half: silhouette, axis, visible outline, belly stripe and two legs at local `leg_z`.
+    fn cylinder(&self, body: &BodyPose, fill: RGBColor, edge: RGBColor, leg_z: f64, out: &mut Vec<Layered>) {
+        let cam = &self.camera;
+        let (h, r) = (self.half, self.radius);
+        let depth = cam.depth(&body.centre);
+        let push = |out: &mut Vec<Layered>, layer, mark| out.push(Layered { depth, layer, mark });
+        let line = |a: Vector3<f64>, b: Vector3<f64>| vec![cam.project(&body.point(a)), cam.project(&body.point(b))];
+        let radial = |k: usize, of: usize| {
+            let (s, c) = (std::f64::consts::TAU * k as f64 / of as f64).sin_cos();
+            Vector3::new(c, s, 0.0)
+        };
+        let ring: Vec<Vector3<f64>> = (0..CIRCLE_SIDES).map(|k| r * radial(k, CIRCLE_SIDES)).collect();
+        let rim: Vec<(f64, f64)> = [-h, h]
+            .iter()
+            .flat_map(|&z| ring.iter().map(move |p| p + Vector3::new(0.0, 0.0, z)))
+            .map(|p| cam.project(&body.point(p)))
+            .collect();
+        push(out, HULL, Mark::Fill { points: convex_hull(rim), fill, edge });
+        push(
+            out,
+            OUTLINE,
+            Mark::Line {
+                points: line(Vector3::new(0.0, 0.0, -h), Vector3::new(0.0, 0.0, h)),
+                colour: edge,
+                width: 1.0,
+            },
+        );
+        for k in 0..GENERATORS {
+            let n = radial(k, GENERATORS);
+            if cam.faces(&(body.rotation * n)) {
+                push(
+                    out,
+                    OUTLINE,
+                    Mark::Line {
+                        points: line(r * n - h * Vector3::z(), r * n + h * Vector3::z()),
+                        colour: edge,
+                        width: 1.0,
+                    },
+                );
+            }
+        }
+        for z in [-h, h] {
+            let cap_faces = cam.faces(&(body.rotation * Vector3::z() * z.signum()));
+            for k in 0..CIRCLE_SIDES {
+                let mid = radial(2 * k + 1, 2 * CIRCLE_SIDES);
+                if cap_faces || cam.faces(&(body.rotation * mid)) {
+                    let at = Vector3::new(0.0, 0.0, z);
+                    let points = line(ring[k] + at, ring[(k + 1) % CIRCLE_SIDES] + at);
+                    push(out, OUTLINE, Mark::Line { points, colour: edge, width: 1.5 });
+                }
+            }
+        }
+        let belly = body.rotation * Vector3::y();
+        if cam.faces(&belly) {
+            push(
+                out,
+                FEATURE,
+                Mark::Line {
+                    points: line(Vector3::new(0.0, r, -h), Vector3::new(0.0, r, h)),
+                    colour: BELLY,
+                    width: 5.0,
+                },
+            );
+        }
+        let layer = if cam.faces(&belly) { FEATURE } else { BEHIND };
+        for s in [-1.0, 1.0] {
+            let foot = Vector3::new(s * 0.5 * r, 0.87 * r, leg_z);
+            let paw = foot + 0.9 * h * Vector3::new(0.2 * s, 1.0, 0.0).normalize();
+            push(out, layer, Mark::Line { points: line(foot, paw), colour: edge, width: 5.0 });
+            push(out, layer, Mark::Disc { centre: cam.project(&body.point(paw)), radius: 0.45 * r, fill: edge, edge });
+        }
+    }
+
+    /// One frame in `area`; `compact` leaves out the title and key (filmstrip panels).
+    fn draw<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pose: &CatPose,
+        extent: &Extent,
+        compact: bool,
+    ) -> Result<(), String> {
+        area.fill(&WHITE).map_err(failed)?;
+        let (w, h) = area.dim_in_pixel();
+        let lay = Layout::new(f64::from(w), f64::from(h), compact);
+        if !compact {
+            self.header(area, &lay)?;
+        }
+        // The ground the cat falls towards: world −y, drawn downwards.
+        let u = lay.u;
+        let ground = lay.ground as i32;
+        let line = vec![((16.0 * u) as i32, ground), ((lay.w - 16.0 * u) as i32, ground)];
+        area.draw(&PathElement::new(line, GUIDE.stroke_width(1))).map_err(failed)?;
+        let label = text(lay.small).color(&GUIDE).pos(Pos::new(HPos::Right, VPos::Bottom));
+        area.draw(&Text::new("down ↓", ((lay.w - 18.0 * u) as i32, ground - 3), label)).map_err(failed)?;
+
+        let fit = Fit::new(extent, lay.cat);
+        let stroke = |width: f64| (width * u).round().max(1.0) as u32;
+        let px = |p: &[(f64, f64)]| p.iter().map(|&q| fit.px(q)).collect::<Vec<_>>();
+        for item in self.marks(pose) {
+            match item.mark {
+                Mark::Fill { points, fill, edge } => {
+                    let mut outline = px(&points);
+                    area.draw(&Polygon::new(outline.clone(), fill.filled())).map_err(failed)?;
+                    outline.extend(outline.first().copied());
+                    area.draw(&PathElement::new(outline, edge.stroke_width(stroke(2.0)))).map_err(failed)?;
+                }
+                Mark::Line { points, colour, width } => {
+                    area.draw(&PathElement::new(px(&points), colour.stroke_width(stroke(width)))).map_err(failed)?;
+                }
+                Mark::Disc { centre, radius, fill, edge } => {
+                    let r = ((radius * fit.scale).round() as i32).max(2);
+                    area.draw(&Circle::new(fit.px(centre), r, fill.filled())).map_err(failed)?;
+                    area.draw(&Circle::new(fit.px(centre), r, edge.stroke_width(stroke(2.0)))).map_err(failed)?;
+                }
+            }
+        }
+        self.timeline(area, pose, &lay)?;
+        let captions = [
+            format!("t = {:.3} s   phase: {}", pose.time, pose.phase.name()),
+            format!("twist {:+.1}°   swing {:.1}°", pose.twist.to_degrees(), pose.swing.to_degrees()),
+        ];
+        for (line, y) in captions.into_iter().zip(lay.captions) {
+            let style = text(lay.caption).pos(Pos::new(HPos::Center, VPos::Center));
+            area.draw(&Text::new(line, ((lay.w / 2.0) as i32, y as i32), style)).map_err(failed)?;
+        }
+        Ok(())
+    }
+
+    /// Title and colour key.
+    fn header<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, lay: &Layout) -> Result<(), String> {
+        let u = lay.u;
+        let title = bold(lay.caption * 1.1).pos(Pos::new(HPos::Center, VPos::Top));
+        area.draw(&Text::new(self.title.clone(), ((lay.w / 2.0) as i32, (12.0 * u) as i32), title)).map_err(failed)?;
+        let key = [("A: front half", A_EDGE), ("B: rear half", B_EDGE), ("red stripe, legs: belly", BELLY)];
+        let mut x = 20.0 * u;
+        for (label, c) in key {
+            let style = text(lay.small * 1.1).color(&c);
+            area.draw(&Text::new(label, (x as i32, (48.0 * u) as i32), style.clone())).map_err(failed)?;
+            x += f64::from(area.estimate_text_size(label, &style).map_err(failed)?.0) + 24.0 * u;
+        }
+        Ok(())
+    }
+
+    /// The three phases as a bar, with the current instant marked.
+    fn timeline<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        pose: &CatPose,
+        lay: &Layout,
+    ) -> Result<(), String> {
+        let (u, y, bar) = (lay.u, lay.bar.0, lay.bar.1);
+        let (x0, x1) = (24.0 * u, lay.w - 24.0 * u);
+        let total: f64 = self.durations.iter().sum();
+        let at = |t: f64| x0 + (x1 - x0) * t / total;
+        let shades = [RGBColor(228, 228, 228), RGBColor(205, 205, 205), RGBColor(228, 228, 228)];
+        let mut start = 0.0;
+        for (phase, shade) in Phase::ALL.iter().zip(shades) {
+            let end = start + self.durations[phase.index()];
+            let rect = [(at(start) as i32, y as i32), (at(end) as i32, (y + bar) as i32)];
+            area.draw(&Rectangle::new(rect, shade.filled())).map_err(failed)?;
+            let style = text(lay.small).color(&JOINT).pos(Pos::new(HPos::Center, VPos::Center));
+            let centre = (at(0.5 * (start + end)) as i32, (y + 0.5 * bar) as i32);
+            area.draw(&Text::new(phase.name(), centre, style)).map_err(failed)?;
+            start = end;
+        }
+        let x = at(pose.time) as i32;
+        let marker = vec![(x, (y - 4.0 * u) as i32), (x, (y + bar + 4.0 * u) as i32)];
+        area.draw(&PathElement::new(marker, BELLY.stroke_width((3.0 * u).max(2.0) as u32))).map_err(failed)
+    }
+
+    /// The filmstrip: a title row, then one compact frame per pose side by side.
+    fn draw_filmstrip<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        poses: &[CatPose],
+        extent: &Extent,
+    ) -> Result<(), String> {
+        root.fill(&WHITE).map_err(failed)?;
+        let (head, body) = root.split_vertically(STRIP_TITLE);
+        let title =
+            format!("{}: the flip at {} instants (A front: orange, B rear: blue, belly: red)", self.title, poses.len());
+        let (w, _) = head.dim_in_pixel();
+        head.draw(&Text::new(title, (w as i32 / 2, 20), bold(20.0).pos(Pos::new(HPos::Center, VPos::Center))))
+            .map_err(failed)?;
+        for (panel, pose) in body.split_evenly((1, poses.len().max(1))).iter().zip(poses) {
+            self.draw(panel, pose, extent, true)?;
+            let (pw, ph) = panel.dim_in_pixel();
+            let frame = vec![(0, 0), (pw as i32 - 1, 0), (pw as i32 - 1, ph as i32 - 1), (0, ph as i32 - 1), (0, 0)];
+            panel.draw(&PathElement::new(frame, RGBColor(200, 200, 200).stroke_width(1))).map_err(failed)?;
+        }
+        Ok(())
+    }
+}
+
+/// Convex hull of 2D points (Andrew's monotone chain), counter-clockwise.
+fn convex_hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    if points.len() < 3 {
+        return points;
+    }
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0);
+    let mut hull: Vec<(f64, f64)> = Vec::with_capacity(points.len() + 1);
+    for pass in [points.clone(), points.into_iter().rev().collect()] {
+        let floor = hull.len();
+        for p in pass {
+            while hull.len() >= floor + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_of_a_square_with_an_inner_point() {
+        let pts = vec![(0.0, 0.0), (1.0, 0.0), (0.5, 0.5), (1.0, 1.0), (0.0, 1.0)];
+        assert_eq!(convex_hull(pts), vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+    }
+
+    #[test]
+    fn camera_is_right_handed_with_head_to_the_right() {
+        let c = Camera::new();
+        assert!((c.right.cross(&c.up) - c.toward).norm() < 1e-12);
+        assert!(c.project(&Vector3::z()).0 > 0.0, "the head (+z) should point right");
+        assert!(c.project(&Vector3::y()).1 > 0.0, "world +y should be drawn upwards");
+    }
+}

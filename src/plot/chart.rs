@@ -1,0 +1,315 @@
+//! The one line chart every static figure is made of: named series, optional phase bands,
+//! dashed reference lines, linear or log–log axes, and a legend beside the plot (never on it).
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::style::{bold, colour, dashed, failed, text, write_png_svg, Figure, GUIDE};
+use super::{PlotError, Series};
+
+/// How the axes map values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Scale {
+    /// Both axes linear.
+    #[default]
+    Linear,
+    /// Both axes logarithmic (base 10); points with a non-positive coordinate are left out.
+    LogLog,
+}
+
+/// A labelled interval of the x axis, e.g. a phase: its start is marked by a dashed vertical
+/// line and its label written at the top, centred.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Band {
+    /// Start, in x units.
+    pub from: f64,
+    /// End, in x units.
+    pub to: f64,
+    /// Label.
+    pub label: String,
+}
+
+/// A dashed horizontal reference line (e.g. a target), labelled at its left end.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RefLine {
+    /// Height, in y units.
+    pub y: f64,
+    /// Label.
+    pub label: String,
+}
+
+/// A line chart, written as `<stem>.png` and `<stem>.svg` by [`line_plot`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinePlot {
+    /// File name without extension.
+    pub stem: String,
+    /// Title (name the problem in it).
+    pub title: String,
+    /// x-axis label, with its unit.
+    pub x_label: String,
+    /// y-axis label, with its unit.
+    pub y_label: String,
+    /// The curves, one legend entry each.
+    pub series: Vec<Series>,
+    /// Labelled x intervals (phases).
+    pub bands: Vec<Band>,
+    /// Dashed horizontal reference lines.
+    pub ref_lines: Vec<RefLine>,
+    /// Linear or log–log axes.
+    pub scale: Scale,
+    /// Whether each point is also marked by a dot (for sparse data such as benchmarks).
+    pub markers: bool,
+}
+
+impl LinePlot {
+    /// A linear line chart without bands, reference lines or markers.
+    pub fn new(
+        stem: impl Into<String>,
+        title: impl Into<String>,
+        x_label: impl Into<String>,
+        y_label: impl Into<String>,
+        series: Vec<Series>,
+    ) -> Self {
+        Self {
+            stem: stem.into(),
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            bands: Vec::new(),
+            ref_lines: Vec::new(),
+            scale: Scale::Linear,
+            markers: false,
+        }
+    }
+}
+
+/// Writes `plot` as `dir/<stem>.png` and `dir/<stem>.svg`; returns the two paths.
+///
+/// Fails with [`PlotError::NoData`] when there is no series, or no drawable point in any.
+pub fn line_plot(dir: &Path, plot: &LinePlot) -> Result<Vec<PathBuf>, PlotError> {
+    let prepared = Prepared::new(plot).map_err(|reason| PlotError::NoData { path: dir.join(&plot.stem), reason })?;
+    write_png_svg(dir, &plot.stem, &prepared)
+}
+
+/// A plot with its data mapped to axis coordinates (log10 on log axes) and its ranges found.
+struct Prepared<'a> {
+    plot: &'a LinePlot,
+    /// Per series, the runs of drawable points (a non-drawable point breaks the line).
+    runs: Vec<Vec<Vec<(f64, f64)>>>,
+    x: (f64, f64),
+    y: (f64, f64),
+}
+
+impl<'a> Prepared<'a> {
+    fn new(plot: &'a LinePlot) -> Result<Self, String> {
+        if plot.series.is_empty() {
+            return Err("no series given".to_string());
+        }
+        let log = plot.scale == Scale::LogLog;
+        let map = |(x, y): (f64, f64)| if log { (x.log10(), y.log10()) } else { (x, y) };
+        let runs: Vec<Vec<Vec<(f64, f64)>>> = plot
+            .series
+            .iter()
+            .map(|s| {
+                let mut runs = vec![Vec::new()];
+                for p in s.points.iter().map(|&p| map(p)) {
+                    match runs.last_mut() {
+                        Some(run) if p.0.is_finite() && p.1.is_finite() => run.push(p),
+                        Some(run) if !run.is_empty() => runs.push(Vec::new()),
+                        _ => {}
+                    }
+                }
+                runs.retain(|r| !r.is_empty());
+                runs
+            })
+            .collect();
+        let all = || runs.iter().flatten().flatten();
+        if all().next().is_none() {
+            let kind = if log { "finite, positive" } else { "finite" };
+            return Err(format!("no {kind} point in any of the {} series", plot.series.len()));
+        }
+        let x = span(all().map(|p| p.0));
+        let y = span(all().map(|p| p.1).chain(plot.ref_lines.iter().map(|r| if log { r.y.log10() } else { r.y })));
+        let (x, y) = if log {
+            (pad(decades(x), 0.03, 0.03), pad(decades(y), 0.03, 0.03))
+        } else {
+            let top = if plot.bands.is_empty() { 0.06 } else { 0.14 };
+            (x, pad(y, 0.06, top))
+        };
+        Ok(Self { plot, runs, x, y })
+    }
+}
+
+/// The smallest and largest of finite values (callers guarantee at least one), widened when equal.
+fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) =
+        values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    if hi - lo > 1e-12 * (1.0 + lo.abs().max(hi.abs())) {
+        (lo, hi)
+    } else {
+        let w = 0.5 * lo.abs().max(1.0);
+        (lo - w, hi + w)
+    }
+}
+
+/// Widens a range by fractions of its width below and above.
+fn pad((lo, hi): (f64, f64), below: f64, above: f64) -> (f64, f64) {
+    let w = hi - lo;
+    (lo - below * w, hi + above * w)
+}
+
+/// A log10 range widened to whole decades (the ticks fall on them).
+fn decades((lo, hi): (f64, f64)) -> (f64, f64) {
+    let (lo, hi) = (lo.floor(), hi.ceil());
+    (lo, if hi > lo { hi } else { lo + 1.0 })
+}
+
+/// A tick label on a log axis: `10ⁿ` at whole decades, the value itself between them.
+fn log_tick(v: &f64) -> String {
+    const SUPER: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    if (v - v.round()).abs() < 1e-9 {
+        let n = v.round() as i64;
+        let digits: String =
+            n.unsigned_abs().to_string().chars().filter_map(|c| c.to_digit(10)).map(|d| SUPER[d as usize]).collect();
+        format!("10{}{digits}", if n < 0 { "⁻" } else { "" })
+    } else {
+        format!("{:.1e}", 10f64.powf(*v))
+    }
+}
+
+/// Width of the legend column for these names, pixels.
+fn legend_width<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, names: &[&str], size: f64) -> Result<u32, String> {
+    let mut widest = 0;
+    for name in names {
+        widest = widest.max(root.estimate_text_size(name, &text(size)).map_err(failed)?.0);
+    }
+    Ok((widest + 64).clamp(140, root.dim_in_pixel().0 / 3))
+}
+
+impl Figure for Prepared<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let plot = self.plot;
+        root.fill(&WHITE).map_err(failed)?;
+        let (w, _) = root.dim_in_pixel();
+        let (head, body) = root.split_vertically(48);
+        head.draw(&Text::new(
+            plot.title.clone(),
+            (w as i32 / 2, 14),
+            bold(22.0).pos(Pos::new(HPos::Center, VPos::Top)),
+        ))
+        .map_err(failed)?;
+        let names: Vec<&str> = plot.series.iter().map(|s| s.name.as_str()).collect();
+        let legend_w = legend_width(root, &names, 16.0)?;
+        let (area, legend) = body.split_horizontally(w - legend_w);
+        let (x, y) = (self.x, self.y);
+        let mut chart = ChartBuilder::on(&area)
+            .margin(12)
+            .x_label_area_size(58)
+            .y_label_area_size(88)
+            .build_cartesian_2d(x.0..x.1, y.0..y.1)
+            .map_err(failed)?;
+        let log = plot.scale == Scale::LogLog;
+        let ticks = |(lo, hi): (f64, f64)| if log { ((hi - lo).round() as usize + 1).clamp(2, 12) } else { 10 };
+        let mut mesh = chart.configure_mesh();
+        mesh.x_desc(plot.x_label.as_str())
+            .y_desc(plot.y_label.as_str())
+            .label_style(text(16.0))
+            .axis_desc_style(text(18.0))
+            .x_labels(ticks(x))
+            .y_labels(ticks(y))
+            .light_line_style(RGBColor(238, 238, 238))
+            .max_light_lines(if log { 0 } else { 1 });
+        if log {
+            mesh.x_label_formatter(&log_tick).y_label_formatter(&log_tick);
+        }
+        mesh.draw().map_err(failed)?;
+
+        let guide = GUIDE.stroke_width(1);
+        for band in &plot.bands {
+            if band.from > x.0 + 1e-9 * (x.1 - x.0) {
+                chart
+                    .draw_series(DashedLineSeries::new([(band.from, y.0), (band.from, y.1)], 6, 5, guide))
+                    .map_err(failed)?;
+            }
+            let label = Text::new(
+                band.label.clone(),
+                (0.5 * (band.from + band.to), y.1),
+                text(16.0).color(&GUIDE).pos(Pos::new(HPos::Center, VPos::Top)),
+            );
+            chart.draw_series(std::iter::once(label)).map_err(failed)?;
+        }
+        for line in &plot.ref_lines {
+            let yv = if log { line.y.log10() } else { line.y };
+            chart
+                .draw_series(DashedLineSeries::new([(x.0, yv), (x.1, yv)], 10, 6, GUIDE.stroke_width(2)))
+                .map_err(failed)?;
+            let label = Text::new(
+                line.label.clone(),
+                (x.0 + 0.01 * (x.1 - x.0), yv),
+                text(15.0).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Bottom)),
+            );
+            chart.draw_series(std::iter::once(label)).map_err(failed)?;
+        }
+        for (i, runs) in self.runs.iter().enumerate() {
+            let style = colour(i).stroke_width(2);
+            for run in runs {
+                if dashed(i) {
+                    chart.draw_series(DashedLineSeries::new(run.iter().copied(), 9, 5, style)).map_err(failed)?;
+                } else {
+                    chart.draw_series(LineSeries::new(run.iter().copied(), style)).map_err(failed)?;
+                }
+                if plot.markers {
+                    chart.draw_series(run.iter().map(|&p| Circle::new(p, 4, colour(i).filled()))).map_err(failed)?;
+                }
+            }
+        }
+        draw_legend(&legend, &names, plot.markers)
+    }
+}
+
+/// The legend: one short line (and dot) and name per series, top to bottom.
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, names: &[&str], markers: bool) -> Result<(), String> {
+    let row = 26;
+    for (i, name) in names.iter().enumerate() {
+        let y = 30 + row * i as i32;
+        let style = colour(i).stroke_width(3);
+        if dashed(i) {
+            for x in [4, 20] {
+                area.draw(&PathElement::new(vec![(x, y), (x + 10, y)], style)).map_err(failed)?;
+            }
+        } else {
+            area.draw(&PathElement::new(vec![(4, y), (34, y)], style)).map_err(failed)?;
+        }
+        if markers {
+            area.draw(&Circle::new((19, y), 4, colour(i).filled())).map_err(failed)?;
+        }
+        area.draw(&Text::new(name.to_string(), (42, y), text(16.0).pos(Pos::new(HPos::Left, VPos::Center))))
+            .map_err(failed)?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_read_as_powers_of_ten() {
+        assert_eq!(log_tick(&-3.0), "10⁻³");
+        assert_eq!(log_tick(&12.0), "10¹²");
+        assert_eq!(log_tick(&0.0), "10⁰");
+        assert_eq!(log_tick(&0.5), "3.2e0");
+    }
+
+    #[test]
+    fn non_finite_points_break_the_line() {
+        let s = Series::new("s", vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (3.0, 4.0)]);
+        let plot = LinePlot::new("x", "t", "x", "y", vec![s]);
+        let lengths = Prepared::new(&plot).map(|p| p.runs[0].iter().map(Vec::len).collect::<Vec<_>>());
+        assert_eq!(lengths, Ok(vec![1, 2]));
+    }
+}

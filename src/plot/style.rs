@@ -1,0 +1,114 @@
+//! What every figure shares: the embedded font, the colours, and the PNG + SVG writer.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+
+use super::PlotError;
+
+/// Size of every static PNG, pixels (width, height).
+pub const PNG_SIZE: (u32, u32) = (1000, 600);
+/// Size of every static SVG, in SVG user units (width, height).
+pub const SVG_SIZE: (u32, u32) = (1000, 600);
+
+/// The font family every text style here uses; the embedded DejaVu Sans is registered under it.
+pub(crate) const FAMILY: &str = "sans-serif";
+
+/// Registers the embedded DejaVu Sans with plotters' `ab_glyph` renderer, once per process.
+pub(crate) fn ensure_fonts() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            let faces = [
+                (FontStyle::Normal, dejavu::sans::regular()),
+                (FontStyle::Bold, dejavu::sans::bold()),
+                (FontStyle::Oblique, dejavu::sans::oblique()),
+                (FontStyle::Italic, dejavu::sans::oblique()),
+            ];
+            for (style, bytes) in faces {
+                register_font(FAMILY, style, bytes).map_err(|_| format!("the {} face was rejected", style.as_str()))?;
+            }
+            Ok(())
+        })
+        .clone()
+        .map_err(PlotError::Font)
+}
+
+/// Regular text of the registered family, `size` pixels, black.
+pub(crate) fn text(size: f64) -> TextStyle<'static> {
+    FontDesc::new(FontFamily::Name(FAMILY), size, FontStyle::Normal).color(&BLACK)
+}
+
+/// Bold text of the registered family, `size` pixels, black.
+pub(crate) fn bold(size: f64) -> TextStyle<'static> {
+    FontDesc::new(FontFamily::Name(FAMILY), size, FontStyle::Bold).color(&BLACK)
+}
+
+/// Tableau 10: distinguishable, and the default of many plotting tools.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Colour of the `i`-th series (the palette repeats; [`dashed`] tells the repeats apart).
+pub(crate) fn colour(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Whether the `i`-th series is drawn dashed: every other pass through the palette.
+pub(crate) fn dashed(i: usize) -> bool {
+    (i / PALETTE.len()) % 2 == 1
+}
+
+/// Grey for reference lines and phase boundaries.
+pub(crate) const GUIDE: RGBColor = RGBColor(110, 110, 110);
+
+/// A figure that can draw itself on any plotters backend.
+pub(crate) trait Figure {
+    /// Draws the whole figure on `root`; the message says what failed.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// A plotters error as a message.
+pub(crate) fn failed<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
+    e.to_string()
+}
+
+/// Creates `dir` (and its parents) if needed.
+pub(crate) fn create_dir(dir: &Path) -> Result<(), PlotError> {
+    std::fs::create_dir_all(dir).map_err(|source| PlotError::CreateDir { path: dir.to_path_buf(), source })
+}
+
+/// Writes `figure` as `dir/stem.png` and `dir/stem.svg`; returns both paths.
+pub(crate) fn write_png_svg(dir: &Path, stem: &str, figure: &impl Figure) -> Result<Vec<PathBuf>, PlotError> {
+    ensure_fonts()?;
+    create_dir(dir)?;
+    let png = dir.join(format!("{stem}.png"));
+    render(&png, BitMapBackend::new(&png, PNG_SIZE).into_drawing_area(), figure)?;
+    let svg = dir.join(format!("{stem}.svg"));
+    render(&svg, SVGBackend::new(&svg, SVG_SIZE).into_drawing_area(), figure)?;
+    Ok(vec![png, svg])
+}
+
+/// Draws `figure` on `root` and flushes it to `path`.
+fn render<DB: DrawingBackend>(
+    path: &Path,
+    root: DrawingArea<DB, Shift>,
+    figure: &impl Figure,
+) -> Result<(), PlotError> {
+    figure
+        .draw(&root)
+        .and_then(|()| root.present().map_err(failed))
+        .map_err(|message| PlotError::Write { path: path.to_path_buf(), message })
+}

@@ -1,0 +1,92 @@
+//! The command line as a user meets it: the JSON contract of DESIGN.md §8, clear errors with a
+//! non-zero exit, and no half-written results.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn catflip(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("catflip-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn simulate_json_carries_the_contract_fields() {
+    let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
+    for key in ["engine", "twist_deg", "swing_deg", "circulation_rad", "peak_torque_nm", "velocity_jumps", "momentum_max"] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    for phase in ["bend", "twist", "unbend"] {
+        assert_eq!(v["peak_torque_nm"][phase].as_array().map(Vec::len), Some(2), "{phase}: one value per joint");
+    }
+    assert!(v["peak_torque_nm"]["max"].as_f64().is_some());
+    assert_eq!(v["engine"], "exact");
+    // The paper's cosine ends at 2ω0: exactly one jump, when unbending starts.
+    assert_eq!(v["velocity_jumps"].as_array().map(Vec::len), Some(1));
+    assert!(err.is_empty() || !out.is_empty());
+}
+
+#[test]
+fn calibrated_simulation_reports_the_circulation_found() {
+    let (code, out, err) =
+        catflip(&["simulate", "problems/paper.toml", "--json", "--set", "manoeuvre.circulation=calibrated"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    let found = v["calibration"]["circulation"].as_f64().expect("calibration reported");
+    assert!((found - v["circulation_rad"].as_f64().unwrap_or(f64::NAN)).abs() < 1e-15);
+    assert!((v["twist_deg"].as_f64().unwrap_or(0.0).abs() - 180.0).abs() < 1e-6, "{}", v["twist_deg"]);
+}
+
+#[test]
+fn rapier_simulation_reports_its_step() {
+    let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt", "0.002", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
+    assert_eq!(v["engine"], "rapier");
+    let dt = v["dt"].as_f64().expect("dt");
+    assert!(dt > 0.0 && dt <= 0.002, "dt = {dt}");
+    assert!(v["tracking_error_rad"].as_array().is_some());
+}
+
+#[test]
+fn bad_input_gives_one_clear_error_and_a_non_zero_exit() {
+    let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--set", "cat.mass=-1"]);
+    assert_ne!(code, 0);
+    assert!(out.is_empty(), "nothing on stdout: {out}");
+    assert_eq!(err.trim(), "error: cat.mass = -1: must be positive");
+    let (code, _, err) = catflip(&["audit", "problems/nope.toml"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("cannot read problem file problems/nope.toml"), "{err}");
+}
+
+#[test]
+fn a_bad_problem_in_a_run_writes_nothing() {
+    let out = scratch("bad-run");
+    let (code, _, err) = catflip(&[
+        "run",
+        "problems/paper.toml",
+        "problems/script-defaults.toml",
+        "--set",
+        "manoeuvre.phases=[0.3, 0.3, 0.3]",
+        "--out",
+        out.to_str().unwrap_or("/nonexistent"),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("manoeuvre.phases"), "{err}");
+    assert!(!out.exists() || std::fs::read_dir(&out).map(|d| d.count()).unwrap_or(0) == 0, "results were written");
+}
+
+#[test]
+fn cone_at_gimbal_lock_is_refused_from_the_command_line() {
+    let (code, _, err) =
+        catflip(&["simulate", "problems/paper.toml", "--set", "manoeuvre.bend_path=cone", "--set", "manoeuvre.theta_deg=90"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("gimbal lock"), "{err}");
+}

@@ -1,0 +1,77 @@
+//! The peak-torque table, the optimisers against the exact engine, and `catflip run`'s output.
+#![deny(clippy::float_cmp)]
+
+use approx::assert_relative_eq;
+use catflip::compare::compare;
+use catflip::manoeuvre::ProfileKind;
+use catflip::optimize::optimize;
+use catflip::problem::Problem;
+
+fn small() -> Problem {
+    let mut p = Problem::default();
+    p.optimize.nodes = 61;
+    p
+}
+
+#[test]
+fn table_has_every_profile_and_the_paper_model_peaks() {
+    let p = Problem::default();
+    let t = compare(&p, &[]).expect("runs");
+    assert_eq!(t.rows.len(), ProfileKind::ALL.len());
+    let t2 = 0.6 * p.drop.fall_time();
+    for r in &t.rows {
+        // Model peak I*·C_a·D/T² (paper §8 with the correct I*).
+        assert_relative_eq!(r.model_peak_nm, p.cat.end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2), max_relative = 1e-12);
+        // Path invariance: twist and swing do not depend on the profile.
+        assert_relative_eq!(r.twist_deg, t.rows[0].twist_deg, epsilon = 1e-7);
+        assert_relative_eq!(r.swing_deg, t.rows[0].swing_deg, epsilon = 1e-7);
+        let jumps = if r.profile == "paper-cosine" { 1 } else { 0 };
+        assert_eq!(r.velocity_jumps, jumps, "{}", r.profile);
+        // The exact peak is far above the paper's model: centripetal terms dominate.
+        assert!(r.exact_peak_nm.max > r.model_peak_nm, "{}", r.profile);
+    }
+    let csv = t.to_csv();
+    assert_eq!(csv.lines().count(), 1 + t.rows.len());
+}
+
+#[test]
+fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
+    let p = small();
+    let r = optimize(&p).expect("runs");
+    assert!(r.qp.status.is_solved(), "{:?}", r.qp.status);
+    // N = 61 is odd: the discrete optimum is the bang-bang value 4 D I*/T² (qp module docs).
+    assert_relative_eq!(r.qp.peak_torque, r.qp_closed_form_nm, max_relative = 1e-7);
+    let refined = r.refined_optimum.as_ref().expect("refinement ran");
+    let peak = refined.evaluation.exact_peak_nm.twist[0].max(refined.evaluation.exact_peak_nm.twist[1]);
+    let table = compare(&p, &[]).expect("runs");
+    for row in &table.rows {
+        let lib = row.exact_peak_nm.twist[0].max(row.exact_peak_nm.twist[1]);
+        assert!(peak < lib, "refined {peak} ≥ {} ({lib})", row.profile);
+    }
+    // The refinement changes the timing only: the flip is unchanged, and with the calibrated
+    // circulation it is π.
+    assert_relative_eq!(refined.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
+    assert_relative_eq!(refined.calibrated_twist_deg.abs(), 180.0, epsilon = 1e-6);
+    assert_eq!(refined.evaluation.velocity_jumps, 0);
+}
+
+#[test]
+fn run_writes_every_result_file_atomically() {
+    let out = std::env::temp_dir().join(format!("catflip-run-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let p = small();
+    let outcome = catflip::run::run(&p, "test", &out).expect("runs");
+    for f in ["report.md", "audit.md", "audit.json", "compare.md", "compare.csv", "optimize.json", "verification.csv", "schedules/problem.csv", "plots/flip.gif"] {
+        let path = outcome.dir.join(f);
+        assert!(std::fs::metadata(&path).map(|m| m.len() > 0).unwrap_or(false), "{f} missing or empty");
+    }
+    // No scratch folder is left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(&out).expect("exists").filter_map(Result::ok).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+    // The schedule CSV replays the schedule: first row at rest and straight, last row straight.
+    let csv = std::fs::read_to_string(outcome.dir.join("schedules/problem.csv")).expect("readable");
+    let last = csv.lines().last().unwrap_or_default();
+    let fields: Vec<f64> = last.split(',').filter_map(|x| x.parse().ok()).collect();
+    assert!(fields[1].abs() < 1e-12 && fields[2].abs() < 1e-12, "{last}");
+    let _ = std::fs::remove_dir_all(&out);
+}
