@@ -52,7 +52,8 @@ fn overrides_apply_with_toml_values_and_bare_words() {
 #[test]
 fn every_profile_name_parses() {
     for kind in ProfileKind::ALL {
-        let p = Problem::from_toml(PAPER, "paper.toml", &[format!("manoeuvre.profile={}", kind.name())]).expect(kind.name());
+        let p = Problem::from_toml(PAPER, "paper.toml", &[format!("manoeuvre.profile={}", kind.name())])
+            .unwrap_or_else(|e| panic!("{}: {e}", kind.name()));
         assert_eq!(p.manoeuvre.profile, kind);
     }
 }
@@ -108,7 +109,10 @@ fn unknown_keys_and_profiles_are_refused() {
 
 #[test]
 fn malformed_toml_names_its_line() {
-    assert_eq!(error_of("name = \"x\"\n[cat\nmass = 1\n", &[]), "problem file test.toml, line 2: unclosed table, expected `]`");
+    assert_eq!(
+        error_of("name = \"x\"\n[cat\nmass = 1\n", &[]),
+        "problem file test.toml, line 2: unclosed table, expected `]`"
+    );
     assert_eq!(
         error_of("[cat]\nmass = \"heavy\"\n", &[]),
         "problem file test.toml: invalid type: string \"heavy\", expected f64 in `cat.mass`"
@@ -118,17 +122,16 @@ fn malformed_toml_names_its_line() {
 #[test]
 fn malformed_override_is_refused() {
     assert_eq!(error_of(PAPER, &["cat.mass"]), "--set cat.mass: expected key=value");
-    assert_eq!(
-        error_of(PAPER, &["name.first=3"]),
-        "--set name.first=3: `name` is not a section"
-    );
+    assert_eq!(error_of(PAPER, &["name.first=3"]), "--set name.first=3: `name` is not a section");
 }
 
 #[test]
 fn cone_near_gimbal_lock_is_refused() {
     let e = error_of(PAPER, &["manoeuvre.bend_path=cone", "manoeuvre.theta_deg=92"]);
     assert!(e.starts_with("manoeuvre.theta_deg = 92: the cone path meets gimbal lock"), "{e}");
-    assert!(Problem::from_toml(PAPER, "t", &["manoeuvre.bend_path=cone".into(), "manoeuvre.theta_deg=60".into()]).is_ok());
+    assert!(
+        Problem::from_toml(PAPER, "t", &["manoeuvre.bend_path=cone".into(), "manoeuvre.theta_deg=60".into()]).is_ok()
+    );
 }
 
 #[test]

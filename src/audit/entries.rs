@@ -5,9 +5,8 @@ use std::f64::consts::PI;
 
 use super::formulas::{
     c_section4, c_worked_example, cosine_peak_torque, first_root_theta, k_consistent, k_paper,
-    one_turn_printed_argument, one_turn_residual_consistent, one_turn_residual_paper,
-    paper_end_transverse, paper_transverse, sin_half_root, stability_threshold,
-    theta_from_sin_half, whole_cat_moments, y_axis_rank,
+    one_turn_printed_argument, one_turn_residual_consistent, one_turn_residual_paper, paper_end_transverse,
+    paper_transverse, sin_half_root, stability_threshold, theta_from_sin_half, whole_cat_moments, y_axis_rank,
 };
 use super::{reproduces, Entry, Reading, ALPHA_ONE_TURN};
 use crate::manoeuvre::{BendPath, ProfileKind};
@@ -53,10 +52,7 @@ impl Entry {
     }
 
     fn reading(mut self, label: &str, value: Option<f64>) -> Entry {
-        self.readings.push(Reading {
-            label: label.to_string(),
-            value: value.filter(|x| x.is_finite()),
-        });
+        self.readings.push(Reading { label: label.to_string(), value: value.filter(|x| x.is_finite()) });
         self
     }
 
@@ -91,10 +87,7 @@ fn positive(x: f64) -> Option<f64> {
 /// A clause for entries built on `π/C` when the slipped inertia makes the literal `C ≤ 0`.
 fn lit_undefined(c: &Ctx) -> String {
     if c.circ_lit.is_none() {
-        format!(
-            "; the slipped inertia gives C = {} ≤ 0, so the literal π/C is undefined",
-            n(c.c_lit)
-        )
+        format!("; the slipped inertia gives C = {} ≤ 0, so the literal π/C is undefined", n(c.c_lit))
     } else {
         String::new()
     }
@@ -247,13 +240,9 @@ fn stability(c: &Ctx) -> Vec<Entry> {
         n(shift)
     );
     let lit_min = stability_threshold(c.it_lit, c.ia, 0.0).map(f64::to_degrees);
-    let cor_min =
-        stability_threshold(c.it, c.ia, cat.mass * cat.length.powi(2) / 4.0).map(f64::to_degrees);
+    let cor_min = stability_threshold(c.it, c.ia, cat.mass * cat.length.powi(2) / 4.0).map(f64::to_degrees);
     let from = match cor_min {
-        Some(m) => format!(
-            "with the parallel-axis terms the whole cat's y axis is least from θ = {}°",
-            n(m)
-        ),
+        Some(m) => format!("with the parallel-axis terms the whole cat's y axis is least from θ = {}°", n(m)),
         None => "the threshold needs I_x'x' > I_z'z'".to_string(),
     };
     let where_this = match cor_min {
@@ -299,10 +288,7 @@ fn c_forms(c: &Ctx) -> Vec<Entry> {
     let c4 = c_section4(c.it_lit, c.ia, c.theta);
     let ratio = c.c_lit / c.c - 1.0;
     let slip = if ratio.is_finite() {
-        format!(
-            "differs from corrected by the inertia slip only ({:+.3}%)",
-            100.0 * ratio
-        )
+        format!("differs from corrected by the inertia slip only ({:+.3}%)", 100.0 * ratio)
     } else {
         "differs from corrected by the inertia slip only".to_string()
     };
@@ -350,14 +336,8 @@ fn rates(c: &Ctx) -> Vec<Entry> {
     )
     .printed(w, 2.2514, Some(4))
     .values(omega_lit, c.omega0)
-    .reading(
-        "printed formula π/(Δt (1 − (I_z'z'/I_yy) sin²(θ/2)))",
-        omega_lit,
-    )
-    .reading(
-        "sin(θ/2) unsquared (§7's τ line, the code's C), whole Δt",
-        omega_sin,
-    )
+    .reading("printed formula π/(Δt (1 − (I_z'z'/I_yy) sin²(θ/2)))", omega_lit)
+    .reading("sin(θ/2) unsquared (§7's τ line, the code's C), whole Δt", omega_sin)
     .reading(
         "§4's C (factor 2, per-half I_cc), whole Δt",
         positive(c_section4(c.it_lit, c.ia, c.theta)).map(|k| PI / (c.t_fall * k)),
@@ -381,11 +361,7 @@ fn rates(c: &Ctx) -> Vec<Entry> {
     } else {
         format!("§7's formula squares sin(θ/2), which the code does not, and spreads the turn over the whole fall; {right}")
     });
-    let split = if (c.t2_code - c.t[1]).abs() > 1e-12 * c.t[1] {
-        " and the phase split"
-    } else {
-        ""
-    };
+    let split = if (c.t2_code - c.t[1]).abs() > 1e-12 * c.t[1] { " and the phase split" } else { "" };
     vec![
         omega,
         Entry::new("omega0", "§6.3", "rad/s", "ω0 = π/(T2 C) as the code computes it (omega_0 = π/(dt·c))")
@@ -414,24 +390,13 @@ fn torques(c: &Ctx) -> Vec<Entry> {
     let c_we = c_worked_example(c.it_lit, c.ia, c.theta);
     let from_omega = positive(c_we).map(|k| PI / (c.t_fall * k) * PI / c.t_fall * c.star_lit);
     let from_printed = 2.2514 * PI / 1.428 * 0.3342;
-    let mut we = Entry::new(
-        "tau_twist_worked_example",
-        "§7",
-        "N·m",
-        "§7's peak twist torque ω (π/Δt) I*",
-    )
-    .printed(w, 1.655, Some(3))
-    .values(tau_we_lit, tau2)
-    .reading("ω (π/Δt) I* with the literal ω (sin²)", from_omega)
-    .reading(
-        "printed final form π² I*/(Δt² (1 − (I_z'z'/I_yy) sin(θ/2)))",
-        tau_we_lit,
-    );
+    let mut we = Entry::new("tau_twist_worked_example", "§7", "N·m", "§7's peak twist torque ω (π/Δt) I*")
+        .printed(w, 1.655, Some(3))
+        .values(tau_we_lit, tau2)
+        .reading("ω (π/Δt) I* with the literal ω (sin²)", from_omega)
+        .reading("printed final form π² I*/(Δt² (1 − (I_z'z'/I_yy) sin(θ/2)))", tau_we_lit);
     if w {
-        we = we.reading(
-            "printed ω = 2.2514 × π/1.428 × printed I* = 0.3342",
-            Some(from_printed),
-        );
+        we = we.reading("printed ω = 2.2514 × π/1.428 × printed I* = 0.3342", Some(from_printed));
     }
     let tail = format!(
         "both use the whole fall where the twist lasts T2 = {}·Δt, which enters squared; corrected: §8's bound I* ω0 π/T2 with correct I*, C and T2 (tau_twist); the exact inverse dynamics is the reference",
@@ -448,8 +413,7 @@ fn torques(c: &Ctx) -> Vec<Entry> {
         format!("the printed expressions disagree (sin² in ω, sin here): {} and {}; {tail}", no(from_omega), no(tau_we_lit))
     });
     let joint = twist_joint_accel_peak(c).map(|a| c.star * a);
-    let one_link =
-        "still a one-link estimate: the exact inverse dynamics (exact engine) is the reference";
+    let one_link = "still a one-link estimate: the exact inverse dynamics (exact engine) is the reference";
     let dropped = |t: f64| {
         format!(
             "A(1 − cos(πt/T)) peaks at A π²/T²: §8's π² I*/T² drops A = β/2 = {} rad (×{}) and uses the slipped I*; {one_link}",
@@ -498,11 +462,7 @@ fn twist_joint_accel_peak(c: &Ctx) -> Option<f64> {
     };
     let t2 = c.t[1];
     let peak = (0..TWIST_SAMPLES)
-        .map(|k| {
-            schedule
-                .phase_state(Phase::Twist, t2 * k as f64 / (TWIST_SAMPLES - 1) as f64)
-                .qdd
-        })
+        .map(|k| schedule.phase_state(Phase::Twist, t2 * k as f64 / (TWIST_SAMPLES - 1) as f64).qdd)
         .fold(0.0f64, |m, a| m.max(a[0].abs()).max(a[1].abs()));
     Some(peak)
 }
@@ -512,18 +472,11 @@ fn one_turn(c: &Ctx) -> Vec<Entry> {
     let deg = |x: Option<f64>| x.map(f64::to_degrees);
     let printed_arg = one_turn_printed_argument(c.it_lit, c.ia, a);
     let printed = printed_arg.and_then(theta_from_sin_half);
-    let root = deg(first_root_theta(|th| {
-        one_turn_residual_consistent(c.it, c.ia, a, th)
-    }));
+    let root = deg(first_root_theta(|th| one_turn_residual_consistent(c.it, c.ia, a, th)));
     let closed = deg(sin_half_root(c.it, c.ia, k_consistent(a)).and_then(theta_from_sin_half));
-    let paper_lit = deg(first_root_theta(|th| {
-        one_turn_residual_paper(c.it_lit, c.ia, a, th)
-    }));
-    let paper_cor = deg(first_root_theta(|th| {
-        one_turn_residual_paper(c.it, c.ia, a, th)
-    }));
-    let paper_closed_lit =
-        deg(sin_half_root(c.it_lit, c.ia, k_paper(a)).and_then(theta_from_sin_half));
+    let paper_lit = deg(first_root_theta(|th| one_turn_residual_paper(c.it_lit, c.ia, a, th)));
+    let paper_cor = deg(first_root_theta(|th| one_turn_residual_paper(c.it, c.ia, a, th)));
+    let paper_closed_lit = deg(sin_half_root(c.it_lit, c.ia, k_paper(a)).and_then(theta_from_sin_half));
     let paper_closed = deg(sin_half_root(c.it, c.ia, k_paper(a)).and_then(theta_from_sin_half));
     let gap = root.zip(closed).map(|(r, k)| (r - k).abs());
     vec![

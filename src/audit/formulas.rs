@@ -20,20 +20,10 @@ pub fn paper_end_transverse(cat: &Cylinder) -> f64 {
 /// Principal moments per half about the *whole cat's* centre of mass: §3's values plus the
 /// parallel-axis term `m (l/2)² sin²(θ/2)` on `x` and `z` (each half's centre lies `(l/2) sin(θ/2)`
 /// from the cat's centre along `y`, so `I_yy` gets none).
-pub fn whole_cat_moments(
-    transverse: f64,
-    axial: f64,
-    mass: f64,
-    length: f64,
-    theta: f64,
-) -> BentMoments {
+pub fn whole_cat_moments(transverse: f64, axial: f64, mass: f64, length: f64, theta: f64) -> BentMoments {
     let b = BentMoments::new(transverse, axial, theta);
     let shift = mass * (0.5 * length * (0.5 * theta).sin()).powi(2);
-    BentMoments {
-        xx: b.xx + shift,
-        yy: b.yy,
-        zz: b.zz + shift,
-    }
+    BentMoments { xx: b.xx + shift, yy: b.yy, zz: b.zz + shift }
 }
 
 /// §4's `C = 1 − 2 (I_zz/I_cc) sin(θ/2)` read with `I_zz = I_z'z'` and `I_cc` the code's `ic`,
@@ -147,11 +137,7 @@ mod tests {
         // k = 1: k I_z x = I_yy holds at x = 1 (I_yy = I_z there); for I_y ≥ I_z that is the root
         // returned, for I_y < I_z the smaller root I_y/(I_z − I_y) (product of the roots) comes first.
         for (it, ia, want) in [(0.3, 0.05, 1.0), (0.2, 0.2, 1.0), (0.05, 0.3, 0.2)] {
-            assert_relative_eq!(
-                sin_half_root(it, ia, 1.0).unwrap_or(f64::NAN),
-                want,
-                max_relative = 1e-14
-            );
+            assert_relative_eq!(sin_half_root(it, ia, 1.0).unwrap_or(f64::NAN), want, max_relative = 1e-14);
         }
     }
 

@@ -46,19 +46,12 @@ pub(super) fn render(a: &Audit) -> String {
         "*published*: printed in the paper; *literal*: the paper's formula and inputs, slips included, for this problem; *corrected*: the right value{}. ✓ marks a literal value that reproduces the printed one to its printed digits (rounded or truncated).\n",
         if with_exact { "; *exact*: the exact engine" } else { "" }
     );
-    let _ = write!(
-        out,
-        "| key | § | quantity | unit | published | literal | corrected |"
-    );
+    let _ = write!(out, "| key | § | quantity | unit | published | literal | corrected |");
     if with_exact {
         let _ = write!(out, " exact |");
     }
     let _ = writeln!(out, " explanation |");
-    let _ = writeln!(
-        out,
-        "|---|---|---|---|---:|---:|---:|{}---|",
-        if with_exact { "---:|" } else { "" }
-    );
+    let _ = writeln!(out, "|---|---|---|---|---:|---:|---:|{}---|", if with_exact { "---:|" } else { "" });
     for e in &a.entries {
         let mark = match e.literal_reproduces_published {
             Some(true) => " ✓",
@@ -82,11 +75,8 @@ pub(super) fn render(a: &Audit) -> String {
         }
         let mut why = escape(&e.explanation);
         if !e.readings.is_empty() {
-            let list: Vec<String> = e
-                .readings
-                .iter()
-                .map(|r| format!("{} = {}", escape(&r.label), cell(r.value)))
-                .collect();
+            let list: Vec<String> =
+                e.readings.iter().map(|r| format!("{} = {}", escape(&r.label), cell(r.value))).collect();
             let _ = write!(why, ". Readings: {}", list.join("; "));
         }
         let _ = writeln!(out, " {why} |");

@@ -149,11 +149,8 @@ impl Audit {
 
     /// Sets the exact engine's value of an entry (same unit as the entry).
     pub fn set_exact(&mut self, key: &str, value: f64) -> Result<(), AuditError> {
-        let entry = self
-            .entries
-            .iter_mut()
-            .find(|e| e.key == key)
-            .ok_or_else(|| AuditError::UnknownKey(key.to_string()))?;
+        let entry =
+            self.entries.iter_mut().find(|e| e.key == key).ok_or_else(|| AuditError::UnknownKey(key.to_string()))?;
         entry.exact = Some(value);
         Ok(())
     }
@@ -203,37 +200,6 @@ pub(crate) fn reproduces(published: f64, decimals: Option<u32>, literal: f64) ->
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reproduces_rounds_or_truncates_to_the_printed_digits() {
-        assert!(reproduces(1.428, Some(3), 1.4285714)); // truncated
-        assert!(reproduces(0.3342, Some(4), 0.3341667)); // rounded
-        assert!(!reproduces(2.2514, Some(4), 2.2512762));
-        assert!(!reproduces(1.655, Some(3), 1.6599));
-        assert!(reproduces(3f64.sqrt(), None, 3f64.sqrt()));
-        assert!(!reproduces(3f64.sqrt(), None, 5f64.sqrt()));
-    }
-
-    #[test]
-    fn set_exact_names_an_unknown_key() {
-        let mut a = audit(&Problem::default());
-        assert_eq!(
-            a.set_exact("no_such_key", 1.0),
-            Err(AuditError::UnknownKey("no_such_key".into()))
-        );
-        assert!(a.set_exact("tau_twist", 2.5).is_ok());
-        assert_eq!(
-            a.entry("tau_twist")
-                .and_then(|e| e.exact)
-                .map(|x| x.to_bits()),
-            Some(2.5f64.to_bits())
-        );
-    }
-}
-
 /// The audit with its `exact` column filled in by the exact engine: the peak torques of the
 /// problem's own schedule per phase (largest of the two joints) and the calibrated circulation.
 pub fn audit_with_exact(problem: &Problem) -> Result<Audit, crate::simulate::SimulateError> {
@@ -257,4 +223,27 @@ pub fn audit_with_exact(problem: &Problem) -> Result<Audit, crate::simulate::Sim
         a.set_exact(key, value).ok();
     }
     Ok(a)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reproduces_rounds_or_truncates_to_the_printed_digits() {
+        assert!(reproduces(1.428, Some(3), 1.4285714)); // truncated
+        assert!(reproduces(0.3342, Some(4), 0.3341667)); // rounded
+        assert!(!reproduces(2.2514, Some(4), 2.2512762));
+        assert!(!reproduces(1.655, Some(3), 1.6599));
+        assert!(reproduces(3f64.sqrt(), None, 3f64.sqrt()));
+        assert!(!reproduces(3f64.sqrt(), None, 5f64.sqrt()));
+    }
+
+    #[test]
+    fn set_exact_names_an_unknown_key() {
+        let mut a = audit(&Problem::default());
+        assert_eq!(a.set_exact("no_such_key", 1.0), Err(AuditError::UnknownKey("no_such_key".into())));
+        assert!(a.set_exact("tau_twist", 2.5).is_ok());
+        assert_eq!(a.entry("tau_twist").and_then(|e| e.exact).map(|x| x.to_bits()), Some(2.5f64.to_bits()));
+    }
 }

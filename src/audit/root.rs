@@ -77,11 +77,7 @@ mod tests {
     #[test]
     fn finds_sqrt_two_to_round_off() {
         let r = first_root(|x| x * x - 2.0, 0.0, 2.0, 7);
-        assert_relative_eq!(
-            r.unwrap_or(f64::NAN),
-            2f64.sqrt(),
-            max_relative = 4.0 * f64::EPSILON
-        );
+        assert_relative_eq!(r.unwrap_or(f64::NAN), 2f64.sqrt(), max_relative = 4.0 * f64::EPSILON);
     }
 
     #[test]
