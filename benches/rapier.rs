@@ -1,1 +1,51 @@
-fn main() {}
+//! Criterion benches of the rapier verification: one run of the paper's schedule (the whole
+//! measurement: twist, momentum, torques) at 1 kHz and 2 kHz, and, to separate rapier's own cost
+//! from ours, the bare stepping of the scene over the same schedule at 1 kHz.
+//!
+//! Run with `cargo bench --bench rapier`.
+
+use catflip::problem::Problem;
+use catflip::rapier::{simulate, CatScene, MotorGains, RapierOptions};
+use catflip::schedule::{paper_circulation, Schedule};
+use catflip::settings::RapierSettings;
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+
+fn paper() -> (Problem, Schedule) {
+    let p = Problem::default();
+    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap_or(std::f64::consts::PI);
+    let s = Schedule::new(&p, d);
+    (p, s)
+}
+
+fn rapier(c: &mut Criterion) {
+    let (p, s) = paper();
+    let mut g = c.benchmark_group("rapier_paper");
+    g.sample_size(20);
+    for rate in [1000.0, 2000.0] {
+        let settings = RapierSettings { dt: 1.0 / rate, ..p.rapier };
+        g.bench_with_input(BenchmarkId::new("simulate", format!("{rate} Hz")), &settings, |b, st| {
+            b.iter(|| simulate(&p.cat, &s, st))
+        });
+    }
+    // The scene alone: targets from the schedule and one rapier step per millisecond.
+    let n = (s.duration() / 1e-3).ceil() as usize;
+    let dt = s.duration() / n as f64;
+    let opts = RapierOptions::default();
+    let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
+    g.bench_function("steps_only/1000 Hz", |b| {
+        b.iter(|| {
+            let mut scene =
+                CatScene::new(&p.cat, p.rapier.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), [0.0; 2])?;
+            for k in 1..=n {
+                let st = s.state(k as f64 * dt);
+                scene.set_targets([st.q[0] - dt * st.qd[0], st.q[1] - dt * st.qd[1]], st.qd)?;
+                scene.step();
+            }
+            scene.snapshot()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, rapier);
+criterion_main!(benches);

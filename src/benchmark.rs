@@ -146,7 +146,11 @@ pub fn exact_points(problem: &Problem, schedule: &Schedule) -> Vec<EnginePoint> 
 }
 
 /// rapier3d: a time-step sweep on `schedule` against the exact engine.
-pub fn rapier_points(problem: &Problem, schedule: &Schedule, dts: &[f64]) -> Result<Vec<EnginePoint>, crate::rapier::RapierError> {
+pub fn rapier_points(
+    problem: &Problem,
+    schedule: &Schedule,
+    dts: &[f64],
+) -> Result<Vec<EnginePoint>, crate::rapier::RapierError> {
     let cat = &problem.cat;
     let exact = flip(cat, schedule, 1e-12);
     let exact_peak = peak_torques(cat, schedule, problem.exact.torque_samples).max;
@@ -180,7 +184,10 @@ pub fn stress(base: &Problem) -> Vec<StressCase> {
         ("heavy cat (m = 1e6 kg)", &["cat.mass=1e6"]),
         ("many turns (circulation 60 rad)", &["manoeuvre.circulation=60.0"]),
         ("fast fall (h = 1 cm)", &["drop.height=0.01"]),
-        ("cone at the gimbal margin (θ = 95.1°)", &["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=95.1", "manoeuvre.profile=\"cycloidal\""]),
+        (
+            "cone at the gimbal margin (θ = 95.1°)",
+            &["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=95.1", "manoeuvre.profile=\"cycloidal\""],
+        ),
         ("cone inside the gimbal margin (θ = 92°)", &["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=92"]),
         ("short twist phase (phases 0.45/0.1/0.45)", &["manoeuvre.phases=[0.45, 0.1, 0.45]"]),
     ];
@@ -279,7 +286,8 @@ impl BenchReport {
 
     /// Tidy CSV of the engine points.
     pub fn to_csv(&self) -> String {
-        let mut s = String::from("engine,setting,time_s,error_rad,swing_error_rad,peak_torque_rel_error,observed_order\n");
+        let mut s =
+            String::from("engine,setting,time_s,error_rad,swing_error_rad,peak_torque_rel_error,observed_order\n");
         for p in &self.points {
             s.push_str(&format!(
                 "{},{:e},{:e},{:e},{:e},{},{}\n",

@@ -42,12 +42,24 @@ pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibra
     let f0 = first - target;
     let step = 0.05 * d0.abs().max(0.1);
     let Some((lo, hi)) = expand_bracket(&mut f, d0, f0, step, 12, &mut evaluations) else {
-        return Calibration { circulation: d0, twist: first, swing: f64::NAN, evaluations, status: RootStatus::NoBracket };
+        return Calibration {
+            circulation: d0,
+            twist: first,
+            swing: f64::NAN,
+            evaluations,
+            status: RootStatus::NoBracket,
+        };
     };
     // The twist changes by O(1) per radian of circulation, so a circulation accurate to
     // `tolerance · 1e-2` rad leaves a twist error well below `tolerance`.
     let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
     evaluations += root.evaluations;
     let at = flip(cat, &schedule.with_circulation(root.x), inner);
-    Calibration { circulation: root.x, twist: at.twist, swing: at.swing, evaluations: evaluations + 1, status: root.status }
+    Calibration {
+        circulation: root.x,
+        twist: at.twist,
+        swing: at.swing,
+        evaluations: evaluations + 1,
+        status: root.status,
+    }
 }

@@ -132,9 +132,24 @@ impl CompareTable {
             let p = &r.exact_peak_nm;
             s.push_str(&format!(
                 "{},{},{},exact,{},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{},{:.9},{:.9},{:.9},{:.12}\n",
-                r.problem, r.profile, r.origin, r.rest_to_rest, r.accel_coefficient, r.model_peak_nm, p.bend[0], p.bend[1],
-                p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max, r.velocity_jumps, r.max_impulse_nms, r.twist_deg,
-                r.swing_deg, r.circulation_rad
+                r.problem,
+                r.profile,
+                r.origin,
+                r.rest_to_rest,
+                r.accel_coefficient,
+                r.model_peak_nm,
+                p.bend[0],
+                p.bend[1],
+                p.twist[0],
+                p.twist[1],
+                p.unbend[0],
+                p.unbend[1],
+                p.max,
+                r.velocity_jumps,
+                r.max_impulse_nms,
+                r.twist_deg,
+                r.swing_deg,
+                r.circulation_rad
             ));
         }
         s

@@ -19,26 +19,26 @@
 #![warn(missing_docs)]
 #![deny(clippy::float_cmp)]
 
+pub mod audit;
+pub mod benchmark;
+pub mod calibrate;
+pub mod compare;
+pub mod exact;
+pub mod export;
 pub mod manoeuvre;
 pub mod model;
+pub mod optimize;
+pub mod orientation;
+pub mod plot;
 pub mod problem;
 pub mod profile;
-pub mod schedule;
-pub mod settings;
-pub mod orientation;
-pub mod audit;
+pub mod provenance;
 pub mod qp;
 pub mod rapier;
-pub mod exact;
-pub mod torque;
-pub mod calibrate;
-pub mod roots;
-pub mod simulate;
-pub mod compare;
 pub mod refine;
-pub mod optimize;
-pub mod export;
-pub mod plot;
-pub mod provenance;
+pub mod roots;
 pub mod run;
-pub mod benchmark;
+pub mod schedule;
+pub mod settings;
+pub mod simulate;
+pub mod torque;

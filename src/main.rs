@@ -133,10 +133,8 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Run { problems, overrides, out } => {
             // Load every problem first, so a bad one stops the run before anything is written.
-            let loaded = problems
-                .iter()
-                .map(|p| Problem::load(p, &overrides).map(|x| (p, x)))
-                .collect::<Result<Vec<_>, _>>()?;
+            let loaded =
+                problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
             for (path, problem) in loaded {
                 for w in problem.warnings() {
                     eprintln!("warning: {}: {w}", path.display());
@@ -153,7 +151,16 @@ fn run() -> anyhow::Result<()> {
         Command::Bench { problem, out, json } => {
             let p = Problem::load(&problem, &[])?;
             let command = format!("cargo run --release -- bench --problem {}", problem.display());
-            let dts = [1.0 / 60.0, 1.0 / 125.0, 1.0 / 250.0, 1.0 / 500.0, 1.0 / 1000.0, 1.0 / 2000.0, 1.0 / 4000.0, 1.0 / 8000.0];
+            let dts = [
+                1.0 / 60.0,
+                1.0 / 125.0,
+                1.0 / 250.0,
+                1.0 / 500.0,
+                1.0 / 1000.0,
+                1.0 / 2000.0,
+                1.0 / 4000.0,
+                1.0 / 8000.0,
+            ];
             let outcome = catflip::run::run_bench(&p, &command, &out, &dts)?;
             if json {
                 let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;

@@ -143,11 +143,7 @@ impl BentMoments {
     /// The paper's §3 principal values for one half at bend angle `theta` (radians).
     pub fn new(transverse: f64, axial: f64, theta: f64) -> Self {
         let (s, c) = (0.5 * theta).sin_cos();
-        Self {
-            xx: transverse,
-            yy: transverse * c * c + axial * s * s,
-            zz: transverse * s * s + axial * c * c,
-        }
+        Self { xx: transverse, yy: transverse * c * c + axial * s * s, zz: transverse * s * s + axial * c * c }
     }
 }
 

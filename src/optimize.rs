@@ -92,9 +92,8 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
     };
     let qp_optimum = qp.to_profile().map(|p| evaluate(p, "qp", qp.rates.clone()));
     let refinement = if qp.status.is_solved() { Some(refine(problem, &base, &qp.rates)?) } else { None };
-    let refined_optimum = refinement
-        .as_ref()
-        .and_then(|r| r.to_profile().map(|p| evaluate(p, "refined", r.rates.clone())));
+    let refined_optimum =
+        refinement.as_ref().and_then(|r| r.to_profile().map(|p| evaluate(p, "refined", r.rates.clone())));
     let best_library = crate::manoeuvre::ProfileKind::ALL
         .iter()
         .map(|&k| {

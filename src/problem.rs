@@ -113,10 +113,8 @@ impl Default for Problem {
 impl Problem {
     /// Reads, overrides and validates a problem file.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, ProblemError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ProblemError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ProblemError::Io { path: path.display().to_string(), source })?;
         Self::from_toml(&text, &path.display().to_string(), overrides)
     }
 
@@ -143,10 +141,12 @@ impl Problem {
 
     /// Checks every field a model or engine relies on; names the first bad one.
     pub fn validate(&self) -> Result<(), ProblemError> {
-        if self.name.is_empty()
-            || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-        {
-            return Err(bad("name", &self.name, "must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)"));
+        if self.name.is_empty() || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+            return Err(bad(
+                "name",
+                &self.name,
+                "must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)",
+            ));
         }
         positive("cat.mass", self.cat.mass)?;
         positive("cat.length", self.cat.length)?;
@@ -206,7 +206,8 @@ fn one_line(s: &str) -> String {
 }
 
 fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<(), ProblemError> {
-    let fail = |reason: &str| ProblemError::BadOverride { assignment: assignment.to_string(), reason: reason.to_string() };
+    let fail =
+        |reason: &str| ProblemError::BadOverride { assignment: assignment.to_string(), reason: reason.to_string() };
     let (key, raw) = assignment.split_once('=').ok_or_else(|| fail("expected key=value"))?;
     let key = key.trim();
     let raw = raw.trim();

@@ -75,9 +75,7 @@ impl Writer {
     }
 
     fn record(&mut self, written: Vec<PathBuf>) {
-        self.files.extend(
-            written.iter().map(|p| p.strip_prefix(&self.dir).unwrap_or(p).display().to_string()),
-        );
+        self.files.extend(written.iter().map(|p| p.strip_prefix(&self.dir).unwrap_or(p).display().to_string()));
     }
 }
 
@@ -106,21 +104,27 @@ pub fn run_bench(problem: &Problem, command: &str, out_root: &Path, dts: &[f64])
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
-        let points: Vec<(String, f64, f64)> = report.points.iter().map(|p| (p.engine.clone(), p.time_s, p.error_rad)).collect();
+        let points: Vec<(String, f64, f64)> =
+            report.points.iter().map(|p| (p.engine.clone(), p.time_s, p.error_rad)).collect();
         w.record(crate::plot::error_vs_time_plot(&plots, &points)?);
         let settings = toml::to_string(problem).unwrap_or_default();
         let mut md = crate::provenance::header("catflip benchmark: run time against error", command, &settings);
         md.push_str(&report.to_markdown());
-        md.push_str("
+        md.push_str(
+            "
 ![run time against error](plots/error_vs_time.png)
-");
+",
+        );
         w.put("bench.md", &md)?;
         Ok(report.to_markdown())
     })
 }
 
 /// Writes into a scratch folder beside `final_dir` and moves it into place only on success.
-fn atomically(final_dir: &Path, body: impl FnOnce(&mut Writer) -> Result<String, RunError>) -> Result<RunOutcome, RunError> {
+fn atomically(
+    final_dir: &Path,
+    body: impl FnOnce(&mut Writer) -> Result<String, RunError>,
+) -> Result<RunOutcome, RunError> {
     let parent = final_dir.parent().unwrap_or(Path::new("."));
     let name = final_dir.file_name().map_or("results".into(), |n| n.to_string_lossy().into_owned());
     let scratch = parent.join(format!(".{name}.partial-{}", std::process::id()));
@@ -191,7 +195,9 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
     let shown: Vec<(String, Schedule)> = schedules
         .iter()
-        .filter(|(n, _)| ["paper-cosine", "cycloidal", "bang-bang", "trapezoid", "qp-optimal", "exact-refined"].contains(&n.as_str()))
+        .filter(|(n, _)| {
+            ["paper-cosine", "cycloidal", "bang-bang", "trapezoid", "qp-optimal", "exact-refined"].contains(&n.as_str())
+        })
         .cloned()
         .collect();
     w.record(crate::plot::profiles_plot(&plots, problem, &shown)?);
@@ -221,7 +227,11 @@ fn verify(
         .iter()
         .map(|(name, s)| {
             let c = if name.ends_with("-calibrated") {
-                ResolvedCirculation { radians: s.circulation, source: crate::simulate::CirculationSource::Calibrated, calibration: Some(opt.calibration) }
+                ResolvedCirculation {
+                    radians: s.circulation,
+                    source: crate::simulate::CirculationSource::Calibrated,
+                    calibration: Some(opt.calibration),
+                }
             } else {
                 circ
             };
@@ -234,7 +244,8 @@ fn verify(
 
 fn verification_csv(rows: &[Verified]) -> String {
     let mut s = String::from("problem,schedule,engine,circulation_rad,twist_deg,swing_deg,bend_tau1_nm,bend_tau2_nm,twist_tau1_nm,twist_tau2_nm,unbend_tau1_nm,unbend_tau2_nm,max_nm,momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s\n");
-    let mut all: Vec<(&str, &SimulationReport)> = rows.iter().flat_map(|v| [(v.name.as_str(), &v.exact), (v.name.as_str(), &v.rapier)]).collect();
+    let mut all: Vec<(&str, &SimulationReport)> =
+        rows.iter().flat_map(|v| [(v.name.as_str(), &v.exact), (v.name.as_str(), &v.rapier)]).collect();
     all.sort_by(|a, b| (a.0, &a.1.engine).cmp(&(b.0, &b.1.engine)));
     for (name, r) in all {
         let p = &r.peak_torque_nm;
@@ -243,8 +254,24 @@ fn verification_csv(rows: &[Verified]) -> String {
         let _ = writeln!(
             s,
             "{},{},{},{:.12},{:.9},{:.9},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3e},{},{},{},{:.6}",
-            r.problem, name, r.engine, r.circulation_rad, r.twist_deg, r.swing_deg, p.bend[0], p.bend[1], p.twist[0], p.twist[1],
-            p.unbend[0], p.unbend[1], p.max, r.momentum_max, opt(r.dt), opt(tr.map(|t| t[0])), opt(tr.map(|t| t[1])), r.run_time_s
+            r.problem,
+            name,
+            r.engine,
+            r.circulation_rad,
+            r.twist_deg,
+            r.swing_deg,
+            p.bend[0],
+            p.bend[1],
+            p.twist[0],
+            p.twist[1],
+            p.unbend[0],
+            p.unbend[1],
+            p.max,
+            r.momentum_max,
+            opt(r.dt),
+            opt(tr.map(|t| t[0])),
+            opt(tr.map(|t| t[1])),
+            r.run_time_s
         );
     }
     s
@@ -262,8 +289,17 @@ fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
         let _ = writeln!(
             s,
             "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.2}% | {:.2e} | {:.1e}, {:.1e} |",
-            v.name, e.twist_deg, r.twist_deg, e.swing_deg, r.swing_deg, e.peak_torque_nm.max, r.peak_torque_nm.max,
-            100.0 * (r.peak_torque_nm.max / e.peak_torque_nm.max - 1.0), r.momentum_max, tr[0], tr[1]
+            v.name,
+            e.twist_deg,
+            r.twist_deg,
+            e.swing_deg,
+            r.swing_deg,
+            e.peak_torque_nm.max,
+            r.peak_torque_nm.max,
+            100.0 * (r.peak_torque_nm.max / e.peak_torque_nm.max - 1.0),
+            r.momentum_max,
+            tr[0],
+            tr[1]
         );
     }
     s
@@ -296,7 +332,11 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
         opt.calibration.twist.to_degrees(),
         opt.calibration.swing.to_degrees()
     );
-    let _ = writeln!(s, "- Profile QP: {:?}, model peak {:.6} N·m (closed form {:.6}).", opt.qp.status, opt.qp.peak_torque, opt.qp_closed_form_nm);
+    let _ = writeln!(
+        s,
+        "- Profile QP: {:?}, model peak {:.6} N·m (closed form {:.6}).",
+        opt.qp.status, opt.qp.peak_torque, opt.qp_closed_form_nm
+    );
     if let Some(r) = &opt.refined_optimum {
         let t = r.evaluation.exact_peak_nm.twist;
         let _ = writeln!(
@@ -308,7 +348,13 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
         );
     }
     let worst = verified.iter().map(|v| (v.exact.twist_deg - v.rapier.twist_deg).abs()).fold(0.0, f64::max);
-    let _ = writeln!(s, "- rapier3d verification at dt = {} s: largest twist difference {:.4}° over {} schedules.", problem.rapier.dt, worst, verified.len());
+    let _ = writeln!(
+        s,
+        "- rapier3d verification at dt = {} s: largest twist difference {:.4}° over {} schedules.",
+        problem.rapier.dt,
+        worst,
+        verified.len()
+    );
     let _ = writeln!(s, "\nSee `audit.md`, `compare.md`, `optimize.md` and `verification.md` for the tables.");
     s
 }

@@ -158,11 +158,7 @@ impl Schedule {
                 let w = PI / t3;
                 let (sn, cs) = (w * s).sin_cos();
                 let f = [0.5 * (1.0 + cs), -0.5 * w * sn, -0.5 * w * w * cs];
-                JointState {
-                    q: end.map(|e| e * f[0]),
-                    qd: end.map(|e| e * f[1]),
-                    qdd: end.map(|e| e * f[2]),
-                }
+                JointState { q: end.map(|e| e * f[0]), qd: end.map(|e| e * f[1]), qdd: end.map(|e| e * f[2]) }
             }
         }
     }

@@ -56,7 +56,11 @@ impl RapierSettings {
         positive("rapier.dt", self.dt)?;
         positive("rapier.cross_mass_fraction", self.cross_mass_fraction)?;
         if self.cross_mass_fraction > 0.01 {
-            return Err(bad("rapier.cross_mass_fraction", self.cross_mass_fraction, "must be at most 0.01 (the cross is meant to be negligible)"));
+            return Err(bad(
+                "rapier.cross_mass_fraction",
+                self.cross_mass_fraction,
+                "must be at most 0.01 (the cross is meant to be negligible)",
+            ));
         }
         Ok(())
     }

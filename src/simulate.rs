@@ -64,15 +64,23 @@ pub struct ResolvedCirculation {
 pub fn resolve_circulation(problem: &Problem) -> Result<ResolvedCirculation, SimulateError> {
     let paper = || paper_circulation(&problem.cat, problem.manoeuvre.theta());
     Ok(match problem.manoeuvre.circulation {
-        Circulation::Paper => ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None },
-        Circulation::Angle(a) => ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None },
+        Circulation::Paper => {
+            ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None }
+        }
+        Circulation::Angle(a) => {
+            ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None }
+        }
         Circulation::Calibrated => {
             let near = paper()?;
             let cal = calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance);
             if cal.status != RootStatus::Converged {
                 return Err(SimulateError::Calibration { near, status: cal.status });
             }
-            ResolvedCirculation { radians: cal.circulation, source: CirculationSource::Calibrated, calibration: Some(cal) }
+            ResolvedCirculation {
+                radians: cal.circulation,
+                source: CirculationSource::Calibrated,
+                calibration: Some(cal),
+            }
         }
     })
 }
@@ -248,14 +256,17 @@ pub fn momentum_max(problem: &Problem, schedule: &Schedule) -> f64 {
     }
 }
 
-
 impl SimulationReport {
     /// A short human-readable summary.
     pub fn to_text(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
         let p = &self.peak_torque_nm;
-        let _ = writeln!(s, "{} engine — problem {}, profile {}, path {:?}", self.engine, self.problem, self.profile, self.bend_path);
+        let _ = writeln!(
+            s,
+            "{} engine — problem {}, profile {}, path {:?}",
+            self.engine, self.problem, self.profile, self.bend_path
+        );
         let _ = writeln!(s, "  circulation      {:.9} rad ({:?})", self.circulation_rad, self.circulation_source);
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.swing_deg);

@@ -114,12 +114,7 @@ pub fn joint_torques(cat: &Cylinder, s: &JointState) -> JointTorques {
     let d_a = Vector3::new(0.0, 0.0, -half);
     let on_a = ia * wd + w.cross(&(ia * w)) - d_a.cross(&(-force));
     let axes = [Vector3::x(), joint2_axis(s.q[0])];
-    JointTorques {
-        tau: axes.map(|a| couple.dot(&a)),
-        from_a: axes.map(|a| -on_a.dot(&a)),
-        couple,
-        force,
-    }
+    JointTorques { tau: axes.map(|a| couple.dot(&a)), from_a: axes.map(|a| -on_a.dot(&a)), couple, force }
 }
 
 /// Kinetic energy of the zero-momentum motion `(q, q̇)` about the centre of mass, J.

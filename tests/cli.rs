@@ -6,7 +6,11 @@ use std::process::Command;
 
 fn catflip(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -20,7 +24,9 @@ fn simulate_json_carries_the_contract_fields() {
     let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
-    for key in ["engine", "twist_deg", "swing_deg", "circulation_rad", "peak_torque_nm", "velocity_jumps", "momentum_max"] {
+    for key in
+        ["engine", "twist_deg", "swing_deg", "circulation_rad", "peak_torque_nm", "velocity_jumps", "momentum_max"]
+    {
         assert!(v.get(key).is_some(), "missing {key}");
     }
     for phase in ["bend", "twist", "unbend"] {
@@ -46,7 +52,8 @@ fn calibrated_simulation_reports_the_circulation_found() {
 
 #[test]
 fn rapier_simulation_reports_its_step() {
-    let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt", "0.002", "--json"]);
+    let (code, out, err) =
+        catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt", "0.002", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).expect("JSON");
     assert_eq!(v["engine"], "rapier");
@@ -85,8 +92,14 @@ fn a_bad_problem_in_a_run_writes_nothing() {
 
 #[test]
 fn cone_at_gimbal_lock_is_refused_from_the_command_line() {
-    let (code, _, err) =
-        catflip(&["simulate", "problems/paper.toml", "--set", "manoeuvre.bend_path=cone", "--set", "manoeuvre.theta_deg=90"]);
+    let (code, _, err) = catflip(&[
+        "simulate",
+        "problems/paper.toml",
+        "--set",
+        "manoeuvre.bend_path=cone",
+        "--set",
+        "manoeuvre.theta_deg=90",
+    ]);
     assert_ne!(code, 0);
     assert!(err.contains("gimbal lock"), "{err}");
 }

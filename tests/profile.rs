@@ -52,7 +52,12 @@ fn derivatives_are_exact() {
             let fd_v = (p.at(u + h).position - p.at(u - h).position) / (2.0 * h);
             let fd_a = (p.at(u + h).rate - p.at(u - h).rate) / (2.0 * h);
             assert!((fd_v - p.at(u).rate).abs() < 1e-7, "{} rate at {u}", kind.name());
-            assert!((fd_a - p.at(u).accel).abs() < 1e-6 * (1.0 + fd_a.abs()), "{} accel at {u}: {} vs {fd_a}", kind.name(), p.at(u).accel);
+            assert!(
+                (fd_a - p.at(u).accel).abs() < 1e-6 * (1.0 + fd_a.abs()),
+                "{} accel at {u}: {} vs {fd_a}",
+                kind.name(),
+                p.at(u).accel
+            );
         }
     }
 }

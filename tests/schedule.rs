@@ -46,8 +46,14 @@ fn path_derivatives_match_finite_differences() {
         for t in [0.05, 0.3, 0.5, 0.77, 1.0, 1.2, 1.35] {
             let (a, b, c) = (s.state(t - h), s.state(t), s.state(t + h));
             for j in 0..2 {
-                assert!(((c.q[j] - a.q[j]) / (2.0 * h) - b.qd[j]).abs() < 1e-6 * (1.0 + b.qd[j].abs()), "{path:?} q̇{j} at {t}");
-                assert!(((c.qd[j] - a.qd[j]) / (2.0 * h) - b.qdd[j]).abs() < 1e-5 * (1.0 + b.qdd[j].abs()), "{path:?} q̈{j} at {t}");
+                assert!(
+                    ((c.q[j] - a.q[j]) / (2.0 * h) - b.qd[j]).abs() < 1e-6 * (1.0 + b.qd[j].abs()),
+                    "{path:?} q̇{j} at {t}"
+                );
+                assert!(
+                    ((c.qd[j] - a.qd[j]) / (2.0 * h) - b.qdd[j]).abs() < 1e-5 * (1.0 + b.qdd[j].abs()),
+                    "{path:?} q̈{j} at {t}"
+                );
             }
         }
     }

@@ -21,7 +21,11 @@ fn table_has_every_profile_and_the_paper_model_peaks() {
     let t2 = 0.6 * p.drop.fall_time();
     for r in &t.rows {
         // Model peak I*·C_a·D/T² (paper §8 with the correct I*).
-        assert_relative_eq!(r.model_peak_nm, p.cat.end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2), max_relative = 1e-12);
+        assert_relative_eq!(
+            r.model_peak_nm,
+            p.cat.end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2),
+            max_relative = 1e-12
+        );
         // Path invariance: twist and swing do not depend on the profile.
         assert_relative_eq!(r.twist_deg, t.rows[0].twist_deg, epsilon = 1e-7);
         assert_relative_eq!(r.swing_deg, t.rows[0].swing_deg, epsilon = 1e-7);
@@ -61,12 +65,26 @@ fn run_writes_every_result_file_atomically() {
     let _ = std::fs::remove_dir_all(&out);
     let p = small();
     let outcome = catflip::run::run(&p, "test", &out).expect("runs");
-    for f in ["report.md", "audit.md", "audit.json", "compare.md", "compare.csv", "optimize.json", "verification.csv", "schedules/problem.csv", "plots/flip.gif"] {
+    for f in [
+        "report.md",
+        "audit.md",
+        "audit.json",
+        "compare.md",
+        "compare.csv",
+        "optimize.json",
+        "verification.csv",
+        "schedules/problem.csv",
+        "plots/flip.gif",
+    ] {
         let path = outcome.dir.join(f);
         assert!(std::fs::metadata(&path).map(|m| m.len() > 0).unwrap_or(false), "{f} missing or empty");
     }
     // No scratch folder is left behind.
-    let leftovers: Vec<_> = std::fs::read_dir(&out).expect("exists").filter_map(Result::ok).filter(|e| e.file_name().to_string_lossy().starts_with('.')).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(&out)
+        .expect("exists")
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+        .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
     // The schedule CSV replays the schedule: first row at rest and straight, last row straight.
     let csv = std::fs::read_to_string(outcome.dir.join("schedules/problem.csv")).expect("readable");

@@ -140,3 +140,58 @@ pub fn observed_orders(dts: &[f64], errors: &[f64]) -> Vec<f64> {
         })
         .collect()
 }
+
+/// Gathers the torque samples around one jump of the schedule's joint rates and adds up the
+/// impulse they carry above the smooth torque (interpolated linearly between the last sample
+/// before the window and the first after it).
+#[derive(Clone, Debug)]
+pub(crate) struct JumpWindow {
+    /// Time of the jump, s.
+    pub time: f64,
+    /// Half-width of the window, s.
+    pub half_width: f64,
+    before: Option<TorqueSample>,
+    inside: Vec<TorqueSample>,
+    after: Option<TorqueSample>,
+}
+
+impl JumpWindow {
+    pub fn new(time: f64, half_width: f64) -> Self {
+        Self { time, half_width, before: None, inside: Vec::new(), after: None }
+    }
+
+    /// Offers a sample; returns whether it falls inside the window.
+    pub fn offer(&mut self, s: &TorqueSample) -> bool {
+        if s.t < self.time - self.half_width {
+            self.before = Some(*s);
+            false
+        } else if s.t <= self.time + self.half_width {
+            self.inside.push(*s);
+            true
+        } else {
+            if self.after.is_none() {
+                self.after = Some(*s);
+            }
+            false
+        }
+    }
+
+    /// `(peak |τ_i|, Σ (τ_i − smooth_i) dt)` of the samples inside.
+    pub fn finish(&self, dt: f64) -> ([f64; 2], [f64; 2]) {
+        let mut peak = [0.0f64; 2];
+        let mut impulse = [0.0f64; 2];
+        let base = |t: f64, i: usize| match (self.before, self.after) {
+            (Some(a), Some(b)) => a.tau[i] + (b.tau[i] - a.tau[i]) * (t - a.t) / (b.t - a.t),
+            (Some(a), None) => a.tau[i],
+            (None, Some(b)) => b.tau[i],
+            (None, None) => 0.0,
+        };
+        for s in &self.inside {
+            for i in 0..2 {
+                peak[i] = peak[i].max(s.tau[i].abs());
+                impulse[i] += (s.tau[i] - base(s.t, i)) * dt;
+            }
+        }
+        (peak, impulse)
+    }
+}

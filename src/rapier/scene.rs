@@ -13,8 +13,8 @@
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::dynamics::{
-    GenericJoint, IntegrationParameters, JointAxis, MotorModel, MultibodyJointHandle,
-    RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle,
+    GenericJoint, IntegrationParameters, JointAxis, MotorModel, MultibodyJointHandle, RevoluteJointBuilder,
+    RigidBodyBuilder, RigidBodyHandle,
 };
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::parry::mass_properties::MassProperties;
@@ -49,12 +49,7 @@ pub struct MotorGains {
 impl MotorGains {
     /// Gains with natural frequency `omega` (rad/s) and damping ratio `zeta`.
     pub fn new(omega: f64, zeta: f64) -> Self {
-        Self {
-            natural_frequency: omega,
-            damping_ratio: zeta,
-            stiffness: omega * omega,
-            damping: 2.0 * zeta * omega,
-        }
+        Self { natural_frequency: omega, damping_ratio: zeta, stiffness: omega * omega, damping: 2.0 * zeta * omega }
     }
 }
 
@@ -158,6 +153,13 @@ impl Snapshot {
         self.bodies_with(masses, &self.velocities)
     }
 
+    /// Whether every number of the snapshot is finite.
+    pub fn is_finite(&self) -> bool {
+        self.velocities.iter().all(|v| v.is_finite())
+            && self.positions.iter().all(|p| p.iter().all(|v| v.is_finite()))
+            && self.rotations.iter().all(|r| r.coords.iter().all(|v| v.is_finite()))
+    }
+
     /// Joint angles from the bodies' relative rotations: `R_A⁻¹ R_C = Rx(q1)`,
     /// `R_C⁻¹ R_B = Ry(q2)` (a second reading of the joint coordinates).
     pub fn q_from_rotations(&self) -> [f64; 2] {
@@ -172,7 +174,8 @@ impl Snapshot {
 /// The cat in a rapier world, ready to step.
 pub struct CatScene {
     world: PhysicsWorld,
-    bodies: [RigidBodyHandle; 3],
+    /// Link ids of A, the cross, B in the multibody.
+    links: [usize; 3],
     joints: [MultibodyJointHandle; 2],
     masses: MassModel,
     gains: Option<MotorGains>,
@@ -196,13 +199,12 @@ fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
 
 impl CatScene {
     /// Builds the scene at joint angles `q0`, at rest, with time step `dt` (one solver substep
-    /// per step, `pgs_iterations` Gauss–Seidel sweeps over the motor rows). With `gains`, both
-    /// joints carry motors holding `q0`; without, the joints are free.
+    /// per step, `pgs_iterations` Gauss–Seidel sweeps of the velocity solver). With `gains`,
+    /// both joints carry motors holding `q0`; without, the joints are free.
     pub fn new(
         cat: &Cylinder,
         cross_mass_fraction: f64,
         dt: f64,
-        substeps: usize,
         pgs_iterations: usize,
         gains: Option<MotorGains>,
         q0: [f64; 2],
@@ -213,7 +215,7 @@ impl CatScene {
         world.gravity = Vector::ZERO;
         world.integration_parameters = IntegrationParameters {
             dt,
-            num_solver_iterations: substeps.max(1),
+            num_solver_iterations: 1,
             num_internal_pgs_iterations: pgs_iterations.max(1),
             ..IntegrationParameters::default()
         };
@@ -223,11 +225,7 @@ impl CatScene {
         let r_b = r_c * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q0[1]);
         let joint = Vector3::new(0.0, 0.0, -h);
         let x_b = joint - r_b * Vector3::new(0.0, 0.0, h);
-        let poses = [
-            (Vector3::zeros(), UnitQuaternion::identity()),
-            (joint, r_c),
-            (x_b, r_b),
-        ];
+        let poses = [(Vector3::zeros(), UnitQuaternion::identity()), (joint, r_c), (x_b, r_b)];
         let bodies: [RigidBodyHandle; 3] = std::array::from_fn(|i| {
             let mprops = MassProperties::new(Vector::ZERO, masses.mass[i], Vector::from_array(masses.inertia[i]));
             let body = RigidBodyBuilder::dynamic()
@@ -256,7 +254,26 @@ impl CatScene {
             .insert(bodies[1], bodies[2], j2, true)
             .ok_or(RapierError::JointRejected("joint 2 (the cross to B)"))?;
 
-        let mut scene = Self { world, bodies, joints: [h1, h2], masses, gains };
+        // The layout every reader relies on: A is the floating root (DoFs 0..6), then the
+        // cross (DoF 6) and B (DoF 7).
+        let mut links = [0; 3];
+        {
+            let mb = world.multibody_joints.get(h2).map(|(mb, _)| mb).ok_or(RapierError::Missing("the multibody"))?;
+            if mb.ndofs() != NDOFS {
+                return Err(RapierError::Missing("eight degrees of freedom (a floating root and two revolute joints)"));
+            }
+            for (i, handle) in bodies.iter().enumerate() {
+                let id =
+                    world.multibody_joints.rigid_body_link(*handle).ok_or(RapierError::Missing("a body's link"))?.id;
+                let link = mb.link(id).ok_or(RapierError::Missing("a link"))?;
+                if link.assembly_id() != [0, 6, 7][i] {
+                    return Err(RapierError::Missing("the expected order of its degrees of freedom"));
+                }
+                links[i] = id;
+            }
+        }
+
+        let mut scene = Self { world, links, joints: [h1, h2], masses, gains };
         {
             let (mb, _) = scene.multibody_mut()?;
             // Put the joint coordinates at q0 (they start at zero), then place the bodies.
@@ -273,28 +290,18 @@ impl CatScene {
     }
 
     fn multibody_mut(&mut self) -> Result<(&mut rapier3d_f64::dynamics::Multibody, usize), RapierError> {
-        self.world
-            .multibody_joints
-            .get_mut(self.joints[1])
-            .ok_or(RapierError::Missing("the multibody"))
+        self.world.multibody_joints.get_mut(self.joints[1]).ok_or(RapierError::Missing("the multibody"))
     }
 
     fn multibody(&self) -> Result<&rapier3d_f64::dynamics::Multibody, RapierError> {
-        self.world
-            .multibody_joints
-            .get(self.joints[1])
-            .map(|(mb, _)| mb)
-            .ok_or(RapierError::Missing("the multibody"))
+        self.world.multibody_joints.get(self.joints[1]).map(|(mb, _)| mb).ok_or(RapierError::Missing("the multibody"))
     }
 
     /// Runs forward kinematics and writes the poses to the rigid bodies.
     fn sync_bodies(&mut self) -> Result<(), RapierError> {
         let world = &mut self.world;
-        let (mb, _) = world
-            .multibody_joints
-            .get_mut(self.joints[1])
-            .ok_or(RapierError::Missing("the multibody"))?;
-        mb.forward_kinematics(&world.bodies, false);
+        let (mb, _) = world.multibody_joints.get_mut(self.joints[1]).ok_or(RapierError::Missing("the multibody"))?;
+        mb.forward_kinematics(&world.bodies, true);
         mb.update_rigid_bodies(&mut world.bodies, true);
         Ok(())
     }
@@ -318,11 +325,8 @@ impl CatScene {
     pub fn set_targets(&mut self, pos: [f64; 2], vel: [f64; 2]) -> Result<(), RapierError> {
         let Some(g) = self.gains else { return Ok(()) };
         for i in 0..2 {
-            let (mb, id) = self
-                .world
-                .multibody_joints
-                .get_mut(self.joints[i])
-                .ok_or(RapierError::Missing("a joint"))?;
+            let (mb, id) =
+                self.world.multibody_joints.get_mut(self.joints[i]).ok_or(RapierError::Missing("a joint"))?;
             let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
             link.joint.data.set_motor(JointAxis::AngX, pos[i], vel[i], g.stiffness, g.damping);
         }
@@ -339,6 +343,39 @@ impl CatScene {
         Ok(())
     }
 
+    /// Sets the joint rates `q̇` and gives the whole cat the rigid motion that makes its linear
+    /// and angular momentum zero: angular velocity `ω = −I_lock⁻¹ H` about the centre of mass `c`
+    /// (`I_lock` the locked inertia about `c`), velocity `−p/M` of `c`.
+    pub fn start_at_zero_momentum(&mut self, qd: [f64; 2]) -> Result<(), RapierError> {
+        let mut v = [0.0; NDOFS];
+        v[6] = qd[0];
+        v[7] = qd[1];
+        let snap = Snapshot { velocities: v, ..self.snapshot()? };
+        let bodies = snap.bodies(&self.masses);
+        let total = self.masses.total();
+        let mut c = Vector3::zeros();
+        let mut p = Vector3::zeros();
+        for (b, m) in bodies.iter().zip(self.masses.mass) {
+            c += m * b.position / total;
+            p += m * b.linvel;
+        }
+        let h = super::measure::angular_momentum(&self.masses, &bodies);
+        let mut locked = Matrix3::zeros();
+        for (i, b) in bodies.iter().enumerate() {
+            let r = b.position - c;
+            locked += self.masses.world_inertia(i, &b.rotation)
+                + self.masses.mass[i] * (Matrix3::identity() * r.norm_squared() - r * r.transpose());
+        }
+        let omega = locked
+            .cholesky()
+            .map(|ch| -ch.solve(&h))
+            .ok_or(RapierError::Missing("a positive definite locked inertia"))?;
+        let lin = -p / total + omega.cross(&(bodies[0].position - c));
+        v[..3].copy_from_slice(lin.as_slice());
+        v[3..6].copy_from_slice(omega.as_slice());
+        self.set_velocities(&v)
+    }
+
     /// Advances one step.
     pub fn step(&mut self) {
         self.world.step();
@@ -353,18 +390,13 @@ impl CatScene {
         let mut positions = [Vector3::zeros(); 3];
         let mut rotations = [UnitQuaternion::identity(); 3];
         let mut q = [0.0; 2];
-        for (i, handle) in self.bodies.iter().enumerate() {
-            let id = self
-                .world
-                .multibody_joints
-                .rigid_body_link(*handle)
-                .ok_or(RapierError::Missing("a body's link"))?
-                .id;
-            let link = mb.link(id).ok_or(RapierError::Missing("a link"))?;
+        for (i, id) in self.links.iter().enumerate() {
+            let link = mb.link(*id).ok_or(RapierError::Missing("a link"))?;
             let pose = link.local_to_world();
             positions[i] = to_na(pose.translation);
             rotations[i] = rot_to_na(pose.rotation);
             if i > 0 {
+                // A revolute joint's free coordinate is its angular x (the joint axis).
                 q[i - 1] = link.joint().coords()[3];
             }
         }
