@@ -47,7 +47,7 @@ pub struct RapierSettings {
 
 impl Default for RapierSettings {
     fn default() -> Self {
-        Self { dt: 1e-3, cross_mass_fraction: 1e-6 }
+        Self { dt: 5e-4, cross_mass_fraction: 1e-6 }
     }
 }
 

@@ -145,12 +145,30 @@ pub struct SimulationReport {
     pub action_reaction_gap_nm: Option<f64>,
     /// The motors' torque spikes at rate jumps, as rapier measured them (rapier only).
     pub rapier_jumps: Option<Vec<crate::rapier::JumpTorque>>,
+    /// First-order Richardson extrapolation to `dt → 0` from runs at `dt` and `dt/2`: twist and
+    /// swing in degrees, peak torque in N·m (rapier only; its integrator is first order).
+    pub extrapolated: Option<Extrapolation>,
     /// Exact engine's twist minus this engine's, degrees (rapier only).
     pub twist_error_deg: Option<f64>,
     /// Relative error of the peak torque against the exact engine's (rapier only).
     pub peak_torque_rel_error: Option<f64>,
     /// Wall-clock time of the engine run, s.
     pub run_time_s: f64,
+}
+
+/// rapier's results extrapolated to `dt → 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Extrapolation {
+    /// The two steps, s.
+    pub dt: [f64; 2],
+    /// Twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Peak torque, N·m.
+    pub peak_torque_nm: f64,
+    /// Exact engine's twist minus the extrapolated one, degrees.
+    pub twist_error_deg: f64,
 }
 
 /// Runs the exact engine on a problem's schedule.
@@ -187,6 +205,7 @@ pub fn exact_report(problem: &Problem, schedule: &Schedule, circ: ResolvedCircul
         error_estimate_rad: Some(f.error_estimate),
         action_reaction_gap_nm: Some(peaks.action_reaction_gap),
         rapier_jumps: None,
+        extrapolated: None,
         twist_error_deg: None,
         peak_torque_rel_error: None,
         run_time_s,
@@ -210,6 +229,15 @@ pub fn rapier_report(
     let start = Instant::now();
     let run = crate::rapier::simulate(&problem.cat, schedule, &problem.rapier)?;
     let run_time_s = start.elapsed().as_secs_f64();
+    let half = crate::settings::RapierSettings { dt: 0.5 * run.dt, ..problem.rapier };
+    let fine = crate::rapier::simulate(&problem.cat, schedule, &half)?;
+    let extrapolated = crate::rapier::extrapolate(&run, &fine).map(|x| Extrapolation {
+        dt: x.dt,
+        twist_deg: x.twist.to_degrees(),
+        swing_deg: x.swing.to_degrees(),
+        peak_torque_nm: x.peak_torque,
+        twist_error_deg: exact.twist_deg - x.twist.to_degrees(),
+    });
     let p = &run.peak_torque;
     let peaks = PhasePeaks { bend: p.bend, twist: p.twist, unbend: p.unbend, max: p.max };
     Ok(SimulationReport {
@@ -226,6 +254,7 @@ pub fn rapier_report(
         error_estimate_rad: None,
         action_reaction_gap_nm: None,
         rapier_jumps: Some(run.jumps),
+        extrapolated,
         run_time_s,
         ..exact
     })
@@ -294,6 +323,13 @@ impl SimulationReport {
         }
         if let (Some(e), Some(p)) = (self.twist_error_deg, self.peak_torque_rel_error) {
             let _ = writeln!(s, "  vs exact engine  twist {e:+.4e}°, peak torque {:+.3}%", 100.0 * p);
+        }
+        if let Some(x) = self.extrapolated {
+            let _ = writeln!(
+                s,
+                "  dt → 0 (from {:.2e} s and {:.2e} s): twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m; vs exact engine twist {:+.4e}°",
+                x.dt[0], x.dt[1], x.twist_deg, x.swing_deg, x.peak_torque_nm, x.twist_error_deg
+            );
         }
         if let Some(e) = self.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);
