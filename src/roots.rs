@@ -134,6 +134,37 @@ pub fn brent(
     Root { x: b, fx: fb, evaluations, status: RootStatus::MaxIterations }
 }
 
+/// The first root of `f` on `[a, b]`: scans `steps` equal subintervals from `a` towards `b` for
+/// the first sign change (or an exact zero on the grid) and refines that bracket with
+/// [`brent`] to round-off. `None` when no subinterval changes sign, when `f` is not finite at a
+/// grid point, or when the interval or `steps` is degenerate.
+pub fn first_root(f: impl Fn(f64) -> f64, a: f64, b: f64, steps: usize) -> Option<f64> {
+    if steps == 0 || !a.is_finite() || !b.is_finite() || b <= a {
+        return None;
+    }
+    let h = (b - a) / steps as f64;
+    let (mut x0, mut f0) = (a, f(a));
+    for k in 1..=steps {
+        if !f0.is_finite() {
+            return None;
+        }
+        if f0 == 0.0 {
+            return Some(x0);
+        }
+        let x1 = if k == steps { b } else { a + h * k as f64 };
+        let f1 = f(x1);
+        if !f1.is_finite() {
+            return None;
+        }
+        if f0 * f1 <= 0.0 {
+            let root = brent(&mut |x| f(x), (x0, f0), (x1, f1), 0.0, 200);
+            return (root.status == RootStatus::Converged).then_some(root.x);
+        }
+        (x0, f0) = (x1, f1);
+    }
+    None
+}
+
 /// Golden-section search for the maximum of a locally unimodal `f` on `[lo, hi]`;
 /// returns the abscissa and value of the better final point.
 pub fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, iters: usize) -> (f64, f64) {
@@ -190,5 +221,31 @@ mod tests {
         let mut f = |x: f64| x * x + 1.0;
         let r = brent(&mut f, (-1.0, 2.0), (1.0, 2.0), 1e-12, 50);
         assert_eq!(r.status, RootStatus::NoBracket);
+    }
+
+    #[test]
+    fn finds_sqrt_two_to_round_off() {
+        let r = first_root(|x| x * x - 2.0, 0.0, 2.0, 7);
+        assert_relative_eq!(r.unwrap_or(f64::NAN), 2f64.sqrt(), max_relative = 4.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn returns_the_first_of_several_roots() {
+        // sin has roots at π, 2π, 3π in (1, 10): the scan must return π.
+        let r = first_root(f64::sin, 1.0, 10.0, 100).unwrap_or(f64::NAN);
+        assert_relative_eq!(r, std::f64::consts::PI, max_relative = 4.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn none_without_a_sign_change_or_on_nan() {
+        assert!(first_root(|x| x * x + 1.0, -3.0, 3.0, 50).is_none());
+        assert!(first_root(|_| f64::NAN, 0.0, 1.0, 10).is_none());
+        assert!(first_root(|x| x, 1.0, 0.0, 10).is_none());
+    }
+
+    #[test]
+    fn exact_zero_on_the_grid_is_returned() {
+        let r = first_root(|x| x - 0.5, 0.0, 1.0, 4).unwrap_or(f64::NAN);
+        assert_relative_eq!(r, 0.5);
     }
 }

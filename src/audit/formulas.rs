@@ -115,9 +115,9 @@ pub fn cosine_peak_torque(i_star: f64, amplitude: f64, duration: f64) -> f64 {
     i_star * amplitude * (std::f64::consts::PI / duration).powi(2)
 }
 
-/// The first root in `θ ∈ [0, π]` of a residual, by [`super::root::first_root`] on 720 steps.
+/// The first root in `θ ∈ [0, π]` of a residual, by [`crate::roots::first_root`] on 720 steps.
 pub fn first_root_theta(f: impl Fn(f64) -> f64) -> Option<f64> {
-    super::root::first_root(f, 0.0, std::f64::consts::PI, 720)
+    crate::roots::first_root(f, 0.0, std::f64::consts::PI, 720)
 }
 
 #[cfg(test)]

@@ -34,7 +34,7 @@
 //! `I* (β/2) π²/T3²` with `β = π − θ`; §9's one-turn condition `C(θ) = α`, which with
 //! `x = sin(θ/2)` is the quadratic `(I_y − I_z) x² + k I_z x − I_y = 0` with `k = 1/(1 − α)`
 //! (the paper's equation has `k = 2(α + 1)`), solved both in closed form and by a bracketing
-//! root find ([`root::first_root`]).
+//! root find ([`crate::roots::first_root`]).
 //!
 //! ## JSON
 //! [`Audit`] serialises to one object; `entries` is a **map keyed by the stable snake_case key**,
@@ -52,7 +52,6 @@ mod entries;
 pub mod formulas;
 mod markdown;
 mod notes;
-pub mod root;
 
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
