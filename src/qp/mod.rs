@@ -35,9 +35,18 @@
 //! In Clarabel's standard form `min ½xᵀPx + qᵀx` s.t. `Ax + s = b`, `s ∈ \{0\}^{m_1} ×
 //! \mathbb{R}_+^{m_2}`, with `x = (v_0, …, v_{N−1}, c)`, every row has at most three nonzeros
 //! except the integral row (`N`) and the column of `c` (`2(N−1)`): the data has `O(N)`
-//! nonzeros and is built once from triplets. Inequality rows are kept in acceleration units
-//! (the jerk rows as change of acceleration per step, `\hat h \hat J`), so Clarabel's
-//! feasibility tolerance reads directly as a tolerance on the peak coefficient.
+//! nonzeros and is built once from triplets. Inequality rows are kept in acceleration units,
+//! so Clarabel's feasibility tolerance reads directly as a tolerance on the peak coefficient.
+//! With a jerk limit, `x` also holds the accelerations `a_k = (v_{k+1} − v_k)/\hat h` (one
+//! equality each); the peak rows become `|a_k| ≤ c` and the jerk rows the two-term
+//! `|a_k − a_{k−1}| ≤ \hat h \hat J` (with `a_{−1} = a_{N−1} = 0`), which Clarabel solves in
+//! a number of iterations that hardly grows with `N`.
+//!
+//! With rest-to-rest ends the QP is invariant under reversing time (`v_k ↔ v_{N−1−k}`,
+//! `a_k ↔ −a_{N−2−k}`); being convex, it then has a reversal-symmetric optimum (the mean of any
+//! optimum and its reverse). It is solved on those profiles only: half the variables, the
+//! mirrored rows merged. The returned rates are symmetric; the peak, objective and status are
+//! those of the full QP.
 //!
 //! ## Closed forms (exact for the discrete problem, without limits and with `λ = 0`)
 //!
@@ -62,7 +71,10 @@
 //!
 //! $$ \min_{δ, t}\; t \quad\text{s.t.}\quad |τ_j + g_j^{\mathsf T} δ| \le t,\; |δ_k| \le Δ, $$
 //!
-//! with the integral, boundary, rate and jerk constraints above imposed on `ω + δ`.
+//! with the integral, boundary, rate and jerk constraints above imposed on `ω + δ`. Torques
+//! that depend on the angle `φ = ∫ω` have gradients with a long run of equal trapezoid weights
+//! on every earlier node, `O(N²)` nonzeros in all; such runs are rewritten exactly on the prefix
+//! sums `S_k = \hat h \sum_{m ≤ k} δ_m` (one equality each), which keeps the data `O(N)`.
 //!
 //! ## References
 //! - P. J. Goulart and Y. Chen, *Clarabel: An interior-point solver for conic programs with

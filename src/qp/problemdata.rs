@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::assembly::{Assembly, NodeConstraints};
+use super::assembly::{Assembly, Fold, NodeConstraints};
 use super::solution::{max_abs_difference, ProfileQpSolution};
 use super::{bad, positive, positive_opt, QpError, QpSettings};
 use crate::settings::{Boundary, OptimizeSettings};
@@ -67,7 +67,7 @@ impl ProfileQp {
 
     /// Node spacing `h = T/(N − 1)`, s.
     pub fn spacing(&self) -> f64 {
-        self.duration / (self.nodes - 1) as f64
+        self.duration / (self.nodes as f64 - 1.0)
     }
 
     /// The rate unit of the normalised problem, `D/T`, rad/s (signed).
@@ -93,21 +93,25 @@ impl ProfileQp {
         let n = self.nodes;
         let h = 1.0 / (n - 1) as f64;
         let (t, scale) = (self.duration, self.circulation.abs());
-        let peak = n; // the column of the peak coefficient c
-
-        let mut asm = Assembly::new(n + 1);
-        asm.linear_cost(peak, 1.0);
-        NodeConstraints {
+        let peak = n; // the column of the peak coefficient c, then the accelerations if any
+        let rows = NodeConstraints {
             nodes: n,
             boundary: self.boundary,
             rate_limit: self.rate_limit.map(|r| r * t / scale),
             jerk_limit: self.jerk_limit.map(|j| j * t.powi(3) / scale),
             trust: None,
             offset: None,
-        }
-        .add_to(&mut asm);
+            accel: peak + 1,
+        };
+        let mut asm = Assembly::new(n + 1 + rows.accel_count());
+        asm.linear_cost(peak, 1.0);
+        rows.add_to(&mut asm);
         for k in 0..n - 1 {
-            asm.abs_at_most([(k, -1.0 / h), (k + 1, 1.0 / h)].into_iter(), 0.0, peak);
+            if rows.accel_count() > 0 {
+                asm.abs_at_most([(rows.accel + k, 1.0)].into_iter(), 0.0, peak);
+            } else {
+                asm.abs_at_most([(k, -1.0 / h), (k + 1, 1.0 / h)].into_iter(), 0.0, peak);
+            }
         }
         if self.smoothness > 0.0 {
             // λ ĥ ((v_{k+1} − 2v_k + v_{k−1})/ĥ²)² = λ/ĥ³ (v_{k+1} − 2v_k + v_{k−1})²
@@ -117,18 +121,38 @@ impl ProfileQp {
             }
         }
 
-        let solved = asm.solve(settings)?;
+        let solved = if self.boundary == Boundary::RestToRest {
+            // Reversing time maps the problem to itself, so (convexity) the average of an optimum
+            // and its reverse is an optimum: solve on the symmetric profiles, half the size.
+            let fold = reversal(n, rows.accel_count());
+            let mut solved = asm.fold(&fold).solve(settings)?;
+            solved.x = fold.expand(&solved.x);
+            solved
+        } else {
+            asm.solve(settings)?
+        };
         let rates: Vec<f64> = solved.x[..n].iter().map(|v| v * self.rate_scale()).collect();
         let peak_torque = self.inertia * max_abs_difference(&rates) / self.spacing();
         let torque = self.torque_scale();
         let mut info = solved.info;
         info.duality_gap *= torque;
-        Ok(ProfileQpSolution {
-            status: solved.status,
-            rates,
-            peak_torque,
-            objective: solved.objective * torque,
-            info,
-        })
+        Ok(ProfileQpSolution { status: solved.status, rates, peak_torque, objective: solved.objective * torque, info })
     }
+}
+
+/// The substitution onto reversal-symmetric variables of `x = (v_0 … v_{N−1}, c, a_0 … a_{m−1})`:
+/// `v_k = v_{N−1−k}` (even), `a_k = −a_{m−1−k}` (odd; a middle one is zero), `c` alone.
+fn reversal(nodes: usize, accels: usize) -> Fold {
+    let half = nodes.div_ceil(2); // distinct rates
+    let mut map: Vec<Option<(usize, f64)>> = (0..nodes).map(|k| Some((k.min(nodes - 1 - k), 1.0))).collect();
+    map.push(Some((half, 1.0)));
+    for k in 0..accels {
+        let mirror = accels - 1 - k;
+        map.push(match k.cmp(&mirror) {
+            std::cmp::Ordering::Less => Some((half + 1 + k, 1.0)),
+            std::cmp::Ordering::Greater => Some((half + 1 + mirror, -1.0)),
+            std::cmp::Ordering::Equal => None,
+        });
+    }
+    Fold { map, n: half + 1 + accels / 2 }
 }

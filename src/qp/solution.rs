@@ -73,9 +73,9 @@ pub struct SolveInfo {
     pub iterations: u32,
     /// Setup and solve time as Clarabel measured it, s.
     pub solve_time_s: f64,
-    /// Clarabel's relative primal residual (dimensionless).
+    /// Clarabel's relative primal residual, of the normalised problem (dimensionless).
     pub primal_residual: f64,
-    /// Clarabel's relative dual residual (dimensionless).
+    /// Clarabel's relative dual residual, of the normalised problem (dimensionless).
     pub dual_residual: f64,
     /// Absolute duality gap, in the units of the objective.
     pub duality_gap: f64,

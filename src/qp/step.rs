@@ -5,8 +5,9 @@
 //! gradients with respect to the node rates, calls [`solve_linearised_step`], and accepts or
 //! rejects `ω + δ` by a merit function, growing or shrinking the trust radius.
 //!
-//! Internally `δ = (|D|/T) \hat δ` and `t = s_τ \hat t` with `s_τ = \max_j |τ_j|` (one when all
-//! vanish), so that the QP Clarabel sees is of order one.
+//! Internally `δ = (D/T) \hat δ` (the normalisation of the profile QP) and `t = s_τ \hat t` with
+//! `s_τ = \max_j |τ_j|` (one when all vanish), so that the QP Clarabel sees is of order one;
+//! runs of equal gradient coefficients go onto prefix sums of `\hat δ` (see [`SampleRow`]).
 
 use serde::Serialize;
 
@@ -99,10 +100,7 @@ impl LinearisedStep<'_> {
 /// Solves one linearised step (module docs): the step `δ` within the trust box that minimises
 /// the linear model's peak torque, with the integral, boundary and limits imposed on `ω + δ`.
 /// A solve that ends without a solution is not an error: its status says how it ended.
-pub fn solve_linearised_step(
-    problem: &LinearisedStep<'_>,
-    settings: &QpSettings,
-) -> Result<StepSolution, QpError> {
+pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings) -> Result<StepSolution, QpError> {
     problem.validate()?;
     let n = problem.rates.len();
     let t = problem.duration;
@@ -113,23 +111,37 @@ pub fn solve_linearised_step(
     // The normalisation of the profile QP: v = ωT/D, integral one (signed D).
     let to_v = t / problem.circulation;
     let offset: Vec<f64> = problem.rates.iter().map(|w| w * to_v).collect();
-    let bound = n; // the column of the epigraph bound t̂
-    let mut asm = Assembly::new(n + 1);
-    asm.linear_cost(bound, 1.0);
-    NodeConstraints {
+    // x is a step in v, so δ = x · D/T: the gradient column scale carries the sign of D.
+    let column = problem.circulation / t / torque_unit;
+    let h = 1.0 / (n - 1) as f64;
+    let rows: Vec<SampleRow> = problem.samples.iter().map(|s| SampleRow::new(&s.gradient, column, h)).collect();
+    let prefix = rows.iter().any(|r| !r.on_prefix.is_empty());
+
+    let bound = n; // the column of the epigraph bound t̂, then the accelerations, prefix sums
+    let node_rows = NodeConstraints {
         nodes: n,
         boundary: problem.boundary,
         rate_limit: problem.rate_limit.map(|r| r / rate_unit),
         jerk_limit: problem.jerk_limit.map(|j| j * t * t / rate_unit),
         trust: Some(problem.trust_radius / rate_unit),
         offset: Some(&offset),
+        accel: bound + 1,
+    };
+    let first_sum = bound + 1 + node_rows.accel_count();
+    let mut asm = Assembly::new(first_sum + if prefix { n } else { 0 });
+    asm.linear_cost(bound, 1.0);
+    node_rows.add_to(&mut asm);
+    if prefix {
+        // S_k = ĥ Σ_{m ≤ k} x_m
+        let s = |k: usize| first_sum + k;
+        asm.equal([(s(0), 1.0), (0, -h)], 0.0);
+        for k in 1..n {
+            asm.equal([(s(k), 1.0), (s(k - 1), -1.0), (k, -h)], 0.0);
+        }
     }
-    .add_to(&mut asm);
-    // x is a step in v, so δ = x · D/T: the gradient column scale carries the sign of D.
-    let column = problem.circulation / t / torque_unit;
-    for s in problem.samples {
-        let entries = s.gradient.iter().map(|&(k, g)| (k, g * column));
-        asm.abs_at_most(entries, s.value / torque_unit, bound);
+    for (row, sample) in rows.iter().zip(problem.samples) {
+        let entries = row.on_step.iter().copied().chain(row.on_prefix.iter().map(|&(k, g)| (first_sum + k, g)));
+        asm.abs_at_most(entries, sample.value / torque_unit, bound);
     }
 
     let solved = asm.solve(settings)?;
@@ -142,4 +154,75 @@ pub fn solve_linearised_step(
     let mut info = solved.info;
     info.duality_gap *= torque_unit;
     Ok(StepSolution { status: solved.status, step, predicted_peak, info })
+}
+
+/// Runs of equal coefficients shorter than this stay as they are.
+const MIN_RUN: usize = 4;
+
+/// One sample's gradient row on the normalised step `x`, with every run of at least [`MIN_RUN`]
+/// equal coefficients on consecutive nodes rewritten on the prefix sums `S_k = ĥ Σ_{m≤k} x_m`:
+/// `c Σ_{m=a}^{b} x_m = (c/ĥ)(S_b − S_{a−1})`. Exact, and it turns the dense rows of torques
+/// that depend on the angle `φ = ∫ω` (trapezoid weights up to the sample) into a few nonzeros.
+struct SampleRow {
+    on_step: Vec<(usize, f64)>,
+    on_prefix: Vec<(usize, f64)>,
+}
+
+impl SampleRow {
+    fn new(gradient: &[(usize, f64)], scale: f64, h: f64) -> Self {
+        let mut sorted: Vec<(usize, f64)> = gradient.iter().map(|&(k, g)| (k, g * scale)).collect();
+        sorted.sort_unstable_by_key(|&(k, _)| k);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(sorted.len());
+        for (k, g) in sorted {
+            match merged.last_mut() {
+                Some(last) if last.0 == k => last.1 += g,
+                _ => merged.push((k, g)),
+            }
+        }
+        let (mut on_step, mut on_prefix) = (Vec::new(), Vec::new());
+        let mut start = 0;
+        while start < merged.len() {
+            let (a, c) = merged[start];
+            let mut end = start + 1;
+            while end < merged.len() && merged[end].0 == a + (end - start) && merged[end].1.to_bits() == c.to_bits() {
+                end += 1;
+            }
+            if end - start >= MIN_RUN {
+                on_prefix.push((merged[end - 1].0, c / h));
+                if a > 0 {
+                    on_prefix.push((a - 1, -c / h));
+                }
+            } else {
+                on_step.extend_from_slice(&merged[start..end]);
+            }
+            start = end;
+        }
+        Self { on_step, on_prefix }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SampleRow;
+
+    #[test]
+    fn runs_of_equal_coefficients_move_to_prefix_sums_and_the_rest_stays() {
+        // Trapezoid weights up to node 9 (0.5, 1, …, 1, 0.5) plus a rate term at node 9 and an
+        // acceleration pair on nodes 4 and 5, in shuffled order with a repeated index.
+        let mut gradient: Vec<(usize, f64)> = (1..9).map(|m| (m, 2.0)).collect();
+        gradient.extend([(9, 1.0), (0, 1.0), (5, 3.0), (4, -3.0), (9, 0.25)]);
+        gradient.reverse();
+        let row = SampleRow::new(&gradient, 1.0, 0.5);
+        // 2 on nodes 1..=3 and 6..=8 (runs of three: below MIN_RUN, kept); 1 on node 0; 1.25 on 9.
+        let on_step: Vec<(usize, f64)> =
+            vec![(0, 1.0), (1, 2.0), (2, 2.0), (3, 2.0), (4, -1.0), (5, 5.0), (6, 2.0), (7, 2.0), (8, 2.0), (9, 1.25)];
+        assert_eq!(row.on_step, on_step);
+        assert!(row.on_prefix.is_empty());
+
+        let long: Vec<(usize, f64)> = (3..40).map(|m| (m, 2.0)).chain([(41, 7.0)]).collect();
+        let row = SampleRow::new(&long, 0.5, 0.25);
+        // 1.0 on nodes 3..=39 = (1.0/0.25)(S_39 − S_2); node 41 alone.
+        assert_eq!(row.on_prefix, vec![(39, 4.0), (2, -4.0)]);
+        assert_eq!(row.on_step, vec![(41, 3.5)]);
+    }
 }
