@@ -57,8 +57,8 @@ pub struct OptimizeReport {
     pub calibration: Calibration,
     /// The profile QP's solve: status, iterations, residuals, gap.
     pub qp: ProfileQpSolution,
-    /// The QP's closed-form optimum with rest-to-rest ends and no limits, `4 D I*/T²`, N·m.
-    pub qp_closed_form_nm: f64,
+    /// The QP's exact discrete optimum when it has a closed form (no limits, no smoothing), N·m.
+    pub qp_closed_form_nm: Option<f64>,
     /// The QP optimum, evaluated (absent when the QP did not solve).
     pub qp_optimum: Option<Optimum>,
     /// The exact-dynamics refinement's history.
@@ -75,7 +75,8 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
     let base = Schedule::new(problem, circulation.radians);
     let t2 = base.durations[1];
     let inertia = problem.cat.end_transverse();
-    let qp = ProfileQp::new(&problem.optimize, t2, circulation.radians, inertia).solve()?;
+    let qp_data = ProfileQp::new(&problem.optimize, t2, circulation.radians, inertia);
+    let qp = qp_data.solve()?;
     let calibration = match circulation.calibration {
         Some(c) => c,
         None => calibrate(&problem.cat, &base, problem.exact.tolerance),
@@ -105,7 +106,7 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
         problem: problem.name.clone(),
         circulation,
         calibration,
-        qp_closed_form_nm: 4.0 * circulation.radians.abs() * inertia / (t2 * t2),
+        qp_closed_form_nm: qp_data.closed_form_peak(),
         qp,
         qp_optimum,
         refinement,
@@ -132,7 +133,7 @@ impl OptimizeReport {
         );
         let _ = writeln!(
             s,
-            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {:?}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {:.6} N·m (closed form for rest-to-rest ends without limits: {:.6} N·m).\n",
+            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {:?}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {:.6} N·m (closed form of the discrete problem: {}).\n",
             q.rates.len(),
             q.status,
             q.info.iterations,
@@ -141,7 +142,7 @@ impl OptimizeReport {
             q.info.dual_residual,
             q.info.duality_gap,
             q.peak_torque,
-            self.qp_closed_form_nm
+            self.qp_closed_form_nm.map_or("none with limits or smoothing".to_string(), |c| format!("{c:.6} N·m"))
         );
         if let Some(r) = &self.refinement {
             let accepted = r.iterations.iter().filter(|i| i.accepted).count();

@@ -333,10 +333,11 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
         opt.calibration.twist.to_degrees(),
         opt.calibration.swing.to_degrees()
     );
+    let closed = opt.qp_closed_form_nm.map_or("none with limits".to_string(), |c| format!("{c:.6}"));
     let _ = writeln!(
         s,
-        "- Profile QP: {:?}, model peak {:.6} N·m (closed form {:.6}).",
-        opt.qp.status, opt.qp.peak_torque, opt.qp_closed_form_nm
+        "- Profile QP: {:?}, model peak {:.6} N·m (closed form {closed}).",
+        opt.qp.status, opt.qp.peak_torque
     );
     if let Some(r) = &opt.refined_optimum {
         let t = r.evaluation.exact_peak_nm.twist;

@@ -445,3 +445,20 @@ fn dense_angle_gradients_give_the_same_step_as_their_prefix_sum_form() {
     let current = runs.iter().fold(0.0, |m: f64, s| m.max(s.value.abs()));
     assert!(peaks[0] < current, "no improvement: {} against {current}", peaks[0]);
 }
+
+#[test]
+fn closed_form_peak_matches_the_solver() {
+    // The closed forms of the qp module docs against Clarabel's optimum, odd and even N, both
+    // boundaries; none is claimed once a limit is set.
+    use catflip::qp::ProfileQp;
+    use catflip::settings::{Boundary, OptimizeSettings};
+    for (nodes, boundary) in [(51, Boundary::RestToRest), (50, Boundary::RestToRest), (40, Boundary::StartAtRest)] {
+        let s = OptimizeSettings { nodes, boundary, ..OptimizeSettings::default() };
+        let qp = ProfileQp::new(&s, 0.8, 3.2, 0.33);
+        let sol = qp.solve().expect("valid");
+        let closed = qp.closed_form_peak().expect("no limits");
+        assert!((sol.peak_torque / closed - 1.0).abs() < 1e-7, "N = {nodes}: {} vs {closed}", sol.peak_torque);
+    }
+    let limited = OptimizeSettings { rate_limit: Some(10.0), ..OptimizeSettings::default() };
+    assert!(ProfileQp::new(&limited, 0.8, 3.2, 0.33).closed_form_peak().is_none());
+}

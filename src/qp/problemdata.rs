@@ -32,6 +32,22 @@ pub struct ProfileQp {
 }
 
 impl ProfileQp {
+    /// The exact optimum of the discrete problem when it has a closed form (module docs): without
+    /// limits or smoothing, `c = 4` (rest-to-rest, `N` odd), `4(N−1)²/(N(N−2))` (rest-to-rest,
+    /// `N` even) or `2` (start-at-rest); the peak torque is `c I* |D| / T²`, N·m.
+    pub fn closed_form_peak(&self) -> Option<f64> {
+        if self.rate_limit.is_some() || self.jerk_limit.is_some() || self.smoothness > 0.0 || self.nodes < 3 {
+            return None;
+        }
+        let n = self.nodes as f64;
+        let c = match self.boundary {
+            Boundary::StartAtRest => 2.0,
+            Boundary::RestToRest if self.nodes % 2 == 1 => 4.0,
+            Boundary::RestToRest => 4.0 * (n - 1.0).powi(2) / (n * (n - 2.0)),
+        };
+        Some(c * self.torque_scale())
+    }
+
     /// The QP of the optimiser's settings for a twist phase of `duration` s, a circulation of
     /// `circulation` rad and the torque model's inertia `inertia` kg·m².
     pub fn new(settings: &OptimizeSettings, duration: f64, circulation: f64, inertia: f64) -> Self {
