@@ -185,15 +185,20 @@ pub(crate) fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> P
     ProblemError::BadFieldValue { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
 }
 
+/// Why a value is not finite and strictly positive, if it is not.
+pub(crate) fn not_positive(value: f64) -> Option<&'static str> {
+    if !value.is_finite() {
+        Some("must be a finite number")
+    } else if value <= 0.0 {
+        Some("must be positive")
+    } else {
+        None
+    }
+}
+
 /// Requires a finite, strictly positive value.
 pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
-    if !value.is_finite() {
-        Err(bad(field, value, "must be a finite number"))
-    } else if value <= 0.0 {
-        Err(bad(field, value, "must be positive"))
-    } else {
-        Ok(())
-    }
+    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
 }
 
 /// Requires `None` or a finite, strictly positive value.

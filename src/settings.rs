@@ -86,9 +86,11 @@ pub struct OptimizeSettings {
     pub boundary: Boundary,
     /// Bound on `|ω|`, rad/s; none when absent.
     pub rate_limit: Option<f64>,
-    /// Bound on `|dω/ds|` differences per unit time squared (jerk of φ), rad/s³; none when absent.
+    /// Bound on `|d²ω/ds²|` (the jerk of φ), rad/s³; when present `dω/ds` is also zero at both
+    /// ends. None when absent.
     pub jerk_limit: Option<f64>,
-    /// Weight of the smoothness term `Σ (Δ²ω)²`, relative to the peak; zero for none.
+    /// Dimensionless weight λ of the smoothness term `λ ∫(P''')² du` of the normalised motion
+    /// (see the `qp` module docs); zero for none.
     pub smoothness: f64,
     /// Outer iterations of the exact-dynamics refinement.
     pub refine_iterations: usize,

@@ -123,13 +123,7 @@ pub(crate) fn bad(field: &'static str, value: impl std::fmt::Display, reason: &s
 
 /// Requires a finite, strictly positive value.
 pub(crate) fn positive(field: &'static str, value: f64) -> Result<(), QpError> {
-    if !value.is_finite() {
-        Err(bad(field, value, "must be a finite number"))
-    } else if value <= 0.0 {
-        Err(bad(field, value, "must be positive"))
-    } else {
-        Ok(())
-    }
+    crate::problem::not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
 }
 
 /// Requires an absent or finite, strictly positive value.
