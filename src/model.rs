@@ -124,8 +124,9 @@ impl Cylinder {
 }
 
 /// Principal moments of the *bent* two-cylinder cat as the paper's §2–§3 define them, per half,
-/// for halves meeting at angle `θ` (π = straight), in the paper's axes (`y` along the bisector of
-/// the spine, `x` normal to the plane of the bend).
+/// for halves meeting at angle `θ` (π = straight), in the paper's axes (`y` in the plane of the bend,
+/// perpendicular to the bisector of θ and through both halves' centres; `z` along the bisector;
+/// `x` normal to the plane of the bend).
 ///
 /// `transverse` and `axial` are the half's `I_x'x' = I_y'y'` and `I_z'z'`; passing the paper's
 /// slipped `m(r² + l²)/12` reproduces its numbers, passing [`Cylinder::transverse`] corrects them.
