@@ -51,15 +51,15 @@ pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibra
         };
     };
     // The twist changes by O(1) per radian of circulation, so a circulation accurate to
-    // `tolerance · 1e-2` rad leaves a twist error well below `tolerance`.
+    // `tolerance · 1e-2` rad leaves a twist error well below `tolerance` (checked below).
     let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
     evaluations += root.evaluations;
     let at = flip(cat, &schedule.with_circulation(root.x), inner);
-    Calibration {
-        circulation: root.x,
-        twist: at.twist,
-        swing: at.swing,
-        evaluations: evaluations + 1,
-        status: root.status,
-    }
+    // A root is only a root if the engine met its tolerance there and the twist is ±π.
+    let status = if root.status == RootStatus::Converged && !(at.converged && (at.twist - target).abs() <= tolerance) {
+        RootStatus::NotAtRoot
+    } else {
+        root.status
+    };
+    Calibration { circulation: root.x, twist: at.twist, swing: at.swing, evaluations: evaluations + 1, status }
 }

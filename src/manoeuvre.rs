@@ -152,6 +152,10 @@ impl Default for Manoeuvre {
     }
 }
 
+/// Largest circulation a schedule may ask for, rad: beyond it the fall is spent on hundreds of
+/// turns of the bend (the paper's `π/C` grows without bound as the cat straightens, `C → 0`).
+pub const MAX_CIRCULATION: f64 = 1000.0;
+
 /// Half-width of the band around β = 90° in which the cone path is refused: the joint rate needed
 /// to follow the cone grows like `|tan β|` and becomes unbounded at gimbal lock.
 pub const CONE_GIMBAL_MARGIN_DEG: f64 = 5.0;
@@ -193,6 +197,27 @@ impl Manoeuvre {
             if !a.is_finite() {
                 return Err(bad("manoeuvre.circulation", a, "must be a finite number of radians"));
             }
+            if a == 0.0 {
+                return Err(bad(
+                    "manoeuvre.circulation",
+                    a,
+                    "must be non-zero: without circulation the cat does not twist",
+                ));
+            }
+            if a.abs() > MAX_CIRCULATION {
+                return Err(bad(
+                    "manoeuvre.circulation",
+                    a,
+                    &format!("must be at most {MAX_CIRCULATION} rad in magnitude (about 160 turns of the bend)"),
+                ));
+            }
+        }
+        if self.circulation == Circulation::Calibrated && t >= 180.0 {
+            return Err(bad(
+                "manoeuvre.circulation",
+                "\"calibrated\"",
+                "a straight cat (theta_deg = 180) has no bend to circulate, so no circulation turns it",
+            ));
         }
         if self.bend_path == BendPath::Cone && (self.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
             return Err(bad(

@@ -148,7 +148,7 @@ impl OptimizeReport {
             let accepted = r.iterations.iter().filter(|i| i.accepted).count();
             let _ = writeln!(
                 s,
-                "**Exact-dynamics refinement**: {:?} after {} iterations ({} accepted); sampled exact twist-phase peak {:.6} → {:.6} N·m.\n",
+                "**Exact-dynamics refinement**: {:?} after {} iterations ({} accepted); exact twist-phase peak (dense evaluation) {:.6} → {:.6} N·m.\n",
                 r.status,
                 r.iterations.len(),
                 accepted,

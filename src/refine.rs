@@ -5,14 +5,16 @@
 //! rates `ω_k` (linear between nodes) are improved by sequential linear programming with a
 //! trust region on the exact torques of Newton–Euler ([`crate::torque`]):
 //!
-//! - samples: both ends of every interval of the twist phase, each with its interval's
-//!   constant `φ̈`, for both joints; at node `k`, `φ_k = Σ` trapezoid weights `· ω`, `φ̇ = ω_k`,
-//!   and on interval `i`, `φ̈ = (ω_{i+1} − ω_i)/h`;
+//! - samples: both ends and the midpoint of every interval of the twist phase, each with its
+//!   interval's constant `φ̈`, for both joints; at node `k`, `φ_k = Σ` trapezoid weights `· ω`,
+//!   `φ̇ = ω_k`; on interval `i`, `φ̈ = (ω_{i+1} − ω_i)/h`, and at its midpoint
+//!   `φ = φ_i + (3h/8) ω_i + (h/8) ω_{i+1}`, `φ̇ = (ω_i + ω_{i+1})/2`;
 //! - gradients: `∂τ/∂(φ, φ̇, φ̈)` by central differences of the exact torque (exact in `φ̈`,
 //!   in which the torque is affine), chained with those linear maps;
 //! - step: [`crate::qp::solve_linearised_step`] (Clarabel) with the integral, boundary and limit
-//!   constraints on `ω + δ`; accepted when the sampled exact peak falls by at least a tenth of
-//!   the predicted fall; the radius doubles after good agreement and halves after poor.
+//!   constraints on `ω + δ`; accepted when the exact twist-phase peak, evaluated densely by
+//!   [`crate::torque::peak_torques`] (not only at the samples), falls by at least a tenth of the
+//!   predicted fall; the radius doubles after good agreement and halves after poor.
 //!
 //! Because the joint path (and so the flip) does not depend on the timing, the refinement
 //! changes torques only, never twist or swing; bend and unbend are untouched.
@@ -26,7 +28,7 @@ use crate::problem::Problem;
 use crate::profile::Profile;
 use crate::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
 use crate::schedule::Schedule;
-use crate::torque::joint_torques;
+use crate::torque::{joint_torques, peak_torques};
 
 /// How the refinement ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -43,11 +45,11 @@ pub enum RefineStatus {
 /// One outer iteration.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RefineIteration {
-    /// Sampled exact peak before the step, N·m.
+    /// Exact twist-phase peak before the step, N·m.
     pub peak: f64,
     /// The linear model's predicted peak after it, N·m.
     pub predicted: f64,
-    /// Sampled exact peak after it, N·m.
+    /// Exact twist-phase peak after it, N·m.
     pub actual: f64,
     /// Trust radius, rad/s.
     pub radius: f64,
@@ -62,9 +64,9 @@ pub struct RefineIteration {
 pub struct Refinement {
     /// Node rates, rad/s.
     pub rates: Vec<f64>,
-    /// Sampled exact twist-phase peak of the start, N·m.
+    /// Exact twist-phase peak of the start (dense evaluation), N·m.
     pub start_peak: f64,
-    /// Sampled exact twist-phase peak of the result, N·m.
+    /// Exact twist-phase peak of the result (dense evaluation), N·m.
     pub final_peak: f64,
     /// The iterations.
     pub iterations: Vec<RefineIteration>,
@@ -90,11 +92,29 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, w: &[f64]) -> Vec<
         }))
         .collect();
     let tau = |a: f64, b: f64, c: f64| joint_torques(&problem.cat, &schedule.path_state(a, b, c)).tau;
-    let mut out = Vec::with_capacity(4 * (n - 1));
+    // A sample: φ, φ̇ and their gradients with respect to ω as (node, weight) lists.
+    let phi_grad = |k: usize| -> Vec<(usize, f64)> {
+        if k == 0 {
+            return Vec::new();
+        }
+        let mut g = Vec::with_capacity(k + 1);
+        g.push((0, 0.5 * h));
+        g.extend((1..k).map(|m| (m, h)));
+        g.push((k, 0.5 * h));
+        g
+    };
+    let mut out = Vec::with_capacity(6 * (n - 1));
     for i in 0..n - 1 {
         let acc = (w[i + 1] - w[i]) / h;
-        for k in [i, i + 1] {
-            let (a, b) = (phi[k], w[k]);
+        let mid_phi = phi[i] + 0.375 * h * w[i] + 0.125 * h * w[i + 1];
+        let mut mid_phi_grad = phi_grad(i);
+        mid_phi_grad.extend([(i, 0.375 * h), (i + 1, 0.125 * h)]);
+        let points = [
+            (phi[i], w[i], phi_grad(i), vec![(i, 1.0)]),
+            (mid_phi, 0.5 * (w[i] + w[i + 1]), mid_phi_grad, vec![(i, 0.5), (i + 1, 0.5)]),
+            (phi[i + 1], w[i + 1], phi_grad(i + 1), vec![(i + 1, 1.0)]),
+        ];
+        for (a, b, ga, gb) in points {
             let t0 = tau(a, b, acc);
             let (ea, eb) = (1e-6, 1e-6 * (1.0 + b.abs()));
             let (ap, am) = (tau(a + ea, b, acc), tau(a - ea, b, acc));
@@ -104,13 +124,9 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, w: &[f64]) -> Vec<
                 let d_phi = (ap[j] - am[j]) / (2.0 * ea);
                 let d_rate = (bp[j] - bm[j]) / (2.0 * eb);
                 let d_acc = (cp[j] - cm[j]) / 2.0;
-                let mut g: Vec<(usize, f64)> = Vec::with_capacity(k + 3);
-                if k > 0 {
-                    g.push((0, 0.5 * h * d_phi));
-                    g.extend((1..k).map(|m| (m, h * d_phi)));
-                    g.push((k, 0.5 * h * d_phi));
-                }
-                g.push((k, d_rate));
+                let mut g: Vec<(usize, f64)> = Vec::with_capacity(ga.len() + 4);
+                g.extend(ga.iter().map(|&(k, x)| (k, x * d_phi)));
+                g.extend(gb.iter().map(|&(k, x)| (k, x * d_rate)));
                 g.push((i + 1, d_acc / h));
                 g.push((i, -d_acc / h));
                 out.push(TorqueSample { value: t0[j], gradient: g });
@@ -118,6 +134,17 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, w: &[f64]) -> Vec<
         }
     }
     out
+}
+
+/// The exact twist-phase peak of node rates `w`, evaluated densely.
+fn twist_peak(problem: &Problem, schedule: &Schedule, w: &[f64]) -> f64 {
+    match Profile::from_rate_nodes("trial", w) {
+        Some(p) => {
+            let peaks = peak_torques(&problem.cat, &schedule.with_profile(p), problem.exact.torque_samples);
+            peaks.per_piece.get(1).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
+        }
+        None => f64::INFINITY,
+    }
 }
 
 fn sampled_peak(samples: &[TorqueSample]) -> f64 {
@@ -131,7 +158,7 @@ pub fn refine(problem: &Problem, schedule: &Schedule, start: &[f64]) -> Result<R
     let unit = schedule.circulation.abs() / t2;
     let mut w = start.to_vec();
     let mut samples = torque_samples(problem, schedule, &w);
-    let start_peak = sampled_peak(&samples);
+    let start_peak = twist_peak(problem, schedule, &w);
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;
@@ -171,15 +198,14 @@ pub fn refine(problem: &Problem, schedule: &Schedule, start: &[f64]) -> Result<R
             break;
         }
         let trial: Vec<f64> = w.iter().zip(&step.step).map(|(a, d)| a + d).collect();
-        let trial_samples = torque_samples(problem, schedule, &trial);
-        let actual = sampled_peak(&trial_samples);
-        let predicted_fall = peak - step.predicted_peak;
+        let actual = twist_peak(problem, schedule, &trial);
+        let predicted_fall = sampled_peak(&samples) - step.predicted_peak;
         let ratio = if predicted_fall > 0.0 { (peak - actual) / predicted_fall } else { -1.0 };
         record.actual = actual;
         if ratio > 0.1 {
             record.accepted = true;
+            samples = torque_samples(problem, schedule, &trial);
             w = trial;
-            samples = trial_samples;
             peak = actual;
             if ratio > 0.75 {
                 radius *= 2.0;

@@ -15,6 +15,9 @@ pub enum RootStatus {
     NoBracket,
     /// The iteration budget ran out; the best iterate is returned.
     MaxIterations,
+    /// The bracket closed, but the function there is not at the root to the tolerance (a sign
+    /// change of an inaccurate evaluation, not a root).
+    NotAtRoot,
 }
 
 /// The outcome of a root search.

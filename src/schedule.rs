@@ -212,14 +212,22 @@ impl Schedule {
         }
     }
 
-    /// Joint-rate jumps at the two inner phase boundaries larger than `tol` (rad/s).
+    /// Joint-rate jumps at the two inner phase boundaries larger than `tol` relative to the rates
+    /// of the two adjoining phases (sampled at quarters; at least `tol` rad/s), so round-off of a
+    /// fast phase is not taken for a jump.
     pub fn rate_jumps(&self, tol: f64) -> Vec<RateJump> {
         let mut out = Vec::new();
         for (ending, next) in [(Phase::Bend, Phase::Twist), (Phase::Twist, Phase::Unbend)] {
             let before = self.phase_state(ending, self.durations[ending.index()]).qd;
             let after = self.phase_state(next, 0.0).qd;
-            let jump = ((before[0] - after[0]).powi(2) + (before[1] - after[1]).powi(2)).sqrt();
-            if jump > tol {
+            let jump = (before[0] - after[0]).hypot(before[1] - after[1]);
+            let rate = |ph: Phase, f: f64| {
+                let qd = self.phase_state(ph, f * self.durations[ph.index()]).qd;
+                qd[0].hypot(qd[1])
+            };
+            let scale =
+                [0.25, 0.5, 0.75, 1.0].iter().map(|&f| rate(ending, f).max(rate(next, 1.0 - f))).fold(1.0f64, f64::max);
+            if jump > tol * scale {
                 out.push(RateJump { time: self.phase_start(next), after: ending, before, after_rates: after });
             }
         }
@@ -233,6 +241,9 @@ pub enum ScheduleError {
     /// The paper's `C` is not positive, so `π/C` is no circulation.
     #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {0} is not positive: the paper's circulation π/C is undefined for this cat")]
     NonPositiveC(f64),
+    /// The paper's `π/C` is beyond [`crate::manoeuvre::MAX_CIRCULATION`].
+    #[error("manoeuvre.circulation = \"paper\": π/C = {0:.4e} rad (C = {1:.3e}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", max = crate::manoeuvre::MAX_CIRCULATION)]
+    CirculationTooLarge(f64, f64),
 }
 
 impl Schedule {
@@ -264,10 +275,12 @@ impl Schedule {
 /// `I_yy = I_xx cos²(θ/2) + I_zz sin²(θ/2)` per half, evaluated with the correct inertia.
 pub fn paper_circulation(cat: &crate::model::Cylinder, theta: f64) -> Result<f64, ScheduleError> {
     let c = paper_c(cat.transverse(), cat.axial(), theta);
-    if c > 0.0 {
-        Ok(PI / c)
-    } else {
+    if c <= 0.0 {
         Err(ScheduleError::NonPositiveC(c))
+    } else if PI / c > crate::manoeuvre::MAX_CIRCULATION {
+        Err(ScheduleError::CirculationTooLarge(PI / c, c))
+    } else {
+        Ok(PI / c)
     }
 }
 

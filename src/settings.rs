@@ -104,7 +104,7 @@ impl Default for OptimizeSettings {
             rate_limit: None,
             jerk_limit: None,
             smoothness: 0.0,
-            refine_iterations: 30,
+            refine_iterations: 60,
         }
     }
 }

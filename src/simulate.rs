@@ -33,7 +33,7 @@ pub enum SimulateError {
         status: RootStatus,
     },
     /// The rapier engine failed.
-    #[error("rapier: {0}")]
+    #[error(transparent)]
     Rapier(#[from] crate::rapier::RapierError),
 }
 
@@ -141,6 +141,9 @@ pub struct SimulationReport {
     pub steps: usize,
     /// Estimated error of twist and swing, rad (exact only).
     pub error_estimate_rad: Option<f64>,
+    /// Whether the exact integration met `exact.tolerance` (exact only); when false the angles
+    /// are not to be trusted to that tolerance.
+    pub converged: Option<bool>,
     /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
     pub action_reaction_gap_nm: Option<f64>,
     /// The motors' torque spikes at rate jumps, as rapier measured them (rapier only).
@@ -203,6 +206,7 @@ pub fn exact_report(problem: &Problem, schedule: &Schedule, circ: ResolvedCircul
         tracking_error_rad: None,
         steps: f.steps_per_phase,
         error_estimate_rad: Some(f.error_estimate),
+        converged: Some(f.converged),
         action_reaction_gap_nm: Some(peaks.action_reaction_gap),
         rapier_jumps: None,
         extrapolated: None,
@@ -252,6 +256,7 @@ pub fn rapier_report(
         tracking_error_rad: Some(run.tracking_error),
         steps: run.steps,
         error_estimate_rad: None,
+        converged: None,
         action_reaction_gap_nm: None,
         rapier_jumps: Some(run.jumps),
         extrapolated,
@@ -260,7 +265,7 @@ pub fn rapier_report(
     })
 }
 
-/// Joint-rate jumps smaller than this (rad/s) are round-off, not jumps.
+/// Joint-rate jumps smaller than this, relative to the rates on either side, are round-off.
 pub const JUMP_TOLERANCE: f64 = 1e-9;
 
 /// Largest `|H|` of the zero-momentum motion on a fine grid, relative to `I* · max|q̇|`.
@@ -333,6 +338,10 @@ impl SimulationReport {
         }
         if let Some(e) = self.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);
+        }
+        if self.converged == Some(false) {
+            let _ =
+                writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
         }
         let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.run_time_s);
         s

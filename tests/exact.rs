@@ -250,3 +250,13 @@ fn paper_schedule_matches_an_independent_derivation() {
     let cal = catflip::calibrate::calibrate(&p.cat, &s, 1e-12);
     assert!((cal.circulation - 3.336554621121).abs() < 5e-11, "{}", cal.circulation);
 }
+
+#[test]
+fn an_unmet_tolerance_is_reported_not_hidden() {
+    // Round-off bounds the orientation error near 1e-15 rad: 1e-17 cannot be met.
+    let (p, s) = paper();
+    let f = flip(&p.cat, &s, 1e-17);
+    assert!(!f.converged, "claimed convergence to 1e-17 with estimate {:e}", f.error_estimate);
+    let cal = catflip::calibrate::calibrate(&p.cat, &s, 1e-17);
+    assert_ne!(cal.status, catflip::roots::RootStatus::Converged, "{cal:?}");
+}

@@ -147,3 +147,27 @@ fn bad_name_is_refused() {
         "name = ../etc: must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)"
     );
 }
+
+#[test]
+fn circulations_that_cannot_turn_the_cat_are_refused() {
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.circulation=0"]),
+        "manoeuvre.circulation = 0: must be non-zero: without circulation the cat does not twist"
+    );
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.circulation=2e3"]),
+        "manoeuvre.circulation = 2000: must be at most 1000 rad in magnitude (about 160 turns of the bend)"
+    );
+    assert_eq!(
+        error_of(PAPER, &["manoeuvre.theta_deg=180", "manoeuvre.circulation=\"calibrated\""]),
+        "manoeuvre.circulation = \"calibrated\": a straight cat (theta_deg = 180) has no bend to circulate, so no circulation turns it"
+    );
+}
+
+#[test]
+fn paper_circulation_of_a_nearly_straight_cat_is_refused() {
+    // C → 0 as θ → 180°, so π/C grows without bound.
+    let p = Problem::from_toml(PAPER, "t", &["manoeuvre.theta_deg=179.99999".into()]).expect("loads");
+    let e = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect_err("too large");
+    assert!(e.to_string().contains("exceeds the 1000 rad"), "{e}");
+}

@@ -434,3 +434,13 @@ fn dt_sweep_table() {
         }
     }
 }
+
+#[test]
+fn a_step_too_coarse_for_the_phases_is_refused() {
+    // The paper's bend lasts 0.286 s: 0.1 s leaves under three steps, and no torque sample
+    // could be taken away from the phase boundaries.
+    let (p, s) = paper();
+    let settings = catflip::settings::RapierSettings { dt: 0.1, ..p.rapier };
+    let e = catflip::rapier::simulate(&p.cat, &s, &settings).expect_err("too coarse");
+    assert!(matches!(e, catflip::rapier::RapierError::TooCoarse { .. }), "{e}");
+}

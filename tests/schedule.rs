@@ -100,3 +100,14 @@ fn phases_split_the_fall_time() {
     assert_relative_eq!(s.duration(), (20.0f64 / 9.8).sqrt(), max_relative = 1e-15);
     assert_relative_eq!(s.durations[1], 0.6 * s.duration(), max_relative = 1e-15);
 }
+
+#[test]
+fn round_off_of_a_fast_phase_is_not_a_jump() {
+    // With a 1e-7 bend phase the rates reach ~β π/T1 ≈ 3e7 rad/s; sin(π) round-off there must
+    // not be reported as a velocity jump (the tolerance is relative to the rates).
+    let mut p = Problem::default();
+    p.manoeuvre.phases = [1e-7, 0.5, 0.5 - 1e-7];
+    p.manoeuvre.profile = ProfileKind::Cycloidal;
+    let s = Schedule::new(&p, 3.0);
+    assert!(s.rate_jumps(1e-9).is_empty(), "{:?}", s.rate_jumps(1e-9));
+}

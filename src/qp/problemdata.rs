@@ -148,7 +148,11 @@ impl ProfileQp {
             asm.solve(settings)?
         };
         let rates: Vec<f64> = solved.x[..n].iter().map(|v| v * self.rate_scale()).collect();
-        let peak_torque = self.inertia * max_abs_difference(&rates) / self.spacing();
+        let peak_torque = if solved.status.is_solved() {
+            self.inertia * max_abs_difference(&rates) / self.spacing()
+        } else {
+            f64::NAN
+        };
         let torque = self.torque_scale();
         let mut info = solved.info;
         info.duality_gap *= torque;

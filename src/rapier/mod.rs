@@ -154,7 +154,23 @@ pub enum RapierError {
     /// The simulation produced non-finite numbers.
     #[error("the simulation diverged (non-finite state) at t = {0} s")]
     Diverged(f64),
+    /// The step is too coarse to resolve the shortest phase.
+    #[error("rapier.dt = {dt} s leaves only {steps:.1} steps in the shortest phase ({phase} s); at least {min} are needed to measure its torques")]
+    TooCoarse {
+        /// Requested step, s.
+        dt: f64,
+        /// Duration of the shortest phase, s.
+        phase: f64,
+        /// Steps it would get.
+        steps: f64,
+        /// The least accepted, [`MIN_STEPS_PER_PHASE`].
+        min: usize,
+    },
 }
+
+/// Fewest steps a phase may get: torque samples within a few steps of a phase boundary are left
+/// out of the peaks, so a phase needs many more than that.
+pub const MIN_STEPS_PER_PHASE: usize = 10;
 
 /// Most steps a run may take.
 pub const MAX_STEPS: usize = 20_000_000;

@@ -5,7 +5,7 @@ use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
 use super::scene::{CatScene, MotorGains};
-use super::{RapierError, RapierOptions, MAX_STEPS};
+use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::model::Cylinder;
 use crate::orientation::TwistTracker;
 use crate::schedule::{Phase, Schedule};
@@ -168,6 +168,15 @@ pub fn simulate_with(
     let steps_f = (duration / settings.dt).ceil();
     if steps_f > MAX_STEPS as f64 {
         return Err(RapierError::TooManySteps { dt: settings.dt, duration, steps: steps_f, max: MAX_STEPS });
+    }
+    let shortest = schedule.durations.iter().copied().fold(f64::INFINITY, f64::min);
+    if shortest / settings.dt < MIN_STEPS_PER_PHASE as f64 {
+        return Err(RapierError::TooCoarse {
+            dt: settings.dt,
+            phase: shortest,
+            steps: shortest / settings.dt,
+            min: MIN_STEPS_PER_PHASE,
+        });
     }
     let n = (steps_f as usize).max(1);
     let dt = duration / n as f64;
