@@ -231,7 +231,7 @@ fn fast_body_rate_matches_the_general_momentum_map() {
 
 #[test]
 fn paper_schedule_matches_an_independent_derivation() {
-    // Reference: an independent derivation in Python (numpy/scipy, written without this code:
+    // Reference: an independent derivation in Python (tests/reference/, numpy/scipy, written without this code:
     // momentum map checked against a 250 000-point mass cloud, DOP853 at rtol = atol = 1e-13 on a
     // unit quaternion, restarted at each phase boundary), 2026-11-22:
     //   paper schedule: twist −174.067345149°, swing 0.590135830°;
