@@ -123,28 +123,22 @@ impl CompareTable {
 
     /// The table as tidy CSV: one row per problem × profile × engine.
     pub fn to_csv(&self) -> String {
-        let mut s = String::from(
-            "problem,profile,origin,engine,rest_to_rest,accel_coefficient,model_peak_nm,bend_tau1_nm,bend_tau2_nm,twist_tau1_nm,twist_tau2_nm,unbend_tau1_nm,unbend_tau2_nm,exact_max_nm,velocity_jumps,max_impulse_nms,twist_deg,swing_deg,circulation_rad\n",
+        let mut s = format!(
+            "problem,profile,origin,engine,rest_to_rest,accel_coefficient,model_peak_nm,{},velocity_jumps,max_impulse_nms,twist_deg,swing_deg,circulation_rad\n",
+            PhasePeaks::CSV_HEADER
         );
         let mut rows: Vec<&CompareRow> = self.rows.iter().collect();
         rows.sort_by(|a, b| a.profile.cmp(&b.profile));
         for r in rows {
-            let p = &r.exact_peak_nm;
             s.push_str(&format!(
-                "{},{},{},exact,{},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{:.9},{},{:.9},{:.9},{:.9},{:.12}\n",
+                "{},{},{},exact,{},{:.9},{:.9},{},{},{:.9},{:.9},{:.9},{:.12}\n",
                 r.problem,
                 r.profile,
                 r.origin,
                 r.rest_to_rest,
                 r.accel_coefficient,
                 r.model_peak_nm,
-                p.bend[0],
-                p.bend[1],
-                p.twist[0],
-                p.twist[1],
-                p.unbend[0],
-                p.unbend[1],
-                p.max,
+                r.exact_peak_nm.csv(),
                 r.velocity_jumps,
                 r.max_impulse_nms,
                 r.twist_deg,

@@ -71,6 +71,9 @@ enum Command {
         /// The problem to measure on.
         #[arg(long, default_value = "problems/paper.toml")]
         problem: PathBuf,
+        /// Override a field of that problem (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        overrides: Vec<String>,
         /// Where results go.
         #[arg(long, default_value = "results")]
         out: PathBuf,
@@ -148,8 +151,8 @@ fn run() -> anyhow::Result<()> {
                 print!("{}", outcome.summary);
             }
         }
-        Command::Bench { problem, out, json } => {
-            let p = Problem::load(&problem, &[])?;
+        Command::Bench { problem, overrides, out, json } => {
+            let p = Problem::load(&problem, &overrides)?;
             let command = format!("cargo run --release -- bench --problem {}", problem.display());
             let dts = [
                 1.0 / 60.0,

@@ -15,7 +15,7 @@ use crate::optimize::{optimize, OptimizeError, OptimizeReport};
 use crate::problem::Problem;
 use crate::profile::Profile;
 use crate::schedule::Schedule;
-use crate::simulate::{exact_report, rapier_report, ResolvedCirculation, SimulateError, SimulationReport};
+use crate::simulate::{exact_report, rapier_report, PhasePeaks, ResolvedCirculation, SimulateError, SimulationReport};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -243,30 +243,26 @@ fn verify(
 }
 
 fn verification_csv(rows: &[Verified]) -> String {
-    let mut s = String::from("problem,schedule,engine,circulation_rad,twist_deg,swing_deg,bend_tau1_nm,bend_tau2_nm,twist_tau1_nm,twist_tau2_nm,unbend_tau1_nm,unbend_tau2_nm,max_nm,momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s\n");
+    let mut s = format!(
+        "problem,schedule,engine,circulation_rad,twist_deg,swing_deg,{},momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s\n",
+        PhasePeaks::CSV_HEADER
+    );
     let mut all: Vec<(&str, &SimulationReport)> =
         rows.iter().flat_map(|v| [(v.name.as_str(), &v.exact), (v.name.as_str(), &v.rapier)]).collect();
     all.sort_by(|a, b| (a.0, &a.1.engine).cmp(&(b.0, &b.1.engine)));
     for (name, r) in all {
-        let p = &r.peak_torque_nm;
         let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
         let tr = r.tracking_error_rad;
         let _ = writeln!(
             s,
-            "{},{},{},{:.12},{:.9},{:.9},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.3e},{},{},{},{:.6}",
+            "{},{},{},{:.12},{:.9},{:.9},{},{:.3e},{},{},{},{:.6}",
             r.problem,
             name,
             r.engine,
             r.circulation_rad,
             r.twist_deg,
             r.swing_deg,
-            p.bend[0],
-            p.bend[1],
-            p.twist[0],
-            p.twist[1],
-            p.unbend[0],
-            p.unbend[1],
-            p.max,
+            r.peak_torque_nm.csv(),
             r.momentum_max,
             opt(r.dt),
             opt(tr.map(|t| t[0])),
@@ -339,11 +335,11 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
     }
     let _ = writeln!(
         s,
-        "- The calibrated circulation {:.9} rad turns it by exactly 180° (twist {:.9}°, swing {:.6}°; {:?}).",
+        "- The calibrated circulation {:.9} rad makes the twist exactly 180° ({:.9}°; {:?}); the swing, {:.6}°, is what remains: one circulation cannot also zero it.",
         opt.calibration.circulation,
         opt.calibration.twist.to_degrees(),
-        opt.calibration.swing.to_degrees(),
-        opt.calibration.status
+        opt.calibration.status,
+        opt.calibration.swing.to_degrees()
     );
     let closed = opt.qp_closed_form_nm.map_or("none with limits".to_string(), |c| format!("{c:.6}"));
     let _ = writeln!(

@@ -99,6 +99,16 @@ pub struct PhasePeaks {
 }
 
 impl PhasePeaks {
+    /// The CSV header of [`PhasePeaks::csv`].
+    pub const CSV_HEADER: &'static str =
+        "bend_tau1_nm,bend_tau2_nm,twist_tau1_nm,twist_tau2_nm,unbend_tau1_nm,unbend_tau2_nm,max_nm";
+
+    /// The seven values as CSV fields, N·m.
+    pub fn csv(&self) -> String {
+        let v = [self.bend[0], self.bend[1], self.twist[0], self.twist[1], self.unbend[0], self.unbend[1], self.max];
+        v.map(|x| format!("{x:.9}")).join(",")
+    }
+
     /// From per-phase peaks of a three-phase schedule.
     pub fn from_peaks(p: &PeakTorques) -> PhasePeaks {
         let get = |ph: Phase| p.per_piece.get(ph.index()).map_or([f64::NAN; 2], |x| [x[0].value, x[1].value]);
