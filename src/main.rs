@@ -153,7 +153,10 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Bench { problem, overrides, out, json } => {
             let p = Problem::load(&problem, &overrides)?;
-            let command = format!("cargo run --release -- bench --problem {}", problem.display());
+            let mut command = format!("cargo run --release -- bench --problem {}", problem.display());
+            for o in &overrides {
+                command.push_str(&format!(" --set '{o}'"));
+            }
             let dts = [
                 1.0 / 60.0,
                 1.0 / 125.0,
