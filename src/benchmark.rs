@@ -209,21 +209,32 @@ pub fn stress(base: &Problem) -> Vec<StressCase> {
                     peak_torque_nm: f64::NAN,
                     refused: Some(e.to_string()),
                 },
-                Ok(p) => stress_case(case, overrides, &p),
+                Ok(p) => stress_case(case, overrides.clone(), &p).unwrap_or_else(|e| StressCase {
+                    case: case.to_string(),
+                    overrides,
+                    converged: false,
+                    error_estimate_rad: f64::NAN,
+                    steps_per_phase: 0,
+                    twist_deg: f64::NAN,
+                    momentum_max: f64::NAN,
+                    action_reaction_rel: f64::NAN,
+                    peak_torque_nm: f64::NAN,
+                    refused: Some(e.to_string()),
+                }),
             }
         })
         .collect()
 }
 
-fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> StressCase {
+fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<StressCase, crate::schedule::ScheduleError> {
     let d = match p.manoeuvre.circulation {
         Circulation::Angle(a) => a,
-        _ => paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap_or(std::f64::consts::PI),
+        _ => paper_circulation(&p.cat, p.manoeuvre.theta())?,
     };
     let s = Schedule::new(p, d);
     let f = flip(&p.cat, &s, p.exact.tolerance);
     let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
-    StressCase {
+    Ok(StressCase {
         case: case.to_string(),
         overrides,
         converged: f.converged,
@@ -234,12 +245,12 @@ fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> StressCase {
         action_reaction_rel: peaks.action_reaction_gap / peaks.max.max(f64::MIN_POSITIVE),
         peak_torque_nm: peaks.max,
         refused: None,
-    }
+    })
 }
 
 /// The full benchmark on a problem (its schedule with a cycloidal profile for rapier).
-pub fn bench(problem: &Problem, dts: &[f64]) -> Result<BenchReport, crate::rapier::RapierError> {
-    let d = paper_circulation(&problem.cat, problem.manoeuvre.theta()).unwrap_or(std::f64::consts::PI);
+pub fn bench(problem: &Problem, dts: &[f64]) -> Result<BenchReport, crate::simulate::SimulateError> {
+    let d = paper_circulation(&problem.cat, problem.manoeuvre.theta())?;
     let schedule = Schedule::new(problem, d);
     let mut points = exact_points(problem, &schedule);
     let smooth = schedule.with_profile(Profile::library(ProfileKind::Cycloidal));

@@ -99,7 +99,7 @@ pub fn run(problem: &Problem, command: &str, out_root: &Path) -> Result<RunOutco
 /// Runs `catflip bench` on `problem` and writes `out_root/bench/`.
 pub fn run_bench(problem: &Problem, command: &str, out_root: &Path, dts: &[f64]) -> Result<RunOutcome, RunError> {
     atomically(&out_root.join("bench"), |w| {
-        let report = crate::benchmark::bench(problem, dts).map_err(SimulateError::from)?;
+        let report = crate::benchmark::bench(problem, dts)?;
         w.put("bench.csv", &report.to_csv())?;
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
