@@ -70,6 +70,24 @@ pub struct StressCase {
     pub refused: Option<String>,
 }
 
+impl StressCase {
+    /// A case the model refuses, with the error it gives.
+    fn refused(case: &str, overrides: Vec<String>, error: String) -> StressCase {
+        StressCase {
+            case: case.to_string(),
+            overrides,
+            converged: false,
+            error_estimate_rad: f64::NAN,
+            steps_per_phase: 0,
+            twist_deg: f64::NAN,
+            momentum_max: f64::NAN,
+            action_reaction_rel: f64::NAN,
+            peak_torque_nm: f64::NAN,
+            refused: Some(error),
+        }
+    }
+}
+
 /// The whole benchmark.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BenchReport {
@@ -197,30 +215,9 @@ pub fn stress(base: &Problem) -> Vec<StressCase> {
         .map(|(case, o)| {
             let overrides: Vec<String> = o.iter().map(|s| s.to_string()).collect();
             match Problem::from_toml(&text, "stress", &overrides) {
-                Err(e) => StressCase {
-                    case: case.to_string(),
-                    overrides,
-                    converged: false,
-                    error_estimate_rad: f64::NAN,
-                    steps_per_phase: 0,
-                    twist_deg: f64::NAN,
-                    momentum_max: f64::NAN,
-                    action_reaction_rel: f64::NAN,
-                    peak_torque_nm: f64::NAN,
-                    refused: Some(e.to_string()),
-                },
-                Ok(p) => stress_case(case, overrides.clone(), &p).unwrap_or_else(|e| StressCase {
-                    case: case.to_string(),
-                    overrides,
-                    converged: false,
-                    error_estimate_rad: f64::NAN,
-                    steps_per_phase: 0,
-                    twist_deg: f64::NAN,
-                    momentum_max: f64::NAN,
-                    action_reaction_rel: f64::NAN,
-                    peak_torque_nm: f64::NAN,
-                    refused: Some(e.to_string()),
-                }),
+                Err(e) => StressCase::refused(case, overrides, e.to_string()),
+                Ok(p) => stress_case(case, overrides.clone(), &p)
+                    .unwrap_or_else(|e| StressCase::refused(case, overrides, e.to_string())),
             }
         })
         .collect()
