@@ -1,9 +1,12 @@
-//! `catflip optimize`: torque-optimal twist profiles, checked by the exact engine.
+//! `catflip optimize`: torque-optimal schedules, checked by the exact engine.
 //!
 //! 1. The profile QP on the paper's model `I* |ω̇|` (Clarabel), with the problem's boundary
 //!    conditions and limits; its closed form with rest-to-rest ends is bang-bang,
 //!    `4 D I*/T²`.
-//! 2. The exact-dynamics refinement ([`crate::refine`]) started from the QP's optimum.
+//! 2. The exact-dynamics refinement of the twist phase ([`crate::refine`]) started from the QP's
+//!    optimum.
+//! 3. The same refinement of the bend and the unbend, started from the paper's harmonic timing:
+//!    the whole manoeuvre retimed along the problem's joint path.
 //!
 //! Each result is reported with its peak torque in the paper's model and in the exact dynamics
 //! (per phase, per joint), and with the exact twist and swing for the problem's circulation and
@@ -18,8 +21,8 @@ use crate::exact::flip;
 use crate::problem::Problem;
 use crate::profile::Profile;
 use crate::qp::{ProfileQp, ProfileQpSolution, QpError};
-use crate::refine::{refine, Refinement};
-use crate::schedule::Schedule;
+use crate::refine::{phase_distance, rate_nodes, refine, retimed, Refinement};
+use crate::schedule::{Phase, Schedule};
 use crate::simulate::{resolve_circulation, ResolvedCirculation, SimulateError};
 
 /// Why optimisation could not run.
@@ -46,6 +49,28 @@ pub struct Optimum {
     pub rates: Vec<f64>,
 }
 
+/// Name of the twist profile of the schedule with every phase retimed.
+pub const WHOLE: &str = "exact-refined-all-phases";
+
+/// The schedule with all three phases retimed against their exact peaks: the joint path (and so
+/// the flip) is the problem's; only the timing of bend, twist and unbend changes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WholeRetiming {
+    /// Its evaluation on the problem's circulation.
+    pub evaluation: CompareRow,
+    /// Twist with the calibrated circulation, degrees.
+    pub calibrated_twist_deg: f64,
+    /// Swing with the calibrated circulation, degrees.
+    pub calibrated_swing_deg: f64,
+    /// The bend phase's refinement.
+    pub bend: Refinement,
+    /// The unbend phase's refinement.
+    pub unbend: Refinement,
+    /// The schedule itself.
+    #[serde(skip)]
+    pub schedule: Schedule,
+}
+
 /// Everything `catflip optimize` reports.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OptimizeReport {
@@ -65,6 +90,8 @@ pub struct OptimizeReport {
     pub refinement: Option<Refinement>,
     /// The refined profile, evaluated.
     pub refined_optimum: Option<Optimum>,
+    /// Every phase retimed against its exact peak (twist, then bend and unbend).
+    pub whole: Option<WholeRetiming>,
     /// The best library profile by exact twist-phase peak: name and peak, N·m.
     pub best_library: (String, f64),
 }
@@ -92,9 +119,37 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
         }
     };
     let qp_optimum = qp.to_profile().map(|p| evaluate(p, "qp", qp.rates.clone()));
-    let refinement = if qp.status.is_solved() { Some(refine(problem, &base, &qp.rates)?) } else { None };
+    let refinement = if qp.status.is_solved() { Some(refine(problem, &base, Phase::Twist, &qp.rates)?) } else { None };
     let refined_optimum =
         refinement.as_ref().and_then(|r| r.to_profile().map(|p| evaluate(p, "refined", r.rates.clone())));
+    // Beyond the twist: retime the bend and the unbend too (their paths stay, so does the flip).
+    let mut whole = None;
+    if let Some(twist) = refinement.as_ref().and_then(|r| Profile::from_rate_nodes(WHOLE, &r.rates)) {
+        let mut s = base.with_profile(twist);
+        let mut phases = Vec::new();
+        for phase in [Phase::Bend, Phase::Unbend] {
+            let start = rate_nodes(
+                &Profile::harmonic(),
+                phase_distance(&s, phase),
+                s.durations[phase.index()],
+                problem.optimize.nodes,
+            );
+            let r = refine(problem, &s, phase, &start)?;
+            if let Some(p) = r.to_profile() {
+                s = retimed(&s, phase, p);
+            }
+            phases.push(r);
+        }
+        let f = flip(&problem.cat, &s.with_circulation(calibration.circulation), problem.exact.tolerance);
+        whole = Some(WholeRetiming {
+            evaluation: row(problem, &s, "refined-all-phases"),
+            calibrated_twist_deg: f.twist.to_degrees(),
+            calibrated_swing_deg: f.swing.to_degrees(),
+            bend: phases.remove(0),
+            unbend: phases.remove(0),
+            schedule: s,
+        });
+    }
     let best_library = crate::manoeuvre::ProfileKind::ALL
         .iter()
         .map(|&k| {
@@ -111,6 +166,7 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
         qp_optimum,
         refinement,
         refined_optimum,
+        whole,
         best_library,
     })
 }
@@ -172,6 +228,16 @@ impl OptimizeReport {
                 e.swing_deg,
                 o.calibrated_twist_deg,
                 o.calibrated_swing_deg
+            );
+        }
+        if let Some(w) = &self.whole {
+            let e = &w.evaluation.exact_peak_nm;
+            let _ = writeln!(
+                s,
+                "\n**All phases retimed** (bend and unbend too, paths unchanged): bend {:.4} → {:.4}, unbend {:.4} → {:.4} N·m ({:?}, {:?}); whole-manoeuvre exact peak **{:.4} N·m** (bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}]); twist {:.6}°, calibrated {:.9}°.",
+                w.bend.start_peak, w.bend.final_peak, w.unbend.start_peak, w.unbend.final_peak, w.bend.status, w.unbend.status,
+                e.max, e.bend[0], e.bend[1], e.twist[0], e.twist[1], e.unbend[0], e.unbend[1],
+                w.evaluation.twist_deg, w.calibrated_twist_deg
             );
         }
         let (name, peak) = &self.best_library;

@@ -125,6 +125,16 @@ impl Profile {
         Profile::from_pieces(kind.name(), 0.0, pieces)
     }
 
+    /// The harmonic motion `P(u) = (1 − cos πu)/2`: the paper's bend and unbend timing
+    /// (rest to rest, peak-acceleration coefficient π²/2).
+    pub fn harmonic() -> Profile {
+        Profile::from_pieces(
+            "harmonic",
+            0.0,
+            vec![(0.0, Shape::Sine { amp: 0.5 * PI * PI, freq: PI, phase: PI / 2.0 })],
+        )
+    }
+
     /// A profile whose rate is linear between equally spaced nodes: `rates[k]` at
     /// `u = k/(n−1)`, in any units; it is normalised to unit circulation (trapezoid rule).
     /// Returns `None` when fewer than two nodes or a zero circulation are given.

@@ -1,11 +1,14 @@
-//! The exact-dynamics refinement: the twist-phase rate profile of least *exact* peak torque.
+//! The exact-dynamics refinement: the timing of a phase of least *exact* peak torque.
 //!
 //! The profile QP ([`crate::qp`]) minimises the paper's model `I* · max|ω̇|`, which ignores the
-//! bend amplitude and the centripetal `φ̇²` terms that dominate the real torques. Here the node
-//! rates `ω_k` (linear between nodes) are improved by sequential linear programming with a
-//! trust region on the exact torques of Newton–Euler ([`crate::torque`]):
+//! bend amplitude and the centripetal `φ̇²` terms that dominate the real torques. Here the timing
+//! of one phase is improved along its fixed joint path, described by a progress variable `φ`
+//! ([`phase_path`]): the bend direction in the twist (`φ ∈ [0, D]`), joint 1's angle in the bend
+//! (`φ ∈ [0, β]`), the fraction straightened in the unbend (`φ ∈ [0, 1]`). Its rate `ω = φ̇` at
+//! `N` nodes (linear between them) is improved by sequential linear programming with a trust
+//! region on the exact torques of Newton–Euler ([`crate::torque`]):
 //!
-//! - samples: both ends and the midpoint of every interval of the twist phase, each with its
+//! - samples: both ends and the midpoint of every interval of the phase, each with its
 //!   interval's constant `φ̈`, for both joints; at node `k`, `φ_k = Σ` trapezoid weights `· ω`,
 //!   `φ̇ = ω_k`; on interval `i`, `φ̈ = (ω_{i+1} − ω_i)/h`, and at its midpoint
 //!   `φ = φ_i + (3h/8) ω_i + (h/8) ω_{i+1}`, `φ̇ = (ω_i + ω_{i+1})/2`;
@@ -17,7 +20,8 @@
 //!   predicted fall; the radius doubles after good agreement and halves after poor.
 //!
 //! Because the joint path (and so the flip) does not depend on the timing, the refinement
-//! changes torques only, never twist or swing; bend and unbend are untouched.
+//! changes torques only, never twist or swing. Bend and unbend are always rest to rest; the
+//! problem's rate and jerk limits apply to the twist phase.
 //!
 //! ## References
 //! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), §4 and §18.
@@ -27,7 +31,7 @@ use serde::Serialize;
 use crate::problem::Problem;
 use crate::profile::Profile;
 use crate::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
-use crate::schedule::Schedule;
+use crate::schedule::{JointState, Phase, Schedule};
 use crate::torque::{joint_torques, peak_torques};
 
 /// How the refinement ended.
@@ -81,17 +85,50 @@ impl Refinement {
     }
 }
 
-/// Exact torque samples of the twist phase for node rates `w` and their gradients.
-pub fn torque_samples(problem: &Problem, schedule: &Schedule, w: &[f64]) -> Vec<TorqueSample> {
+/// The progress variable `φ` of each phase and the joint state it gives with its derivatives:
+/// the bend direction along the path (twist, `φ ∈ [0, D]`), joint 1's angle (bend,
+/// `φ ∈ [0, β]`), the fraction straightened (unbend, `φ ∈ [0, 1]`).
+pub fn phase_path(schedule: &Schedule, phase: Phase, phi: f64, phid: f64, phidd: f64) -> JointState {
+    match phase {
+        Phase::Twist => schedule.path_state(phi, phid, phidd),
+        Phase::Bend => JointState { q: [phi, 0.0], qd: [phid, 0.0], qdd: [phidd, 0.0] },
+        Phase::Unbend => {
+            let e = schedule.phase_state(Phase::Twist, schedule.durations[1]).q;
+            JointState { q: e.map(|x| x * (1.0 - phi)), qd: e.map(|x| -x * phid), qdd: e.map(|x| -x * phidd) }
+        }
+    }
+}
+
+/// The distance `∫ω` the progress variable covers in a phase (see [`phase_path`]).
+pub fn phase_distance(schedule: &Schedule, phase: Phase) -> f64 {
+    match phase {
+        Phase::Twist => schedule.circulation,
+        Phase::Bend => schedule.bend,
+        Phase::Unbend => 1.0,
+    }
+}
+
+/// The schedule with one phase's timing replaced by `profile`.
+pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule {
+    match phase {
+        Phase::Twist => schedule.with_profile(profile),
+        Phase::Bend => Schedule { bend_profile: profile, ..schedule.clone() },
+        Phase::Unbend => Schedule { unbend_profile: profile, ..schedule.clone() },
+    }
+}
+
+/// Exact torque samples of one phase for node rates `w` of its progress variable, with their
+/// gradients.
+pub fn torque_samples(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> Vec<TorqueSample> {
     let n = w.len();
-    let h = schedule.durations[1] / (n - 1) as f64;
+    let h = schedule.durations[phase.index()] / (n - 1) as f64;
     let phi: Vec<f64> = std::iter::once(0.0)
         .chain(w.windows(2).scan(0.0, |acc, p| {
             *acc += 0.5 * h * (p[0] + p[1]);
             Some(*acc)
         }))
         .collect();
-    let tau = |a: f64, b: f64, c: f64| joint_torques(&problem.cat, &schedule.path_state(a, b, c)).tau;
+    let tau = |a: f64, b: f64, c: f64| joint_torques(&problem.cat, &phase_path(schedule, phase, a, b, c)).tau;
     // A sample: φ, φ̇ and their gradients with respect to ω as (node, weight) lists.
     let phi_grad = |k: usize| -> Vec<(usize, f64)> {
         if k == 0 {
@@ -137,28 +174,38 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, w: &[f64]) -> Vec<
 }
 
 /// The exact twist-phase peak of node rates `w`, evaluated densely.
-fn twist_peak(problem: &Problem, schedule: &Schedule, w: &[f64]) -> f64 {
+fn phase_peak(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> f64 {
     match Profile::from_rate_nodes("trial", w) {
         Some(p) => {
-            let peaks = peak_torques(&problem.cat, &schedule.with_profile(p), problem.exact.torque_samples);
-            peaks.per_piece.get(1).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
+            let peaks = peak_torques(&problem.cat, &retimed(schedule, phase, p), problem.exact.torque_samples);
+            peaks.per_piece.get(phase.index()).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
         }
         None => f64::INFINITY,
     }
+}
+
+/// Node rates of a profile scaled to a phase: `ω_k = (D/T) V(k/(N−1))`.
+pub fn rate_nodes(profile: &Profile, distance: f64, duration: f64, nodes: usize) -> Vec<f64> {
+    let nodes = nodes.max(2);
+    (0..nodes).map(|k| distance / duration * profile.at(k as f64 / (nodes - 1) as f64).rate).collect()
 }
 
 fn sampled_peak(samples: &[TorqueSample]) -> f64 {
     samples.iter().map(|s| s.value.abs()).fold(0.0, f64::max)
 }
 
-/// Refines the node rates `start` (on the twist phase of `schedule`) against the exact peak.
-pub fn refine(problem: &Problem, schedule: &Schedule, start: &[f64]) -> Result<Refinement, QpError> {
+/// Refines the node rates `start` of one phase's progress variable against that phase's exact
+/// peak torque (the rate and jerk limits of the problem apply to the twist phase only).
+pub fn refine(problem: &Problem, schedule: &Schedule, phase: Phase, start: &[f64]) -> Result<Refinement, QpError> {
     let opt = &problem.optimize;
-    let t2 = schedule.durations[1];
-    let unit = schedule.circulation.abs() / t2;
+    let t2 = schedule.durations[phase.index()];
+    let distance = phase_distance(schedule, phase);
+    // Bend and unbend must start and end at rest; the twist phase takes the user's boundary.
+    let boundary = if phase == Phase::Twist { opt.boundary } else { crate::settings::Boundary::RestToRest };
+    let unit = distance.abs() / t2;
     let mut w = start.to_vec();
-    let mut samples = torque_samples(problem, schedule, &w);
-    let start_peak = twist_peak(problem, schedule, &w);
+    let mut samples = torque_samples(problem, schedule, phase, &w);
+    let start_peak = phase_peak(problem, schedule, phase, &w);
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;
@@ -172,10 +219,10 @@ pub fn refine(problem: &Problem, schedule: &Schedule, start: &[f64]) -> Result<R
                 samples: &samples,
                 trust_radius: radius,
                 duration: t2,
-                circulation: schedule.circulation,
-                boundary: opt.boundary,
-                rate_limit: opt.rate_limit,
-                jerk_limit: opt.jerk_limit,
+                circulation: distance,
+                boundary,
+                rate_limit: if phase == Phase::Twist { opt.rate_limit } else { None },
+                jerk_limit: if phase == Phase::Twist { opt.jerk_limit } else { None },
             },
             &settings,
         )?;
@@ -198,13 +245,13 @@ pub fn refine(problem: &Problem, schedule: &Schedule, start: &[f64]) -> Result<R
             break;
         }
         let trial: Vec<f64> = w.iter().zip(&step.step).map(|(a, d)| a + d).collect();
-        let actual = twist_peak(problem, schedule, &trial);
+        let actual = phase_peak(problem, schedule, phase, &trial);
         let predicted_fall = sampled_peak(&samples) - step.predicted_peak;
         let ratio = if predicted_fall > 0.0 { (peak - actual) / predicted_fall } else { -1.0 };
         record.actual = actual;
         if ratio > 0.1 {
             record.accepted = true;
-            samples = torque_samples(problem, schedule, &trial);
+            samples = torque_samples(problem, schedule, phase, &trial);
             w = trial;
             peak = actual;
             if ratio > 0.75 {

@@ -164,7 +164,10 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     if let Some(p) = opt.refinement.as_ref().and_then(|r| r.to_profile()) {
         extra.push((p, "refined"));
     }
-    let table = compare(problem, &extra)?;
+    let mut table = compare(problem, &extra)?;
+    if let Some(whole) = &opt.whole {
+        table.rows.push(whole.evaluation.clone());
+    }
     w.put("compare.md", &table.to_markdown())?;
     w.put("compare.csv", &table.to_csv())?;
     // 3. Every schedule of the table through both engines.
@@ -174,10 +177,14 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
         .map(|&k| (k.name().to_string(), base.with_profile(Profile::library(k))))
         .collect();
     schedules.extend(extra.iter().map(|(p, _)| (p.name().to_string(), base.with_profile(p.clone()))));
-    let recommended = extra.last().map(|(p, _)| {
-        let s = base.with_profile(p.clone()).with_circulation(opt.calibration.circulation);
-        (format!("{}-calibrated", p.name()), s)
-    });
+    if let Some(whole) = &opt.whole {
+        schedules.push((crate::optimize::WHOLE.to_string(), whole.schedule.clone()));
+    }
+    // The recommended schedule: the most refined one, with the calibrated circulation.
+    let recommended = schedules
+        .last()
+        .filter(|(n, _)| n.starts_with("exact-refined"))
+        .map(|(n, s)| (format!("{n}-calibrated"), s.with_circulation(opt.calibration.circulation)));
     schedules.extend(recommended.clone());
     let verified = verify(problem, &schedules, table.circulation, &opt)?;
     w.put("verification.csv", &verification_csv(&verified))?;
@@ -196,7 +203,16 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     let shown: Vec<(String, Schedule)> = schedules
         .iter()
         .filter(|(n, _)| {
-            ["paper-cosine", "cycloidal", "bang-bang", "trapezoid", "qp-optimal", "exact-refined"].contains(&n.as_str())
+            [
+                "paper-cosine",
+                "cycloidal",
+                "bang-bang",
+                "trapezoid",
+                "qp-optimal",
+                "exact-refined",
+                crate::optimize::WHOLE,
+            ]
+            .contains(&n.as_str())
         })
         .cloned()
         .collect();
@@ -356,6 +372,16 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
             opt.best_library.1,
             opt.best_library.0,
             r.evaluation.exact_peak_nm.max
+        );
+    }
+    if let Some(w) = &opt.whole {
+        let _ = writeln!(
+            s,
+            "- Retiming the bend and the unbend too (same joint path, same flip): the whole manoeuvre's exact peak falls to **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}).",
+            w.evaluation.exact_peak_nm.max,
+            w.evaluation.exact_peak_nm.bend[0].max(w.evaluation.exact_peak_nm.bend[1]),
+            w.evaluation.exact_peak_nm.twist[0].max(w.evaluation.exact_peak_nm.twist[1]),
+            w.evaluation.exact_peak_nm.unbend[0].max(w.evaluation.exact_peak_nm.unbend[1])
         );
     }
     let worst = verified.iter().map(|v| (v.exact.twist_deg - v.rapier.twist_deg).abs()).fold(0.0, f64::max);

@@ -1,11 +1,13 @@
 //! The three-phase manoeuvre as joint trajectories `q(t)`, `q̇(t)`, `q̈(t)` (DESIGN.md §3).
 //!
-//! - bend, `0 ≤ t ≤ T1`: `q1 = β/2 (1 − cos(π t/T1))`, `q2 = 0`;
+//! - bend, `0 ≤ t ≤ T1`: `q1 = β P_b(t/T1)`, `q2 = 0`, with the paper's harmonic
+//!   `P_b(u) = (1 − cos πu)/2` unless retimed ([`crate::refine`]);
 //! - twist, `s = t − T1`: the bend direction `φ(s) = D P(s/T2)` circulates along the bend path:
 //!   the paper's joint circle `(β cos φ, β sin φ)`, or the cone
 //!   `q1 = atan2(sin β cos φ, cos β)` (continued through ±π), `q2 = asin(sin β sin φ)`, on which
 //!   B's axis `Rx(q1) Ry(q2) ẑ = (sin β sin φ, −sin β cos φ, cos β)` keeps the angle β to A's;
-//! - unbend, `u = t − T1 − T2`: `q = q_e (1 + cos(π u/T3))/2` from the end-of-twist `q_e`.
+//! - unbend, `u = t − T1 − T2`: `q = q_e (1 − P_u(u/T3))` from the end-of-twist `q_e`, the
+//!   paper's `(1 + cos(π u/T3))/2` for the harmonic `P_u`.
 //!
 //! Angles in rad, times in s. Each phase is evaluated with its own formula on its closed
 //! interval, so one-sided values at the boundaries are available and velocity jumps can be
@@ -107,6 +109,10 @@ pub struct Schedule {
     pub profile: Profile,
     /// Circulation `D = ∫ω ds`, rad.
     pub circulation: f64,
+    /// Timing of the bend, `q1 = β P_b(t/T1)`: the paper's [`Profile::harmonic`] unless retimed.
+    pub bend_profile: Profile,
+    /// Timing of the unbend, `q = q_e (1 − P_u(u/T3))`: [`Profile::harmonic`] unless retimed.
+    pub unbend_profile: Profile,
 }
 
 /// A jump of the joint rates at a phase boundary.
@@ -138,10 +144,9 @@ impl Schedule {
         match phase {
             Phase::Bend => {
                 let t1 = self.durations[0];
-                let w = PI / t1;
-                let (sn, cs) = (w * s).sin_cos();
-                let h = 0.5 * self.bend;
-                JointState { q: [h * (1.0 - cs), 0.0], qd: [h * w * sn, 0.0], qdd: [h * w * w * cs, 0.0] }
+                let p = self.bend_profile.at(s / t1);
+                let b = self.bend;
+                JointState { q: [b * p.position, 0.0], qd: [b * p.rate / t1, 0.0], qdd: [b * p.accel / (t1 * t1), 0.0] }
             }
             Phase::Twist => {
                 let t2 = self.durations[1];
@@ -155,10 +160,12 @@ impl Schedule {
             Phase::Unbend => {
                 let end = self.phase_state(Phase::Twist, self.durations[1]).q;
                 let t3 = self.durations[2];
-                let w = PI / t3;
-                let (sn, cs) = (w * s).sin_cos();
-                let f = [0.5 * (1.0 + cs), -0.5 * w * sn, -0.5 * w * w * cs];
-                JointState { q: end.map(|e| e * f[0]), qd: end.map(|e| e * f[1]), qdd: end.map(|e| e * f[2]) }
+                let p = self.unbend_profile.at(s / t3);
+                JointState {
+                    q: end.map(|e| e * (1.0 - p.position)),
+                    qd: end.map(|e| -e * p.rate / t3),
+                    qdd: end.map(|e| -e * p.accel / (t3 * t3)),
+                }
             }
         }
     }
@@ -257,6 +264,8 @@ impl Schedule {
             path: m.bend_path,
             profile: Profile::library(m.profile),
             circulation,
+            bend_profile: Profile::harmonic(),
+            unbend_profile: Profile::harmonic(),
         }
     }
 

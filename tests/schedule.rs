@@ -111,3 +111,22 @@ fn round_off_of_a_fast_phase_is_not_a_jump() {
     let s = Schedule::new(&p, 3.0);
     assert!(s.rate_jumps(1e-9).is_empty(), "{:?}", s.rate_jumps(1e-9));
 }
+
+#[test]
+fn harmonic_bend_and_unbend_are_the_papers_cosines() {
+    // DESIGN §3: q1 = β/2 (1 − cos(π t/T1)) in the bend; q = q_e (1 + cos(π u/T3))/2 in the unbend.
+    let s = schedule(45.0, BendPath::JointCircle, ProfileKind::Cycloidal, 3.0);
+    let (t1, t3) = (s.durations[0], s.durations[2]);
+    let qe = s.phase_state(Phase::Twist, s.durations[1]).q;
+    for k in 0..=10 {
+        let f = k as f64 / 10.0;
+        let b = s.phase_state(Phase::Bend, f * t1);
+        assert_relative_eq!(b.q[0], 0.5 * s.bend * (1.0 - (std::f64::consts::PI * f).cos()), epsilon = 1e-14);
+        let w = std::f64::consts::PI / t1;
+        assert_relative_eq!(b.qdd[0], 0.5 * s.bend * w * w * (std::f64::consts::PI * f).cos(), epsilon = 1e-10);
+        let u = s.phase_state(Phase::Unbend, f * t3);
+        for (q, e) in u.q.iter().zip(qe) {
+            assert_relative_eq!(*q, e * 0.5 * (1.0 + (std::f64::consts::PI * f).cos()), epsilon = 1e-14);
+        }
+    }
+}

@@ -459,6 +459,8 @@ fn twist_joint_accel_peak(c: &Ctx) -> Option<f64> {
         path: BendPath::JointCircle,
         profile: Profile::library(ProfileKind::PaperCosine),
         circulation: c.circ?,
+        bend_profile: Profile::harmonic(),
+        unbend_profile: Profile::harmonic(),
     };
     let t2 = c.t[1];
     let peak = (0..TWIST_SAMPLES)
