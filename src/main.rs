@@ -100,17 +100,28 @@ fn print_json(value: &impl serde::Serialize) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Prints `value` as JSON when asked, else its prose rendering.
+fn emit<T: serde::Serialize>(json: bool, value: &T, prose: impl FnOnce() -> String) -> anyhow::Result<()> {
+    if json {
+        print_json(value)
+    } else {
+        print!("{}", prose());
+        Ok(())
+    }
+}
+
+/// The command line that regenerates a result, overrides quoted.
+fn regenerate(base: String, overrides: &[String]) -> String {
+    overrides.iter().fold(base, |c, o| format!("{c} --set '{o}'"))
+}
+
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
         Command::Audit(common) => {
             let problem = load(&common, &[])?;
             let audit = catflip::audit::audit_with_exact(&problem)?;
-            if common.json {
-                print_json(&audit)?;
-            } else {
-                print!("{}", audit.to_markdown());
-            }
+            emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt } => {
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
@@ -119,20 +130,12 @@ fn run() -> anyhow::Result<()> {
                 Engine::Exact => catflip::simulate::simulate_exact(&problem)?,
                 Engine::Rapier => catflip::simulate::simulate_rapier(&problem)?,
             };
-            if common.json {
-                print_json(&report)?;
-            } else {
-                print!("{}", report.to_text());
-            }
+            emit(common.json, &report, || report.to_text())?;
         }
         Command::Optimize(common) => {
             let problem = load(&common, &[])?;
             let report = catflip::optimize::optimize(&problem)?;
-            if common.json {
-                print_json(&report)?;
-            } else {
-                print!("{}", report.to_markdown());
-            }
+            emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Run { problems, overrides, out } => {
             // Load every problem first, so a bad one stops the run before anything is written.
@@ -142,10 +145,7 @@ fn run() -> anyhow::Result<()> {
                 for w in problem.warnings() {
                     eprintln!("warning: {}: {w}", path.display());
                 }
-                let mut command = format!("cargo run --release -- run {}", path.display());
-                for o in &overrides {
-                    command.push_str(&format!(" --set '{o}'"));
-                }
+                let command = regenerate(format!("cargo run --release -- run {}", path.display()), &overrides);
                 let outcome = catflip::run::run(&problem, &command, &out)?;
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
@@ -153,10 +153,8 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Bench { problem, overrides, out, json } => {
             let p = Problem::load(&problem, &overrides)?;
-            let mut command = format!("cargo run --release -- bench --problem {}", problem.display());
-            for o in &overrides {
-                command.push_str(&format!(" --set '{o}'"));
-            }
+            let command =
+                regenerate(format!("cargo run --release -- bench --problem {}", problem.display()), &overrides);
             let dts = [
                 1.0 / 60.0,
                 1.0 / 125.0,
@@ -179,11 +177,7 @@ fn run() -> anyhow::Result<()> {
         Command::Compare(common) => {
             let problem = load(&common, &[])?;
             let table = catflip::compare::compare(&problem, &[])?;
-            if common.json {
-                print_json(&table)?;
-            } else {
-                print!("{}", table.to_markdown());
-            }
+            emit(common.json, &table, || table.to_markdown())?;
         }
     }
     Ok(())

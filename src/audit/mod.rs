@@ -208,7 +208,10 @@ pub fn audit_with_exact(problem: &Problem) -> Result<Audit, crate::simulate::Sim
     let circ = crate::simulate::resolve_circulation(problem)?;
     let report = crate::simulate::exact_report(problem, &Schedule::new(problem, circ.radians), circ);
     let p = report.peak_torque_nm;
-    let cal = crate::calibrate::calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance);
+    // A calibrated problem has calibrated from the same start already.
+    let cal = circ.calibration.unwrap_or_else(|| {
+        crate::calibrate::calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance)
+    });
     let mut values = vec![
         ("tau_bend", p.bend[0].max(p.bend[1])),
         ("tau_twist", p.twist[0].max(p.twist[1])),
