@@ -56,12 +56,9 @@ pub const WHOLE: &str = "exact-refined-all-phases";
 /// the flip) is the problem's; only the timing of bend, twist and unbend changes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct WholeRetiming {
-    /// Its evaluation on the problem's circulation.
-    pub evaluation: CompareRow,
-    /// Twist with the calibrated circulation, degrees.
-    pub calibrated_twist_deg: f64,
-    /// Swing with the calibrated circulation, degrees.
-    pub calibrated_swing_deg: f64,
+    /// Its evaluation (the twist phase's node rates as `rates`).
+    #[serde(flatten)]
+    pub optimum: Optimum,
     /// The bend phase's refinement.
     pub bend: Refinement,
     /// The unbend phase's refinement.
@@ -108,20 +105,21 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
         Some(c) => c,
         None => calibrate(&problem.cat, &base, problem.exact.tolerance),
     };
-    let calibrated = base.with_circulation(calibration.circulation);
-    let evaluate = |profile: Profile, origin: &str, rates: Vec<f64>| {
-        let f = flip(&problem.cat, &calibrated.with_profile(profile.clone()), problem.exact.tolerance);
+    // A schedule on the problem's circulation, evaluated there and with the calibrated one.
+    let evaluate = |s: &Schedule, origin: &str, rates: Vec<f64>| {
+        let f = flip(&problem.cat, &s.with_circulation(calibration.circulation), problem.exact.tolerance);
         Optimum {
-            evaluation: row(problem, &base.with_profile(profile), origin),
+            evaluation: row(problem, s, origin),
             calibrated_twist_deg: f.twist.to_degrees(),
             calibrated_swing_deg: f.swing.to_degrees(),
             rates,
         }
     };
-    let qp_optimum = qp.to_profile().map(|p| evaluate(p, "qp", qp.rates.clone()));
+    let qp_optimum = qp.to_profile().map(|p| evaluate(&base.with_profile(p), "qp", qp.rates.clone()));
     let refinement = if qp.status.is_solved() { Some(refine(problem, &base, Phase::Twist, &qp.rates)?) } else { None };
-    let refined_optimum =
-        refinement.as_ref().and_then(|r| r.to_profile().map(|p| evaluate(p, "refined", r.rates.clone())));
+    let refined_optimum = refinement
+        .as_ref()
+        .and_then(|r| r.to_profile().map(|p| evaluate(&base.with_profile(p), "refined", r.rates.clone())));
     // Beyond the twist: retime the bend and the unbend too (their paths stay, so does the flip).
     let mut whole = None;
     if let Some(twist) = refinement.as_ref().and_then(|r| Profile::from_rate_nodes(WHOLE, &r.rates)) {
@@ -140,11 +138,9 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
             }
             phases.push(r);
         }
-        let f = flip(&problem.cat, &s.with_circulation(calibration.circulation), problem.exact.tolerance);
+        let rates = refinement.as_ref().map_or_else(Vec::new, |r| r.rates.clone());
         whole = Some(WholeRetiming {
-            evaluation: row(problem, &s, "refined-all-phases"),
-            calibrated_twist_deg: f.twist.to_degrees(),
-            calibrated_swing_deg: f.swing.to_degrees(),
+            optimum: evaluate(&s, "refined-all-phases", rates),
             bend: phases.remove(0),
             unbend: phases.remove(0),
             schedule: s,
@@ -231,13 +227,13 @@ impl OptimizeReport {
             );
         }
         if let Some(w) = &self.whole {
-            let e = &w.evaluation.exact_peak_nm;
+            let e = &w.optimum.evaluation.exact_peak_nm;
             let _ = writeln!(
                 s,
                 "\n**All phases retimed** (bend and unbend too, paths unchanged): bend {:.4} → {:.4}, unbend {:.4} → {:.4} N·m ({:?}, {:?}); whole-manoeuvre exact peak **{:.4} N·m** (bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}]); twist {:.6}°, calibrated {:.9}°.",
                 w.bend.start_peak, w.bend.final_peak, w.unbend.start_peak, w.unbend.final_peak, w.bend.status, w.unbend.status,
                 e.max, e.bend[0], e.bend[1], e.twist[0], e.twist[1], e.unbend[0], e.unbend[1],
-                w.evaluation.twist_deg, w.calibrated_twist_deg
+                w.optimum.evaluation.twist_deg, w.optimum.calibrated_twist_deg
             );
         }
         let (name, peak) = &self.best_library;

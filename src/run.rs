@@ -166,7 +166,7 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     }
     let mut table = compare(problem, &extra)?;
     if let Some(whole) = &opt.whole {
-        table.rows.push(whole.evaluation.clone());
+        table.rows.push(whole.optimum.evaluation.clone());
     }
     w.put("compare.md", &table.to_markdown())?;
     w.put("compare.csv", &table.to_csv())?;
@@ -378,10 +378,10 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
         let _ = writeln!(
             s,
             "- Retiming the bend and the unbend too (same joint path, same flip): the whole manoeuvre's exact peak falls to **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}).",
-            w.evaluation.exact_peak_nm.max,
-            w.evaluation.exact_peak_nm.bend[0].max(w.evaluation.exact_peak_nm.bend[1]),
-            w.evaluation.exact_peak_nm.twist[0].max(w.evaluation.exact_peak_nm.twist[1]),
-            w.evaluation.exact_peak_nm.unbend[0].max(w.evaluation.exact_peak_nm.unbend[1])
+            w.optimum.evaluation.exact_peak_nm.max,
+            w.optimum.evaluation.exact_peak_nm.bend[0].max(w.optimum.evaluation.exact_peak_nm.bend[1]),
+            w.optimum.evaluation.exact_peak_nm.twist[0].max(w.optimum.evaluation.exact_peak_nm.twist[1]),
+            w.optimum.evaluation.exact_peak_nm.unbend[0].max(w.optimum.evaluation.exact_peak_nm.unbend[1])
         );
     }
     let worst = verified.iter().map(|v| (v.exact.twist_deg - v.rapier.twist_deg).abs()).fold(0.0, f64::max);

@@ -68,15 +68,15 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     // leaves the flip alone (same joint path).
     let whole = r.whole.as_ref().expect("whole retiming ran");
     assert!(
-        whole.evaluation.exact_peak_nm.max < refined.evaluation.exact_peak_nm.max,
+        whole.optimum.evaluation.exact_peak_nm.max < refined.evaluation.exact_peak_nm.max,
         "{} vs {}",
-        whole.evaluation.exact_peak_nm.max,
+        whole.optimum.evaluation.exact_peak_nm.max,
         refined.evaluation.exact_peak_nm.max
     );
-    assert_eq!(whole.evaluation.velocity_jumps, 0);
-    assert_relative_eq!(whole.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
-    assert_relative_eq!(whole.evaluation.swing_deg, table.rows[0].swing_deg, epsilon = 1e-7);
-    assert_relative_eq!(whole.calibrated_twist_deg.abs(), 180.0, epsilon = 1e-6);
+    assert_eq!(whole.optimum.evaluation.velocity_jumps, 0);
+    assert_relative_eq!(whole.optimum.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
+    assert_relative_eq!(whole.optimum.evaluation.swing_deg, table.rows[0].swing_deg, epsilon = 1e-7);
+    assert_relative_eq!(whole.optimum.calibrated_twist_deg.abs(), 180.0, epsilon = 1e-6);
 }
 
 #[test]
