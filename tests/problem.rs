@@ -171,3 +171,16 @@ fn paper_circulation_of_a_nearly_straight_cat_is_refused() {
     let e = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect_err("too large");
     assert!(e.to_string().contains("exceeds the 1000 rad"), "{e}");
 }
+
+#[test]
+fn readme_problem_file_shows_the_defaults() {
+    // The README's annotated problem file lists every section with its default values; it must
+    // load and equal `Problem::default()`, so the README cannot drift from the code.
+    let readme = include_str!("../README.md");
+    let start = readme.find("## Problem files").expect("section");
+    let block = &readme[start..];
+    let open = block.find("```toml\n").expect("toml block") + "```toml\n".len();
+    let close = open + block[open..].find("```").expect("block end");
+    let p = Problem::from_toml(&block[open..close], "README.md", &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(p, Problem::default());
+}
