@@ -1,11 +1,11 @@
 //! Criterion benches of the exact engine: one evaluation of the paper's schedule (final
 //! orientation only, at several tolerances), its peak torques, and a calibration.
 
-use catflip::calibrate::calibrate;
-use catflip::exact::flip;
+use catflip::engines::calibrate::calibrate;
+use catflip::engines::exact::flip;
+use catflip::engines::torque::peak_torques;
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
-use catflip::torque::peak_torques;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 fn paper() -> (Problem, Schedule) {

@@ -6,8 +6,8 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use catflip::qp::{solve_linearised_step, LinearisedStep, ProfileQp, QpSettings, QpStatus, TorqueSample};
-use catflip::settings::Boundary;
+use catflip::optimize::qp::{solve_linearised_step, LinearisedStep, ProfileQp, QpSettings, QpStatus, TorqueSample};
+use catflip::problem::settings::Boundary;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
 /// The paper's twist phase (60 % of the fall from 10 m), its `I*`, a circulation near `π/C`.

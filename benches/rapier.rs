@@ -4,10 +4,10 @@
 //!
 //! Run with `cargo bench --bench rapier`.
 
+use catflip::engines::rapier::{simulate, CatScene, MotorGains, RapierOptions};
+use catflip::problem::settings::RapierSettings;
 use catflip::problem::Problem;
-use catflip::rapier::{simulate, CatScene, MotorGains, RapierOptions};
 use catflip::schedule::{paper_circulation, Schedule};
-use catflip::settings::RapierSettings;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 fn paper() -> (Problem, Schedule) {

@@ -120,15 +120,15 @@ fn run() -> anyhow::Result<()> {
     match cli.command {
         Command::Audit(common) => {
             let problem = load(&common, &[])?;
-            let audit = catflip::audit::audit_with_exact(&problem)?;
+            let audit = catflip::report::audit::audit_with_exact(&problem)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt } => {
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
             let problem = load(&common, &extra)?;
             let report = match engine {
-                Engine::Exact => catflip::simulate::simulate_exact(&problem)?,
-                Engine::Rapier => catflip::simulate::simulate_rapier(&problem)?,
+                Engine::Exact => catflip::report::simulate::simulate_exact(&problem)?,
+                Engine::Rapier => catflip::report::simulate::simulate_rapier(&problem)?,
             };
             emit(common.json, &report, || report.to_text())?;
         }
@@ -146,7 +146,7 @@ fn run() -> anyhow::Result<()> {
                     eprintln!("warning: {}: {w}", path.display());
                 }
                 let command = regenerate(format!("cargo run --release -- run {}", path.display()), &overrides);
-                let outcome = catflip::run::run(&problem, &command, &out)?;
+                let outcome = catflip::report::run::run(&problem, &command, &out)?;
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }
@@ -165,7 +165,7 @@ fn run() -> anyhow::Result<()> {
                 1.0 / 4000.0,
                 1.0 / 8000.0,
             ];
-            let outcome = catflip::run::run_bench(&p, &command, &out, &dts)?;
+            let outcome = catflip::report::run::run_bench(&p, &command, &out, &dts)?;
             if json {
                 let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
                 print!("{text}");
@@ -176,7 +176,7 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Compare(common) => {
             let problem = load(&common, &[])?;
-            let table = catflip::compare::compare(&problem, &[])?;
+            let table = catflip::report::compare::compare(&problem, &[])?;
             emit(common.json, &table, || table.to_markdown())?;
         }
     }

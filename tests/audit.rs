@@ -1,4 +1,4 @@
-//! Tests of the paper audit (`catflip::audit`).
+//! Tests of the paper audit (`catflip::report::audit`).
 //!
 //! Reference values cite their source: "paper §7" for the printed numbers of the worked example
 //! (m = 1, l = 1, r = 0.1, θ = π/4, h = 10, g = 9.8), or a hand calculation written out here.
@@ -6,13 +6,13 @@
 use std::f64::consts::PI;
 
 use approx::{assert_abs_diff_eq, assert_relative_eq};
-use catflip::audit::formulas::{
+use catflip::model::Cylinder;
+use catflip::problem::Problem;
+use catflip::report::audit::formulas::{
     first_root_theta, k_consistent, k_paper, one_turn_printed_argument, one_turn_residual_consistent,
     one_turn_residual_paper, sin_half_root, whole_cat_moments,
 };
-use catflip::audit::{audit, is_worked_example, Audit, AuditError, ALPHA_ONE_TURN};
-use catflip::model::Cylinder;
-use catflip::problem::Problem;
+use catflip::report::audit::{audit, is_worked_example, Audit, AuditError, ALPHA_ONE_TURN};
 use proptest::prelude::*;
 
 fn paper() -> Audit {
@@ -182,7 +182,7 @@ fn paper_cosine_peak_rate_of_change_is_omega0_pi_over_t2() {
     let d = some(cols(&a, "circulation").2, "circulation");
     let fall = (20.0f64 / 9.8).sqrt();
     let t2 = 0.6 * fall;
-    let profile = catflip::profile::Profile::library(catflip::problem::ProfileKind::PaperCosine);
+    let profile = catflip::schedule::profile::Profile::library(catflip::problem::ProfileKind::PaperCosine);
     let peak = (0..=1000).map(|k| profile.at(k as f64 / 1000.0).accel.abs()).fold(0.0, f64::max) * d / (t2 * t2);
     let omega0 = some(cols(&a, "omega0").2, "ω0");
     assert_relative_eq!(peak, omega0 * PI / t2, max_relative = 1e-12);
@@ -366,8 +366,8 @@ fn exact_column_holds_the_exact_engine_numbers() {
     // The exact engine's peaks of the paper's schedule, and the calibrated circulation, go into
     // the audit's `exact` column; each is checked against a direct call of the engine.
     let p = catflip::problem::Problem::default();
-    let a = catflip::audit::audit_with_exact(&p).expect("the paper's schedule runs");
-    let r = catflip::simulate::simulate_exact(&p).expect("runs");
+    let a = catflip::report::audit::audit_with_exact(&p).expect("the paper's schedule runs");
+    let r = catflip::report::simulate::simulate_exact(&p).expect("runs");
     let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);
     let pk = r.peak_torque_nm;
     assert!((exact("tau_bend") - pk.bend[0].max(pk.bend[1])).abs() < 1e-12);
@@ -375,6 +375,6 @@ fn exact_column_holds_the_exact_engine_numbers() {
     assert!((exact("tau_unbend") - pk.unbend[0].max(pk.unbend[1])).abs() < 1e-12);
     // The calibrated circulation turns the cat by π (to the engine's tolerance).
     let s = catflip::schedule::Schedule::new(&p, exact("circulation"));
-    let f = catflip::exact::flip(&p.cat, &s, 1e-11);
+    let f = catflip::engines::exact::flip(&p.cat, &s, 1e-11);
     assert!((f.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", f.twist);
 }

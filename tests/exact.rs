@@ -4,13 +4,13 @@
 use std::f64::consts::PI;
 
 use approx::assert_relative_eq;
-use catflip::exact::{body_rate, flip, integrate, momentum};
-use catflip::manoeuvre::{BendPath, ProfileKind};
+use catflip::engines::exact::{body_rate, flip, integrate, momentum};
+use catflip::engines::torque::{joint_torques, kinematics, kinetic_energy, reduced_mass_matrix};
 use catflip::model::Cylinder;
+use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
-use catflip::profile::Profile;
+use catflip::schedule::profile::Profile;
 use catflip::schedule::{paper_circulation, JointState, Reversed, Schedule};
-use catflip::torque::{joint_torques, kinematics, kinetic_energy, reduced_mass_matrix};
 use proptest::prelude::*;
 
 fn paper() -> (Problem, Schedule) {
@@ -219,7 +219,7 @@ fn fast_body_rate_matches_the_general_momentum_map() {
     let cat = Cylinder { mass: 1.3, length: 0.9, radius: 0.15 };
     for (q, qd) in [([0.3, -1.1], [2.0, 0.5]), ([2.5, 1.4], [-1.0, 3.0]), ([-0.7, 0.2], [0.1, -4.0])] {
         let cfg = cat.configuration(q);
-        let w_rel = catflip::exact::relative_rate(q, qd);
+        let w_rel = catflip::engines::exact::relative_rate(q, qd);
         let e = cfg.rotation * nalgebra::Vector3::z();
         let pd = -0.5 * cat.length * w_rel.cross(&e);
         let rhs = cfg.inertia_b * w_rel + cat.reduced_mass() * cfg.offset.cross(&pd);
@@ -247,7 +247,7 @@ fn paper_schedule_matches_an_independent_derivation() {
     let g = flip(&q.cat, &c, 1e-12);
     assert!((g.twist.to_degrees() - -124.532695369).abs() < 5e-9, "{}", g.twist.to_degrees());
     assert!((g.swing.to_degrees() - 0.033937668).abs() < 5e-9, "{}", g.swing.to_degrees());
-    let cal = catflip::calibrate::calibrate(&p.cat, &s, 1e-12);
+    let cal = catflip::engines::calibrate::calibrate(&p.cat, &s, 1e-12);
     assert!((cal.circulation - 3.336554621121).abs() < 5e-11, "{}", cal.circulation);
 }
 
@@ -257,6 +257,6 @@ fn an_unmet_tolerance_is_reported_not_hidden() {
     let (p, s) = paper();
     let f = flip(&p.cat, &s, 1e-17);
     assert!(!f.converged, "claimed convergence to 1e-17 with estimate {:e}", f.error_estimate);
-    let cal = catflip::calibrate::calibrate(&p.cat, &s, 1e-17);
-    assert_ne!(cal.status, catflip::roots::RootStatus::Converged, "{cal:?}");
+    let cal = catflip::engines::calibrate::calibrate(&p.cat, &s, 1e-17);
+    assert_ne!(cal.status, catflip::numeric::roots::RootStatus::Converged, "{cal:?}");
 }

@@ -4,13 +4,13 @@
 
 use std::path::{Path, PathBuf};
 
-use catflip::manoeuvre::ProfileKind;
-use catflip::plot::{
+use catflip::problem::manoeuvre::ProfileKind;
+use catflip::problem::Problem;
+use catflip::report::plot::{
     cat_poses, error_vs_time_plot, flip_animation, flip_plot, line_plot, profiles_plot, torques_plot, LinePlot,
     PlotError, Series, FILMSTRIP_PANELS, PNG_SIZE,
 };
-use catflip::problem::Problem;
-use catflip::profile::Profile;
+use catflip::schedule::profile::Profile;
 use catflip::schedule::{paper_circulation, Schedule};
 use nalgebra::Vector3;
 

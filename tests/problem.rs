@@ -1,7 +1,7 @@
 //! Problem files: loading, overrides, and one clear error per class of bad input.
 #![deny(clippy::float_cmp)]
 
-use catflip::manoeuvre::{BendPath, Circulation, ProfileKind};
+use catflip::problem::manoeuvre::{BendPath, Circulation, ProfileKind};
 use catflip::problem::{Problem, ProblemError};
 
 const PAPER: &str = include_str!("../problems/paper.toml");

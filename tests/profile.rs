@@ -5,8 +5,8 @@
 use std::f64::consts::PI;
 
 use approx::assert_relative_eq;
-use catflip::manoeuvre::ProfileKind;
-use catflip::profile::Profile;
+use catflip::problem::manoeuvre::ProfileKind;
+use catflip::schedule::profile::Profile;
 
 /// `C_a = 1 / ∫_0^{1/2} a(s)(1 − 2s) ds` for a unit-amplitude acceleration shape `a` that is
 /// odd about `u = 1/2` (integration by parts: `P(1) = ∫_0^1 (1 − s) a(s) ds`), by composite

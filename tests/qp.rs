@@ -1,4 +1,4 @@
-//! The profile QP and the linearised step against closed forms (module docs of `catflip::qp`).
+//! The profile QP and the linearised step against closed forms (module docs of `catflip::optimize::qp`).
 //!
 //! Every reference value below is exact for the discrete problem unless a test says otherwise;
 //! the tolerances are Clarabel's (gap and feasibility 1e-8 on an order-one problem).
@@ -6,10 +6,10 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
-use catflip::qp::{
+use catflip::optimize::qp::{
     solve_linearised_step, LinearisedStep, ProfileQp, ProfileQpSolution, QpError, QpSettings, QpStatus, TorqueSample,
 };
-use catflip::settings::{Boundary, OptimizeSettings};
+use catflip::problem::settings::{Boundary, OptimizeSettings};
 use proptest::prelude::*;
 
 /// A twist phase of the paper's size: 60 % of the fall from 10 m at g = 9.8 (√(20/9.8) = 10/7 s), the
@@ -450,8 +450,8 @@ fn dense_angle_gradients_give_the_same_step_as_their_prefix_sum_form() {
 fn closed_form_peak_matches_the_solver() {
     // The closed forms of the qp module docs against Clarabel's optimum, odd and even N, both
     // boundaries; none is claimed once a limit is set.
-    use catflip::qp::ProfileQp;
-    use catflip::settings::{Boundary, OptimizeSettings};
+    use catflip::optimize::qp::ProfileQp;
+    use catflip::problem::settings::{Boundary, OptimizeSettings};
     for (nodes, boundary) in [(51, Boundary::RestToRest), (50, Boundary::RestToRest), (40, Boundary::StartAtRest)] {
         let s = OptimizeSettings { nodes, boundary, ..OptimizeSettings::default() };
         let qp = ProfileQp::new(&s, 0.8, 3.2, 0.33);

@@ -1,8 +1,8 @@
 //! The rapier3d verification against the exact engine (DESIGN.md §6) and against the laws any
 //! simulation of a free cat must keep.
 //!
-//! Reference values: `catflip::exact::flip` (tolerance 1e-10 rad) for twist and swing,
-//! `catflip::torque` for joint torques and jump impulses. Rapier's multibody integrator is first
+//! Reference values: `catflip::engines::exact::flip` (tolerance 1e-10 rad) for twist and swing,
+//! `catflip::engines::torque` for joint torques and jump impulses. Rapier's multibody integrator is first
 //! order (its angular momentum drifts by `O(dt)`, and the twist error follows the drift), so the
 //! twist is checked through its convergence: the observed order and the Richardson extrapolation
 //! to `dt → 0`. Tolerances are stated at each assertion with the measured values they guard.
@@ -13,16 +13,16 @@
 use approx::assert_relative_eq;
 use nalgebra::{UnitQuaternion, Vector3};
 
-use catflip::manoeuvre::{BendPath, ProfileKind};
-use catflip::model::{joint_rotation, Cylinder};
-use catflip::problem::Problem;
-use catflip::profile::Profile;
-use catflip::rapier::{
+use catflip::engines::rapier::{
     dt_sweep, extrapolate, observed_orders, simulate, simulate_with, spin_free, CatScene, MotorGains, RapierError,
     RapierOptions, RapierRun, SpinTest,
 };
+use catflip::model::{joint_rotation, Cylinder};
+use catflip::problem::manoeuvre::{BendPath, ProfileKind};
+use catflip::problem::settings::RapierSettings;
+use catflip::problem::Problem;
+use catflip::schedule::profile::Profile;
 use catflip::schedule::{paper_circulation, Phase, Schedule};
-use catflip::settings::RapierSettings;
 
 /// The paper problem (m = 1, l = 1, r = 0.1, θ = 45°, h = 10, g = 9.8, phases 0.2/0.6/0.2) and
 /// its published schedule: paper cosine profile, joint-circle path, circulation π/C.
@@ -85,7 +85,7 @@ fn a_moving_start_gets_zero_momentum() {
     scene.start_at_zero_momentum([2.0, -1.5]).unwrap();
     let s = scene.snapshot().unwrap();
     let bodies = s.bodies(scene.masses());
-    let h = catflip::rapier::angular_momentum(scene.masses(), &bodies);
+    let h = catflip::engines::rapier::angular_momentum(scene.masses(), &bodies);
     let p: Vector3<f64> = bodies.iter().zip(scene.masses().mass).map(|(b, m)| m * b.linvel).sum();
     assert!(h.norm() < 1e-13 && p.norm() < 1e-13, "momentum after the start: H = {h:?}, p = {p:?} (expected 0)");
     assert_relative_eq!(s.velocities[6], 2.0, epsilon = 0.0);
@@ -128,7 +128,7 @@ fn planar_bend_has_no_twist() {
         max_tilt = max_tilt.max(r.j.abs()).max(r.k.abs());
     }
     let s = scene.snapshot().unwrap();
-    let st = catflip::orientation::swing_twist(&s.rotations[0]);
+    let st = catflip::model::orientation::swing_twist(&s.rotations[0]);
     assert!(max_tilt < 1e-12, "A's rotation left the x axis: max |q_y|, |q_z| = {max_tilt:e} (expected 0)");
     assert!(st.twist.abs() < 1e-12, "planar bend twisted the cat by {:e} rad (expected 0)", st.twist);
     assert!(s.q[1].abs() < 1e-12, "joint 2 moved to {:e} rad (expected 0)", s.q[1]);
@@ -138,7 +138,7 @@ fn planar_bend_has_no_twist() {
 fn twist_and_swing_converge_to_the_exact_engine() {
     let (p, paper) = paper();
     for (name, s) in [("paper", paper.clone()), ("cycloidal", cycloidal(&paper)), ("cone", cone(&paper))] {
-        let exact = catflip::exact::flip(&p.cat, &s, 1e-10);
+        let exact = catflip::engines::exact::flip(&p.cat, &s, 1e-10);
         let runs: Vec<RapierRun> = [1e-3, 5e-4, 2.5e-4].iter().map(|&dt| run(&p.cat, &s, dt)).collect();
         let errors: Vec<f64> = runs.iter().map(|r| (r.twist - exact.twist).abs()).collect();
         let dts: Vec<f64> = runs.iter().map(|r| r.dt).collect();
@@ -194,7 +194,7 @@ fn peak_torques_match_the_exact_engine() {
     for (name, s, dt) in
         [("cycloidal", cycloidal(&paper), 1e-3), ("paper", paper.clone(), 1e-3), ("cone", cone(&paper), 5e-4)]
     {
-        let exact = catflip::torque::peak_torques(&p.cat, &s, 400);
+        let exact = catflip::engines::torque::peak_torques(&p.cat, &s, 400);
         let r = run(&p.cat, &s, dt);
         // Overall peak: measured 0.03 % (cycloidal), 0.45 % (paper) at 1 ms, 2.4 % (cone) at
         // 0.5 ms (4.6 % at 1 ms: the cone's unbend torque feels the momentum drift most).
@@ -228,7 +228,7 @@ fn peak_torques_match_the_exact_engine() {
 fn torque_history_follows_the_exact_torques() {
     let (p, paper) = paper();
     let s = cycloidal(&paper);
-    let exact_max = catflip::torque::peak_torques(&p.cat, &s, 400).max;
+    let exact_max = catflip::engines::torque::peak_torques(&p.cat, &s, 400).max;
     let boundaries = [s.phase_start(Phase::Twist), s.phase_start(Phase::Unbend)];
     let worst = |dt: f64| {
         let opts = RapierOptions { history: usize::MAX, ..Default::default() };
@@ -238,7 +238,7 @@ fn torque_history_follows_the_exact_torques() {
             if boundaries.iter().any(|b| (sample.t - b).abs() < 5.0 * r.dt) {
                 continue; // a jump of q̈: the stencil and the servo smear it over a few steps
             }
-            let ex = catflip::torque::joint_torques(&p.cat, &s.state(sample.t)).tau;
+            let ex = catflip::engines::torque::joint_torques(&p.cat, &s.state(sample.t)).tau;
             for (sim, ex) in sample.tau.iter().zip(ex) {
                 let d = (sim - ex).abs();
                 if d > worst.0 {
@@ -265,7 +265,7 @@ fn torque_history_follows_the_exact_torques() {
 #[test]
 fn paper_velocity_jump_is_an_impulse() {
     let (p, paper) = paper();
-    let exact = catflip::torque::velocity_jumps(&p.cat, &paper, 1e-9);
+    let exact = catflip::engines::torque::velocity_jumps(&p.cat, &paper, 1e-9);
     assert_eq!(exact.len(), 1, "the paper's cosine profile has one rate jump, at the start of unbending");
     let runs = [run(&p.cat, &paper, 1e-3), run(&p.cat, &paper, 5e-4)];
     for r in &runs {
@@ -382,8 +382,8 @@ fn dt_sweep_table() {
     let dts =
         [1.0 / 60.0, 1.0 / 120.0, 1.0 / 250.0, 1.0 / 500.0, 1.0 / 1000.0, 1.0 / 2000.0, 1.0 / 4000.0, 1.0 / 8000.0];
     for (name, s) in [("paper", paper.clone()), ("cycloidal", cycloidal(&paper)), ("cone", cone(&paper))] {
-        let exact = catflip::exact::flip(&p.cat, &s, 1e-10);
-        let peaks = catflip::torque::peak_torques(&p.cat, &s, 400);
+        let exact = catflip::engines::exact::flip(&p.cat, &s, 1e-10);
+        let peaks = catflip::engines::torque::peak_torques(&p.cat, &s, 400);
         println!(
             "\n{name}: exact twist {:.4}°, swing {:.4}°, peak torque {:.4} N·m",
             deg(exact.twist),
@@ -440,7 +440,7 @@ fn a_step_too_coarse_for_the_phases_is_refused() {
     // The paper's bend lasts 0.286 s: 0.1 s leaves under three steps, and no torque sample
     // could be taken away from the phase boundaries.
     let (p, s) = paper();
-    let settings = catflip::settings::RapierSettings { dt: 0.1, ..p.rapier };
-    let e = catflip::rapier::simulate(&p.cat, &s, &settings).expect_err("too coarse");
-    assert!(matches!(e, catflip::rapier::RapierError::TooCoarse { .. }), "{e}");
+    let settings = catflip::problem::settings::RapierSettings { dt: 0.1, ..p.rapier };
+    let e = catflip::engines::rapier::simulate(&p.cat, &s, &settings).expect_err("too coarse");
+    assert!(matches!(e, catflip::engines::rapier::RapierError::TooCoarse { .. }), "{e}");
 }

@@ -2,8 +2,8 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
-use catflip::manoeuvre::{BendPath, ProfileKind};
 use catflip::model::joint_rotation;
+use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
 use catflip::schedule::{Phase, Schedule};
 use nalgebra::Vector3;

@@ -2,10 +2,10 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
-use catflip::compare::compare;
-use catflip::manoeuvre::ProfileKind;
 use catflip::optimize::optimize;
+use catflip::problem::manoeuvre::ProfileKind;
 use catflip::problem::Problem;
+use catflip::report::compare::compare;
 
 fn small() -> Problem {
     let mut p = Problem::default();
@@ -84,7 +84,7 @@ fn run_writes_every_result_file_atomically() {
     let out = std::env::temp_dir().join(format!("catflip-run-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let p = small();
-    let outcome = catflip::run::run(&p, "test", &out).expect("runs");
+    let outcome = catflip::report::run::run(&p, "test", &out).expect("runs");
     for f in [
         "report.md",
         "audit.md",

@@ -1,0 +1,65 @@
+//! Calibration: the circulation for which the exact engine turns the cat by exactly π.
+//!
+//! The twist is a smooth function of the circulation `D`; the root of `twist(D) − ±π` (the sign
+//! of the twist the paper's circulation produces) is bracketed from the paper's `π/C` outwards
+//! and found by Brent's method. Each evaluation needs only the final orientation
+//! ([`crate::engines::exact::flip`]): no torques, no history. The swing at the solution is reported, not
+//! driven to zero (one circulation cannot fix two angles).
+
+use std::f64::consts::PI;
+
+use serde::Serialize;
+
+use crate::engines::exact::flip;
+use crate::model::Cylinder;
+use crate::numeric::roots::{brent, expand_bracket, RootStatus};
+use crate::schedule::Schedule;
+
+/// The outcome of a calibration.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Calibration {
+    /// The circulation found, rad.
+    pub circulation: f64,
+    /// The twist there, rad (±π when converged).
+    pub twist: f64,
+    /// The swing there, rad.
+    pub swing: f64,
+    /// Exact-engine evaluations used.
+    pub evaluations: usize,
+    /// How the root search ended.
+    pub status: RootStatus,
+}
+
+/// Finds the circulation near `schedule.circulation` that makes the twist ±π, to `tolerance` rad
+/// in twist.
+pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibration {
+    let inner = 0.1 * tolerance;
+    let d0 = schedule.circulation;
+    let first = flip(cat, schedule, inner).twist;
+    let target = if first < 0.0 { -PI } else { PI };
+    let mut evaluations = 1;
+    let mut f = |d: f64| flip(cat, &schedule.with_circulation(d), inner).twist - target;
+    let f0 = first - target;
+    let step = 0.05 * d0.abs().max(0.1);
+    let Some((lo, hi)) = expand_bracket(&mut f, d0, f0, step, 12, &mut evaluations) else {
+        return Calibration {
+            circulation: d0,
+            twist: first,
+            swing: f64::NAN,
+            evaluations,
+            status: RootStatus::NoBracket,
+        };
+    };
+    // The twist changes by O(1) per radian of circulation, so a circulation accurate to
+    // `tolerance · 1e-2` rad leaves a twist error well below `tolerance` (checked below).
+    let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
+    evaluations += root.evaluations;
+    let at = flip(cat, &schedule.with_circulation(root.x), inner);
+    // A root is only a root if the engine met its tolerance there and the twist is ±π.
+    let status = if root.status == RootStatus::Converged && !(at.converged && (at.twist - target).abs() <= tolerance) {
+        RootStatus::NotAtRoot
+    } else {
+        root.status
+    };
+    Calibration { circulation: root.x, twist: at.twist, swing: at.swing, evaluations: evaluations + 1, status }
+}

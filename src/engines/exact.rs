@@ -1,0 +1,231 @@
+//! The exact engine: how a prescribed joint trajectory reorients the cat (DESIGN.md §2).
+//!
+//! With zero angular momentum about the centre of mass, A's angular velocity `Ω` (A's frame)
+//! follows from the joint motion alone. With `ω_rel = q̇1 x̂ + q̇2 Rx(q1) ŷ`, `p` B's centre
+//! relative to A's and `μ = m/2`,
+//!
+//! $$ H = \big[I_A + R I_B R^\top - μ [p]_×^2\big] Ω + R I_B R^\top ω_{rel} + μ\, p × \dot p = 0, $$
+//!
+//! so `Ω = −I_lock⁻¹ (R I_B Rᵀ ω_rel + μ p × ṗ)`, linear in `q̇`: the reorientation depends on the
+//! path in joint space, not on its timing. A's world orientation obeys `Ṙ = R [Ω]×`, integrated on
+//! SO(3) with the sixth-order Magnus method on the three Gauss–Legendre nodes
+//! `c = 1/2 − √15/10, 1/2, 1/2 + √15/10` ([`magnus6`]), `R_{n+1} = R_n exp([σ]×)`,
+//! phase by phase, so steps never straddle a phase boundary where `q̇` may jump. Each phase's
+//! step count is doubled until the Richardson estimate of its orientation error is below its
+//! share of the tolerance.
+//!
+//! ## References
+//! - S. Blanes, F. Casas, J. Ros, *Improved high order integrators based on the Magnus
+//!   expansion*, BIT 40 (2000) 434–450;
+//! - R. Montgomery, *Gauge theory of the falling cat* (1993), for the mechanical connection.
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use serde::Serialize;
+
+use crate::model::orientation::{SwingTwist, TwistTracker};
+use crate::model::{rot_x, Cylinder};
+use crate::schedule::{JointState, Trajectory};
+
+/// Relative angular velocity of B with respect to A, in A's frame: `q̇1 x̂ + q̇2 Rx(q1) ŷ`.
+pub fn relative_rate(q: [f64; 2], qd: [f64; 2]) -> Vector3<f64> {
+    let (s, c) = q[0].sin_cos();
+    Vector3::new(qd[0], qd[1] * c, qd[1] * s)
+}
+
+/// Joint 2's axis `Rx(q1) ŷ` in A's frame.
+pub fn joint2_axis(q1: f64) -> Vector3<f64> {
+    rot_x(q1) * Vector3::y()
+}
+
+/// A's angular velocity `Ω` (A's frame) for joint angles `q` and rates `q̇` at zero momentum.
+///
+/// Written for speed with B's axis `e = R ẑ`: for the symmetric cylinder
+/// `R I_B Rᵀ = I_t 𝟙 + (I_a − I_t) e eᵀ` and `−[p]×² = |p|² 𝟙 − p pᵀ`, so no rotation matrix is
+/// formed ([`Cylinder::configuration`] is the general form; a test checks they agree).
+pub fn body_rate(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> Vector3<f64> {
+    let (s1, c1) = q[0].sin_cos();
+    let (s2, c2) = q[1].sin_cos();
+    // e = Rx(q1) Ry(q2) ẑ
+    let e = Vector3::new(s2, -s1 * c2, c1 * c2);
+    let w_rel = Vector3::new(qd[0], qd[1] * c1, qd[1] * s1);
+    let half = 0.5 * cat.length;
+    let p = Vector3::new(-half * e.x, -half * e.y, -half * (1.0 + e.z));
+    let pd = -half * w_rel.cross(&e);
+    let (it, ia, mu) = (cat.transverse(), cat.axial(), cat.reduced_mass());
+    let d = ia - it;
+    let rhs = it * w_rel + (d * e.dot(&w_rel)) * e + mu * p.cross(&pd);
+    let pp = p.norm_squared();
+    let mut m = Matrix3::from_diagonal_element(2.0 * it + mu * pp) + (d * e) * e.transpose() - (mu * p) * p.transpose();
+    m[(2, 2)] += d;
+    -solve_spd(&m, &rhs)
+}
+
+/// Solves `M x = b` for a symmetric positive definite 3×3 `M`.
+pub(crate) fn solve_spd(m: &Matrix3<f64>, b: &Vector3<f64>) -> Vector3<f64> {
+    match m.cholesky() {
+        Some(ch) => ch.solve(b),
+        None => m.lu().solve(b).unwrap_or_else(|| Vector3::repeat(f64::NAN)),
+    }
+}
+
+/// The result of integrating a schedule's reorientation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Flip {
+    /// Signed twist of A about its initial spine axis, rad (continued through ±π).
+    pub twist: f64,
+    /// Swing of A's spine axis, rad.
+    pub swing: f64,
+    /// A's final orientation.
+    #[serde(skip)]
+    pub orientation: UnitQuaternion<f64>,
+    /// Most Magnus steps of any phase in the accepted result.
+    pub steps_per_phase: usize,
+    /// Richardson estimate of the orientation error (bounds the twist and swing errors), rad.
+    pub error_estimate: f64,
+    /// Whether the estimate met the tolerance within the step budget.
+    pub converged: bool,
+}
+
+/// One instant of an orientation history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrientationSample {
+    /// Time, s.
+    pub time: f64,
+    /// A's orientation.
+    pub orientation: UnitQuaternion<f64>,
+    /// Twist (continued) and swing, rad.
+    pub angles: SwingTwist,
+}
+
+/// Largest number of Magnus steps per phase that [`flip`] will try.
+pub const MAX_STEPS_PER_PHASE: usize = 1 << 16;
+
+/// Integrates A's orientation with `steps` Magnus steps per phase, calling `observe` at the
+/// start and after every step; returns the final orientation and (continued) angles.
+pub fn integrate(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    steps: usize,
+    mut observe: impl FnMut(&OrientationSample),
+) -> (UnitQuaternion<f64>, SwingTwist) {
+    let mut state = PieceState::start();
+    observe(&OrientationSample { time: 0.0, orientation: state.r, angles: state.angles });
+    for (piece, duration) in schedule.piece_durations().into_iter().enumerate() {
+        state = integrate_piece(cat, schedule, piece, duration, steps, state, &mut observe);
+    }
+    (state.r, state.angles)
+}
+
+/// Where an integration stands at a piece boundary.
+#[derive(Clone, Copy, Debug)]
+struct PieceState {
+    r: UnitQuaternion<f64>,
+    tracker: TwistTracker,
+    angles: SwingTwist,
+    time: f64,
+}
+
+impl PieceState {
+    fn start() -> Self {
+        let r = UnitQuaternion::identity();
+        let mut tracker = TwistTracker::default();
+        let angles = tracker.update(&r);
+        PieceState { r, tracker, angles, time: 0.0 }
+    }
+}
+
+/// Advances `state` across one piece with `steps` sixth-order Magnus steps.
+fn integrate_piece(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    piece: usize,
+    duration: f64,
+    steps: usize,
+    mut state: PieceState,
+    observe: &mut impl FnMut(&OrientationSample),
+) -> PieceState {
+    let steps = steps.max(1);
+    let c = 15f64.sqrt() / 10.0;
+    let h = duration / steps as f64;
+    let rate = |s: f64| {
+        let st = schedule.piece_state(piece, s);
+        body_rate(cat, st.q, st.qd)
+    };
+    let t0 = state.time;
+    for k in 0..steps {
+        let s = k as f64 * h;
+        let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
+        state.r = UnitQuaternion::new_normalize(*(state.r * UnitQuaternion::from_scaled_axis(sigma)).quaternion());
+        state.angles = state.tracker.update(&state.r);
+        observe(&OrientationSample { time: t0 + s + h, orientation: state.r, angles: state.angles });
+    }
+    state.time = t0 + duration;
+    state
+}
+
+/// The sixth-order Magnus exponent of one step of `Ṙ = R [Ω]×` from the rates at the three
+/// Gauss–Legendre nodes (Blanes, Casas & Ros 2000, eq. for `Ω^{[6]}`, written for the
+/// right-invariant form in vector notation, `[[a]×, [b]×] = [a × b]×`).
+pub fn magnus6(h: f64, w1: Vector3<f64>, w2: Vector3<f64>, w3: Vector3<f64>) -> Vector3<f64> {
+    let a1 = h * w2;
+    let a2 = (15f64.sqrt() * h / 3.0) * (w3 - w1);
+    let a3 = (10.0 * h / 3.0) * (w3 - 2.0 * w2 + w1);
+    let c1 = a1.cross(&a2);
+    let c2 = a1.cross(&(c1 - 2.0 * a3)) / 60.0;
+    a1 + a3 / 12.0 - (20.0 * a1 + a3 + c1).cross(&(c2 - a2)) / 240.0
+}
+
+/// Richardson divisor `2^p − 1` of the sixth-order scheme.
+const RICHARDSON: f64 = 63.0;
+
+/// The final twist and swing of a schedule, to `tolerance` rad: each piece's steps are doubled
+/// until the Richardson estimate of its orientation error, `angle(R_n⁻¹ R_{2n}) / 63`, is below
+/// its share of the tolerance (a planar piece, whose rotations commute, converges at once).
+pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip {
+    let durations = schedule.piece_durations();
+    let share = tolerance / durations.len().max(1) as f64;
+    let mut state = PieceState::start();
+    let (mut error_estimate, mut steps_used, mut converged) = (0.0, 0, true);
+    for (piece, duration) in durations.into_iter().enumerate() {
+        let mut steps = 4;
+        let mut coarse = integrate_piece(cat, schedule, piece, duration, steps, state, &mut |_| {});
+        loop {
+            let fine = integrate_piece(cat, schedule, piece, duration, 2 * steps, state, &mut |_| {});
+            let err = (coarse.r.inverse() * fine.r).angle() / RICHARDSON;
+            steps *= 2;
+            if err <= share || steps >= MAX_STEPS_PER_PHASE {
+                converged &= err <= share;
+                error_estimate += err;
+                steps_used = steps_used.max(steps);
+                state = fine;
+                break;
+            }
+            coarse = fine;
+        }
+    }
+    Flip {
+        twist: state.angles.twist,
+        swing: state.angles.swing,
+        orientation: state.r,
+        steps_per_phase: steps_used,
+        error_estimate,
+        converged,
+    }
+}
+
+/// The orientation history with `steps` Magnus steps per phase.
+pub fn history(cat: &Cylinder, schedule: &impl Trajectory, steps: usize) -> Vec<OrientationSample> {
+    let mut out = Vec::with_capacity(3 * steps + 1);
+    integrate(cat, schedule, steps, |s| out.push(*s));
+    out
+}
+
+/// Total angular momentum about the centre of mass, in A's frame, of the motion `(q, q̇)` with
+/// A turning at `omega`: `I_lock Ω + R I_B Rᵀ ω_rel + μ p × ṗ`.
+pub fn momentum(cat: &Cylinder, state: &JointState, omega: &Vector3<f64>) -> Vector3<f64> {
+    let cfg = cat.configuration(state.q);
+    let w_rel = relative_rate(state.q, state.qd);
+    let e = cfg.rotation * Vector3::z();
+    let pd = -0.5 * cat.length * w_rel.cross(&e);
+    cfg.locked_inertia * omega + cfg.inertia_b * w_rel + cat.reduced_mass() * cfg.offset.cross(&pd)
+}

@@ -1,0 +1,326 @@
+//! One schedule through rapier: the stepping loop and what it measures.
+
+use nalgebra::UnitQuaternion;
+use serde::{Serialize, Serializer};
+
+use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
+use super::scene::{CatScene, MotorGains};
+use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
+use crate::model::orientation::TwistTracker;
+use crate::model::Cylinder;
+use crate::problem::settings::RapierSettings;
+use crate::schedule::{Phase, Schedule};
+
+/// Joint-rate jumps of the schedule smaller than this (rad/s) are round-off, not jumps.
+const JUMP_TOLERANCE: f64 = 1e-9;
+
+/// Torque samples within this many steps of a phase boundary are left out of the per-phase
+/// peaks: two for the stencil, two for the servo to settle after a jump of `q̈` (it shrinks an
+/// error about twentyfold per step).
+const BOUNDARY_STEPS: f64 = 4.0;
+
+/// Half-width, in steps, of the window whose samples make up the motors' answer to a jump of
+/// `q̇`: the stencil's two steps and four for the servo's transient.
+const JUMP_STEPS: f64 = 6.0;
+
+/// One sample of the orientation history.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TwistSample {
+    /// Time, s.
+    pub t: f64,
+    /// Twist of A about its initial spine axis (continued), rad.
+    pub twist: f64,
+    /// Swing of A's spine axis, rad.
+    pub swing: f64,
+}
+
+/// Peak joint torques per phase, from samples whose stencil lies inside the phase, N·m.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Default)]
+pub struct TorquePeaks {
+    /// `max |τ_i|` in the bend phase, joints 1 and 2.
+    pub bend: [f64; 2],
+    /// In the twist phase.
+    pub twist: [f64; 2],
+    /// In the unbend phase.
+    pub unbend: [f64; 2],
+    /// The largest of the above.
+    pub max: f64,
+}
+
+impl TorquePeaks {
+    fn add(&mut self, phase: Phase, tau: [f64; 2]) {
+        let slot = match phase {
+            Phase::Bend => &mut self.bend,
+            Phase::Twist => &mut self.twist,
+            Phase::Unbend => &mut self.unbend,
+        };
+        for (s, t) in slot.iter_mut().zip(tau) {
+            *s = s.max(t.abs());
+            self.max = self.max.max(t.abs());
+        }
+    }
+
+    /// The peaks of one phase.
+    pub fn phase(&self, phase: Phase) -> [f64; 2] {
+        match phase {
+            Phase::Bend => self.bend,
+            Phase::Twist => self.twist,
+            Phase::Unbend => self.unbend,
+        }
+    }
+}
+
+/// The motors' answer to a jump of the schedule's joint rates: an impulse, seen as a spike.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct JumpTorque {
+    /// Time of the jump, s.
+    pub time: f64,
+    /// Largest `|τ_i|` of the samples within six steps of the jump, N·m (grows as `1/dt`).
+    pub peak: [f64; 2],
+    /// `Σ (τ_i − τ_smooth) dt` over those samples, N·m·s, with the smooth torque interpolated
+    /// across the window: the generalized impulse the motors delivered.
+    pub impulse: [f64; 2],
+}
+
+/// Angular-momentum bookkeeping of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MomentumDrift {
+    /// `max_k |H_k − H_0|`, N·m·s.
+    pub max_abs: f64,
+    /// Reference momentum `I* · max_t |q̇(t)|`, N·m·s.
+    pub reference: f64,
+    /// `max_abs / reference`.
+    pub max_rel: f64,
+    /// `H` at the end, world frame, N·m·s.
+    pub last: [f64; 3],
+}
+
+/// Everything measured in one rapier run.
+#[derive(Clone, Debug, Serialize)]
+pub struct RapierRun {
+    /// The step asked for, s.
+    pub dt_requested: f64,
+    /// The step used, `T / ceil(T / dt_requested)`, so that the last step ends on `T`, s.
+    pub dt: f64,
+    /// Number of steps.
+    pub steps: usize,
+    /// Motor gains.
+    pub gains: MotorGains,
+    /// Gauss–Seidel sweeps per step.
+    pub pgs_iterations: usize,
+    /// A's final orientation, serialised as `[w, x, y, z]`.
+    #[serde(serialize_with = "quat_wxyz")]
+    pub orientation: UnitQuaternion<f64>,
+    /// Final twist about A's initial `+z`, rad (signed, continued).
+    pub twist: f64,
+    /// Final swing of A's spine axis, rad.
+    pub swing: f64,
+    /// Twist and swing along the run.
+    pub twist_history: Vec<TwistSample>,
+    /// Joint angles reached at the end, rad.
+    pub final_q: [f64; 2],
+    /// `max_k |q_k − q(t_k)|` per joint, rad.
+    pub tracking_error: [f64; 2],
+    /// Angular-momentum drift.
+    pub momentum: MomentumDrift,
+    /// Peak joint torques per phase.
+    pub peak_torque: TorquePeaks,
+    /// Largest `|τ_i|` of all samples, boundary and jump samples included, N·m.
+    pub peak_torque_all: f64,
+    /// The motors' spikes at the schedule's rate jumps.
+    pub jumps: Vec<JumpTorque>,
+    /// Joint torques along the run.
+    pub torque_history: Vec<TorqueSample>,
+}
+
+fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::Error> {
+    [q.w, q.i, q.j, q.k].serialize(s)
+}
+
+/// Runs a schedule in rapier with the default [`RapierOptions`].
+pub fn simulate(cat: &Cylinder, schedule: &Schedule, settings: &RapierSettings) -> Result<RapierRun, RapierError> {
+    simulate_with(cat, schedule, settings, &RapierOptions::default())
+}
+
+/// Runs a schedule at each step of `dts` (e.g. 1/60 … 1/8000 s) with the default options.
+pub fn dt_sweep(
+    cat: &Cylinder,
+    schedule: &Schedule,
+    settings: &RapierSettings,
+    dts: &[f64],
+) -> Result<Vec<RapierRun>, RapierError> {
+    dts.iter().map(|&dt| simulate(cat, schedule, &RapierSettings { dt, ..*settings })).collect()
+}
+
+/// Runs a schedule in rapier (module docs: scene, motors, measurements).
+pub fn simulate_with(
+    cat: &Cylinder,
+    schedule: &Schedule,
+    settings: &RapierSettings,
+    opts: &RapierOptions,
+) -> Result<RapierRun, RapierError> {
+    settings.validate()?;
+    opts.validate()?;
+    let duration = schedule.duration();
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(RapierError::BadDuration(duration));
+    }
+    let steps_f = (duration / settings.dt).ceil();
+    if steps_f > MAX_STEPS as f64 {
+        return Err(RapierError::TooManySteps { dt: settings.dt, duration, steps: steps_f, max: MAX_STEPS });
+    }
+    let shortest = schedule.durations.iter().copied().fold(f64::INFINITY, f64::min);
+    if shortest / settings.dt < MIN_STEPS_PER_PHASE as f64 {
+        return Err(RapierError::TooCoarse {
+            dt: settings.dt,
+            phase: shortest,
+            steps: shortest / settings.dt,
+            min: MIN_STEPS_PER_PHASE,
+        });
+    }
+    let n = (steps_f as usize).max(1);
+    let dt = duration / n as f64;
+    let time = |k: usize| if k == n { duration } else { k as f64 * dt };
+    let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
+    let start = schedule.state(0.0);
+    let mut scene = CatScene::new(cat, settings.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), start.q)?;
+    scene.start_at_zero_momentum(start.qd)?;
+    let masses = *scene.masses();
+
+    let qd_max = (0..=n).map(|k| {
+        let qd = schedule.state(time(k)).qd;
+        qd[0].hypot(qd[1])
+    });
+    let reference = cat.end_transverse() * qd_max.fold(0.0, f64::max);
+    let mut windows: Vec<JumpWindow> =
+        schedule.rate_jumps(JUMP_TOLERANCE).iter().map(|j| JumpWindow::new(j.time, JUMP_STEPS * dt)).collect();
+    let boundaries = [schedule.phase_start(Phase::Twist), schedule.phase_start(Phase::Unbend)];
+
+    let stride = n.div_ceil(opts.history.max(1)).max(1);
+    let mut tracker = TwistTracker::default();
+    let mut torques = TorqueEstimator::default();
+    let mut peaks = TorquePeaks::default();
+    let mut peak_all = 0.0f64;
+    let mut torque_count = 0usize;
+    let mut twist_history = Vec::with_capacity(n / stride + 2);
+    let mut torque_history = Vec::with_capacity(n / stride + 2);
+    let mut tracking = [0.0f64; 2];
+    let mut h0 = None;
+    let mut drift = 0.0f64;
+    let mut last_h = nalgebra::Vector3::zeros();
+    let mut last = None;
+
+    for k in 0..=n {
+        let t = time(k);
+        if k > 0 {
+            // Targets from the schedule at the end of the step, the position shifted by −h q̇ so
+            // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
+            let target = schedule.state(t);
+            let pos = [target.q[0] - dt * target.qd[0], target.q[1] - dt * target.qd[1]];
+            scene.set_targets(pos, target.qd)?;
+            scene.step();
+        }
+        let snap = scene.snapshot()?;
+        if !snap.is_finite() {
+            return Err(RapierError::Diverged(t));
+        }
+        let h = angular_momentum(&masses, &snap.bodies(&masses));
+        drift = drift.max((h - *h0.get_or_insert(h)).norm());
+        last_h = h;
+        let st = tracker.update(&snap.rotations[0]);
+        let sched = schedule.state(t).q;
+        for (e, (q, s)) in tracking.iter_mut().zip(snap.q.iter().zip(sched)) {
+            *e = e.max((q - s).abs());
+        }
+        if k % stride == 0 || k == n {
+            twist_history.push(TwistSample { t, twist: st.twist, swing: st.swing });
+        }
+        if let Some(sample) = torques.push(&masses, t, &snap) {
+            peak_all = peak_all.max(sample.tau[0].abs()).max(sample.tau[1].abs());
+            let mut in_jump = false;
+            for w in &mut windows {
+                in_jump |= w.offer(&sample);
+            }
+            let margin = BOUNDARY_STEPS * dt;
+            let near_boundary = boundaries.iter().any(|b| (sample.t - b).abs() <= margin);
+            if !in_jump && !near_boundary {
+                peaks.add(schedule.locate(sample.t).0, sample.tau);
+            }
+            if torque_count % stride == 0 {
+                torque_history.push(sample);
+            }
+            torque_count += 1;
+        }
+        last = Some((snap.rotations[0], st, snap.q));
+    }
+    let (orientation, angles, final_q) = last.ok_or(RapierError::Missing("a final state"))?;
+
+    Ok(RapierRun {
+        dt_requested: settings.dt,
+        dt,
+        steps: n,
+        gains,
+        pgs_iterations: opts.pgs_iterations,
+        orientation,
+        twist: angles.twist,
+        swing: angles.swing,
+        twist_history,
+        final_q,
+        tracking_error: tracking,
+        momentum: MomentumDrift {
+            max_abs: drift,
+            reference,
+            max_rel: if reference > 0.0 { drift / reference } else { f64::NAN },
+            last: [last_h.x, last_h.y, last_h.z],
+        },
+        peak_torque: peaks,
+        peak_torque_all: peak_all,
+        jumps: windows
+            .iter()
+            .map(|w| {
+                let (peak, impulse) = w.finish(dt);
+                JumpTorque { time: w.time, peak, impulse }
+            })
+            .collect(),
+        torque_history,
+    })
+}
+
+/// First-order Richardson extrapolation of two runs of one schedule to `dt → 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Extrapolated {
+    /// The two steps used, coarse then fine, s.
+    pub dt: [f64; 2],
+    /// Extrapolated twist, rad.
+    pub twist: f64,
+    /// Extrapolated swing, rad (the swing's rotation vector is extrapolated, then its length
+    /// taken: the angle itself is not smooth where it passes through zero).
+    pub swing: f64,
+    /// Extrapolated overall peak torque (per-phase peaks), N·m.
+    pub peak_torque: f64,
+}
+
+/// The swing's rotation vector `(x, y)` of an orientation with twist `twist`.
+fn swing_vector(r: &UnitQuaternion<f64>, twist: f64) -> nalgebra::Vector3<f64> {
+    let untwist = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), -twist);
+    (r * untwist).scaled_axis()
+}
+
+/// Extrapolates `x(0) ≈ x_f + (x_f − x_c)/(r − 1)`, `r = dt_c/dt_f`, which removes the leading
+/// `O(dt)` error of rapier's first-order integrator (the order [`dt_sweep`] measures); `None`
+/// if the steps are equal.
+pub fn extrapolate(a: &RapierRun, b: &RapierRun) -> Option<Extrapolated> {
+    let (c, f) = if a.dt >= b.dt { (a, b) } else { (b, a) };
+    let r = c.dt / f.dt;
+    if r.is_nan() || r <= 1.0 + 1e-9 {
+        return None;
+    }
+    let ex = |xc: f64, xf: f64| xf + (xf - xc) / (r - 1.0);
+    let (sc, sf) = (swing_vector(&c.orientation, c.twist), swing_vector(&f.orientation, f.twist));
+    Some(Extrapolated {
+        dt: [c.dt, f.dt],
+        twist: ex(c.twist, f.twist),
+        swing: (sf + (sf - sc) / (r - 1.0)).norm(),
+        peak_torque: ex(c.peak_torque.max, f.peak_torque.max),
+    })
+}

@@ -1,0 +1,235 @@
+//! Joint torques by Newton–Euler on the floating two-body cat (DESIGN.md §2).
+//!
+//! With `Ω` from the momentum map ([`crate::engines::exact::body_rate`]), its rate follows from
+//! differentiating `M Ω + K = 0` (`M = I_lock`, `K = R I_B Rᵀ ω_rel + μ p × ṗ`, all in A's frame):
+//!
+//! $$ \dot Ω = −M^{-1}\big(\dot M Ω + \dot K\big), \quad
+//!    \dot{(R I_B R^\top)} = [ω_{rel}]_× R I_B R^\top − R I_B R^\top [ω_{rel}]_×, $$
+//! $$ \dot M = \dot{(R I_B R^\top)} − μ\big([\dot p]_×[p]_× + [p]_×[\dot p]_×\big), \quad
+//!    \dot K = \dot{(R I_B R^\top)}\, ω_{rel} + R I_B R^\top \dot ω_{rel} + μ\, p × \ddot p. $$
+//!
+//! B's centre accelerates (inertially, A's components) at
+//! `a_B = ½ (p̈ + Ω̇ × p + 2 Ω × ṗ + Ω × (Ω × p))`; the joint pushes B with `F = m a_B` at the
+//! joint point `d_B = (l/2) R ẑ` from B's centre and with the couple
+//!
+//! $$ T = I'_B α_B + ω_B × I'_B ω_B − d_B × F, \quad ω_B = Ω + ω_{rel}, \;
+//!    α_B = \dot Ω + \dot ω_{rel} + Ω × ω_{rel}. $$
+//!
+//! The motor torques are `τ_i = T · a_i` on joint 1's axis `a_1 = x̂` and joint 2's axis
+//! `a_2 = Rx(q1) ŷ`. The same couple from A's side, `−(I_A Ω̇ + Ω × I_A Ω − d_A × m a_A)` with
+//! `a_A = −a_B`, must agree (action = reaction): [`JointTorques::from_a`].
+//!
+//! ## References
+//! - R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), ch. 2;
+//! - the paper §8, whose bound `I* · peak(dω/dt)` this replaces.
+
+use nalgebra::{Matrix2, Matrix3, Vector3};
+use serde::Serialize;
+
+use crate::engines::exact::{joint2_axis, relative_rate, solve_spd};
+use crate::model::{skew, Cylinder};
+use crate::numeric::roots::golden_max;
+use crate::schedule::{JointState, Phase, Schedule, Trajectory};
+
+/// Everything Newton–Euler needs at one instant, in A's frame.
+#[derive(Clone, Copy, Debug)]
+pub struct Kinematics {
+    /// A's angular velocity `Ω`, rad/s.
+    pub omega: Vector3<f64>,
+    /// A's angular acceleration `Ω̇`, rad/s².
+    pub omega_dot: Vector3<f64>,
+    /// `ω_rel`, rad/s.
+    pub omega_rel: Vector3<f64>,
+    /// `ω̇_rel` (derivative of A-frame components), rad/s².
+    pub omega_rel_dot: Vector3<f64>,
+    /// B's centre relative to A's, m.
+    pub offset: Vector3<f64>,
+    /// Its rate of change in A's frame, m/s.
+    pub offset_dot: Vector3<f64>,
+    /// Its second derivative in A's frame, m/s².
+    pub offset_ddot: Vector3<f64>,
+    /// B's inertia in A's frame.
+    pub inertia_b: Matrix3<f64>,
+    /// B's spine axis `R ẑ` in A's frame.
+    pub axis_b: Vector3<f64>,
+}
+
+/// The kinematics of the zero-momentum motion through the joint state `s`.
+pub fn kinematics(cat: &Cylinder, s: &JointState) -> Kinematics {
+    let cfg = cat.configuration(s.q);
+    let mu = cat.reduced_mass();
+    let half = 0.5 * cat.length;
+    let w_rel = relative_rate(s.q, s.qd);
+    let a2 = joint2_axis(s.q[0]);
+    let w_rel_dot = Vector3::x() * s.qdd[0] + a2 * s.qdd[1] + Vector3::x().cross(&a2) * (s.qd[0] * s.qd[1]);
+    let e = cfg.rotation * Vector3::z();
+    let e_dot = w_rel.cross(&e);
+    let e_ddot = w_rel_dot.cross(&e) + w_rel.cross(&e_dot);
+    let (p, pd, pdd) = (cfg.offset, -half * e_dot, -half * e_ddot);
+    let ib = cfg.inertia_b;
+    let ib_dot = skew(&w_rel) * ib - ib * skew(&w_rel);
+    let m = cfg.locked_inertia;
+    let omega = -solve_spd(&m, &(ib * w_rel + mu * p.cross(&pd)));
+    let m_dot = ib_dot - mu * (skew(&pd) * skew(&p) + skew(&p) * skew(&pd));
+    let k_dot = ib_dot * w_rel + ib * w_rel_dot + mu * p.cross(&pdd);
+    let omega_dot = -solve_spd(&m, &(m_dot * omega + k_dot));
+    Kinematics {
+        omega,
+        omega_dot,
+        omega_rel: w_rel,
+        omega_rel_dot: w_rel_dot,
+        offset: p,
+        offset_dot: pd,
+        offset_ddot: pdd,
+        inertia_b: ib,
+        axis_b: e,
+    }
+}
+
+/// The joint's action on B at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointTorques {
+    /// Motor torques `(τ1, τ2)` on B about joint 1's and joint 2's axes, N·m.
+    pub tau: [f64; 2],
+    /// The same from A's side (action = reaction), N·m.
+    pub from_a: [f64; 2],
+    /// The whole couple the joint applies to B, A's frame, N·m.
+    pub couple: Vector3<f64>,
+    /// The force the joint applies to B, A's frame, N.
+    pub force: Vector3<f64>,
+}
+
+/// Joint torques of the zero-momentum motion through the joint state `s`.
+pub fn joint_torques(cat: &Cylinder, s: &JointState) -> JointTorques {
+    let k = kinematics(cat, s);
+    let half = 0.5 * cat.length;
+    let (w, wd, p) = (k.omega, k.omega_dot, k.offset);
+    let a_b = 0.5 * (k.offset_ddot + wd.cross(&p) + 2.0 * w.cross(&k.offset_dot) + w.cross(&w.cross(&p)));
+    let force = cat.mass * a_b;
+    let w_b = w + k.omega_rel;
+    let alpha_b = wd + k.omega_rel_dot + w.cross(&k.omega_rel);
+    let d_b = half * k.axis_b;
+    let couple = k.inertia_b * alpha_b + w_b.cross(&(k.inertia_b * w_b)) - d_b.cross(&force);
+    let ia = cat.inertia();
+    let d_a = Vector3::new(0.0, 0.0, -half);
+    let on_a = ia * wd + w.cross(&(ia * w)) - d_a.cross(&(-force));
+    let axes = [Vector3::x(), joint2_axis(s.q[0])];
+    JointTorques { tau: axes.map(|a| couple.dot(&a)), from_a: axes.map(|a| -on_a.dot(&a)), couple, force }
+}
+
+/// Kinetic energy of the zero-momentum motion `(q, q̇)` about the centre of mass, J.
+pub fn kinetic_energy(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> f64 {
+    let cfg = cat.configuration(q);
+    let w_rel = relative_rate(q, qd);
+    let omega = crate::engines::exact::body_rate(cat, q, qd);
+    let e = cfg.rotation * Vector3::z();
+    let pd = -0.5 * cat.length * w_rel.cross(&e);
+    let w_b = omega + w_rel;
+    let v_rel = pd + omega.cross(&cfg.offset);
+    0.5 * omega.dot(&(cat.inertia() * omega))
+        + 0.5 * w_b.dot(&(cfg.inertia_b * w_b))
+        + 0.5 * cat.reduced_mass() * v_rel.norm_squared()
+}
+
+/// The reduced (zero-momentum) mass matrix `M(q)` with `E = ½ q̇ᵀ M q̇`, by polarisation.
+pub fn reduced_mass_matrix(cat: &Cylinder, q: [f64; 2]) -> Matrix2<f64> {
+    let e1 = kinetic_energy(cat, q, [1.0, 0.0]);
+    let e2 = kinetic_energy(cat, q, [0.0, 1.0]);
+    let e12 = kinetic_energy(cat, q, [1.0, 1.0]);
+    let off = e12 - e1 - e2;
+    Matrix2::new(2.0 * e1, off, off, 2.0 * e2)
+}
+
+/// The peak `|τ_i|` of one joint in one phase and when it occurs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Peak {
+    /// `max |τ_i|`, N·m.
+    pub value: f64,
+    /// Time of the peak, s.
+    pub time: f64,
+}
+
+/// Peak joint torques per piece (phase) and joint.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PeakTorques {
+    /// `[piece][joint]`; for a [`Schedule`] the pieces are bend, twist, unbend.
+    pub per_piece: Vec<[Peak; 2]>,
+    /// The largest of all, N·m.
+    pub max: f64,
+    /// Largest disagreement between the two sides' torques seen while sampling, N·m.
+    pub action_reaction_gap: f64,
+}
+
+/// Peak torques of a trajectory: `samples + 1` points per piece, then each peak refined by
+/// golden-section search between the neighbouring samples.
+pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> PeakTorques {
+    let samples = samples.max(2);
+    let mut per_piece = Vec::new();
+    let mut gap: f64 = 0.0;
+    let mut t0 = 0.0;
+    for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
+        let h = dur / samples as f64;
+        let tau = |s: f64| joint_torques(cat, &traj.piece_state(piece, s));
+        let mut best = [(0.0f64, 0usize); 2];
+        for k in 0..=samples {
+            let jt = tau(k as f64 * h);
+            for (j, b) in best.iter_mut().enumerate() {
+                gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
+                if jt.tau[j].abs() > b.0 {
+                    *b = (jt.tau[j].abs(), k);
+                }
+            }
+        }
+        let peaks = [0, 1].map(|j| {
+            let (v, k) = best[j];
+            let lo = k.saturating_sub(1) as f64 * h;
+            let hi = (k + 1).min(samples) as f64 * h;
+            let (s_best, v_best) = golden_max(|s| tau(s).tau[j].abs(), lo, hi, 40);
+            if v_best > v {
+                Peak { value: v_best, time: t0 + s_best }
+            } else {
+                Peak { value: v, time: t0 + k as f64 * h }
+            }
+        });
+        per_piece.push(peaks);
+        t0 += dur;
+    }
+    let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
+    PeakTorques { per_piece, max, action_reaction_gap: gap }
+}
+
+/// A joint-rate jump: an impulse, not a torque.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct VelocityJump {
+    /// Time, s.
+    pub time: f64,
+    /// The phase that ends there.
+    pub after_phase: Phase,
+    /// Joint rates before and after, rad/s.
+    pub rates_before: [f64; 2],
+    /// Joint rates after, rad/s.
+    pub rates_after: [f64; 2],
+    /// Generalised impulse `M(q) Δq̇` the joint must deliver, N·m·s.
+    pub impulse: [f64; 2],
+}
+
+/// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses.
+pub fn velocity_jumps(cat: &Cylinder, schedule: &Schedule, tol: f64) -> Vec<VelocityJump> {
+    schedule
+        .rate_jumps(tol)
+        .into_iter()
+        .map(|j| {
+            let q = schedule.state(j.time).q;
+            let m = reduced_mass_matrix(cat, q);
+            let dq = nalgebra::Vector2::new(j.after_rates[0] - j.before[0], j.after_rates[1] - j.before[1]);
+            let imp = m * dq;
+            VelocityJump {
+                time: j.time,
+                after_phase: j.after,
+                rates_before: j.before,
+                rates_after: j.after_rates,
+                impulse: [imp[0], imp[1]],
+            }
+        })
+        .collect()
+}

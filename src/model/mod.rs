@@ -1,0 +1,11 @@
+//! The cat: two identical cylinders joined by a universal joint, and how to describe the
+//! orientation of a body.
+//!
+//! - [`cylinder`]: one half's mass and moments, the joint rotation `R_AB(q) = Rx(q1) · Ry(q2)`
+//!   and the bent configuration (DESIGN.md §1).
+//! - [`orientation`]: the swing–twist decomposition about the spine axis.
+
+pub mod cylinder;
+pub mod orientation;
+
+pub use cylinder::*;

@@ -1,0 +1,309 @@
+//! Sparse assembly of both QPs in Clarabel's standard form, and the call to Clarabel.
+//!
+//! Rows are collected as triplets, equalities (the zero cone) apart from inequalities (the
+//! nonnegative cone), and joined once into one `CscMatrix`: `Ax + s = b`, `s ∈ {0}^{m₁} × ℝ₊^{m₂}`.
+//! The constraints on the node rates that both QPs share (integral, boundary, rate, jerk, trust
+//! box) are written here once, on `v = offset + x`.
+
+use std::collections::HashSet;
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
+
+use super::settings::QpSettings;
+use super::solution::{QpStatus, SolveInfo};
+use super::QpError;
+use crate::problem::settings::Boundary;
+
+/// Rows of one cone, as triplets.
+#[derive(Default)]
+struct Rows {
+    row: Vec<usize>,
+    col: Vec<usize>,
+    val: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+impl Rows {
+    /// Appends the row `Σ val·x_col (+ s) = rhs`.
+    fn push(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        let r = self.rhs.len();
+        for (c, v) in entries {
+            self.row.push(r);
+            self.col.push(c);
+            self.val.push(v);
+        }
+        self.rhs.push(rhs);
+    }
+
+    /// The rows on the folded variables: repeated entries summed, zeros dropped, and the rows
+    /// that became repeats (for equalities, `signless`, also negated repeats) or trivially
+    /// true (`0 = 0`, `0 ≤ b ≥ 0`) left out.
+    fn folded(&self, fold: &Fold, signless: bool) -> Rows {
+        let mut out = Rows::default();
+        let mut seen: HashSet<(Vec<(usize, u64)>, u64)> = HashSet::with_capacity(self.rhs.len());
+        let mut start = 0;
+        for (r, &rhs) in self.rhs.iter().enumerate() {
+            let end = start + self.row[start..].iter().take_while(|&&i| i == r).count();
+            let mut mapped: Vec<(usize, f64)> =
+                (start..end).filter_map(|e| fold.map[self.col[e]].map(|(c, s)| (c, s * self.val[e]))).collect();
+            start = end;
+            mapped.sort_unstable_by_key(|e| e.0);
+            let mut entries: Vec<(usize, f64)> = Vec::with_capacity(mapped.len());
+            for (c, v) in mapped {
+                match entries.last_mut() {
+                    Some(last) if last.0 == c => last.1 += v,
+                    _ => entries.push((c, v)),
+                }
+            }
+            entries.retain(|e| e.1 != 0.0);
+            let flip = signless && entries.first().is_some_and(|e| e.1 < 0.0);
+            let sign = if flip { -1.0 } else { 1.0 };
+            let rhs = sign * rhs + 0.0; // + 0.0 turns −0 into +0 for the key
+            if entries.is_empty() && (rhs == 0.0 || (!signless && rhs > 0.0)) {
+                continue;
+            }
+            let key = entries.iter().map(|&(c, v)| (c, (sign * v + 0.0).to_bits())).collect();
+            if seen.insert((key, rhs.to_bits())) {
+                out.push(entries.into_iter().map(|(c, v)| (c, sign * v)), rhs);
+            }
+        }
+        out
+    }
+}
+
+/// A substitution `x_i = s_i y_{c_i}` (or `x_i = 0`) of the variables by fewer ones: solving on a
+/// subspace that holds an optimum, such as the reversal-symmetric profiles of the rest-to-rest
+/// QP.
+pub(crate) struct Fold {
+    /// `(c_i, s_i)` for each original variable, `None` for one fixed at zero.
+    pub(crate) map: Vec<Option<(usize, f64)>>,
+    /// Number of new variables `y`.
+    pub(crate) n: usize,
+}
+
+impl Fold {
+    /// The original variables `x` of new ones `y`.
+    pub(crate) fn expand(&self, y: &[f64]) -> Vec<f64> {
+        self.map.iter().map(|m| m.map_or(0.0, |(c, s)| s * y[c])).collect()
+    }
+}
+
+/// A QP under construction: `n` variables, the objective, and the constraint rows.
+pub(crate) struct Assembly {
+    n: usize,
+    q: Vec<f64>,
+    p: Rows,
+    eq: Rows,
+    ineq: Rows,
+}
+
+impl Assembly {
+    pub(crate) fn new(n: usize) -> Self {
+        Self { n, q: vec![0.0; n], p: Rows::default(), eq: Rows::default(), ineq: Rows::default() }
+    }
+
+    /// Sets the linear objective coefficient of variable `col`.
+    pub(crate) fn linear_cost(&mut self, col: usize, value: f64) {
+        self.q[col] = value;
+    }
+
+    /// Adds `weight · (Σ val·x_col)²` to `½xᵀPx` (upper triangle, repeated entries summed).
+    pub(crate) fn square_cost(&mut self, entries: &[(usize, f64)], weight: f64) {
+        for &(i, a) in entries {
+            for &(j, b) in entries {
+                // ½ xᵀPx = weight (aᵀx)²  ⇒  P = 2 weight a aᵀ, of which Clarabel takes the
+                // upper triangle.
+                if i <= j {
+                    self.p.row.push(i);
+                    self.p.col.push(j);
+                    self.p.val.push(2.0 * weight * a * b);
+                }
+            }
+        }
+    }
+
+    /// The equality `Σ val·x_col = rhs`.
+    pub(crate) fn equal(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.eq.push(entries, rhs);
+    }
+
+    /// The inequality `Σ val·x_col ≤ rhs`.
+    pub(crate) fn at_most(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.ineq.push(entries, rhs);
+    }
+
+    /// `lower ≤ Σ val·x_col ≤ upper`, as two inequality rows.
+    pub(crate) fn between(&mut self, entries: &[(usize, f64)], lower: f64, upper: f64) {
+        self.at_most(entries.iter().copied(), upper);
+        self.at_most(entries.iter().map(|&(c, v)| (c, -v)), -lower);
+    }
+
+    /// `|Σ val·x_col + constant| ≤ x_bound`, as two inequality rows.
+    pub(crate) fn abs_at_most<I>(&mut self, entries: I, constant: f64, bound: usize)
+    where
+        I: Iterator<Item = (usize, f64)> + Clone,
+    {
+        self.at_most(entries.clone().chain([(bound, -1.0)]), -constant);
+        self.at_most(entries.map(|(c, v)| (c, -v)).chain([(bound, -1.0)]), constant);
+    }
+
+    /// The same QP on the variables of `fold`: its objective restricted to the subspace and its
+    /// distinct constraint rows.
+    pub(crate) fn fold(self, fold: &Fold) -> Assembly {
+        let mut folded = Assembly::new(fold.n);
+        for (i, &q) in self.q.iter().enumerate() {
+            if let Some((c, s)) = fold.map[i] {
+                folded.q[c] += s * q;
+            }
+        }
+        for e in 0..self.p.val.len() {
+            let (i, j) = (self.p.row[e], self.p.col[e]);
+            if let (Some((a, s)), Some((b, t))) = (fold.map[i], fold.map[j]) {
+                // An off-diagonal entry stands for P_ij + P_ji: both land on the diagonal.
+                let both = if a == b && i != j { 2.0 } else { 1.0 };
+                folded.p.row.push(a.min(b));
+                folded.p.col.push(a.max(b));
+                folded.p.val.push(both * s * t * self.p.val[e]);
+            }
+        }
+        folded.eq = self.eq.folded(fold, true);
+        folded.ineq = self.ineq.folded(fold, false);
+        folded
+    }
+
+    /// Solves with Clarabel; returns the primal iterate and Clarabel's account, whatever the
+    /// status.
+    pub(crate) fn solve(self, settings: &QpSettings) -> Result<Solved, QpError> {
+        let settings = settings.clarabel()?;
+        let (m_eq, m_ineq) = (self.eq.rhs.len(), self.ineq.rhs.len());
+        let Assembly { n, q, p, eq, ineq } = self;
+        let p = CscMatrix::new_from_triplets(n, n, p.row, p.col, p.val);
+        let mut row = eq.row;
+        row.extend(ineq.row.iter().map(|r| r + m_eq));
+        let mut col = eq.col;
+        col.extend(ineq.col);
+        let mut val = eq.val;
+        val.extend(ineq.val);
+        let a = CscMatrix::new_from_triplets(m_eq + m_ineq, n, row, col, val);
+        let mut b = eq.rhs;
+        b.extend(ineq.rhs);
+        let mut cones = Vec::with_capacity(2);
+        if m_eq > 0 {
+            cones.push(SupportedConeT::ZeroConeT(m_eq));
+        }
+        if m_ineq > 0 {
+            cones.push(SupportedConeT::NonnegativeConeT(m_ineq));
+        }
+        let mut solver =
+            DefaultSolver::new(&p, &q, &a, &b, &cones, settings).map_err(|e| QpError::Setup(e.to_string()))?;
+        solver.solve();
+        let (sol, info) = (&solver.solution, &solver.info);
+        Ok(Solved {
+            x: sol.x.clone(),
+            status: sol.status.into(),
+            objective: sol.obj_val,
+            info: SolveInfo {
+                iterations: sol.iterations,
+                solve_time_s: sol.solve_time,
+                primal_residual: sol.r_prim,
+                dual_residual: sol.r_dual,
+                duality_gap: info.gap_abs,
+                relative_gap: info.gap_rel,
+            },
+        })
+    }
+}
+
+/// Clarabel's answer, in the normalised variables.
+pub(crate) struct Solved {
+    pub(crate) x: Vec<f64>,
+    pub(crate) status: QpStatus,
+    pub(crate) objective: f64,
+    pub(crate) info: SolveInfo,
+}
+
+/// The constraints on normalised node rates `v = offset + x` (the first `nodes` variables `x`)
+/// that both QPs share; see the module docs. Limits are normalised, `None` for none.
+pub(crate) struct NodeConstraints<'a> {
+    pub(crate) nodes: usize,
+    pub(crate) boundary: Boundary,
+    /// `\hat R`.
+    pub(crate) rate_limit: Option<f64>,
+    /// `\hat J`.
+    pub(crate) jerk_limit: Option<f64>,
+    /// Box `|x_k| ≤ trust` on the step.
+    pub(crate) trust: Option<f64>,
+    /// Current rates when `x` is a step; `None` when `x` is the rates themselves.
+    pub(crate) offset: Option<&'a [f64]>,
+    /// Column of `a_0`: with a jerk limit, the `N − 1` variables `a_k = (v_{k+1} − v_k)/ĥ` (the
+    /// acceleration of the new rates) sit at `accel..accel + N − 1`; unused without one.
+    pub(crate) accel: usize,
+}
+
+impl NodeConstraints<'_> {
+    fn offset(&self, k: usize) -> f64 {
+        self.offset.map_or(0.0, |o| o[k])
+    }
+
+    /// How many acceleration variables the rows use: `N − 1` with a jerk limit, else none.
+    pub(crate) fn accel_count(&self) -> usize {
+        if self.jerk_limit.is_some() {
+            self.nodes - 1
+        } else {
+            0
+        }
+    }
+
+    /// Adds the rows to `asm`.
+    pub(crate) fn add_to(&self, asm: &mut Assembly) {
+        let n = self.nodes;
+        let h = 1.0 / (n - 1) as f64;
+        let weight = |k: usize| if k == 0 || k == n - 1 { 0.5 * h } else { h };
+
+        // Trapezoid integral of v is one.
+        let current: f64 = (0..n).map(|k| weight(k) * self.offset(k)).sum();
+        asm.equal((0..n).map(|k| (k, weight(k))), 1.0 - current);
+
+        // Boundary conditions.
+        asm.equal([(0, 1.0)], -self.offset(0));
+        if self.boundary == Boundary::RestToRest {
+            asm.equal([(n - 1, 1.0)], -self.offset(n - 1));
+        }
+
+        // Rate limit and trust box, one pair of rows per node.
+        if self.rate_limit.is_some() || self.trust.is_some() {
+            for k in 0..n {
+                let (mut lower, mut upper) = (f64::NEG_INFINITY, f64::INFINITY);
+                if let Some(r) = self.rate_limit {
+                    lower = -r - self.offset(k);
+                    upper = r - self.offset(k);
+                }
+                if let Some(t) = self.trust {
+                    lower = lower.max(-t);
+                    upper = upper.min(t);
+                }
+                asm.between(&[(k, 1.0)], lower, upper);
+            }
+        }
+
+        // Jerk limit on acceleration variables, as change of acceleration per step ĥ Ĵ, from and
+        // to zero acceleration at the ends. Posed as second differences of v, these rows slowed
+        // Clarabel down badly as N grew (rest-to-rest, Ĵ = 80: 57 iterations at N = 2000, not
+        // solved in 200 at N = 10⁵); on a_k they are two-term differences: 13, 25, 31, 36
+        // iterations at N = 200, 2000, 20000, 10⁵.
+        if let Some(j) = self.jerk_limit {
+            let a = |k: usize| self.accel + k;
+            for k in 0..n - 1 {
+                let current = (self.offset(k + 1) - self.offset(k)) / h;
+                asm.equal([(k + 1, 1.0 / h), (k, -1.0 / h), (a(k), -1.0)], -current);
+            }
+            let step = h * j;
+            asm.between(&[(a(0), 1.0)], -step, step);
+            for k in 1..n - 1 {
+                asm.between(&[(a(k), 1.0), (a(k - 1), -1.0)], -step, step);
+            }
+            asm.between(&[(a(n - 2), 1.0)], -step, step);
+        }
+    }
+}

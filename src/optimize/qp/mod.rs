@@ -1,0 +1,132 @@
+//! The profile QP: the circulation rate of least peak torque in the paper's model, and the
+//! linearised step of the exact-dynamics refinement (DESIGN.md §5). Both are solved with
+//! Clarabel.
+//!
+//! ## The profile QP
+//!
+//! The paper bounds the twist-phase torque by `τ = I^* \dot ω` (§8, used for the number of §7).
+//! The rate `ω` is discretised at `N` equally spaced nodes on the twist phase `[0, T]`, spacing
+//! `h = T/(N−1)`, linear in between (the profile of [`Profile::from_rate_nodes`]), so
+//! `\dot ω` is piecewise constant and the model's peak torque is `I^* \max_k |ω_{k+1} − ω_k|/h`.
+//!
+//! The QP is posed in normalised units: `u = s/T`, `\hat h = 1/(N−1)`, `v_k = ω_k T/D`
+//! (`D` the circulation `∫ω ds`), and the peak coefficient `c = t T²/(I^* |D|)`, so that
+//! every number is of order one whatever the cat and the fall:
+//!
+//! $$
+//! \begin{aligned}
+//! \min_{v \in \mathbb{R}^N,\; c}\quad & c + λ\, \hat h \sum_{k=1}^{N-2}
+//!     \Big(\frac{v_{k+1} - 2 v_k + v_{k-1}}{\hat h^2}\Big)^2 \\
+//! \text{s.t.}\quad & -c \le (v_{k+1} - v_k)/\hat h \le c, && k = 0, …, N-2, \\
+//! & \textstyle \hat h \sum_{k=0}^{N-2} (v_k + v_{k+1})/2 = 1 && \text{(trapezoid rule)}, \\
+//! & v_0 = 0, \quad (v_{N-1} = 0 \text{ for rest-to-rest}), \\
+//! & |v_k| \le \hat R = R T/|D| && \text{(optional rate limit } R\text{)}, \\
+//! & |v_{k+1} - 2 v_k + v_{k-1}| / \hat h^2 \le \hat J = J T^3/|D|
+//!     && \text{(optional jerk limit } J\text{)}.
+//! \end{aligned}
+//! $$
+//!
+//! With a jerk limit the acceleration also starts and ends at zero (continuity of acceleration
+//! at the ends): `|v_1 − v_0|/\hat h^2 ≤ \hat J` and `|v_{N−1} − v_{N−2}|/\hat h^2 ≤ \hat J`.
+//! The smoothness weight `λ` is dimensionless: the second term is `∫ (P''')² du` of the
+//! normalised motion `P` (its jerk), in the same normalised units as the peak coefficient `c`.
+//! Then `ω_k = (D/T) v_k` and the peak torque is `I^* |D| c / T²`.
+//!
+//! In Clarabel's standard form `min ½xᵀPx + qᵀx` s.t. `Ax + s = b`, `s ∈ \{0\}^{m_1} ×
+//! \mathbb{R}_+^{m_2}`, with `x = (v_0, …, v_{N−1}, c)`, every row has at most three nonzeros
+//! except the integral row (`N`) and the column of `c` (`2(N−1)`): the data has `O(N)`
+//! nonzeros and is built once from triplets. Inequality rows are kept in acceleration units,
+//! so Clarabel's feasibility tolerance reads directly as a tolerance on the peak coefficient.
+//! With a jerk limit, `x` also holds the accelerations `a_k = (v_{k+1} − v_k)/\hat h` (one
+//! equality each); the peak rows become `|a_k| ≤ c` and the jerk rows the two-term
+//! `|a_k − a_{k−1}| ≤ \hat h \hat J` (with `a_{−1} = a_{N−1} = 0`), which Clarabel solves in
+//! a number of iterations that hardly grows with `N`.
+//!
+//! With rest-to-rest ends the QP is invariant under reversing time (`v_k ↔ v_{N−1−k}`,
+//! `a_k ↔ −a_{N−2−k}`); being convex, it then has a reversal-symmetric optimum (the mean of any
+//! optimum and its reverse). It is solved on those profiles only: half the variables, the
+//! mirrored rows merged. The returned rates are symmetric; the peak, objective and status are
+//! those of the full QP.
+//!
+//! ## Closed forms (exact for the discrete problem, without limits and with `λ = 0`)
+//!
+//! - **Rest-to-rest, `N` odd**: the triangle (bang-bang acceleration) `v_k = c \hat h
+//!   \min(k, N−1−k)` with `c = 4`: peak torque `4 D I^*/T²`, the classic bang-bang value.
+//! - **Rest-to-rest, `N` even**: the top of the triangle falls between two nodes; the two
+//!   middle nodes share it and the middle interval does not accelerate. The trapezoid rule then
+//!   gives `c = 4 (N−1)² / (N (N−2))`, which tends to 4 as `N → ∞`.
+//! - **Start-at-rest** (the paper's boundary): `ω` rises with constant, maximal acceleration over
+//!   the whole phase, `v_k = 2 k \hat h`, and ends at `2D/T`: `c = 2`, peak torque `2 D I^*/T²`,
+//!   for every `N`.
+//! - **Rate limit, rest-to-rest**: the trapezoid rule bounds the circulation by `\hat R`, so
+//!   `R ≤ D/T` is infeasible (the mean rate over the phase is `D/T`). With `R = 3D/(2T)` and
+//!   `N − 1` divisible by 3 the optimum is the trapezoid of thirds, `c = 9/2`.
+//! - **Jerk limit, rest-to-rest, continuum limit**: the S-curve whose acceleration ramps at the
+//!   full jerk, `c = \hat J/4 − \sqrt{\hat J²/16 − 2 \hat J}`, feasible for `\hat J ≥ 32`.
+//!
+//! ## The linearised step
+//!
+//! For the exact-dynamics refinement, given node rates `ω`, torque samples `τ_j` with sparse
+//! gradients `g_j = ∂τ_j/∂ω` and a trust radius `Δ`, [`solve_linearised_step`] solves
+//!
+//! $$ \min_{δ, t}\; t \quad\text{s.t.}\quad |τ_j + g_j^{\mathsf T} δ| \le t,\; |δ_k| \le Δ, $$
+//!
+//! with the integral, boundary, rate and jerk constraints above imposed on `ω + δ`. Torques
+//! that depend on the angle `φ = ∫ω` have gradients with a long run of equal trapezoid weights
+//! on every earlier node, `O(N²)` nonzeros in all; such runs are rewritten exactly on the prefix
+//! sums `S_k = \hat h \sum_{m ≤ k} δ_m` (one equality each), which keeps the data `O(N)`.
+//!
+//! ## References
+//! - P. J. Goulart and Y. Chen, *Clarabel: An interior-point solver for conic programs with
+//!   quadratic objectives*, arXiv:2405.12762 (2024);
+//! - the paper, §4 (the circulation), §7 and §8 (the torque bound `τ₂ = I^* \dot ω₂`);
+//! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), ch. 4 and 18
+//!   (trust regions, sequential quadratic programming);
+//! - H. A. Rothbart, *Cam Design Handbook* (2004), for the classic acceleration coefficients.
+//!
+//! [`Profile::from_rate_nodes`]: crate::schedule::profile::Profile::from_rate_nodes
+
+mod assembly;
+mod problemdata;
+mod settings;
+mod solution;
+mod step;
+
+pub use problemdata::ProfileQp;
+pub use settings::QpSettings;
+pub use solution::{ProfileQpSolution, QpStatus, SolveInfo};
+pub use step::{solve_linearised_step, LinearisedStep, StepSolution, TorqueSample};
+
+/// Why a QP could not be set up. How a solve ended (including infeasibility) is not an error:
+/// it is the [`QpStatus`] of the solution.
+#[derive(Debug, thiserror::Error)]
+pub enum QpError {
+    /// An input has a value the QP cannot use.
+    #[error("{field} = {value}: {reason}")]
+    BadInput {
+        /// The input's name, e.g. `nodes`.
+        field: &'static str,
+        /// The value found.
+        value: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// Clarabel refused the problem data or the settings.
+    #[error("Clarabel could not set up the QP: {0}")]
+    Setup(String),
+}
+
+/// A [`QpError::BadInput`].
+pub(crate) fn bad(field: &'static str, value: impl std::fmt::Display, reason: &str) -> QpError {
+    QpError::BadInput { field, value: value.to_string(), reason: reason.to_string() }
+}
+
+/// Requires a finite, strictly positive value.
+pub(crate) fn positive(field: &'static str, value: f64) -> Result<(), QpError> {
+    crate::problem::not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
+}
+
+/// Requires an absent or finite, strictly positive value.
+pub(crate) fn positive_opt(field: &'static str, value: Option<f64>) -> Result<(), QpError> {
+    value.map_or(Ok(()), |v| positive(field, v))
+}

@@ -1,0 +1,228 @@
+//! The linearised step of the exact-dynamics refinement: one trust-region QP of a sequential
+//! QP on the node rates (module docs, "The linearised step").
+//!
+//! The outer loop (not here) evaluates the exact torques `τ_j` at sample instants and their
+//! gradients with respect to the node rates, calls [`solve_linearised_step`], and accepts or
+//! rejects `ω + δ` by a merit function, growing or shrinking the trust radius.
+//!
+//! Internally `δ = (D/T) \hat δ` (the normalisation of the profile QP) and `t = s_τ \hat t` with
+//! `s_τ = \max_j |τ_j|` (one when all vanish), so that the QP Clarabel sees is of order one;
+//! runs of equal gradient coefficients go onto prefix sums of `\hat δ` (see [`SampleRow`]).
+
+use serde::Serialize;
+
+use super::assembly::{Assembly, NodeConstraints};
+use super::solution::{QpStatus, SolveInfo};
+use super::{bad, positive, positive_opt, QpError, QpSettings};
+use crate::problem::settings::Boundary;
+
+/// One torque sample: its current value and its gradient with respect to the node rates.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TorqueSample {
+    /// `τ_j` at the current rates, N·m.
+    pub value: f64,
+    /// Nonzeros of `∂τ_j/∂ω_k` as `(k, value)`, N·m per rad/s; repeated `k` are summed.
+    pub gradient: Vec<(usize, f64)>,
+}
+
+/// The data of one linearised step.
+#[derive(Clone, Copy, Debug)]
+pub struct LinearisedStep<'a> {
+    /// Current node rates `ω_k`, rad/s, equally spaced on the twist phase, ends included.
+    pub rates: &'a [f64],
+    /// Torque samples with their gradients.
+    pub samples: &'a [TorqueSample],
+    /// Trust radius `Δ`: the step obeys `|δ_k| ≤ Δ`, rad/s.
+    pub trust_radius: f64,
+    /// Duration `T` of the twist phase, s.
+    pub duration: f64,
+    /// Circulation `D = ∫(ω + δ) ds` required of the new rates (trapezoid rule), rad, non-zero.
+    pub circulation: f64,
+    /// Boundary conditions imposed on `ω + δ`.
+    pub boundary: Boundary,
+    /// Bound on `|ω + δ|`, rad/s; none when absent.
+    pub rate_limit: Option<f64>,
+    /// Bound on the second difference of `ω + δ` per unit time squared, rad/s³, with zero
+    /// acceleration at both ends (as in the profile QP); none when absent.
+    pub jerk_limit: Option<f64>,
+}
+
+/// The answer of one linearised step, whatever the status (module docs of `solution`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StepSolution {
+    /// How the solve ended.
+    pub status: QpStatus,
+    /// The step `δ_k` to add to the node rates, rad/s.
+    pub step: Vec<f64>,
+    /// The linear model's peak `max_j |τ_j + g_jᵀδ|` at this step, N·m.
+    pub predicted_peak: f64,
+    /// Clarabel's diagnostics; the duality gap is in N·m.
+    #[serde(flatten)]
+    pub info: SolveInfo,
+}
+
+impl LinearisedStep<'_> {
+    /// Checks every input; names the first one that is wrong.
+    pub fn validate(&self) -> Result<(), QpError> {
+        let n = self.rates.len();
+        if n < 3 {
+            return Err(bad("rates", format!("{n} nodes"), "need at least 3 nodes"));
+        }
+        if let Some(k) = self.rates.iter().position(|w| !w.is_finite()) {
+            return Err(bad("rates", self.rates[k], &format!("node {k} is not finite")));
+        }
+        if self.samples.is_empty() {
+            return Err(bad("samples", "none", "need at least one torque sample"));
+        }
+        for (j, s) in self.samples.iter().enumerate() {
+            if !s.value.is_finite() {
+                return Err(bad("samples", s.value, &format!("sample {j}'s value is not finite")));
+            }
+            for &(k, g) in &s.gradient {
+                if k >= n {
+                    return Err(bad("samples", k, &format!("sample {j} names node {k} of {n}")));
+                }
+                if !g.is_finite() {
+                    return Err(bad("samples", g, &format!("sample {j}'s gradient is not finite")));
+                }
+            }
+        }
+        positive("trust_radius", self.trust_radius)?;
+        positive("duration", self.duration)?;
+        if !self.circulation.is_finite() || self.circulation == 0.0 {
+            return Err(bad("circulation", self.circulation, "must be finite and non-zero"));
+        }
+        positive_opt("rate_limit", self.rate_limit)?;
+        positive_opt("jerk_limit", self.jerk_limit)
+    }
+}
+
+/// Solves one linearised step (module docs): the step `δ` within the trust box that minimises
+/// the linear model's peak torque, with the integral, boundary and limits imposed on `ω + δ`.
+/// A solve that ends without a solution is not an error: its status says how it ended.
+pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings) -> Result<StepSolution, QpError> {
+    problem.validate()?;
+    let n = problem.rates.len();
+    let t = problem.duration;
+    let rate_unit = problem.circulation.abs() / t;
+    let torque_unit = problem.samples.iter().map(|s| s.value.abs()).fold(0.0, f64::max);
+    let torque_unit = if torque_unit > 0.0 { torque_unit } else { 1.0 };
+
+    // The normalisation of the profile QP: v = ωT/D, integral one (signed D).
+    let to_v = t / problem.circulation;
+    let offset: Vec<f64> = problem.rates.iter().map(|w| w * to_v).collect();
+    // x is a step in v, so δ = x · D/T: the gradient column scale carries the sign of D.
+    let column = problem.circulation / t / torque_unit;
+    let h = 1.0 / (n - 1) as f64;
+    let rows: Vec<SampleRow> = problem.samples.iter().map(|s| SampleRow::new(&s.gradient, column, h)).collect();
+    let prefix = rows.iter().any(|r| !r.on_prefix.is_empty());
+
+    let bound = n; // the column of the epigraph bound t̂, then the accelerations, prefix sums
+    let node_rows = NodeConstraints {
+        nodes: n,
+        boundary: problem.boundary,
+        rate_limit: problem.rate_limit.map(|r| r / rate_unit),
+        jerk_limit: problem.jerk_limit.map(|j| j * t * t / rate_unit),
+        trust: Some(problem.trust_radius / rate_unit),
+        offset: Some(&offset),
+        accel: bound + 1,
+    };
+    let first_sum = bound + 1 + node_rows.accel_count();
+    let mut asm = Assembly::new(first_sum + if prefix { n } else { 0 });
+    asm.linear_cost(bound, 1.0);
+    node_rows.add_to(&mut asm);
+    if prefix {
+        // S_k = ĥ Σ_{m ≤ k} x_m
+        let s = |k: usize| first_sum + k;
+        asm.equal([(s(0), 1.0), (0, -h)], 0.0);
+        for k in 1..n {
+            asm.equal([(s(k), 1.0), (s(k - 1), -1.0), (k, -h)], 0.0);
+        }
+    }
+    for (row, sample) in rows.iter().zip(problem.samples) {
+        let entries = row.on_step.iter().copied().chain(row.on_prefix.iter().map(|&(k, g)| (first_sum + k, g)));
+        asm.abs_at_most(entries, sample.value / torque_unit, bound);
+    }
+
+    let solved = asm.solve(settings)?;
+    let step: Vec<f64> = solved.x[..n].iter().map(|x| x * problem.circulation / t).collect();
+    let predicted_peak = problem
+        .samples
+        .iter()
+        .map(|s| (s.value + s.gradient.iter().map(|&(k, g)| g * step[k]).sum::<f64>()).abs())
+        .fold(0.0, f64::max);
+    let mut info = solved.info;
+    info.duality_gap *= torque_unit;
+    Ok(StepSolution { status: solved.status, step, predicted_peak, info })
+}
+
+/// Runs of equal coefficients shorter than this stay as they are.
+const MIN_RUN: usize = 4;
+
+/// One sample's gradient row on the normalised step `x`, with every run of at least [`MIN_RUN`]
+/// equal coefficients on consecutive nodes rewritten on the prefix sums `S_k = ĥ Σ_{m≤k} x_m`:
+/// `c Σ_{m=a}^{b} x_m = (c/ĥ)(S_b − S_{a−1})`. Exact, and it turns the dense rows of torques
+/// that depend on the angle `φ = ∫ω` (trapezoid weights up to the sample) into a few nonzeros.
+struct SampleRow {
+    on_step: Vec<(usize, f64)>,
+    on_prefix: Vec<(usize, f64)>,
+}
+
+impl SampleRow {
+    fn new(gradient: &[(usize, f64)], scale: f64, h: f64) -> Self {
+        let mut sorted: Vec<(usize, f64)> = gradient.iter().map(|&(k, g)| (k, g * scale)).collect();
+        sorted.sort_unstable_by_key(|&(k, _)| k);
+        let mut merged: Vec<(usize, f64)> = Vec::with_capacity(sorted.len());
+        for (k, g) in sorted {
+            match merged.last_mut() {
+                Some(last) if last.0 == k => last.1 += g,
+                _ => merged.push((k, g)),
+            }
+        }
+        let (mut on_step, mut on_prefix) = (Vec::new(), Vec::new());
+        let mut start = 0;
+        while start < merged.len() {
+            let (a, c) = merged[start];
+            let mut end = start + 1;
+            while end < merged.len() && merged[end].0 == a + (end - start) && merged[end].1.to_bits() == c.to_bits() {
+                end += 1;
+            }
+            if end - start >= MIN_RUN {
+                on_prefix.push((merged[end - 1].0, c / h));
+                if a > 0 {
+                    on_prefix.push((a - 1, -c / h));
+                }
+            } else {
+                on_step.extend_from_slice(&merged[start..end]);
+            }
+            start = end;
+        }
+        Self { on_step, on_prefix }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SampleRow;
+
+    #[test]
+    fn runs_of_equal_coefficients_move_to_prefix_sums_and_the_rest_stays() {
+        // Trapezoid weights up to node 9 (0.5, 1, …, 1, 0.5) plus a rate term at node 9 and an
+        // acceleration pair on nodes 4 and 5, in shuffled order with a repeated index.
+        let mut gradient: Vec<(usize, f64)> = (1..9).map(|m| (m, 2.0)).collect();
+        gradient.extend([(9, 1.0), (0, 1.0), (5, 3.0), (4, -3.0), (9, 0.25)]);
+        gradient.reverse();
+        let row = SampleRow::new(&gradient, 1.0, 0.5);
+        // 2 on nodes 1..=3 and 6..=8 (runs of three: below MIN_RUN, kept); 1 on node 0; 1.25 on 9.
+        let on_step: Vec<(usize, f64)> =
+            vec![(0, 1.0), (1, 2.0), (2, 2.0), (3, 2.0), (4, -1.0), (5, 5.0), (6, 2.0), (7, 2.0), (8, 2.0), (9, 1.25)];
+        assert_eq!(row.on_step, on_step);
+        assert!(row.on_prefix.is_empty());
+
+        let long: Vec<(usize, f64)> = (3..40).map(|m| (m, 2.0)).chain([(41, 7.0)]).collect();
+        let row = SampleRow::new(&long, 0.5, 0.25);
+        // 1.0 on nodes 3..=39 = (1.0/0.25)(S_39 − S_2); node 41 alone.
+        assert_eq!(row.on_prefix, vec![(39, 4.0), (2, -4.0)]);
+        assert_eq!(row.on_step, vec![(41, 3.5)]);
+    }
+}

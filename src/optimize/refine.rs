@@ -1,0 +1,270 @@
+//! The exact-dynamics refinement: the timing of a phase of least *exact* peak torque.
+//!
+//! The profile QP ([`crate::optimize::qp`]) minimises the paper's model `I* · max|ω̇|`, which ignores the
+//! bend amplitude and the centripetal `φ̇²` terms that dominate the real torques. Here the timing
+//! of one phase is improved along its fixed joint path, described by a progress variable `φ`
+//! ([`phase_path`]): the bend direction in the twist (`φ ∈ [0, D]`), joint 1's angle in the bend
+//! (`φ ∈ [0, β]`), the fraction straightened in the unbend (`φ ∈ [0, 1]`). Its rate `ω = φ̇` at
+//! `N` nodes (linear between them) is improved by sequential linear programming with a trust
+//! region on the exact torques of Newton–Euler ([`crate::engines::torque`]):
+//!
+//! - samples: both ends and the midpoint of every interval of the phase, each with its
+//!   interval's constant `φ̈`, for both joints; at node `k`, `φ_k = Σ` trapezoid weights `· ω`,
+//!   `φ̇ = ω_k`; on interval `i`, `φ̈ = (ω_{i+1} − ω_i)/h`, and at its midpoint
+//!   `φ = φ_i + (3h/8) ω_i + (h/8) ω_{i+1}`, `φ̇ = (ω_i + ω_{i+1})/2`;
+//! - gradients: `∂τ/∂(φ, φ̇, φ̈)` by central differences of the exact torque (exact in `φ̈`,
+//!   in which the torque is affine), chained with those linear maps;
+//! - step: [`crate::optimize::qp::solve_linearised_step`] (Clarabel) with the integral, boundary and limit
+//!   constraints on `ω + δ`; accepted when the exact twist-phase peak, evaluated densely by
+//!   [`crate::engines::torque::peak_torques`] (not only at the samples), falls by at least a tenth of the
+//!   predicted fall; the radius doubles after good agreement and halves after poor.
+//!
+//! Because the joint path (and so the flip) does not depend on the timing, the refinement
+//! changes torques only, never twist or swing. Bend and unbend are always rest to rest; the
+//! problem's rate and jerk limits apply to the twist phase.
+//!
+//! ## References
+//! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), §4 and §18.
+
+use serde::Serialize;
+
+use crate::engines::torque::{joint_torques, peak_torques};
+use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
+use crate::problem::Problem;
+use crate::schedule::profile::Profile;
+use crate::schedule::{JointState, Phase, Schedule};
+
+/// How the refinement ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RefineStatus {
+    /// The trust radius shrank below its floor: no step improves the peak any more.
+    Converged,
+    /// The iteration budget ran out while still improving.
+    MaxIterations,
+    /// The step QP failed in a way a smaller radius cannot mend.
+    StepFailed(QpStatus),
+}
+
+/// One outer iteration.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RefineIteration {
+    /// Exact twist-phase peak before the step, N·m.
+    pub peak: f64,
+    /// The linear model's predicted peak after it, N·m.
+    pub predicted: f64,
+    /// Exact twist-phase peak after it, N·m.
+    pub actual: f64,
+    /// Trust radius, rad/s.
+    pub radius: f64,
+    /// Whether the step was taken.
+    pub accepted: bool,
+    /// How the step QP ended.
+    pub status: QpStatus,
+}
+
+/// The refined profile and its history.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Refinement {
+    /// Node rates, rad/s.
+    pub rates: Vec<f64>,
+    /// Exact twist-phase peak of the start (dense evaluation), N·m.
+    pub start_peak: f64,
+    /// Exact twist-phase peak of the result (dense evaluation), N·m.
+    pub final_peak: f64,
+    /// The iterations.
+    pub iterations: Vec<RefineIteration>,
+    /// How it ended.
+    pub status: RefineStatus,
+}
+
+impl Refinement {
+    /// The refined profile (normalised).
+    pub fn to_profile(&self) -> Option<Profile> {
+        Profile::from_rate_nodes("exact-refined", &self.rates)
+    }
+}
+
+/// The progress variable `φ` of each phase and the joint state it gives with its derivatives:
+/// the bend direction along the path (twist, `φ ∈ [0, D]`), joint 1's angle (bend,
+/// `φ ∈ [0, β]`), the fraction straightened (unbend, `φ ∈ [0, 1]`).
+pub fn phase_path(schedule: &Schedule, phase: Phase, phi: f64, phid: f64, phidd: f64) -> JointState {
+    match phase {
+        Phase::Twist => schedule.path_state(phi, phid, phidd),
+        Phase::Bend => JointState { q: [phi, 0.0], qd: [phid, 0.0], qdd: [phidd, 0.0] },
+        Phase::Unbend => {
+            let e = schedule.phase_state(Phase::Twist, schedule.durations[1]).q;
+            JointState { q: e.map(|x| x * (1.0 - phi)), qd: e.map(|x| -x * phid), qdd: e.map(|x| -x * phidd) }
+        }
+    }
+}
+
+/// The distance `∫ω` the progress variable covers in a phase (see [`phase_path`]).
+pub fn phase_distance(schedule: &Schedule, phase: Phase) -> f64 {
+    match phase {
+        Phase::Twist => schedule.circulation,
+        Phase::Bend => schedule.bend,
+        Phase::Unbend => 1.0,
+    }
+}
+
+/// The schedule with one phase's timing replaced by `profile`.
+pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule {
+    match phase {
+        Phase::Twist => schedule.with_profile(profile),
+        Phase::Bend => Schedule { bend_profile: profile, ..schedule.clone() },
+        Phase::Unbend => Schedule { unbend_profile: profile, ..schedule.clone() },
+    }
+}
+
+/// Exact torque samples of one phase for node rates `w` of its progress variable, with their
+/// gradients.
+pub fn torque_samples(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> Vec<TorqueSample> {
+    let n = w.len();
+    let h = schedule.durations[phase.index()] / (n - 1) as f64;
+    let phi: Vec<f64> = std::iter::once(0.0)
+        .chain(w.windows(2).scan(0.0, |acc, p| {
+            *acc += 0.5 * h * (p[0] + p[1]);
+            Some(*acc)
+        }))
+        .collect();
+    let tau = |a: f64, b: f64, c: f64| joint_torques(&problem.cat, &phase_path(schedule, phase, a, b, c)).tau;
+    // A sample: φ, φ̇ and their gradients with respect to ω as (node, weight) lists.
+    let phi_grad = |k: usize| -> Vec<(usize, f64)> {
+        if k == 0 {
+            return Vec::new();
+        }
+        let mut g = Vec::with_capacity(k + 1);
+        g.push((0, 0.5 * h));
+        g.extend((1..k).map(|m| (m, h)));
+        g.push((k, 0.5 * h));
+        g
+    };
+    let mut out = Vec::with_capacity(6 * (n - 1));
+    for i in 0..n - 1 {
+        let acc = (w[i + 1] - w[i]) / h;
+        let mid_phi = phi[i] + 0.375 * h * w[i] + 0.125 * h * w[i + 1];
+        let mut mid_phi_grad = phi_grad(i);
+        mid_phi_grad.extend([(i, 0.375 * h), (i + 1, 0.125 * h)]);
+        let points = [
+            (phi[i], w[i], phi_grad(i), vec![(i, 1.0)]),
+            (mid_phi, 0.5 * (w[i] + w[i + 1]), mid_phi_grad, vec![(i, 0.5), (i + 1, 0.5)]),
+            (phi[i + 1], w[i + 1], phi_grad(i + 1), vec![(i + 1, 1.0)]),
+        ];
+        for (a, b, ga, gb) in points {
+            let t0 = tau(a, b, acc);
+            let (ea, eb) = (1e-6, 1e-6 * (1.0 + b.abs()));
+            let (ap, am) = (tau(a + ea, b, acc), tau(a - ea, b, acc));
+            let (bp, bm) = (tau(a, b + eb, acc), tau(a, b - eb, acc));
+            let (cp, cm) = (tau(a, b, acc + 1.0), tau(a, b, acc - 1.0));
+            for j in 0..2 {
+                let d_phi = (ap[j] - am[j]) / (2.0 * ea);
+                let d_rate = (bp[j] - bm[j]) / (2.0 * eb);
+                let d_acc = (cp[j] - cm[j]) / 2.0;
+                let mut g: Vec<(usize, f64)> = Vec::with_capacity(ga.len() + 4);
+                g.extend(ga.iter().map(|&(k, x)| (k, x * d_phi)));
+                g.extend(gb.iter().map(|&(k, x)| (k, x * d_rate)));
+                g.push((i + 1, d_acc / h));
+                g.push((i, -d_acc / h));
+                out.push(TorqueSample { value: t0[j], gradient: g });
+            }
+        }
+    }
+    out
+}
+
+/// The exact twist-phase peak of node rates `w`, evaluated densely.
+fn phase_peak(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> f64 {
+    match Profile::from_rate_nodes("trial", w) {
+        Some(p) => {
+            let peaks = peak_torques(&problem.cat, &retimed(schedule, phase, p), problem.exact.torque_samples);
+            peaks.per_piece.get(phase.index()).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
+        }
+        None => f64::INFINITY,
+    }
+}
+
+/// Node rates of a profile scaled to a phase: `ω_k = (D/T) V(k/(N−1))`.
+pub fn rate_nodes(profile: &Profile, distance: f64, duration: f64, nodes: usize) -> Vec<f64> {
+    let nodes = nodes.max(2);
+    (0..nodes).map(|k| distance / duration * profile.at(k as f64 / (nodes - 1) as f64).rate).collect()
+}
+
+fn sampled_peak(samples: &[TorqueSample]) -> f64 {
+    samples.iter().map(|s| s.value.abs()).fold(0.0, f64::max)
+}
+
+/// Refines the node rates `start` of one phase's progress variable against that phase's exact
+/// peak torque (the rate and jerk limits of the problem apply to the twist phase only).
+pub fn refine(problem: &Problem, schedule: &Schedule, phase: Phase, start: &[f64]) -> Result<Refinement, QpError> {
+    let opt = &problem.optimize;
+    let t2 = schedule.durations[phase.index()];
+    let distance = phase_distance(schedule, phase);
+    // Bend and unbend must start and end at rest; the twist phase takes the user's boundary.
+    let boundary = if phase == Phase::Twist { opt.boundary } else { crate::problem::settings::Boundary::RestToRest };
+    let unit = distance.abs() / t2;
+    let mut w = start.to_vec();
+    let mut samples = torque_samples(problem, schedule, phase, &w);
+    let start_peak = phase_peak(problem, schedule, phase, &w);
+    let mut peak = start_peak;
+    let mut radius = 0.25 * unit;
+    let floor = 1e-7 * unit;
+    let mut iterations = Vec::new();
+    let settings = QpSettings::default();
+    let mut status = RefineStatus::MaxIterations;
+    for _ in 0..opt.refine_iterations {
+        let step = solve_linearised_step(
+            &LinearisedStep {
+                rates: &w,
+                samples: &samples,
+                trust_radius: radius,
+                duration: t2,
+                circulation: distance,
+                boundary,
+                rate_limit: if phase == Phase::Twist { opt.rate_limit } else { None },
+                jerk_limit: if phase == Phase::Twist { opt.jerk_limit } else { None },
+            },
+            &settings,
+        )?;
+        let mut record = RefineIteration {
+            peak,
+            predicted: step.predicted_peak,
+            actual: f64::NAN,
+            radius,
+            accepted: false,
+            status: step.status,
+        };
+        if !step.status.is_solved() {
+            if step.status.is_infeasible() && radius > floor {
+                radius *= 0.5;
+                iterations.push(record);
+                continue;
+            }
+            iterations.push(record);
+            status = RefineStatus::StepFailed(step.status);
+            break;
+        }
+        let trial: Vec<f64> = w.iter().zip(&step.step).map(|(a, d)| a + d).collect();
+        let actual = phase_peak(problem, schedule, phase, &trial);
+        let predicted_fall = sampled_peak(&samples) - step.predicted_peak;
+        let ratio = if predicted_fall > 0.0 { (peak - actual) / predicted_fall } else { -1.0 };
+        record.actual = actual;
+        if ratio > 0.1 {
+            record.accepted = true;
+            samples = torque_samples(problem, schedule, phase, &trial);
+            w = trial;
+            peak = actual;
+            if ratio > 0.75 {
+                radius *= 2.0;
+            }
+        } else {
+            radius *= 0.5;
+        }
+        iterations.push(record);
+        if radius < floor || predicted_fall <= 1e-12 * peak {
+            status = RefineStatus::Converged;
+            break;
+        }
+    }
+    Ok(Refinement { rates: w, start_peak, final_peak: peak, iterations, status })
+}

@@ -1,0 +1,16 @@
+//! What catflip tells its users: the commands' reports, tables, plots and files.
+//!
+//! - [`run`]: `catflip run`, everything for one problem written atomically to `results/<name>/`;
+//! - [`simulate`], [`compare`], [`bench`]: the reports of `catflip simulate`, `compare`, `bench`;
+//! - [`audit`]: the paper's numbers, published, recomputed and corrected;
+//! - [`plot`]: charts and the animation; [`export`]: schedules as CSV;
+//! - [`provenance`]: the header every generated report starts with.
+
+pub mod audit;
+pub mod bench;
+pub mod compare;
+pub mod export;
+pub mod plot;
+pub mod provenance;
+pub mod run;
+pub mod simulate;

@@ -1,0 +1,302 @@
+//! The three-phase manoeuvre as joint trajectories `q(t)`, `q̇(t)`, `q̈(t)` (DESIGN.md §3).
+//!
+//! - bend, `0 ≤ t ≤ T1`: `q1 = β P_b(t/T1)`, `q2 = 0`, with the paper's harmonic
+//!   `P_b(u) = (1 − cos πu)/2` unless retimed ([`crate::optimize::refine`]);
+//! - twist, `s = t − T1`: the bend direction `φ(s) = D P(s/T2)` circulates along the bend path:
+//!   the paper's joint circle `(β cos φ, β sin φ)`, or the cone
+//!   `q1 = atan2(sin β cos φ, cos β)` (continued through ±π), `q2 = asin(sin β sin φ)`, on which
+//!   B's axis `Rx(q1) Ry(q2) ẑ = (sin β sin φ, −sin β cos φ, cos β)` keeps the angle β to A's;
+//! - unbend, `u = t − T1 − T2`: `q = q_e (1 − P_u(u/T3))` from the end-of-twist `q_e`, the
+//!   paper's `(1 + cos(π u/T3))/2` for the harmonic `P_u`.
+//!
+//! Angles in rad, times in s. Each phase is evaluated with its own formula on its closed
+//! interval, so one-sided values at the boundaries are available and velocity jumps can be
+//! reported, not smeared.
+
+pub mod profile;
+
+use std::f64::consts::PI;
+
+use crate::problem::manoeuvre::BendPath;
+use crate::schedule::profile::Profile;
+
+/// Joint angles, rates and accelerations at one instant.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct JointState {
+    /// `(q1, q2)`, rad.
+    pub q: [f64; 2],
+    /// `(q̇1, q̇2)`, rad/s.
+    pub qd: [f64; 2],
+    /// `(q̈1, q̈2)`, rad/s².
+    pub qdd: [f64; 2],
+}
+
+/// One of the manoeuvre's three phases.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Phase {
+    /// Bending from straight to the bend β.
+    Bend,
+    /// Circulating the bend direction.
+    Twist,
+    /// Straightening.
+    Unbend,
+}
+
+impl Phase {
+    /// The three phases in order.
+    pub const ALL: [Phase; 3] = [Phase::Bend, Phase::Twist, Phase::Unbend];
+
+    /// The phase's index in [`Phase::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Bend => "bend",
+            Phase::Twist => "twist",
+            Phase::Unbend => "unbend",
+        }
+    }
+}
+
+/// A joint trajectory made of pieces, each smooth on its closed interval; rates may jump
+/// between pieces. Engines integrate piece by piece and never step across a boundary.
+pub trait Trajectory {
+    /// Durations of the pieces, s, in order.
+    fn piece_durations(&self) -> Vec<f64>;
+    /// State at local time `s ∈ [0, duration]` of a piece, by that piece's own formula.
+    fn piece_state(&self, piece: usize, s: f64) -> JointState;
+}
+
+/// A trajectory run backwards in time: `q_r(t) = q(T − t)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Reversed<'a, T: Trajectory>(pub &'a T);
+
+impl<T: Trajectory> Trajectory for Reversed<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        let mut d = self.0.piece_durations();
+        d.reverse();
+        d
+    }
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        let d = self.0.piece_durations();
+        let i = d.len() - 1 - piece;
+        let st = self.0.piece_state(i, d[i] - s);
+        JointState { q: st.q, qd: st.qd.map(|v| -v), qdd: st.qdd }
+    }
+}
+
+impl Trajectory for Schedule {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.durations.to_vec()
+    }
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        self.phase_state(Phase::ALL[piece.min(2)], s)
+    }
+}
+
+/// A complete manoeuvre: bend, twist along a path with a profile, unbend.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Schedule {
+    /// Durations `T1, T2, T3`, s.
+    pub durations: [f64; 3],
+    /// The bend `β = π − θ`, rad.
+    pub bend: f64,
+    /// The path of the bend direction through the joint.
+    pub path: BendPath,
+    /// Shape of the circulation rate.
+    pub profile: Profile,
+    /// Circulation `D = ∫ω ds`, rad.
+    pub circulation: f64,
+    /// Timing of the bend, `q1 = β P_b(t/T1)`: the paper's [`Profile::harmonic`] unless retimed.
+    pub bend_profile: Profile,
+    /// Timing of the unbend, `q = q_e (1 − P_u(u/T3))`: [`Profile::harmonic`] unless retimed.
+    pub unbend_profile: Profile,
+}
+
+/// A jump of the joint rates at a phase boundary.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateJump {
+    /// Time of the jump, s.
+    pub time: f64,
+    /// The phase that ends there.
+    pub after: Phase,
+    /// Rates just before.
+    pub before: [f64; 2],
+    /// Rates just after.
+    pub after_rates: [f64; 2],
+}
+
+impl Schedule {
+    /// Total duration, s.
+    pub fn duration(&self) -> f64 {
+        self.durations.iter().sum()
+    }
+
+    /// Start time of a phase, s.
+    pub fn phase_start(&self, phase: Phase) -> f64 {
+        self.durations[..phase.index()].iter().sum()
+    }
+
+    /// The state at local time `s ∈ [0, T_phase]` of a phase, by that phase's own formula.
+    pub fn phase_state(&self, phase: Phase, s: f64) -> JointState {
+        match phase {
+            Phase::Bend => {
+                let t1 = self.durations[0];
+                let p = self.bend_profile.at(s / t1);
+                let b = self.bend;
+                JointState { q: [b * p.position, 0.0], qd: [b * p.rate / t1, 0.0], qdd: [b * p.accel / (t1 * t1), 0.0] }
+            }
+            Phase::Twist => {
+                let t2 = self.durations[1];
+                let p = self.profile.at(s / t2);
+                let d = self.circulation;
+                let phi = d * p.position;
+                let phid = d * p.rate / t2;
+                let phidd = d * p.accel / (t2 * t2);
+                self.path_state(phi, phid, phidd)
+            }
+            Phase::Unbend => {
+                let end = self.phase_state(Phase::Twist, self.durations[1]).q;
+                let t3 = self.durations[2];
+                let p = self.unbend_profile.at(s / t3);
+                JointState {
+                    q: end.map(|e| e * (1.0 - p.position)),
+                    qd: end.map(|e| -e * p.rate / t3),
+                    qdd: end.map(|e| -e * p.accel / (t3 * t3)),
+                }
+            }
+        }
+    }
+
+    /// The state at global time `t`; at a phase boundary the later phase's formula is used.
+    pub fn state(&self, t: f64) -> JointState {
+        let (phase, s) = self.locate(t);
+        self.phase_state(phase, s)
+    }
+
+    /// The phase containing global time `t` (the later one at a boundary) and the local time.
+    pub fn locate(&self, t: f64) -> (Phase, f64) {
+        let [t1, t2, t3] = self.durations;
+        if t < t1 {
+            (Phase::Bend, t.max(0.0))
+        } else if t < t1 + t2 {
+            (Phase::Twist, t - t1)
+        } else {
+            (Phase::Unbend, (t - t1 - t2).min(t3))
+        }
+    }
+
+    /// Joint state on the bend path at direction `φ` with its derivatives.
+    pub fn path_state(&self, phi: f64, phid: f64, phidd: f64) -> JointState {
+        let b = self.bend;
+        let (sp, cp) = phi.sin_cos();
+        match self.path {
+            BendPath::JointCircle => JointState {
+                q: [b * cp, b * sp],
+                qd: [-b * sp * phid, b * cp * phid],
+                qdd: [-b * (sp * phidd + cp * phid * phid), b * (cp * phidd - sp * phid * phid)],
+            },
+            BendPath::Cone => {
+                let (sb, cb) = b.sin_cos();
+                let (y, x) = (sb * cp, cb);
+                // Continue atan2 through ±π when x < 0 (bend beyond 90°).
+                let q1 = if x >= 0.0 { y.atan2(x) } else { PI - y.atan2(-x) };
+                let q2 = (sb * sp).clamp(-1.0, 1.0).asin();
+                let den = cb * cb + sb * sb * cp * cp;
+                let e = (1.0 - sb * sb * sp * sp).max(0.0).sqrt();
+                let g1 = -cb * sb * sp / den;
+                let g1p = (-cb * sb * cp * den - 2.0 * cb * sb.powi(3) * sp * sp * cp) / (den * den);
+                let g2 = sb * cp / e;
+                let g2p = -sb * sp * cb * cb / e.powi(3);
+                JointState {
+                    q: [q1, q2],
+                    qd: [g1 * phid, g2 * phid],
+                    qdd: [g1p * phid * phid + g1 * phidd, g2p * phid * phid + g2 * phidd],
+                }
+            }
+        }
+    }
+
+    /// Joint-rate jumps at the two inner phase boundaries larger than `tol` relative to the rates
+    /// of the two adjoining phases (sampled at quarters; at least `tol` rad/s), so round-off of a
+    /// fast phase is not taken for a jump.
+    pub fn rate_jumps(&self, tol: f64) -> Vec<RateJump> {
+        let mut out = Vec::new();
+        for (ending, next) in [(Phase::Bend, Phase::Twist), (Phase::Twist, Phase::Unbend)] {
+            let before = self.phase_state(ending, self.durations[ending.index()]).qd;
+            let after = self.phase_state(next, 0.0).qd;
+            let jump = (before[0] - after[0]).hypot(before[1] - after[1]);
+            let rate = |ph: Phase, f: f64| {
+                let qd = self.phase_state(ph, f * self.durations[ph.index()]).qd;
+                qd[0].hypot(qd[1])
+            };
+            let scale =
+                [0.25, 0.5, 0.75, 1.0].iter().map(|&f| rate(ending, f).max(rate(next, 1.0 - f))).fold(1.0f64, f64::max);
+            if jump > tol * scale {
+                out.push(RateJump { time: self.phase_start(next), after: ending, before, after_rates: after });
+            }
+        }
+        out
+    }
+}
+
+/// Why a schedule cannot be built.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ScheduleError {
+    /// The paper's `C` is not positive, so `π/C` is no circulation.
+    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {0} is not positive: the paper's circulation π/C is undefined for this cat")]
+    NonPositiveC(f64),
+    /// The paper's `π/C` is beyond [`crate::problem::manoeuvre::MAX_CIRCULATION`].
+    #[error("manoeuvre.circulation = \"paper\": π/C = {0:.4e} rad (C = {1:.3e}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", max = crate::problem::manoeuvre::MAX_CIRCULATION)]
+    CirculationTooLarge(f64, f64),
+}
+
+impl Schedule {
+    /// The schedule of a problem's manoeuvre with a given circulation `D`, rad.
+    pub fn new(problem: &crate::problem::Problem, circulation: f64) -> Schedule {
+        let m = &problem.manoeuvre;
+        let t = problem.drop.fall_time();
+        Schedule {
+            durations: m.phases.map(|f| f * t),
+            bend: m.bend(),
+            path: m.bend_path,
+            profile: Profile::library(m.profile),
+            circulation,
+            bend_profile: Profile::harmonic(),
+            unbend_profile: Profile::harmonic(),
+        }
+    }
+
+    /// The same schedule with another profile.
+    pub fn with_profile(&self, profile: Profile) -> Schedule {
+        Schedule { profile, ..self.clone() }
+    }
+
+    /// The same schedule with another circulation.
+    pub fn with_circulation(&self, circulation: f64) -> Schedule {
+        Schedule { circulation, ..self.clone() }
+    }
+}
+
+/// The paper's circulation `π / C` with `C = 1 − I_zz sin(θ/2) / I_yy` (the code's form),
+/// `I_yy = I_xx cos²(θ/2) + I_zz sin²(θ/2)` per half, evaluated with the correct inertia.
+pub fn paper_circulation(cat: &crate::model::Cylinder, theta: f64) -> Result<f64, ScheduleError> {
+    let c = paper_c(cat.transverse(), cat.axial(), theta);
+    if c <= 0.0 {
+        Err(ScheduleError::NonPositiveC(c))
+    } else if PI / c > crate::problem::manoeuvre::MAX_CIRCULATION {
+        Err(ScheduleError::CirculationTooLarge(PI / c, c))
+    } else {
+        Ok(PI / c)
+    }
+}
+
+/// The code's `C = 1 − I_zz sin(θ/2) / I_yy` for transverse and axial moments of a half.
+pub fn paper_c(transverse: f64, axial: f64, theta: f64) -> f64 {
+    let bent = crate::model::BentMoments::new(transverse, axial, theta);
+    1.0 - axial * (0.5 * theta).sin() / bent.yy
+}
