@@ -4,9 +4,50 @@
 //!   sixth-order Magnus method) — the ground truth;
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
-//! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification.
+//! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification;
+//! - [`peaks`]: the peak torques per phase and joint, one type for both engines;
+//! - [`evaluate`]: one exact [`evaluate::Evaluation`] of a schedule, used by every command;
+//! - [`circulation`]: the circulation resolved once, and [`circulation::Resolved`], the problem
+//!   resolved around it.
 
 pub mod calibrate;
+pub mod circulation;
+pub mod evaluate;
 pub mod exact;
+pub mod peaks;
 pub mod rapier;
 pub mod torque;
+
+use std::fmt;
+
+use serde::Serialize;
+
+/// Joint-rate jumps smaller than this, relative to the rates on either side, are round-off,
+/// not jumps (used by both engines).
+pub const JUMP_TOLERANCE: f64 = 1e-9;
+
+/// An engine that runs a schedule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Engine {
+    /// The momentum-map engine ([`exact`]): the ground truth.
+    Exact,
+    /// The rapier3d-f64 multibody simulation ([`rapier`]).
+    Rapier,
+}
+
+impl Engine {
+    /// The name in files and tables: `exact`, `rapier`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Exact => "exact",
+            Engine::Rapier => "rapier",
+        }
+    }
+}
+
+impl fmt::Display for Engine {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}

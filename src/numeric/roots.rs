@@ -20,6 +20,29 @@ pub enum RootStatus {
     NotAtRoot,
 }
 
+impl RootStatus {
+    /// The name in files and reports: `converged`, `no-bracket`, `max-iterations`, `not-at-root`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RootStatus::Converged => "converged",
+            RootStatus::NoBracket => "no-bracket",
+            RootStatus::MaxIterations => "max-iterations",
+            RootStatus::NotAtRoot => "not-at-root",
+        }
+    }
+
+    /// Whether the search found a root.
+    pub fn is_converged(self) -> bool {
+        self == RootStatus::Converged
+    }
+}
+
+impl std::fmt::Display for RootStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The outcome of a root search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Root {

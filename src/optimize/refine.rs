@@ -46,6 +46,17 @@ pub enum RefineStatus {
     StepFailed(QpStatus),
 }
 
+impl std::fmt::Display for RefineStatus {
+    /// The kebab-case name, as in the JSON results; a failed step names the QP's status.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RefineStatus::Converged => f.write_str("converged"),
+            RefineStatus::MaxIterations => f.write_str("max-iterations"),
+            RefineStatus::StepFailed(qp) => write!(f, "step-failed ({qp})"),
+        }
+    }
+}
+
 /// One outer iteration.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RefineIteration {
@@ -81,7 +92,7 @@ pub struct Refinement {
 impl Refinement {
     /// The refined profile (normalised).
     pub fn to_profile(&self) -> Option<Profile> {
-        Profile::from_rate_nodes("exact-refined", &self.rates)
+        Profile::from_rate_nodes(crate::schedule::variant::Origin::Refined.profile_name(), &self.rates)
     }
 }
 

@@ -3,7 +3,7 @@
 
 use serde::{de, Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::problem::{bad, ProblemError};
+use super::error::{bad, ProblemError};
 
 /// The smoothing profile of the circulation rate `ω(s)` in the twist phase.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -69,6 +69,23 @@ pub enum BendPath {
     JointCircle,
     /// B's axis keeps the angle β to A's axis while its direction φ circulates.
     Cone,
+}
+
+impl std::fmt::Display for ProfileKind {
+    /// The kebab-case name used in problem files.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::fmt::Display for BendPath {
+    /// The kebab-case name used in problem files.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            BendPath::JointCircle => "joint-circle",
+            BendPath::Cone => "cone",
+        })
+    }
 }
 
 /// How far the bend direction circulates during the twist phase, `∫ω ds`.
@@ -179,7 +196,7 @@ impl Manoeuvre {
         if t <= 0.0 || t > 180.0 {
             return Err(bad("manoeuvre.theta_deg", t, "must lie in (0, 180] degrees (180 is a straight cat)"));
         }
-        let shown = format!("{:?}", self.phases);
+        let shown = format!("[{}, {}, {}]", self.phases[0], self.phases[1], self.phases[2]);
         for (i, f) in self.phases.iter().enumerate() {
             let field = format!("manoeuvre.phases[{i}]");
             if !f.is_finite() {

@@ -5,6 +5,7 @@
 //! in one `impl Default`. [`Problem::from_toml`] parses, applies `--set key=value` overrides and
 //! validates, so that a problem that loads is one every engine can run.
 
+pub mod error;
 pub mod manoeuvre;
 pub mod settings;
 
@@ -15,46 +16,9 @@ use serde::{Deserialize, Serialize};
 use crate::model::Cylinder;
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
 
-pub use crate::problem::manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
-
-/// Why a problem could not be loaded.
-#[derive(Debug, thiserror::Error)]
-pub enum ProblemError {
-    /// The file could not be read.
-    #[error("cannot read problem file {path}")]
-    Io {
-        /// The path given.
-        path: String,
-        /// What the OS said.
-        source: std::io::Error,
-    },
-    /// The text is not valid TOML, or does not match the problem's shape.
-    #[error("problem file {origin}: {message}")]
-    Parse {
-        /// The file (or `--set`) the text came from.
-        origin: String,
-        /// The parser's message, naming the key.
-        message: String,
-    },
-    /// A `--set key=value` override is malformed.
-    #[error("--set {assignment}: {reason}")]
-    BadOverride {
-        /// The override as given.
-        assignment: String,
-        /// Why it cannot be applied.
-        reason: String,
-    },
-    /// A field has a value the model cannot use.
-    #[error("{field} = {value}: {reason}")]
-    BadFieldValue {
-        /// Dotted path of the field, e.g. `cat.mass`.
-        field: String,
-        /// The value found.
-        value: String,
-        /// Why it is rejected.
-        reason: String,
-    },
-}
+pub use error::ProblemError;
+pub(crate) use error::{bad, not_positive, positive};
+pub use manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
 
 /// The drop: how long the cat has to turn over.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -181,32 +145,6 @@ impl Problem {
         }
         out
     }
-}
-
-/// A `BadFieldValue` error.
-pub(crate) fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> ProblemError {
-    ProblemError::BadFieldValue { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
-}
-
-/// Why a value is not finite and strictly positive, if it is not.
-pub(crate) fn not_positive(value: f64) -> Option<&'static str> {
-    if !value.is_finite() {
-        Some("must be a finite number")
-    } else if value <= 0.0 {
-        Some("must be positive")
-    } else {
-        None
-    }
-}
-
-/// Requires a finite, strictly positive value.
-pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
-    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
-}
-
-/// Requires `None` or a finite, strictly positive value.
-pub(crate) fn positive_opt(field: &str, value: Option<f64>) -> Result<(), ProblemError> {
-    value.map_or(Ok(()), |v| positive(field, v))
 }
 
 fn one_line(s: &str) -> String {

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::problem::{bad, positive, positive_opt, ProblemError};
+use super::error::{bad, positive, positive_opt, ProblemError};
 
 /// Settings of the exact (momentum-map) engine.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -14,6 +14,7 @@
 //! reported, not smeared.
 
 pub mod profile;
+pub mod variant;
 
 use std::f64::consts::PI;
 
@@ -258,8 +259,14 @@ pub enum ScheduleError {
 impl Schedule {
     /// The schedule of a problem's manoeuvre with a given circulation `D`, rad.
     pub fn new(problem: &crate::problem::Problem, circulation: f64) -> Schedule {
-        let m = &problem.manoeuvre;
-        let t = problem.drop.fall_time();
+        Schedule::from_manoeuvre(&problem.manoeuvre, problem.drop.fall_time(), circulation)
+    }
+
+    /// The schedule of manoeuvre `m` over a fall of `fall_time` s with circulation `D`, rad: the
+    /// phases split the fall time, the twist phase uses `m`'s library profile, bend and unbend the
+    /// harmonic one.
+    pub fn from_manoeuvre(m: &crate::problem::Manoeuvre, fall_time: f64, circulation: f64) -> Schedule {
+        let t = fall_time;
         Schedule {
             durations: m.phases.map(|f| f * t),
             bend: m.bend(),

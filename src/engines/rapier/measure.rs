@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 
-use super::scene::{BodyState, MassModel, Snapshot, NDOFS};
+use super::bodies::{BodyState, MassModel, Snapshot, NDOFS};
 
 /// Total angular momentum of `bodies` about their common centre of mass, N·m·s:
 /// `H = Σ R I Rᵀ ω + m (x − c) × (v − v_c)`.

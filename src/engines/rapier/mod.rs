@@ -99,6 +99,7 @@
 //! - R. Featherstone, *Rigid Body Dynamics Algorithms*, Springer (2008), ch. 2 and 4;
 //! - DESIGN.md §1, §2 and §6.
 
+mod bodies;
 mod measure;
 mod run;
 pub mod scene;
@@ -106,10 +107,11 @@ mod spin;
 
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
-    dt_sweep, extrapolate, simulate, simulate_with, Extrapolated, JumpTorque, MomentumDrift, RapierRun, TorquePeaks,
+    dt_sweep, extrapolate, simulate, simulate_with, Extrapolated, JumpTorque, MomentumDrift, RapierRun,
     TwistSample,
 };
-pub use scene::{BodyState, CatScene, MassModel, MotorGains, Snapshot};
+pub use bodies::{BodyState, MassModel, Snapshot};
+pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
 
 use crate::problem::ProblemError;

@@ -5,14 +5,13 @@ use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
 use super::scene::{CatScene, MotorGains};
+use crate::engines::peaks::PhasePeaks;
+use crate::engines::JUMP_TOLERANCE;
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::model::orientation::TwistTracker;
 use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;
 use crate::schedule::{Phase, Schedule};
-
-/// Joint-rate jumps of the schedule smaller than this (rad/s) are round-off, not jumps.
-const JUMP_TOLERANCE: f64 = 1e-9;
 
 /// Torque samples within this many steps of a phase boundary are left out of the per-phase
 /// peaks: two for the stencil, two for the servo to settle after a jump of `q̈` (it shrinks an
@@ -32,42 +31,6 @@ pub struct TwistSample {
     pub twist: f64,
     /// Swing of A's spine axis, rad.
     pub swing: f64,
-}
-
-/// Peak joint torques per phase, from samples whose stencil lies inside the phase, N·m.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Default)]
-pub struct TorquePeaks {
-    /// `max |τ_i|` in the bend phase, joints 1 and 2.
-    pub bend: [f64; 2],
-    /// In the twist phase.
-    pub twist: [f64; 2],
-    /// In the unbend phase.
-    pub unbend: [f64; 2],
-    /// The largest of the above.
-    pub max: f64,
-}
-
-impl TorquePeaks {
-    fn add(&mut self, phase: Phase, tau: [f64; 2]) {
-        let slot = match phase {
-            Phase::Bend => &mut self.bend,
-            Phase::Twist => &mut self.twist,
-            Phase::Unbend => &mut self.unbend,
-        };
-        for (s, t) in slot.iter_mut().zip(tau) {
-            *s = s.max(t.abs());
-            self.max = self.max.max(t.abs());
-        }
-    }
-
-    /// The peaks of one phase.
-    pub fn phase(&self, phase: Phase) -> [f64; 2] {
-        match phase {
-            Phase::Bend => self.bend,
-            Phase::Twist => self.twist,
-            Phase::Unbend => self.unbend,
-        }
-    }
 }
 
 /// The motors' answer to a jump of the schedule's joint rates: an impulse, seen as a spike.
@@ -124,7 +87,7 @@ pub struct RapierRun {
     /// Angular-momentum drift.
     pub momentum: MomentumDrift,
     /// Peak joint torques per phase.
-    pub peak_torque: TorquePeaks,
+    pub peak_torque: PhasePeaks,
     /// Largest `|τ_i|` of all samples, boundary and jump samples included, N·m.
     pub peak_torque_all: f64,
     /// The motors' spikes at the schedule's rate jumps.
@@ -199,7 +162,7 @@ pub fn simulate_with(
     let stride = n.div_ceil(opts.history.max(1)).max(1);
     let mut tracker = TwistTracker::default();
     let mut torques = TorqueEstimator::default();
-    let mut peaks = TorquePeaks::default();
+    let mut peaks = PhasePeaks::default();
     let mut peak_all = 0.0f64;
     let mut torque_count = 0usize;
     let mut twist_history = Vec::with_capacity(n / stride + 2);

@@ -20,11 +20,9 @@ use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::pipeline::PhysicsWorld;
 
+use super::bodies::{MassModel, Snapshot, NDOFS};
 use super::RapierError;
 use crate::model::Cylinder;
-
-/// Number of generalized velocities: the floating root's six, then `q̇1`, `q̇2`.
-pub const NDOFS: usize = 8;
 
 /// Gains of the joint motors, rapier's acceleration-based model.
 ///
@@ -50,124 +48,6 @@ impl MotorGains {
     /// Gains with natural frequency `omega` (rad/s) and damping ratio `zeta`.
     pub fn new(omega: f64, zeta: f64) -> Self {
         Self { natural_frequency: omega, damping_ratio: zeta, stiffness: omega * omega, damping: 2.0 * zeta * omega }
-    }
-}
-
-/// One body's pose and velocity, in the world frame (nalgebra types).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BodyState {
-    /// Centre of mass, m.
-    pub position: Vector3<f64>,
-    /// Orientation of the body frame.
-    pub rotation: UnitQuaternion<f64>,
-    /// Velocity of the centre of mass, m/s.
-    pub linvel: Vector3<f64>,
-    /// Angular velocity, rad/s.
-    pub angvel: Vector3<f64>,
-}
-
-/// Poses of A, the cross and B, and the generalized velocities, at one instant.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Snapshot {
-    /// Centres of A, the cross, B, m.
-    pub positions: [Vector3<f64>; 3],
-    /// Orientations of A, the cross, B.
-    pub rotations: [UnitQuaternion<f64>; 3],
-    /// Generalized velocities `(v_A, ω_A, q̇1, q̇2)`.
-    pub velocities: [f64; NDOFS],
-    /// Joint coordinates `(q1, q2)` as rapier holds them, rad.
-    pub q: [f64; 2],
-}
-
-/// Mass and principal inertia (about the body's own axes) of the three bodies.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MassModel {
-    /// Masses of A, the cross, B, kg.
-    pub mass: [f64; 3],
-    /// Principal moments `(I_x, I_y, I_z)` of A, the cross, B, kg·m².
-    pub inertia: [[f64; 3]; 3],
-    /// Half length `l/2` of a half, m.
-    pub half_length: f64,
-}
-
-impl MassModel {
-    /// The cat's bodies with a cross of mass `fraction · m`; the cross's inertia is that of a
-    /// solid sphere of the cat's radius, `2/5 m_c r²` (tiny, but a valid positive inertia).
-    pub fn new(cat: &Cylinder, fraction: f64) -> Self {
-        let (t, a) = (cat.transverse(), cat.axial());
-        let mc = fraction * cat.mass;
-        let ic = 0.4 * mc * cat.radius * cat.radius;
-        Self {
-            mass: [cat.mass, mc, cat.mass],
-            inertia: [[t, t, a], [ic, ic, ic], [t, t, a]],
-            half_length: 0.5 * cat.length,
-        }
-    }
-
-    /// World inertia `R I Rᵀ` of body `i` at orientation `r`.
-    pub fn world_inertia(&self, i: usize, r: &UnitQuaternion<f64>) -> Matrix3<f64> {
-        let m = r.to_rotation_matrix().into_inner();
-        m * Matrix3::from_diagonal(&Vector3::from(self.inertia[i])) * m.transpose()
-    }
-
-    /// Total mass, kg.
-    pub fn total(&self) -> f64 {
-        self.mass.iter().sum()
-    }
-}
-
-impl Snapshot {
-    /// The joint point (joint 1 and joint 2 share it), world frame.
-    pub fn joint_point(&self, masses: &MassModel) -> Vector3<f64> {
-        self.positions[0] + self.rotations[0] * Vector3::new(0.0, 0.0, -masses.half_length)
-    }
-
-    /// Joint 1's axis (A's x) and joint 2's axis (the cross's y), world frame.
-    pub fn joint_axes(&self) -> [Vector3<f64>; 2] {
-        [self.rotations[0] * Vector3::x(), self.rotations[1] * Vector3::y()]
-    }
-
-    /// The bodies' velocities for generalized velocities `v` at this snapshot's poses:
-    /// `ω_C = ω_A + q̇1 a1`, `ω_B = ω_C + q̇2 a2`, `v_C = v_A + ω_A × (P − x_A)`,
-    /// `v_B = v_C + ω_B × (x_B − P)` with `P` the joint point (the cross's centre).
-    pub fn bodies_with(&self, masses: &MassModel, v: &[f64; NDOFS]) -> [BodyState; 3] {
-        let p = self.joint_point(masses);
-        let [a1, a2] = self.joint_axes();
-        let v_a = Vector3::new(v[0], v[1], v[2]);
-        let w_a = Vector3::new(v[3], v[4], v[5]);
-        let w_c = w_a + v[6] * a1;
-        let w_b = w_c + v[7] * a2;
-        let v_c = v_a + w_a.cross(&(p - self.positions[0]));
-        let v_b = v_c + w_b.cross(&(self.positions[2] - p));
-        let vel = [(v_a, w_a), (v_c, w_c), (v_b, w_b)];
-        std::array::from_fn(|i| BodyState {
-            position: self.positions[i],
-            rotation: self.rotations[i],
-            linvel: vel[i].0,
-            angvel: vel[i].1,
-        })
-    }
-
-    /// The bodies' states with this snapshot's own generalized velocities.
-    pub fn bodies(&self, masses: &MassModel) -> [BodyState; 3] {
-        self.bodies_with(masses, &self.velocities)
-    }
-
-    /// Whether every number of the snapshot is finite.
-    pub fn is_finite(&self) -> bool {
-        self.velocities.iter().all(|v| v.is_finite())
-            && self.positions.iter().all(|p| p.iter().all(|v| v.is_finite()))
-            && self.rotations.iter().all(|r| r.coords.iter().all(|v| v.is_finite()))
-    }
-
-    /// Joint angles from the bodies' relative rotations: `R_A⁻¹ R_C = Rx(q1)`,
-    /// `R_C⁻¹ R_B = Ry(q2)` (a second reading of the joint coordinates).
-    pub fn q_from_rotations(&self) -> [f64; 2] {
-        let rel1 = self.rotations[0].inverse() * self.rotations[1];
-        let rel2 = self.rotations[1].inverse() * self.rotations[2];
-        let m1 = rel1.to_rotation_matrix().into_inner();
-        let m2 = rel2.to_rotation_matrix().into_inner();
-        [m1[(2, 1)].atan2(m1[(1, 1)]), m2[(0, 2)].atan2(m2[(0, 0)])]
     }
 }
 

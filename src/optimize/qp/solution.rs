@@ -35,6 +35,26 @@ pub enum QpStatus {
     CallbackTerminated,
 }
 
+impl std::fmt::Display for QpStatus {
+    /// The kebab-case name, as in the JSON results.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            QpStatus::Unsolved => "unsolved",
+            QpStatus::Solved => "solved",
+            QpStatus::AlmostSolved => "almost-solved",
+            QpStatus::PrimalInfeasible => "primal-infeasible",
+            QpStatus::DualInfeasible => "dual-infeasible",
+            QpStatus::AlmostPrimalInfeasible => "almost-primal-infeasible",
+            QpStatus::AlmostDualInfeasible => "almost-dual-infeasible",
+            QpStatus::MaxIterations => "max-iterations",
+            QpStatus::MaxTime => "max-time",
+            QpStatus::NumericalError => "numerical-error",
+            QpStatus::InsufficientProgress => "insufficient-progress",
+            QpStatus::CallbackTerminated => "callback-terminated",
+        })
+    }
+}
+
 impl From<SolverStatus> for QpStatus {
     fn from(status: SolverStatus) -> Self {
         match status {
@@ -108,7 +128,7 @@ impl ProfileQpSolution {
         if !self.status.is_solved() {
             return None;
         }
-        Profile::from_rate_nodes("qp-optimal", &self.rates)
+        Profile::from_rate_nodes(crate::schedule::variant::Origin::Qp.profile_name(), &self.rates)
     }
 }
 

@@ -1,0 +1,181 @@
+//! The circulation a problem's schedule runs with, resolved once, and the problem resolved
+//! around it.
+//!
+//! A problem file asks for the paper's circulation `π/C`, a given angle, or the calibrated one
+//! (the root of `twist(D) = ±π` on the exact engine, [`crate::engines::calibrate`]). A
+//! calibration that does not converge is an error here ([`CirculationError::Calibration`]):
+//! nothing downstream may label its circulation "calibrated".
+//!
+//! [`Resolved`] is what every command starts from: the problem, its schedule with the resolved
+//! circulation, and (computed once, on first use) the calibration of its joint path and the
+//! exact evaluation of every library profile on it.
+
+use std::cell::OnceCell;
+use std::fmt;
+
+use serde::Serialize;
+
+use crate::engines::calibrate::{calibrate, Calibration};
+use crate::engines::evaluate::Evaluation;
+use crate::model::Cylinder;
+use crate::numeric::roots::RootStatus;
+use crate::problem::{Circulation, Manoeuvre, Problem, ProfileKind};
+use crate::schedule::profile::Profile;
+use crate::schedule::{paper_circulation, Schedule, ScheduleError};
+
+/// Why a problem's circulation could not be resolved.
+#[derive(Debug, thiserror::Error)]
+pub enum CirculationError {
+    /// The schedule cannot be built.
+    #[error(transparent)]
+    Schedule(#[from] ScheduleError),
+    /// Calibration found no circulation that turns the cat by π.
+    #[error("manoeuvre.circulation = \"calibrated\": no circulation near the paper's {near:.6} rad turns this cat by π (the search ended: {status})")]
+    Calibration {
+        /// Where the search started, rad.
+        near: f64,
+        /// How it ended.
+        status: RootStatus,
+    },
+}
+
+/// Where a circulation came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CirculationSource {
+    /// The paper's `π/C`.
+    Paper,
+    /// Calibrated on the exact engine (a converged calibration).
+    Calibrated,
+    /// Given in the problem file.
+    Given,
+}
+
+impl fmt::Display for CirculationSource {
+    /// The kebab-case name, as in problem files: `paper`, `calibrated`, `given`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            CirculationSource::Paper => "paper",
+            CirculationSource::Calibrated => "calibrated",
+            CirculationSource::Given => "given",
+        })
+    }
+}
+
+/// A circulation and where it came from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ResolvedCirculation {
+    /// `∫ω ds`, rad.
+    pub radians: f64,
+    /// Its source.
+    pub source: CirculationSource,
+    /// The calibration, when one was run.
+    pub calibration: Option<Calibration>,
+}
+
+impl ResolvedCirculation {
+    /// The circulation of a converged calibration; `None` when it did not converge.
+    pub fn from_calibration(calibration: &Calibration) -> Option<ResolvedCirculation> {
+        calibration.status.is_converged().then_some(ResolvedCirculation {
+            radians: calibration.circulation,
+            source: CirculationSource::Calibrated,
+            calibration: Some(*calibration),
+        })
+    }
+}
+
+/// Resolves manoeuvre `m`'s circulation for `cat` over a fall of `fall_time` s (running the
+/// calibration to `tolerance` rad of twist if asked).
+pub fn resolve_circulation(
+    cat: &Cylinder,
+    m: &Manoeuvre,
+    fall_time: f64,
+    tolerance: f64,
+) -> Result<ResolvedCirculation, CirculationError> {
+    let paper = || paper_circulation(cat, m.theta());
+    Ok(match m.circulation {
+        Circulation::Paper => {
+            ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None }
+        }
+        Circulation::Angle(a) => ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None },
+        Circulation::Calibrated => {
+            let near = paper()?;
+            let cal = calibrate(cat, &Schedule::from_manoeuvre(m, fall_time, near), tolerance);
+            ResolvedCirculation::from_calibration(&cal)
+                .ok_or(CirculationError::Calibration { near, status: cal.status })?
+        }
+    })
+}
+
+/// A problem resolved once: its schedule and circulation, its calibration and its library
+/// profiles' evaluations, handed to every command.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    /// The problem as loaded.
+    pub problem: Problem,
+    /// The problem's own schedule with [`Resolved::circulation`].
+    pub schedule: Schedule,
+    /// The resolved circulation.
+    pub circulation: ResolvedCirculation,
+    calibration: OnceCell<Calibration>,
+    library: OnceCell<Vec<(ProfileKind, Schedule, Evaluation)>>,
+}
+
+impl Resolved {
+    /// Resolves `problem`'s circulation (one calibration when it asks for one) and builds its
+    /// schedule.
+    pub fn new(problem: &Problem) -> Result<Resolved, CirculationError> {
+        let fall_time = problem.drop.fall_time();
+        let circulation = resolve_circulation(&problem.cat, &problem.manoeuvre, fall_time, problem.exact.tolerance)?;
+        let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
+        let calibration = OnceCell::new();
+        if let Some(c) = circulation.calibration {
+            let _ = calibration.set(c);
+        }
+        Ok(Resolved { problem: problem.clone(), schedule, circulation, calibration, library: OnceCell::new() })
+    }
+
+    /// The cat.
+    pub fn cat(&self) -> &Cylinder {
+        &self.problem.cat
+    }
+
+    /// The calibration of the problem's joint path, started from its circulation: the one
+    /// [`Resolved::new`] made for a calibrated problem, else made now (once). Its status may say
+    /// it failed; [`Resolved::calibrated`] is the circulation only when it converged.
+    pub fn calibration(&self) -> &Calibration {
+        self.calibration.get_or_init(|| calibrate(self.cat(), &self.schedule, self.problem.exact.tolerance))
+    }
+
+    /// The calibrated circulation, when the calibration converged.
+    pub fn calibrated(&self) -> Option<ResolvedCirculation> {
+        ResolvedCirculation::from_calibration(self.calibration())
+    }
+
+    /// The problem's schedule with the library profile `kind` in the twist phase.
+    pub fn with_library(&self, kind: ProfileKind) -> Schedule {
+        self.schedule.with_profile(Profile::library(kind))
+    }
+
+    /// Every library profile's schedule on the problem's path and circulation, evaluated by the
+    /// exact engine (once), the paper's cosine first.
+    pub fn library(&self) -> &[(ProfileKind, Schedule, Evaluation)] {
+        self.library.get_or_init(|| {
+            ProfileKind::ALL
+                .iter()
+                .map(|&k| {
+                    let s = self.with_library(k);
+                    let e = Evaluation::new(self.cat(), &s, &self.problem.exact);
+                    (k, s, e)
+                })
+                .collect()
+        })
+    }
+
+    /// The exact evaluation of the problem's own schedule (the library entry of its profile;
+    /// `None` only if the library lacked that profile).
+    pub fn own(&self) -> Option<&Evaluation> {
+        let kind = self.problem.manoeuvre.profile;
+        self.library().iter().find(|(k, _, _)| *k == kind).map(|(_, _, e)| e)
+    }
+}

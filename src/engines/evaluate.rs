@@ -1,0 +1,151 @@
+//! One exact evaluation of a schedule: what every command reports about it.
+//!
+//! For a schedule on a cat, the exact engine gives
+//! - the reorientation: signed twist about A's initial `+z` and swing of the spine axis (rad),
+//!   from the adaptive Magnus integration ([`crate::engines::exact::flip`]) to
+//!   `exact.tolerance`, with its error estimate and whether it met the tolerance;
+//! - the peak motor torques per phase and joint ([`PhasePeaks`], N·m) from Newton–Euler on the
+//!   zero-momentum motion, and the largest action–reaction gap;
+//! - the joint-rate jumps (impulses `M(q) Δq̇`, N·m·s) larger than [`JUMP_TOLERANCE`];
+//! - `momentum_max`: the largest `|H|` about the centre of mass along the motion, relative to a
+//!   half's typical momentum `I* · max|q̇|` (`I*` the end-transverse inertia; zero in exact
+//!   arithmetic).
+//!
+//! [`CompareRow`] is the same evaluation as a row of the peak-torque table, with the peak
+//! torque of the paper's model `I* · max|ω̇| = I* C_a |D| / T²` beside it.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::engines::exact::{body_rate, flip, momentum, Flip};
+use crate::engines::peaks::PhasePeaks;
+use crate::engines::torque::{peak_torques, velocity_jumps, VelocityJump};
+use crate::engines::JUMP_TOLERANCE;
+use crate::model::Cylinder;
+use crate::problem::settings::ExactSettings;
+use crate::schedule::variant::Origin;
+use crate::schedule::{Phase, Schedule};
+
+/// The exact engine's numbers on one schedule.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Evaluation {
+    /// Twist, swing (rad), steps, error estimate and convergence of the integration.
+    pub flip: Flip,
+    /// Peak motor torques per phase and joint, N·m.
+    pub peaks: PhasePeaks,
+    /// Largest gap between the joint torques from B's and A's sides, N·m.
+    pub action_reaction_gap: f64,
+    /// Joint-rate jumps (impulses); empty when the schedule is smooth.
+    pub jumps: Vec<VelocityJump>,
+    /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
+    pub momentum_max: f64,
+    /// Wall-clock time of the flip, torques and jumps, s.
+    pub run_time_s: f64,
+}
+
+impl Evaluation {
+    /// Evaluates `schedule` on `cat` with the exact engine's `settings`.
+    pub fn new(cat: &Cylinder, schedule: &Schedule, settings: &ExactSettings) -> Evaluation {
+        let start = Instant::now();
+        let flip = flip(cat, schedule, settings.tolerance);
+        let peaks = peak_torques(cat, schedule, settings.torque_samples);
+        let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
+        let run_time_s = start.elapsed().as_secs_f64();
+        Evaluation {
+            flip,
+            peaks: PhasePeaks::from_peaks(&peaks),
+            action_reaction_gap: peaks.action_reaction_gap,
+            jumps,
+            momentum_max: momentum_max(cat, schedule, settings.torque_samples),
+            run_time_s,
+        }
+    }
+
+    /// Signed twist, degrees.
+    pub fn twist_deg(&self) -> f64 {
+        self.flip.twist.to_degrees()
+    }
+
+    /// Swing, degrees.
+    pub fn swing_deg(&self) -> f64 {
+        self.flip.swing.to_degrees()
+    }
+
+    /// Largest generalised impulse of a jump, N·m·s (0 when none).
+    pub fn max_impulse(&self) -> f64 {
+        self.jumps.iter().flat_map(|j| j.impulse).map(f64::abs).fold(0.0, f64::max)
+    }
+}
+
+/// Largest `|H|` of the zero-momentum motion on `samples + 1` points per phase, relative to
+/// `I* · max|q̇|` (absolute when the cat never moves).
+pub fn momentum_max(cat: &Cylinder, schedule: &Schedule, samples: usize) -> f64 {
+    let (mut h_max, mut qd_max) = (0.0f64, 0.0f64);
+    for phase in Phase::ALL {
+        let dur = schedule.durations[phase.index()];
+        for k in 0..=samples {
+            let st = schedule.phase_state(phase, dur * k as f64 / samples as f64);
+            let w = body_rate(cat, st.q, st.qd);
+            h_max = h_max.max(momentum(cat, &st, &w).norm());
+            qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
+        }
+    }
+    let reference = cat.end_transverse() * qd_max;
+    if reference > 0.0 {
+        h_max / reference
+    } else {
+        h_max
+    }
+}
+
+/// One row of the peak-torque table: an evaluation with the schedule's profile data.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CompareRow {
+    /// Problem name.
+    pub problem: String,
+    /// Profile name.
+    pub profile: String,
+    /// Where the profile comes from: `paper`, `library`, `qp`, `refined` or `refined-all-phases`.
+    pub origin: Origin,
+    /// Whether the rate is zero at both ends of the twist phase.
+    pub rest_to_rest: bool,
+    /// Peak-acceleration coefficient `max|A|` of the normalised profile.
+    pub accel_coefficient: f64,
+    /// Peak torque in the paper's model `I* · max|ω̇|`, N·m.
+    pub model_peak_nm: f64,
+    /// Exact peak torques per phase and joint, N·m.
+    pub exact_peak_nm: PhasePeaks,
+    /// Number of velocity jumps (impulses).
+    pub velocity_jumps: usize,
+    /// Largest generalised impulse of a jump, N·m·s (0 when none).
+    pub max_impulse_nms: f64,
+    /// Signed twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Circulation, rad.
+    pub circulation_rad: f64,
+}
+
+impl CompareRow {
+    /// The row of `schedule` (made by `origin`) on `cat`, from its evaluation `e`.
+    pub fn new(problem: &str, cat: &Cylinder, schedule: &Schedule, origin: Origin, e: &Evaluation) -> CompareRow {
+        let coefficient = schedule.profile.peak_accel_coefficient();
+        let t2 = schedule.durations[Phase::Twist.index()];
+        CompareRow {
+            problem: problem.to_string(),
+            profile: schedule.profile.name().to_string(),
+            origin,
+            rest_to_rest: schedule.profile.is_rest_to_rest(),
+            accel_coefficient: coefficient,
+            model_peak_nm: cat.end_transverse() * coefficient * schedule.circulation.abs() / (t2 * t2),
+            exact_peak_nm: e.peaks,
+            velocity_jumps: e.jumps.len(),
+            max_impulse_nms: e.max_impulse(),
+            twist_deg: e.twist_deg(),
+            swing_deg: e.swing_deg(),
+            circulation_rad: schedule.circulation,
+        }
+    }
+}
