@@ -12,6 +12,31 @@
 //! the straight cat. SI units: kg, m, s, rad, N·m. Twist is signed, right-handed about A's
 //! initial `+z` (the head direction).
 //!
+//! ## Example
+//!
+//! Load a problem from TOML (every field has a default), resolve it once (its schedule and
+//! circulation), evaluate the schedule with the exact engine and read the twist:
+//!
+//! ```
+//! use catflip::engines::circulation::Resolved;
+//! use catflip::engines::evaluate::Evaluation;
+//! use catflip::problem::Problem;
+//!
+//! let toml = r#"
+//! name = "example"
+//! [manoeuvre]
+//! profile = "cycloidal"
+//! circulation = "paper"
+//! "#;
+//! let problem = Problem::from_toml(toml, "example.toml", &[]).expect("a valid problem");
+//! let resolved = Resolved::new(&problem).expect("the paper's circulation exists for this cat");
+//! let e = Evaluation::new(&problem.cat, &resolved.schedule, &problem.exact);
+//! println!("twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m", e.twist_deg(), e.swing_deg(), e.peaks.max);
+//! // The paper's circulation π/C turns the default cat by about 174°, not 180° (DESIGN.md §3).
+//! assert!((e.twist_deg().abs() - 174.07).abs() < 0.01);
+//! assert!(e.flip.converged);
+//! ```
+//!
 //! ## References
 //! - A. Rasmussen, S. Richardson, W. McDermott, *Cat Flipping* (student paper);
 //! - T. R. Kane and M. P. Scher, *A dynamical explanation of the falling cat phenomenon*,

@@ -4,8 +4,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
 
+use catflip::engines::circulation::Resolved;
+use catflip::engines::Engine;
 use catflip::problem::Problem;
 
 #[derive(Parser)]
@@ -27,14 +29,6 @@ struct Common {
     json: bool,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum Engine {
-    /// The momentum-map engine (ground truth).
-    Exact,
-    /// rapier3d-f64 multibody simulation.
-    Rapier,
-}
-
 #[derive(Subcommand)]
 enum Command {
     /// The paper's numbers: published, literal recomputation, corrected.
@@ -43,8 +37,9 @@ enum Command {
     Simulate {
         #[command(flatten)]
         common: Common,
-        /// Engine to run.
-        #[arg(long, value_enum, default_value = "exact")]
+        /// Engine to run: `exact` (the momentum-map engine, ground truth) or `rapier`
+        /// (rapier3d-f64 multibody simulation).
+        #[arg(long, default_value = "exact")]
         engine: Engine,
         /// Time step for --engine rapier, s (overrides rapier.dt).
         #[arg(long)]
@@ -119,22 +114,19 @@ fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
         Command::Audit(common) => {
-            let problem = load(&common, &[])?;
-            let audit = catflip::report::audit::audit_with_exact(&problem)?;
+            let r = Resolved::new(&load(&common, &[])?)?;
+            let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt } => {
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
-            let problem = load(&common, &extra)?;
-            let report = match engine {
-                Engine::Exact => catflip::report::simulate::simulate_exact(&problem)?,
-                Engine::Rapier => catflip::report::simulate::simulate_rapier(&problem)?,
-            };
+            let r = Resolved::new(&load(&common, &extra)?)?;
+            let report = catflip::report::simulate::simulate(&r, engine)?;
             emit(common.json, &report, || report.to_text())?;
         }
         Command::Optimize(common) => {
-            let problem = load(&common, &[])?;
-            let report = catflip::optimize::optimize(&problem)?;
+            let r = Resolved::new(&load(&common, &[])?)?;
+            let report = catflip::optimize::optimize(&r)?;
             emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Run { problems, overrides, out } => {
@@ -146,7 +138,7 @@ fn run() -> anyhow::Result<()> {
                     eprintln!("warning: {}: {w}", path.display());
                 }
                 let command = regenerate(format!("cargo run --release -- run {}", path.display()), &overrides);
-                let outcome = catflip::report::run::run(&problem, &command, &out)?;
+                let outcome = catflip::report::run::run(&Resolved::new(&problem)?, &command, &out)?;
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }
@@ -165,7 +157,7 @@ fn run() -> anyhow::Result<()> {
                 1.0 / 4000.0,
                 1.0 / 8000.0,
             ];
-            let outcome = catflip::report::run::run_bench(&p, &command, &out, &dts)?;
+            let outcome = catflip::report::run::run_bench(&Resolved::new(&p)?, &command, &out, &dts)?;
             if json {
                 let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
                 print!("{text}");
@@ -175,8 +167,8 @@ fn run() -> anyhow::Result<()> {
             }
         }
         Command::Compare(common) => {
-            let problem = load(&common, &[])?;
-            let table = catflip::report::compare::compare(&problem, &[])?;
+            let r = Resolved::new(&load(&common, &[])?)?;
+            let table = catflip::report::compare::compare(&r, &[]);
             emit(common.json, &table, || table.to_markdown())?;
         }
     }

@@ -2,6 +2,7 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
+use catflip::engines::circulation::Resolved;
 use catflip::optimize::optimize;
 use catflip::problem::manoeuvre::ProfileKind;
 use catflip::problem::Problem;
@@ -16,7 +17,7 @@ fn small() -> Problem {
 #[test]
 fn table_has_every_profile_and_the_paper_model_peaks() {
     let p = Problem::default();
-    let t = compare(&p, &[]).expect("runs");
+    let t = compare(&Resolved::new(&p).expect("resolves"), &[]);
     assert_eq!(t.rows.len(), ProfileKind::ALL.len());
     let t2 = 0.6 * p.drop.fall_time();
     for r in &t.rows {
@@ -41,7 +42,8 @@ fn table_has_every_profile_and_the_paper_model_peaks() {
 #[test]
 fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     let p = small();
-    let r = optimize(&p).expect("runs");
+    let resolved = Resolved::new(&p).expect("resolves");
+    let r = optimize(&resolved).expect("runs");
     assert!(r.qp.status.is_solved(), "{:?}", r.qp.status);
     // N = 61 is odd: the discrete optimum is the bang-bang value 4 D I*/T² (qp module docs).
     assert_relative_eq!(r.qp.peak_torque, r.qp_closed_form_nm.unwrap_or(f64::NAN), max_relative = 1e-7);
@@ -53,7 +55,7 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     );
     let refined = r.refined_optimum.as_ref().expect("refinement ran");
     let peak = refined.evaluation.exact_peak_nm.twist[0].max(refined.evaluation.exact_peak_nm.twist[1]);
-    let table = compare(&p, &[]).expect("runs");
+    let table = compare(&resolved, &[]);
     for row in &table.rows {
         let lib = row.exact_peak_nm.twist[0].max(row.exact_peak_nm.twist[1]);
         assert!(peak < lib, "refined {peak} ≥ {} ({lib})", row.profile);
@@ -61,7 +63,7 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     // The refinement changes the timing only: the flip is unchanged, and with the calibrated
     // circulation it is π.
     assert_relative_eq!(refined.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
-    assert_relative_eq!(refined.calibrated_twist_deg.abs(), 180.0, epsilon = 1e-6);
+    assert_relative_eq!(refined.calibrated_twist_deg.expect("calibration converged").abs(), 180.0, epsilon = 1e-6);
     assert_eq!(refined.evaluation.velocity_jumps, 0);
     // Retiming bend and unbend too lowers the whole manoeuvre's peak below the twist-only
     // refinement's (which the harmonic bend dominates), keeps every phase rest to rest, and
@@ -76,7 +78,11 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     assert_eq!(whole.optimum.evaluation.velocity_jumps, 0);
     assert_relative_eq!(whole.optimum.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
     assert_relative_eq!(whole.optimum.evaluation.swing_deg, table.rows[0].swing_deg, epsilon = 1e-7);
-    assert_relative_eq!(whole.optimum.calibrated_twist_deg.abs(), 180.0, epsilon = 1e-6);
+    assert_relative_eq!(
+        whole.optimum.calibrated_twist_deg.expect("calibration converged").abs(),
+        180.0,
+        epsilon = 1e-6
+    );
 }
 
 #[test]
@@ -84,7 +90,7 @@ fn run_writes_every_result_file_atomically() {
     let out = std::env::temp_dir().join(format!("catflip-run-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
     let p = small();
-    let outcome = catflip::report::run::run(&p, "test", &out).expect("runs");
+    let outcome = catflip::report::run::run(&Resolved::new(&p).expect("resolves"), "test", &out).expect("runs");
     for f in [
         "report.md",
         "audit.md",

@@ -97,7 +97,9 @@ pub fn resolve_circulation(
         Circulation::Paper => {
             ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None }
         }
-        Circulation::Angle(a) => ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None },
+        Circulation::Angle(a) => {
+            ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None }
+        }
         Circulation::Calibrated => {
             let near = paper()?;
             let cal = calibrate(cat, &Schedule::from_manoeuvre(m, fall_time, near), tolerance);
@@ -177,5 +179,37 @@ impl Resolved {
     pub fn own(&self) -> Option<&Evaluation> {
         let kind = self.problem.manoeuvre.profile;
         self.library().iter().find(|(k, _, _)| *k == kind).map(|(_, _, e)| e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_calibration_gives_no_calibrated_circulation() {
+        let failed = Calibration {
+            circulation: 3.0,
+            twist: 1.0,
+            swing: f64::NAN,
+            evaluations: 13,
+            status: RootStatus::NoBracket,
+        };
+        assert!(ResolvedCirculation::from_calibration(&failed).is_none());
+        let converged = Calibration { status: RootStatus::Converged, ..failed };
+        let c = ResolvedCirculation::from_calibration(&converged);
+        assert_eq!(c.map(|c| c.source), Some(CirculationSource::Calibrated));
+        assert_eq!(CirculationSource::Calibrated.to_string(), "calibrated");
+    }
+
+    #[test]
+    fn a_calibrated_problem_is_resolved_with_one_converged_calibration() {
+        let mut p = Problem::default();
+        p.manoeuvre.circulation = Circulation::Calibrated;
+        let r = Resolved::new(&p).expect("the default cat calibrates");
+        assert_eq!(r.circulation.source, CirculationSource::Calibrated);
+        // The calibration asked for later is the one made while resolving, not a second one.
+        assert_eq!(Some(*r.calibration()), r.circulation.calibration);
+        assert_eq!(r.schedule.circulation.to_bits(), r.circulation.radians.to_bits());
     }
 }

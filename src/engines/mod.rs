@@ -51,3 +51,28 @@ impl fmt::Display for Engine {
         f.write_str(self.name())
     }
 }
+
+impl std::str::FromStr for Engine {
+    type Err = String;
+
+    /// `exact` or `rapier`, as on the command line.
+    fn from_str(s: &str) -> Result<Engine, String> {
+        [Engine::Exact, Engine::Rapier]
+            .into_iter()
+            .find(|e| e.name() == s)
+            .ok_or_else(|| format!("unknown engine `{s}`: expected `exact` or `rapier`"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn engine_names_round_trip() {
+        for e in [Engine::Exact, Engine::Rapier] {
+            assert_eq!(e.to_string().parse::<Engine>(), Ok(e));
+        }
+        assert!("magnus".parse::<Engine>().is_err());
+    }
+}

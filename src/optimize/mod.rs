@@ -18,22 +18,19 @@ pub mod refine;
 
 use serde::Serialize;
 
-use crate::engines::calibrate::{calibrate, Calibration};
+use crate::engines::calibrate::Calibration;
+use crate::engines::circulation::{Resolved, ResolvedCirculation};
+use crate::engines::evaluate::{CompareRow, Evaluation};
 use crate::engines::exact::flip;
-use crate::optimize::qp::{ProfileQp, ProfileQpSolution, QpError};
-use crate::optimize::refine::{phase_distance, rate_nodes, refine, retimed, Refinement};
-use crate::problem::Problem;
-use crate::report::compare::{row, CompareRow};
-use crate::report::simulate::{resolve_circulation, ResolvedCirculation, SimulateError};
 use crate::schedule::profile::Profile;
+use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::{Phase, Schedule};
+use qp::{ProfileQp, ProfileQpSolution, QpError};
+use refine::{phase_distance, rate_nodes, refine, retimed, Refinement};
 
 /// Why optimisation could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum OptimizeError {
-    /// The schedule or circulation could not be resolved.
-    #[error(transparent)]
-    Simulate(#[from] SimulateError),
     /// A QP's data was refused.
     #[error(transparent)]
     Qp(#[from] QpError),
@@ -42,18 +39,24 @@ pub enum OptimizeError {
 /// One optimised profile, evaluated.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Optimum {
+    /// Which schedule it is.
+    #[serde(skip)]
+    pub variant: Variant,
     /// The evaluation on the problem's circulation (a peak-torque table row).
     pub evaluation: CompareRow,
-    /// Twist with the calibrated circulation, degrees.
-    pub calibrated_twist_deg: f64,
-    /// Swing with the calibrated circulation, degrees.
-    pub calibrated_swing_deg: f64,
+    /// Twist with the calibrated circulation, degrees (absent when the calibration failed).
+    pub calibrated_twist_deg: Option<f64>,
+    /// Swing with the calibrated circulation, degrees (absent when the calibration failed).
+    pub calibrated_swing_deg: Option<f64>,
     /// Node rates, rad/s.
     pub rates: Vec<f64>,
+    /// The schedule itself, on the problem's circulation.
+    #[serde(skip)]
+    pub schedule: Schedule,
+    /// Its exact evaluation there.
+    #[serde(skip)]
+    pub exact: Evaluation,
 }
-
-/// Name of the twist profile of the schedule with every phase retimed.
-pub const WHOLE: &str = "exact-refined-all-phases";
 
 /// The schedule with all three phases retimed against their exact peaks: the joint path (and so
 /// the flip) is the problem's; only the timing of bend, twist and unbend changes.
@@ -66,9 +69,6 @@ pub struct WholeRetiming {
     pub bend: Refinement,
     /// The unbend phase's refinement.
     pub unbend: Refinement,
-    /// The schedule itself.
-    #[serde(skip)]
-    pub schedule: Schedule,
 }
 
 /// Everything `catflip optimize` reports.
@@ -78,7 +78,7 @@ pub struct OptimizeReport {
     pub problem: String,
     /// The circulation the profiles realise.
     pub circulation: ResolvedCirculation,
-    /// The calibration of this joint path (π exactly).
+    /// The calibration of this joint path (π exactly when its status is `converged`).
     pub calibration: Calibration,
     /// The profile QP's solve: status, iterations, residuals, gap.
     pub qp: ProfileQpSolution,
@@ -96,36 +96,44 @@ pub struct OptimizeReport {
     pub best_library: (String, f64),
 }
 
-/// Runs the profile QP and the exact refinement on a problem.
-pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
-    let circulation = resolve_circulation(problem)?;
-    let base = Schedule::new(problem, circulation.radians);
-    let t2 = base.durations[1];
-    let inertia = problem.cat.end_transverse();
-    let qp_data = ProfileQp::new(&problem.optimize, t2, circulation.radians, inertia);
+/// Runs the profile QP and the exact refinement on a resolved problem.
+pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
+    let problem = &r.problem;
+    let base = &r.schedule;
+    let t2 = base.durations[Phase::Twist.index()];
+    let qp_data = ProfileQp::new(&problem.optimize, t2, r.circulation.radians, problem.cat.end_transverse());
     let qp = qp_data.solve()?;
-    let calibration = match circulation.calibration {
-        Some(c) => c,
-        None => calibrate(&problem.cat, &base, problem.exact.tolerance),
-    };
+    let calibrated = r.calibrated();
     // A schedule on the problem's circulation, evaluated there and with the calibrated one.
-    let evaluate = |s: &Schedule, origin: &str, rates: Vec<f64>| {
-        let f = flip(&problem.cat, &s.with_circulation(calibration.circulation), problem.exact.tolerance);
+    let evaluate = |s: Schedule, origin: Origin, rates: Vec<f64>| {
+        let exact = Evaluation::new(&problem.cat, &s, &problem.exact);
+        let at_calibrated =
+            calibrated.map(|c| flip(&problem.cat, &s.with_circulation(c.radians), problem.exact.tolerance));
         Optimum {
-            evaluation: row(problem, s, origin),
-            calibrated_twist_deg: f.twist.to_degrees(),
-            calibrated_swing_deg: f.swing.to_degrees(),
+            variant: Variant::new(origin),
+            evaluation: CompareRow::new(&problem.name, &problem.cat, &s, origin, &exact),
+            calibrated_twist_deg: at_calibrated.map(|f| f.twist.to_degrees()),
+            calibrated_swing_deg: at_calibrated.map(|f| f.swing.to_degrees()),
             rates,
+            schedule: s,
+            exact,
         }
     };
-    let qp_optimum = qp.to_profile().map(|p| evaluate(&base.with_profile(p), "qp", qp.rates.clone()));
-    let refinement = if qp.status.is_solved() { Some(refine(problem, &base, Phase::Twist, &qp.rates)?) } else { None };
+    let qp_optimum = qp.to_profile().map(|p| evaluate(base.with_profile(p), Origin::Qp, qp.rates.clone()));
+    let refinement = if qp.status.is_solved() {
+        Some(refine(&problem.cat, &problem.exact, &problem.optimize, base, Phase::Twist, &qp.rates)?)
+    } else {
+        None
+    };
     let refined_optimum = refinement
         .as_ref()
-        .and_then(|r| r.to_profile().map(|p| evaluate(&base.with_profile(p), "refined", r.rates.clone())));
+        .and_then(|f| f.to_profile().map(|p| evaluate(base.with_profile(p), Origin::Refined, f.rates.clone())));
     // Beyond the twist: retime the bend and the unbend too (their paths stay, so does the flip).
     let mut whole = None;
-    if let Some(twist) = refinement.as_ref().and_then(|r| Profile::from_rate_nodes(WHOLE, &r.rates)) {
+    let whole_twist = refinement
+        .as_ref()
+        .and_then(|f| Profile::from_rate_nodes(Origin::RefinedAllPhases.profile_name(), &f.rates).map(|p| (p, f)));
+    if let Some((twist, twist_refinement)) = whole_twist {
         let mut s = base.with_profile(twist);
         let mut phases = Vec::new();
         for phase in [Phase::Bend, Phase::Unbend] {
@@ -135,31 +143,24 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
                 s.durations[phase.index()],
                 problem.optimize.nodes,
             );
-            let r = refine(problem, &s, phase, &start)?;
-            if let Some(p) = r.to_profile() {
+            let f = refine(&problem.cat, &problem.exact, &problem.optimize, &s, phase, &start)?;
+            if let Some(p) = f.to_profile() {
                 s = retimed(&s, phase, p);
             }
-            phases.push(r);
+            phases.push(f);
         }
-        let rates = refinement.as_ref().map_or_else(Vec::new, |r| r.rates.clone());
-        whole = Some(WholeRetiming {
-            optimum: evaluate(&s, "refined-all-phases", rates),
-            bend: phases.remove(0),
-            unbend: phases.remove(0),
-            schedule: s,
-        });
+        let optimum = evaluate(s, Origin::RefinedAllPhases, twist_refinement.rates.clone());
+        whole = Some(WholeRetiming { optimum, bend: phases.remove(0), unbend: phases.remove(0) });
     }
-    let best_library = crate::problem::manoeuvre::ProfileKind::ALL
+    let best_library = r
+        .library()
         .iter()
-        .map(|&k| {
-            let r = row(problem, &base.with_profile(Profile::library(k)), "library");
-            (r.profile, r.exact_peak_nm.twist[0].max(r.exact_peak_nm.twist[1]))
-        })
-        .fold((String::new(), f64::INFINITY), |best, r| if r.1 < best.1 { r } else { best });
+        .map(|(k, _, e)| (k.name().to_string(), e.peaks.phase_max(Phase::Twist)))
+        .fold((String::new(), f64::INFINITY), |best, x| if x.1 < best.1 { x } else { best });
     Ok(OptimizeReport {
         problem: problem.name.clone(),
-        circulation,
-        calibration,
+        circulation: r.circulation,
+        calibration: *r.calibration(),
         qp_closed_form_nm: qp_data.closed_form_peak(),
         qp,
         qp_optimum,
@@ -171,86 +172,10 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
 }
 
 impl OptimizeReport {
-    /// A readable Markdown summary.
-    pub fn to_markdown(&self) -> String {
-        use std::fmt::Write;
-        let mut s = String::new();
-        let q = &self.qp;
-        let _ = writeln!(s, "## Torque-optimal twist profiles: `{}`\n", self.problem);
-        let _ = writeln!(
-            s,
-            "Circulation {:.9} rad ({:?}); calibrated circulation (exact flip of π) {:.9} rad ({:?}, {} evaluations).\n",
-            self.circulation.radians,
-            self.circulation.source,
-            self.calibration.circulation,
-            self.calibration.status,
-            self.calibration.evaluations
-        );
-        let _ = writeln!(
-            s,
-            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {:?}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {:.6} N·m (closed form of the discrete problem: {}).\n",
-            q.rates.len(),
-            q.status,
-            q.info.iterations,
-            1e3 * q.info.solve_time_s,
-            q.info.primal_residual,
-            q.info.dual_residual,
-            q.info.duality_gap,
-            q.peak_torque,
-            self.qp_closed_form_nm.map_or("none with limits or smoothing".to_string(), |c| format!("{c:.6} N·m"))
-        );
-        if let Some(r) = &self.refinement {
-            let accepted = r.iterations.iter().filter(|i| i.accepted).count();
-            let _ = writeln!(
-                s,
-                "**Exact-dynamics refinement**: {:?} after {} iterations ({} accepted); exact twist-phase peak (dense evaluation) {:.6} → {:.6} N·m.\n",
-                r.status,
-                r.iterations.len(),
-                accepted,
-                r.start_peak,
-                r.final_peak
-            );
-        }
-        let _ = writeln!(s, "| profile | model peak N·m | exact twist-phase peak τ1, τ2 N·m | exact max (all phases) N·m | twist ° (problem's circulation) | swing ° | twist ° (calibrated) | swing ° (calibrated) |");
-        let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
-        for o in [&self.qp_optimum, &self.refined_optimum].into_iter().flatten() {
-            let e = &o.evaluation;
-            let _ = writeln!(
-                s,
-                "| {} | {:.6} | {:.6}, {:.6} | {:.6} | {:.6} | {:.6} | {:.9} | {:.6} |",
-                e.profile,
-                e.model_peak_nm,
-                e.exact_peak_nm.twist[0],
-                e.exact_peak_nm.twist[1],
-                e.exact_peak_nm.max,
-                e.twist_deg,
-                e.swing_deg,
-                o.calibrated_twist_deg,
-                o.calibrated_swing_deg
-            );
-        }
-        if let Some(w) = &self.whole {
-            let e = &w.optimum.evaluation.exact_peak_nm;
-            let _ = writeln!(
-                s,
-                "\n**All phases retimed** (bend and unbend too, paths unchanged): bend {:.4} → {:.4}, unbend {:.4} → {:.4} N·m ({:?}, {:?}); whole-manoeuvre exact peak **{:.4} N·m** (bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}]); twist {:.6}°, calibrated {:.9}°.",
-                w.bend.start_peak, w.bend.final_peak, w.unbend.start_peak, w.unbend.final_peak, w.bend.status, w.unbend.status,
-                e.max, e.bend[0], e.bend[1], e.twist[0], e.twist[1], e.unbend[0], e.unbend[1],
-                w.optimum.evaluation.twist_deg, w.optimum.calibrated_twist_deg
-            );
-        }
-        let (name, peak) = &self.best_library;
-        let _ = writeln!(s, "\nBest library profile by exact twist-phase peak: {name} ({peak:.6} N·m).");
-        if let Some(o) = &self.refined_optimum {
-            let t = &o.evaluation.exact_peak_nm.twist;
-            let refined = t[0].max(t[1]);
-            let _ = writeln!(
-                s,
-                "The refined profile's exact twist-phase peak is {:.6} N·m: {:.1}% below the best library profile's.",
-                refined,
-                100.0 * (1.0 - refined / peak)
-            );
-        }
-        s
+    /// The optimised schedules, evaluated: QP, refined, every phase refined (those that exist).
+    pub fn optima(&self) -> impl Iterator<Item = &Optimum> {
+        [self.qp_optimum.as_ref(), self.refined_optimum.as_ref(), self.whole.as_ref().map(|w| &w.optimum)]
+            .into_iter()
+            .flatten()
     }
 }

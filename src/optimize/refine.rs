@@ -29,8 +29,9 @@
 use serde::Serialize;
 
 use crate::engines::torque::{joint_torques, peak_torques};
+use crate::model::Cylinder;
 use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
-use crate::problem::Problem;
+use crate::problem::settings::{ExactSettings, OptimizeSettings};
 use crate::schedule::profile::Profile;
 use crate::schedule::{JointState, Phase, Schedule};
 
@@ -130,7 +131,7 @@ pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule 
 
 /// Exact torque samples of one phase for node rates `w` of its progress variable, with their
 /// gradients.
-pub fn torque_samples(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> Vec<TorqueSample> {
+pub fn torque_samples(cat: &Cylinder, schedule: &Schedule, phase: Phase, w: &[f64]) -> Vec<TorqueSample> {
     let n = w.len();
     let h = schedule.durations[phase.index()] / (n - 1) as f64;
     let phi: Vec<f64> = std::iter::once(0.0)
@@ -139,7 +140,7 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, phase: Phase, w: &
             Some(*acc)
         }))
         .collect();
-    let tau = |a: f64, b: f64, c: f64| joint_torques(&problem.cat, &phase_path(schedule, phase, a, b, c)).tau;
+    let tau = |a: f64, b: f64, c: f64| joint_torques(cat, &phase_path(schedule, phase, a, b, c)).tau;
     // A sample: φ, φ̇ and their gradients with respect to ω as (node, weight) lists.
     let phi_grad = |k: usize| -> Vec<(usize, f64)> {
         if k == 0 {
@@ -185,10 +186,10 @@ pub fn torque_samples(problem: &Problem, schedule: &Schedule, phase: Phase, w: &
 }
 
 /// The exact twist-phase peak of node rates `w`, evaluated densely.
-fn phase_peak(problem: &Problem, schedule: &Schedule, phase: Phase, w: &[f64]) -> f64 {
+fn phase_peak(cat: &Cylinder, exact: &ExactSettings, schedule: &Schedule, phase: Phase, w: &[f64]) -> f64 {
     match Profile::from_rate_nodes("trial", w) {
         Some(p) => {
-            let peaks = peak_torques(&problem.cat, &retimed(schedule, phase, p), problem.exact.torque_samples);
+            let peaks = peak_torques(cat, &retimed(schedule, phase, p), exact.torque_samples);
             peaks.per_piece.get(phase.index()).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
         }
         None => f64::INFINITY,
@@ -207,16 +208,22 @@ fn sampled_peak(samples: &[TorqueSample]) -> f64 {
 
 /// Refines the node rates `start` of one phase's progress variable against that phase's exact
 /// peak torque (the rate and jerk limits of the problem apply to the twist phase only).
-pub fn refine(problem: &Problem, schedule: &Schedule, phase: Phase, start: &[f64]) -> Result<Refinement, QpError> {
-    let opt = &problem.optimize;
+pub fn refine(
+    cat: &Cylinder,
+    exact: &ExactSettings,
+    opt: &OptimizeSettings,
+    schedule: &Schedule,
+    phase: Phase,
+    start: &[f64],
+) -> Result<Refinement, QpError> {
     let t2 = schedule.durations[phase.index()];
     let distance = phase_distance(schedule, phase);
     // Bend and unbend must start and end at rest; the twist phase takes the user's boundary.
     let boundary = if phase == Phase::Twist { opt.boundary } else { crate::problem::settings::Boundary::RestToRest };
     let unit = distance.abs() / t2;
     let mut w = start.to_vec();
-    let mut samples = torque_samples(problem, schedule, phase, &w);
-    let start_peak = phase_peak(problem, schedule, phase, &w);
+    let mut samples = torque_samples(cat, schedule, phase, &w);
+    let start_peak = phase_peak(cat, exact, schedule, phase, &w);
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;
@@ -256,13 +263,13 @@ pub fn refine(problem: &Problem, schedule: &Schedule, phase: Phase, start: &[f64
             break;
         }
         let trial: Vec<f64> = w.iter().zip(&step.step).map(|(a, d)| a + d).collect();
-        let actual = phase_peak(problem, schedule, phase, &trial);
+        let actual = phase_peak(cat, exact, schedule, phase, &trial);
         let predicted_fall = sampled_peak(&samples) - step.predicted_peak;
         let ratio = if predicted_fall > 0.0 { (peak - actual) / predicted_fall } else { -1.0 };
         record.actual = actual;
         if ratio > 0.1 {
             record.accepted = true;
-            samples = torque_samples(problem, schedule, phase, &trial);
+            samples = torque_samples(cat, schedule, phase, &trial);
             w = trial;
             peak = actual;
             if ratio > 0.75 {

@@ -68,4 +68,3 @@ pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
 pub(crate) fn positive_opt(field: &str, value: Option<f64>) -> Result<(), ProblemError> {
     value.map_or(Ok(()), |v| positive(field, v))
 }
-

@@ -14,23 +14,58 @@
 //! Times are medians of repeated wall-clock measurements on this machine: for the record, not
 //! for pass/fail (criterion benches in `benches/` are the controlled measurement).
 
+use std::fmt;
 use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::engines::circulation::{CirculationError, Resolved};
+use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::{flip, integrate};
-use crate::engines::torque::peak_torques;
-use crate::problem::manoeuvre::{Circulation, ProfileKind};
-use crate::problem::Problem;
-use crate::report::simulate::momentum_max;
-use crate::schedule::profile::Profile;
-use crate::schedule::{paper_circulation, Schedule};
+use crate::engines::rapier::RapierError;
+use crate::problem::settings::ExactSettings;
+use crate::problem::{Problem, ProfileKind};
+use crate::schedule::Schedule;
+
+/// Why the benchmark could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// The rapier engine failed.
+    #[error(transparent)]
+    Rapier(#[from] RapierError),
+    /// The base problem could not be written as TOML for the stress cases' overrides.
+    #[error("cannot write the bench problem as TOML for the stress cases")]
+    Toml(#[from] toml::ser::Error),
+}
+
+/// How a benchmark point was computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// The exact engine's sixth-order Magnus integration with a fixed number of steps.
+    ExactMagnus6,
+    /// The exact engine's adaptive integration to a tolerance.
+    ExactAdaptive,
+    /// rapier3d-f64 at a time step.
+    Rapier,
+}
+
+impl fmt::Display for Method {
+    /// The name in files and tables: `exact-magnus6`, `exact-adaptive`, `rapier`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Method::ExactMagnus6 => "exact-magnus6",
+            Method::ExactAdaptive => "exact-adaptive",
+            Method::Rapier => "rapier",
+        })
+    }
+}
 
 /// One measurement of an engine.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EnginePoint {
-    /// `exact-magnus6`, `exact-adaptive` or `rapier`.
-    pub engine: String,
+    /// How it was computed.
+    pub engine: Method,
     /// The resolution: steps per phase, tolerance (rad) or time step (s).
     pub setting: f64,
     /// Median wall-clock time, s.
@@ -133,7 +168,7 @@ pub fn exact_points(problem: &Problem, schedule: &Schedule) -> Vec<EnginePoint> 
                 std::hint::black_box(integrate(cat, schedule, n, |_| {}));
             });
             EnginePoint {
-                engine: "exact-magnus6".into(),
+                engine: Method::ExactMagnus6,
                 setting: 1.0 / n as f64,
                 time_s,
                 error_rad: (r.inverse() * reference).angle(),
@@ -149,7 +184,7 @@ pub fn exact_points(problem: &Problem, schedule: &Schedule) -> Vec<EnginePoint> 
             std::hint::black_box(flip(cat, schedule, tol));
         });
         EnginePoint {
-            engine: "exact-adaptive".into(),
+            engine: Method::ExactAdaptive,
             setting: tol,
             time_s,
             error_rad: (f.orientation.inverse() * reference).angle(),
@@ -163,15 +198,10 @@ pub fn exact_points(problem: &Problem, schedule: &Schedule) -> Vec<EnginePoint> 
     out
 }
 
-/// rapier3d: a time-step sweep on `schedule` against the exact engine.
-pub fn rapier_points(
-    problem: &Problem,
-    schedule: &Schedule,
-    dts: &[f64],
-) -> Result<Vec<EnginePoint>, crate::engines::rapier::RapierError> {
+/// rapier3d: a time-step sweep on `schedule` against the exact engine (at 1e-12 rad).
+pub fn rapier_points(problem: &Problem, schedule: &Schedule, dts: &[f64]) -> Result<Vec<EnginePoint>, RapierError> {
     let cat = &problem.cat;
-    let exact = flip(cat, schedule, 1e-12);
-    let exact_peak = peak_torques(cat, schedule, problem.exact.torque_samples).max;
+    let exact = Evaluation::new(cat, schedule, &ExactSettings { tolerance: 1e-12, ..problem.exact });
     let mut points = Vec::new();
     for &dt in dts {
         let settings = crate::problem::settings::RapierSettings { dt, ..problem.rapier };
@@ -179,12 +209,12 @@ pub fn rapier_points(
         let run = crate::engines::rapier::simulate(cat, schedule, &settings)?;
         let time_s = start.elapsed().as_secs_f64();
         points.push(EnginePoint {
-            engine: "rapier".into(),
+            engine: Method::Rapier,
             setting: run.dt,
             time_s,
-            error_rad: (run.twist - exact.twist).abs(),
-            swing_error_rad: (run.swing - exact.swing).abs(),
-            peak_torque_rel_error: Some((run.peak_torque.max - exact_peak) / exact_peak),
+            error_rad: (run.twist - exact.flip.twist).abs(),
+            swing_error_rad: (run.swing - exact.flip.swing).abs(),
+            peak_torque_rel_error: Some((run.peak_torque.max - exact.peaks.max) / exact.peaks.max),
             observed_order: None,
         });
     }
@@ -192,7 +222,7 @@ pub fn rapier_points(
 }
 
 /// The stress cases, each a set of overrides on `base`.
-pub fn stress(base: &Problem) -> Vec<StressCase> {
+pub fn stress(base: &Problem) -> Result<Vec<StressCase>, BenchError> {
     let cases: [(&str, &[&str]); 11] = [
         ("nearly folded (θ = 2°)", &["manoeuvre.theta_deg=2"]),
         ("nearly straight (θ = 179°)", &["manoeuvre.theta_deg=179"]),
@@ -209,8 +239,8 @@ pub fn stress(base: &Problem) -> Vec<StressCase> {
         ("cone inside the gimbal margin (θ = 92°)", &["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=92"]),
         ("short twist phase (phases 0.45/0.1/0.45)", &["manoeuvre.phases=[0.45, 0.1, 0.45]"]),
     ];
-    let text = toml::to_string(base).unwrap_or_default();
-    cases
+    let text = toml::to_string(base)?;
+    Ok(cases
         .iter()
         .map(|(case, o)| {
             let overrides: Vec<String> = o.iter().map(|s| s.to_string()).collect();
@@ -220,39 +250,32 @@ pub fn stress(base: &Problem) -> Vec<StressCase> {
                     .unwrap_or_else(|e| StressCase::refused(case, overrides, e.to_string())),
             }
         })
-        .collect()
+        .collect())
 }
 
-fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<StressCase, crate::schedule::ScheduleError> {
-    let d = match p.manoeuvre.circulation {
-        Circulation::Angle(a) => a,
-        _ => paper_circulation(&p.cat, p.manoeuvre.theta())?,
-    };
-    let s = Schedule::new(p, d);
-    let f = flip(&p.cat, &s, p.exact.tolerance);
-    let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
+fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<StressCase, CirculationError> {
+    let r = Resolved::new(p)?;
+    let e = Evaluation::new(&p.cat, &r.schedule, &p.exact);
     Ok(StressCase {
         case: case.to_string(),
         overrides,
-        converged: f.converged,
-        error_estimate_rad: f.error_estimate,
-        steps_per_phase: f.steps_per_phase,
-        twist_deg: f.twist.to_degrees(),
-        momentum_max: momentum_max(p, &s),
-        action_reaction_rel: peaks.action_reaction_gap / peaks.max.max(f64::MIN_POSITIVE),
-        peak_torque_nm: peaks.max,
+        converged: e.flip.converged,
+        error_estimate_rad: e.flip.error_estimate,
+        steps_per_phase: e.flip.steps_per_phase,
+        twist_deg: e.twist_deg(),
+        momentum_max: e.momentum_max,
+        action_reaction_rel: e.action_reaction_gap / e.peaks.max.max(f64::MIN_POSITIVE),
+        peak_torque_nm: e.peaks.max,
         refused: None,
     })
 }
 
-/// The full benchmark on a problem (its schedule with a cycloidal profile for rapier).
-pub fn bench(problem: &Problem, dts: &[f64]) -> Result<BenchReport, crate::report::simulate::SimulateError> {
-    let d = paper_circulation(&problem.cat, problem.manoeuvre.theta())?;
-    let schedule = Schedule::new(problem, d);
-    let mut points = exact_points(problem, &schedule);
-    let smooth = schedule.with_profile(Profile::library(ProfileKind::Cycloidal));
-    points.extend(rapier_points(problem, &smooth, dts)?);
-    Ok(BenchReport { points, stress: stress(problem) })
+/// The full benchmark on a resolved problem (its schedule, with a cycloidal profile for rapier).
+pub fn bench(r: &Resolved, dts: &[f64]) -> Result<BenchReport, BenchError> {
+    let mut points = exact_points(&r.problem, &r.schedule);
+    let smooth = r.with_library(ProfileKind::Cycloidal);
+    points.extend(rapier_points(&r.problem, &smooth, dts)?);
+    Ok(BenchReport { points, stress: stress(&r.problem)? })
 }
 
 impl BenchReport {

@@ -8,42 +8,10 @@
 
 use serde::Serialize;
 
-use crate::engines::exact::flip;
-use crate::engines::torque::{peak_torques, velocity_jumps};
-use crate::problem::manoeuvre::ProfileKind;
-use crate::problem::Problem;
-use crate::report::simulate::{resolve_circulation, PhasePeaks, ResolvedCirculation, SimulateError, JUMP_TOLERANCE};
-use crate::schedule::profile::Profile;
-use crate::schedule::Schedule;
-
-/// One row of the peak-torque table.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct CompareRow {
-    /// Problem name.
-    pub problem: String,
-    /// Profile name.
-    pub profile: String,
-    /// Where the profile comes from: `paper`, `library`, `qp` or `refined`.
-    pub origin: String,
-    /// Whether the rate is zero at both ends of the twist phase.
-    pub rest_to_rest: bool,
-    /// Peak-acceleration coefficient `max|A|` of the normalised profile.
-    pub accel_coefficient: f64,
-    /// Peak torque in the paper's model `I* · max|ω̇|`, N·m.
-    pub model_peak_nm: f64,
-    /// Exact peak torques per phase and joint, N·m.
-    pub exact_peak_nm: PhasePeaks,
-    /// Number of velocity jumps (impulses).
-    pub velocity_jumps: usize,
-    /// Largest generalised impulse of a jump, N·m·s (0 when none).
-    pub max_impulse_nms: f64,
-    /// Signed twist, degrees.
-    pub twist_deg: f64,
-    /// Swing, degrees.
-    pub swing_deg: f64,
-    /// Circulation, rad.
-    pub circulation_rad: f64,
-}
+use crate::engines::circulation::{Resolved, ResolvedCirculation};
+pub use crate::engines::evaluate::CompareRow;
+use crate::engines::peaks::PhasePeaks;
+use crate::schedule::variant::Origin;
 
 /// The table with its shared settings.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -58,43 +26,14 @@ pub struct CompareTable {
     pub rows: Vec<CompareRow>,
 }
 
-/// One row for a given profile.
-pub fn row(problem: &Problem, schedule: &Schedule, origin: &str) -> CompareRow {
-    let cat = &problem.cat;
-    let coefficient = schedule.profile.peak_accel_coefficient();
-    let t2 = schedule.durations[1];
-    let f = flip(cat, schedule, problem.exact.tolerance);
-    let peaks = peak_torques(cat, schedule, problem.exact.torque_samples);
-    let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
-    CompareRow {
-        problem: problem.name.clone(),
-        profile: schedule.profile.name().to_string(),
-        origin: origin.to_string(),
-        rest_to_rest: schedule.profile.is_rest_to_rest(),
-        accel_coefficient: coefficient,
-        model_peak_nm: cat.end_transverse() * coefficient * schedule.circulation.abs() / (t2 * t2),
-        exact_peak_nm: PhasePeaks::from_peaks(&peaks),
-        velocity_jumps: jumps.len(),
-        max_impulse_nms: jumps.iter().flat_map(|j| j.impulse).map(f64::abs).fold(0.0, f64::max),
-        twist_deg: f.twist.to_degrees(),
-        swing_deg: f.swing.to_degrees(),
-        circulation_rad: schedule.circulation,
-    }
-}
-
-/// The table of every library profile; `extra` adds more rows (e.g. optimised profiles).
-pub fn compare(problem: &Problem, extra: &[(Profile, &str)]) -> Result<CompareTable, SimulateError> {
-    let circulation = resolve_circulation(problem)?;
-    let base = Schedule::new(problem, circulation.radians);
-    let mut rows: Vec<CompareRow> = ProfileKind::ALL
-        .iter()
-        .map(|&k| {
-            let origin = if k == ProfileKind::PaperCosine { "paper" } else { "library" };
-            row(problem, &base.with_profile(Profile::library(k)), origin)
-        })
-        .collect();
-    rows.extend(extra.iter().map(|(p, origin)| row(problem, &base.with_profile(p.clone()), origin)));
-    Ok(CompareTable { problem: problem.name.clone(), circulation, model_inertia: problem.cat.end_transverse(), rows })
+/// The table of every library profile (their evaluations made once, in [`Resolved::library`]);
+/// `extra` adds more rows (e.g. the optimisers' profiles, already evaluated).
+pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
+    let p = &r.problem;
+    let mut rows: Vec<CompareRow> =
+        r.library().iter().map(|(k, s, e)| CompareRow::new(&p.name, &p.cat, s, Origin::Library(*k), e)).collect();
+    rows.extend_from_slice(extra);
+    CompareTable { problem: p.name.clone(), circulation: r.circulation, model_inertia: p.cat.end_transverse(), rows }
 }
 
 impl CompareTable {
@@ -104,7 +43,7 @@ impl CompareTable {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "Peak torques of problem `{}` (circulation {:.6} rad, {:?}; paper's model with I* = {:.6} kg·m²). Exact peaks are |τ| per joint (τ1, τ2) in N·m.\n",
+            "Peak torques of problem `{}` (circulation {:.6} rad, {}; paper's model with I* = {:.6} kg·m²). Exact peaks are |τ| per joint (τ1, τ2) in N·m.\n",
             self.problem, self.circulation.radians, self.circulation.source, self.model_inertia
         );
         let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | jumps (max impulse N·m·s) | twist ° | swing ° |");

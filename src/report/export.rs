@@ -8,7 +8,7 @@
 
 use crate::engines::exact::history;
 use crate::engines::torque::joint_torques;
-use crate::problem::Problem;
+use crate::model::Cylinder;
 use crate::schedule::{Phase, Schedule};
 
 /// The CSV header.
@@ -16,9 +16,9 @@ pub const HEADER: &str = "t,phase,q1,q2,qd1,qd2,qdd1,qdd2,tau1,tau2,qw,qx,qy,qz,
 
 /// The schedule as CSV with `steps` intervals per phase (orientation from the exact engine on the
 /// same grid).
-pub fn schedule_csv(problem: &Problem, schedule: &Schedule, steps: usize) -> String {
+pub fn schedule_csv(cat: &Cylinder, schedule: &Schedule, steps: usize) -> String {
     let steps = steps.max(1);
-    let orientations = history(&problem.cat, schedule, steps);
+    let orientations = history(cat, schedule, steps);
     let mut out = String::with_capacity(200 * (3 * steps + 3));
     out.push_str(HEADER);
     out.push('\n');
@@ -28,7 +28,7 @@ pub fn schedule_csv(problem: &Problem, schedule: &Schedule, steps: usize) -> Str
         for k in 0..=steps {
             let s = dur * k as f64 / steps as f64;
             let st = schedule.phase_state(phase, s);
-            let tau = joint_torques(&problem.cat, &st).tau;
+            let tau = joint_torques(cat, &st).tau;
             let o = &orientations[phase.index() * steps + k];
             let q = o.orientation;
             out.push_str(&format!(

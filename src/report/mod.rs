@@ -1,7 +1,8 @@
 //! What catflip tells its users: the commands' reports, tables, plots and files.
 //!
 //! - [`run`]: `catflip run`, everything for one problem written atomically to `results/<name>/`;
-//! - [`simulate`], [`compare`], [`bench`]: the reports of `catflip simulate`, `compare`, `bench`;
+//! - [`simulate`], [`compare`], [`optimize`], [`bench`]: the reports of `catflip simulate`,
+//!   `compare`, `optimize` and `bench`;
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`export`]: schedules as CSV;
 //! - [`provenance`]: the header every generated report starts with.
@@ -10,6 +11,7 @@ pub mod audit;
 pub mod bench;
 pub mod compare;
 pub mod export;
+pub mod optimize;
 pub mod plot;
 pub mod provenance;
 pub mod run;

@@ -10,14 +10,18 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::engines::circulation::{CirculationError, Resolved, ResolvedCirculation};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::peaks::PhasePeaks;
+use crate::engines::rapier::RapierError;
 use crate::optimize::{optimize, OptimizeError, OptimizeReport};
-use crate::problem::Problem;
+use crate::problem::{Problem, ProfileKind};
+use crate::report::audit::AuditError;
+use crate::report::bench::BenchError;
 use crate::report::compare::{compare, CompareTable};
-use crate::report::simulate::{
-    exact_report, rapier_report, PhasePeaks, ResolvedCirculation, SimulateError, SimulationReport,
-};
-use crate::schedule::profile::Profile;
-use crate::schedule::Schedule;
+use crate::report::simulate::{exact_report, rapier_report, SimulationReport};
+use crate::schedule::variant::{Origin, Variant, VariantCirculation};
+use crate::schedule::{Phase, Schedule};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -30,18 +34,30 @@ pub enum RunError {
         /// The OS error.
         source: std::io::Error,
     },
-    /// An engine failed.
+    /// The problem's circulation could not be resolved.
     #[error(transparent)]
-    Simulate(#[from] SimulateError),
+    Circulation(#[from] CirculationError),
+    /// The rapier engine failed.
+    #[error(transparent)]
+    Rapier(#[from] RapierError),
     /// An optimiser failed.
     #[error(transparent)]
     Optimize(#[from] OptimizeError),
+    /// The audit refused a value.
+    #[error(transparent)]
+    Audit(#[from] AuditError),
+    /// The benchmark failed.
+    #[error(transparent)]
+    Bench(#[from] BenchError),
     /// A plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plot::PlotError),
     /// A result could not be serialised.
     #[error("cannot serialise {0}")]
     Json(&'static str),
+    /// The problem could not be written as TOML for the report's header.
+    #[error("cannot write the problem as TOML for the report header")]
+    Toml(#[from] toml::ser::Error),
 }
 
 /// What a run produced.
@@ -87,29 +103,30 @@ fn io(path: &Path, source: std::io::Error) -> RunError {
 
 /// A verified schedule: the exact engine's and rapier's reports side by side.
 struct Verified {
-    name: String,
+    variant: Variant,
+    schedule: Schedule,
     exact: SimulationReport,
     rapier: SimulationReport,
 }
 
-/// Runs everything for `problem` and writes `out_root/<name>/`. `command` is the command line
-/// that regenerates it, for the report's header.
-pub fn run(problem: &Problem, command: &str, out_root: &Path) -> Result<RunOutcome, RunError> {
-    atomically(&out_root.join(&problem.name), |w| produce(problem, command, w))
+/// Runs everything for the resolved problem and writes `out_root/<name>/`. `command` is the
+/// command line that regenerates it, for the report's header.
+pub fn run(r: &Resolved, command: &str, out_root: &Path) -> Result<RunOutcome, RunError> {
+    atomically(&out_root.join(&r.problem.name), |w| produce(r, command, w))
 }
 
-/// Runs `catflip bench` on `problem` and writes `out_root/bench/`.
-pub fn run_bench(problem: &Problem, command: &str, out_root: &Path, dts: &[f64]) -> Result<RunOutcome, RunError> {
+/// Runs `catflip bench` on the resolved problem and writes `out_root/bench/`.
+pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> Result<RunOutcome, RunError> {
     atomically(&out_root.join("bench"), |w| {
-        let report = crate::report::bench::bench(problem, dts)?;
+        let report = crate::report::bench::bench(r, dts)?;
         w.put("bench.csv", &report.to_csv())?;
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
         let points: Vec<(String, f64, f64)> =
-            report.points.iter().map(|p| (p.engine.clone(), p.time_s, p.error_rad)).collect();
+            report.points.iter().map(|p| (p.engine.to_string(), p.time_s, p.error_rad)).collect();
         w.record(crate::report::plot::error_vs_time_plot(&plots, &points)?);
-        let settings = toml::to_string(problem).unwrap_or_default();
+        let settings = toml::to_string(&r.problem)?;
         let mut md = crate::report::provenance::header("catflip benchmark: run time against error", command, &settings);
         md.push_str(&report.to_markdown());
         md.push_str(
@@ -149,82 +166,77 @@ fn atomically(
     Ok(RunOutcome { dir: final_dir.to_path_buf(), files: w.files, summary })
 }
 
-fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, RunError> {
-    let settings = toml::to_string(problem).unwrap_or_default();
+/// The library profiles shown in the plots beside the optimised ones.
+const SHOWN: [ProfileKind; 4] =
+    [ProfileKind::PaperCosine, ProfileKind::Cycloidal, ProfileKind::BangBang, ProfileKind::Trapezoid];
+
+fn produce(r: &Resolved, command: &str, w: &mut Writer) -> Result<String, RunError> {
+    let problem = &r.problem;
+    let settings = toml::to_string(problem)?;
     // 1. The audit.
-    let audit = crate::report::audit::audit_with_exact(problem)?;
+    let audit = crate::report::audit::audit_with_exact(r)?;
     w.put("audit.md", &audit.to_markdown())?;
     w.json("audit.json", &audit)?;
-    // 2. Optimisation and the peak-torque table.
-    let opt = optimize(problem)?;
+    // 2. Optimisation and the peak-torque table (every schedule evaluated once).
+    let opt = optimize(r)?;
     w.put("optimize.md", &opt.to_markdown())?;
     w.json("optimize.json", &opt)?;
-    let mut extra: Vec<(Profile, &str)> = Vec::new();
-    if let Some(p) = opt.qp.to_profile() {
-        extra.push((p, "qp"));
-    }
-    if let Some(p) = opt.refinement.as_ref().and_then(|r| r.to_profile()) {
-        extra.push((p, "refined"));
-    }
-    let mut table = compare(problem, &extra)?;
-    if let Some(whole) = &opt.whole {
-        table.rows.push(whole.optimum.evaluation.clone());
-    }
+    let extra: Vec<_> = opt.optima().map(|o| o.evaluation.clone()).collect();
+    let table = compare(r, &extra);
     w.put("compare.md", &table.to_markdown())?;
     w.put("compare.csv", &table.to_csv())?;
-    // 3. Every schedule of the table through both engines.
-    let base = Schedule::new(problem, table.circulation.radians);
-    let mut schedules: Vec<(String, Schedule)> = crate::problem::manoeuvre::ProfileKind::ALL
+    // 3. Every schedule of the table through both engines, and the recommended one: the most
+    // refined schedule with the calibrated circulation (when the calibration converged).
+    let mut runs: Vec<(Variant, Schedule, ResolvedCirculation, Option<&Evaluation>)> = r
+        .library()
         .iter()
-        .map(|&k| (k.name().to_string(), base.with_profile(Profile::library(k))))
+        .map(|(k, s, e)| (Variant::new(Origin::Library(*k)), s.clone(), r.circulation, Some(e)))
         .collect();
-    schedules.extend(extra.iter().map(|(p, _)| (p.name().to_string(), base.with_profile(p.clone()))));
-    if let Some(whole) = &opt.whole {
-        schedules.push((crate::optimize::WHOLE.to_string(), whole.schedule.clone()));
+    runs.extend(opt.optima().map(|o| (o.variant, o.schedule.clone(), r.circulation, Some(&o.exact))));
+    let most_refined =
+        opt.optima().last().filter(|o| matches!(o.variant.origin, Origin::Refined | Origin::RefinedAllPhases));
+    if let (Some(o), Some(cal)) = (most_refined, r.calibrated()) {
+        runs.push((o.variant.calibrated(), o.schedule.with_circulation(cal.radians), cal, None));
     }
-    // The recommended schedule: the most refined one, with the calibrated circulation.
-    let recommended = schedules
-        .last()
-        .filter(|(n, _)| n.starts_with("exact-refined"))
-        .map(|(n, s)| (format!("{n}-calibrated"), s.with_circulation(opt.calibration.circulation)));
-    schedules.extend(recommended.clone());
-    let verified = verify(problem, &schedules, table.circulation, &opt)?;
+    let verified = runs
+        .into_iter()
+        .map(|(variant, schedule, circ, evaluation)| {
+            let exact = exact_report(r, &schedule, circ, evaluation);
+            let rapier = rapier_report(r, &schedule, &exact)?;
+            Ok(Verified { variant, schedule, exact, rapier })
+        })
+        .collect::<Result<Vec<_>, RunError>>()?;
     w.put("verification.csv", &verification_csv(&verified))?;
     w.put("verification.md", &verification_markdown(problem, &verified))?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
     // 4. Schedules for robots and other simulators.
-    let problems_schedule = Schedule::new(problem, table.circulation.radians);
-    w.put("schedules/problem.csv", &crate::report::export::schedule_csv(problem, &problems_schedule, 400))?;
-    for (name, s) in schedules.iter().filter(|(n, _)| n.starts_with("exact-refined") || n == "qp-optimal") {
-        w.put(&format!("schedules/{name}.csv"), &crate::report::export::schedule_csv(problem, s, 400))?;
+    w.put("schedules/problem.csv", &crate::report::export::schedule_csv(r.cat(), &r.schedule, 400))?;
+    for v in verified.iter().filter(|v| v.variant.origin.is_optimised()) {
+        w.put(
+            &format!("schedules/{}.csv", v.variant),
+            &crate::report::export::schedule_csv(r.cat(), &v.schedule, 400),
+        )?;
     }
     // 5. Plots and the animation.
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
-    let shown: Vec<(String, Schedule)> = schedules
+    let shown: Vec<(String, Schedule)> = verified
         .iter()
-        .filter(|(n, _)| {
-            [
-                "paper-cosine",
-                "cycloidal",
-                "bang-bang",
-                "trapezoid",
-                "qp-optimal",
-                "exact-refined",
-                crate::optimize::WHOLE,
-            ]
-            .contains(&n.as_str())
+        .filter(|v| v.variant.circulation == VariantCirculation::Problem)
+        .filter(|v| match v.variant.origin {
+            Origin::Library(k) => SHOWN.contains(&k),
+            _ => true,
         })
-        .cloned()
+        .map(|v| (v.variant.to_string(), v.schedule.clone()))
         .collect();
     w.record(crate::report::plot::profiles_plot(&plots, problem, &shown)?);
     w.record(crate::report::plot::torques_plot(&plots, problem, &shown)?);
-    w.record(crate::report::plot::flip_plot(&plots, problem, &problems_schedule, 256)?);
-    let anim_schedule = recommended.as_ref().map_or(&problems_schedule, |(_, s)| s);
-    w.record(crate::report::plot::flip_animation(&plots.join("flip.gif"), problem, anim_schedule, 72)?);
+    w.record(crate::report::plot::flip_plot(&plots, problem, &r.schedule, 256)?);
+    let recommended = verified.iter().find(|v| v.variant.is_calibrated()).map_or(&r.schedule, |v| &v.schedule);
+    w.record(crate::report::plot::flip_animation(&plots.join("flip.gif"), problem, recommended, 72)?);
     // 6. The report.
-    let summary = summary(problem, &table, &opt, &verified);
+    let summary = summary(r, &table, &opt, &verified);
     let mut report =
         crate::report::provenance::header(&format!("catflip results: {}", problem.name), command, &settings);
     report.push_str(&summary);
@@ -236,39 +248,14 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     Ok(summary)
 }
 
-fn verify(
-    problem: &Problem,
-    schedules: &[(String, Schedule)],
-    circ: ResolvedCirculation,
-    opt: &OptimizeReport,
-) -> Result<Vec<Verified>, RunError> {
-    schedules
-        .iter()
-        .map(|(name, s)| {
-            let c = if name.ends_with("-calibrated") {
-                ResolvedCirculation {
-                    radians: s.circulation,
-                    source: crate::report::simulate::CirculationSource::Calibrated,
-                    calibration: Some(opt.calibration),
-                }
-            } else {
-                circ
-            };
-            let exact = exact_report(problem, s, c);
-            let rapier = rapier_report(problem, s, c)?;
-            Ok(Verified { name: name.clone(), exact, rapier })
-        })
-        .collect()
-}
-
 fn verification_csv(rows: &[Verified]) -> String {
     let mut s = format!(
         "problem,schedule,engine,circulation_rad,twist_deg,swing_deg,{},momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s\n",
         PhasePeaks::CSV_HEADER
     );
-    let mut all: Vec<(&str, &SimulationReport)> =
-        rows.iter().flat_map(|v| [(v.name.as_str(), &v.exact), (v.name.as_str(), &v.rapier)]).collect();
-    all.sort_by(|a, b| (a.0, &a.1.engine).cmp(&(b.0, &b.1.engine)));
+    let mut all: Vec<(String, &SimulationReport)> =
+        rows.iter().flat_map(|v| [(v.variant.to_string(), &v.exact), (v.variant.to_string(), &v.rapier)]).collect();
+    all.sort_by(|a, b| (&a.0, a.1.engine).cmp(&(&b.0, b.1.engine)));
     for (name, r) in all {
         let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
         let tr = r.tracking_error_rad;
@@ -306,7 +293,7 @@ fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
         let _ = writeln!(
             s,
             "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.2}% | {:.2e} | {:.1e}, {:.1e} |",
-            v.name,
+            v.variant,
             e.twist_deg,
             r.twist_deg,
             xt,
@@ -324,24 +311,26 @@ fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
     s
 }
 
-fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verified: &[Verified]) -> String {
+fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &[Verified]) -> String {
+    let problem = &r.problem;
     let mut s = String::new();
     let _ = writeln!(s, "## Summary\n");
-    let own = problem.manoeuvre.profile.name();
-    if let Some(p) = table.rows.iter().find(|r| r.profile == own) {
+    let own = Origin::Library(problem.manoeuvre.profile);
+    if let Some(p) = table.rows.iter().find(|row| row.origin == own && row.profile == own.profile_name()) {
         let verdict = if (p.twist_deg.abs() - 180.0).abs() < 1e-6 { "a half turn" } else { "not a half turn" };
         let _ = writeln!(
             s,
-            "- The problem's schedule ({} profile, {:?} path, circulation {:.6} rad, {:?}) turns the cat by **{:.6}°** with a swing of {:.6}° (exact engine): {verdict}.",
+            "- The problem's schedule ({} profile, {} path, circulation {:.6} rad, {}) turns the cat by **{:.6}°** with a swing of {:.6}° (exact engine): {verdict}.",
             p.profile, problem.manoeuvre.bend_path, p.circulation_rad, table.circulation.source, p.twist_deg, p.swing_deg
         );
+        let e = &p.exact_peak_nm;
         let _ = writeln!(
             s,
             "- Its exact peak torque is **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}); the paper's model I*·max|ω̇| gives {:.4} N·m for the twist.",
-            p.exact_peak_nm.max,
-            p.exact_peak_nm.bend[0].max(p.exact_peak_nm.bend[1]),
-            p.exact_peak_nm.twist[0].max(p.exact_peak_nm.twist[1]),
-            p.exact_peak_nm.unbend[0].max(p.exact_peak_nm.unbend[1]),
+            e.max,
+            e.phase_max(Phase::Bend),
+            e.phase_max(Phase::Twist),
+            e.phase_max(Phase::Unbend),
             p.model_peak_nm
         );
         if p.velocity_jumps > 0 {
@@ -352,39 +341,49 @@ fn summary(problem: &Problem, table: &CompareTable, opt: &OptimizeReport, verifi
             );
         }
     }
-    let _ = writeln!(
-        s,
-        "- The calibrated circulation {:.9} rad makes the twist exactly 180° ({:.9}°; {:?}); the swing, {:.6}°, is what remains: one circulation cannot also zero it.",
-        opt.calibration.circulation,
-        opt.calibration.twist.to_degrees(),
-        opt.calibration.status,
-        opt.calibration.swing.to_degrees()
-    );
+    let c = &opt.calibration;
+    if c.status.is_converged() {
+        let _ = writeln!(
+            s,
+            "- The calibrated circulation {:.9} rad makes the twist exactly 180° ({:.9}°; {}); the swing, {:.6}°, is what remains: one circulation cannot also zero it.",
+            c.circulation,
+            c.twist.to_degrees(),
+            c.status,
+            c.swing.to_degrees()
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "- The calibration FAILED ({}, {} evaluations): no circulation near {:.9} rad was found that turns this cat by exactly 180°, so no calibrated schedule is reported.",
+            c.status, c.evaluations, r.circulation.radians
+        );
+    }
     let closed = opt.qp_closed_form_nm.map_or("none with limits".to_string(), |c| format!("{c:.6}"));
     let _ = writeln!(
         s,
-        "- Profile QP: {:?}, model peak {:.6} N·m (closed form {closed}).",
+        "- Profile QP: {}, model peak {:.6} N·m (closed form {closed}).",
         opt.qp.status, opt.qp.peak_torque
     );
-    if let Some(r) = &opt.refined_optimum {
-        let t = r.evaluation.exact_peak_nm.twist;
+    if let Some(o) = &opt.refined_optimum {
+        let t = o.evaluation.exact_peak_nm.twist;
         let _ = writeln!(
             s,
             "- Exact-dynamics refinement: exact twist-phase peak {:.4} N·m against {:.4} N·m for the best library profile ({}); the whole manoeuvre's peak is then {:.4} N·m (bend and unbend are not retimed).",
             t[0].max(t[1]),
             opt.best_library.1,
             opt.best_library.0,
-            r.evaluation.exact_peak_nm.max
+            o.evaluation.exact_peak_nm.max
         );
     }
     if let Some(w) = &opt.whole {
+        let e = &w.optimum.evaluation.exact_peak_nm;
         let _ = writeln!(
             s,
             "- Retiming the bend and the unbend too (same joint path, same flip): the whole manoeuvre's exact peak falls to **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}).",
-            w.optimum.evaluation.exact_peak_nm.max,
-            w.optimum.evaluation.exact_peak_nm.bend[0].max(w.optimum.evaluation.exact_peak_nm.bend[1]),
-            w.optimum.evaluation.exact_peak_nm.twist[0].max(w.optimum.evaluation.exact_peak_nm.twist[1]),
-            w.optimum.evaluation.exact_peak_nm.unbend[0].max(w.optimum.evaluation.exact_peak_nm.unbend[1])
+            e.max,
+            e.phase_max(Phase::Bend),
+            e.phase_max(Phase::Twist),
+            e.phase_max(Phase::Unbend)
         );
     }
     let worst = verified.iter().map(|v| (v.exact.twist_deg - v.rapier.twist_deg).abs()).fold(0.0, f64::max);

@@ -1,132 +1,37 @@
-//! One schedule through an engine: the numbers `catflip simulate` reports (DESIGN.md §8).
+//! `catflip simulate`: one schedule through an engine, as a report (DESIGN.md §8).
 //!
 //! Twist is signed, right-handed about A's initial spine axis `+z` (towards the head); a
 //! successful flip has `|twist| = 180°` and `swing = 0`. Torques are the motor torques on B
 //! about joint 1's and joint 2's axes. `momentum_max` is the largest total angular momentum
 //! about the centre of mass seen along the motion, relative to a half's typical momentum
-//! `I* · max|q̇|` (`I*` the end-transverse inertia).
+//! `I* · max|q̇|` (`I*` the end-transverse inertia). The exact numbers are one
+//! [`Evaluation`]; rapier's run is reported beside them, with its errors against them.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::engines::calibrate::{calibrate, Calibration};
-use crate::engines::exact::{body_rate, flip, momentum};
-use crate::engines::torque::{peak_torques, velocity_jumps, PeakTorques, VelocityJump};
-use crate::numeric::roots::RootStatus;
-use crate::problem::manoeuvre::Circulation;
-use crate::problem::Problem;
-use crate::schedule::{paper_circulation, Phase, Schedule, ScheduleError};
-
-/// Why a simulation could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum SimulateError {
-    /// The schedule cannot be built.
-    #[error(transparent)]
-    Schedule(#[from] ScheduleError),
-    /// Calibration found no circulation that turns the cat by π.
-    #[error("manoeuvre.circulation = \"calibrated\": no circulation near the paper's {near:.6} rad turns this cat by π (the search ended: {status:?})")]
-    Calibration {
-        /// Where the search started, rad.
-        near: f64,
-        /// How it ended.
-        status: RootStatus,
-    },
-    /// The rapier engine failed.
-    #[error(transparent)]
-    Rapier(#[from] crate::engines::rapier::RapierError),
-}
-
-/// Where a circulation came from.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum CirculationSource {
-    /// The paper's `π/C`.
-    Paper,
-    /// Calibrated on the exact engine.
-    Calibrated,
-    /// Given in the problem file.
-    Given,
-}
-
-/// A circulation and where it came from.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct ResolvedCirculation {
-    /// `∫ω ds`, rad.
-    pub radians: f64,
-    /// Its source.
-    pub source: CirculationSource,
-    /// The calibration, when one was run.
-    pub calibration: Option<Calibration>,
-}
-
-/// Resolves the problem's circulation setting to radians (running the calibration if asked).
-pub fn resolve_circulation(problem: &Problem) -> Result<ResolvedCirculation, SimulateError> {
-    let paper = || paper_circulation(&problem.cat, problem.manoeuvre.theta());
-    Ok(match problem.manoeuvre.circulation {
-        Circulation::Paper => {
-            ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None }
-        }
-        Circulation::Angle(a) => {
-            ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None }
-        }
-        Circulation::Calibrated => {
-            let near = paper()?;
-            let cal = calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance);
-            if cal.status != RootStatus::Converged {
-                return Err(SimulateError::Calibration { near, status: cal.status });
-            }
-            ResolvedCirculation {
-                radians: cal.circulation,
-                source: CirculationSource::Calibrated,
-                calibration: Some(cal),
-            }
-        }
-    })
-}
-
-/// Peak torque per phase and joint, N·m.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct PhasePeaks {
-    /// Bend phase, joints 1 and 2.
-    pub bend: [f64; 2],
-    /// Twist phase, joints 1 and 2.
-    pub twist: [f64; 2],
-    /// Unbend phase, joints 1 and 2.
-    pub unbend: [f64; 2],
-    /// The largest.
-    pub max: f64,
-}
-
-impl PhasePeaks {
-    /// The CSV header of [`PhasePeaks::csv`].
-    pub const CSV_HEADER: &'static str =
-        "bend_tau1_nm,bend_tau2_nm,twist_tau1_nm,twist_tau2_nm,unbend_tau1_nm,unbend_tau2_nm,max_nm";
-
-    /// The seven values as CSV fields, N·m.
-    pub fn csv(&self) -> String {
-        let v = [self.bend[0], self.bend[1], self.twist[0], self.twist[1], self.unbend[0], self.unbend[1], self.max];
-        v.map(|x| format!("{x:.9}")).join(",")
-    }
-
-    /// From per-phase peaks of a three-phase schedule.
-    pub fn from_peaks(p: &PeakTorques) -> PhasePeaks {
-        let get = |ph: Phase| p.per_piece.get(ph.index()).map_or([f64::NAN; 2], |x| [x[0].value, x[1].value]);
-        PhasePeaks { bend: get(Phase::Bend), twist: get(Phase::Twist), unbend: get(Phase::Unbend), max: p.max }
-    }
-}
+use crate::engines::calibrate::Calibration;
+use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::peaks::PhasePeaks;
+use crate::engines::rapier::{JumpTorque, RapierError};
+use crate::engines::torque::VelocityJump;
+use crate::engines::Engine;
+use crate::problem::BendPath;
+use crate::schedule::Schedule;
 
 /// What one engine says a schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SimulationReport {
     /// Problem name.
     pub problem: String,
-    /// `exact` or `rapier`.
-    pub engine: String,
+    /// The engine that ran it.
+    pub engine: Engine,
     /// The twist-phase profile.
     pub profile: String,
     /// The bend path.
-    pub bend_path: crate::problem::manoeuvre::BendPath,
+    pub bend_path: BendPath,
     /// Signed twist about A's initial `+z`, degrees.
     pub twist_deg: f64,
     /// Swing of the spine axis, degrees.
@@ -157,7 +62,7 @@ pub struct SimulationReport {
     /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
     pub action_reaction_gap_nm: Option<f64>,
     /// The motors' torque spikes at rate jumps, as rapier measured them (rapier only).
-    pub rapier_jumps: Option<Vec<crate::engines::rapier::JumpTorque>>,
+    pub rapier_jumps: Option<Vec<JumpTorque>>,
     /// First-order Richardson extrapolation to `dt → 0` from runs at `dt` and `dt/2`: twist and
     /// swing in degrees, peak torque in N·m (rapier only; its integrator is first order).
     pub extrapolated: Option<Extrapolation>,
@@ -184,67 +89,70 @@ pub struct Extrapolation {
     pub twist_error_deg: f64,
 }
 
-/// Runs the exact engine on a problem's schedule.
-pub fn simulate_exact(problem: &Problem) -> Result<SimulationReport, SimulateError> {
-    let circ = resolve_circulation(problem)?;
-    let schedule = Schedule::new(problem, circ.radians);
-    Ok(exact_report(problem, &schedule, circ))
+/// `catflip simulate`: the problem's schedule through `engine`.
+pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, RapierError> {
+    let exact = exact_report(r, &r.schedule, r.circulation, None);
+    match engine {
+        Engine::Exact => Ok(exact),
+        Engine::Rapier => rapier_report(r, &r.schedule, &exact),
+    }
 }
 
-/// The exact engine's report on a given schedule.
-pub fn exact_report(problem: &Problem, schedule: &Schedule, circ: ResolvedCirculation) -> SimulationReport {
-    let cat = &problem.cat;
-    let start = Instant::now();
-    let f = flip(cat, schedule, problem.exact.tolerance);
-    let peaks = peak_torques(cat, schedule, problem.exact.torque_samples);
-    let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
-    let run_time_s = start.elapsed().as_secs_f64();
+/// The exact engine's report on `schedule` with circulation `circ`, from its evaluation when
+/// one was made already (else it is made now).
+pub fn exact_report(
+    r: &Resolved,
+    schedule: &Schedule,
+    circ: ResolvedCirculation,
+    evaluation: Option<&Evaluation>,
+) -> SimulationReport {
+    let made;
+    let e = match evaluation {
+        Some(e) => e,
+        None => {
+            made = Evaluation::new(r.cat(), schedule, &r.problem.exact);
+            &made
+        }
+    };
     SimulationReport {
-        problem: problem.name.clone(),
-        engine: "exact".into(),
+        problem: r.problem.name.clone(),
+        engine: Engine::Exact,
         profile: schedule.profile.name().to_string(),
         bend_path: schedule.path,
-        twist_deg: f.twist.to_degrees(),
-        swing_deg: f.swing.to_degrees(),
+        twist_deg: e.twist_deg(),
+        swing_deg: e.swing_deg(),
         circulation_rad: circ.radians,
         circulation_source: circ.source,
         calibration: circ.calibration,
-        peak_torque_nm: PhasePeaks::from_peaks(&peaks),
-        velocity_jumps: jumps,
-        momentum_max: momentum_max(problem, schedule),
+        peak_torque_nm: e.peaks,
+        velocity_jumps: e.jumps.clone(),
+        momentum_max: e.momentum_max,
         dt: None,
         tracking_error_rad: None,
-        steps: f.steps_per_phase,
-        error_estimate_rad: Some(f.error_estimate),
-        converged: Some(f.converged),
-        action_reaction_gap_nm: Some(peaks.action_reaction_gap),
+        steps: e.flip.steps_per_phase,
+        error_estimate_rad: Some(e.flip.error_estimate),
+        converged: Some(e.flip.converged),
+        action_reaction_gap_nm: Some(e.action_reaction_gap),
         rapier_jumps: None,
         extrapolated: None,
         twist_error_deg: None,
         peak_torque_rel_error: None,
-        run_time_s,
+        run_time_s: e.run_time_s,
     }
 }
 
-/// Runs the rapier verification on a problem's schedule, beside the exact engine.
-pub fn simulate_rapier(problem: &Problem) -> Result<SimulationReport, SimulateError> {
-    let circ = resolve_circulation(problem)?;
-    let schedule = Schedule::new(problem, circ.radians);
-    rapier_report(problem, &schedule, circ)
-}
-
-/// The rapier engine's report on a given schedule, compared with the exact engine's.
+/// The rapier engine's report on `schedule` (at `r.problem.rapier.dt` and half of it, for the
+/// extrapolation), against the exact engine's report `exact` on the same schedule.
 pub fn rapier_report(
-    problem: &Problem,
+    r: &Resolved,
     schedule: &Schedule,
-    circ: ResolvedCirculation,
-) -> Result<SimulationReport, SimulateError> {
-    let exact = exact_report(problem, schedule, circ);
+    exact: &SimulationReport,
+) -> Result<SimulationReport, RapierError> {
     let start = Instant::now();
-    let run = crate::engines::rapier::simulate(&problem.cat, schedule, &problem.rapier)?;
+    let run = crate::engines::rapier::simulate(r.cat(), schedule, &r.problem.rapier)?;
     let run_time_s = start.elapsed().as_secs_f64();
-    let half = crate::problem::settings::RapierSettings { dt: 0.5 * run.dt, ..problem.rapier };
-    let fine = crate::engines::rapier::simulate(&problem.cat, schedule, &half)?;
+    let half = crate::problem::settings::RapierSettings { dt: 0.5 * run.dt, ..r.problem.rapier };
+    let fine = crate::engines::rapier::simulate(r.cat(), schedule, &half)?;
     let extrapolated = crate::engines::rapier::extrapolate(&run, &fine).map(|x| Extrapolation {
         dt: x.dt,
         twist_deg: x.twist.to_degrees(),
@@ -252,10 +160,9 @@ pub fn rapier_report(
         peak_torque_nm: x.peak_torque,
         twist_error_deg: exact.twist_deg - x.twist.to_degrees(),
     });
-    let p = &run.peak_torque;
-    let peaks = PhasePeaks { bend: p.bend, twist: p.twist, unbend: p.unbend, max: p.max };
+    let peaks = run.peak_torque;
     Ok(SimulationReport {
-        engine: "rapier".into(),
+        engine: Engine::Rapier,
         twist_deg: run.twist.to_degrees(),
         swing_deg: run.swing.to_degrees(),
         twist_error_deg: Some(exact.twist_deg - run.twist.to_degrees()),
@@ -271,33 +178,8 @@ pub fn rapier_report(
         rapier_jumps: Some(run.jumps),
         extrapolated,
         run_time_s,
-        ..exact
+        ..exact.clone()
     })
-}
-
-/// Joint-rate jumps smaller than this, relative to the rates on either side, are round-off.
-pub const JUMP_TOLERANCE: f64 = 1e-9;
-
-/// Largest `|H|` of the zero-momentum motion on a fine grid, relative to `I* · max|q̇|`.
-pub fn momentum_max(problem: &Problem, schedule: &Schedule) -> f64 {
-    let cat = &problem.cat;
-    let n = problem.exact.torque_samples;
-    let (mut h_max, mut qd_max) = (0.0f64, 0.0f64);
-    for phase in Phase::ALL {
-        let dur = schedule.durations[phase.index()];
-        for k in 0..=n {
-            let st = schedule.phase_state(phase, dur * k as f64 / n as f64);
-            let w = body_rate(cat, st.q, st.qd);
-            h_max = h_max.max(momentum(cat, &st, &w).norm());
-            qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
-        }
-    }
-    let reference = cat.end_transverse() * qd_max;
-    if reference > 0.0 {
-        h_max / reference
-    } else {
-        h_max
-    }
 }
 
 impl SimulationReport {
@@ -308,10 +190,10 @@ impl SimulationReport {
         let p = &self.peak_torque_nm;
         let _ = writeln!(
             s,
-            "{} engine — problem {}, profile {}, path {:?}",
+            "{} engine — problem {}, profile {}, path {}",
             self.engine, self.problem, self.profile, self.bend_path
         );
-        let _ = writeln!(s, "  circulation      {:.9} rad ({:?})", self.circulation_rad, self.circulation_source);
+        let _ = writeln!(s, "  circulation      {:.9} rad ({})", self.circulation_rad, self.circulation_source);
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.swing_deg);
         let _ = writeln!(

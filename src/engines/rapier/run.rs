@@ -5,9 +5,9 @@ use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
 use super::scene::{CatScene, MotorGains};
+use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::JUMP_TOLERANCE;
-use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::model::orientation::TwistTracker;
 use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;

@@ -5,8 +5,8 @@
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use super::measure::{angular_momentum, kinetic_energy};
 use super::bodies::NDOFS;
+use super::measure::{angular_momentum, kinetic_energy};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS};
 use crate::model::Cylinder;

@@ -56,7 +56,9 @@ mod notes;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
+use crate::engines::circulation::Resolved;
 use crate::problem::Problem;
+use crate::schedule::Phase;
 
 /// `α` of §9's one-turn question: the cat turns at half the circulation rate (printed "θ = 1/2").
 pub const ALPHA_ONE_TURN: f64 = 0.5;
@@ -200,29 +202,23 @@ pub(crate) fn reproduces(published: f64, decimals: Option<u32>, literal: f64) ->
 }
 
 /// The audit with its `exact` column filled in by the exact engine: the peak torques of the
-/// problem's own schedule per phase (largest of the two joints) and the calibrated circulation.
-pub fn audit_with_exact(problem: &Problem) -> Result<Audit, crate::report::simulate::SimulateError> {
-    use crate::schedule::{paper_circulation, Schedule};
-    let mut a = audit(problem);
-    let near = paper_circulation(&problem.cat, problem.manoeuvre.theta())?;
-    let circ = crate::report::simulate::resolve_circulation(problem)?;
-    let report = crate::report::simulate::exact_report(problem, &Schedule::new(problem, circ.radians), circ);
-    let p = report.peak_torque_nm;
-    // A calibrated problem has calibrated from the same start already.
-    let cal = circ.calibration.unwrap_or_else(|| {
-        crate::engines::calibrate::calibrate(&problem.cat, &Schedule::new(problem, near), problem.exact.tolerance)
-    });
-    let mut values = vec![
-        ("tau_bend", p.bend[0].max(p.bend[1])),
-        ("tau_twist", p.twist[0].max(p.twist[1])),
-        ("tau_unbend", p.unbend[0].max(p.unbend[1])),
-    ];
-    if cal.status == crate::numeric::roots::RootStatus::Converged {
-        values.push(("circulation", cal.circulation));
+/// problem's own schedule per phase (largest of the two joints) and the calibrated circulation
+/// (left empty when the calibration failed).
+pub fn audit_with_exact(r: &Resolved) -> Result<Audit, AuditError> {
+    let mut a = audit(&r.problem);
+    let mut values = Vec::new();
+    if let Some(e) = r.own() {
+        values.extend([
+            ("tau_bend", e.peaks.phase_max(Phase::Bend)),
+            ("tau_twist", e.peaks.phase_max(Phase::Twist)),
+            ("tau_unbend", e.peaks.phase_max(Phase::Unbend)),
+        ]);
+    }
+    if let Some(c) = r.calibrated() {
+        values.push(("circulation", c.radians));
     }
     for (key, value) in values {
-        // The keys are this module's own (a test checks that each is filled in).
-        a.set_exact(key, value).ok();
+        a.set_exact(key, value)?;
     }
     Ok(a)
 }

@@ -63,7 +63,7 @@ pub fn flip_animation(
         create_dir(dir)?;
     }
     let scene = Scene::new(problem, schedule);
-    let poses = cat_poses(problem, schedule, &spaced(total, frames));
+    let poses = cat_poses(&problem.cat, schedule, &spaced(total, frames));
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
@@ -84,7 +84,7 @@ pub fn flip_animation(
     let size = (PANEL_SIZE.0 * FILMSTRIP_PANELS as u32, PANEL_SIZE.1 + STRIP_TITLE);
     {
         let root = BitMapBackend::new(&strip, size).into_drawing_area();
-        let panels = cat_poses(problem, schedule, &spaced(total, FILMSTRIP_PANELS));
+        let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
         scene
             .draw_filmstrip(&root, &panels, &extent)
             .and_then(|()| root.present().map_err(failed))

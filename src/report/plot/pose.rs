@@ -9,8 +9,7 @@
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::engines::exact::{history, OrientationSample};
-use crate::model::joint_rotation;
-use crate::problem::Problem;
+use crate::model::{joint_rotation, Cylinder};
 use crate::schedule::{Phase, Schedule};
 
 /// Magnus steps per phase of the orientation history the poses are interpolated from.
@@ -50,8 +49,7 @@ pub struct CatPose {
 }
 
 /// The cat's pose at each of `times` (s, clamped to the manoeuvre).
-pub fn cat_poses(problem: &Problem, schedule: &Schedule, times: &[f64]) -> Vec<CatPose> {
-    let cat = &problem.cat;
+pub fn cat_poses(cat: &Cylinder, schedule: &Schedule, times: &[f64]) -> Vec<CatPose> {
     let samples = history(cat, schedule, HISTORY_STEPS);
     let total = schedule.duration();
     times
