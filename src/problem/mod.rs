@@ -7,6 +7,7 @@
 
 pub mod error;
 pub mod manoeuvre;
+mod overrides;
 pub mod settings;
 
 use std::path::Path;
@@ -96,7 +97,7 @@ impl Problem {
             }
         })?;
         for assignment in overrides {
-            apply_override(&mut table, assignment)?;
+            overrides::apply(&mut table, assignment)?;
         }
         let problem: Problem = table.try_into().map_err(|e: toml::de::Error| ProblemError::Parse {
             origin: origin.to_string(),
@@ -149,34 +150,4 @@ impl Problem {
 
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
-}
-
-fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<(), ProblemError> {
-    let fail =
-        |reason: &str| ProblemError::BadOverride { assignment: assignment.to_string(), reason: reason.to_string() };
-    let (key, raw) = assignment.split_once('=').ok_or_else(|| fail("expected key=value"))?;
-    let key = key.trim();
-    let raw = raw.trim();
-    let path: Vec<&str> = key.split('.').collect();
-    if key.is_empty() || path.iter().any(|p| p.is_empty()) {
-        return Err(fail("the key must be a dotted path such as manoeuvre.profile"));
-    }
-    let value = parse_value(raw);
-    let (last, parents) = path.split_last().ok_or_else(|| fail("empty key"))?;
-    let mut node = table;
-    for part in parents {
-        let entry = node.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        node = entry.as_table_mut().ok_or_else(|| fail(&format!("`{part}` is not a section")))?;
-    }
-    node.insert(last.to_string(), value);
-    Ok(())
-}
-
-/// A TOML value from an override's right-hand side; a bare word is a string.
-fn parse_value(raw: &str) -> toml::Value {
-    let doc = format!("v = {raw}");
-    doc.parse::<toml::Table>()
-        .ok()
-        .and_then(|mut t| t.remove("v"))
-        .unwrap_or_else(|| toml::Value::String(raw.to_string()))
 }
