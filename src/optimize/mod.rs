@@ -3,7 +3,7 @@
 //! 1. The profile QP on the paper's model `I* |ω̇|` (Clarabel), with the problem's boundary
 //!    conditions and limits; its closed form with rest-to-rest ends is bang-bang,
 //!    `4 D I*/T²`.
-//! 2. The exact-dynamics refinement of the twist phase ([`crate::optimize::refine`]) started from the QP's
+//! 2. The exact-dynamics refinement of the twist phase ([`mod@crate::optimize::refine`]) started from the QP's
 //!    optimum.
 //! 3. The same refinement of the bend and the unbend, started from the paper's harmonic timing:
 //!    the whole manoeuvre retimed along the problem's joint path.

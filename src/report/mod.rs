@@ -1,7 +1,7 @@
 //! What catflip tells its users: the commands' reports, tables, plots and files.
 //!
 //! - [`run`]: `catflip run`, everything for one problem written atomically to `results/<name>/`;
-//! - [`simulate`], [`compare`], [`optimize`], [`bench`]: the reports of `catflip simulate`,
+//! - [`simulate`], [`compare`], [`optimize`], [`mod@bench`]: the reports of `catflip simulate`,
 //!   `compare`, `optimize` and `bench`;
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`export`]: schedules as CSV;
