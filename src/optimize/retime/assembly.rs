@@ -139,8 +139,8 @@ pub(crate) fn solve(problem: &PathProblem) -> Result<RetimeSolution, RetimeError
     // Durations: Σ Δσ W ≤ T_group / T.
     let total = sc.length;
     let duration_row = |p: &PathPiece, c: Columns| {
-        let h = p.spacing() / total;
-        (0..c.n).map(move |k| (c.w(k), h))
+        let widths: Vec<f64> = (0..c.n).map(|k| p.spacing(k) / total).collect();
+        (0..c.n).map(move |k| (c.w(k), widths[k]))
     };
     match problem.piece_targets() {
         Some(targets) => {
@@ -163,19 +163,23 @@ pub(crate) fn solve(problem: &PathProblem) -> Result<RetimeSolution, RetimeError
 /// pin the slack to the cone's boundary and leave Clarabel without an interior.
 fn add_piece(p: &PathPiece, c: Columns, rest: [bool; 2], sc: &Scales, eq: &mut Rows, ineq: &mut Rows, soc: &mut Rows) {
     let v2 = sc.speed * sc.speed;
-    let dsigma = p.spacing() / sc.length;
     for k in 0..c.n {
+        let dsigma = p.spacing(k) / sc.length;
         eq.push([(c.x(k + 1), 1.0), (c.x(k), -1.0), (c.u(k), -2.0 * dsigma)], 0.0);
-        for e in [k, k + 1] {
-            let node = &p.nodes[e];
+        // the torque at node e, and at the midpoint where x = (x_k + x_{k+1})/2
+        let mid = p.midpoints.as_ref().map(|m| (&m[k], [(c.x(k), 0.5), (c.x(k + 1), 0.5)]));
+        let ends = [k, k + 1].map(|e| (&p.nodes[e], [(c.x(e), 1.0), (c.x(e), 0.0)]));
+        for (node, x) in ends.into_iter().chain(mid) {
             for j in 0..2 {
                 let a = node.a[j] * v2 / (sc.length * sc.torque);
                 let b = node.b[j] * v2 / sc.torque;
                 if a == 0.0 && b == 0.0 {
                     continue;
                 }
-                ineq.push([(c.u(k), a), (c.x(e), b), (0, -1.0)], 0.0);
-                ineq.push([(c.u(k), -a), (c.x(e), -b), (0, -1.0)], 0.0);
+                for sign in [1.0, -1.0] {
+                    let xs = x.map(|(col, w)| (col, sign * b * w));
+                    ineq.push([(c.u(k), sign * a), xs[0], xs[1], (0, -1.0)], 0.0);
+                }
             }
         }
         // ‖(2√2, W − Y_k − Y_{k+1})‖ ≤ W + Y_k + Y_{k+1}

@@ -21,19 +21,40 @@ pub struct PathNode {
     pub tangent: [f64; 2],
 }
 
-/// One smooth piece of the path, sampled at `N + 1` equally spaced nodes `s_k = k S/N`.
+/// One smooth piece of the path, sampled at `N + 1` nodes `0 = s_0 < s_1 < … < s_N = S`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PathPiece {
     /// Its extent `S` in the path parameter (for a trajectory piece, its original duration, s).
     pub length: f64,
-    /// The nodes, `s = 0` first and `s = S` last.
+    /// The nodes' path parameters `s_k`, increasing from 0 to `S`.
+    pub grid: Vec<f64>,
+    /// The path at the nodes.
     pub nodes: Vec<PathNode>,
+    /// The path at the interval midpoints `(s_k + s_{k+1})/2`, where the torque is bounded too
+    /// (there `x = (x_k + x_{k+1})/2` exactly); none when absent (ends only).
+    pub midpoints: Option<Vec<PathNode>>,
 }
 
+/// Points per interval of the quadrature that grades the grid ([`PathPiece::sample`]).
+const GRADING_POINTS: usize = 16;
+
 impl PathPiece {
-    /// Samples piece `piece` of a trajectory on `intervals` equal intervals of its local time,
-    /// with `a` and `b` from Newton–Euler at `(q, 0, q')` and `(q, q', q'')`.
+    /// A piece on the uniform grid `s_k = k S/N` of its nodes.
+    pub fn uniform(length: f64, nodes: Vec<PathNode>) -> PathPiece {
+        let n = nodes.len().saturating_sub(1).max(1);
+        let grid = (0..nodes.len()).map(|k| if k == n { length } else { length * k as f64 / n as f64 }).collect();
+        PathPiece { length, grid, nodes, midpoints: None }
+    }
+
+    /// Samples piece `piece` of a trajectory on `intervals` intervals of its local time, with
+    /// `a` and `b` from Newton–Euler at `(q, 0, q')` and `(q, q', q'')`.
+    ///
+    /// The grid is graded: equally spaced in `½ s/S + ½ ℓ(s)/L`, with `ℓ(s) = ∫|q'|` the joint
+    /// path's arc length and `L` the piece's. A path timed by a profile that starts with a
+    /// vanishing rate (the paper's cosine has `q' ∝ s²`) covers little of its arc early on,
+    /// where its optimal `ṡ` is large and steep; half the nodes follow the arc, so the joint
+    /// motion is resolved evenly, half follow `s`, so no interval of `s` is left coarse.
     pub fn sample(
         cat: &Cylinder,
         path: &impl Trajectory,
@@ -41,24 +62,23 @@ impl PathPiece {
         length: f64,
         intervals: usize,
     ) -> Result<PathPiece, RetimeError> {
-        let nodes = (0..=intervals)
-            .map(|k| {
-                let s = if k == intervals { length } else { length * k as f64 / intervals as f64 };
-                let st = path.piece_state(piece, s);
-                let a = joint_torques(cat, &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
-                let b = joint_torques(cat, &st).tau;
-                let node = PathNode { a, b, tangent: st.qd };
-                let finite = |v: [f64; 2]| v.iter().all(|x| x.is_finite());
-                if !finite(st.q) || !finite(st.qdd) {
-                    return Err(RetimeError::NonFinitePath { piece, s, what: "q or q''" });
-                }
-                match [("a", a), ("b", b), ("q'", st.qd)].into_iter().find(|(_, v)| !finite(*v)) {
-                    Some((what, _)) => Err(RetimeError::NonFinitePath { piece, s, what }),
-                    None => Ok(node),
-                }
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok(PathPiece { length, nodes })
+        let grid = graded_grid(path, piece, length, intervals);
+        let node = |s: f64| -> Result<PathNode, RetimeError> {
+            let st = path.piece_state(piece, s);
+            let a = joint_torques(cat, &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
+            let b = joint_torques(cat, &st).tau;
+            let finite = |v: [f64; 2]| v.iter().all(|x| x.is_finite());
+            if !finite(st.q) || !finite(st.qdd) {
+                return Err(RetimeError::NonFinitePath { piece, s, what: "q or q''" });
+            }
+            match [("a", a), ("b", b), ("q'", st.qd)].into_iter().find(|(_, v)| !finite(*v)) {
+                Some((what, _)) => Err(RetimeError::NonFinitePath { piece, s, what }),
+                None => Ok(PathNode { a, b, tangent: st.qd }),
+            }
+        };
+        let nodes = grid.iter().map(|&s| node(s)).collect::<Result<Vec<_>, _>>()?;
+        let midpoints = grid.windows(2).map(|g| node(0.5 * (g[0] + g[1]))).collect::<Result<Vec<_>, _>>()?;
+        Ok(PathPiece { length, grid, nodes, midpoints: Some(midpoints) })
     }
 
     /// Number of intervals `N`.
@@ -66,9 +86,9 @@ impl PathPiece {
         self.nodes.len().saturating_sub(1)
     }
 
-    /// Grid spacing `Δs = S/N`.
-    pub fn spacing(&self) -> f64 {
-        self.length / self.intervals() as f64
+    /// Width `s_{k+1} − s_k` of interval `k`.
+    pub fn spacing(&self, k: usize) -> f64 {
+        self.grid[k + 1] - self.grid[k]
     }
 
     /// The largest tangent norm on the piece: the scale below which a tangent counts as zero.
@@ -145,8 +165,27 @@ impl PathProblem {
             if p.intervals() < 2 {
                 return Err(bad("piece nodes", p.nodes.len(), "a piece needs at least 3 nodes (2 intervals)"));
             }
-            for (k, n) in p.nodes.iter().enumerate() {
-                let s = p.spacing() * k as f64;
+            if p.grid.len() != p.nodes.len() {
+                return Err(bad("piece grid", p.grid.len(), "must have one point per node"));
+            }
+            let ends =
+                p.grid[0].to_bits() == 0.0f64.to_bits() && p.grid[p.grid.len() - 1].to_bits() == p.length.to_bits();
+            if !ends || p.grid.windows(2).any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater)) {
+                return Err(bad(
+                    "piece grid",
+                    format!("{:?}…", &p.grid[..3]),
+                    "must increase from 0 to the piece's length",
+                ));
+            }
+            if p.midpoints.as_ref().is_some_and(|m| m.len() != p.intervals()) {
+                return Err(bad(
+                    "piece midpoints",
+                    p.midpoints.as_ref().map_or(0, Vec::len),
+                    "must have one per interval",
+                ));
+            }
+            let mids = p.midpoints.iter().flatten().zip(p.grid.windows(2).map(|g| 0.5 * (g[0] + g[1])));
+            for (n, s) in p.nodes.iter().zip(p.grid.iter().copied()).chain(mids) {
                 for (what, v) in [("a", n.a), ("b", n.b), ("q'", n.tangent)] {
                     if !v.iter().all(|x| x.is_finite()) {
                         return Err(RetimeError::NonFinitePath { piece: i, s, what });
@@ -207,6 +246,38 @@ impl PathProblem {
             })
             .collect()
     }
+}
+
+/// The graded grid of [`PathPiece::sample`]: `N + 1` points equally spaced in
+/// `½ s/S + ½ ℓ(s)/L`, `ℓ` by the trapezoid rule on `16 N` points, inverted linearly.
+fn graded_grid(path: &impl Trajectory, piece: usize, length: f64, intervals: usize) -> Vec<f64> {
+    let m = GRADING_POINTS * intervals;
+    let fine: Vec<f64> = (0..=m).map(|i| if i == m { length } else { length * i as f64 / m as f64 }).collect();
+    let speed: Vec<f64> = fine.iter().map(|&s| norm(path.piece_state(piece, s).qd)).collect();
+    let mut arc = vec![0.0; m + 1];
+    for i in 0..m {
+        arc[i + 1] = arc[i] + 0.5 * (speed[i] + speed[i + 1]) * (fine[i + 1] - fine[i]);
+    }
+    let total = arc[m];
+    let measure: Vec<f64> = (0..=m)
+        .map(|i| {
+            let along = if total > 0.0 && total.is_finite() { arc[i] / total } else { fine[i] / length };
+            0.5 * fine[i] / length + 0.5 * along
+        })
+        .collect();
+    let mut grid = Vec::with_capacity(intervals + 1);
+    grid.push(0.0);
+    let mut i = 0;
+    for k in 1..intervals {
+        let target = k as f64 / intervals as f64;
+        while measure[i + 1] < target {
+            i += 1;
+        }
+        let f = (target - measure[i]) / (measure[i + 1] - measure[i]);
+        grid.push(fine[i] + f * (fine[i + 1] - fine[i]));
+    }
+    grid.push(length);
+    grid
 }
 
 fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {

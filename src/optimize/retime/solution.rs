@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::assembly::Scales;
-use super::problemdata::PathProblem;
+use super::problemdata::{PathNode, PathPiece, PathProblem};
 use crate::qp::QpStatus;
 
 /// How the retiming's solve ended.
@@ -54,30 +54,30 @@ impl RetimeStatus {
 /// The timing of one piece: `s(t)` with `s̈` constant on every grid interval.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PieceTiming {
-    /// The piece's extent `S` in the path parameter.
-    pub length: f64,
-    /// `x_k = ṡ²` at the nodes `s_k = k S/N`.
+    /// The nodes' path parameters `s_k`, from 0 to the piece's extent `S`.
+    pub grid: Vec<f64>,
+    /// `x_k = ṡ²` at the nodes.
     pub speed_squared: Vec<f64>,
-    /// `u_k = s̈` on interval `k`, `(x_{k+1} − x_k)/(2Δs)`.
+    /// `u_k = s̈` on interval `k`, `(x_{k+1} − x_k)/(2Δs_k)`.
     pub accel: Vec<f64>,
-    /// Local time of each node, s: `t_0 = 0`, `t_{k+1} = t_k + 2Δs/(√x_k + √x_{k+1})`.
+    /// Local time of each node, s: `t_0 = 0`, `t_{k+1} = t_k + 2Δs_k/(√x_k + √x_{k+1})`.
     pub times: Vec<f64>,
 }
 
 impl PieceTiming {
-    /// The timing of node values `x` (clamped at zero; `u` and the times follow from them, so
-    /// the timing is consistent whatever the solver's residuals).
-    pub fn from_speed_squared(length: f64, x: &[f64]) -> PieceTiming {
+    /// The timing of node values `x` on `grid` (clamped at zero; `u` and the times follow from
+    /// them, so the timing is consistent whatever the solver's residuals).
+    pub fn from_speed_squared(grid: Vec<f64>, x: &[f64]) -> PieceTiming {
         let x: Vec<f64> = x.iter().map(|v| v.max(0.0)).collect();
-        let h = length / (x.len() - 1) as f64;
-        let accel = x.windows(2).map(|w| (w[1] - w[0]) / (2.0 * h)).collect();
+        let h: Vec<f64> = grid.windows(2).map(|g| g[1] - g[0]).collect();
+        let accel = x.windows(2).zip(&h).map(|(w, h)| (w[1] - w[0]) / (2.0 * h)).collect();
         let mut times = Vec::with_capacity(x.len());
         times.push(0.0);
-        for w in x.windows(2) {
+        for (w, h) in x.windows(2).zip(&h) {
             let t = times[times.len() - 1] + 2.0 * h / (w[0].sqrt() + w[1].sqrt());
             times.push(t);
         }
-        PieceTiming { length, speed_squared: x, accel, times }
+        PieceTiming { grid, speed_squared: x, accel, times }
     }
 
     /// Duration of the piece, s.
@@ -85,16 +85,11 @@ impl PieceTiming {
         self.times[self.times.len() - 1]
     }
 
-    /// Grid spacing `Δs`.
-    pub fn spacing(&self) -> f64 {
-        self.length / self.accel.len() as f64
-    }
-
     /// The same motion slowed by the factor `1/λ` in time: `x λ²`, `u λ²`, times `/λ`.
     fn slowed(&self, lambda: f64) -> PieceTiming {
         let l2 = lambda * lambda;
         PieceTiming {
-            length: self.length,
+            grid: self.grid.clone(),
             speed_squared: self.speed_squared.iter().map(|x| x * l2).collect(),
             accel: self.accel.iter().map(|u| u * l2).collect(),
             times: self.times.iter().map(|t| t / lambda).collect(),
@@ -107,11 +102,9 @@ impl PieceTiming {
         let n = self.accel.len();
         let t = t.clamp(0.0, self.duration());
         let k = self.times.partition_point(|&tk| tk <= t).saturating_sub(1).min(n - 1);
-        let h = self.spacing();
         let tau = t - self.times[k];
         let (v, u) = (self.speed_squared[k].sqrt(), self.accel[k]);
-        let s =
-            (k as f64 * h + v * tau + 0.5 * u * tau * tau).clamp(k as f64 * h, ((k + 1) as f64 * h).min(self.length));
+        let s = (self.grid[k] + v * tau + 0.5 * u * tau * tau).clamp(self.grid[k], self.grid[k + 1]);
         (s, (v + u * tau).max(0.0), u)
     }
 }
@@ -143,7 +136,7 @@ pub struct RetimeSolution {
     pub lower_bound: f64,
     /// `peak − lower_bound`, N·m.
     pub gap: f64,
-    /// The node torques' peak of the timings below (at most `peak`: a piece with slack in its
+    /// The peak of the program's torques (nodes and midpoints) for the timings below (at most `peak`: a piece with slack in its
     /// duration is slowed to fill it), N·m.
     pub discrete_peak: f64,
     /// Clarabel's relative primal residual (normalised program).
@@ -187,22 +180,12 @@ impl RetimeSolution {
             .zip(columns)
             .map(|(p, &(base, n))| {
                 let x: Vec<f64> = raw.x[base..=base + n].iter().map(|v| v * v2).collect();
-                PieceTiming::from_speed_squared(p.length, &x)
+                PieceTiming::from_speed_squared(p.grid.clone(), &x)
             })
             .collect();
         out.timings = fill_durations(problem, timings);
-        out.discrete_peak = problem
-            .pieces
-            .iter()
-            .zip(&out.timings)
-            .flat_map(|(p, t)| {
-                (0..t.accel.len()).flat_map(move |k| {
-                    [k, k + 1].into_iter().flat_map(move |e| {
-                        (0..2).map(move |j| (p.nodes[e].a[j] * t.accel[k] + p.nodes[e].b[j] * t.speed_squared[e]).abs())
-                    })
-                })
-            })
-            .fold(0.0, f64::max);
+        out.discrete_peak =
+            problem.pieces.iter().zip(&out.timings).map(|(p, t)| sampled_peak(p, t)).fold(0.0, f64::max);
         out
     }
 
@@ -210,6 +193,19 @@ impl RetimeSolution {
     pub fn durations(&self) -> Vec<f64> {
         self.timings.iter().map(PieceTiming::duration).collect()
     }
+}
+
+/// The peak `|a u_k + b x|` of a timing at the nodes and midpoints where the program bounds it.
+fn sampled_peak(p: &PathPiece, t: &PieceTiming) -> f64 {
+    let tau = |n: &PathNode, u: f64, x: f64| (0..2).map(|j| (n.a[j] * u + n.b[j] * x).abs()).fold(0.0, f64::max);
+    let x = &t.speed_squared;
+    (0..t.accel.len())
+        .map(|k| {
+            let u = t.accel[k];
+            let ends = tau(&p.nodes[k], u, x[k]).max(tau(&p.nodes[k + 1], u, x[k + 1]));
+            p.midpoints.as_ref().map_or(ends, |m| ends.max(tau(&m[k], u, 0.5 * (x[k] + x[k + 1]))))
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Slows timings that finished early: with [`super::Split::Free`] all pieces together to the
