@@ -67,6 +67,7 @@ pub struct PieceTiming {
 impl PieceTiming {
     /// The timing of node values `x` on `grid` (clamped at zero; `u` and the times follow from
     /// them, so the timing is consistent whatever the solver's residuals).
+    /// `grid` and `x` have one value per node.
     pub fn from_speed_squared(grid: Vec<f64>, x: &[f64]) -> PieceTiming {
         let x: Vec<f64> = x.iter().map(|v| v.max(0.0)).collect();
         let h: Vec<f64> = grid.windows(2).map(|g| g[1] - g[0]).collect();
@@ -82,7 +83,7 @@ impl PieceTiming {
 
     /// Duration of the piece, s.
     pub fn duration(&self) -> f64 {
-        self.times[self.times.len() - 1]
+        self.times.last().copied().unwrap_or(0.0)
     }
 
     /// The same motion slowed by the factor `1/λ` in time: `x λ²`, `u λ²`, times `/λ`.
@@ -99,9 +100,11 @@ impl PieceTiming {
     /// `(s, ṡ, s̈)` at local time `t` (clamped to the piece): on interval `k`,
     /// `s = s_k + ṡ_k τ + u_k τ²/2`, `τ = t − t_k`.
     pub fn at(&self, t: f64) -> (f64, f64, f64) {
-        let n = self.accel.len();
+        let Some(last) = self.accel.len().checked_sub(1) else {
+            return (0.0, 0.0, 0.0); // no interval: nothing moves
+        };
         let t = t.clamp(0.0, self.duration());
-        let k = self.times.partition_point(|&tk| tk <= t).saturating_sub(1).min(n - 1);
+        let k = self.times.partition_point(|&tk| tk <= t).saturating_sub(1).min(last);
         let tau = t - self.times[k];
         let (v, u) = (self.speed_squared[k].sqrt(), self.accel[k]);
         let s = (self.grid[k] + v * tau + 0.5 * u * tau * tau).clamp(self.grid[k], self.grid[k + 1]);
