@@ -286,3 +286,27 @@ fn a_straight_join_keeps_the_rates_continuous() {
     assert!(before > 1.0, "the joint moves through the cut: {before} rad/s");
     assert_relative_eq!(before, after, max_relative = 1e-6);
 }
+
+/// A rest-to-rest move over `S` in `T` needs `|s̈| ≥ 4S/T²` somewhere (bang-bang is the least
+/// peak acceleration): an acceleration limit just below is infeasible, just above it changes
+/// nothing for constant `a`.
+#[test]
+fn an_acceleration_limit_below_bang_bang_is_infeasible() {
+    let (a, length, duration) = (0.37, 2.5, 1.3);
+    let node = PathNode { a: [a, 0.0], b: [0.0; 2], tangent: [1.0, 0.0] };
+    let least = 4.0 * length / (duration * duration);
+    for (factor, feasible) in [(0.95, false), (1.05, true)] {
+        let problem = PathProblem {
+            pieces: vec![PathPiece::uniform(length, vec![node; 33])],
+            duration,
+            settings: RetimeSettings { accel_limit: Some(factor * least), ..settings(32, Split::Kept) },
+        };
+        let sol = problem.solve().expect("valid");
+        if feasible {
+            assert_eq!(sol.status, RetimeStatus::Solved);
+            assert_relative_eq!(sol.peak, a * least, max_relative = 1e-7);
+        } else {
+            assert_eq!(sol.status, RetimeStatus::Infeasible, "limit {factor} × 4S/T²");
+        }
+    }
+}
