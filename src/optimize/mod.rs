@@ -15,6 +15,7 @@
 
 pub mod qp;
 pub mod refine;
+pub mod retime;
 
 use serde::Serialize;
 

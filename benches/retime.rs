@@ -1,0 +1,42 @@
+//! Run time of the certified convex retiming of the paper's whole schedule (three pieces, each
+//! on a grid of `N` intervals): sampling the path, the SOCP (Clarabel) and the reconstruction.
+//!
+//! `cargo bench --bench retime`; one size: `cargo bench --bench retime -- 'retime/kept/200'`.
+//! Target (issue 13): the convex retiming of a whole schedule within 1 s.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use catflip::optimize::retime::{retime, RetimeSettings, Split};
+use catflip::problem::Problem;
+use catflip::schedule::{paper_circulation, Schedule};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
+
+fn paper() -> (Problem, Schedule) {
+    let p = Problem::default();
+    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
+    let s = Schedule::new(&p, d);
+    (p, s)
+}
+
+fn whole_schedule(c: &mut Criterion) {
+    let (p, s) = paper();
+    for (name, split) in [("retime/kept", Split::Kept), ("retime/free", Split::Free)] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(10).sampling_mode(SamplingMode::Flat).measurement_time(Duration::from_secs(3));
+        for n in [50, 100, 200, 400] {
+            let settings = RetimeSettings { intervals: n, split, ..RetimeSettings::default() };
+            group.bench_with_input(BenchmarkId::from_parameter(n), &settings, |b, settings| {
+                b.iter(|| {
+                    let r = retime(&p.cat, black_box(&s), s.duration(), *settings).expect("valid problem");
+                    assert!(r.solution.status.is_solved(), "{}", r.solution.status);
+                    r.solution.peak
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, whole_schedule);
+criterion_main!(benches);

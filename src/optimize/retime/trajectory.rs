@@ -1,0 +1,92 @@
+//! The retimed trajectory `q(t) = q(s(t))` and its re-measurement by the exact engine.
+//!
+//! On piece `i`, interval `k`, `s(t) = s_k + ṡ_k τ + u_k τ²/2` exactly (piecewise constant
+//! `s̈`), so `q̇ = q' ṡ` is continuous and `q̈ = q' s̈ + q'' ṡ²` jumps where `s̈` does: the exact
+//! torques of this trajectory at the grid nodes are the program's.
+
+use serde::Serialize;
+
+use super::{PathProblem, PieceTiming, RetimeError, RetimeSettings, RetimeSolution};
+use crate::engines::exact::{flip, Flip};
+use crate::model::Cylinder;
+use crate::schedule::{JointState, Trajectory};
+use crate::engines::torque::{peak_torques, PeakTorques};
+
+/// A path with new timings: the pieces are the path's, each run in its [`PieceTiming`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RetimedTrajectory<P> {
+    /// The path, parametrised by the local time of its own pieces.
+    pub path: P,
+    /// The timing of each piece.
+    pub timings: Vec<PieceTiming>,
+}
+
+impl<P: Trajectory> Trajectory for RetimedTrajectory<P> {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.timings.iter().map(PieceTiming::duration).collect()
+    }
+
+    fn piece_state(&self, piece: usize, t: f64) -> JointState {
+        let (s, sd, sdd) = self.timings[piece].at(t);
+        let p = self.path.piece_state(piece, s);
+        JointState { q: p.q, qd: p.qd.map(|d| d * sd), qdd: [0, 1].map(|j| p.qd[j] * sdd + p.qdd[j] * sd * sd) }
+    }
+}
+
+/// A path retimed: the program's solution and, when it solved, the timed trajectory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Retiming<P> {
+    /// The program's solution.
+    pub solution: RetimeSolution,
+    /// The timed trajectory; `None` unless the solution [`RetimeStatus::is_solved`].
+    ///
+    /// [`RetimeStatus::is_solved`]: super::RetimeStatus::is_solved
+    pub trajectory: Option<RetimedTrajectory<P>>,
+}
+
+/// The retimed trajectory measured by the exact engine, beside the original path.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Remeasurement {
+    /// Exact peak torques of the retimed trajectory, per piece and joint (dense evaluation).
+    pub peaks: PeakTorques,
+    /// `peaks.max − lower_bound`: how far the exact peak of this timing lies above the certified
+    /// bound of the discrete problem, N·m.
+    pub gap_to_bound: f64,
+    /// The original path's flip.
+    pub original_flip: Flip,
+    /// The retimed trajectory's flip (a geometric phase: the same up to the tolerance).
+    pub flip: Flip,
+}
+
+/// Retimes a trajectory's path to a total `duration` (s): samples it, solves the program, and
+/// builds the timed trajectory (module docs).
+pub fn retime<P: Trajectory + Clone>(
+    cat: &Cylinder,
+    path: &P,
+    duration: f64,
+    settings: RetimeSettings,
+) -> Result<Retiming<P>, RetimeError> {
+    let problem = PathProblem::from_trajectory(cat, path, duration, settings)?;
+    let solution = problem.solve()?;
+    let trajectory = solution
+        .status
+        .is_solved()
+        .then(|| RetimedTrajectory { path: path.clone(), timings: solution.timings.clone() });
+    Ok(Retiming { solution, trajectory })
+}
+
+impl<P: Trajectory> Retiming<P> {
+    /// Measures the retimed trajectory with the exact engine: its peak torques with `samples + 1`
+    /// points per piece ([`peak_torques`]) and its flip and the original's to `tolerance` rad
+    /// ([`flip`]). `None` when there is no trajectory.
+    pub fn remeasure(&self, cat: &Cylinder, samples: usize, tolerance: f64) -> Option<Remeasurement> {
+        let traj = self.trajectory.as_ref()?;
+        let peaks = peak_torques(cat, traj, samples);
+        Some(Remeasurement {
+            gap_to_bound: peaks.max - self.solution.lower_bound,
+            peaks,
+            original_flip: flip(cat, &traj.path, tolerance),
+            flip: flip(cat, traj, tolerance),
+        })
+    }
+}
