@@ -3,6 +3,8 @@
 
 use serde::{de, Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::limits;
+use crate::numfmt::echo;
 use crate::problem::{bad, ProblemError};
 
 /// The smoothing profile of the circulation rate `ω(s)` in the twist phase.
@@ -177,21 +179,39 @@ impl Manoeuvre {
             return Err(bad("manoeuvre.theta_deg", t, "must be a finite number"));
         }
         if t <= 0.0 || t > 180.0 {
-            return Err(bad("manoeuvre.theta_deg", t, "must lie in (0, 180] degrees (180 is a straight cat)"));
+            return Err(bad("manoeuvre.theta_deg", echo(t), "must lie in (0, 180] degrees (180 is a straight cat)"));
         }
-        let shown = format!("{:?}", self.phases);
+        if t < limits::THETA_DEG.min {
+            return Err(bad(
+                "manoeuvre.theta_deg",
+                echo(t),
+                &format!("must lie in {}: the halves would fold onto each other", limits::THETA_DEG),
+            ));
+        }
+        let shown = format!("[{}]", self.phases.map(echo).join(", "));
         for (i, f) in self.phases.iter().enumerate() {
             let field = format!("manoeuvre.phases[{i}]");
             if !f.is_finite() {
-                return Err(bad(&field, f, "must be a finite number"));
+                return Err(bad(&field, echo(*f), "must be a finite number"));
             }
             if *f <= 0.0 {
-                return Err(bad(&field, f, "each phase must take a positive fraction of the fall"));
+                return Err(bad(&field, echo(*f), "each phase must take a positive fraction of the fall"));
+            }
+            if *f < limits::MIN_PHASE_FRACTION {
+                return Err(bad(
+                    &field,
+                    echo(*f),
+                    &format!("each phase must take at least {} of the fall", echo(limits::MIN_PHASE_FRACTION)),
+                ));
             }
         }
         let sum: f64 = self.phases.iter().sum();
         if (sum - 1.0).abs() > 1e-9 {
-            return Err(bad("manoeuvre.phases", shown, &format!("fractions must sum to 1 (they sum to {sum})")));
+            return Err(bad(
+                "manoeuvre.phases",
+                shown,
+                &format!("fractions must sum to 1 (they sum to {})", echo(sum)),
+            ));
         }
         if let Circulation::Angle(a) = self.circulation {
             if !a.is_finite() {

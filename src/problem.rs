@@ -9,7 +9,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::limits::{self, in_range};
 use crate::model::Cylinder;
+use crate::numfmt::{echo, num};
 use crate::settings::{ExactSettings, OptimizeSettings, RapierSettings};
 
 pub use crate::manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
@@ -148,11 +150,40 @@ impl Problem {
                 "must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)",
             ));
         }
-        positive("cat.mass", self.cat.mass)?;
-        positive("cat.length", self.cat.length)?;
+        in_range("cat.mass", self.cat.mass, limits::MASS)?;
+        in_range("cat.length", self.cat.length, limits::LENGTH)?;
         positive("cat.radius", self.cat.radius)?;
-        positive("drop.height", self.drop.height)?;
-        positive("drop.gravity", self.drop.gravity)?;
+        let ratio = limits::RADIUS_OVER_LENGTH;
+        // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
+        let r_over_l = self.cat.radius / self.cat.length;
+        if !(ratio.min * (1.0 - 1e-12)..=ratio.max * (1.0 + 1e-12)).contains(&r_over_l) {
+            return Err(bad(
+                "cat.radius",
+                echo(self.cat.radius),
+                &format!(
+                    "must lie in [{}, {}] m, {} times cat.length = {} m",
+                    echo(ratio.min * self.cat.length),
+                    echo(ratio.max * self.cat.length),
+                    ratio,
+                    echo(self.cat.length)
+                ),
+            ));
+        }
+        in_range("drop.height", self.drop.height, limits::HEIGHT)?;
+        in_range("drop.gravity", self.drop.gravity, limits::GRAVITY)?;
+        let fall = self.drop.fall_time();
+        if !(limits::FALL_TIME.min..=limits::FALL_TIME.max).contains(&fall) {
+            return Err(bad(
+                "drop.height",
+                echo(self.drop.height),
+                &format!(
+                    "with drop.gravity = {} m/s² the fall takes {} s; the fall time √(2h/g) must lie in {}",
+                    echo(self.drop.gravity),
+                    num(fall),
+                    limits::FALL_TIME
+                ),
+            ));
+        }
         self.manoeuvre.validate()?;
         self.exact.validate()?;
         self.rapier.validate()?;
@@ -198,7 +229,7 @@ pub(crate) fn not_positive(value: f64) -> Option<&'static str> {
 
 /// Requires a finite, strictly positive value.
 pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
-    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
+    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, echo(value), reason)))
 }
 
 /// Requires `None` or a finite, strictly positive value.
