@@ -100,7 +100,7 @@ pub fn optimize(problem: &Problem) -> Result<OptimizeReport, OptimizeError> {
     let t2 = base.durations[1];
     let inertia = problem.cat.end_transverse();
     let qp_data = ProfileQp::new(&problem.optimize, t2, circulation.radians, inertia);
-    let qp = qp_data.solve()?;
+    let qp = qp_data.solve()?.solved()?;
     let calibration = match circulation.calibration {
         Some(c) => c,
         None => calibrate(&problem.cat, &base, problem.exact.tolerance),
@@ -185,7 +185,7 @@ impl OptimizeReport {
         );
         let _ = writeln!(
             s,
-            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {:?}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {:.6} N·m (closed form of the discrete problem: {}).\n",
+            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {} N·m (closed form of the discrete problem: {}).\n",
             q.rates.len(),
             q.status,
             q.info.iterations,
@@ -193,7 +193,7 @@ impl OptimizeReport {
             q.info.primal_residual,
             q.info.dual_residual,
             q.info.duality_gap,
-            q.peak_torque,
+            q.peak_torque.map_or("none".to_string(), |p| format!("{p:.6}")),
             self.qp_closed_form_nm.map_or("none with limits or smoothing".to_string(), |c| format!("{c:.6} N·m"))
         );
         if let Some(r) = &self.refinement {

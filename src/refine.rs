@@ -204,8 +204,18 @@ pub fn refine(problem: &Problem, schedule: &Schedule, phase: Phase, start: &[f64
     let boundary = if phase == Phase::Twist { opt.boundary } else { crate::settings::Boundary::RestToRest };
     let unit = distance.abs() / t2;
     let mut w = start.to_vec();
-    let mut samples = torque_samples(problem, schedule, phase, &w);
     let start_peak = phase_peak(problem, schedule, phase, &w);
+    if unit == 0.0 {
+        // A phase that does not move (the bend of a straight cat) has no timing to improve.
+        return Ok(Refinement {
+            rates: w,
+            start_peak,
+            final_peak: start_peak,
+            iterations: Vec::new(),
+            status: RefineStatus::Converged,
+        });
+    }
+    let mut samples = torque_samples(problem, schedule, phase, &w);
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;
