@@ -130,12 +130,16 @@ impl Problem {
                 message: one_line(e.message()),
             }
         })?;
+        // The file alone first, so that a value it holds is blamed on it and one an override
+        // brings in on that override.
+        let from_file: Result<Problem, toml::de::Error> = table.clone().try_into();
+        from_file.map_err(|e| ProblemError::Parse { origin: origin.to_string(), message: user_message(&e) })?;
         for assignment in overrides {
             apply_override(&mut table, assignment)?;
         }
-        let problem: Problem = table.try_into().map_err(|e: toml::de::Error| ProblemError::Parse {
-            origin: origin.to_string(),
-            message: one_line(&e.to_string()),
+        let problem: Problem = table.try_into().map_err(|e: toml::de::Error| {
+            let message = user_message(&e);
+            ProblemError::BadOverride { assignment: blamed(overrides, &message), reason: message }
         })?;
         problem.validate()?;
         Ok(problem)
@@ -235,6 +239,42 @@ pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
 /// Requires `None` or a finite, strictly positive value.
 pub(crate) fn positive_opt(field: &str, value: Option<f64>) -> Result<(), ProblemError> {
     value.map_or(Ok(()), |v| positive(field, v))
+}
+
+/// A parse error in the user's words: serde's type names replaced by the file's section names and
+/// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
+fn user_message(e: &toml::de::Error) -> String {
+    const NAMES: [(&str, &str); 12] = [
+        ("struct Problem", "a problem file"),
+        ("struct Cylinder", "the [cat] section"),
+        ("struct Drop", "the [drop] section"),
+        ("struct Manoeuvre", "the [manoeuvre] section"),
+        ("struct ExactSettings", "the [exact] section"),
+        ("struct RapierSettings", "the [rapier] section"),
+        ("struct OptimizeSettings", "the [optimize] section"),
+        ("expected f64", "expected a number"),
+        ("expected usize", "expected a whole number"),
+        ("expected u32", "expected a whole number"),
+        ("expected u64", "expected a whole number"),
+        ("expected i64", "expected a whole number"),
+    ];
+    NAMES.iter().fold(one_line(&e.to_string()), |m, (from, to)| m.replace(from, to))
+}
+
+/// The override(s) a parse error that the file alone does not have must come from: the one whose
+/// key the message names (`… in `cat.mass``), else all of them.
+fn blamed(overrides: &[String], message: &str) -> String {
+    let key = message.rsplit_once(" in `").map(|(_, k)| k.trim_end_matches('`'));
+    let named = key.and_then(|key| {
+        overrides.iter().rev().find(|o| {
+            let k = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+            k == key || k.starts_with(&format!("{key}.")) || key.starts_with(&format!("{k}."))
+        })
+    });
+    match named {
+        Some(o) => o.clone(),
+        None => overrides.join(" --set "),
+    }
 }
 
 fn one_line(s: &str) -> String {

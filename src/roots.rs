@@ -20,6 +20,18 @@ pub enum RootStatus {
     NotAtRoot,
 }
 
+impl std::fmt::Display for RootStatus {
+    /// How the search ended, in words.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            RootStatus::Converged => "converged",
+            RootStatus::NoBracket => "no sign change found, so no root was bracketed",
+            RootStatus::MaxIterations => "iteration budget spent before converging",
+            RootStatus::NotAtRoot => "the bracket closed on a jump, not on a root",
+        })
+    }
+}
+
 /// The outcome of a root search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Root {

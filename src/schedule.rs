@@ -265,10 +265,10 @@ pub fn nearest_straight(q: [f64; 2]) -> [f64; 2] {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ScheduleError {
     /// The paper's `C` is not positive, so `π/C` is no circulation.
-    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {0} is not positive: the paper's circulation π/C is undefined for this cat")]
+    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive: the paper's circulation π/C is undefined for this cat", crate::numfmt::num(*.0))]
     NonPositiveC(f64),
     /// The paper's `π/C` is beyond [`crate::manoeuvre::MAX_CIRCULATION`].
-    #[error("manoeuvre.circulation = \"paper\": π/C = {0:.4e} rad (C = {1:.3e}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", max = crate::manoeuvre::MAX_CIRCULATION)]
+    #[error("manoeuvre.circulation = \"paper\": π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", crate::numfmt::num(*.0), crate::numfmt::num(*.1), max = crate::manoeuvre::MAX_CIRCULATION)]
     CirculationTooLarge(f64, f64),
 }
 

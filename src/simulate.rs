@@ -25,7 +25,7 @@ pub enum SimulateError {
     #[error(transparent)]
     Schedule(#[from] ScheduleError),
     /// Calibration found no circulation that turns the cat by π.
-    #[error("manoeuvre.circulation = \"calibrated\": no circulation near the paper's {near:.6} rad turns this cat by π (the search ended: {status:?})")]
+    #[error("manoeuvre.circulation = \"calibrated\": no circulation near the paper's {near:.6} rad turns this cat by π (the search ended: {status})")]
     Calibration {
         /// Where the search started, rad.
         near: f64,

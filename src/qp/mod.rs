@@ -139,8 +139,11 @@ pub enum QpError {
         /// How Clarabel ended.
         status: QpStatus,
     },
-    /// An input has a value the QP cannot use.
-    #[error("{field} = {value}: {reason}")]
+    /// An input has a value the QP cannot use. The problem's validation keeps every such input
+    /// out of reach of a problem file, so this is a bug to report, and reads as one.
+    #[error(
+        "internal error: the optimiser was handed {field} = {value} ({reason}); please report it with the problem file"
+    )]
     BadInput {
         /// The input's name, e.g. `nodes`.
         field: &'static str,
