@@ -38,6 +38,7 @@ pub mod provenance;
 pub mod qp;
 pub mod rapier;
 pub mod refine;
+pub mod results_dir;
 pub mod roots;
 pub mod run;
 pub mod schedule;
