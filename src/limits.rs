@@ -8,8 +8,12 @@
 //! needs: `r/l ∈ [10⁻³, 1]`, mass `10⁻³…10³` kg, fall time `0.1…10` s, θ `10°…180°`) and every
 //! product the engines form from values inside them stays far from overflow and underflow.
 //!
-//! Counts (samples, nodes, iterations) are bounded too, so that no setting runs for ever; each
-//! maximum is a few hundred times its default and keeps one run under about a minute on one core.
+//! Counts (samples, nodes, iterations) are bounded too, so that no setting runs for ever. The
+//! optimiser's cost grows faster than linearly in its nodes: `catflip optimize
+//! problems/paper.toml --set optimize.nodes=N` took 5.8 s (N = 200, the default), 23.9 s
+//! (600) and 246 s (2000) on the project's shared 2-core machine, and did not end within 300 s
+//! at 20000; hence [`NODES`]' maximum of 1000. `catflip simulate problems/paper.toml --set
+//! exact.torque_samples=100000` took 0.6 s (10⁷ took 17 s).
 //!
 //! The messages read `cat.mass = 1e300: must lie in [1e-6, 1e6] kg`, with the field named as the
 //! user writes it and the value shortened by [`crate::numfmt::echo`].
@@ -53,7 +57,7 @@ pub const MAX_SMOOTHNESS: f64 = 1e6;
 /// Torque samples per phase of the exact engine (`exact.torque_samples`).
 pub const TORQUE_SAMPLES: CountRange = CountRange { min: 8, max: 100_000 };
 /// Rate nodes of the profile QP and the refinements (`optimize.nodes`).
-pub const NODES: CountRange = CountRange { min: 4, max: 20_000 };
+pub const NODES: CountRange = CountRange { min: 4, max: 1000 };
 /// Outer iterations of each exact-dynamics refinement (`optimize.refine_iterations`).
 pub const REFINE_ITERATIONS: CountRange = CountRange { min: 0, max: 1000 };
 
