@@ -176,7 +176,7 @@ impl Manoeuvre {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         let t = self.theta_deg;
         if !t.is_finite() {
-            return Err(bad("manoeuvre.theta_deg", t, "must be a finite number"));
+            return Err(bad("manoeuvre.theta_deg", echo(t), "must be a finite number"));
         }
         if t <= 0.0 || t > 180.0 {
             return Err(bad("manoeuvre.theta_deg", echo(t), "must lie in (0, 180] degrees (180 is a straight cat)"));
@@ -215,19 +215,19 @@ impl Manoeuvre {
         }
         if let Circulation::Angle(a) = self.circulation {
             if !a.is_finite() {
-                return Err(bad("manoeuvre.circulation", a, "must be a finite number of radians"));
+                return Err(bad("manoeuvre.circulation", echo(a), "must be a finite number of radians"));
             }
             if a == 0.0 {
                 return Err(bad(
                     "manoeuvre.circulation",
-                    a,
+                    echo(a),
                     "must be non-zero: without circulation the cat does not twist",
                 ));
             }
             if a.abs() > MAX_CIRCULATION {
                 return Err(bad(
                     "manoeuvre.circulation",
-                    a,
+                    echo(a),
                     &format!("must be at most {MAX_CIRCULATION} rad in magnitude (about 160 turns of the bend)"),
                 ));
             }
@@ -242,7 +242,7 @@ impl Manoeuvre {
         if self.bend_path == BendPath::Cone && (self.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
             return Err(bad(
                 "manoeuvre.theta_deg",
-                t,
+                echo(t),
                 &format!(
                     "the cone path meets gimbal lock of the Rx·Ry joint when the bend is within {CONE_GIMBAL_MARGIN_DEG}° of 90° (B's spine along joint 1's axis); choose another θ or bend_path = \"joint-circle\""
                 ),

@@ -27,7 +27,11 @@ impl ExactSettings {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         positive("exact.tolerance", self.tolerance)?;
         if self.tolerance < 1e-14 {
-            return Err(bad("exact.tolerance", self.tolerance, "is below what double precision can deliver (≥ 1e-14)"));
+            return Err(bad(
+                "exact.tolerance",
+                echo(self.tolerance),
+                "is below what double precision can deliver (≥ 1e-14)",
+            ));
         }
         in_range("exact.tolerance", self.tolerance, limits::EXACT_TOLERANCE)?;
         if self.torque_samples < 8 {
@@ -61,7 +65,7 @@ impl RapierSettings {
         if self.cross_mass_fraction > 0.01 {
             return Err(bad(
                 "rapier.cross_mass_fraction",
-                self.cross_mass_fraction,
+                echo(self.cross_mass_fraction),
                 "must be at most 0.01 (the cross is meant to be negligible)",
             ));
         }

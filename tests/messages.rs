@@ -11,12 +11,11 @@ fn catflip(args: &[&str]) -> (i32, String) {
     (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).trim().to_string())
 }
 
+/// The message with which `text` (as `test.toml`) and `overrides` are refused.
 fn error_of(text: &str, overrides: &[&str]) -> String {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    match Problem::from_toml(text, "test.toml", &o) {
-        Ok(p) => panic!("expected an error, loaded {p:?}"),
-        Err(e) => e.to_string(),
-    }
+    let owned = overrides.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let refused = Problem::from_toml(text, "test.toml", &owned).err();
+    refused.map(|e| e.to_string()).unwrap_or_else(|| panic!("{overrides:?} loaded"))
 }
 
 #[test]
@@ -90,4 +89,16 @@ fn echoed_values_are_shortened() {
         error_of("", &["optimize.smoothness=-1e300"]),
         "optimize.smoothness = -1e300: must be a finite, non-negative weight"
     );
+}
+
+#[test]
+fn every_echoed_number_is_shortened() {
+    for (set, start) in [
+        ("manoeuvre.circulation=1e300", "manoeuvre.circulation = 1e300: must be at most"),
+        ("exact.tolerance=1e-300", "exact.tolerance = 1e-300: is below"),
+        ("rapier.cross_mass_fraction=1e300", "rapier.cross_mass_fraction = 1e300: must be at most"),
+    ] {
+        let e = error_of("", &[set]);
+        assert!(e.starts_with(start) && e.len() < 200, "{set}: {e}");
+    }
 }
