@@ -28,7 +28,7 @@ fn problem(nodes: usize) -> ProfileQp {
 fn solve(qp: &ProfileQp) -> f64 {
     let sol = qp.solve().expect("valid problem");
     assert_eq!(sol.status, QpStatus::Solved, "{qp:?}");
-    sol.peak_torque
+    sol.peak_torque.expect("solved")
 }
 
 fn rest_to_rest(c: &mut Criterion) {

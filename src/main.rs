@@ -119,6 +119,20 @@ fn run() -> anyhow::Result<()> {
             emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt } => {
+            if let Some(d) = dt {
+                if matches!(engine, Engine::Exact) {
+                    anyhow::bail!(
+                        "--dt {}: --dt is the time step of --engine rapier; the exact engine chooses its own steps (exact.tolerance)",
+                        catflip::numeric::numfmt::echo(d)
+                    );
+                }
+                if !d.is_finite() || d <= 0.0 {
+                    anyhow::bail!(
+                        "--dt {}: must be a finite, positive time step in seconds",
+                        catflip::numeric::numfmt::echo(d)
+                    );
+                }
+            }
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
             let r = Resolved::new(&load(&common, &extra)?)?;
             let report = catflip::report::simulate::simulate(&r, engine)?;

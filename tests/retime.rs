@@ -6,13 +6,13 @@
 use approx::assert_relative_eq;
 use catflip::engines::calibrate::calibrate;
 use catflip::engines::exact::flip;
+use catflip::engines::torque::{joint_torques, reduced_mass_matrix};
 use catflip::model::Cylinder;
 use catflip::optimize::retime::{
     retime, PathNode, PathPiece, PathProblem, RetimeError, RetimeSettings, RetimeStatus, Split,
 };
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
-use catflip::engines::torque::{joint_torques, reduced_mass_matrix};
 use proptest::prelude::*;
 
 /// The paper's problem (the defaults are problems/paper.toml) and its schedule with `π/C`.

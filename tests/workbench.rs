@@ -46,10 +46,14 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     let r = optimize(&resolved).expect("runs");
     assert!(r.qp.status.is_solved(), "{:?}", r.qp.status);
     // N = 61 is odd: the discrete optimum is the bang-bang value 4 D I*/T² (qp module docs).
-    assert_relative_eq!(r.qp.peak_torque, r.qp_closed_form_nm.unwrap_or(f64::NAN), max_relative = 1e-7);
+    assert_relative_eq!(
+        r.qp.peak_torque.expect("solved"),
+        r.qp_closed_form_nm.unwrap_or(f64::NAN),
+        max_relative = 1e-7
+    );
     let t2 = 0.6 * p.drop.fall_time();
     assert_relative_eq!(
-        r.qp.peak_torque,
+        r.qp.peak_torque.expect("solved"),
         4.0 * r.circulation.radians * p.cat.end_transverse() / (t2 * t2),
         max_relative = 1e-7
     );

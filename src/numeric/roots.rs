@@ -38,8 +38,14 @@ impl RootStatus {
 }
 
 impl std::fmt::Display for RootStatus {
+    /// How the search ended, in words.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
+        f.write_str(match self {
+            RootStatus::Converged => "converged",
+            RootStatus::NoBracket => "no sign change found, so no root was bracketed",
+            RootStatus::MaxIterations => "iteration budget spent before converging",
+            RootStatus::NotAtRoot => "the bracket closed on a jump, not on a root",
+        })
     }
 }
 

@@ -103,7 +103,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
     let base = &r.schedule;
     let t2 = base.durations[Phase::Twist.index()];
     let qp_data = ProfileQp::new(&problem.optimize, t2, r.circulation.radians, problem.cat.end_transverse());
-    let qp = qp_data.solve()?;
+    let qp = qp_data.solve()?.solved()?;
     let calibrated = r.calibrated();
     // A schedule on the problem's circulation, evaluated there and with the calibrated one.
     let evaluate = |s: Schedule, origin: Origin, rates: Vec<f64>| {

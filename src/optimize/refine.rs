@@ -222,8 +222,18 @@ pub fn refine(
     let boundary = if phase == Phase::Twist { opt.boundary } else { crate::problem::settings::Boundary::RestToRest };
     let unit = distance.abs() / t2;
     let mut w = start.to_vec();
-    let mut samples = torque_samples(cat, schedule, phase, &w);
     let start_peak = phase_peak(cat, exact, schedule, phase, &w);
+    if unit == 0.0 {
+        // A phase that does not move (the bend of a straight cat) has no timing to improve.
+        return Ok(Refinement {
+            rates: w,
+            start_peak,
+            final_peak: start_peak,
+            iterations: Vec::new(),
+            status: RefineStatus::Converged,
+        });
+    }
+    let mut samples = torque_samples(cat, schedule, phase, &w);
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;

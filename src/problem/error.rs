@@ -61,7 +61,7 @@ pub(crate) fn not_positive(value: f64) -> Option<&'static str> {
 
 /// Requires a finite, strictly positive value.
 pub(crate) fn positive(field: &str, value: f64) -> Result<(), ProblemError> {
-    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
+    not_positive(value).map_or(Ok(()), |reason| Err(bad(field, crate::numeric::numfmt::echo(value), reason)))
 }
 
 /// Requires `None` or a finite, strictly positive value.

@@ -4,6 +4,8 @@
 use serde::{de, Deserialize, Deserializer, Serialize, Serializer};
 
 use super::error::{bad, ProblemError};
+use crate::numeric::numfmt::echo;
+use crate::problem::limits;
 
 /// The smoothing profile of the circulation rate `ω(s)` in the twist phase.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -191,40 +193,58 @@ impl Manoeuvre {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         let t = self.theta_deg;
         if !t.is_finite() {
-            return Err(bad("manoeuvre.theta_deg", t, "must be a finite number"));
+            return Err(bad("manoeuvre.theta_deg", echo(t), "must be a finite number"));
         }
         if t <= 0.0 || t > 180.0 {
-            return Err(bad("manoeuvre.theta_deg", t, "must lie in (0, 180] degrees (180 is a straight cat)"));
+            return Err(bad("manoeuvre.theta_deg", echo(t), "must lie in (0, 180] degrees (180 is a straight cat)"));
         }
-        let shown = format!("[{}, {}, {}]", self.phases[0], self.phases[1], self.phases[2]);
+        if t < limits::THETA_DEG.min {
+            return Err(bad(
+                "manoeuvre.theta_deg",
+                echo(t),
+                &format!("must lie in {}: the halves would fold onto each other", limits::THETA_DEG),
+            ));
+        }
+        let shown = format!("[{}]", self.phases.map(echo).join(", "));
         for (i, f) in self.phases.iter().enumerate() {
             let field = format!("manoeuvre.phases[{i}]");
             if !f.is_finite() {
-                return Err(bad(&field, f, "must be a finite number"));
+                return Err(bad(&field, echo(*f), "must be a finite number"));
             }
             if *f <= 0.0 {
-                return Err(bad(&field, f, "each phase must take a positive fraction of the fall"));
+                return Err(bad(&field, echo(*f), "each phase must take a positive fraction of the fall"));
+            }
+            if *f < limits::MIN_PHASE_FRACTION {
+                return Err(bad(
+                    &field,
+                    echo(*f),
+                    &format!("each phase must take at least {} of the fall", echo(limits::MIN_PHASE_FRACTION)),
+                ));
             }
         }
         let sum: f64 = self.phases.iter().sum();
         if (sum - 1.0).abs() > 1e-9 {
-            return Err(bad("manoeuvre.phases", shown, &format!("fractions must sum to 1 (they sum to {sum})")));
+            return Err(bad(
+                "manoeuvre.phases",
+                shown,
+                &format!("fractions must sum to 1 (they sum to {})", echo(sum)),
+            ));
         }
         if let Circulation::Angle(a) = self.circulation {
             if !a.is_finite() {
-                return Err(bad("manoeuvre.circulation", a, "must be a finite number of radians"));
+                return Err(bad("manoeuvre.circulation", echo(a), "must be a finite number of radians"));
             }
             if a == 0.0 {
                 return Err(bad(
                     "manoeuvre.circulation",
-                    a,
+                    echo(a),
                     "must be non-zero: without circulation the cat does not twist",
                 ));
             }
             if a.abs() > MAX_CIRCULATION {
                 return Err(bad(
                     "manoeuvre.circulation",
-                    a,
+                    echo(a),
                     &format!("must be at most {MAX_CIRCULATION} rad in magnitude (about 160 turns of the bend)"),
                 ));
             }
@@ -239,7 +259,7 @@ impl Manoeuvre {
         if self.bend_path == BendPath::Cone && (self.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
             return Err(bad(
                 "manoeuvre.theta_deg",
-                t,
+                echo(t),
                 &format!(
                     "the cone path meets gimbal lock of the Rx·Ry joint when the bend is within {CONE_GIMBAL_MARGIN_DEG}° of 90° (B's spine along joint 1's axis); choose another θ or bend_path = \"joint-circle\""
                 ),

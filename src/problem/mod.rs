@@ -6,6 +6,7 @@
 //! validates, so that a problem that loads is one every engine can run.
 
 pub mod error;
+pub mod limits;
 pub mod manoeuvre;
 mod overrides;
 pub mod settings;
@@ -15,7 +16,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::model::Cylinder;
+use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
+use limits::in_range;
 
 pub use error::ProblemError;
 pub(crate) use error::{bad, not_positive, positive};
@@ -96,12 +99,16 @@ impl Problem {
                 message: one_line(e.message()),
             }
         })?;
+        // The file alone first, so that a value it holds is blamed on it and one an override
+        // brings in on that override.
+        let from_file: Result<Problem, toml::de::Error> = table.clone().try_into();
+        from_file.map_err(|e| ProblemError::Parse { origin: origin.to_string(), message: user_message(&e) })?;
         for assignment in overrides {
             overrides::apply(&mut table, assignment)?;
         }
-        let problem: Problem = table.try_into().map_err(|e: toml::de::Error| ProblemError::Parse {
-            origin: origin.to_string(),
-            message: one_line(&e.to_string()),
+        let problem: Problem = table.try_into().map_err(|e: toml::de::Error| {
+            let message = user_message(&e);
+            ProblemError::BadOverride { assignment: blamed(overrides, &message), reason: message }
         })?;
         problem.validate()?;
         Ok(problem)
@@ -116,11 +123,40 @@ impl Problem {
                 "must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)",
             ));
         }
-        positive("cat.mass", self.cat.mass)?;
-        positive("cat.length", self.cat.length)?;
+        in_range("cat.mass", self.cat.mass, limits::MASS)?;
+        in_range("cat.length", self.cat.length, limits::LENGTH)?;
         positive("cat.radius", self.cat.radius)?;
-        positive("drop.height", self.drop.height)?;
-        positive("drop.gravity", self.drop.gravity)?;
+        let ratio = limits::RADIUS_OVER_LENGTH;
+        // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
+        let r_over_l = self.cat.radius / self.cat.length;
+        if !(ratio.min * (1.0 - 1e-12)..=ratio.max * (1.0 + 1e-12)).contains(&r_over_l) {
+            return Err(bad(
+                "cat.radius",
+                echo(self.cat.radius),
+                &format!(
+                    "must lie in [{}, {}] m, {} times cat.length = {} m",
+                    echo(ratio.min * self.cat.length),
+                    echo(ratio.max * self.cat.length),
+                    ratio,
+                    echo(self.cat.length)
+                ),
+            ));
+        }
+        in_range("drop.height", self.drop.height, limits::HEIGHT)?;
+        in_range("drop.gravity", self.drop.gravity, limits::GRAVITY)?;
+        let fall = self.drop.fall_time();
+        if !(limits::FALL_TIME.min..=limits::FALL_TIME.max).contains(&fall) {
+            return Err(bad(
+                "drop.height",
+                echo(self.drop.height),
+                &format!(
+                    "with drop.gravity = {} m/s² the fall takes {} s; the fall time √(2h/g) must lie in {}",
+                    echo(self.drop.gravity),
+                    num(fall),
+                    limits::FALL_TIME
+                ),
+            ));
+        }
         self.manoeuvre.validate()?;
         self.exact.validate()?;
         self.rapier.validate()?;
@@ -145,6 +181,42 @@ impl Problem {
             ));
         }
         out
+    }
+}
+
+/// A parse error in the user's words: serde's type names replaced by the file's section names and
+/// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
+fn user_message(e: &toml::de::Error) -> String {
+    const NAMES: [(&str, &str); 12] = [
+        ("struct Problem", "a problem file"),
+        ("struct Cylinder", "the [cat] section"),
+        ("struct Drop", "the [drop] section"),
+        ("struct Manoeuvre", "the [manoeuvre] section"),
+        ("struct ExactSettings", "the [exact] section"),
+        ("struct RapierSettings", "the [rapier] section"),
+        ("struct OptimizeSettings", "the [optimize] section"),
+        ("expected f64", "expected a number"),
+        ("expected usize", "expected a whole number"),
+        ("expected u32", "expected a whole number"),
+        ("expected u64", "expected a whole number"),
+        ("expected i64", "expected a whole number"),
+    ];
+    NAMES.iter().fold(one_line(&e.to_string()), |m, (from, to)| m.replace(from, to))
+}
+
+/// The override(s) a parse error that the file alone does not have must come from: the one whose
+/// key the message names (`… in `cat.mass``), else all of them.
+fn blamed(overrides: &[String], message: &str) -> String {
+    let key = message.rsplit_once(" in `").map(|(_, k)| k.trim_end_matches('`'));
+    let named = key.and_then(|key| {
+        overrides.iter().rev().find(|o| {
+            let k = o.split_once('=').map_or(o.as_str(), |(k, _)| k).trim();
+            k == key || k.starts_with(&format!("{key}.")) || key.starts_with(&format!("{k}."))
+        })
+    });
+    match named {
+        Some(o) => o.clone(),
+        None => overrides.join(" --set "),
     }
 }
 

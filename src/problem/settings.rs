@@ -3,6 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{bad, positive, positive_opt, ProblemError};
+use crate::numeric::numfmt::echo;
+use crate::problem::limits::{self, count_in_range, in_range};
 
 /// Settings of the exact (momentum-map) engine.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -25,12 +27,17 @@ impl ExactSettings {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         positive("exact.tolerance", self.tolerance)?;
         if self.tolerance < 1e-14 {
-            return Err(bad("exact.tolerance", self.tolerance, "is below what double precision can deliver (≥ 1e-14)"));
+            return Err(bad(
+                "exact.tolerance",
+                echo(self.tolerance),
+                "is below what double precision can deliver (≥ 1e-14)",
+            ));
         }
+        in_range("exact.tolerance", self.tolerance, limits::EXACT_TOLERANCE)?;
         if self.torque_samples < 8 {
             return Err(bad("exact.torque_samples", self.torque_samples, "must be at least 8"));
         }
-        Ok(())
+        count_in_range("exact.torque_samples", self.torque_samples, limits::TORQUE_SAMPLES)
     }
 }
 
@@ -58,7 +65,7 @@ impl RapierSettings {
         if self.cross_mass_fraction > 0.01 {
             return Err(bad(
                 "rapier.cross_mass_fraction",
-                self.cross_mass_fraction,
+                echo(self.cross_mass_fraction),
                 "must be at most 0.01 (the cross is meant to be negligible)",
             ));
         }
@@ -114,13 +121,19 @@ impl OptimizeSettings {
         if self.nodes < 4 {
             return Err(bad("optimize.nodes", self.nodes, "must be at least 4"));
         }
-        if self.nodes > 1_000_000 {
-            return Err(bad("optimize.nodes", self.nodes, "must be at most 1000000"));
-        }
+        count_in_range("optimize.nodes", self.nodes, limits::NODES)?;
+        count_in_range("optimize.refine_iterations", self.refine_iterations, limits::REFINE_ITERATIONS)?;
         positive_opt("optimize.rate_limit", self.rate_limit)?;
         positive_opt("optimize.jerk_limit", self.jerk_limit)?;
         if !self.smoothness.is_finite() || self.smoothness < 0.0 {
-            return Err(bad("optimize.smoothness", self.smoothness, "must be a finite, non-negative weight"));
+            return Err(bad("optimize.smoothness", echo(self.smoothness), "must be a finite, non-negative weight"));
+        }
+        if self.smoothness > limits::MAX_SMOOTHNESS {
+            return Err(bad(
+                "optimize.smoothness",
+                echo(self.smoothness),
+                &format!("must be at most {}", echo(limits::MAX_SMOOTHNESS)),
+            ));
         }
         Ok(())
     }

@@ -14,5 +14,6 @@ pub mod export;
 pub mod optimize;
 pub mod plot;
 pub mod provenance;
+pub mod results_dir;
 pub mod run;
 pub mod simulate;

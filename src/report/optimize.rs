@@ -34,7 +34,7 @@ impl OptimizeReport {
         );
         let _ = writeln!(
             s,
-            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {:.6} N·m (closed form of the discrete problem: {}).\n",
+            "**Profile QP** (paper's model I*·|ω̇|, {} nodes): status {}, {} iterations, {:.3} ms, primal residual {:.1e}, dual residual {:.1e}, duality gap {:.1e}; model peak {} N·m (closed form of the discrete problem: {}).\n",
             q.rates.len(),
             q.status,
             q.info.iterations,
@@ -42,7 +42,7 @@ impl OptimizeReport {
             q.info.primal_residual,
             q.info.dual_residual,
             q.info.duality_gap,
-            q.peak_torque,
+            q.peak_torque.map_or("none".to_string(), |p| format!("{p:.6}")),
             self.qp_closed_form_nm.map_or("none with limits or smoothing".to_string(), |c| format!("{c:.6} N·m"))
         );
         if let Some(r) = &self.refinement {

@@ -361,8 +361,9 @@ fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &
     let closed = opt.qp_closed_form_nm.map_or("none with limits".to_string(), |c| format!("{c:.6}"));
     let _ = writeln!(
         s,
-        "- Profile QP: {}, model peak {:.6} N·m (closed form {closed}).",
-        opt.qp.status, opt.qp.peak_torque
+        "- Profile QP: {}, model peak {} N·m (closed form {closed}).",
+        opt.qp.status,
+        opt.qp.peak_torque.map_or("none".to_string(), |p| format!("{p:.6}"))
     );
     if let Some(o) = &opt.refined_optimum {
         let t = o.evaluation.exact_peak_nm.twist;

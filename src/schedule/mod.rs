@@ -6,7 +6,9 @@
 //!   the paper's joint circle `(β cos φ, β sin φ)`, or the cone
 //!   `q1 = atan2(sin β cos φ, cos β)` (continued through ±π), `q2 = asin(sin β sin φ)`, on which
 //!   B's axis `Rx(q1) Ry(q2) ẑ = (sin β sin φ, −sin β cos φ, cos β)` keeps the angle β to A's;
-//! - unbend, `u = t − T1 − T2`: `q = q_e (1 − P_u(u/T3))` from the end-of-twist `q_e`, the
+//! - unbend, `u = t − T1 − T2`: `q = q_s + (q_e − q_s)(1 − P_u(u/T3))` from the end-of-twist
+//!   `q_e` to the straight configuration `q_s = (2πk₁, 2πk₂)` nearest to it
+//!   ([`nearest_straight`]; `q_s = 0` on the joint circle and on a cone of bend up to 90°), the
 //!   paper's `(1 + cos(π u/T3))/2` for the harmonic `P_u`.
 //!
 //! Angles in rad, times in s. Each phase is evaluated with its own formula on its closed
@@ -162,12 +164,14 @@ impl Schedule {
             }
             Phase::Unbend => {
                 let end = self.phase_state(Phase::Twist, self.durations[1]).q;
+                let straight = nearest_straight(end);
                 let t3 = self.durations[2];
                 let p = self.unbend_profile.at(s / t3);
+                let e = [end[0] - straight[0], end[1] - straight[1]];
                 JointState {
-                    q: end.map(|e| e * (1.0 - p.position)),
-                    qd: end.map(|e| -e * p.rate / t3),
-                    qdd: end.map(|e| -e * p.accel / (t3 * t3)),
+                    q: [straight[0] + e[0] * (1.0 - p.position), straight[1] + e[1] * (1.0 - p.position)],
+                    qd: e.map(|e| -e * p.rate / t3),
+                    qdd: e.map(|e| -e * p.accel / (t3 * t3)),
                 }
             }
         }
@@ -245,14 +249,29 @@ impl Schedule {
     }
 }
 
+/// The straight configuration `(2πk₁, 2πk₂)` nearest to `q` (each `k` rounds `q/2π`): the
+/// unbend goes there, so it straightens by the short way from the configuration reached.
+///
+/// `(q1, q2)` and `(q1 + 2πk₁, q2 + 2πk₂)` are the same configuration, so every such point is
+/// the straight cat. The cone path continues `q1` through ±π when the bend exceeds 90°; from
+/// e.g. `q1 = 3.5747` rad, unbending to `q1 = 0` would fold the halves onto each other
+/// (`q1 = π`) on the way, while unbending to `2π` moves joint 1 on by only 2.7085 rad, the
+/// same as unbending from the equivalent `q1 = −2.7085` rad, without a jump in the joint
+/// angle. (The family `(q1 ± π, π − q2)` puts B's axis in the same direction but turns B by π
+/// about its own axis, `Rx(q1 ± π) Ry(π − q2) = Rx(q1) Ry(q2) Rz(π)`: not the same
+/// configuration, so it is no start for the unbend.)
+pub fn nearest_straight(q: [f64; 2]) -> [f64; 2] {
+    q.map(|v| 2.0 * PI * (v / (2.0 * PI)).round())
+}
+
 /// Why a schedule cannot be built.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ScheduleError {
     /// The paper's `C` is not positive, so `π/C` is no circulation.
-    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {0} is not positive: the paper's circulation π/C is undefined for this cat")]
+    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive: the paper's circulation π/C is undefined for this cat", crate::numeric::numfmt::num(*.0))]
     NonPositiveC(f64),
     /// The paper's `π/C` is beyond [`crate::problem::manoeuvre::MAX_CIRCULATION`].
-    #[error("manoeuvre.circulation = \"paper\": π/C = {0:.4e} rad (C = {1:.3e}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", max = crate::problem::manoeuvre::MAX_CIRCULATION)]
+    #[error("manoeuvre.circulation = \"paper\": π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", crate::numeric::numfmt::num(*.0), crate::numeric::numfmt::num(*.1), max = crate::problem::manoeuvre::MAX_CIRCULATION)]
     CirculationTooLarge(f64, f64),
 }
 

@@ -92,17 +92,58 @@ mod settings;
 mod solution;
 mod step;
 
+use crate::numeric::numfmt::{echo, num};
+
 pub use problemdata::ProfileQp;
 pub use settings::QpSettings;
 pub use solution::{ProfileQpSolution, QpStatus, SolveInfo};
 pub use step::{solve_linearised_step, LinearisedStep, StepSolution, TorqueSample};
 
-/// Why a QP could not be set up. How a solve ended (including infeasibility) is not an error:
-/// it is the [`QpStatus`] of the solution.
+/// Why a QP could not be set up, or why its answer does not exist. How a Clarabel solve ended is
+/// the [`QpStatus`] of the solution; [`ProfileQpSolution::solved`] turns a status other than
+/// solved into [`QpError::NotSolved`] for a caller that needs the profile.
 #[derive(Debug, thiserror::Error)]
 pub enum QpError {
-    /// An input has a value the QP cannot use.
-    #[error("{field} = {value}: {reason}")]
+    /// A closed-form bound proves the limits infeasible, before any solve (see
+    /// [`ProfileQp::feasibility`]).
+    #[error("infeasible: the {} {} {unit} is below the {} {unit} this move needs ({why})", limit.describe(), num(*given), num(*needed))]
+    Infeasible {
+        /// Which limit.
+        limit: Limit,
+        /// The limit given, in `unit`.
+        given: f64,
+        /// The least value for which a profile exists, in `unit`.
+        needed: f64,
+        /// Unit of both.
+        unit: &'static str,
+        /// Where the bound comes from.
+        why: &'static str,
+    },
+    /// A limit so far above what the move needs that the normalised QP cannot resolve it (its
+    /// rows would hold numbers beyond [`MEANINGFUL_LIMIT_FACTOR`] times the others).
+    #[error("{} = {} {unit} is numerically meaningless: more than {} times the {} {unit} this move needs; leave it out for no limit", limit.field(), echo(*given), num(MEANINGFUL_LIMIT_FACTOR), num(*needed))]
+    MeaninglessLimit {
+        /// Which limit.
+        limit: Limit,
+        /// The limit given, in `unit`.
+        given: f64,
+        /// The least value for which a profile exists, in `unit`.
+        needed: f64,
+        /// Unit of both.
+        unit: &'static str,
+    },
+    /// Clarabel ended without a solution (infeasible to its tolerances, iteration or time limit,
+    /// numerical trouble): the asked-for profile does not exist.
+    #[error("the profile QP has no solution: {status}")]
+    NotSolved {
+        /// How Clarabel ended.
+        status: QpStatus,
+    },
+    /// An input has a value the QP cannot use. The problem's validation keeps every such input
+    /// out of reach of a problem file, so this is a bug to report, and reads as one.
+    #[error(
+        "internal error: the optimiser was handed {field} = {value} ({reason}); please report it with the problem file"
+    )]
     BadInput {
         /// The input's name, e.g. `nodes`.
         field: &'static str,
@@ -115,6 +156,41 @@ pub enum QpError {
     #[error("Clarabel could not set up the QP: {0}")]
     Setup(String),
 }
+
+/// A limit of the profile QP, as the problem file names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Limit {
+    /// `optimize.rate_limit`, on `|ω|`.
+    Rate,
+    /// `optimize.jerk_limit`, on `|d²ω/ds²|`.
+    Jerk,
+}
+
+impl Limit {
+    /// The field of the problem file.
+    pub fn field(self) -> &'static str {
+        match self {
+            Limit::Rate => "optimize.rate_limit",
+            Limit::Jerk => "optimize.jerk_limit",
+        }
+    }
+
+    /// In words.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Limit::Rate => "rate limit",
+            Limit::Jerk => "jerk limit",
+        }
+    }
+}
+
+/// A limit more than this many times what the move needs is refused as numerically meaningless
+/// ([`QpError::MeaninglessLimit`]): in the normalised QP its rows would carry bounds of this size
+/// against coefficients of order one, which an interior-point method does not resolve (a rate
+/// limit of `1e20` rad/s ended in NaN). No optimum comes near it: without limits the rate stays
+/// below `2|D|/T` and the steps of the acceleration below `8(N−1)|D|/T³` per node spacing.
+pub const MEANINGFUL_LIMIT_FACTOR: f64 = 1e4;
 
 /// A [`QpError::BadInput`].
 pub(crate) fn bad(field: &'static str, value: impl std::fmt::Display, reason: &str) -> QpError {

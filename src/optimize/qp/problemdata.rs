@@ -3,8 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::assembly::{Assembly, Fold, NodeConstraints};
-use super::solution::{max_abs_difference, ProfileQpSolution};
-use super::{bad, positive, positive_opt, QpError, QpSettings};
+use super::solution::{max_abs_difference, ProfileQpSolution, QpStatus};
+use super::{bad, positive, positive_opt, Limit, QpError, QpSettings, MEANINGFUL_LIMIT_FACTOR};
 use crate::problem::settings::{Boundary, OptimizeSettings};
 
 /// The profile QP of the module docs: the circulation rate on the twist phase with the least
@@ -81,6 +81,45 @@ impl ProfileQp {
         Ok(())
     }
 
+    /// Refuses limits that no profile can meet, by closed-form bounds of the continuous move, and
+    /// limits too large to mean anything ([`QpError::MeaninglessLimit`]).
+    ///
+    /// - **Rate**: rates bounded by `R` cover at most `R T` in time `T`, and less when the rate
+    ///   starts at rest; the trapezoid rule on the `N` nodes with `ω_0 = 0` covers at most
+    ///   `R T (1 − ĥ/2)`, and `R T (1 − ĥ)` with `ω_{N−1} = 0` too (`ĥ = 1/(N−1)`). So the
+    ///   move needs `R ≥ |D| / (T (1 − ĥ))` rest-to-rest and `|D| / (T (1 − ĥ/2))` start-at-rest.
+    /// - **Jerk** (with zero acceleration at both ends): the distance reached under `|φ⃛| ≤ J`
+    ///   is largest for bang-bang jerk. Rest-to-rest that is `+J, −J, −J, +J` over quarters of
+    ///   `T`, covering `J T³/32`, so the move needs `J ≥ 32 |D|/T³` (the double-S profile with
+    ///   neither speed nor acceleration limit reached, Biagiotti & Melchiorri, *Trajectory
+    ///   Planning for Automatic Machines and Robots*, Springer 2008, §3.4: `T = 4 T_j`,
+    ///   `D = 2 J T_j³`). Start-at-rest (final rate free): `D = ∫ (T − t)²/2 · φ⃛ dt` with
+    ///   `∫ φ⃛ dt = 0` is largest for `+J` then `−J` over halves, `J T³/8`, so `J ≥ 8 |D|/T³`.
+    ///   (The discrete QP may need a little more; Clarabel's status says so.)
+    pub fn feasibility(&self) -> Result<(), QpError> {
+        let (t, d) = (self.duration, self.circulation.abs());
+        let h = 1.0 / (self.nodes as f64 - 1.0);
+        if let Some(r) = self.rate_limit {
+            let (needed, why) = match self.boundary {
+                Boundary::RestToRest => {
+                    (d / (t * (1.0 - h)), "rates bounded by R cover at most R·T(1 − 1/(N−1)) from rest to rest")
+                }
+                Boundary::StartAtRest => {
+                    (d / (t * (1.0 - 0.5 * h)), "rates bounded by R cover at most R·T(1 − 1/(2(N−1))) from rest")
+                }
+            };
+            check(Limit::Rate, r, needed, "rad/s", why)?;
+        }
+        if let Some(j) = self.jerk_limit {
+            let (needed, why) = match self.boundary {
+                Boundary::RestToRest => (32.0 * d / t.powi(3), "32|D|/T³: bang-bang jerk over quarters of the phase"),
+                Boundary::StartAtRest => (8.0 * d / t.powi(3), "8|D|/T³: bang-bang jerk over halves of the phase"),
+            };
+            check(Limit::Jerk, j, needed, "rad/s³", why)?;
+        }
+        Ok(())
+    }
+
     /// Node spacing `h = T/(N − 1)`, s.
     pub fn spacing(&self) -> f64 {
         self.duration / (self.nodes as f64 - 1.0)
@@ -106,6 +145,7 @@ impl ProfileQp {
     /// status says how it ended.
     pub fn solve_with(&self, settings: &QpSettings) -> Result<ProfileQpSolution, QpError> {
         self.validate()?;
+        self.feasibility()?;
         let n = self.nodes;
         let h = 1.0 / (n - 1) as f64;
         let (t, scale) = (self.duration, self.circulation.abs());
@@ -148,16 +188,30 @@ impl ProfileQp {
             asm.solve(settings)?
         };
         let rates: Vec<f64> = solved.x[..n].iter().map(|v| v * self.rate_scale()).collect();
-        let peak_torque = if solved.status.is_solved() {
-            self.inertia * max_abs_difference(&rates) / self.spacing()
-        } else {
-            f64::NAN
-        };
+        // A solved status with non-finite numbers is no solution either.
+        let finite = rates.iter().all(|w| w.is_finite()) && solved.objective.is_finite();
+        let status = if solved.status.is_solved() && !finite { QpStatus::NumericalError } else { solved.status };
         let torque = self.torque_scale();
+        let (peak_torque, objective) = if status.is_solved() {
+            (Some(self.inertia * max_abs_difference(&rates) / self.spacing()), Some(solved.objective * torque))
+        } else {
+            (None, None)
+        };
         let mut info = solved.info;
         info.duality_gap *= torque;
-        Ok(ProfileQpSolution { status: solved.status, rates, peak_torque, objective: solved.objective * torque, info })
+        Ok(ProfileQpSolution { status, rates, peak_torque, objective, info })
     }
+}
+
+/// Refuses a limit below what the move needs, or meaninglessly far above it.
+fn check(limit: Limit, given: f64, needed: f64, unit: &'static str, why: &'static str) -> Result<(), QpError> {
+    if given < needed {
+        return Err(QpError::Infeasible { limit, given, needed, unit, why });
+    }
+    if given > MEANINGFUL_LIMIT_FACTOR * needed {
+        return Err(QpError::MeaninglessLimit { limit, given, needed, unit });
+    }
+    Ok(())
 }
 
 /// The substitution onto reversal-symmetric variables of `x = (v_0 … v_{N−1}, c, a_0 … a_{m−1})`:

@@ -35,10 +35,10 @@ pub enum QpStatus {
     CallbackTerminated,
 }
 
-impl std::fmt::Display for QpStatus {
+impl QpStatus {
     /// The kebab-case name, as in the JSON results.
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
+    pub fn name(self) -> &'static str {
+        match self {
             QpStatus::Unsolved => "unsolved",
             QpStatus::Solved => "solved",
             QpStatus::AlmostSolved => "almost-solved",
@@ -51,7 +51,7 @@ impl std::fmt::Display for QpStatus {
             QpStatus::NumericalError => "numerical-error",
             QpStatus::InsufficientProgress => "insufficient-progress",
             QpStatus::CallbackTerminated => "callback-terminated",
-        })
+        }
     }
 }
 
@@ -71,6 +71,26 @@ impl From<SolverStatus> for QpStatus {
             SolverStatus::InsufficientProgress => QpStatus::InsufficientProgress,
             SolverStatus::CallbackTerminated => QpStatus::CallbackTerminated,
         }
+    }
+}
+
+impl std::fmt::Display for QpStatus {
+    /// How the solve ended, in words (never Clarabel's variant names).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            QpStatus::Unsolved => "not run",
+            QpStatus::Solved => "solved",
+            QpStatus::AlmostSolved => "solved to reduced accuracy",
+            QpStatus::PrimalInfeasible => "infeasible: no profile meets the constraints",
+            QpStatus::DualInfeasible => "unbounded: the objective has no minimum",
+            QpStatus::AlmostPrimalInfeasible => "infeasible to reduced accuracy: no profile meets the constraints",
+            QpStatus::AlmostDualInfeasible => "unbounded to reduced accuracy",
+            QpStatus::MaxIterations => "stopped at the iteration limit before converging",
+            QpStatus::MaxTime => "stopped at the time limit before converging",
+            QpStatus::NumericalError => "stopped on a numerical error",
+            QpStatus::InsufficientProgress => "stopped for lack of progress",
+            QpStatus::CallbackTerminated => "stopped by a callback",
+        })
     }
 }
 
@@ -112,16 +132,27 @@ pub struct ProfileQpSolution {
     pub status: QpStatus,
     /// Circulation rate `ω_k` at the `N` equally spaced nodes of the twist phase, rad/s.
     pub rates: Vec<f64>,
-    /// The model's peak torque `I* max_k |ω_{k+1} − ω_k| / h` of `rates`, N·m.
-    pub peak_torque: f64,
-    /// The objective (epigraph bound plus smoothness term), N·m; NaN when infeasible.
-    pub objective: f64,
+    /// The model's peak torque `I* max_k |ω_{k+1} − ω_k| / h` of `rates`, N·m; `None` unless
+    /// solved.
+    pub peak_torque: Option<f64>,
+    /// The objective (epigraph bound plus smoothness term), N·m; `None` unless solved.
+    pub objective: Option<f64>,
     /// Clarabel's diagnostics.
     #[serde(flatten)]
     pub info: SolveInfo,
 }
 
 impl ProfileQpSolution {
+    /// The solution if the QP was solved (to full or reduced accuracy), else
+    /// [`QpError::NotSolved`] with the status: for a caller whose result does not exist without it.
+    pub fn solved(self) -> Result<ProfileQpSolution, super::QpError> {
+        if self.status.is_solved() {
+            Ok(self)
+        } else {
+            Err(super::QpError::NotSolved { status: self.status })
+        }
+    }
+
     /// The rate nodes as a profile (linear between nodes, normalised to unit circulation); `None`
     /// unless the QP was solved, or when the rates have no circulation.
     pub fn to_profile(&self) -> Option<Profile> {

@@ -5,9 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use super::solution::RetimeSolution;
 use super::{bad, positive, RetimeError, RetimeSettings, Split};
+use crate::engines::torque::joint_torques;
 use crate::model::Cylinder;
 use crate::schedule::{JointState, Trajectory};
-use crate::engines::torque::joint_torques;
 
 /// The path at one grid node: the coefficients of `τ = a s̈ + b ṡ²` and the tangent.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -8,9 +8,9 @@ use serde::Serialize;
 
 use super::{PathProblem, PieceTiming, RetimeError, RetimeSettings, RetimeSolution};
 use crate::engines::exact::{flip, Flip};
+use crate::engines::torque::{peak_torques, PeakTorques};
 use crate::model::Cylinder;
 use crate::schedule::{JointState, Trajectory};
-use crate::engines::torque::{peak_torques, PeakTorques};
 
 /// A path with new timings: the pieces are the path's, each run in its [`PieceTiming`].
 #[derive(Clone, Debug, PartialEq)]
