@@ -219,8 +219,9 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     w.record(crate::plot::profiles_plot(&plots, problem, &shown)?);
     w.record(crate::plot::torques_plot(&plots, problem, &shown)?);
     w.record(crate::plot::flip_plot(&plots, problem, &problems_schedule, 256)?);
-    let anim_schedule = recommended.as_ref().map_or(&problems_schedule, |(_, s)| s);
-    w.record(crate::plot::flip_animation(&plots.join("flip.gif"), problem, anim_schedule, 72)?);
+    let (anim_name, anim_schedule) =
+        recommended.as_ref().map_or((problems_schedule.profile.name(), &problems_schedule), |(n, s)| (n.as_str(), s));
+    w.record(crate::plot::flip_animation(&plots.join("flip.gif"), problem, anim_name, anim_schedule, 72)?);
     // 6. The report.
     let summary = summary(problem, &table, &opt, &verified);
     let mut report = crate::provenance::header(&format!("catflip results: {}", problem.name), command, &settings);

@@ -29,7 +29,9 @@
 mod animation;
 mod chart;
 mod curves;
+mod legend;
 mod pose;
+mod raster;
 mod style;
 
 use std::path::PathBuf;
