@@ -438,7 +438,11 @@ impl Scene {
     /// Title and colour key.
     fn header<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, lay: &Layout) -> Result<(), String> {
         let u = lay.u;
-        let title = bold(lay.caption * 1.1).pos(Pos::new(HPos::Center, VPos::Top));
+        // A long schedule name shrinks the title to the frame's width rather than cropping it.
+        let size = lay.caption * 1.1;
+        let width = f64::from(area.estimate_text_size(&self.title, &bold(size)).map_err(failed)?.0);
+        let room = lay.w - 24.0 * u;
+        let title = bold(if width > room { size * room / width } else { size }).pos(Pos::new(HPos::Center, VPos::Top));
         area.draw(&Text::new(self.title.clone(), ((lay.w / 2.0) as i32, (12.0 * u) as i32), title)).map_err(failed)?;
         let key = [("A: front half", A_EDGE), ("B: rear half", B_EDGE), ("red stripe, legs: belly", BELLY)];
         let mut x = 20.0 * u;
