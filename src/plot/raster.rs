@@ -23,6 +23,7 @@
 
 use std::sync::OnceLock;
 
+use super::legend::distance;
 use ab_glyph::{point, Font, FontRef, GlyphId, OutlinedGlyph, PxScale, ScaleFont};
 use plotters::prelude::DrawingBackend;
 use plotters::style::FontStyle;
@@ -93,12 +94,8 @@ fn layout(font: &FontRef<'static>, size: f64, text: &str, baseline: f32) -> Line
 }
 
 /// Coverage of a pixel centred at `(x, y)` by a capsule of radius `r` around segment `a`–`b`.
-fn capsule_coverage((x, y): (f64, f64), a: (f64, f64), b: (f64, f64), r: f64) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 { (((x - a.0) * dx + (y - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
-    let d = (x - a.0 - t * dx).hypot(y - a.1 - t * dy);
-    (r + 0.5 - d).clamp(0.0, 1.0)
+fn capsule_coverage(centre: (f64, f64), a: (f64, f64), b: (f64, f64), r: f64) -> f64 {
+    (r + 0.5 - distance(centre, a, b)).clamp(0.0, 1.0)
 }
 
 impl<B: DrawingBackend> Raster<B> {
