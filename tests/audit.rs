@@ -12,6 +12,7 @@ use catflip::report::audit::formulas::{
     first_root_theta, k_consistent, k_paper, one_turn_printed_argument, one_turn_residual_consistent,
     one_turn_residual_paper, sin_half_root, whole_cat_moments,
 };
+use catflip::report::audit::readings::{ranked, NEAREST};
 use catflip::report::audit::{audit, is_worked_example, Audit, AuditError, ALPHA_ONE_TURN};
 use proptest::prelude::*;
 
@@ -378,4 +379,44 @@ fn exact_column_holds_the_exact_engine_numbers() {
     let s = catflip::schedule::Schedule::new(&p, exact("circulation"));
     let f = catflip::engines::exact::flip(&p.cat, &s, 1e-11);
     assert!((f.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", f.twist);
+}
+
+#[test]
+fn a_reading_of_the_papers_ingredients_gives_its_omega_within_0_05_percent() {
+    // Paper §7 prints ω ≈ 2.2514 rad/s and τ ≈ 1.655 N·m; the search tries the grid of
+    // catflip::report::audit::readings over the worked example.
+    let a = paper();
+    let search = a.omega_readings.as_ref().unwrap_or_else(|| panic!("the worked example has no reading search"));
+    assert_eq!(search.tried, ranked(&Problem::default()).len());
+    assert!(search.tried > 500, "only {} readings tried", search.tried);
+    assert_eq!(search.nearest.len(), NEAREST);
+    let best = &search.nearest[0];
+    assert!(
+        best.omega_relative_error.abs() < 5e-4,
+        "nearest ω {} is {:+.4}% off",
+        best.omega,
+        100.0 * best.omega_relative_error
+    );
+    assert_relative_eq!(best.omega / 2.2514 - 1.0, best.omega_relative_error, max_relative = 1e-12);
+    // Ranked: nearest first, and nothing left out is nearer than the last one kept.
+    let errors: Vec<f64> = search.nearest.iter().map(|r| r.omega_relative_error.abs()).collect();
+    assert!(errors.windows(2).all(|w| w[0] <= w[1]), "not sorted: {errors:?}");
+    let all = ranked(&Problem::default());
+    assert!(all.iter().skip(NEAREST).all(|r| r.omega_relative_error.abs() >= errors[NEAREST - 1]));
+    // Hand: the printed I_y'y' = 0.084 for I_yy, C = 1 − (0.005/0.084) sin(π/8), Δt = 1.428 s.
+    let c = 1.0 - 0.005 / 0.084 * (PI / 8.0).sin();
+    assert_relative_eq!(best.omega, PI / (1.428 * c), max_relative = 1e-12);
+    // Its τ = I* ω π/Δt with the printed I* = 0.3342 is §7's 1.655 to the printed digits.
+    assert_relative_eq!(best.tau, 0.3342 * PI / (1.428 * c) * PI / 1.428, max_relative = 1e-12);
+    assert_abs_diff_eq!(best.tau, 1.655, epsilon = 0.5e-3);
+    // The audit's Markdown and JSON carry it; the ω entry names it.
+    let md = a.to_markdown();
+    assert!(md.contains("## Readings of §7's ω") && md.contains(&best.words), "Markdown lacks the search");
+    let json = serde_json::to_value(&a).unwrap_or_else(|e| panic!("audit does not serialise: {e}"));
+    assert_eq!(json["omega_readings"]["nearest"].as_array().map(Vec::len), Some(NEAREST));
+    assert_eq!(json["omega_readings"]["nearest"][0]["choices"]["moment"], "transverse");
+    let omega = a.entry("omega_worked_example").unwrap_or_else(|| panic!("no omega entry"));
+    assert!(omega.explanation.contains("omega_readings"), "{}", omega.explanation);
+    // Other problems have no printed ω to search for.
+    assert!(audit(&problem("[manoeuvre]\ntheta_deg = 120.0\n")).omega_readings.is_none());
 }

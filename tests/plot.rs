@@ -77,6 +77,19 @@ fn profiles_plot_writes_png_and_svg_with_labels() {
 }
 
 #[test]
+fn legend_says_which_curve_is_drawn_under_another() {
+    // The same schedule under two names: the first is painted first, then covered by the second.
+    let dir = temp_dir("legend");
+    let (problem, schedule) = paper();
+    let mut shown = schedules(&schedule);
+    shown.push(("bang-bang-again".to_string(), schedule.with_profile(Profile::library(ProfileKind::BangBang))));
+    let files = profiles_plot(&dir, &problem, &shown).expect("profiles plot");
+    let svg = check_pair(&files, &dir, "profiles");
+    assert!(svg.contains(">\nunder bang-bang-again\n<"), "the hidden bang-bang should be noted in the legend");
+    assert_eq!(svg.matches("under ").count(), 1, "only the hidden curve is noted");
+}
+
+#[test]
 fn torques_plot_writes_one_pair_per_joint() {
     let dir = temp_dir("torques");
     let (problem, schedule) = paper();
@@ -178,7 +191,7 @@ fn animation_has_the_frames_asked_and_a_filmstrip() {
     let (problem, schedule) = paper();
     let schedule = schedule.with_profile(Profile::library(ProfileKind::Cycloidal));
     let gif = dir.join("flip.gif");
-    let files = flip_animation(&gif, &problem, &schedule, 8).expect("animation");
+    let files = flip_animation(&gif, &problem, "cycloidal", &schedule, 8).expect("animation");
     assert_eq!(files, vec![gif.clone(), dir.join("flip_filmstrip.png")]);
     let bytes = std::fs::read(&gif).expect("gif readable");
     assert_eq!(gif_frames(&bytes), (600, 600, 8, true), "(width, height, frames, looping)");
@@ -186,7 +199,7 @@ fn animation_has_the_frames_asked_and_a_filmstrip() {
     assert_eq!(w % FILMSTRIP_PANELS as u32, 0, "filmstrip width {w} is not a whole number of panels");
     assert!(w > 3 * h, "filmstrip should be a strip: {w} × {h}");
 
-    let one = flip_animation(&dir.join("one.gif"), &problem, &schedule, 1);
+    let one = flip_animation(&dir.join("one.gif"), &problem, "cycloidal", &schedule, 1);
     assert!(matches!(one, Err(PlotError::BadArgument { .. })), "1 frame should be refused, got {one:?}");
 }
 

@@ -233,8 +233,12 @@ fn produce(r: &Resolved, command: &str, w: &mut Writer) -> Result<String, RunErr
     w.record(crate::report::plot::profiles_plot(&plots, problem, &shown)?);
     w.record(crate::report::plot::torques_plot(&plots, problem, &shown)?);
     w.record(crate::report::plot::flip_plot(&plots, problem, &r.schedule, 256)?);
-    let recommended = verified.iter().find(|v| v.variant.is_calibrated()).map_or(&r.schedule, |v| &v.schedule);
-    w.record(crate::report::plot::flip_animation(&plots.join("flip.gif"), problem, recommended, 72)?);
+    let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
+    let (anim_name, anim_schedule) = verified
+        .iter()
+        .find(|v| v.variant.is_calibrated())
+        .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
+    w.record(crate::report::plot::flip_animation(&plots.join("flip.gif"), problem, &anim_name, anim_schedule, 72)?);
     // 6. The report.
     let summary = summary(r, &table, &opt, &verified);
     let mut report =

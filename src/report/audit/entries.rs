@@ -350,13 +350,14 @@ fn rates(c: &Ctx) -> Vec<Entry> {
     );
     let omega = omega.why(if w {
         format!(
-            "no literal reading reproduces 2.2514 to its 4 decimals: the printed formula gives {}, sin(θ/2) unsquared {} (see readings); the C it implies, π/(Δt · 2.2514) = {}, matches none of the printed forms ({}, {}, {}); {right}",
+            "no literal reading reproduces 2.2514 to its 4 decimals: the printed formula gives {}, sin(θ/2) unsquared {} (see readings); the C it implies, π/(Δt · 2.2514) = {}, matches none of the printed forms ({}, {}, {}); {}; {right}",
             no(omega_lit),
             no(omega_sin),
             n(implied),
             n(c_we),
             n(c.c_lit),
-            n(c_section4(c.it_lit, c.ia, c.theta))
+            n(c_section4(c.it_lit, c.ia, c.theta)),
+            nearest_reading(c.p)
         )
     } else {
         format!("§7's formula squares sin(θ/2), which the code does not, and spreads the turn over the whole fall; {right}")
@@ -378,6 +379,19 @@ fn rates(c: &Ctx) -> Vec<Entry> {
                 if w { "literal reproduces 0.3342; " } else { "" }
             )),
     ]
+}
+
+/// The nearest reading of §7's ω from the paper's ingredients ([`super::readings`]), in words.
+fn nearest_reading(p: &Problem) -> String {
+    match super::readings::search(p).and_then(|s| s.nearest.first().cloned().map(|r| (s.tried, r))) {
+        Some((tried, r)) => format!(
+            "of {tried} readings of the paper's own ingredients the nearest (omega_readings) gives {} ({:+.4}%): {}",
+            n(r.omega),
+            100.0 * r.omega_relative_error,
+            r.words
+        ),
+        None => "no reading of the paper's ingredients gives a rate".to_string(),
+    }
 }
 
 fn torques(c: &Ctx) -> Vec<Entry> {
@@ -404,10 +418,13 @@ fn torques(c: &Ctx) -> Vec<Entry> {
     );
     let we = we.why(if w {
         format!(
-            "the printed expressions disagree (sin² in ω, sin here): {} and {}; 1.655 follows only from the printed ω = 2.2514 (itself unexplained) × π/1.428 × 0.3342 = {}; unit printed \"N\" for N·m; {tail}",
+            "the printed expressions disagree (sin² in ω, sin here): {} and {}; 1.655 follows from the printed ω = 2.2514 × π/1.428 × 0.3342 = {}{}; unit printed \"N\" for N·m; {tail}",
             no(from_omega),
             no(tau_we_lit),
-            n(from_printed)
+            n(from_printed),
+            super::readings::search(c.p)
+                .and_then(|s| s.nearest.into_iter().next())
+                .map_or_else(String::new, |r| format!(", and from the nearest ω reading (omega_readings): I* ω π/T = {}", n(r.tau)))
         )
     } else {
         format!("the printed expressions disagree (sin² in ω, sin here): {} and {}; {tail}", no(from_omega), no(tau_we_lit))

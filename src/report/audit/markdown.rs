@@ -81,6 +81,9 @@ pub(super) fn render(a: &Audit) -> String {
         }
         let _ = writeln!(out, " {why} |");
     }
+    if let Some(search) = &a.omega_readings {
+        out.push_str(&search.to_markdown());
+    }
     if !a.warnings.is_empty() {
         let _ = writeln!(out, "\n## Warnings (§3)\n");
         for w in &a.warnings {

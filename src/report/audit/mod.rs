@@ -41,6 +41,8 @@
 //! in the order of the report, each value an [`Entry`] with `published`, `literal`, `corrected`,
 //! `exact` (numbers or `null`), `published_decimals`, `literal_reproduces_published`, `section`,
 //! `quantity`, `unit`, `explanation` and the alternative `readings` considered.
+//! `omega_readings` (worked example only, else `null`) is the [`readings`] search: how many
+//! readings of §7's ω were tried and the nearest ones, ranked.
 //!
 //! ## References
 //! - A. Rasmussen, S. Richardson, W. McDermott, *Cat Flipping* (student paper), §2–§9;
@@ -52,6 +54,7 @@ mod entries;
 pub mod formulas;
 mod markdown;
 mod notes;
+pub mod readings;
 
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
@@ -132,6 +135,9 @@ pub struct Audit {
     pub warnings: Vec<String>,
     /// Slips without a number of their own.
     pub notes: Vec<Note>,
+    /// The nearest readings of §7's ω from the paper's own ingredients ([`readings::search`]);
+    /// `None` unless the problem is the worked example.
+    pub omega_readings: Option<readings::ReadingSearch>,
 }
 
 fn entries_as_map<S: Serializer>(entries: &[Entry], s: S) -> Result<S::Ok, S::Error> {
@@ -183,6 +189,7 @@ pub fn audit(problem: &Problem) -> Audit {
         entries: entries::build(problem, worked_example),
         warnings: problem.warnings(),
         notes: notes::NOTES.to_vec(),
+        omega_readings: readings::search(problem),
     }
 }
 

@@ -17,6 +17,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::pose::{cat_poses, BodyPose, CatPose};
+use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, text, GUIDE};
 use super::PlotError;
 use crate::problem::Problem;
@@ -43,10 +44,13 @@ const JOINT: RGBColor = RGBColor(60, 60, 60);
 
 /// Writes the flip as an animated GIF at `path` (`frames` instants evenly spaced over the
 /// manoeuvre, 600 × 600, looping) and a PNG filmstrip of [`FILMSTRIP_PANELS`] instants beside
-/// it (`<stem>_filmstrip.png`); returns both paths.
+/// it (`<stem>_filmstrip.png`); returns both paths. Both are titled with the problem's name and
+/// `name`, the name of `schedule` (the report's, e.g. `exact-refined-calibrated`: a schedule's
+/// profile name does not say which circulation it carries).
 pub fn flip_animation(
     path: &Path,
     problem: &Problem,
+    name: &str,
     schedule: &Schedule,
     frames: usize,
 ) -> Result<Vec<PathBuf>, PlotError> {
@@ -62,15 +66,14 @@ pub fn flip_animation(
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
-    let scene = Scene::new(problem, schedule);
+    let scene = Scene::new(problem, name, schedule);
     let poses = cat_poses(&problem.cat, schedule, &spaced(total, frames));
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
     {
-        let root = BitMapBackend::gif(path, GIF_SIZE, delay_ms)
-            .map_err(|e| write_error(path)(e.to_string()))?
-            .into_drawing_area();
+        let gif = BitMapBackend::gif(path, GIF_SIZE, delay_ms).map_err(|e| write_error(path)(e.to_string()))?;
+        let root = Raster::new(gif).into_drawing_area();
         for pose in &poses {
             scene
                 .draw(&root, pose, &extent, false)
@@ -83,7 +86,7 @@ pub fn flip_animation(
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));
     let size = (PANEL_SIZE.0 * FILMSTRIP_PANELS as u32, PANEL_SIZE.1 + STRIP_TITLE);
     {
-        let root = BitMapBackend::new(&strip, size).into_drawing_area();
+        let root = Raster::new(BitMapBackend::new(&strip, size)).into_drawing_area();
         let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
         scene
             .draw_filmstrip(&root, &panels, &extent)
@@ -251,12 +254,12 @@ impl Layout {
 }
 
 impl Scene {
-    fn new(problem: &Problem, schedule: &Schedule) -> Scene {
+    fn new(problem: &Problem, name: &str, schedule: &Schedule) -> Scene {
         Scene {
             camera: Camera::new(),
             half: 0.5 * problem.cat.length,
             radius: problem.cat.radius,
-            title: format!("catflip: problem \u{201c}{}\u{201d}, {}", problem.name, schedule.profile.name()),
+            title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             durations: schedule.durations,
         }
     }
@@ -435,7 +438,11 @@ impl Scene {
     /// Title and colour key.
     fn header<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, lay: &Layout) -> Result<(), String> {
         let u = lay.u;
-        let title = bold(lay.caption * 1.1).pos(Pos::new(HPos::Center, VPos::Top));
+        // A long schedule name shrinks the title to the frame's width rather than cropping it.
+        let size = lay.caption * 1.1;
+        let width = f64::from(area.estimate_text_size(&self.title, &bold(size)).map_err(failed)?.0);
+        let room = lay.w - 24.0 * u;
+        let title = bold(if width > room { size * room / width } else { size }).pos(Pos::new(HPos::Center, VPos::Top));
         area.draw(&Text::new(self.title.clone(), ((lay.w / 2.0) as i32, (12.0 * u) as i32), title)).map_err(failed)?;
         let key = [("A: front half", A_EDGE), ("B: rear half", B_EDGE), ("red stripe, legs: belly", BELLY)];
         let mut x = 20.0 * u;
@@ -527,6 +534,17 @@ mod tests {
     fn hull_of_a_square_with_an_inner_point() {
         let pts = vec![(0.0, 0.0), (1.0, 0.0), (0.5, 0.5), (1.0, 1.0), (0.0, 1.0)];
         assert_eq!(convex_hull(pts), vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]);
+    }
+
+    #[test]
+    fn the_title_names_the_schedule_shown() {
+        // The report animates `exact-refined-all-phases` with the calibrated circulation: its
+        // profile is still named `exact-refined-all-phases`, the schedule is not.
+        let problem = Problem::default();
+        let schedule = Schedule::new(&problem, 4.0);
+        let scene = Scene::new(&problem, "exact-refined-all-phases-calibrated", &schedule);
+        assert_eq!(scene.title, "catflip: problem \u{201c}paper\u{201d}, exact-refined-all-phases-calibrated");
+        assert!(!scene.title.contains(schedule.profile.name()) || schedule.profile.name().is_empty());
     }
 
     #[test]

@@ -7,6 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use super::legend::{legend_labels, Label, Runs};
 use super::style::{bold, colour, dashed, failed, text, write_png_svg, Figure, GUIDE};
 use super::{PlotError, Series};
 
@@ -100,6 +101,8 @@ struct Prepared<'a> {
     plot: &'a LinePlot,
     /// Per series, the runs of drawable points (a non-drawable point breaks the line).
     runs: Vec<Vec<Vec<(f64, f64)>>>,
+    /// Legend entries: the series' names, a hidden one noted "under …" ([`legend_labels`]).
+    labels: Vec<Label>,
     x: (f64, f64),
     y: (f64, f64),
 }
@@ -140,7 +143,10 @@ impl<'a> Prepared<'a> {
             let top = if plot.bands.is_empty() { 0.06 } else { 0.14 };
             (x, pad(y, 0.06, top))
         };
-        Ok(Self { plot, runs, x, y })
+        let names: Vec<&str> = plot.series.iter().map(|s| s.name.as_str()).collect();
+        let drawn: Vec<&Runs> = runs.iter().map(Vec::as_slice).collect();
+        let labels = legend_labels(&names, &drawn, x, y);
+        Ok(Self { plot, runs, labels, x, y })
     }
 }
 
@@ -181,11 +187,17 @@ fn log_tick(v: &f64) -> String {
     }
 }
 
-/// Width of the legend column for these names, pixels.
-fn legend_width<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, names: &[&str], size: f64) -> Result<u32, String> {
+/// Text sizes of a legend entry's name and of its note, pixels.
+const LEGEND_TEXT: (f64, f64) = (16.0, 13.0);
+
+/// Width of the legend column for these entries, pixels.
+fn legend_width<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Label]) -> Result<u32, String> {
     let mut widest = 0;
-    for name in names {
-        widest = widest.max(root.estimate_text_size(name, &text(size)).map_err(failed)?.0);
+    for label in labels {
+        widest = widest.max(root.estimate_text_size(&label.name, &text(LEGEND_TEXT.0)).map_err(failed)?.0);
+        if let Some(note) = &label.note {
+            widest = widest.max(root.estimate_text_size(note, &text(LEGEND_TEXT.1)).map_err(failed)?.0);
+        }
     }
     Ok((widest + 64).clamp(140, root.dim_in_pixel().0 / 3))
 }
@@ -202,8 +214,7 @@ impl Figure for Prepared<'_> {
             bold(22.0).pos(Pos::new(HPos::Center, VPos::Top)),
         ))
         .map_err(failed)?;
-        let names: Vec<&str> = plot.series.iter().map(|s| s.name.as_str()).collect();
-        let legend_w = legend_width(root, &names, 16.0)?;
+        let legend_w = legend_width(root, &self.labels)?;
         let (area, legend) = body.split_horizontally(w - legend_w);
         let (x, y) = (self.x, self.y);
         let mut chart = ChartBuilder::on(&area)
@@ -267,15 +278,20 @@ impl Figure for Prepared<'_> {
                 }
             }
         }
-        draw_legend(&legend, &names, plot.markers)
+        draw_legend(&legend, &self.labels, plot.markers)
     }
 }
 
-/// The legend: one short line (and dot) and name per series, top to bottom.
-fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, names: &[&str], markers: bool) -> Result<(), String> {
-    let row = 26;
-    for (i, name) in names.iter().enumerate() {
-        let y = 30 + row * i as i32;
+/// The legend: one short line (and dot) and name per series, top to bottom; a hidden series'
+/// note ("under …") on a second, smaller grey line.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    labels: &[Label],
+    markers: bool,
+) -> Result<(), String> {
+    let (row, note_row) = (26, 17);
+    let mut y = 30;
+    for (i, label) in labels.iter().enumerate() {
         let style = colour(i).stroke_width(3);
         if dashed(i) {
             for x in [4, 20] {
@@ -287,14 +303,22 @@ fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, names: &[&str]
         if markers {
             area.draw(&Circle::new((19, y), 4, colour(i).filled())).map_err(failed)?;
         }
-        area.draw(&Text::new(name.to_string(), (42, y), text(16.0).pos(Pos::new(HPos::Left, VPos::Center))))
-            .map_err(failed)?;
+        let name = text(LEGEND_TEXT.0).pos(Pos::new(HPos::Left, VPos::Center));
+        area.draw(&Text::new(label.name.clone(), (42, y), name)).map_err(failed)?;
+        if let Some(note) = &label.note {
+            let style = text(LEGEND_TEXT.1).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Center));
+            area.draw(&Text::new(note.clone(), (42, y + note_row), style)).map_err(failed)?;
+            y += note_row;
+        }
+        y += row;
     }
     Ok(())
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::raster::Raster;
+    use super::super::style::PNG_SIZE;
     use super::*;
 
     #[test]
@@ -303,6 +327,75 @@ mod tests {
         assert_eq!(log_tick(&12.0), "10¹²");
         assert_eq!(log_tick(&0.0), "10⁰");
         assert_eq!(log_tick(&0.5), "3.2e0");
+    }
+
+    /// The torque of `torques_joint1`'s retimed bend in miniature: +9.8 N·m, a step to −9.8 N·m
+    /// at t = 0.11 s, and the 0.4 N·m saw-tooth of period 1.4 ms the retimed schedule carries.
+    fn step(t: f64) -> f64 {
+        let saw = 0.4 * ((t / 1.4e-3).fract() - 0.5);
+        if t < 0.11 {
+            9.8 + saw
+        } else {
+            -9.8 + saw
+        }
+    }
+
+    /// `plot` drawn as its PNG is (on [`Raster`]), or on plotters' plain bitmap backend; RGB.
+    fn render(plot: &LinePlot, raster: bool) -> Vec<u8> {
+        let prepared = Prepared::new(plot).unwrap_or_else(|e| panic!("not drawable: {e}"));
+        crate::report::plot::style::ensure_fonts().ok();
+        let mut buf = vec![255u8; (PNG_SIZE.0 * PNG_SIZE.1 * 3) as usize];
+        {
+            let bitmap = BitMapBackend::with_buffer(&mut buf, PNG_SIZE);
+            let result = if raster {
+                let root = Raster::new(bitmap).into_drawing_area();
+                prepared.draw(&root).and_then(|()| root.present().map_err(failed))
+            } else {
+                let root = bitmap.into_drawing_area();
+                prepared.draw(&root).and_then(|()| root.present().map_err(failed))
+            };
+            assert_eq!(result, Ok(()));
+        }
+        buf
+    }
+
+    /// Rows of the pixels painted in series 0's colour (that colour blended over white), left of
+    /// the legend column (whose swatch has the same colour).
+    fn curve_rows(buf: &[u8]) -> Vec<i32> {
+        let RGBColor(r, g, b) = colour(0);
+        let w = PNG_SIZE.0 as usize;
+        let blend = |a: f64, c: u8| a * f64::from(c) + (1.0 - a) * 255.0;
+        buf.chunks(3)
+            .enumerate()
+            .filter(|(i, p)| {
+                let a = (255.0 - f64::from(p[2])) / (255.0 - f64::from(b));
+                let fits = [r, g, b].iter().zip(p.iter()).all(|(&c, &v)| (blend(a, c) - f64::from(v)).abs() < 14.0);
+                a > 0.25 && fits && i % w < 3 * w / 5
+            })
+            .map(|(i, _)| (i / w) as i32)
+            .collect()
+    }
+
+    #[test]
+    fn a_step_is_drawn_within_the_range_of_its_data() {
+        let n = 1500;
+        let points: Vec<(f64, f64)> = (0..=n).map(|k| 1.43 * k as f64 / n as f64).map(|t| (t, step(t))).collect();
+        let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.1), b.max(p.1)));
+        let data = LinePlot::new("step", "a step", "t (s)", "τ (N·m)", vec![Series::new("step", points)]);
+        // Two level lines at the data's least and greatest values: the same span, so the same axes.
+        let levels = vec![(0.0, lo), (1.43, lo), (f64::NAN, 0.0), (0.0, hi), (1.43, hi)];
+        let band = LinePlot::new("band", "a step", "t (s)", "τ (N·m)", vec![Series::new("step", levels)]);
+        let band_rows = curve_rows(&render(&band, true));
+        let (top, bottom) = (band_rows.iter().min().copied(), band_rows.iter().max().copied());
+        let (Some(top), Some(bottom)) = (top, bottom) else { panic!("the level lines were not drawn") };
+        let rows = curve_rows(&render(&data, true));
+        assert!(rows.len() > 1000, "the step is hardly drawn: {} pixels", rows.len());
+        let outside: Vec<i32> = rows.iter().copied().filter(|r| !(top..=bottom).contains(r)).collect();
+        assert!(outside.is_empty(), "rows {outside:?} lie outside the data's band {top} ..= {bottom}");
+        // plotters' own stroke of the same data strays outside it (the 27 N·m spike).
+        let plain = curve_rows(&render(&data, false));
+        let strays = plain.iter().filter(|r| !(top..=bottom).contains(r)).count();
+        assert!(strays > 0, "plotters' own stroke stays inside the band (flaw gone?)");
     }
 
     #[test]

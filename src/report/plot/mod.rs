@@ -21,6 +21,10 @@
 //!
 //! Text needs no system font: the embedded DejaVu Sans ([`dejavu`]) is registered with
 //! plotters' `ab_glyph` renderer once, under the family name every style here uses.
+//! PNGs and GIFs are drawn on a raster backend (`raster.rs`) that replaces plotters' bitmap
+//! stroking of thick lines (mitred joins that spike where a dense curve turns back) and its glyph
+//! placement (pen truncated, side bearings dropped), so a PNG shows what its SVG twin shows.
+//! A legend notes a curve drawn under later ones ("under …", `legend.rs`).
 //!
 //! ## References
 //! - the paper, §4 and §8 (its profile and torque figures);
@@ -29,7 +33,9 @@
 mod animation;
 mod chart;
 mod curves;
+mod legend;
 mod pose;
+mod raster;
 mod style;
 
 use std::path::PathBuf;

@@ -7,6 +7,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 
+use super::raster::Raster;
 use super::PlotError;
 
 /// Size of every static PNG, pixels (width, height).
@@ -95,7 +96,7 @@ pub(crate) fn write_png_svg(dir: &Path, stem: &str, figure: &impl Figure) -> Res
     ensure_fonts()?;
     create_dir(dir)?;
     let png = dir.join(format!("{stem}.png"));
-    render(&png, BitMapBackend::new(&png, PNG_SIZE).into_drawing_area(), figure)?;
+    render(&png, Raster::new(BitMapBackend::new(&png, PNG_SIZE)).into_drawing_area(), figure)?;
     let svg = dir.join(format!("{stem}.svg"));
     render(&svg, SVGBackend::new(&svg, SVG_SIZE).into_drawing_area(), figure)?;
     Ok(vec![png, svg])
