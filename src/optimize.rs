@@ -13,6 +13,8 @@
 //! for the calibrated one (the calibrated circulation depends on the joint path only, so one
 //! calibration serves every profile).
 
+pub mod whole;
+
 use serde::Serialize;
 
 use crate::calibrate::{calibrate, Calibration};
