@@ -15,6 +15,9 @@ fn main() -> anyhow::Result<()> {
     if let Some(n) = args.get(3) {
         settings.control_points = n.parse()?;
     }
+    if let Ok(a) = std::env::var("WHOLE_MIN_ANGLE") {
+        settings.min_angle_deg = Some(a.parse()?);
+    }
     if let Ok(n) = std::env::var("WHOLE_SAMPLES") {
         settings.samples_per_span = n.parse()?;
     }

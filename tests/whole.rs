@@ -167,3 +167,25 @@ fn bad_settings_name_the_field() {
     let err = settings.validate().unwrap_err();
     assert!(err.to_string().starts_with("optimize.min_angle_deg = 200"), "{err}");
 }
+
+#[test]
+fn bend_limit_holds_on_the_optimum() {
+    // Unconstrained, the optimum bends ~47°; with the halves kept at ≥ 140° apart (bend ≤ 40°) it
+    // must still flip, bend no more than the limit (plus the slack between samples) and cost more.
+    let settings = WholeSettings {
+        control_points: 30,
+        min_angle_deg: Some(140.0),
+        starts: vec![StartKind::Cone],
+        ..WholeSettings::default()
+    };
+    let outcome =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.solutions[0].reason));
+    assert!(best.flips(FLIP));
+    assert!(best.max_bend_deg <= 40.0 + catflip::optimize::whole::BEND_SLACK_DEG, "bend {}°", best.max_bend_deg);
+    let free = WholeSettings { min_angle_deg: None, ..settings };
+    let unconstrained =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &free, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let free_peak = unconstrained.best().map_or(f64::NAN, |b| b.peak_torque_nm);
+    assert!(best.peak_torque_nm > free_peak, "{} ≤ {free_peak}", best.peak_torque_nm);
+}

@@ -74,6 +74,9 @@ use crate::qp::QpSettings;
 /// Optimality of the stages that only prepare a start (coarse spline, energy homotopy).
 const COARSE_OPTIMALITY: f64 = 1e-5;
 
+/// How far the measured bend may exceed its limit between the samples it is imposed on, degrees.
+pub const BEND_SLACK_DEG: f64 = 0.1;
+
 /// The target orientation of a flip: a half turn about A's initial spine axis.
 pub fn flipped() -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI)
@@ -192,6 +195,15 @@ pub fn optimize_start(
             "{reason}; the exact engine measures |twist| − π = {:.3e} rad, swing {:.3e} rad",
             m.twist_error, m.flip.swing
         );
+    }
+    if let Some(limit) = s.min_angle_deg {
+        let excess = m.max_bend.to_degrees() - (180.0 - limit);
+        if excess > BEND_SLACK_DEG {
+            if status == WholeStatus::Converged {
+                status = WholeStatus::Infeasible;
+            }
+            reason = format!("{reason}; the bend exceeds its limit by {excess:.3}° between samples");
+        }
     }
     Ok(WholeSolution {
         start: start.name.clone(),

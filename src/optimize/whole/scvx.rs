@@ -39,7 +39,7 @@ use super::sensitivity::{
 use super::settings::{Objective, WholeError, WholeSettings};
 use super::solution::{IterationLog, WholeStatus};
 use super::spline::BSpline;
-use super::subproblem::Subproblem;
+use super::subproblem::{Subproblem, BEND_PENALTY};
 use crate::model::Cylinder;
 use crate::qp::QpSettings;
 
@@ -76,6 +76,8 @@ pub(crate) struct Iterate {
     pub(crate) objective: f64,
     peak: f64,
     pub(crate) violation: f64,
+    /// `max_k max(0, cos β_max − cos β_k)`.
+    bend_violation: f64,
 }
 
 /// How a stage ended.
@@ -109,6 +111,8 @@ impl ScvxProblem<'_> {
             Objective::Energy => samples.iter().map(|s| s.weight * (s.tau[0].powi(2) + s.tau[1].powi(2))).sum(),
         };
         let violation = orientation.as_ref().map_or(0.0, |o| o.error.abs().sum());
+        let floor = self.settings.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
+        let bend_violation = floor.map_or(0.0, |f| bend.iter().map(|b| f - b.cos_bend).fold(0.0, f64::max));
         Iterate {
             values: layout.values(&spline),
             spline,
@@ -118,6 +122,7 @@ impl ScvxProblem<'_> {
             objective: value,
             peak,
             violation,
+            bend_violation,
         }
     }
 
@@ -158,7 +163,7 @@ impl ScvxProblem<'_> {
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
             };
             let step = sub.solve(&self.qp)?;
-            let merit = |x: &Iterate| x.objective / scale + penalty * x.violation;
+            let merit = |x: &Iterate| x.objective / scale + penalty * x.violation + BEND_PENALTY * x.bend_violation;
             let now = merit(&it);
             let mut entry = IterationLog {
                 iteration: log.len() + 1,
@@ -195,7 +200,7 @@ impl ScvxProblem<'_> {
             }
             if predicted <= optimality {
                 log.push(entry);
-                if it.violation <= LOOP_FEASIBILITY {
+                if it.violation <= LOOP_FEASIBILITY && it.bend_violation <= LOOP_FEASIBILITY {
                     return end(
                         it,
                         WholeStatus::Converged,
@@ -206,7 +211,10 @@ impl ScvxProblem<'_> {
                     penalty *= 10.0;
                     continue;
                 }
-                let reason = format!("stationary with |e|₁ = {:.3e} rad at penalty {penalty:.1e}", it.violation);
+                let reason = format!(
+                    "stationary with |e|₁ = {:.3e} rad and the bend limit exceeded by {:.3e} (cosine) at penalty {penalty:.1e}",
+                    it.violation, it.bend_violation
+                );
                 return end(it, WholeStatus::Infeasible, reason);
             }
             let moved = self.polish(layout.moved(&it.spline, &step.step), steps, PROJECTION_STEPS).0;

@@ -5,7 +5,8 @@
 //! the cat by π (up to the swing it leaves), then fitted to the clamped B-spline by least squares
 //! ([`BSpline::fit`]) with the ends held straight and at rest. The mirror image `q2 → −q2`
 //! (reflection through A's `yz`-plane, which reverses every twist) gives the other twist
-//! direction. The cone start bends at most 60° (module constant), below the gimbal lock.
+//! direction. The cone start bends at most 60° (module constant), below the gimbal lock; with a
+//! bend limit every start bends 2° less than it allows.
 //! None of them is the answer's shape: they bend and unbend in separate phases.
 
 use super::settings::{StartKind, WholeSettings};
@@ -19,6 +20,9 @@ use crate::schedule::{paper_circulation, Schedule};
 
 /// The largest bend of the cone start, degrees.
 pub const CONE_START_BEND_DEG: f64 = 60.0;
+
+/// How far inside the bend limit a start bends, degrees.
+pub const START_BEND_MARGIN_DEG: f64 = 2.0;
 
 /// A start: its name and its trajectory.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,6 +40,7 @@ pub fn start_schedule(
     duration: f64,
     manoeuvre: &Manoeuvre,
     kind: StartKind,
+    min_angle_deg: Option<f64>,
 ) -> Result<Schedule, String> {
     let (path, profile) = match kind {
         StartKind::Paper | StartKind::PaperMirrored => (BendPath::JointCircle, manoeuvre.profile),
@@ -43,8 +48,12 @@ pub fn start_schedule(
     };
     // Beyond a 90° bend the cone's q1 runs past ±π/2 and its unbend `q = q_e(1 − P)` swings the
     // cat upside down (swing π): the cone start bends at most CONE_START_BEND_DEG.
-    let theta_deg =
+    let mut theta_deg =
         if path == BendPath::Cone { manoeuvre.theta_deg.max(180.0 - CONE_START_BEND_DEG) } else { manoeuvre.theta_deg };
+    // A start within the bend limit (neither path bends beyond β = 180° − θ).
+    if let Some(limit) = min_angle_deg {
+        theta_deg = theta_deg.max(limit + START_BEND_MARGIN_DEG);
+    }
     let manoeuvre = Manoeuvre { theta_deg, ..manoeuvre.clone() };
     if path == BendPath::Cone && (manoeuvre.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
         return Err(format!("the cone path meets gimbal lock within {CONE_GIMBAL_MARGIN_DEG}° of a 90° bend"));
@@ -71,7 +80,7 @@ pub fn build_start(
     kind: StartKind,
     settings: &WholeSettings,
 ) -> Result<NamedStart, String> {
-    let schedule = start_schedule(cat, duration, manoeuvre, kind)?;
+    let schedule = start_schedule(cat, duration, manoeuvre, kind, settings.min_angle_deg)?;
     let sign = if matches!(kind, StartKind::PaperMirrored | StartKind::ConeMirrored) { -1.0 } else { 1.0 };
     let spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
         let q = schedule.state(t.min(duration)).q;
