@@ -19,9 +19,9 @@ fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
 fn paper(c: &mut Criterion) {
     let problem = Problem::default();
     let mut group = c.benchmark_group("whole/paper");
-    group.sampling_mode(SamplingMode::Flat).sample_size(10).measurement_time(Duration::from_secs(20));
+    group.sampling_mode(SamplingMode::Flat).sample_size(10).measurement_time(Duration::from_secs(10));
     let every = WholeSettings::default();
-    group.bench_function("peak/all-starts", |b| b.iter(|| solve(black_box(&problem), &every)));
+    group.bench_function("peak/default-starts", |b| b.iter(|| solve(black_box(&problem), &every)));
     let one = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
     group.bench_function("peak/one-start", |b| b.iter(|| solve(black_box(&problem), &one)));
     let energy = WholeSettings { objective: Objective::Energy, ..one.clone() };

@@ -76,7 +76,8 @@ pub struct WholeSettings {
     pub steps_per_span: usize,
     /// Most trust-region iterations per start (all stages together).
     pub max_iterations: usize,
-    /// The starts, in order; the best feasible result is kept.
+    /// The starts, in order; the best feasible result is kept. The default pair covers both twist
+    /// directions and both bend paths (the paper's twists by −π, the mirrored cone by +π).
     pub starts: Vec<StartKind>,
     /// With the peak objective, first minimise the energy from each start (a smooth problem),
     /// then the peak from there.
@@ -100,10 +101,10 @@ impl Default for WholeSettings {
             control_points: 120,
             coarse_control_points: Some(10),
             zero_end_acceleration: false,
-            samples_per_span: 6,
+            samples_per_span: 4,
             steps_per_span: 8,
             max_iterations: 200,
-            starts: vec![StartKind::Paper, StartKind::PaperMirrored, StartKind::Cone, StartKind::ConeMirrored],
+            starts: vec![StartKind::Paper, StartKind::ConeMirrored],
             homotopy: true,
             optimality: 1e-7,
             trust_radius_deg: 10.0,
