@@ -1,5 +1,7 @@
 //! The whole-manoeuvre optimum of a problem file: `cargo run --release --example whole_paper --
-//! problems/paper.toml [objective] [control_points]`.
+//! problems/paper.toml [peak|energy] [control_points] [key=value ...]` (the last as `--set`
+//! overrides, e.g. `cat.radius=0.05`). Diagnostics: `WHOLE_STARTS=paper,cone`, `WHOLE_LOG=1`,
+//! `WHOLE_MIN_ANGLE=140`, `WHOLE_SAMPLES=6`.
 
 use catflip::optimize::whole::{optimize_whole, Objective, WholeSettings};
 use catflip::problem::Problem;
@@ -7,7 +9,8 @@ use catflip::problem::Problem;
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).map_or("problems/paper.toml", String::as_str);
-    let problem = Problem::load(std::path::Path::new(path), &[])?;
+    let overrides: Vec<String> = args.iter().skip(4).cloned().collect();
+    let problem = Problem::load(std::path::Path::new(path), &overrides)?;
     let mut settings = WholeSettings::default();
     if let Some(o) = args.get(2) {
         settings.objective = if o == "energy" { Objective::Energy } else { Objective::Peak };
@@ -30,13 +33,14 @@ fn main() -> anyhow::Result<()> {
     let total = clock.elapsed().as_secs_f64();
     for s in &outcome.solutions {
         println!(
-            "{:16} {:15} it {:4} peak {:.6} N·m energy {:.6} twist {:+.12} swing {:.2e} bend {:.2}° turns {:+.3} {:.2} s | {}",
+            "{:16} {:15} it {:4} peak {:.6} N·m energy {:.6} twist {:+.12} (|twist|−π {:.1e}) swing {:.2e} bend {:.2}° turns {:+.3} {:.2} s | {}",
             s.start,
             s.status.to_string(),
             s.iterations,
             s.peak_torque_nm,
             s.energy,
             s.twist,
+            s.twist_error,
             s.swing,
             s.max_bend_deg,
             s.bend_turns,

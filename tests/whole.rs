@@ -189,3 +189,21 @@ fn bend_limit_holds_on_the_optimum() {
     let free_peak = unconstrained.best().map_or(f64::NAN, |b| b.peak_torque_nm);
     assert!(best.peak_torque_nm > free_peak, "{} ≤ {free_peak}", best.peak_torque_nm);
 }
+
+#[test]
+fn optimum_scales_with_the_fall_time() {
+    // Known answer: at zero momentum τ is quadratic in the time derivatives, so q(t) ↦ q(t T/T')
+    // maps the problem for T onto the one for T', peak torque × (T/T')², energy × (T/T')³; every
+    // start is built from phase fractions, so the optimiser must find the scaled optimum.
+    let settings = WholeSettings { control_points: 30, starts: vec![StartKind::Paper], ..WholeSettings::default() };
+    let solve = |fall: f64| {
+        let outcome =
+            optimize_whole(&PAPER, fall, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+        outcome.best().cloned().unwrap_or_else(|| panic!("T = {fall}: {}", outcome.solutions[0].reason))
+    };
+    let (a, b) = (solve(FALL), solve(0.5));
+    let k = FALL / 0.5;
+    // Both optima are converged to a relative merit decrease of 1e-7; 1e-5 leaves room for that.
+    assert_relative_eq!(b.peak_torque_nm, a.peak_torque_nm * k * k, max_relative = 1e-5);
+    assert_relative_eq!(b.energy, a.energy * k * k * k, max_relative = 1e-5);
+}
