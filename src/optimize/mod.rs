@@ -16,6 +16,7 @@
 pub mod qp;
 pub mod refine;
 pub mod retime;
+pub mod whole;
 
 use serde::Serialize;
 

@@ -86,7 +86,7 @@
 //!
 //! [`Profile::from_rate_nodes`]: crate::schedule::profile::Profile::from_rate_nodes
 
-mod assembly;
+pub(crate) mod assembly;
 mod problemdata;
 mod settings;
 mod solution;

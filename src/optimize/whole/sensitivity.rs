@@ -1,0 +1,266 @@
+//! Exact first derivatives, with respect to the free control points, of the final orientation
+//! and of the motor torques at sample instants.
+//!
+//! ## Final orientation: forward sensitivity of the Magnus integrator
+//! The exact engine steps `R_{n+1} = R_n exp([σ_n]×)`, `σ_n = magnus6(h, Ω_{n,1}, Ω_{n,2}, Ω_{n,3})`
+//! on the Gauss–Legendre nodes of each step, knot span by knot span ([`crate::exact`]). Perturb
+//! the rates: since `exp([σ + δσ]×) = exp([σ]×) exp([J_r(σ) δσ]×) + O(δ²)` with the right
+//! Jacobian `J_r(φ) = 𝟙 − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²`, `θ = |φ|`, a left
+//! perturbation `R̃_n = exp([η_n]×) R_n` propagates as
+//!
+//! $$ η_{n+1} = η_n + R_{n+1} J_r(σ_n) \sum_k \frac{∂σ_n}{∂Ω_{n,k}} δΩ_{n,k}, $$
+//!
+//! the discrete form of `η̇ = R δΩ`. With `Ω = A(q) q̇` (linear in `q̇`),
+//! `δΩ = Σ_j (∂Ω/∂q_j δq_j + ∂Ω/∂q̇_j δq̇_j)` and `δq_j = Σ_i N_i δc_{j,i}`. The partials of `Ω`
+//! come from dual numbers through [`body_rate`], those of `σ` through [`magnus6`]: this is the
+//! exact derivative of the integrator's own final orientation, not of a second discretisation.
+//! The error `e = log(R_*ᵀ R(T))` of the target `R_*` then moves by
+//! `δe = J_l⁻¹(e) R_*ᵀ η` (`log(exp([a]×) exp([e]×)) = e + J_l(e)⁻¹ a + O(a²)`,
+//! `J_l⁻¹(φ) = 𝟙 − ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ))[φ]×²`).
+//!
+//! ## Torques
+//! `τ(q, q̇, q̈)` from [`motor_torques`] at `Dual<6>` seeded on `(q, q̇, q̈)`, chained through
+//! `N_i, N'_i, N''_i`.
+//!
+//! ## References
+//! - J. Solà, J. Deray, D. Atchuthan, *A micro Lie theory for state estimation in robotics*
+//!   (arXiv:1812.01537, 2018), eqs. (143)–(146) for `J_r`, `J_l⁻¹` of SO(3);
+//! - S. Blanes, F. Casas, J. Ros, BIT 40 (2000) 434–450, for the Magnus scheme.
+
+use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
+
+use super::dual::Dual;
+use super::dynamics::{body_rate, magnus6, motor_torques};
+use super::spline::{BSpline, Basis};
+use crate::model::{skew, Cylinder};
+
+/// Which control points are free: the first and last `fixed` of each joint are held at zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Control points per joint.
+    pub control_points: usize,
+    /// Control points held at zero at each end of each joint.
+    pub fixed: usize,
+}
+
+impl Layout {
+    /// Free control points per joint.
+    pub fn free(&self) -> usize {
+        self.control_points - 2 * self.fixed
+    }
+
+    /// Number of variables (both joints).
+    pub fn variables(&self) -> usize {
+        2 * self.free()
+    }
+
+    /// The variable of control point `i` of joint `j`, if it is free.
+    pub fn variable(&self, j: usize, i: usize) -> Option<usize> {
+        (i >= self.fixed && i < self.control_points - self.fixed).then(|| j * self.free() + i - self.fixed)
+    }
+
+    /// The current value of every variable.
+    pub fn values(&self, spline: &BSpline) -> Vec<f64> {
+        (0..2).flat_map(|j| spline.coefficients[j][self.fixed..self.control_points - self.fixed].to_vec()).collect()
+    }
+
+    /// The spline moved by `step` on the free control points.
+    pub fn moved(&self, spline: &BSpline, step: &[f64]) -> BSpline {
+        let mut out = spline.clone();
+        for j in 0..2 {
+            for i in self.fixed..self.control_points - self.fixed {
+                if let Some(v) = self.variable(j, i) {
+                    out.coefficients[j][i] += step[v];
+                }
+            }
+        }
+        out
+    }
+
+    /// `(variable, ∂x/∂c)` for a quantity with partials `dq[j]`, `dqd[j]`, `dqdd[j]` with respect to
+    /// joint `j`'s angle, rate and acceleration, chained through `basis`.
+    fn chain(&self, basis: &Basis, dq: [f64; 2], dqd: [f64; 2], dqdd: [f64; 2], out: &mut Vec<(usize, f64)>) {
+        for j in 0..2 {
+            for (m, ((n, nd), ndd)) in basis.values[0].iter().zip(&basis.values[1]).zip(&basis.values[2]).enumerate() {
+                if let Some(v) = self.variable(j, basis.first + m) {
+                    out.push((v, dq[j] * n + dqd[j] * nd + dqdd[j] * ndd));
+                }
+            }
+        }
+    }
+}
+
+/// The final orientation, its error from the target and the error's Jacobian.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FinalOrientation {
+    /// A's final orientation `R(T)`.
+    pub orientation: UnitQuaternion<f64>,
+    /// `e = log(R_*ᵀ R(T))`, rad.
+    pub error: Vector3<f64>,
+    /// `∂e/∂x`, 3 × variables, rad per rad.
+    pub jacobian: DMatrix<f64>,
+}
+
+/// `(1 − cos θ)/θ²` and `(θ − sin θ)/θ³`, by series near zero.
+fn right_jacobian(phi: &Vector3<f64>) -> Matrix3<f64> {
+    let t2 = phi.norm_squared();
+    let t = t2.sqrt();
+    let (a, b) = if t < 1e-4 {
+        (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+    } else {
+        ((1.0 - t.cos()) / t2, (t - t.sin()) / (t2 * t))
+    };
+    let k = skew(phi);
+    Matrix3::identity() - a * k + b * k * k
+}
+
+/// `J_l(φ)⁻¹`, by series near zero.
+pub fn left_jacobian_inverse(phi: &Vector3<f64>) -> Matrix3<f64> {
+    let t2 = phi.norm_squared();
+    let t = t2.sqrt();
+    let c = if t < 1e-4 { 1.0 / 12.0 + t2 / 720.0 } else { 1.0 / t2 - (1.0 + t.cos()) / (2.0 * t * t.sin()) };
+    let k = skew(phi);
+    Matrix3::identity() - 0.5 * k + c * k * k
+}
+
+/// Integrates the orientation with `steps` Magnus steps per knot span, as
+/// [`crate::engines::exact::integrate`] does, and its exact derivative (module docs).
+pub fn final_orientation(
+    cat: &Cylinder,
+    spline: &BSpline,
+    layout: &Layout,
+    steps: usize,
+    target: &UnitQuaternion<f64>,
+) -> FinalOrientation {
+    let c = 15f64.sqrt() / 10.0;
+    let nodes = [0.5 - c, 0.5, 0.5 + c];
+    let mut r = UnitQuaternion::identity();
+    let mut eta = DMatrix::<f64>::zeros(3, layout.variables());
+    let mut columns: Vec<(usize, f64)> = Vec::new();
+    for span in 0..spline.spans() {
+        let (t0, t1) = spline.span_bounds(span);
+        let h = (t1 - t0) / steps as f64;
+        for n in 0..steps {
+            // Rates and their partials at the three nodes.
+            let at = nodes.map(|c| {
+                let basis = spline.basis(span, t0 + (n as f64 + c) * h);
+                let st = spline.state_from(&basis);
+                let d: [Dual<4>; 4] =
+                    std::array::from_fn(|k| Dual::input([st.q[0], st.q[1], st.qd[0], st.qd[1]][k], k));
+                (basis, body_rate(cat, [d[0], d[1]], [d[2], d[3]]))
+            });
+            let w: [[Dual<9>; 3]; 3] =
+                std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].re, 3 * k + i)));
+            let sigma = magnus6(h, w[0], w[1], w[2]);
+            let sigma_re = Vector3::new(sigma[0].re, sigma[1].re, sigma[2].re);
+            r = UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma_re)).quaternion());
+            let m = r.to_rotation_matrix().into_inner() * right_jacobian(&sigma_re);
+            for (k, (basis, omega)) in at.iter().enumerate() {
+                let ds = Matrix3::from_fn(|i, l| sigma[i].eps[3 * k + l]);
+                let p = m * ds;
+                // Column of ∂Ω/∂c for each free control point touching this node.
+                for comp in 0..3 {
+                    columns.clear();
+                    let dq = [omega[comp].eps[0], omega[comp].eps[1]];
+                    let dqd = [omega[comp].eps[2], omega[comp].eps[3]];
+                    layout.chain(basis, dq, dqd, [0.0; 2], &mut columns);
+                    for &(v, g) in &columns {
+                        for row in 0..3 {
+                            eta[(row, v)] += p[(row, comp)] * g;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let error = (target.inverse() * r).scaled_axis();
+    let map = left_jacobian_inverse(&error) * target.inverse().to_rotation_matrix().into_inner();
+    FinalOrientation { orientation: r, error, jacobian: DMatrix::from_fn(3, 3, |i, j| map[(i, j)]) * eta }
+}
+
+/// Motor torques at one instant with their gradients.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TorqueSample {
+    /// Time, s.
+    pub time: f64,
+    /// Quadrature weight for `∫ τ·τ dt`, s (zero on a peak grid).
+    pub weight: f64,
+    /// `(τ1, τ2)`, N·m.
+    pub tau: [f64; 2],
+    /// `∂τ_j/∂x` as `(variable, value)`, N·m per rad.
+    pub gradient: [Vec<(usize, f64)>; 2],
+}
+
+/// The cosine of the bend, `e_z = cos q1 cos q2` (B's axis on A's), with its gradient.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BendSample {
+    /// `cos β`.
+    pub cos_bend: f64,
+    /// `∂ cos β/∂x`.
+    pub gradient: Vec<(usize, f64)>,
+}
+
+/// An instant of a sample grid: span, time, quadrature weight.
+pub type GridPoint = (usize, f64, f64);
+
+/// `per_span` equally spaced instants per span, both ends of the fall included (weight zero).
+pub fn uniform_grid(spline: &BSpline, per_span: usize) -> Vec<GridPoint> {
+    let mut out = Vec::new();
+    for s in 0..spline.spans() {
+        let (a, b) = spline.span_bounds(s);
+        out.extend((0..per_span).map(|k| (s, a + (b - a) * k as f64 / per_span as f64, 0.0)));
+    }
+    let last = spline.spans() - 1;
+    out.push((last, spline.duration(), 0.0));
+    out
+}
+
+/// Three-point Gauss–Legendre instants on `parts` equal parts of every span, with weights.
+pub fn gauss_grid(spline: &BSpline, parts: usize) -> Vec<GridPoint> {
+    let c = 15f64.sqrt() / 10.0;
+    let rule = [(0.5 - c, 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + c, 5.0 / 18.0)];
+    let mut out = Vec::new();
+    for s in 0..spline.spans() {
+        let (a, b) = spline.span_bounds(s);
+        let h = (b - a) / parts as f64;
+        for p in 0..parts {
+            out.extend(rule.iter().map(|&(x, w)| (s, a + (p as f64 + x) * h, w * h)));
+        }
+    }
+    out
+}
+
+/// Torques and their gradients on a grid.
+pub fn torque_samples(cat: &Cylinder, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
+    grid.iter()
+        .map(|&(span, time, weight)| {
+            let basis = spline.basis(span, time);
+            let st = spline.state_from(&basis);
+            let x = [st.q[0], st.q[1], st.qd[0], st.qd[1], st.qdd[0], st.qdd[1]];
+            let d: [Dual<6>; 6] = std::array::from_fn(|k| Dual::input(x[k], k));
+            let tau = motor_torques(cat, [d[0], d[1]], [d[2], d[3]], [d[4], d[5]]);
+            let gradient = tau.map(|t| {
+                let mut g = Vec::with_capacity(2 * basis.values[0].len());
+                let e = t.eps;
+                layout.chain(&basis, [e[0], e[1]], [e[2], e[3]], [e[4], e[5]], &mut g);
+                g
+            });
+            TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient }
+        })
+        .collect()
+}
+
+/// The bend's cosine and its gradient on a grid.
+pub fn bend_samples(spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<BendSample> {
+    grid.iter()
+        .map(|&(span, time, _)| {
+            let basis = spline.basis(span, time);
+            let q = spline.state_from(&basis).q;
+            let (s1, c1) = q[0].sin_cos();
+            let (s2, c2) = q[1].sin_cos();
+            let mut gradient = Vec::new();
+            layout.chain(&basis, [-s1 * c2, -c1 * s2], [0.0; 2], [0.0; 2], &mut gradient);
+            BendSample { cos_bend: c1 * c2, gradient }
+        })
+        .collect()
+}

@@ -1,0 +1,253 @@
+//! Clamped B-spline joint trajectories on `[0, T]`, the variables of the whole-manoeuvre
+//! optimisation.
+//!
+//! Each joint is `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the
+//! clamped uniform knot vector (`p + 1` knots at `0` and at `T`, `n − p − 1` equally spaced
+//! inside), so that `q(0) = c_0`, `q̇(0) = p (c_1 − c_0)/u_{p+1}` and likewise at `T`. Fixing the
+//! first and last two control points at zero makes the cat straight and at rest at both ends;
+//! fixing three also zeroes the end accelerations (and so the end torques).
+//!
+//! Basis functions by the Cox–de Boor recurrence
+//! `N_{i,d} = (t − u_i)/(u_{i+d} − u_i) N_{i,d−1} + (u_{i+d+1} − t)/(u_{i+d+1} − u_{i+1}) N_{i+1,d−1}`
+//! and their derivatives by `N'_{i,d} = d (N_{i,d−1}/(u_{i+d} − u_i) − N_{i+1,d−1}/(u_{i+d+1} − u_{i+1}))`
+//! (0/0 read as 0), applied twice for `N''`. A knot span is one piece of the [`Trajectory`]:
+//! `q⁽ᵖ⁾` jumps at knots, so engines never step across one.
+//!
+//! ## References
+//! - C. de Boor, *A Practical Guide to Splines* (rev. ed., Springer 2001), ch. IX–X;
+//! - L. Piegl, W. Tiller, *The NURBS Book* (2nd ed., 1997), §2.2–2.3.
+
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+use crate::schedule::{JointState, Trajectory};
+
+/// Both joints' clamped B-splines over the whole fall.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BSpline {
+    /// Degree `p`.
+    pub degree: usize,
+    /// Knot vector `u_0 … u_{n+p}`, s.
+    pub knots: Vec<f64>,
+    /// Control points `c_{j,i}` of joint `j`, rad.
+    pub coefficients: [Vec<f64>; 2],
+}
+
+/// The basis functions that do not vanish at one instant: `N_{first+k}` and its first two
+/// derivatives for `k = 0..=p`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Basis {
+    /// Index of the first non-vanishing function.
+    pub first: usize,
+    /// `[N, N', N'']` of the `p + 1` functions, 1, 1/s, 1/s².
+    pub values: [Vec<f64>; 3],
+}
+
+impl BSpline {
+    /// The straight cat at rest: `n` zero control points of degree `p` on `[0, duration]`.
+    /// Needs `n ≥ p + 1`, `p ≥ 1` and a positive duration (checked by the settings).
+    pub fn zero(duration: f64, control_points: usize, degree: usize) -> Self {
+        let spans = control_points - degree;
+        let mut knots = vec![0.0; degree + 1];
+        knots.extend((1..spans).map(|k| duration * k as f64 / spans as f64));
+        knots.extend(std::iter::repeat_n(duration, degree + 1));
+        Self { degree, knots, coefficients: [vec![0.0; control_points], vec![0.0; control_points]] }
+    }
+
+    /// Number of control points per joint.
+    pub fn control_points(&self) -> usize {
+        self.coefficients[0].len()
+    }
+
+    /// Number of knot spans (pieces).
+    pub fn spans(&self) -> usize {
+        self.control_points() - self.degree
+    }
+
+    /// Start and end of span `s`, s.
+    pub fn span_bounds(&self, s: usize) -> (f64, f64) {
+        (self.knots[self.degree + s], self.knots[self.degree + s + 1])
+    }
+
+    /// Total duration, s.
+    pub fn duration(&self) -> f64 {
+        self.knots[self.knots.len() - 1]
+    }
+
+    /// The span holding `t` (the later one at an inner knot).
+    pub fn span_of(&self, t: f64) -> usize {
+        let spans = self.spans();
+        (0..spans).rev().find(|&s| t >= self.span_bounds(s).0).unwrap_or(0)
+    }
+
+    /// The non-vanishing basis functions and their derivatives at `t` in span `s`.
+    pub fn basis(&self, s: usize, t: f64) -> Basis {
+        let p = self.degree;
+        let mu = p + s;
+        let u = &self.knots;
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+        // levels[d][j] = N_{mu−d+j, d}(t), j = 0..=d.
+        let mut levels: Vec<Vec<f64>> = vec![vec![1.0]];
+        for d in 1..=p {
+            let prev = &levels[d - 1];
+            let level = (0..=d)
+                .map(|j| {
+                    let i = mu + j - d;
+                    let left = if j >= 1 { ratio(t - u[i], u[i + d] - u[i]) * prev[j - 1] } else { 0.0 };
+                    let right = if j < d { ratio(u[i + d + 1] - t, u[i + d + 1] - u[i + 1]) * prev[j] } else { 0.0 };
+                    left + right
+                })
+                .collect();
+            levels.push(level);
+        }
+        // The derivative of degree-d functions from a list over degree d − 1 (linear, so it
+        // also maps derivatives to second derivatives).
+        let differentiate = |d: usize, prev: &[f64]| -> Vec<f64> {
+            (0..=d)
+                .map(|j| {
+                    let i = mu + j - d;
+                    let left = if j >= 1 { ratio(prev[j - 1], u[i + d] - u[i]) } else { 0.0 };
+                    let right = if j < d { ratio(prev[j], u[i + d + 1] - u[i + 1]) } else { 0.0 };
+                    d as f64 * (left - right)
+                })
+                .collect()
+        };
+        let first_derivative = if p >= 1 { differentiate(p, &levels[p - 1]) } else { vec![0.0] };
+        let second_derivative =
+            if p >= 2 { differentiate(p, &differentiate(p - 1, &levels[p - 2])) } else { vec![0.0; p + 1] };
+        Basis { first: mu - p, values: [levels.swap_remove(p), first_derivative, second_derivative] }
+    }
+
+    /// The joint state at `t` in span `s` from a basis already evaluated there.
+    pub fn state_from(&self, basis: &Basis) -> JointState {
+        let mut st = JointState::default();
+        for j in 0..2 {
+            let c = &self.coefficients[j][basis.first..];
+            let sum = |d: usize| basis.values[d].iter().zip(c).map(|(n, c)| n * c).sum::<f64>();
+            st.q[j] = sum(0);
+            st.qd[j] = sum(1);
+            st.qdd[j] = sum(2);
+        }
+        st
+    }
+
+    /// The joint state at global time `t`.
+    pub fn state(&self, t: f64) -> JointState {
+        let s = self.span_of(t);
+        self.state_from(&self.basis(s, t))
+    }
+
+    /// The least-squares fit of `target(t)` (joint angles, rad) on `20` points per span, with the
+    /// first and last `fixed` control points of each joint held at zero.
+    pub fn fit(
+        duration: f64,
+        control_points: usize,
+        degree: usize,
+        fixed: usize,
+        target: impl Fn(f64) -> [f64; 2],
+    ) -> Self {
+        let mut spline = Self::zero(duration, control_points, degree);
+        let free = control_points.saturating_sub(2 * fixed);
+        if free == 0 {
+            return spline;
+        }
+        let points = 20 * spline.spans();
+        let mut normal = DMatrix::<f64>::zeros(free, free);
+        let mut rhs = [DVector::<f64>::zeros(free), DVector::<f64>::zeros(free)];
+        for k in 0..=points {
+            let t = duration * k as f64 / points as f64;
+            let basis = spline.basis(spline.span_of(t), t);
+            let y = target(t);
+            let cols: Vec<(usize, f64)> = (0..=degree)
+                .filter_map(|m| {
+                    let i = basis.first + m;
+                    (i >= fixed && i < control_points - fixed).then(|| (i - fixed, basis.values[0][m]))
+                })
+                .collect();
+            for &(a, na) in &cols {
+                for &(b, nb) in &cols {
+                    normal[(a, b)] += na * nb;
+                }
+                for j in 0..2 {
+                    rhs[j][a] += na * y[j];
+                }
+            }
+        }
+        // The collocation matrix has full column rank (every free function has support holding
+        // sample points), so the normal matrix is positive definite.
+        if let Some(ch) = normal.cholesky() {
+            for (coefficients, rhs) in spline.coefficients.iter_mut().zip(&rhs) {
+                coefficients[fixed..fixed + free].copy_from_slice(ch.solve(rhs).as_slice());
+            }
+        }
+        spline
+    }
+}
+
+impl Trajectory for BSpline {
+    fn piece_durations(&self) -> Vec<f64> {
+        (0..self.spans()).map(|s| self.span_bounds(s)).map(|(a, b)| b - a).collect()
+    }
+
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        let (a, b) = self.span_bounds(piece);
+        self.state_from(&self.basis(piece, (a + s).min(b)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn sample() -> BSpline {
+        let mut s = BSpline::zero(1.7, 9, 3);
+        s.coefficients =
+            [vec![0.0, 0.0, 0.4, -0.3, 1.1, 0.2, -0.5, 0.0, 0.0], vec![0.0, 0.0, -0.2, 0.9, 0.1, -0.7, 0.3, 0.0, 0.0]];
+        s
+    }
+
+    #[test]
+    fn basis_is_a_partition_of_unity_and_ends_rest() {
+        let s = sample();
+        for k in 0..=50 {
+            let t = 1.7 * k as f64 / 50.0;
+            let b = s.basis(s.span_of(t), t);
+            assert_relative_eq!(b.values[0].iter().sum::<f64>(), 1.0, epsilon = 1e-14);
+            assert_relative_eq!(b.values[1].iter().sum::<f64>(), 0.0, epsilon = 1e-12);
+            assert_relative_eq!(b.values[2].iter().sum::<f64>(), 0.0, epsilon = 1e-10);
+        }
+        for t in [0.0, 1.7] {
+            let st = s.state(t);
+            for j in 0..2 {
+                assert_relative_eq!(st.q[j], 0.0, epsilon = 1e-15);
+                assert_relative_eq!(st.qd[j], 0.0, epsilon = 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn derivatives_match_central_differences() {
+        // Step 1e-5 inside a span: truncation ~1e-10·q''', round-off ~1e-16/1e-5: 1e-7 covers it.
+        let s = sample();
+        let h = 1e-5;
+        for t in [0.13, 0.5, 0.91, 1.33] {
+            let (a, b, c) = (s.state(t - h), s.state(t), s.state(t + h));
+            for j in 0..2 {
+                assert_relative_eq!(b.qd[j], (c.q[j] - a.q[j]) / (2.0 * h), epsilon = 1e-7);
+                assert_relative_eq!(b.qdd[j], (c.qd[j] - a.qd[j]) / (2.0 * h), epsilon = 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn fit_reproduces_a_spline() {
+        let s = sample();
+        let fit = BSpline::fit(1.7, 9, 3, 2, |t| s.state(t).q);
+        for j in 0..2 {
+            for (a, b) in fit.coefficients[j].iter().zip(&s.coefficients[j]) {
+                assert_relative_eq!(a, b, epsilon = 1e-10);
+            }
+        }
+    }
+}

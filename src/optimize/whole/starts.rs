@@ -1,0 +1,95 @@
+//! Starts of the optimisation: library schedules fitted to the spline.
+//!
+//! Each start is the problem's three-phase manoeuvre (its bend and phase split) on one bend path,
+//! with its circulation calibrated on the exact engine ([`crate::calibrate`]) so that it turns
+//! the cat by π (up to the swing it leaves), then fitted to the clamped B-spline by least squares
+//! ([`BSpline::fit`]) with the ends held straight and at rest. The mirror image `q2 → −q2`
+//! (reflection through A's `yz`-plane, which reverses every twist) gives the other twist
+//! direction. The cone start bends at most 60° (module constant), below the gimbal lock; with a
+//! bend limit every start bends 2° less than it allows.
+//! None of them is the answer's shape: they bend and unbend in separate phases.
+
+use super::settings::{StartKind, WholeSettings};
+use super::spline::BSpline;
+use crate::engines::calibrate::calibrate;
+use crate::model::Cylinder;
+use crate::numeric::roots::RootStatus;
+use crate::problem::manoeuvre::{BendPath, Manoeuvre, ProfileKind, CONE_GIMBAL_MARGIN_DEG};
+use crate::schedule::profile::Profile;
+use crate::schedule::{paper_circulation, Schedule};
+
+/// The largest bend of the cone start, degrees.
+pub const CONE_START_BEND_DEG: f64 = 60.0;
+
+/// How far inside the bend limit a start bends, degrees.
+pub const START_BEND_MARGIN_DEG: f64 = 2.0;
+
+/// A start: its name and its trajectory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedStart {
+    /// The start's name.
+    pub name: String,
+    /// Its trajectory on the optimisation's spline.
+    pub spline: BSpline,
+}
+
+/// The schedule a start is fitted to, with the circulation calibrated (the paper's `π/C` when the
+/// calibration does not converge: a start only needs to be near a flip).
+pub fn start_schedule(
+    cat: &Cylinder,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    kind: StartKind,
+    min_angle_deg: Option<f64>,
+) -> Result<Schedule, String> {
+    let (path, profile) = match kind {
+        StartKind::Paper | StartKind::PaperMirrored => (BendPath::JointCircle, manoeuvre.profile),
+        StartKind::Cone | StartKind::ConeMirrored => (BendPath::Cone, ProfileKind::Cycloidal),
+    };
+    // Beyond a 90° bend the cone's q1 runs past ±π/2 and its unbend `q = q_e(1 − P)` swings the
+    // cat upside down (swing π): the cone start bends at most CONE_START_BEND_DEG.
+    let mut theta_deg =
+        if path == BendPath::Cone { manoeuvre.theta_deg.max(180.0 - CONE_START_BEND_DEG) } else { manoeuvre.theta_deg };
+    // A start within the bend limit (neither path bends beyond β = 180° − θ).
+    if let Some(limit) = min_angle_deg {
+        theta_deg = theta_deg.max(limit + START_BEND_MARGIN_DEG);
+    }
+    let manoeuvre = Manoeuvre { theta_deg, ..manoeuvre.clone() };
+    if path == BendPath::Cone && (manoeuvre.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
+        return Err(format!("the cone path meets gimbal lock within {CONE_GIMBAL_MARGIN_DEG}° of a 90° bend"));
+    }
+    let circulation = paper_circulation(cat, manoeuvre.theta()).map_err(|e| e.to_string())?;
+    let schedule = Schedule {
+        durations: manoeuvre.phases.map(|f| f * duration),
+        bend: manoeuvre.bend(),
+        path,
+        profile: Profile::library(profile),
+        circulation,
+        bend_profile: Profile::harmonic(),
+        unbend_profile: Profile::harmonic(),
+    };
+    let cal = calibrate(cat, &schedule, 1e-9);
+    Ok(if cal.status == RootStatus::Converged { schedule.with_circulation(cal.circulation) } else { schedule })
+}
+
+/// The start `kind` on the spline of `settings`.
+pub fn build_start(
+    cat: &Cylinder,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    kind: StartKind,
+    settings: &WholeSettings,
+) -> Result<NamedStart, String> {
+    let schedule = start_schedule(cat, duration, manoeuvre, kind, settings.min_angle_deg)?;
+    let sign = if matches!(kind, StartKind::PaperMirrored | StartKind::ConeMirrored) { -1.0 } else { 1.0 };
+    let spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
+        let q = schedule.state(t.min(duration)).q;
+        [q[0], sign * q[1]]
+    });
+    // The orientation error log(R_zᵀ(π) R) is singular at a half-turn from the target.
+    let f = crate::engines::exact::flip(cat, &spline, 1e-6);
+    if f.swing > 0.5 * std::f64::consts::PI {
+        return Err(format!("the fitted start lands with swing {:.1}°, too far from a flip", f.swing.to_degrees()));
+    }
+    Ok(NamedStart { name: kind.name().to_string(), spline })
+}

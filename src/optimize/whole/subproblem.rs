@@ -1,0 +1,168 @@
+//! The convex subproblem of one successive-convexification step, solved by Clarabel.
+//!
+//! Variables `x = (δ, t, s)`: the step `δ` on the free control points (rad), the epigraph bound
+//! `t` of the peak objective and the bounds `s ∈ ℝ³` on the linearised orientation error (the
+//! virtual control `ν = e + Jδ`, penalised in ℓ1). With `τ̂ = τ/J_u`, `Ĝ = G/J_u` scaled by the
+//! current objective `J_u`:
+//!
+//! $$ \text{peak: } \min\; t + λ \textstyle\sum_i s_i \quad
+//!    |τ̂_k + Ĝ_k δ| ≤ t \;\;\forall k \text{ and both joints}, $$
+//! $$ \text{energy: } \min\; \textstyle\sum_k w_k |τ_k + G_k δ|^2 / J_u + λ \sum_i s_i, $$
+//!
+//! both subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
+//! `e + Jδ = 0` exactly and no `s`: an exact penalty weighted far above the multiplier turns
+//! Clarabel's residuals into noise of the model's size), the trust box `|δ|_∞ ≤ Δ`, the joint limit on the
+//! control points `|c + δ| ≤ q_max` and the linearised bend limit
+//! `cos β_k + g_kᵀ δ + σ ≥ cos β_max` on every sample, with one elastic variable `σ ≥ 0`
+//! weighted by [`BEND_PENALTY`] (so that a start bent beyond the limit can come back to it). The box makes every subproblem feasible
+//! (`δ = 0` with `s = |e|` is a point when the current iterate meets the limits), so Clarabel's
+//! status is a statement about numerics, not about the physics.
+
+use nalgebra::{DMatrix, Vector3};
+
+use super::sensitivity::{BendSample, TorqueSample};
+use super::settings::Objective;
+use crate::optimize::qp::assembly::Assembly;
+use crate::optimize::qp::{QpError, QpSettings, QpStatus};
+
+/// Weight of the bend limit's elastic variable, relative to the current objective, per unit of
+/// `cos β`. Far above the limit's multiplier (of order one in these units) yet not so far that the
+/// constraint's curvature dominates every ratio test: with the orientation's `10⁴` the trust
+/// radius stayed below `10⁻³` rad for 100 iterations on the paper's problem at a 40° limit.
+pub const BEND_PENALTY: f64 = 100.0;
+
+/// The data of one subproblem.
+#[derive(Clone, Copy, Debug)]
+pub struct Subproblem<'a> {
+    /// What is minimised.
+    pub objective: Objective,
+    /// Torques and gradients on the grid.
+    pub samples: &'a [TorqueSample],
+    /// The objective's unit `J_u` (current objective), N·m or N²·m²·s.
+    pub scale: f64,
+    /// The orientation error and its Jacobian; none when the final orientation is free.
+    pub orientation: Option<(&'a Vector3<f64>, &'a DMatrix<f64>)>,
+    /// Whether the linearised orientation constraint is imposed exactly, `e + Jδ = 0`, rather
+    /// than penalised (for iterates already on the constraint, module docs).
+    pub hard: bool,
+    /// `λ`, per radian.
+    pub penalty: f64,
+    /// `Δ`, rad.
+    pub trust_radius: f64,
+    /// Current free control points, rad.
+    pub values: &'a [f64],
+    /// Joint limit, rad; none when absent.
+    pub joint_limit: Option<f64>,
+    /// Bend samples and `cos β_max`; none without a bend limit.
+    pub bend: Option<(&'a [BendSample], f64)>,
+}
+
+/// The subproblem's answer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// How Clarabel ended.
+    pub status: QpStatus,
+    /// `δ`, rad.
+    pub step: Vec<f64>,
+    /// The convex model of the merit function at `δ` (normalised objective + `λ Σ|e + Jδ|`).
+    pub model: f64,
+}
+
+impl Subproblem<'_> {
+    /// The model `L(δ)` of the merit function (module docs), evaluated directly.
+    pub fn model(&self, step: &[f64]) -> f64 {
+        let lin = |t: f64, g: &[(usize, f64)]| t + g.iter().map(|&(v, c)| c * step[v]).sum::<f64>();
+        let objective = match self.objective {
+            Objective::Peak => {
+                self.samples
+                    .iter()
+                    .flat_map(|s| [0, 1].map(|j| lin(s.tau[j], &s.gradient[j]).abs()))
+                    .fold(0.0, f64::max)
+                    / self.scale
+            }
+            Objective::Energy => {
+                self.samples
+                    .iter()
+                    .map(|s| s.weight * (0..2).map(|j| lin(s.tau[j], &s.gradient[j]).powi(2)).sum::<f64>())
+                    .sum::<f64>()
+                    / self.scale
+            }
+        };
+        let bend = self.bend.map_or(0.0, |(samples, floor)| {
+            samples.iter().map(|b| floor - lin(b.cos_bend, &b.gradient)).fold(0.0, f64::max)
+        });
+        let violation = self.orientation.filter(|_| !self.hard).map_or(0.0, |(e, jac)| {
+            (0..3).map(|i| (e[i] + (0..step.len()).map(|v| jac[(i, v)] * step[v]).sum::<f64>()).abs()).sum()
+        });
+        objective + self.penalty * violation + BEND_PENALTY * bend
+    }
+
+    /// Assembles and solves the subproblem.
+    pub fn solve(&self, settings: &QpSettings) -> Result<Step, QpError> {
+        let n = self.values.len();
+        let bound = n;
+        let slack = n + usize::from(self.objective == Objective::Peak);
+        let soft = self.orientation.filter(|_| !self.hard);
+        let elastic = slack + if soft.is_some() { 3 } else { 0 };
+        let total = elastic + usize::from(self.bend.is_some());
+        let mut asm = Assembly::new(total);
+        let unit = 1.0 / self.scale;
+        match self.objective {
+            Objective::Peak => {
+                asm.linear_cost(bound, 1.0);
+                for s in self.samples {
+                    for j in 0..2 {
+                        let row = s.gradient[j].iter().map(|&(v, g)| (v, g * unit));
+                        asm.abs_at_most(row, s.tau[j] * unit, bound);
+                    }
+                }
+            }
+            Objective::Energy => {
+                let mut linear = vec![0.0; n];
+                for s in self.samples {
+                    for j in 0..2 {
+                        let w = s.weight * unit;
+                        asm.square_cost(&s.gradient[j], w);
+                        for &(v, g) in &s.gradient[j] {
+                            linear[v] += 2.0 * w * s.tau[j] * g;
+                        }
+                    }
+                }
+                for (v, &c) in linear.iter().enumerate() {
+                    asm.linear_cost(v, c);
+                }
+            }
+        }
+        if let Some((e, jac)) = self.orientation {
+            for i in 0..3 {
+                let row: Vec<(usize, f64)> = (0..n).map(|v| (v, jac[(i, v)])).filter(|e| e.1 != 0.0).collect();
+                if self.hard {
+                    asm.equal(row, -e[i]);
+                } else {
+                    asm.linear_cost(slack + i, self.penalty);
+                    asm.abs_at_most(row.into_iter(), e[i], slack + i);
+                }
+            }
+        }
+        for (v, &c) in self.values.iter().enumerate() {
+            let (mut lower, mut upper) = (-self.trust_radius, self.trust_radius);
+            if let Some(limit) = self.joint_limit {
+                lower = lower.max(-limit - c);
+                upper = upper.min(limit - c).max(lower);
+            }
+            asm.between(&[(v, 1.0)], lower, upper);
+        }
+        if let Some((bend, floor)) = self.bend {
+            asm.linear_cost(elastic, BEND_PENALTY);
+            asm.at_most([(elastic, -1.0)], 0.0);
+            for b in bend {
+                // cos β + gᵀδ + σ ≥ floor  ⇔  −gᵀδ − σ ≤ cos β − floor
+                asm.at_most(b.gradient.iter().map(|&(v, g)| (v, -g)).chain([(elastic, -1.0)]), b.cos_bend - floor);
+            }
+        }
+        let solved = asm.solve(settings)?;
+        let step = solved.x[..n].to_vec();
+        let model = self.model(&step);
+        Ok(Step { status: solved.status, step, model })
+    }
+}

@@ -1,0 +1,209 @@
+//! The whole-manoeuvre optimisation: derivatives against finite differences, a problem with a
+//! known answer, and the paper problem's optimum re-measured by the exact engine.
+
+use approx::assert_relative_eq;
+use catflip::model::Cylinder;
+use catflip::optimize::qp::QpSettings;
+use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
+use catflip::optimize::whole::{
+    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeSettings,
+    WholeStatus,
+};
+use catflip::problem::Manoeuvre;
+use std::f64::consts::PI;
+
+/// The paper's cat and fall time `√(2·10/9.8)` s (problems/paper.toml).
+const PAPER: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+const FALL: f64 = 1.428_571_428_571_428_5;
+
+fn paper_start(settings: &WholeSettings) -> BSpline {
+    build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, settings)
+        .map(|s| s.spline)
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn orientation_jacobian_matches_central_differences() {
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let layout = Layout { control_points: 12, fixed: settings.fixed() };
+    let spline = paper_start(&settings);
+    let target = flipped();
+    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let base = at(&spline);
+    // Central differences of e with step 1e-6 rad: truncation ~1e-12·e''', round-off
+    // ~1e-16/1e-6 per component; 1e-7 absolute on O(1) derivatives.
+    let h = 1e-6;
+    for v in 0..layout.variables() {
+        let mut step = vec![0.0; layout.variables()];
+        step[v] = h;
+        let plus = at(&layout.moved(&spline, &step)).error;
+        step[v] = -h;
+        let minus = at(&layout.moved(&spline, &step)).error;
+        for i in 0..3 {
+            let fd = (plus[i] - minus[i]) / (2.0 * h);
+            assert_relative_eq!(base.jacobian[(i, v)], fd, epsilon = 1e-7);
+        }
+    }
+}
+
+#[test]
+fn torque_gradients_match_central_differences() {
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let layout = Layout { control_points: 12, fixed: settings.fixed() };
+    let spline = paper_start(&settings);
+    let grid = gauss_grid(&spline, 1);
+    let base = torque_samples(&PAPER, &spline, &layout, &grid);
+    let h = 1e-6;
+    for v in 0..layout.variables() {
+        let mut step = vec![0.0; layout.variables()];
+        step[v] = h;
+        let plus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        step[v] = -h;
+        let minus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        for k in 0..grid.len() {
+            for j in 0..2 {
+                let g: f64 = base[k].gradient[j].iter().filter(|e| e.0 == v).map(|e| e.1).sum();
+                let fd = (plus[k].tau[j] - minus[k].tau[j]) / (2.0 * h);
+                // Torques of order 10 N·m: round-off ~1e-15·10/1e-6 = 1e-8; truncation ~1e-12·τ'''.
+                assert_relative_eq!(g, fd, epsilon = 1e-6, max_relative = 1e-7);
+            }
+        }
+    }
+}
+
+/// Flip tolerance of the issue's target, rad.
+const FLIP: f64 = 1e-8;
+
+#[test]
+fn paper_peak_optimum_flips_and_beats_the_target() {
+    // Issue 13: an independent IPOPT collocation (800 intervals) found 0.3159 N·m; the target is
+    // to match it within 1 %, i.e. ≤ 0.319 N·m.
+    let settings = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
+    let outcome =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
+    assert_eq!(best.status, WholeStatus::Converged);
+    // Re-measured here by the exact engine, not taken from the optimiser.
+    let f = catflip::engines::exact::flip(&PAPER, &best.spline, 1e-10);
+    assert!((f.twist.abs() - PI).abs() <= FLIP, "twist {} rad", f.twist);
+    assert!(f.swing <= FLIP, "swing {} rad", f.swing);
+    let peak = catflip::engines::torque::peak_torques(&PAPER, &best.spline, 64).max;
+    assert!(peak <= 0.319, "peak {peak} N·m");
+    assert_relative_eq!(peak, best.peak_torque_nm, max_relative = 1e-12);
+    // The shape the collocation found: bend never above ~47°, about three quarters of a turn.
+    assert!(best.max_bend_deg < 48.0, "bend {}°", best.max_bend_deg);
+    assert_relative_eq!(best.bend_turns.abs(), 0.75, epsilon = 0.05);
+}
+
+#[test]
+fn paper_energy_optimum_matches_the_collocation() {
+    // Issue 13: ∫τ·τ dt = 0.217 N²·m²·s from the IPOPT collocation; within 1 %.
+    let settings =
+        WholeSettings { objective: Objective::Energy, starts: vec![StartKind::Cone], ..WholeSettings::default() };
+    let outcome =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
+    assert!(best.flips(FLIP));
+    assert_relative_eq!(best.energy, 0.217, max_relative = 0.01);
+}
+
+#[test]
+fn mirrored_starts_reach_mirrored_optima() {
+    // Reflection through A's yz-plane maps q2 → −q2 and reverses the twist; the peak is the same.
+    let settings = WholeSettings {
+        control_points: 30,
+        starts: vec![StartKind::Paper, StartKind::PaperMirrored],
+        ..WholeSettings::default()
+    };
+    let outcome =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let [a, b] = [&outcome.solutions[0], &outcome.solutions[1]];
+    assert!(a.flips(FLIP) && b.flips(FLIP));
+    assert!(a.twist * b.twist < 0.0, "twists {} and {}", a.twist, b.twist);
+    assert_relative_eq!(a.peak_torque_nm, b.peak_torque_nm, max_relative = 1e-6);
+}
+
+#[test]
+fn energy_without_orientation_constraint_is_the_straight_cat_at_rest() {
+    // Known answer: with R(T) free, ∫τ·τ dt ≥ 0 is zero only for q ≡ 0.
+    let settings = WholeSettings {
+        objective: Objective::Energy,
+        control_points: 14,
+        coarse_control_points: None,
+        ..WholeSettings::default()
+    };
+    let start =
+        build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Cone, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let problem = ScvxProblem { cat: &PAPER, settings: &settings, target: None, qp: QpSettings::default() };
+    let s = optimize_start(&problem, &start, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.status, WholeStatus::Converged, "{}", s.reason);
+    assert!(s.energy <= 1e-12, "energy {}", s.energy);
+    let largest = s.spline.coefficients.iter().flatten().fold(0.0f64, |m, c| m.max(c.abs()));
+    assert!(largest <= 1e-6, "control points up to {largest} rad");
+}
+
+#[test]
+fn other_cats_and_fall_times_flip() {
+    // Slender and stout cats, short and long falls: each must flip to 1e-8 with a finite peak.
+    let settings = WholeSettings { control_points: 40, starts: vec![StartKind::Paper], ..WholeSettings::default() };
+    for (radius, fall) in [(0.05, FALL), (0.3, FALL), (0.1, 0.5), (0.1, 3.0)] {
+        let cat = Cylinder { radius, ..PAPER };
+        let outcome =
+            optimize_whole(&cat, fall, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+        let best =
+            outcome.best().unwrap_or_else(|| panic!("r = {radius}, T = {fall}: {}", outcome.solutions[0].reason));
+        let f = catflip::engines::exact::flip(&cat, &best.spline, 1e-10);
+        assert!((f.twist.abs() - PI).abs() <= FLIP && f.swing <= FLIP, "r = {radius}, T = {fall}: {f:?}");
+        assert!(best.peak_torque_nm.is_finite() && best.peak_torque_nm > 0.0);
+    }
+}
+
+#[test]
+fn bad_settings_name_the_field() {
+    let settings = WholeSettings { control_points: 3, ..WholeSettings::default() };
+    let err = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).map(|_| ()).unwrap_err();
+    assert!(err.to_string().starts_with("optimize.control_points = 3"), "{err}");
+    let settings = WholeSettings { min_angle_deg: Some(200.0), ..WholeSettings::default() };
+    let err = settings.validate().unwrap_err();
+    assert!(err.to_string().starts_with("optimize.min_angle_deg = 200"), "{err}");
+}
+
+#[test]
+fn bend_limit_holds_on_the_optimum() {
+    // Unconstrained, the optimum bends ~47°; with the halves kept at ≥ 140° apart (bend ≤ 40°) it
+    // must still flip, bend no more than the limit (plus the slack between samples) and cost more.
+    let settings = WholeSettings {
+        control_points: 30,
+        min_angle_deg: Some(140.0),
+        starts: vec![StartKind::Cone],
+        ..WholeSettings::default()
+    };
+    let outcome =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.solutions[0].reason));
+    assert!(best.flips(FLIP));
+    assert!(best.max_bend_deg <= 40.0 + catflip::optimize::whole::BEND_SLACK_DEG, "bend {}°", best.max_bend_deg);
+    let free = WholeSettings { min_angle_deg: None, ..settings };
+    let unconstrained =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &free, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let free_peak = unconstrained.best().map_or(f64::NAN, |b| b.peak_torque_nm);
+    assert!(best.peak_torque_nm > free_peak, "{} ≤ {free_peak}", best.peak_torque_nm);
+}
+
+#[test]
+fn optimum_scales_with_the_fall_time() {
+    // Known answer: at zero momentum τ is quadratic in the time derivatives, so q(t) ↦ q(t T/T')
+    // maps the problem for T onto the one for T', peak torque × (T/T')², energy × (T/T')³; every
+    // start is built from phase fractions, so the optimiser must find the scaled optimum.
+    let settings = WholeSettings { control_points: 30, starts: vec![StartKind::Paper], ..WholeSettings::default() };
+    let solve = |fall: f64| {
+        let outcome =
+            optimize_whole(&PAPER, fall, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+        outcome.best().cloned().unwrap_or_else(|| panic!("T = {fall}: {}", outcome.solutions[0].reason))
+    };
+    let (a, b) = (solve(FALL), solve(0.5));
+    let k = FALL / 0.5;
+    // Both optima are converged to a relative merit decrease of 1e-7; 1e-5 leaves room for that.
+    assert_relative_eq!(b.peak_torque_nm, a.peak_torque_nm * k * k, max_relative = 1e-5);
+    assert_relative_eq!(b.energy, a.energy * k * k * k, max_relative = 1e-5);
+}
