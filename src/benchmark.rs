@@ -174,7 +174,7 @@ pub fn rapier_points(
     let exact_peak = peak_torques(cat, schedule, problem.exact.torque_samples).max;
     let mut points = Vec::new();
     for &dt in dts {
-        let settings = crate::settings::RapierSettings { dt, ..problem.rapier };
+        let settings = problem.rapier.with_dt(dt);
         let start = Instant::now();
         let run = crate::rapier::simulate(cat, schedule, &settings)?;
         let time_s = start.elapsed().as_secs_f64();

@@ -14,6 +14,7 @@ use crate::calibrate::{calibrate, Calibration};
 use crate::exact::{body_rate, flip, momentum};
 use crate::manoeuvre::Circulation;
 use crate::problem::Problem;
+use crate::rapier::Quantity;
 use crate::roots::RootStatus;
 use crate::schedule::{paper_circulation, Phase, Schedule, ScheduleError};
 use crate::torque::{peak_torques, velocity_jumps, PeakTorques, VelocityJump};
@@ -35,6 +36,9 @@ pub enum SimulateError {
     /// The rapier engine failed.
     #[error(transparent)]
     Rapier(#[from] crate::rapier::RapierError),
+    /// Rapier made no run at all, so it has no number to report.
+    #[error("rapier has no result for this schedule: {0}")]
+    RapierNoResult(String),
 }
 
 /// Where a circulation came from.
@@ -167,6 +171,11 @@ pub struct SimulationReport {
     pub peak_torque_rel_error: Option<f64>,
     /// Wall-clock time of the engine run, s.
     pub run_time_s: f64,
+    /// How rapier's verification ended (rapier only); its numbers are not to be used without it.
+    pub verdict: Option<crate::rapier::Status>,
+    /// The verification behind the verdict: dt sequence, raw and extrapolated values, observed
+    /// orders, error estimates, tolerances (rapier only).
+    pub verification: Option<crate::rapier::Verification>,
 }
 
 /// rapier's results extrapolated to `dt → 0`.
@@ -223,6 +232,8 @@ pub fn exact_report(problem: &Problem, schedule: &Schedule, circ: ResolvedCircul
         twist_error_deg: None,
         peak_torque_rel_error: None,
         run_time_s,
+        verdict: None,
+        verification: None,
     }
 }
 
@@ -240,20 +251,31 @@ pub fn rapier_report(
     circ: ResolvedCirculation,
 ) -> Result<SimulationReport, SimulateError> {
     let exact = exact_report(problem, schedule, circ);
-    let start = Instant::now();
-    let run = crate::rapier::simulate(&problem.cat, schedule, &problem.rapier)?;
-    let run_time_s = start.elapsed().as_secs_f64();
-    let half = crate::settings::RapierSettings { dt: 0.5 * run.dt, ..problem.rapier };
-    let fine = crate::rapier::simulate(&problem.cat, schedule, &half)?;
-    let extrapolated = crate::rapier::extrapolate(&run, &fine).map(|x| Extrapolation {
-        dt: x.dt,
-        twist_deg: x.twist.to_degrees(),
-        swing_deg: x.swing.to_degrees(),
-        peak_torque_nm: x.peak_torque,
-        twist_error_deg: exact.twist_deg - x.twist.to_degrees(),
-    });
-    let p = &run.peak_torque;
-    let peaks = PhasePeaks { bend: p.bend, twist: p.twist, unbend: p.unbend, max: p.max };
+    let reference = crate::rapier::Reference {
+        twist: exact.twist_deg.to_radians(),
+        swing: exact.swing_deg.to_radians(),
+        peak_torque: exact.peak_torque_nm.max,
+    };
+    let v = crate::rapier::verify(&problem.cat, schedule, &problem.rapier, &reference)?;
+    let Some(run) = v.finest.clone() else { return Err(SimulateError::RapierNoResult(v.verdict.to_string())) };
+    let [twist, swing, peak] = [Quantity::Twist, Quantity::Swing, Quantity::PeakTorque].map(|q| v.quantity(q));
+    let extrapolated = match (twist.and_then(|c| c.value), swing.and_then(|c| c.value), peak.and_then(|c| c.value)) {
+        (Some(t), Some(s), Some(p)) if v.dt_sequence.len() >= 2 => Some(Extrapolation {
+            dt: [v.dt_sequence[v.dt_sequence.len() - 2], run.dt],
+            twist_deg: t,
+            swing_deg: s,
+            peak_torque_nm: p,
+            twist_error_deg: exact.twist_deg - t,
+        }),
+        _ => None,
+    };
+    let phase = |ph: Phase| run.peak_torque.phase(ph).unwrap_or([f64::NAN; 2]);
+    let peaks = PhasePeaks {
+        bend: phase(Phase::Bend),
+        twist: phase(Phase::Twist),
+        unbend: phase(Phase::Unbend),
+        max: run.peak_torque.max,
+    };
     Ok(SimulationReport {
         engine: "rapier".into(),
         twist_deg: run.twist.to_degrees(),
@@ -270,7 +292,9 @@ pub fn rapier_report(
         action_reaction_gap_nm: None,
         rapier_jumps: Some(run.jumps),
         extrapolated,
-        run_time_s,
+        run_time_s: v.run_time_s,
+        verdict: Some(v.status),
+        verification: Some(v),
         ..exact
     })
 }
@@ -345,6 +369,9 @@ impl SimulationReport {
                 "  dt → 0 (from {:.2e} s and {:.2e} s): twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m; vs exact engine twist {:+.4e}°",
                 x.dt[0], x.dt[1], x.twist_deg, x.swing_deg, x.peak_torque_nm, x.twist_error_deg
             );
+        }
+        if let Some(v) = &self.verification {
+            let _ = write!(s, "{}", v.to_text());
         }
         if let Some(e) = self.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);

@@ -100,9 +100,12 @@
 //! - DESIGN.md §1, §2 and §6.
 
 mod measure;
+mod pieces;
 mod run;
 pub mod scene;
 mod spin;
+mod timescale;
+mod verify;
 
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
@@ -111,6 +114,13 @@ pub use run::{
 };
 pub use scene::{BodyState, CatScene, MassModel, MotorGains, Snapshot};
 pub use spin::{spin_free, SpinRun, SpinTest};
+pub use timescale::{
+    time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
+};
+pub use verify::{
+    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, Verdict, Verification,
+    ASYMPTOTIC, MIN_RUNS,
+};
 
 use crate::problem::ProblemError;
 
