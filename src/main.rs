@@ -46,7 +46,8 @@ enum Command {
         /// Engine to run.
         #[arg(long, value_enum, default_value = "exact")]
         engine: Engine,
-        /// Time step for --engine rapier, s (overrides rapier.dt).
+        /// First time step for --engine rapier, s (sets rapier.dt; the verification halves it
+        /// until rapier's own error meets the tolerances).
         #[arg(long)]
         dt: Option<f64>,
     },

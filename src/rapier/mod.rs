@@ -93,6 +93,18 @@
 //! leading error (Richardson, order 1). Gravity-free stepping at 60 Hz is far outside the
 //! asymptotic range for this manoeuvre.
 //!
+//! So no rapier number stands alone: [`verify`] chooses the first step from the trajectory's own
+//! time scales ([`time_scales`]), halves it until the Richardson estimate of rapier's own error
+//! meets the tolerances of [`crate::settings::RapierSettings`], and ends in a [`Verdict`]
+//! (`verified`, `not verified` with the quantity and the gap, or `inconclusive` with why).
+//!
+//! # Trajectories
+//!
+//! Every run takes any [`crate::schedule::Trajectory`]: pieces smooth on their closed
+//! intervals, rates possibly jumping between them. Torque peaks are kept per piece
+//! ([`TorquePeaks`]; the per-phase view of a three-piece schedule is [`TorquePeaks::phase`]), and
+//! samples near any piece boundary or rate jump are treated as described above for phases.
+//!
 //! ## References
 //! - rapier documentation, <https://rapier.rs/docs/> and <https://docs.rs/rapier3d-f64/0.36>
 //!   (multibody joints, joint motors, `IntegrationParameters`);
@@ -106,6 +118,7 @@ pub mod scene;
 mod spin;
 mod timescale;
 mod verify;
+mod verify_text;
 
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
