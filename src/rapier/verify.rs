@@ -368,9 +368,10 @@ pub fn verify_with(
             );
             break;
         }
-        if attempted > 0.0 && attempted + steps > settings.step_budget as f64 {
+        if attempted + steps > settings.step_budget as f64 {
+            let next = if attempted > 0.0 { "the next run" } else { "the first run" };
             why_stopped = format!(
-                "the next run, {steps:.0} steps, would overrun the budget of {} steps ({attempted:.0} taken)",
+                "{next}, {steps:.0} steps, would overrun the budget of {} steps ({attempted:.0} taken)",
                 settings.step_budget
             );
             break;
