@@ -11,7 +11,7 @@ use catflip::manoeuvre::{BendPath, Circulation, ProfileKind};
 use catflip::model::Cylinder;
 use catflip::problem::Problem;
 use catflip::profile::Profile;
-use catflip::rapier::{verify, Quantity, Reference, Status, Verdict, Verification, ASYMPTOTIC};
+use catflip::rapier::{verify, Quantity, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC};
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 use catflip::settings::{RapierSettings, TimeStep};
 
@@ -55,7 +55,7 @@ fn the_paper_schedule_and_a_rest_to_rest_profile_are_verified() {
     for (name, s) in [("paper-cosine", &paper), ("cycloidal", &cycloidal)] {
         let v = check(&p.cat, s, &p.rapier);
         assert_verified(name, &v);
-        assert_eq!(v.first_step, "auto");
+        assert_eq!(v.first_step, StepSource::Auto);
         // The first step comes from the schedule's time scales: under 1.2 ms on the paper
         // problem (measured 0.86 ms from the body rate, 1.13 ms from the joint rate).
         assert!(v.dt_sequence[0] < 1.2e-3, "{name}: first step {:.3e} s", v.dt_sequence[0]);
@@ -228,7 +228,7 @@ fn a_fixed_first_step_is_kept_and_halved() {
     let (p, paper) = paper();
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
     let v = check(&p.cat, &s, &p.rapier.with_dt(5e-4));
-    assert_eq!(v.first_step, "fixed");
+    assert_eq!(v.first_step, StepSource::Fixed);
     approx::assert_relative_eq!(v.dt_sequence[0], s.duration() / (s.duration() / 5e-4).ceil(), max_relative = 1e-9);
     assert_verified("fixed", &v);
     // A first step too coarse for the phases is refused, recorded, and halved.

@@ -131,8 +131,8 @@ pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
 pub use verify::{
-    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, Verdict, Verification,
-    ASYMPTOTIC, MIN_RUNS,
+    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
+    Verification, ASYMPTOTIC, MIN_RUNS,
 };
 
 use crate::problem::ProblemError;

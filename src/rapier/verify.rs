@@ -106,6 +106,25 @@ impl fmt::Display for Quantity {
     }
 }
 
+/// Where a verification's first step came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepSource {
+    /// The trajectory's time scales (`rapier.dt = "auto"`).
+    Auto,
+    /// The user's step (`rapier.dt = S`, `simulate --dt S`).
+    Fixed,
+}
+
+impl fmt::Display for StepSource {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            StepSource::Auto => "auto",
+            StepSource::Fixed => "fixed",
+        })
+    }
+}
+
 /// How a verification ended, in one word.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -288,8 +307,8 @@ pub struct Verification {
     pub verdict: Verdict,
     /// Its word.
     pub status: Status,
-    /// Where the first step came from: `auto` or `fixed`.
-    pub first_step: &'static str,
+    /// Where the first step came from.
+    pub first_step: StepSource,
     /// The trajectory's time scales (they set the first step when automatic).
     pub time_scales: TimeScales,
     /// The steps of the runs kept, s.
@@ -350,8 +369,8 @@ pub fn verify_with(
         return Err(RapierError::BadDuration(duration));
     }
     let (first, source) = match settings.dt {
-        TimeStep::Fixed(dt) => (dt, "fixed"),
-        TimeStep::Auto => (scales.first_step, "auto"),
+        TimeStep::Fixed(dt) => (dt, StepSource::Fixed),
+        TimeStep::Auto => (scales.first_step, StepSource::Auto),
     };
     // Step counts double exactly: n_k = n_0 2^k, dt_k = T / n_k.
     let mut steps = (duration / first).ceil().max(1.0);
