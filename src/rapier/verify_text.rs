@@ -2,7 +2,7 @@
 //! and the run summary's line of verdicts. Gaps and estimates read as degrees (twist, swing) or
 //! percent of the exact peak (peak torque), steps in seconds with four significant digits.
 
-use super::verify::{Convergence, Quantity, Status, Verification};
+use super::verify::{Convergence, Quantity, Status, StepSource, Verification};
 
 impl Verification {
     /// The steps of the runs kept, s: `7.14e-4, 3.57e-4, 1.79e-4`.
@@ -28,12 +28,14 @@ impl Verification {
         use std::fmt::Write;
         let mut s = String::new();
         let _ = writeln!(s, "  verdict          {} (tolerances: {})", self.verdict, self.tolerances_text());
+        let first = match self.first_step {
+            StepSource::Auto => format!("first step auto, set by the {}", self.time_scales.limited_by),
+            StepSource::Fixed => "first step fixed by rapier.dt".to_string(),
+        };
         let _ = writeln!(
             s,
-            "  dt sequence      {} s (first step {}, set by the {}; {} rapier steps of a budget of {}, {:.3} s)",
+            "  dt sequence      {} s ({first}; {} rapier steps of a budget of {}, {:.3} s)",
             self.dt_sequence_text(),
-            self.first_step,
-            self.time_scales.limited_by,
             self.steps_taken,
             self.step_budget,
             self.run_time_s
