@@ -5,7 +5,6 @@
 //! Run with `cargo bench --bench rapier`.
 
 use catflip::engines::rapier::{simulate, CatScene, MotorGains, RapierOptions};
-use catflip::problem::settings::RapierSettings;
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -22,7 +21,7 @@ fn rapier(c: &mut Criterion) {
     let mut g = c.benchmark_group("rapier_paper");
     g.sample_size(20);
     for rate in [1000.0, 2000.0] {
-        let settings = RapierSettings { dt: 1.0 / rate, ..p.rapier };
+        let settings = p.rapier.with_dt(1.0 / rate);
         g.bench_with_input(BenchmarkId::new("simulate", format!("{rate} Hz")), &settings, |b, st| {
             b.iter(|| simulate(&p.cat, &s, st))
         });

@@ -41,7 +41,8 @@ enum Command {
         /// (rapier3d-f64 multibody simulation).
         #[arg(long, default_value = "exact")]
         engine: Engine,
-        /// Time step for --engine rapier, s (overrides rapier.dt).
+        /// First time step for --engine rapier, s (sets rapier.dt; the verification halves it
+        /// until rapier's own error meets the tolerances).
         #[arg(long)]
         dt: Option<f64>,
     },

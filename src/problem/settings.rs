@@ -41,26 +41,99 @@ impl ExactSettings {
     }
 }
 
+/// How rapier's time step is chosen.
+///
+/// In a problem file `dt = "auto"` (the default) or `dt = 0.0005` (seconds); `catflip simulate
+/// --dt S` sets `Fixed(S)`. Either way it is the *first* step of a verification, which then
+/// halves it until rapier's own error estimate meets the tolerances
+/// ([`crate::rapier::verify`]); a single run ([`crate::rapier::simulate`]) uses it as is.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum TimeStep {
+    /// From the trajectory's own time scales ([`crate::rapier::TimeScales`]).
+    #[default]
+    Auto,
+    /// The user's step, s.
+    Fixed(f64),
+}
+
+impl std::fmt::Display for TimeStep {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TimeStep::Auto => f.write_str("auto"),
+            TimeStep::Fixed(dt) => write!(f, "{dt:.3e} s"),
+        }
+    }
+}
+
+impl Serialize for TimeStep {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            TimeStep::Auto => s.serialize_str("auto"),
+            TimeStep::Fixed(dt) => s.serialize_f64(*dt),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for TimeStep {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Raw {
+            Seconds(f64),
+            Word(String),
+        }
+        match Raw::deserialize(d) {
+            Ok(Raw::Seconds(dt)) => Ok(TimeStep::Fixed(dt)),
+            Ok(Raw::Word(w)) if w == "auto" => Ok(TimeStep::Auto),
+            _ => Err(serde::de::Error::custom("expected \"auto\" or a time step in seconds")),
+        }
+    }
+}
+
 /// Settings of the rapier3d verification.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RapierSettings {
-    /// Time step, s.
-    pub dt: f64,
+    /// Time step: automatic, or the user's first step, s.
+    pub dt: TimeStep,
     /// Mass of the cross of the universal joint as a fraction of a half's mass (rapier needs a
     /// body there; it should be negligible).
     pub cross_mass_fraction: f64,
+    /// A verification agrees on the twist when rapier's extrapolated twist is this close to the
+    /// exact engine's, degrees.
+    pub twist_tolerance_deg: f64,
+    /// The same for the swing, degrees.
+    pub swing_tolerance_deg: f64,
+    /// The same for the peak torque, relative to the exact engine's.
+    pub peak_torque_tolerance: f64,
+    /// Rapier steps a verification may take, all its runs together: no finer step is tried when
+    /// it would overrun them. A budget in steps keeps verdicts the same on every machine and
+    /// under any load; rapier takes about 6 µs per step on one core of the development machine.
+    pub step_budget: usize,
+    /// Wall-clock time a verification may spend in rapier, s; none when absent (verdicts may
+    /// then depend on the machine's speed and load).
+    pub time_budget_s: Option<f64>,
 }
 
 impl Default for RapierSettings {
     fn default() -> Self {
-        Self { dt: 5e-4, cross_mass_fraction: 1e-6 }
+        Self {
+            dt: TimeStep::Auto,
+            cross_mass_fraction: 1e-6,
+            twist_tolerance_deg: 0.5,
+            swing_tolerance_deg: 0.5,
+            peak_torque_tolerance: 0.02,
+            step_budget: 150_000,
+            time_budget_s: None,
+        }
     }
 }
 
 impl RapierSettings {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
-        positive("rapier.dt", self.dt)?;
+        if let TimeStep::Fixed(dt) = self.dt {
+            positive("rapier.dt", dt)?;
+        }
         positive("rapier.cross_mass_fraction", self.cross_mass_fraction)?;
         if self.cross_mass_fraction > 0.01 {
             return Err(bad(
@@ -69,7 +142,19 @@ impl RapierSettings {
                 "must be at most 0.01 (the cross is meant to be negligible)",
             ));
         }
+        positive("rapier.twist_tolerance_deg", self.twist_tolerance_deg)?;
+        positive("rapier.swing_tolerance_deg", self.swing_tolerance_deg)?;
+        positive("rapier.peak_torque_tolerance", self.peak_torque_tolerance)?;
+        positive_opt("rapier.time_budget_s", self.time_budget_s)?;
+        if self.step_budget == 0 || self.step_budget > 1_000_000_000 {
+            return Err(bad("rapier.step_budget", self.step_budget, "must be between 1 and 1000000000"));
+        }
         Ok(())
+    }
+
+    /// The same settings with a fixed step `dt`, s.
+    pub fn with_dt(&self, dt: f64) -> Self {
+        Self { dt: TimeStep::Fixed(dt), ..*self }
     }
 }
 

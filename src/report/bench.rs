@@ -204,7 +204,7 @@ pub fn rapier_points(problem: &Problem, schedule: &Schedule, dts: &[f64]) -> Res
     let exact = Evaluation::new(cat, schedule, &ExactSettings { tolerance: 1e-12, ..problem.exact });
     let mut points = Vec::new();
     for &dt in dts {
-        let settings = crate::problem::settings::RapierSettings { dt, ..problem.rapier };
+        let settings = problem.rapier.with_dt(dt);
         let start = Instant::now();
         let run = crate::engines::rapier::simulate(cat, schedule, &settings)?;
         let time_s = start.elapsed().as_secs_f64();

@@ -254,8 +254,9 @@ fn produce(r: &Resolved, command: &str, w: &mut Writer) -> Result<String, RunErr
 
 fn verification_csv(rows: &[Verified]) -> String {
     let mut s = format!(
-        "problem,schedule,engine,circulation_rad,twist_deg,swing_deg,{},momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s\n",
-        PhasePeaks::CSV_HEADER
+        "problem,schedule,engine,circulation_rad,twist_deg,swing_deg,{},momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s,{}\n",
+        PhasePeaks::CSV_HEADER,
+        crate::engines::rapier::Verification::CSV_HEADER
     );
     let mut all: Vec<(String, &SimulationReport)> =
         rows.iter().flat_map(|v| [(v.variant.to_string(), &v.exact), (v.variant.to_string(), &v.rapier)]).collect();
@@ -265,7 +266,7 @@ fn verification_csv(rows: &[Verified]) -> String {
         let tr = r.tracking_error_rad;
         let _ = writeln!(
             s,
-            "{},{},{},{:.12},{:.9},{:.9},{},{:.3e},{},{},{},{:.6}",
+            "{},{},{},{:.12},{:.9},{:.9},{},{:.3e},{},{},{},{:.6},{}",
             r.problem,
             name,
             r.engine,
@@ -277,7 +278,8 @@ fn verification_csv(rows: &[Verified]) -> String {
             opt(r.dt),
             opt(tr.map(|t| t[0])),
             opt(tr.map(|t| t[1])),
-            r.run_time_s
+            r.run_time_s,
+            crate::engines::rapier::Verification::csv_or_empty(r.verification.as_ref())
         );
     }
     s
@@ -285,18 +287,22 @@ fn verification_csv(rows: &[Verified]) -> String {
 
 fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
     let mut s = format!(
-        "## Verification in rapier3d-f64 (`{}`, dt = {} s)\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
+        "## Verification in rapier3d-f64 (`{}`, first dt {})\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
         problem.name, problem.rapier.dt
     );
-    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from dt and dt/2.\n\n");
-    s.push_str("| schedule | exact twist | rapier twist | rapier → 0 twist | exact swing | rapier swing | rapier → 0 swing | exact peak | rapier peak | peak diff | rapier momentum drift | tracking error rad |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step.\n\n");
+    if let Some(v) = rows.iter().find_map(|v| v.rapier.verification.as_ref()) {
+        let _ =
+            writeln!(s, "Tolerances: {}; budget {} rapier steps per schedule.\n", v.tolerances_text(), v.step_budget);
+    }
+    s.push_str("| schedule | exact twist | rapier twist | rapier → 0 twist | exact swing | rapier swing | rapier → 0 swing | exact peak | rapier peak | peak diff | rapier momentum drift | tracking error rad | verdict | dt sequence s | estimates | rapier time s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|\n");
     for v in rows {
         let (e, r) = (&v.exact, &v.rapier);
         let tr = r.tracking_error_rad.unwrap_or([f64::NAN; 2]);
         let (xt, xs) = r.extrapolated.map_or((f64::NAN, f64::NAN), |x| (x.twist_deg, x.swing_deg));
         let _ = writeln!(
             s,
-            "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.2}% | {:.2e} | {:.1e}, {:.1e} |",
+            "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.2}% | {:.2e} | {:.1e}, {:.1e} | {} |",
             v.variant,
             e.twist_deg,
             r.twist_deg,
@@ -309,7 +315,8 @@ fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
             100.0 * (r.peak_torque_nm.max / e.peak_torque_nm.max - 1.0),
             r.momentum_max,
             tr[0],
-            tr[1]
+            tr[1],
+            r.verification.as_ref().map_or("— | — | — | —".to_string(), |x| x.table_cells())
         );
     }
     s
@@ -397,12 +404,19 @@ fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &
     let worst_peak = verified.iter().filter_map(|v| v.rapier.peak_torque_rel_error).map(f64::abs).fold(0.0, f64::max);
     let _ = writeln!(
         s,
-        "- rapier3d-f64 verification of {} schedules at dt = {} s: peak torques within {:.2}% of the exact engine; twist within {:.3}° raw (rapier's first-order momentum leak) and {:.3}° extrapolated to dt → 0.",
+        "- rapier3d-f64 verification of {} schedules (first dt {}): peak torques within {:.2}% of the exact engine; twist within {:.3}° raw (rapier's first-order momentum leak) and {:.3}° extrapolated to dt → 0.",
         verified.len(),
         problem.rapier.dt,
         100.0 * worst_peak,
         worst,
         worst_x
+    );
+    let _ = writeln!(
+        s,
+        "- Verdicts: {}.",
+        crate::engines::rapier::Verification::verdicts_line(
+            verified.iter().map(|v| (v.variant.to_string(), v.rapier.verification.as_ref()))
+        )
     );
     let _ = writeln!(s, "\nSee `audit.md`, `compare.md`, `optimize.md` and `verification.md` for the tables.");
     s

@@ -7,19 +7,17 @@
 //! `I* · max|q̇|` (`I*` the end-transverse inertia). The exact numbers are one
 //! [`Evaluation`]; rapier's run is reported beside them, with its errors against them.
 
-use std::time::Instant;
-
 use serde::Serialize;
 
 use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{JumpTorque, RapierError};
+use crate::engines::rapier::{JumpTorque, Quantity, RapierError, Reference};
 use crate::engines::torque::VelocityJump;
 use crate::engines::Engine;
 use crate::problem::BendPath;
-use crate::schedule::Schedule;
+use crate::schedule::{Schedule, Trajectory};
 
 /// What one engine says a schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -72,6 +70,11 @@ pub struct SimulationReport {
     pub peak_torque_rel_error: Option<f64>,
     /// Wall-clock time of the engine run, s.
     pub run_time_s: f64,
+    /// How rapier's verification ended (rapier only); its numbers are not to be used without it.
+    pub verdict: Option<crate::engines::rapier::Status>,
+    /// The verification behind the verdict: dt sequence, raw and extrapolated values, observed
+    /// orders, error estimates, tolerances (rapier only).
+    pub verification: Option<crate::engines::rapier::Verification>,
 }
 
 /// rapier's results extrapolated to `dt → 0`.
@@ -138,29 +141,44 @@ pub fn exact_report(
         twist_error_deg: None,
         peak_torque_rel_error: None,
         run_time_s: e.run_time_s,
+        verdict: None,
+        verification: None,
     }
 }
 
-/// The rapier engine's report on `schedule` (at `r.problem.rapier.dt` and half of it, for the
-/// extrapolation), against the exact engine's report `exact` on the same schedule.
+/// The rapier engine's report on `schedule`, verified against the exact engine's report `exact`
+/// on the same schedule: the time step is refined until rapier's own error estimate meets the
+/// tolerances of `[rapier]` ([`crate::engines::rapier::verify`]); the raw numbers are from the
+/// finest step, `extrapolated` from the last extrapolation, and `verdict` says whether they agree.
 pub fn rapier_report(
     r: &Resolved,
-    schedule: &Schedule,
+    schedule: &impl Trajectory,
     exact: &SimulationReport,
 ) -> Result<SimulationReport, RapierError> {
-    let start = Instant::now();
-    let run = crate::engines::rapier::simulate(r.cat(), schedule, &r.problem.rapier)?;
-    let run_time_s = start.elapsed().as_secs_f64();
-    let half = crate::problem::settings::RapierSettings { dt: 0.5 * run.dt, ..r.problem.rapier };
-    let fine = crate::engines::rapier::simulate(r.cat(), schedule, &half)?;
-    let extrapolated = crate::engines::rapier::extrapolate(&run, &fine).map(|x| Extrapolation {
-        dt: x.dt,
-        twist_deg: x.twist.to_degrees(),
-        swing_deg: x.swing.to_degrees(),
-        peak_torque_nm: x.peak_torque,
-        twist_error_deg: exact.twist_deg - x.twist.to_degrees(),
+    let reference = Reference {
+        twist: exact.twist_deg.to_radians(),
+        swing: exact.swing_deg.to_radians(),
+        peak_torque: exact.peak_torque_nm.max,
+    };
+    let v = crate::engines::rapier::verify(r.cat(), schedule, &r.problem.rapier, &reference)?;
+    let Some(run) = v.finest.clone() else { return Err(RapierError::NoResult(v.verdict.to_string())) };
+    let [twist, swing, peak] = [Quantity::Twist, Quantity::Swing, Quantity::PeakTorque].map(|q| v.quantity(q));
+    let extrapolated = match (twist.and_then(|c| c.value), swing.and_then(|c| c.value), peak.and_then(|c| c.value)) {
+        (Some(t), Some(s), Some(p)) if v.dt_sequence.len() >= 2 => Some(Extrapolation {
+            dt: [v.dt_sequence[v.dt_sequence.len() - 2], run.dt],
+            twist_deg: t,
+            swing_deg: s,
+            peak_torque_nm: p,
+            twist_error_deg: exact.twist_deg - t,
+        }),
+        _ => None,
+    };
+    let peaks = run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
+        bend: [0.0; 2],
+        twist: [0.0; 2],
+        unbend: [0.0; 2],
+        max: run.peak_torque.max,
     });
-    let peaks = run.peak_torque;
     Ok(SimulationReport {
         engine: Engine::Rapier,
         twist_deg: run.twist.to_degrees(),
@@ -177,7 +195,9 @@ pub fn rapier_report(
         action_reaction_gap_nm: None,
         rapier_jumps: Some(run.jumps),
         extrapolated,
-        run_time_s,
+        run_time_s: v.run_time_s,
+        verdict: Some(v.status),
+        verification: Some(v),
         ..exact.clone()
     })
 }
@@ -227,6 +247,9 @@ impl SimulationReport {
                 "  dt → 0 (from {:.2e} s and {:.2e} s): twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m; vs exact engine twist {:+.4e}°",
                 x.dt[0], x.dt[1], x.twist_deg, x.swing_deg, x.peak_torque_nm, x.twist_error_deg
             );
+        }
+        if let Some(v) = &self.verification {
+            let _ = write!(s, "{}", v.to_text());
         }
         if let Some(e) = self.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);

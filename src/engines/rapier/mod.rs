@@ -93,6 +93,18 @@
 //! leading error (Richardson, order 1). Gravity-free stepping at 60 Hz is far outside the
 //! asymptotic range for this manoeuvre.
 //!
+//! So no rapier number stands alone: [`verify`] chooses the first step from the trajectory's own
+//! time scales ([`time_scales`]), halves it until the Richardson estimate of rapier's own error
+//! meets the tolerances of [`crate::problem::settings::RapierSettings`], and ends in a [`Verdict`]
+//! (`verified`, `not verified` with the quantity and the gap, or `inconclusive` with why).
+//!
+//! # Trajectories
+//!
+//! Every run takes any [`crate::schedule::Trajectory`]: pieces smooth on their closed
+//! intervals, rates possibly jumping between them. Torque peaks are kept per piece
+//! ([`TorquePeaks`]; the per-phase view of a three-piece schedule is [`TorquePeaks::phase`]), and
+//! samples near any piece boundary or rate jump are treated as described above for phases.
+//!
 //! ## References
 //! - rapier documentation, <https://rapier.rs/docs/> and <https://docs.rs/rapier3d-f64/0.36>
 //!   (multibody joints, joint motors, `IntegrationParameters`);
@@ -101,9 +113,13 @@
 
 mod bodies;
 mod measure;
+mod pieces;
 mod run;
 pub mod scene;
 mod spin;
+mod timescale;
+mod verify;
+mod verify_text;
 
 pub use bodies::{BodyState, MassModel, Snapshot};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
@@ -112,6 +128,13 @@ pub use run::{
 };
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
+pub use timescale::{
+    time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
+};
+pub use verify::{
+    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
+    Verification, ASYMPTOTIC, MIN_RUNS,
+};
 
 use crate::problem::ProblemError;
 
@@ -152,6 +175,9 @@ pub enum RapierError {
         /// The limit, [`MAX_STEPS`].
         max: usize,
     },
+    /// The verification made no usable run at all, so rapier has no number to report.
+    #[error("rapier has no result for this schedule: {0}")]
+    NoResult(String),
     /// The simulation produced non-finite numbers.
     #[error("the simulation diverged (non-finite state) at t = {0} s")]
     Diverged(f64),

@@ -4,16 +4,17 @@ use nalgebra::UnitQuaternion;
 use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
+use super::pieces::Pieces;
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::orientation::TwistTracker;
 use crate::model::Cylinder;
-use crate::problem::settings::RapierSettings;
-use crate::schedule::{Phase, Schedule};
+use crate::problem::settings::{RapierSettings, TimeStep};
+use crate::schedule::{Phase, Trajectory};
 
-/// Torque samples within this many steps of a phase boundary are left out of the per-phase
+/// Torque samples within this many steps of a piece boundary are left out of the per-phase
 /// peaks: two for the stencil, two for the servo to settle after a jump of `q̈` (it shrinks an
 /// error about twentyfold per step).
 const BOUNDARY_STEPS: f64 = 4.0;
@@ -31,6 +32,48 @@ pub struct TwistSample {
     pub twist: f64,
     /// Swing of A's spine axis, rad.
     pub swing: f64,
+}
+
+/// Peak joint torques per piece, from samples whose stencil lies inside the piece, N·m.
+#[derive(Clone, Debug, PartialEq, Serialize, Default)]
+pub struct TorquePeaks {
+    /// `max |τ_i|` per piece of the trajectory (for a [`crate::schedule::Schedule`]: bend,
+    /// twist, unbend), joints 1 and 2.
+    pub per_piece: Vec<[f64; 2]>,
+    /// The largest of the above.
+    pub max: f64,
+}
+
+impl TorquePeaks {
+    fn new(pieces: usize) -> Self {
+        Self { per_piece: vec![[0.0; 2]; pieces], max: 0.0 }
+    }
+
+    fn add(&mut self, piece: usize, tau: [f64; 2]) {
+        if let Some(slot) = self.per_piece.get_mut(piece) {
+            for (s, t) in slot.iter_mut().zip(tau) {
+                *s = s.max(t.abs());
+                self.max = self.max.max(t.abs());
+            }
+        }
+    }
+
+    /// The peaks of one phase of a three-piece trajectory (a schedule); `None` for another
+    /// number of pieces.
+    pub fn phase(&self, phase: Phase) -> Option<[f64; 2]> {
+        (self.per_piece.len() == Phase::ALL.len()).then(|| self.per_piece[phase.index()])
+    }
+
+    /// The per-phase view of a three-piece trajectory (a schedule) in the type both engines
+    /// report; `None` for another number of pieces.
+    pub fn phase_peaks(&self) -> Option<PhasePeaks> {
+        Some(PhasePeaks {
+            bend: self.phase(Phase::Bend)?,
+            twist: self.phase(Phase::Twist)?,
+            unbend: self.phase(Phase::Unbend)?,
+            max: self.max,
+        })
+    }
 }
 
 /// The motors' answer to a jump of the schedule's joint rates: an impulse, seen as a spike.
@@ -59,7 +102,7 @@ pub struct MomentumDrift {
 }
 
 /// Everything measured in one rapier run.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RapierRun {
     /// The step asked for, s.
     pub dt_requested: f64,
@@ -86,8 +129,8 @@ pub struct RapierRun {
     pub tracking_error: [f64; 2],
     /// Angular-momentum drift.
     pub momentum: MomentumDrift,
-    /// Peak joint torques per phase.
-    pub peak_torque: PhasePeaks,
+    /// Peak joint torques per piece.
+    pub peak_torque: TorquePeaks,
     /// Largest `|τ_i|` of all samples, boundary and jump samples included, N·m.
     pub peak_torque_all: f64,
     /// The motors' spikes at the schedule's rate jumps.
@@ -100,44 +143,50 @@ fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::E
     [q.w, q.i, q.j, q.k].serialize(s)
 }
 
-/// Runs a schedule in rapier with the default [`RapierOptions`].
-pub fn simulate(cat: &Cylinder, schedule: &Schedule, settings: &RapierSettings) -> Result<RapierRun, RapierError> {
-    simulate_with(cat, schedule, settings, &RapierOptions::default())
+/// Runs a trajectory in rapier with the default [`RapierOptions`], at `settings.dt` (the
+/// automatic choice is [`super::time_scales`]' first step).
+pub fn simulate(cat: &Cylinder, traj: &impl Trajectory, settings: &RapierSettings) -> Result<RapierRun, RapierError> {
+    simulate_with(cat, traj, settings, &RapierOptions::default())
 }
 
-/// Runs a schedule at each step of `dts` (e.g. 1/60 … 1/8000 s) with the default options.
+/// Runs a trajectory at each step of `dts` (e.g. 1/60 … 1/8000 s) with the default options.
 pub fn dt_sweep(
     cat: &Cylinder,
-    schedule: &Schedule,
+    traj: &impl Trajectory,
     settings: &RapierSettings,
     dts: &[f64],
 ) -> Result<Vec<RapierRun>, RapierError> {
-    dts.iter().map(|&dt| simulate(cat, schedule, &RapierSettings { dt, ..*settings })).collect()
+    dts.iter().map(|&dt| simulate(cat, traj, &settings.with_dt(dt))).collect()
 }
 
-/// Runs a schedule in rapier (module docs: scene, motors, measurements).
+/// Runs a trajectory in rapier (module docs: scene, motors, measurements).
 pub fn simulate_with(
     cat: &Cylinder,
-    schedule: &Schedule,
+    traj: &impl Trajectory,
     settings: &RapierSettings,
     opts: &RapierOptions,
 ) -> Result<RapierRun, RapierError> {
     settings.validate()?;
     opts.validate()?;
-    let duration = schedule.duration();
+    let pieces = Pieces::new(traj);
+    let duration = pieces.duration();
     if !(duration.is_finite() && duration > 0.0) {
         return Err(RapierError::BadDuration(duration));
     }
-    let steps_f = (duration / settings.dt).ceil();
-    if steps_f > MAX_STEPS as f64 {
-        return Err(RapierError::TooManySteps { dt: settings.dt, duration, steps: steps_f, max: MAX_STEPS });
+    let requested = match settings.dt {
+        TimeStep::Fixed(dt) => dt,
+        TimeStep::Auto => super::time_scales(cat, traj).first_step,
+    };
+    let steps_f = (duration / requested).ceil();
+    if steps_f.is_nan() || steps_f > MAX_STEPS as f64 {
+        return Err(RapierError::TooManySteps { dt: requested, duration, steps: steps_f, max: MAX_STEPS });
     }
-    let shortest = schedule.durations.iter().copied().fold(f64::INFINITY, f64::min);
-    if shortest / settings.dt < MIN_STEPS_PER_PHASE as f64 {
+    let shortest = pieces.shortest();
+    if shortest / requested < MIN_STEPS_PER_PHASE as f64 {
         return Err(RapierError::TooCoarse {
-            dt: settings.dt,
+            dt: requested,
             phase: shortest,
-            steps: shortest / settings.dt,
+            steps: shortest / requested,
             min: MIN_STEPS_PER_PHASE,
         });
     }
@@ -145,24 +194,24 @@ pub fn simulate_with(
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
-    let start = schedule.state(0.0);
+    let start = pieces.state(0.0);
     let mut scene = CatScene::new(cat, settings.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), start.q)?;
     scene.start_at_zero_momentum(start.qd)?;
     let masses = *scene.masses();
 
     let qd_max = (0..=n).map(|k| {
-        let qd = schedule.state(time(k)).qd;
+        let qd = pieces.state(time(k)).qd;
         qd[0].hypot(qd[1])
     });
     let reference = cat.end_transverse() * qd_max.fold(0.0, f64::max);
     let mut windows: Vec<JumpWindow> =
-        schedule.rate_jumps(JUMP_TOLERANCE).iter().map(|j| JumpWindow::new(j.time, JUMP_STEPS * dt)).collect();
-    let boundaries = [schedule.phase_start(Phase::Twist), schedule.phase_start(Phase::Unbend)];
+        pieces.rate_jumps(JUMP_TOLERANCE).iter().map(|&t| JumpWindow::new(t, JUMP_STEPS * dt)).collect();
+    let boundaries = pieces.boundaries();
 
     let stride = n.div_ceil(opts.history.max(1)).max(1);
     let mut tracker = TwistTracker::default();
     let mut torques = TorqueEstimator::default();
-    let mut peaks = PhasePeaks::default();
+    let mut peaks = TorquePeaks::new(pieces.durations().len());
     let mut peak_all = 0.0f64;
     let mut torque_count = 0usize;
     let mut twist_history = Vec::with_capacity(n / stride + 2);
@@ -178,7 +227,7 @@ pub fn simulate_with(
         if k > 0 {
             // Targets from the schedule at the end of the step, the position shifted by −h q̇ so
             // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
-            let target = schedule.state(t);
+            let target = pieces.state(t);
             let pos = [target.q[0] - dt * target.qd[0], target.q[1] - dt * target.qd[1]];
             scene.set_targets(pos, target.qd)?;
             scene.step();
@@ -191,7 +240,7 @@ pub fn simulate_with(
         drift = drift.max((h - *h0.get_or_insert(h)).norm());
         last_h = h;
         let st = tracker.update(&snap.rotations[0]);
-        let sched = schedule.state(t).q;
+        let sched = pieces.state(t).q;
         for (e, (q, s)) in tracking.iter_mut().zip(snap.q.iter().zip(sched)) {
             *e = e.max((q - s).abs());
         }
@@ -207,7 +256,7 @@ pub fn simulate_with(
             let margin = BOUNDARY_STEPS * dt;
             let near_boundary = boundaries.iter().any(|b| (sample.t - b).abs() <= margin);
             if !in_jump && !near_boundary {
-                peaks.add(schedule.locate(sample.t).0, sample.tau);
+                peaks.add(pieces.locate(sample.t).0, sample.tau);
             }
             if torque_count % stride == 0 {
                 torque_history.push(sample);
@@ -219,7 +268,7 @@ pub fn simulate_with(
     let (orientation, angles, final_q) = last.ok_or(RapierError::Missing("a final state"))?;
 
     Ok(RapierRun {
-        dt_requested: settings.dt,
+        dt_requested: requested,
         dt,
         steps: n,
         gains,

@@ -10,7 +10,7 @@ use super::measure::{angular_momentum, kinetic_energy};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS};
 use crate::model::Cylinder;
-use crate::problem::settings::RapierSettings;
+use crate::problem::settings::{RapierSettings, TimeStep};
 
 /// A torque-free spin: the cat at joint angles `q`, turning rigidly at `omega`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,7 +55,8 @@ pub struct SpinRun {
     pub angvel_turn: f64,
 }
 
-/// Runs a torque-free spin with the step `settings.dt` (`T / ceil(T / dt)` exactly).
+/// Runs a torque-free spin with the step `settings.dt` (`T / ceil(T / dt)` exactly); an automatic
+/// step turns the cat by at most [`super::ANGLE_PER_STEP`] per step, with at least 1000 steps.
 pub fn spin_free(
     cat: &Cylinder,
     settings: &RapierSettings,
@@ -67,9 +68,13 @@ pub fn spin_free(
     if !(test.duration.is_finite() && test.duration > 0.0) {
         return Err(RapierError::BadDuration(test.duration));
     }
-    let steps_f = (test.duration / settings.dt).ceil();
-    if steps_f > MAX_STEPS as f64 {
-        let (dt, duration) = (settings.dt, test.duration);
+    let requested = match settings.dt {
+        TimeStep::Fixed(dt) => dt,
+        TimeStep::Auto => (super::ANGLE_PER_STEP / test.omega.norm()).min(test.duration / 1000.0),
+    };
+    let steps_f = (test.duration / requested).ceil();
+    if steps_f.is_nan() || steps_f > MAX_STEPS as f64 {
+        let (dt, duration) = (requested, test.duration);
         return Err(RapierError::TooManySteps { dt, duration, steps: steps_f, max: MAX_STEPS });
     }
     let n = (steps_f as usize).max(1);

@@ -1,0 +1,88 @@
+//! A [`Trajectory`] seen on one global clock: where each piece starts, the state at a time `t`,
+//! and the jumps of the joint rates between pieces.
+//!
+//! Times in s, angles in rad. At a boundary the later piece's formula is used (as
+//! [`crate::schedule::Schedule::state`] does), so a step that ends on a boundary takes its target
+//! from the piece that starts there.
+
+use crate::schedule::{JointState, Trajectory};
+
+/// A trajectory with its piece start times.
+pub(crate) struct Pieces<'a, T: Trajectory> {
+    traj: &'a T,
+    durations: Vec<f64>,
+    starts: Vec<f64>,
+}
+
+impl<'a, T: Trajectory> Pieces<'a, T> {
+    pub fn new(traj: &'a T) -> Self {
+        let durations = traj.piece_durations();
+        let mut starts = Vec::with_capacity(durations.len());
+        let mut t = 0.0;
+        for d in &durations {
+            starts.push(t);
+            t += d;
+        }
+        Self { traj, durations, starts }
+    }
+
+    /// Durations of the pieces, s.
+    pub fn durations(&self) -> &[f64] {
+        &self.durations
+    }
+
+    /// Total duration, s.
+    pub fn duration(&self) -> f64 {
+        self.durations.iter().sum()
+    }
+
+    /// The shortest piece of positive length, s (`∞` if there is none).
+    pub fn shortest(&self) -> f64 {
+        self.durations.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Start times of the pieces after the first: the inner boundaries, s.
+    pub fn boundaries(&self) -> &[f64] {
+        self.starts.get(1..).unwrap_or(&[])
+    }
+
+    /// The piece containing `t` (the later one at a boundary, never an empty one) and the local
+    /// time, clamped to the piece.
+    pub fn locate(&self, t: f64) -> (usize, f64) {
+        let after = self.starts.partition_point(|&s| s <= t);
+        let mut i = after.saturating_sub(1).min(self.durations.len().saturating_sub(1));
+        while i > 0 && self.durations[i] <= 0.0 {
+            i -= 1;
+        }
+        let d = self.durations.get(i).copied().unwrap_or(0.0);
+        (i, (t - self.starts.get(i).copied().unwrap_or(0.0)).clamp(0.0, d))
+    }
+
+    /// The state at global time `t`.
+    pub fn state(&self, t: f64) -> JointState {
+        let (i, s) = self.locate(t);
+        self.traj.piece_state(i, s)
+    }
+
+    /// Times of the boundaries where the joint rates jump by more than `tol` relative to the
+    /// rates of the two adjoining pieces (sampled at quarters; at least `tol` rad/s), so that
+    /// round-off of a fast piece is not taken for a jump.
+    pub fn rate_jumps(&self, tol: f64) -> Vec<f64> {
+        let rate = |i: usize, f: f64| {
+            let qd = self.traj.piece_state(i, f * self.durations[i]).qd;
+            qd[0].hypot(qd[1])
+        };
+        (1..self.durations.len())
+            .filter(|&i| self.durations[i] > 0.0 && self.durations[i - 1] > 0.0)
+            .filter(|&i| {
+                let before = self.traj.piece_state(i - 1, self.durations[i - 1]).qd;
+                let after = self.traj.piece_state(i, 0.0).qd;
+                let jump = (before[0] - after[0]).hypot(before[1] - after[1]);
+                let scale =
+                    [0.25, 0.5, 0.75, 1.0].iter().map(|&f| rate(i - 1, f).max(rate(i, 1.0 - f))).fold(1.0, f64::max);
+                jump > tol * scale
+            })
+            .map(|i| self.starts[i])
+            .collect()
+    }
+}

@@ -1,0 +1,135 @@
+//! The first time step of a verification, from the trajectory's own time scales.
+//!
+//! Rapier's integrator is first order: over a step `h` it takes the velocities as constant, so
+//! its error per step grows with how far things move in a step. Whatever the cat's size, mass or
+//! drop, these are the rates that set it (all from the exact zero-momentum motion, DESIGN.md §2,
+//! sampled at [`SAMPLES_PER_PIECE`] intervals of every piece):
+//!
+//! | scale | bound on `h` | why |
+//! |---|---|---|
+//! | shortest piece `T_min` | `T_min / N` | every piece needs many steps: torque samples within four steps of a boundary are not measured |
+//! | joint rate `max‖q̇‖` | `δ / max‖q̇‖` | the motors follow `q` step by step: a step must not sweep more than `δ` of the joint path |
+//! | body rate `max‖Ω‖` | `δ / max‖Ω‖` | A's own rotation per step (the gyroscopic terms are taken semi-implicitly) |
+//! | its rate `max‖Ω̇‖` | `√(δ / max‖Ω̇‖)` | the rotation that the change of `Ω` alone makes within a step |
+//! | torque `t_τ = max‖τ‖ / max‖τ̇‖` | `t_τ / M` | the torque must not change by more than a fraction of its peak within a step |
+//!
+//! with `N` = [`STEPS_PER_PIECE`], `δ` = [`ANGLE_PER_STEP`] rad and `M` = [`STEPS_PER_TORQUE_TIME`].
+//! The first step is the smallest bound. It aims at rapier's asymptotic range (an observed order
+//! near 1), not at the tolerance: the halving that follows ([`crate::engines::rapier::verify`]) reaches
+//! the tolerance, and since its runs' steps add up to about twice the finest run's whatever the
+//! start, a first step that is too coarse costs little (one short run, or a divergence that is
+//! recorded and halved), while one that is too fine costs directly. The bounds therefore lean
+//! coarse: `M` is small because a torque-optimal schedule's torque switches between `±τ_max`
+//! (bang-bang), where `max‖τ̇‖` measures the switch, not the plateau whose peak is verified.
+//! On the paper problem the body rate (paper cosine: ‖Ω‖ ≈ 23 rad/s) or the joint rate (rest-to-rest
+//! profiles, ‖q̇‖ ≈ 18 rad/s) decides, at 0.86–1.5 ms. The scales depend on the cat's shape, not
+//! its size or mass, and on the schedule's timing: a fall ten times shorter gets steps ten times
+//! shorter.
+
+use serde::Serialize;
+
+use crate::model::Cylinder;
+use crate::schedule::Trajectory;
+
+/// Sampling intervals per piece when the scales are measured.
+pub const SAMPLES_PER_PIECE: usize = 64;
+/// Fewest steps per piece of the first run.
+pub const STEPS_PER_PIECE: f64 = 40.0;
+/// Largest joint-path or body rotation per step of the first run, rad.
+pub const ANGLE_PER_STEP: f64 = 0.02;
+/// Fewest steps per torque time scale of the first run.
+pub const STEPS_PER_TORQUE_TIME: f64 = 2.0;
+
+/// Which time scale set the first step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StepLimit {
+    /// The shortest piece.
+    ShortestPiece,
+    /// The fastest joint rate.
+    JointRate,
+    /// A's fastest rotation.
+    BodyRate,
+    /// The fastest change of A's rotation rate.
+    BodyAcceleration,
+    /// The torque's time scale.
+    Torque,
+}
+
+impl std::fmt::Display for StepLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StepLimit::ShortestPiece => "shortest piece",
+            StepLimit::JointRate => "joint rate",
+            StepLimit::BodyRate => "body rate",
+            StepLimit::BodyAcceleration => "body acceleration",
+            StepLimit::Torque => "torque time scale",
+        })
+    }
+}
+
+/// The trajectory's time scales and the first step they give.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TimeScales {
+    /// Shortest piece of positive length, s.
+    pub shortest_piece: f64,
+    /// `max ‖q̇‖`, rad/s.
+    pub max_joint_rate: f64,
+    /// `max ‖Ω‖` of A, rad/s.
+    pub max_body_rate: f64,
+    /// `max ‖Ω̇‖` of A, rad/s².
+    pub max_body_acceleration: f64,
+    /// `max ‖τ‖ / max ‖τ̇‖` within pieces, s (`∞` for a torque-free trajectory).
+    pub torque_time: f64,
+    /// The smallest of the bounds, s.
+    pub first_step: f64,
+    /// The bound that set it.
+    pub limited_by: StepLimit,
+}
+
+/// Measures the time scales of `traj` on the exact zero-momentum motion.
+pub fn time_scales(cat: &Cylinder, traj: &impl Trajectory) -> TimeScales {
+    let (mut qd_max, mut w_max, mut wd_max, mut tau_max, mut taud_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let durations = traj.piece_durations();
+    for (piece, &d) in durations.iter().enumerate().filter(|(_, d)| **d > 0.0) {
+        let h = d / SAMPLES_PER_PIECE as f64;
+        let mut prev: Option<[f64; 2]> = None;
+        for k in 0..=SAMPLES_PER_PIECE {
+            let st = traj.piece_state(piece, k as f64 * h);
+            let kin = crate::engines::torque::kinematics(cat, &st);
+            let tau = crate::engines::torque::joint_torques(cat, &st).tau;
+            qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
+            w_max = w_max.max(kin.omega.norm());
+            wd_max = wd_max.max(kin.omega_dot.norm());
+            tau_max = tau_max.max(tau[0].hypot(tau[1]));
+            if let Some(p) = prev {
+                taud_max = taud_max.max((tau[0] - p[0]).hypot(tau[1] - p[1]) / h);
+            }
+            prev = Some(tau);
+        }
+    }
+    let shortest = durations.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+    let torque_time = if taud_max > 0.0 { tau_max / taud_max } else { f64::INFINITY };
+    let over = |scale: f64, rate: f64| if rate > 0.0 { scale / rate } else { f64::INFINITY };
+    let bounds = [
+        (shortest / STEPS_PER_PIECE, StepLimit::ShortestPiece),
+        (over(ANGLE_PER_STEP, qd_max), StepLimit::JointRate),
+        (over(ANGLE_PER_STEP, w_max), StepLimit::BodyRate),
+        (over(ANGLE_PER_STEP, wd_max).sqrt(), StepLimit::BodyAcceleration),
+        (torque_time / STEPS_PER_TORQUE_TIME, StepLimit::Torque),
+    ];
+    let (first_step, limited_by) = bounds
+        .iter()
+        .copied()
+        .filter(|(b, _)| !b.is_nan())
+        .fold((f64::INFINITY, StepLimit::ShortestPiece), |a, b| if b.0 < a.0 { b } else { a });
+    TimeScales {
+        shortest_piece: shortest,
+        max_joint_rate: qd_max,
+        max_body_rate: w_max,
+        max_body_acceleration: wd_max,
+        torque_time,
+        first_step,
+        limited_by,
+    }
+}
