@@ -24,6 +24,7 @@ pub mod benchmark;
 pub mod calibrate;
 pub mod compare;
 pub mod exact;
+pub mod exchange;
 pub mod export;
 pub mod manoeuvre;
 pub mod model;

@@ -49,6 +49,10 @@ enum Command {
         /// Time step for --engine rapier, s (overrides rapier.dt).
         #[arg(long)]
         dt: Option<f64>,
+        /// Evaluate this schedule CSV (t, q1, q2 and optionally q̇, q̈) instead of the problem's
+        /// own schedule; the problem gives the cat and the engine settings.
+        #[arg(long, value_name = "FILE.csv")]
+        schedule: Option<PathBuf>,
     },
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
@@ -65,6 +69,9 @@ enum Command {
         /// Where results go.
         #[arg(long, default_value = "results")]
         out: PathBuf,
+        /// Write the schedule CSVs on a uniform grid at this rate, Hz (default: 400 steps per phase).
+        #[arg(long, value_name = "HZ")]
+        rate: Option<f64>,
     },
     /// Run time against error for every engine, and stress tests; written to <out>/bench/.
     Bench {
@@ -123,7 +130,16 @@ fn run() -> anyhow::Result<()> {
             let audit = catflip::audit::audit_with_exact(&problem)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
-        Command::Simulate { common, engine, dt } => {
+        Command::Simulate { common, engine, dt, schedule: Some(file) } => {
+            let problem = load(&common, &[])?;
+            if let Engine::Rapier = engine {
+                anyhow::bail!("--schedule with --engine rapier is not available yet; use --engine exact");
+            }
+            let _ = dt;
+            let report = catflip::exchange::simulate_file(&problem, &file)?;
+            emit(common.json, &report, || report.to_text())?;
+        }
+        Command::Simulate { common, engine, dt, schedule: None } => {
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
             let problem = load(&common, &extra)?;
             let report = match engine {
@@ -137,7 +153,10 @@ fn run() -> anyhow::Result<()> {
             let report = catflip::optimize::optimize(&problem)?;
             emit(common.json, &report, || report.to_markdown())?;
         }
-        Command::Run { problems, overrides, out } => {
+        Command::Run { problems, overrides, out, rate } => {
+            let export = catflip::exchange::ExportOptions { rate_hz: rate, ..Default::default() };
+            export.validate(0.0)?;
+            let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
             // Load every problem first, so a bad one stops the run before anything is written.
             let loaded =
                 problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
@@ -145,8 +164,9 @@ fn run() -> anyhow::Result<()> {
                 for w in problem.warnings() {
                     eprintln!("warning: {}: {w}", path.display());
                 }
-                let command = regenerate(format!("cargo run --release -- run {}", path.display()), &overrides);
-                let outcome = catflip::run::run(&problem, &command, &out)?;
+                let command =
+                    regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
+                let outcome = catflip::run::run_with(&problem, &command, &out, &export)?;
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }

@@ -40,6 +40,9 @@ pub enum RunError {
     /// A result could not be serialised.
     #[error("cannot serialise {0}")]
     Json(&'static str),
+    /// A schedule file could not be written.
+    #[error(transparent)]
+    Exchange(#[from] crate::exchange::ExchangeError),
 }
 
 /// What a run produced.
@@ -93,7 +96,17 @@ struct Verified {
 /// Runs everything for `problem` and writes `out_root/<name>/`. `command` is the command line
 /// that regenerates it, for the report's header.
 pub fn run(problem: &Problem, command: &str, out_root: &Path) -> Result<RunOutcome, RunError> {
-    atomically(&out_root.join(&problem.name), |w| produce(problem, command, w))
+    run_with(problem, command, out_root, &crate::exchange::ExportOptions::default())
+}
+
+/// [`run`] with the schedule files sampled as `export` says (e.g. a uniform `--rate`).
+pub fn run_with(
+    problem: &Problem,
+    command: &str,
+    out_root: &Path,
+    export: &crate::exchange::ExportOptions,
+) -> Result<RunOutcome, RunError> {
+    atomically(&out_root.join(&problem.name), |w| produce(problem, command, export, w))
 }
 
 /// Runs `catflip bench` on `problem` and writes `out_root/bench/`.
@@ -147,7 +160,12 @@ fn atomically(
     Ok(RunOutcome { dir: final_dir.to_path_buf(), files: w.files, summary })
 }
 
-fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, RunError> {
+fn produce(
+    problem: &Problem,
+    command: &str,
+    export: &crate::exchange::ExportOptions,
+    w: &mut Writer,
+) -> Result<String, RunError> {
     let settings = toml::to_string(problem).unwrap_or_default();
     // 1. The audit.
     let audit = crate::audit::audit_with_exact(problem)?;
@@ -191,11 +209,12 @@ fn produce(problem: &Problem, command: &str, w: &mut Writer) -> Result<String, R
     w.put("verification.md", &verification_markdown(problem, &verified))?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
-    // 4. Schedules for robots and other simulators.
+    // 4. Schedules for robots and other simulators (CSV + JSON sidecar), and the model files.
     let problems_schedule = Schedule::new(problem, table.circulation.radians);
-    w.put("schedules/problem.csv", &crate::export::schedule_csv(problem, &problems_schedule, 400))?;
-    for (name, s) in schedules.iter().filter(|(n, _)| n.starts_with("exact-refined") || n == "qp-optimal") {
-        w.put(&format!("schedules/{name}.csv"), &crate::export::schedule_csv(problem, s, 400))?;
+    let mut exported = vec![("problem".to_string(), problems_schedule.clone())];
+    exported.extend(schedules.iter().filter(|(n, _)| n.starts_with("exact-refined") || n == "qp-optimal").cloned());
+    for (name, contents) in crate::exchange::results_files(problem, &exported, export)? {
+        w.put(&name, &contents)?;
     }
     // 5. Plots and the animation.
     let plots = w.dir.join("plots");

@@ -279,14 +279,13 @@ pub fn rapier_report(
 pub const JUMP_TOLERANCE: f64 = 1e-9;
 
 /// Largest `|H|` of the zero-momentum motion on a fine grid, relative to `I* · max|q̇|`.
-pub fn momentum_max(problem: &Problem, schedule: &Schedule) -> f64 {
+pub fn momentum_max(problem: &Problem, schedule: &impl crate::schedule::Trajectory) -> f64 {
     let cat = &problem.cat;
     let n = problem.exact.torque_samples;
     let (mut h_max, mut qd_max) = (0.0f64, 0.0f64);
-    for phase in Phase::ALL {
-        let dur = schedule.durations[phase.index()];
+    for (piece, dur) in schedule.piece_durations().into_iter().enumerate() {
         for k in 0..=n {
-            let st = schedule.phase_state(phase, dur * k as f64 / n as f64);
+            let st = schedule.piece_state(piece, dur * k as f64 / n as f64);
             let w = body_rate(cat, st.q, st.qd);
             h_max = h_max.max(momentum(cat, &st, &w).norm());
             qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
