@@ -328,3 +328,39 @@ fn simulate_cli_evaluates_a_schedule_file() {
     assert_eq!(v["interpolation"], "quintic-hermite");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn results_files_hold_each_schedule_with_its_sidecar_and_the_model_once() {
+    let p = problem();
+    let s = paper_schedule(&p);
+    let schedules = [("problem".to_string(), s.clone()), ("other".to_string(), s)];
+    let files = catflip::exchange::results_files(&p, &schedules, &ExportOptions::default()).expect("writes");
+    let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "schedules/problem.json",
+            "schedules/problem.csv",
+            "schedules/other.json",
+            "schedules/other.csv",
+            "schedules/model.urdf",
+            "schedules/model.xml"
+        ]
+    );
+    // Without a rate: 400 intervals per phase, boundary times twice.
+    assert_eq!(files[1].1.lines().count(), 1 + 3 * 401);
+    let sidecar: Sidecar = serde_json::from_str(&files[0].1).expect("the sidecar parses back");
+    assert_eq!((sidecar.sampling.kind.as_str(), sidecar.sampling.steps_per_piece), ("per-piece", Some(400)));
+}
+
+#[test]
+fn a_bad_rate_is_refused_before_any_work() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_catflip"))
+        .args(["run", "problems/paper.toml", "--rate=-5", "--out"])
+        .arg(std::env::temp_dir().join(format!("catflip-badrate-{}", std::process::id())))
+        .output()
+        .expect("the binary runs");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--rate -5"), "{err}");
+}

@@ -42,9 +42,10 @@ impl Links {
     }
 }
 
-/// A number in a model file: the shortest text that parses back to the same `f64`.
-pub(crate) fn num(x: f64) -> String {
-    format!("{x}")
+/// A number in a model or schedule file: the shortest text that parses back to the same `f64`
+/// (with an exponent when very small or large, e.g. `4e-9`).
+pub fn num(x: f64) -> String {
+    format!("{x:?}")
 }
 
 /// A vector of numbers separated by spaces, as URDF and MJCF attributes want.

@@ -8,6 +8,7 @@
 //!   columns to the exact engine's tolerance;
 //! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
 //!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
+//! - [`table`]: every tidy CSV table, written with the `csv` crate;
 //! - [`evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
 //!   --schedule FILE.csv`).
 //!
@@ -23,6 +24,7 @@ pub mod links;
 pub mod mjcf;
 pub mod schedule_file;
 pub mod sidecar;
+pub mod table;
 pub mod urdf;
 
 pub use evaluate::{evaluate, simulate_file, ImportReport};

@@ -31,7 +31,7 @@ use nalgebra::UnitQuaternion;
 
 use crate::exact::{body_rate, flip, magnus6};
 use crate::exchange::jumps::{rate_jumps, Jump};
-use crate::exchange::links::Links;
+use crate::exchange::links::{num, Links};
 use crate::exchange::sidecar::{
     Column, Conventions, ModelInfo, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
 };
@@ -192,8 +192,8 @@ pub fn write_trajectory(
             angles.twist.to_degrees(),
             angles.swing.to_degrees(),
         ];
-        let mut record = vec![format!("{}", row.time), piece_name(row.piece), row.marker.text().to_string()];
-        record.extend(numbers.iter().map(|x| format!("{x}")));
+        let mut record = vec![num(row.time), piece_name(row.piece), row.marker.text().to_string()];
+        record.extend(numbers.map(num));
         w.write_record(&record).map_err(csv_error)?;
         let same_piece = pieces.len() == row.piece + 1;
         match pieces.last_mut() {

@@ -97,7 +97,7 @@ impl ModelInfo {
             joint: "universal: joint 1 turns about A's x, joint 2 about the cross's y (Rx(q1)·ŷ in A's frame); B relative to A is R_AB = Rx(q1)·Ry(q2); q = 0 is the straight cat".into(),
             cross_mass_kg: links.mass[1],
             cross_inertia_kg_m2: links.inertia[1],
-            cross_note: "the cross is massless in the model; simulators need a body between two revolute joints, so the model files give it rapier.cross_mass_fraction times a half's mass and the inertia (2/5)·m_c·r² of a solid sphere of the cat's radius, as the rapier scene does".into(),
+            cross_note: "the cross is massless in the model; simulators need a body between two revolute joints, so the model files give it rapier.cross_mass_fraction times a half's mass and the inertia (2/5)·m_c·r² of a solid sphere of the cat's radius, as the rapier scene does; the tau columns are the massless cross's, so a simulator's inverse dynamics of the model files differ from them by a relative amount of the order of that fraction".into(),
             urdf: urdf.into(),
             mjcf: mjcf.into(),
         }
