@@ -130,12 +130,11 @@ fn run() -> anyhow::Result<()> {
             let audit = catflip::audit::audit_with_exact(&problem)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
-        Command::Simulate { common, engine, dt, schedule: Some(file) } => {
+        Command::Simulate { common, engine, dt: _, schedule: Some(file) } => {
             let problem = load(&common, &[])?;
             if let Engine::Rapier = engine {
                 anyhow::bail!("--schedule with --engine rapier is not available yet; use --engine exact");
             }
-            let _ = dt;
             let report = catflip::exchange::simulate_file(&problem, &file)?;
             emit(common.json, &report, || report.to_text())?;
         }

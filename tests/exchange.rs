@@ -248,6 +248,14 @@ fn round_trip_with_angles_only_uses_the_spline() {
     let (dt, ds) = (report.twist_deg.to_radians() - f.twist, report.swing_deg.to_radians() - f.swing);
     eprintln!("spline round trip at 1 kHz: twist {dt:.2e} rad, swing {ds:.2e} rad");
     assert!(dt.abs() < 1e-6 && ds.abs() < 1e-6, "twist {dt:.2e} rad, swing {ds:.2e} rad");
+    // The paper's one jump is found; the spline's O(h³) end rates make no others.
+    let expected = velocity_jumps(&p.cat, &s, 1e-9);
+    assert_eq!(report.velocity_jumps.len(), 1);
+    for j in 0..2 {
+        let got = report.velocity_jumps[0].impulse_nms[j];
+        eprintln!("spline impulse {j}: {got} against {}", expected[0].impulse[j]);
+        assert_relative_eq!(got, expected[0].impulse[j], max_relative = 1e-6);
+    }
 }
 
 fn parse_err(text: &str) -> ImportError {

@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::exact::flip;
 use crate::exchange::import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
-use crate::exchange::jumps::{rate_jumps, Jump};
+use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
 use crate::simulate::momentum_max;
 use crate::torque::peak_torques;
@@ -85,7 +85,7 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport 
     let start = Instant::now();
     let f = flip(cat, schedule, problem.exact.tolerance);
     let peaks = peak_torques(cat, schedule, problem.exact.torque_samples);
-    let jumps = rate_jumps(cat, schedule);
+    let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
     let momentum = momentum_max(problem, schedule);
     let run_time_s = start.elapsed().as_secs_f64();
     let pieces = schedule

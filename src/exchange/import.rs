@@ -26,6 +26,10 @@
 //! (`O(h⁴)`, `q̈` `O(h²)` and discontinuous at the rows), else the not-a-knot cubic spline
 //! (`O(h⁴)`; at least four rows per piece). A Hermite piece needs two rows.
 //!
+//! A rate jump between pieces is reported when the two one-sided rates differ by more than
+//! round-off; for the spline, whose rates at a piece's ends are interpolated, not given, also by
+//! more than [`JUMP_SAFETY`] times their estimated error ([`ImportedPiece::end_rate_error`]).
+//!
 //! Every defect is an [`ImportError`] naming the file, the line and the column; nothing panics.
 
 use std::path::Path;
@@ -192,7 +196,47 @@ pub struct ImportedPiece {
     pub file_start: f64,
     /// Lines of the file it came from (first, last).
     pub lines: (u64, u64),
+    /// Estimated error of the interpolated rates `|δq̇|` (both joints) at the piece's start and
+    /// end, rad/s: zero when the file gives the rates; for the spline, `|q̇_h − q̇_2h|/7` from a
+    /// second spline through every other row (the rates are `O(h³)`), infinite when the piece has
+    /// too few rows for that second spline (fewer than seven).
+    pub end_rate_error: [f64; 2],
     joints: [Piecewise; 2],
+}
+
+/// How many times the estimated rate error a difference of rates must exceed to be a jump.
+pub const JUMP_SAFETY: f64 = 10.0;
+
+impl ImportedSchedule {
+    /// The uncertainty of the rate difference at the boundary after piece `k`, rad/s:
+    /// [`JUMP_SAFETY`] times the two sides' [`ImportedPiece::end_rate_error`].
+    pub fn boundary_rate_uncertainty(&self, k: usize) -> f64 {
+        match (self.pieces.get(k), self.pieces.get(k + 1)) {
+            (Some(a), Some(b)) => JUMP_SAFETY * (a.end_rate_error[1] + b.end_rate_error[0]),
+            _ => 0.0,
+        }
+    }
+}
+
+/// The spline's rate error at both ends of a piece, estimated from a spline on every other knot.
+fn spline_end_rate_error(knots: &[f64], q: [&[f64]; 2], fine: [&Piecewise; 2]) -> [f64; 2] {
+    let n = knots.len();
+    let mut idx: Vec<usize> = (0..n).step_by(2).collect();
+    if idx.last() != Some(&(n - 1)) {
+        idx.push(n - 1);
+    }
+    let coarse_knots: Vec<f64> = idx.iter().map(|&i| knots[i]).collect();
+    let coarse: Option<Vec<Piecewise>> = q
+        .iter()
+        .map(|qj| Piecewise::not_a_knot(&coarse_knots, &idx.iter().map(|&i| qj[i]).collect::<Vec<_>>()))
+        .collect();
+    match coarse {
+        Some(c) if n >= 7 => [knots[0], knots[n - 1]].map(|t| {
+            let d: Vec<f64> = (0..2).map(|j| (fine[j].eval(t).rate - c[j].eval(t).rate) / 7.0).collect();
+            d[0].hypot(d[1])
+        }),
+        _ => [f64::INFINITY; 2],
+    }
 }
 
 /// A schedule read from a CSV file: a [`Trajectory`] with one piece per smooth stretch.
@@ -403,11 +447,19 @@ fn build_piece(rows: &[Sample], k: usize, scheme: Interpolation, path: &str) -> 
         Interpolation::NotAKnotSpline => Piecewise::not_a_knot(&knots, &column(0, j)),
     };
     let failed = || ImportError::SplineFailed { path: path.into(), first_line: lines.0, last_line: lines.1 };
+    let joints = [joint(0).ok_or_else(failed)?, joint(1).ok_or_else(failed)?];
+    let end_rate_error = match scheme {
+        Interpolation::NotAKnotSpline => {
+            spline_end_rate_error(&knots, [&column(0, 0), &column(0, 1)], [&joints[0], &joints[1]])
+        }
+        _ => [0.0; 2],
+    };
     Ok(ImportedPiece {
         name: rows[0].phase.clone().unwrap_or_else(|| format!("piece-{}", k + 1)),
         file_start: t0,
         lines,
-        joints: [joint(0).ok_or_else(failed)?, joint(1).ok_or_else(failed)?],
+        end_rate_error,
+        joints,
     })
 }
 

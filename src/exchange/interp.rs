@@ -48,37 +48,40 @@ impl Piecewise {
     /// Quintic Hermite interpolation of values, rates and accelerations at `knots` (at least two,
     /// strictly increasing; all slices the same length).
     pub fn quintic_hermite(knots: &[f64], q: &[f64], qd: &[f64], qdd: &[f64]) -> Piecewise {
-        let coefficients = knots
-            .windows(2)
-            .enumerate()
-            .map(|(i, w)| {
-                let h = w[1] - w[0];
-                let p = q[i + 1] - q[i];
-                let (v0, v1) = (h * qd[i], h * qd[i + 1]);
-                let (a0, a1) = (h * h * qdd[i], h * h * qdd[i + 1]);
-                [
-                    q[i],
-                    v0,
-                    0.5 * a0,
-                    10.0 * p - 6.0 * v0 - 4.0 * v1 - 0.5 * (3.0 * a0 - a1),
-                    -15.0 * p + 8.0 * v0 + 7.0 * v1 + 0.5 * (3.0 * a0 - 2.0 * a1),
-                    6.0 * p - 3.0 * (v0 + v1) - 0.5 * (a0 - a1),
-                ]
-            })
-            .collect();
-        Piecewise { knots: knots.to_vec(), coefficients }
+        Piecewise::hermite(knots, q, qd, |i, h, [p, v0, v1]| {
+            let (a0, a1) = (h * h * qdd[i], h * h * qdd[i + 1]);
+            [
+                q[i],
+                v0,
+                0.5 * a0,
+                10.0 * p - 6.0 * v0 - 4.0 * v1 - 0.5 * (3.0 * a0 - a1),
+                -15.0 * p + 8.0 * v0 + 7.0 * v1 + 0.5 * (3.0 * a0 - 2.0 * a1),
+                6.0 * p - 3.0 * (v0 + v1) - 0.5 * (a0 - a1),
+            ]
+        })
     }
 
     /// Cubic Hermite interpolation of values and rates at `knots` (at least two).
     pub fn cubic_hermite(knots: &[f64], q: &[f64], qd: &[f64]) -> Piecewise {
+        Piecewise::hermite(knots, q, qd, |i, _, [p, v0, v1]| {
+            [q[i], v0, 3.0 * p - 2.0 * v0 - v1, -2.0 * p + v0 + v1, 0.0, 0.0]
+        })
+    }
+
+    /// A Hermite interpolant whose interval `i` of length `h` has the coefficients
+    /// `coefficients(i, h, [P, V_0, V_1])`, `P = q_{i+1} − q_i`, `V_j = h q̇_j`.
+    fn hermite(
+        knots: &[f64],
+        q: &[f64],
+        qd: &[f64],
+        coefficients: impl Fn(usize, f64, [f64; 3]) -> Coefficients,
+    ) -> Piecewise {
         let coefficients = knots
             .windows(2)
             .enumerate()
             .map(|(i, w)| {
                 let h = w[1] - w[0];
-                let p = q[i + 1] - q[i];
-                let (v0, v1) = (h * qd[i], h * qd[i + 1]);
-                [q[i], v0, 3.0 * p - 2.0 * v0 - v1, -2.0 * p + v0 + v1, 0.0, 0.0]
+                coefficients(i, h, [q[i + 1] - q[i], h * qd[i], h * qd[i + 1]])
             })
             .collect();
         Piecewise { knots: knots.to_vec(), coefficients }

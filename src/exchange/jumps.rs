@@ -4,7 +4,9 @@
 //! end) to `q̇⁺` (piece `k + 1`'s start). The joint then delivers the generalised impulse
 //! `M(q) (q̇⁺ − q̇⁻)`, N·m·s, with `M` the reduced zero-momentum mass matrix
 //! ([`reduced_mass_matrix`]): an impulse, not a torque. A jump smaller than
-//! [`JUMP_TOLERANCE`] relative to `max(1 rad/s, |q̇⁻|, |q̇⁺|)` is round-off and not reported.
+//! [`JUMP_TOLERANCE`] relative to `max(1 rad/s, |q̇⁻|, |q̇⁺|)` is round-off and not reported; nor
+//! is one within the rates' own uncertainty at that boundary (for rates that come from an
+//! interpolant, not from a formula or a file: see [`crate::exchange::import`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -28,8 +30,14 @@ pub struct Jump {
     pub impulse_nms: [f64; 2],
 }
 
-/// The rate jumps of `traj` at its piece boundaries.
+/// The rate jumps of `traj` at its piece boundaries whose rates are exact (formulas or data).
 pub fn rate_jumps(cat: &Cylinder, traj: &impl Trajectory) -> Vec<Jump> {
+    uncertain_rate_jumps(cat, traj, |_| 0.0)
+}
+
+/// The rate jumps of `traj` larger than `uncertainty(k)`, the uncertainty (rad/s, Euclidean) of
+/// the rate difference at the boundary after piece `k`.
+pub fn uncertain_rate_jumps(cat: &Cylinder, traj: &impl Trajectory, uncertainty: impl Fn(usize) -> f64) -> Vec<Jump> {
     let durations = traj.piece_durations();
     let mut out = Vec::new();
     let mut time = 0.0;
@@ -40,7 +48,7 @@ pub fn rate_jumps(cat: &Cylinder, traj: &impl Trajectory) -> Vec<Jump> {
         let dq = [after.qd[0] - before.qd[0], after.qd[1] - before.qd[1]];
         let scale =
             [1.0, before.qd[0].hypot(before.qd[1]), after.qd[0].hypot(after.qd[1])].into_iter().fold(0.0, f64::max);
-        if dq[0].hypot(dq[1]) <= JUMP_TOLERANCE * scale {
+        if dq[0].hypot(dq[1]) <= (JUMP_TOLERANCE * scale).max(uncertainty(k)) {
             continue;
         }
         let impulse = reduced_mass_matrix(cat, after.q) * nalgebra::Vector2::new(dq[0], dq[1]);

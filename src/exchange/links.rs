@@ -1,5 +1,5 @@
-//! The cat as three links, the numbers both model files ([`crate::exchange::urdf`],
-//! [`crate::exchange::mjcf`]) write: A, the cross of the universal joint, B.
+//! The cat as three links, the numbers both model files ([`mod@crate::exchange::urdf`],
+//! [`mod@crate::exchange::mjcf`]) write: A, the cross of the universal joint, B.
 //!
 //! - **A** and **B**: mass `m`, inertia about the centre of mass
 //!   `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` in the body frame (`z` along the spine,

@@ -2,14 +2,14 @@
 //! and schedules from elsewhere read back and evaluated (DESIGN.md §7).
 //!
 //! - [`links`]: the three links (A, the cross, B) with their true mass properties;
-//! - [`urdf`], [`mjcf`]: the model files (`model.urdf`, `model.xml`);
+//! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`);
 //! - [`schedule_file`] and [`sidecar`]: `NAME.csv` and `NAME.json`: units in the column names,
 //!   an optional uniform rate, boundary rows marked, jumps with their impulses, orientation
 //!   columns to the exact engine's tolerance;
 //! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
 //!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
 //! - [`table`]: every tidy CSV table, written with the `csv` crate;
-//! - [`evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
+//! - [`mod@evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
 //!   --schedule FILE.csv`).
 //!
 //! Conventions are DESIGN.md §1's: body frames at the centres of mass with `z` towards the head,
