@@ -372,3 +372,25 @@ fn a_bad_rate_is_refused_before_any_work() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--rate -5"), "{err}");
 }
+
+#[test]
+fn acceleration_jumps_inside_a_phase_become_boundaries_and_keep_the_peak_torque() {
+    // A piecewise-linear rate (as the QP's optimum): q̈ jumps at every node inside the twist.
+    // Without the cuts, the 1 kHz grid smooths each jump over a row interval and the peak moves.
+    let p = problem();
+    let profile = catflip::profile::Profile::from_rate_nodes("nodes", &[0.0, 1.0, 3.0, 2.0, 0.5, 0.0]).expect("nodes");
+    let s = paper_schedule(&p).with_profile(profile);
+    let file = write_schedule(&p, &s, "nodes", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+        .expect("writes");
+    // Four inner nodes: four cuts inside the twist, each an end/start pair, plus the two phase boundaries.
+    assert_eq!(file.sidecar.pieces.len(), 3 + 4);
+    assert!(file.sidecar.jumps.is_empty(), "the rates are continuous at the cuts: {:?}", file.sidecar.jumps);
+    let imported = parse_schedule(&file.csv, "nodes.csv").expect("reads back");
+    let report = evaluate(&p, &imported);
+    let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
+    eprintln!("q̈-jump round trip: peak {:.2e} relative", report.peak_torque_nm.max / peaks.max - 1.0);
+    assert_relative_eq!(report.peak_torque_nm.max, peaks.max, max_relative = 1e-9);
+    assert_eq!(report.peak_torque_nm.pieces.len(), 3, "cut pieces are merged back into phases");
+    let f = flip(&p.cat, &s, p.exact.tolerance);
+    assert_relative_eq!(report.twist_deg.to_radians(), f.twist, epsilon = 1e-9);
+}

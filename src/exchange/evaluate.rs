@@ -19,7 +19,7 @@ use crate::problem::Problem;
 use crate::simulate::momentum_max;
 use crate::torque::peak_torques;
 
-/// Peak motor torques of one piece, N·m.
+/// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PiecePeak {
     /// The piece's name.
@@ -31,7 +31,7 @@ pub struct PiecePeak {
 /// Peak torques of an imported schedule.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ImportedPeaks {
-    /// Per piece, in order.
+    /// Per piece, in order; consecutive pieces with the same name are merged.
     pub pieces: Vec<PiecePeak>,
     /// The largest, N·m.
     pub max: f64,
@@ -88,12 +88,17 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport 
     let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
     let momentum = momentum_max(problem, schedule);
     let run_time_s = start.elapsed().as_secs_f64();
-    let pieces = schedule
-        .pieces
-        .iter()
-        .zip(&peaks.per_piece)
-        .map(|(p, pk)| PiecePeak { piece: p.name.clone(), tau_nm: [pk[0].value, pk[1].value] })
-        .collect();
+    // Consecutive pieces of one name (a phase cut where its acceleration jumps) are one phase.
+    let mut pieces: Vec<PiecePeak> = Vec::new();
+    for (p, pk) in schedule.pieces.iter().zip(&peaks.per_piece) {
+        let tau = [pk[0].value, pk[1].value];
+        match pieces.last_mut() {
+            Some(last) if last.piece == p.name => {
+                last.tau_nm = [last.tau_nm[0].max(tau[0]), last.tau_nm[1].max(tau[1])]
+            }
+            _ => pieces.push(PiecePeak { piece: p.name.clone(), tau_nm: tau }),
+        }
+    }
     ImportReport {
         problem: problem.name.clone(),
         engine: "exact".into(),
@@ -121,7 +126,7 @@ impl ImportReport {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "exact engine — problem {}, schedule {} ({} rows, {}, {} piece(s), {:.6} s)",
+            "exact engine — problem {}, schedule {} ({} rows, {}, {} phase(s), {:.6} s)",
             self.problem,
             self.schedule_file,
             self.rows,

@@ -22,6 +22,7 @@ pub mod interp;
 pub mod jumps;
 pub mod links;
 pub mod mjcf;
+pub mod refined;
 pub mod schedule_file;
 pub mod sidecar;
 pub mod table;

@@ -17,7 +17,12 @@
 //! - [`ExportOptions::rate_hz`] `= Some(f)`: the uniform grid `t = k/f` (`k = 0, 1, …`), plus both
 //!   rows of every piece boundary and the final instant when they are off the grid (a grid point
 //!   within `10⁻⁶/f` of a boundary becomes that boundary);
-//! - `None`: [`ExportOptions::steps_per_piece`] equal intervals in every piece.
+//! - `None`: [`ExportOptions::steps_per_piece`] equal intervals in every phase (consecutive
+//!   pieces of one name), plus the rows of every boundary.
+//!
+//! A three-phase schedule's phases are cut where the acceleration jumps
+//! ([`crate::exchange::refined`]): the instant is written twice like a phase boundary, so that
+//! every piece between `end`/`start` pairs is smooth.
 //!
 //! # Orientation to the engine's tolerance
 //!
@@ -32,6 +37,7 @@ use nalgebra::UnitQuaternion;
 use crate::exact::{body_rate, flip, magnus6};
 use crate::exchange::jumps::{rate_jumps, Jump};
 use crate::exchange::links::{num, Links};
+use crate::exchange::refined::{acceleration_cuts, Refined};
 use crate::exchange::sidecar::{
     Column, Conventions, ModelInfo, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
 };
@@ -75,7 +81,7 @@ pub fn header() -> String {
 pub struct ExportOptions {
     /// Rows on the uniform grid `t = k / rate_hz`, Hz; `None` for equal steps per piece.
     pub rate_hz: Option<f64>,
-    /// Intervals per piece when `rate_hz` is `None`.
+    /// Intervals per phase (consecutive pieces of one name) when `rate_hz` is `None`.
     pub steps_per_piece: usize,
 }
 
@@ -125,14 +131,17 @@ impl ScheduleFile {
     }
 }
 
-/// One of a problem's three-phase schedules as a file named `name` (`name.csv`, `name.json`).
+/// One of a problem's three-phase schedules as a file named `name` (`name.csv`, `name.json`),
+/// its phases cut where the acceleration jumps ([`Refined`]), so every piece is smooth.
 pub fn write_schedule(
     problem: &Problem,
     schedule: &Schedule,
     name: &str,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
-    let names = Phase::ALL.map(|p| p.name().to_string());
+    let refined = Refined::new(schedule, &acceleration_cuts(schedule));
+    let names: Vec<String> =
+        (0..refined.piece_durations().len()).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
     let description = format!(
         "three phases (bend, twist, unbend) of {:?} s; bend β = {} rad on the {:?} path; twist profile {}, circulation {} rad",
         schedule.durations,
@@ -141,7 +150,7 @@ pub fn write_schedule(
         schedule.profile.name(),
         schedule.circulation
     );
-    write_trajectory(problem, schedule, &names, name, &description, options)
+    write_trajectory(problem, &refined, &names, name, &description, options)
 }
 
 /// Any trajectory as a file named `name`; `piece_names` name its pieces (missing names are
@@ -158,7 +167,8 @@ pub fn write_trajectory(
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;
     let piece_name = |k: usize| piece_names.get(k).cloned().unwrap_or_else(|| format!("piece-{}", k + 1));
-    let plan = plan_rows(&durations, options);
+    let labels: Vec<String> = (0..durations.len()).map(piece_name).collect();
+    let plan = plan_rows(&durations, &labels, options);
     let engine = flip(cat, traj, problem.exact.tolerance);
     let max_step = durations.iter().fold(0.0, |m: f64, &d| m.max(d)) / engine.steps_per_phase.max(1) as f64;
     let attitude = orientations(cat, traj, &plan, &durations, engine.steps_per_phase);
@@ -292,37 +302,38 @@ struct Row {
     marker: Marker,
 }
 
-/// The rows of the file: each piece from its start to its end, boundary times twice.
-fn plan_rows(durations: &[f64], options: &ExportOptions) -> Vec<Row> {
+/// The rows of the file: each piece from its start to its end, boundary times twice. The grid
+/// is `t = k / rate` or, per phase (consecutive pieces with the same label), `steps` equal
+/// intervals of the phase; grid points within `10⁻⁶` of a grid step of a boundary are dropped.
+fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> Vec<Row> {
     let n = durations.len();
+    let starts: Vec<f64> = durations.iter().scan(0.0, |t, &d| Some(std::mem::replace(t, *t + d))).collect();
+    let same = |a: usize, b: usize| labels.get(a).is_some() && labels.get(a) == labels.get(b);
     let mut rows = Vec::new();
-    let mut start = 0.0;
     for (piece, &d) in durations.iter().enumerate() {
-        let end = start + d;
+        let (start, end) = (starts[piece], starts[piece] + d);
+        let (origin, step) = match options.rate_hz {
+            Some(f) => (0.0, 1.0 / f),
+            None => {
+                let first = (0..=piece).rev().take_while(|&k| k == piece || same(k, piece)).last().unwrap_or(piece);
+                let last = (piece..n).take_while(|&k| k == piece || same(k, piece)).last().unwrap_or(piece);
+                let span = starts[last] + durations[last] - starts[first];
+                (starts[first], span / options.steps_per_piece as f64)
+            }
+        };
         let first = if piece == 0 { Marker::Plain } else { Marker::Start };
         let last = if piece + 1 == n { Marker::Plain } else { Marker::End };
         rows.push(Row { piece, local: 0.0, time: start, marker: first });
-        match options.rate_hz {
-            Some(f) => {
-                let eps = 1e-6;
-                let k0 = (start * f + eps).floor() as usize + 1;
-                let mut k = k0;
-                while (k as f64) < end * f - eps {
-                    let t = k as f64 / f;
-                    rows.push(Row { piece, local: t - start, time: t, marker: Marker::Plain });
-                    k += 1;
-                }
-            }
-            None => {
-                let steps = options.steps_per_piece;
-                rows.extend((1..steps).map(|k| {
-                    let s = d * k as f64 / steps as f64;
-                    Row { piece, local: s, time: start + s, marker: Marker::Plain }
-                }));
+        if step > 0.0 {
+            let eps = 1e-6;
+            let mut k = ((start - origin) / step + eps).floor() as usize + 1;
+            while origin + (k as f64) * step < end - eps * step {
+                let t = origin + k as f64 * step;
+                rows.push(Row { piece, local: t - start, time: t, marker: Marker::Plain });
+                k += 1;
             }
         }
         rows.push(Row { piece, local: d, time: end, marker: last });
-        start = end;
     }
     rows
 }
