@@ -46,6 +46,7 @@
 #![deny(clippy::float_cmp)]
 
 pub mod engines;
+pub mod exchange;
 pub mod model;
 pub mod numeric;
 pub mod optimize;

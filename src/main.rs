@@ -45,6 +45,10 @@ enum Command {
         /// until rapier's own error meets the tolerances).
         #[arg(long)]
         dt: Option<f64>,
+        /// Evaluate this schedule CSV (t, q1, q2 and optionally q̇, q̈) instead of the problem's
+        /// own schedule; the problem gives the cat and the engine settings.
+        #[arg(long, value_name = "FILE.csv")]
+        schedule: Option<PathBuf>,
     },
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
@@ -61,6 +65,9 @@ enum Command {
         /// Where results go.
         #[arg(long, default_value = "results")]
         out: PathBuf,
+        /// Write the schedule CSVs on a uniform grid at this rate, Hz (default: 400 steps per phase).
+        #[arg(long, value_name = "HZ")]
+        rate: Option<f64>,
     },
     /// Run time against error for every engine, and stress tests; written to <out>/bench/.
     Bench {
@@ -119,7 +126,15 @@ fn run() -> anyhow::Result<()> {
             let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
-        Command::Simulate { common, engine, dt } => {
+        Command::Simulate { common, engine, dt: _, schedule: Some(file) } => {
+            let problem = load(&common, &[])?;
+            if let Engine::Rapier = engine {
+                anyhow::bail!("--schedule with --engine rapier is not available yet; use --engine exact");
+            }
+            let report = catflip::exchange::simulate_file(&problem, &file)?;
+            emit(common.json, &report, || report.to_text())?;
+        }
+        Command::Simulate { common, engine, dt, schedule: None } => {
             if let Some(d) = dt {
                 if matches!(engine, Engine::Exact) {
                     anyhow::bail!(
@@ -144,7 +159,10 @@ fn run() -> anyhow::Result<()> {
             let report = catflip::optimize::optimize(&r)?;
             emit(common.json, &report, || report.to_markdown())?;
         }
-        Command::Run { problems, overrides, out } => {
+        Command::Run { problems, overrides, out, rate } => {
+            let export = catflip::exchange::ExportOptions { rate_hz: rate, ..Default::default() };
+            export.validate(0.0)?;
+            let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
             // Load every problem first, so a bad one stops the run before anything is written.
             let loaded =
                 problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
@@ -152,8 +170,9 @@ fn run() -> anyhow::Result<()> {
                 for w in problem.warnings() {
                     eprintln!("warning: {}: {w}", path.display());
                 }
-                let command = regenerate(format!("cargo run --release -- run {}", path.display()), &overrides);
-                let outcome = catflip::report::run::run(&Resolved::new(&problem)?, &command, &out)?;
+                let command =
+                    regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
+                let outcome = catflip::report::run::run_with(&Resolved::new(&problem)?, &command, &out, &export)?;
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }

@@ -25,7 +25,7 @@ use crate::engines::JUMP_TOLERANCE;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
 use crate::schedule::variant::Origin;
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{Phase, Schedule, Trajectory};
 
 /// The exact engine's numbers on one schedule.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -80,12 +80,11 @@ impl Evaluation {
 
 /// Largest `|H|` of the zero-momentum motion on `samples + 1` points per phase, relative to
 /// `I* · max|q̇|` (absolute when the cat never moves).
-pub fn momentum_max(cat: &Cylinder, schedule: &Schedule, samples: usize) -> f64 {
+pub fn momentum_max(cat: &Cylinder, schedule: &impl Trajectory, samples: usize) -> f64 {
     let (mut h_max, mut qd_max) = (0.0f64, 0.0f64);
-    for phase in Phase::ALL {
-        let dur = schedule.durations[phase.index()];
+    for (piece, dur) in schedule.piece_durations().into_iter().enumerate() {
         for k in 0..=samples {
-            let st = schedule.phase_state(phase, dur * k as f64 / samples as f64);
+            let st = schedule.piece_state(piece, dur * k as f64 / samples as f64);
             let w = body_rate(cat, st.q, st.qd);
             h_max = h_max.max(momentum(cat, &st, &w).norm());
             qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));

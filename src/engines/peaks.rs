@@ -30,8 +30,13 @@ impl PhasePeaks {
 
     /// The seven values as CSV fields, N·m.
     pub fn csv(&self) -> String {
+        self.fields().join(",")
+    }
+
+    /// The seven values, formatted, in the order of [`PhasePeaks::CSV_HEADER`], N·m.
+    pub fn fields(&self) -> [String; 7] {
         let v = [self.bend[0], self.bend[1], self.twist[0], self.twist[1], self.unbend[0], self.unbend[1], self.max];
-        v.map(|x| format!("{x:.9}")).join(",")
+        v.map(|x| format!("{x:.9}"))
     }
 
     /// From per-phase peaks of a three-phase schedule (NaN for a phase it lacks).

@@ -317,20 +317,19 @@ impl BenchReport {
 
     /// Tidy CSV of the engine points.
     pub fn to_csv(&self) -> String {
-        let mut s =
-            String::from("engine,setting,time_s,error_rad,swing_error_rad,peak_torque_rel_error,observed_order\n");
-        for p in &self.points {
-            s.push_str(&format!(
-                "{},{:e},{:e},{:e},{:e},{},{}\n",
-                p.engine,
-                p.setting,
-                p.time_s,
-                p.error_rad,
-                p.swing_error_rad,
+        let header =
+            ["engine", "setting", "time_s", "error_rad", "swing_error_rad", "peak_torque_rel_error", "observed_order"];
+        let records = self.points.iter().map(|p| {
+            [
+                p.engine.to_string(),
+                format!("{:e}", p.setting),
+                format!("{:e}", p.time_s),
+                format!("{:e}", p.error_rad),
+                format!("{:e}", p.swing_error_rad),
                 p.peak_torque_rel_error.map_or(String::new(), |e| format!("{e:e}")),
-                p.observed_order.map_or(String::new(), |o| format!("{o:.4}"))
-            ));
-        }
-        s
+                p.observed_order.map_or(String::new(), |o| format!("{o:.4}")),
+            ]
+        });
+        crate::exchange::table::csv_table(&header, records)
     }
 }

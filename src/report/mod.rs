@@ -10,7 +10,6 @@
 pub mod audit;
 pub mod bench;
 pub mod compare;
-pub mod export;
 pub mod optimize;
 pub mod plot;
 pub mod provenance;

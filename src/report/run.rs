@@ -58,6 +58,9 @@ pub enum RunError {
     /// The problem could not be written as TOML for the report's header.
     #[error("cannot write the problem as TOML for the report header")]
     Toml(#[from] toml::ser::Error),
+    /// A schedule file could not be written.
+    #[error(transparent)]
+    Exchange(#[from] crate::exchange::ExchangeError),
 }
 
 /// What a run produced.
@@ -112,7 +115,17 @@ struct Verified {
 /// Runs everything for the resolved problem and writes `out_root/<name>/`. `command` is the
 /// command line that regenerates it, for the report's header.
 pub fn run(r: &Resolved, command: &str, out_root: &Path) -> Result<RunOutcome, RunError> {
-    atomically(&out_root.join(&r.problem.name), |w| produce(r, command, w))
+    run_with(r, command, out_root, &crate::exchange::ExportOptions::default())
+}
+
+/// [`run`] with the schedule files sampled as `export` says (e.g. a uniform `--rate`).
+pub fn run_with(
+    r: &Resolved,
+    command: &str,
+    out_root: &Path,
+    export: &crate::exchange::ExportOptions,
+) -> Result<RunOutcome, RunError> {
+    atomically(&out_root.join(&r.problem.name), |w| produce(r, command, export, w))
 }
 
 /// Runs `catflip bench` on the resolved problem and writes `out_root/bench/`.
@@ -170,7 +183,12 @@ fn atomically(
 const SHOWN: [ProfileKind; 4] =
     [ProfileKind::PaperCosine, ProfileKind::Cycloidal, ProfileKind::BangBang, ProfileKind::Trapezoid];
 
-fn produce(r: &Resolved, command: &str, w: &mut Writer) -> Result<String, RunError> {
+fn produce(
+    r: &Resolved,
+    command: &str,
+    export: &crate::exchange::ExportOptions,
+    w: &mut Writer,
+) -> Result<String, RunError> {
     let problem = &r.problem;
     let settings = toml::to_string(problem)?;
     // 1. The audit.
@@ -210,13 +228,16 @@ fn produce(r: &Resolved, command: &str, w: &mut Writer) -> Result<String, RunErr
     w.put("verification.md", &verification_markdown(problem, &verified))?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
-    // 4. Schedules for robots and other simulators.
-    w.put("schedules/problem.csv", &crate::report::export::schedule_csv(r.cat(), &r.schedule, 400))?;
-    for v in verified.iter().filter(|v| v.variant.origin.is_optimised()) {
-        w.put(
-            &format!("schedules/{}.csv", v.variant),
-            &crate::report::export::schedule_csv(r.cat(), &v.schedule, 400),
-        )?;
+    // 4. Schedules for robots and other simulators (CSV + JSON sidecar), and the model files.
+    let mut exported = vec![("problem".to_string(), r.schedule.clone())];
+    exported.extend(
+        verified
+            .iter()
+            .filter(|v| v.variant.origin.is_optimised())
+            .map(|v| (v.variant.to_string(), v.schedule.clone())),
+    );
+    for (name, contents) in crate::exchange::results_files(problem, &exported, export)? {
+        w.put(&name, &contents)?;
     }
     // 5. Plots and the animation.
     let plots = w.dir.join("plots");

@@ -1,0 +1,481 @@
+//! Bring your own schedule: a CSV of joint angles read into a [`Trajectory`] the engines run.
+//!
+//! # The file
+//!
+//! A header row names the columns (case-insensitive, in any order, other columns ignored):
+//!
+//! | quantity | accepted names | unit |
+//! |---|---|---|
+//! | time | `t_s`, `t`, `time_s`, `time` | s |
+//! | joint angles | `q1_rad`, `q1`; `q2_rad`, `q2` | rad |
+//! | rates (optional) | `qd1_rad_s`, `qd1`; `qd2_rad_s`, `qd2` | rad/s |
+//! | accelerations (optional, need the rates) | `qdd1_rad_s2`, `qdd1`; `qdd2_rad_s2`, `qdd2` | rad/s² |
+//! | piece names (optional) | `phase` | |
+//!
+//! Lines starting with `#` are comments. Times must increase strictly, except that one time may
+//! be written twice in a row: that splits the file into **pieces** there (the first row ends a
+//! piece with its one-sided values, the second starts the next), which is how rates may jump
+//! (catflip's own files mark such pairs `end`/`start` in their `boundary` column). Phases are
+//! optional: a file without duplicated times is one piece. The first row's time is the start
+//! (`t = 0` of the trajectory). Conventions are DESIGN.md §1's (`R_AB = Rx(q1) · Ry(q2)`).
+//!
+//! # Interpolation
+//!
+//! Each piece is interpolated on its own ([`crate::exchange::interp`]): quintic Hermite when
+//! `q̇` and `q̈` are given (error `O(h⁶)` in `q`, `O(h⁴)` in `q̈`), cubic Hermite with `q̇` alone
+//! (`O(h⁴)`, `q̈` `O(h²)` and discontinuous at the rows), else the not-a-knot cubic spline
+//! (`O(h⁴)`; at least four rows per piece). A Hermite piece needs two rows.
+//!
+//! A rate jump between pieces is reported when the two one-sided rates differ by more than
+//! round-off; for the spline, whose rates at a piece's ends are interpolated, not given, also by
+//! more than [`JUMP_SAFETY`] times their estimated error ([`ImportedPiece::end_rate_error`]).
+//!
+//! Every defect is an [`ImportError`] naming the file, the line and the column; nothing panics.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::exchange::interp::Piecewise;
+use crate::schedule::{JointState, Trajectory};
+
+/// Why a schedule file could not be read.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ImportError {
+    /// The file could not be read.
+    #[error("cannot read schedule file {path}: {message}")]
+    Io {
+        /// The path.
+        path: String,
+        /// What the OS said.
+        message: String,
+    },
+    /// The text is not well-formed CSV (e.g. a row with too few fields).
+    #[error("{path}: line {line}: {message}")]
+    Csv {
+        /// The file.
+        path: String,
+        /// The line (1 = the header).
+        line: u64,
+        /// The CSV parser's message.
+        message: String,
+    },
+    /// A required column is absent.
+    #[error("{path}: line 1: no column `{column}` (accepted names: {accepted}); the header has: {header}")]
+    MissingColumn {
+        /// The file.
+        path: String,
+        /// The canonical name.
+        column: String,
+        /// The names accepted for it.
+        accepted: String,
+        /// The header found.
+        header: String,
+    },
+    /// One joint has a rate or acceleration column and the other not, or accelerations come
+    /// without rates.
+    #[error("{path}: line 1: column `{present}` needs column `{missing}`")]
+    IncompleteColumns {
+        /// The file.
+        path: String,
+        /// The column found.
+        present: String,
+        /// The column missing.
+        missing: String,
+    },
+    /// A field is not a number.
+    #[error("{path}: line {line}, column {column} (`{name}`): `{value}` is not a number")]
+    NotANumber {
+        /// The file.
+        path: String,
+        /// The line.
+        line: u64,
+        /// The column, 1-based.
+        column: usize,
+        /// The column's name.
+        name: String,
+        /// The field.
+        value: String,
+    },
+    /// A field is NaN or infinite.
+    #[error("{path}: line {line}, column {column} (`{name}`): {value} is not finite")]
+    NotFinite {
+        /// The file.
+        path: String,
+        /// The line.
+        line: u64,
+        /// The column, 1-based.
+        column: usize,
+        /// The column's name.
+        name: String,
+        /// The value.
+        value: f64,
+    },
+    /// Time goes backwards, or repeats more than twice.
+    #[error("{path}: line {line}, column {column} (`{name}`): t = {value} s after t = {previous} s: times must increase (a time may be written twice in a row, to split pieces, but not more)")]
+    TimeNotIncreasing {
+        /// The file.
+        path: String,
+        /// The line.
+        line: u64,
+        /// The time column, 1-based.
+        column: usize,
+        /// Its name.
+        name: String,
+        /// The previous row's time, s.
+        previous: f64,
+        /// This row's, s.
+        value: f64,
+    },
+    /// A piece has fewer rows than its interpolation needs.
+    #[error("{path}: lines {first_line}–{last_line}: a piece of {rows} row(s); {scheme} needs at least {needed}")]
+    TooFewRows {
+        /// The file.
+        path: String,
+        /// The piece's first line.
+        first_line: u64,
+        /// Its last line.
+        last_line: u64,
+        /// Rows in it.
+        rows: usize,
+        /// Rows needed.
+        needed: usize,
+        /// The scheme.
+        scheme: Interpolation,
+    },
+    /// The spline's linear system was singular (times too unevenly spaced).
+    #[error("{path}: lines {first_line}–{last_line}: the not-a-knot spline's system is singular (times too unevenly spaced); give the rates q̇ too")]
+    SplineFailed {
+        /// The file.
+        path: String,
+        /// The piece's first line.
+        first_line: u64,
+        /// Its last line.
+        last_line: u64,
+    },
+}
+
+/// The interpolation scheme of an imported schedule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Interpolation {
+    /// Quintic Hermite through `q`, `q̇`, `q̈`.
+    QuinticHermite,
+    /// Cubic Hermite through `q`, `q̇`.
+    CubicHermite,
+    /// Not-a-knot cubic spline through `q`.
+    NotAKnotSpline,
+}
+
+impl Interpolation {
+    /// Rows a piece needs.
+    pub fn min_rows(self) -> usize {
+        match self {
+            Interpolation::NotAKnotSpline => 4,
+            _ => 2,
+        }
+    }
+}
+
+impl std::fmt::Display for Interpolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Interpolation::QuinticHermite => "quintic Hermite (q, q̇, q̈)",
+            Interpolation::CubicHermite => "cubic Hermite (q, q̇)",
+            Interpolation::NotAKnotSpline => "the not-a-knot cubic spline (q)",
+        })
+    }
+}
+
+/// One smooth piece of an imported schedule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportedPiece {
+    /// Its name: the `phase` column of its first row, else `piece-K`.
+    pub name: String,
+    /// Its start on the file's clock, s.
+    pub file_start: f64,
+    /// Lines of the file it came from (first, last).
+    pub lines: (u64, u64),
+    /// Estimated error of the interpolated rates `|δq̇|` (both joints) at the piece's start and
+    /// end, rad/s: zero when the file gives the rates; for the spline, `|q̇_h − q̇_2h|/7` from a
+    /// second spline through every other row (the rates are `O(h³)`), infinite when the piece has
+    /// too few rows for that second spline (fewer than seven).
+    pub end_rate_error: [f64; 2],
+    joints: [Piecewise; 2],
+}
+
+/// How many times the estimated rate error a difference of rates must exceed to be a jump.
+pub const JUMP_SAFETY: f64 = 10.0;
+
+impl ImportedSchedule {
+    /// The uncertainty of the rate difference at the boundary after piece `k`, rad/s:
+    /// [`JUMP_SAFETY`] times the two sides' [`ImportedPiece::end_rate_error`].
+    pub fn boundary_rate_uncertainty(&self, k: usize) -> f64 {
+        match (self.pieces.get(k), self.pieces.get(k + 1)) {
+            (Some(a), Some(b)) => JUMP_SAFETY * (a.end_rate_error[1] + b.end_rate_error[0]),
+            _ => 0.0,
+        }
+    }
+}
+
+/// The spline's rate error at both ends of a piece, estimated from a spline on every other knot.
+fn spline_end_rate_error(knots: &[f64], q: [&[f64]; 2], fine: [&Piecewise; 2]) -> [f64; 2] {
+    let n = knots.len();
+    let mut idx: Vec<usize> = (0..n).step_by(2).collect();
+    if idx.last() != Some(&(n - 1)) {
+        idx.push(n - 1);
+    }
+    let coarse_knots: Vec<f64> = idx.iter().map(|&i| knots[i]).collect();
+    let coarse: Option<Vec<Piecewise>> = q
+        .iter()
+        .map(|qj| Piecewise::not_a_knot(&coarse_knots, &idx.iter().map(|&i| qj[i]).collect::<Vec<_>>()))
+        .collect();
+    match coarse {
+        Some(c) if n >= 7 => [knots[0], knots[n - 1]].map(|t| {
+            let d: Vec<f64> = (0..2).map(|j| (fine[j].eval(t).rate - c[j].eval(t).rate) / 7.0).collect();
+            d[0].hypot(d[1])
+        }),
+        _ => [f64::INFINITY; 2],
+    }
+}
+
+/// A schedule read from a CSV file: a [`Trajectory`] with one piece per smooth stretch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportedSchedule {
+    /// The file it came from.
+    pub path: String,
+    /// The interpolation scheme.
+    pub interpolation: Interpolation,
+    /// Data rows read.
+    pub rows: usize,
+    /// The pieces, in order.
+    pub pieces: Vec<ImportedPiece>,
+}
+
+impl Trajectory for ImportedSchedule {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.pieces
+            .iter()
+            .map(|p| {
+                let k = p.joints[0].knots();
+                k[k.len() - 1] - k[0]
+            })
+            .collect()
+    }
+
+    fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        let p = &self.pieces[piece.min(self.pieces.len() - 1)];
+        let d = p.joints.each_ref().map(|j| j.eval(s));
+        JointState { q: [d[0].value, d[1].value], qd: [d[0].rate, d[1].rate], qdd: [d[0].accel, d[1].accel] }
+    }
+}
+
+/// Reads a schedule CSV file.
+pub fn read_schedule(path: &Path) -> Result<ImportedSchedule, ImportError> {
+    let name = path.display().to_string();
+    let text =
+        std::fs::read_to_string(path).map_err(|e| ImportError::Io { path: name.clone(), message: e.to_string() })?;
+    parse_schedule(&text, &name)
+}
+
+const TIME: [&str; 4] = ["t_s", "t", "time_s", "time"];
+const ANGLES: [[&str; 2]; 2] = [["q1_rad", "q1"], ["q2_rad", "q2"]];
+const RATES: [[&str; 2]; 2] = [["qd1_rad_s", "qd1"], ["qd2_rad_s", "qd2"]];
+const ACCELS: [[&str; 2]; 2] = [["qdd1_rad_s2", "qdd1"], ["qdd2_rad_s2", "qdd2"]];
+
+/// One data row.
+struct Sample {
+    line: u64,
+    t: f64,
+    values: [[f64; 2]; 3],
+    phase: Option<String>,
+}
+
+/// Parses a schedule CSV text; `origin` names it in errors.
+pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, ImportError> {
+    let path = origin.to_string();
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
+    let csv_err = |e: csv::Error| ImportError::Csv {
+        path: path.clone(),
+        line: e.position().map_or(1, |p| p.line()),
+        message: e.kind_message(),
+    };
+    let header: Vec<String> = reader.headers().map_err(csv_err)?.iter().map(|h| h.to_lowercase()).collect();
+    let find = |names: &[&str]| names.iter().find_map(|n| header.iter().position(|h| h == n));
+    let require = |names: &[&str]| {
+        find(names).ok_or_else(|| ImportError::MissingColumn {
+            path: path.clone(),
+            column: names[0].into(),
+            accepted: names.join(", "),
+            header: header.join(","),
+        })
+    };
+    let t_col = require(&TIME)?;
+    let q_cols = [require(&ANGLES[0])?, require(&ANGLES[1])?];
+    let pair = |names: [[&str; 2]; 2]| -> Result<Option<[usize; 2]>, ImportError> {
+        match (find(&names[0]), find(&names[1])) {
+            (Some(a), Some(b)) => Ok(Some([a, b])),
+            (None, None) => Ok(None),
+            (Some(_), None) => Err(incomplete(&path, names[0][0], names[1][0])),
+            (None, Some(_)) => Err(incomplete(&path, names[1][0], names[0][0])),
+        }
+    };
+    let qd_cols = pair(RATES)?;
+    let qdd_cols = pair(ACCELS)?;
+    if qdd_cols.is_some() && qd_cols.is_none() {
+        return Err(incomplete(&path, ACCELS[0][0], RATES[0][0]));
+    }
+    let interpolation = match (qd_cols, qdd_cols) {
+        (Some(_), Some(_)) => Interpolation::QuinticHermite,
+        (Some(_), None) => Interpolation::CubicHermite,
+        _ => Interpolation::NotAKnotSpline,
+    };
+    let phase_col = header.iter().position(|h| h == "phase");
+    let mut samples = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(csv_err)?;
+        let line = record.position().map_or(0, |p| p.line());
+        let number = |col: usize| -> Result<f64, ImportError> {
+            let field = record.get(col).unwrap_or("");
+            let value: f64 = field.parse().map_err(|_| ImportError::NotANumber {
+                path: path.clone(),
+                line,
+                column: col + 1,
+                name: header[col].clone(),
+                value: field.into(),
+            })?;
+            if value.is_finite() {
+                Ok(value)
+            } else {
+                Err(ImportError::NotFinite {
+                    path: path.clone(),
+                    line,
+                    column: col + 1,
+                    name: header[col].clone(),
+                    value,
+                })
+            }
+        };
+        let both = |cols: Option<[usize; 2]>| -> Result<[f64; 2], ImportError> {
+            cols.map_or(Ok([0.0; 2]), |[a, b]| Ok([number(a)?, number(b)?]))
+        };
+        samples.push(Sample {
+            line,
+            t: number(t_col)?,
+            values: [both(Some(q_cols))?, both(qd_cols)?, both(qdd_cols)?],
+            phase: phase_col.and_then(|c| record.get(c)).filter(|s| !s.is_empty()).map(str::to_string),
+        });
+    }
+    let groups = split_pieces(&samples, &path, t_col, &header[t_col])?;
+    let pieces = groups
+        .iter()
+        .enumerate()
+        .map(|(k, g)| build_piece(g, k, interpolation, &path))
+        .collect::<Result<Vec<_>, _>>()?;
+    if pieces.is_empty() {
+        return Err(ImportError::TooFewRows {
+            path,
+            first_line: 2,
+            last_line: 2,
+            rows: 0,
+            needed: interpolation.min_rows(),
+            scheme: interpolation,
+        });
+    }
+    Ok(ImportedSchedule { path, interpolation, rows: samples.len(), pieces })
+}
+
+fn incomplete(path: &str, present: &str, missing: &str) -> ImportError {
+    ImportError::IncompleteColumns { path: path.into(), present: present.into(), missing: missing.into() }
+}
+
+/// Splits the rows at duplicated times; checks that time increases otherwise.
+fn split_pieces<'a>(
+    samples: &'a [Sample],
+    path: &str,
+    t_col: usize,
+    t_name: &str,
+) -> Result<Vec<&'a [Sample]>, ImportError> {
+    let mut groups = Vec::new();
+    let mut start = 0;
+    for i in 1..samples.len() {
+        let (prev, this) = (samples[i - 1].t, samples[i].t);
+        let backwards = this < prev;
+        let duplicate = this <= prev;
+        let repeated = duplicate && i == start + 1 && start > 0;
+        if backwards || repeated {
+            return Err(ImportError::TimeNotIncreasing {
+                path: path.into(),
+                line: samples[i].line,
+                column: t_col + 1,
+                name: t_name.into(),
+                previous: prev,
+                value: this,
+            });
+        }
+        if duplicate {
+            groups.push(&samples[start..i]);
+            start = i;
+        }
+    }
+    if start < samples.len() {
+        groups.push(&samples[start..]);
+    }
+    Ok(groups)
+}
+
+fn build_piece(rows: &[Sample], k: usize, scheme: Interpolation, path: &str) -> Result<ImportedPiece, ImportError> {
+    let lines = (rows.first().map_or(2, |r| r.line), rows.last().map_or(2, |r| r.line));
+    if rows.len() < scheme.min_rows() {
+        return Err(ImportError::TooFewRows {
+            path: path.into(),
+            first_line: lines.0,
+            last_line: lines.1,
+            rows: rows.len(),
+            needed: scheme.min_rows(),
+            scheme,
+        });
+    }
+    let t0 = rows[0].t;
+    let knots: Vec<f64> = rows.iter().map(|r| r.t - t0).collect();
+    let column = |kind: usize, joint: usize| rows.iter().map(|r| r.values[kind][joint]).collect::<Vec<f64>>();
+    let joint = |j: usize| match scheme {
+        Interpolation::QuinticHermite => {
+            Some(Piecewise::quintic_hermite(&knots, &column(0, j), &column(1, j), &column(2, j)))
+        }
+        Interpolation::CubicHermite => Some(Piecewise::cubic_hermite(&knots, &column(0, j), &column(1, j))),
+        Interpolation::NotAKnotSpline => Piecewise::not_a_knot(&knots, &column(0, j)),
+    };
+    let failed = || ImportError::SplineFailed { path: path.into(), first_line: lines.0, last_line: lines.1 };
+    let joints = [joint(0).ok_or_else(failed)?, joint(1).ok_or_else(failed)?];
+    let end_rate_error = match scheme {
+        Interpolation::NotAKnotSpline => {
+            spline_end_rate_error(&knots, [&column(0, 0), &column(0, 1)], [&joints[0], &joints[1]])
+        }
+        _ => [0.0; 2],
+    };
+    Ok(ImportedPiece {
+        name: rows[0].phase.clone().unwrap_or_else(|| format!("piece-{}", k + 1)),
+        file_start: t0,
+        lines,
+        end_rate_error,
+        joints,
+    })
+}
+
+/// The CSV error's message without its position (the caller names the line).
+trait KindMessage {
+    fn kind_message(&self) -> String;
+}
+
+impl KindMessage for csv::Error {
+    fn kind_message(&self) -> String {
+        match self.kind() {
+            csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
+                format!("{len} fields where the header has {expected_len}")
+            }
+            csv::ErrorKind::Utf8 { .. } => "not valid UTF-8".into(),
+            _ => self.to_string(),
+        }
+    }
+}

@@ -1,0 +1,89 @@
+//! The cat as three links, the numbers both model files ([`mod@crate::exchange::urdf`],
+//! [`mod@crate::exchange::mjcf`]) write: A, the cross of the universal joint, B.
+//!
+//! - **A** and **B**: mass `m`, inertia about the centre of mass
+//!   `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` in the body frame (`z` along the spine,
+//!   towards the head), from [`Cylinder`];
+//! - **the cross**: the same tiny body the rapier scene uses ([`MassModel`]): mass
+//!   `f · m` with `f = rapier.cross_mass_fraction`, and the inertia `(2/5) f m r²` of a solid sphere
+//!   of the cat's radius with that mass. A real universal joint's cross is massless; simulators
+//!   need a body with positive mass between two revolute joints, and at `f = 10⁻⁶` it changes
+//!   the flip by far less than the engines' tolerances;
+//! - joint 1 about A's `x` at A's `(0, 0, −l/2)`, joint 2 about the cross's `y` at the same point,
+//!   which is B's `(0, 0, +l/2)` (DESIGN.md §1): `R_AB = Rx(q1) · Ry(q2)`.
+//!
+//! Numbers are written with Rust's shortest round-trip formatting, so a parser reads back the
+//! very `f64` written.
+
+use crate::engines::rapier::MassModel;
+use crate::model::Cylinder;
+
+/// Mass properties and geometry of the three links, SI units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Links {
+    /// The half the model is made of.
+    pub cat: Cylinder,
+    /// Masses of A, the cross and B, kg.
+    pub mass: [f64; 3],
+    /// Principal moments `(I_x, I_y, I_z)` of A, the cross and B about their centres, kg·m².
+    pub inertia: [[f64; 3]; 3],
+}
+
+impl Links {
+    /// The links of `cat` with a cross of mass `cross_mass_fraction · m` (as in the rapier scene).
+    pub fn new(cat: &Cylinder, cross_mass_fraction: f64) -> Links {
+        let masses = MassModel::new(cat, cross_mass_fraction);
+        Links { cat: *cat, mass: masses.mass, inertia: masses.inertia }
+    }
+
+    /// Half a link's length, `l/2`, m: the joint point is `(0, 0, −l/2)` in A, `(0, 0, +l/2)` in B.
+    pub fn half_length(&self) -> f64 {
+        0.5 * self.cat.length
+    }
+}
+
+/// A number in a model or schedule file: the shortest text that parses back to the same `f64`
+/// (with an exponent when very small or large, e.g. `4e-9`).
+pub fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+/// A vector of numbers separated by spaces, as URDF and MJCF attributes want.
+pub(crate) fn vec3(v: [f64; 3]) -> String {
+    v.map(num).join(" ")
+}
+
+/// `text` with the five XML special characters escaped, for attribute values.
+pub(crate) fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn numbers_round_trip() {
+        for x in [0.1, 1.0 / 3.0, 4.0e-9, 1.0e300, -2.5] {
+            let back: f64 = num(x).parse().expect("a number");
+            assert_relative_eq!(back, x, max_relative = 0.0, epsilon = 0.0);
+        }
+    }
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(xml_escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+}

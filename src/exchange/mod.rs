@@ -1,0 +1,96 @@
+//! Exchange with other tools: the model as URDF and MJCF, schedules as CSV with a JSON sidecar,
+//! and schedules from elsewhere read back and evaluated (DESIGN.md §7).
+//!
+//! - [`links`]: the three links (A, the cross, B) with their true mass properties;
+//! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`);
+//! - [`schedule_file`] and [`sidecar`]: `NAME.csv` and `NAME.json`: units in the column names,
+//!   an optional uniform rate, boundary rows marked, jumps with their impulses, orientation
+//!   columns to the exact engine's tolerance;
+//! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
+//!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
+//! - [`table`]: every tidy CSV table, written with the `csv` crate;
+//! - [`mod@evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
+//!   --schedule FILE.csv`).
+//!
+//! Conventions are DESIGN.md §1's: body frames at the centres of mass with `z` towards the head,
+//! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)`; SI units;
+//! quaternions scalar first `(w, x, y, z)`.
+
+pub mod evaluate;
+pub mod import;
+pub mod interp;
+pub mod jumps;
+pub mod links;
+pub mod mjcf;
+pub mod refined;
+pub mod schedule_file;
+pub mod sidecar;
+pub mod table;
+pub mod urdf;
+
+pub use evaluate::{evaluate, simulate_file, ImportReport};
+pub use import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
+pub use links::Links;
+pub use mjcf::{mjcf, MjcfOptions};
+pub use schedule_file::{write_schedule, write_trajectory, ExportOptions, ScheduleFile};
+pub use sidecar::Sidecar;
+pub use urdf::urdf;
+
+use crate::problem::Problem;
+use crate::schedule::Schedule;
+
+/// File name of the URDF model beside the schedules.
+pub const URDF_FILE: &str = "model.urdf";
+/// File name of the MJCF model beside the schedules.
+pub const MJCF_FILE: &str = "model.xml";
+
+/// Why an export failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ExchangeError {
+    /// The `--rate` cannot make a grid.
+    #[error("--rate {rate_hz}: {reason}")]
+    BadRate {
+        /// The rate given, Hz.
+        rate_hz: f64,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// The steps per piece cannot make a grid.
+    #[error("{0} steps per piece: must be between 1 and {max}", max = schedule_file::MAX_ROWS)]
+    BadSteps(usize),
+    /// The CSV writer failed.
+    #[error("writing a schedule CSV: {0}")]
+    Csv(String),
+    /// The sidecar could not be serialised.
+    #[error("writing a schedule sidecar: {0}")]
+    Json(String),
+}
+
+/// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and
+/// [`MJCF_FILE`], with the cross of the rapier scene and the falling frame's zero gravity.
+pub fn model_files(problem: &Problem) -> [(String, String); 2] {
+    let links = Links::new(&problem.cat, problem.rapier.cross_mass_fraction);
+    let name = format!("catflip-{}", problem.name);
+    [
+        (URDF_FILE.to_string(), urdf(&links, &name)),
+        (MJCF_FILE.to_string(), mjcf(&links, &name, &MjcfOptions::default())),
+    ]
+}
+
+/// Everything `catflip run` writes under `schedules/`: for each `(name, schedule)`,
+/// `schedules/NAME.csv` and `schedules/NAME.json`, then `schedules/model.urdf` and
+/// `schedules/model.xml` once. Returned as `(path relative to the results folder, contents)`.
+pub fn results_files(
+    problem: &Problem,
+    schedules: &[(String, Schedule)],
+    options: &ExportOptions,
+) -> Result<Vec<(String, String)>, ExchangeError> {
+    let mut out = Vec::with_capacity(2 * schedules.len() + 2);
+    for (name, schedule) in schedules {
+        let file = write_schedule(problem, schedule, name, options)?;
+        out.push((format!("schedules/{name}.json"), file.sidecar_json()?));
+        out.push((format!("schedules/{name}.csv"), file.csv));
+    }
+    out.extend(model_files(problem).map(|(n, text)| (format!("schedules/{n}"), text)));
+    Ok(out)
+}

@@ -1,0 +1,80 @@
+//! The cat as a URDF robot, for pyBullet, ROS tools, Drake, Pinocchio …
+//!
+//! Links `A` (the root: a simulator that loads it without a fixed base makes it floating),
+//! `cross` and `B`; joints `joint1` (`A` → `cross`) and `joint2` (`cross` → `B`), both
+//! `continuous` (URDF's revolute joint without limits) with zero damping and friction. URDF puts a child link's frame at its
+//! joint, so:
+//!
+//! - `A`'s frame is A's body frame (centre of mass, `z` towards the head);
+//! - `joint1` sits at `(0, 0, −l/2)` in `A` with axis `(1, 0, 0)`; the cross's frame is there,
+//!   turned by `Rx(q1)`;
+//! - `joint2` sits at the cross's origin with axis `(0, 1, 0)`; `B`'s frame is at the joint
+//!   point, turned by `Ry(q2)` from the cross, so with axes of B's body frame and B's centre of
+//!   mass at `(0, 0, −l/2)` in it (its `<inertial>` origin).
+//!
+//! Every link has an `<inertial>` with its true mass and inertia ([`Links`]); A and B carry a
+//! cylinder `<visual>` (radius `r`, length `l`, at the centre of mass), and no link has a
+//! `<collision>`: the scene needs no contacts. Tools that compute inertia from collision
+//! shapes by default (pyBullet) must be told to use the file's (`URDF_USE_INERTIA_FROM_FILE`).
+//!
+//! ## References
+//! - the URDF XML specification, <http://wiki.ros.org/urdf/XML> (link, joint, inertial).
+
+use std::fmt::Write as _;
+
+use crate::exchange::links::{num, vec3, xml_escape, Links};
+
+/// The URDF text of the cat `links`, robot name `name`.
+pub fn urdf(links: &Links, name: &str) -> String {
+    let (l, r, half) = (links.cat.length, links.cat.radius, links.half_length());
+    let mut s = String::new();
+    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(
+        s,
+        "<!-- catflip: the two-cylinder cat (DESIGN.md §1). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
+    );
+    let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
+    link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((l, r)));
+    link(&mut s, links, "cross", 1, [0.0, 0.0, 0.0], None);
+    link(&mut s, links, "B", 2, [0.0, 0.0, -half], Some((l, r)));
+    joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half], [1.0, 0.0, 0.0]);
+    joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    let _ = writeln!(s, "</robot>");
+    s
+}
+
+/// One link with its inertial at `com` (link frame) and, for a half, a cylinder visual there.
+fn link(s: &mut String, links: &Links, name: &str, index: usize, com: [f64; 3], cylinder: Option<(f64, f64)>) {
+    let i = links.inertia[index];
+    let _ = writeln!(s, "  <link name=\"{name}\">");
+    let _ = writeln!(s, "    <inertial>");
+    let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(com));
+    let _ = writeln!(s, "      <mass value=\"{}\"/>", num(links.mass[index]));
+    let _ = writeln!(
+        s,
+        "      <inertia ixx=\"{}\" ixy=\"0\" ixz=\"0\" iyy=\"{}\" iyz=\"0\" izz=\"{}\"/>",
+        num(i[0]),
+        num(i[1]),
+        num(i[2])
+    );
+    let _ = writeln!(s, "    </inertial>");
+    if let Some((length, radius)) = cylinder {
+        let _ = writeln!(s, "    <visual>");
+        let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(com));
+        let _ =
+            writeln!(s, "      <geometry><cylinder radius=\"{}\" length=\"{}\"/></geometry>", num(radius), num(length));
+        let _ = writeln!(s, "    </visual>");
+    }
+    let _ = writeln!(s, "  </link>");
+}
+
+/// One continuous joint at `origin` in the parent's frame, turning about `axis`.
+fn joint(s: &mut String, name: &str, parent: &str, child: &str, origin: [f64; 3], axis: [f64; 3]) {
+    let _ = writeln!(s, "  <joint name=\"{name}\" type=\"continuous\">");
+    let _ = writeln!(s, "    <parent link=\"{parent}\"/>");
+    let _ = writeln!(s, "    <child link=\"{child}\"/>");
+    let _ = writeln!(s, "    <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(origin));
+    let _ = writeln!(s, "    <axis xyz=\"{}\"/>", vec3(axis));
+    let _ = writeln!(s, "    <dynamics damping=\"0\" friction=\"0\"/>");
+    let _ = writeln!(s, "  </joint>");
+}
