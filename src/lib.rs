@@ -41,4 +41,5 @@ pub mod run;
 pub mod schedule;
 pub mod settings;
 pub mod simulate;
+pub mod sweep;
 pub mod torque;
