@@ -292,3 +292,31 @@ fn the_command_line_runs_shards_and_merges_a_tiny_sweep() {
     assert!(std::fs::read(root.join("out/t/sweep.csv")).expect("still there") == single);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+#[test]
+fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
+    // The same problem through `simulate` (the library's one-problem path) and through a sweep
+    // case: the same code, so the same bits.
+    let mut problem = catflip::problem::Problem::default();
+    problem.manoeuvre.profile = catflip::problem::ProfileKind::Cycloidal;
+    let outcome = catflip::sweep::evaluate_case(&problem, &catflip::sweep::Compute::default());
+    let row = |s: &str| outcome.rows.iter().find(|r| r.schedule == s).and_then(|r| r.numbers).expect("an ok row");
+    let (paper, calibrated) = (row("paper"), row("calibrated"));
+    let sim_paper = catflip::simulate::simulate_exact(&problem).expect("simulates");
+    problem.manoeuvre.circulation = catflip::problem::Circulation::Calibrated;
+    let sim_cal = catflip::simulate::simulate_exact(&problem).expect("simulates");
+    for (n, sim) in [(paper, &sim_paper), (calibrated, &sim_cal)] {
+        assert_eq!(n.circulation_rad.to_bits(), sim.circulation_rad.to_bits());
+        assert_eq!(n.twist_deg.to_bits(), sim.twist_deg.to_bits());
+        assert_eq!(n.swing_deg.to_bits(), sim.swing_deg.to_bits());
+        assert_eq!(n.peaks, Some(sim.peak_torque_nm));
+    }
+    // The calibrated schedule flips by π to the tolerance; the paper's misses (DESIGN.md §4).
+    assert!(calibrated.flip_error_deg.abs() < 1e-10_f64.to_degrees() * 2.0, "{}", calibrated.flip_error_deg);
+    assert!(paper.flip_error_deg.abs() > 0.1, "{}", paper.flip_error_deg);
+    assert_relative_eq!(
+        outcome.circulation_error().expect("both circulations"),
+        calibrated.circulation_rad - paper.circulation_rad,
+        max_relative = 1e-15
+    );
+}

@@ -38,6 +38,8 @@ pub fn layout(sweep: &Sweep) -> Layout {
 pub struct Grid {
     /// `field = value` of each group axis, joined by `, ` (empty with no group axis).
     pub group: String,
+    /// The group axes' values alone, as labels.
+    pub group_values: Vec<String>,
     /// Row labels (the row axis' values; numbers to four significant digits).
     pub row_labels: Vec<String>,
     /// Row values as numbers (for line plots), NaN where not numeric.
@@ -48,17 +50,20 @@ pub struct Grid {
     pub cells: Vec<Vec<Option<f64>>>,
 }
 
+/// A value as a number, if it is one.
+fn number(v: &toml::Value) -> Option<f64> {
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
+}
+
+/// A value as a short label: numbers to four significant digits.
+fn label(v: &toml::Value) -> String {
+    number(v).map_or_else(|| cell(v), short)
+}
+
 /// The labels and numeric values of an axis (one unnamed entry when there is no such axis).
 fn labels(sweep: &Sweep, axis: Option<usize>) -> (Vec<String>, Vec<f64>) {
     match axis {
-        Some(a) => sweep.axes[a]
-            .values
-            .iter()
-            .map(|v| match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
-                Some(x) => (short(x), x),
-                None => (cell(v), f64::NAN),
-            })
-            .unzip(),
+        Some(a) => sweep.axes[a].values.iter().map(|v| (label(v), number(v).unwrap_or(f64::NAN))).unzip(),
         None => (vec![String::new()], vec![f64::NAN]),
     }
 }
@@ -88,9 +93,12 @@ pub fn grids(
                     .map(|(&a, &k)| format!("{} = {}", sweep.axes[a].field, cell(&sweep.axes[a].values[k])))
                     .collect::<Vec<_>>()
                     .join(", ");
+                let group_values =
+                    lay.groups.iter().zip(&key).map(|(&a, &k)| label(&sweep.axes[a].values[k])).collect();
                 keys.push(key);
                 out.push(Grid {
                     group,
+                    group_values,
                     row_labels: row_labels.clone(),
                     row_values: row_values.clone(),
                     col_labels: col_labels.clone(),

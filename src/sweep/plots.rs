@@ -11,8 +11,10 @@ use super::heatmap::{heat_map, HeatMap};
 use super::spec::Sweep;
 use super::table::Record;
 
-/// At most this many heat maps per quantity, and series per line plot.
+/// At most this many heat maps per quantity.
 pub const MAX_FIGURES: usize = 10;
+/// At most this many series per line plot.
+pub const MAX_SERIES: usize = 20;
 
 /// A figure written, for the summary to show.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,14 +103,20 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
         }
         if let Some(r) = lay.rows {
             if !sweep.axes[r].values.is_empty() {
-                let series = line_series(sweep, &gs, lay.cols);
+                let series = line_series(&gs, lay.cols);
                 let stem = format!("line-{}", q.stem);
+                let fields = series_fields(sweep, &lay);
+                let x_label = if fields.is_empty() {
+                    sweep.axes[r].field.clone()
+                } else {
+                    format!("{}        (series: {fields})", sweep.axes[r].field)
+                };
                 let plot = LinePlot {
                     markers: true,
                     ..LinePlot::new(
                         stem.clone(),
                         format!("{}: {}", sweep.name, q.label),
-                        sweep.axes[r].field.clone(),
+                        x_label,
                         q.label.clone(),
                         series,
                     )
@@ -140,22 +148,26 @@ fn none_to_all(group: &str) -> &str {
     }
 }
 
-/// One series per group × column value, at most [`MAX_FIGURES`].
-fn line_series(sweep: &Sweep, gs: &[Grid], cols: Option<usize>) -> Vec<Series> {
+/// One series per group × column value, at most [`MAX_SERIES`], named by the values alone (the
+/// title names their fields).
+fn line_series(gs: &[Grid], cols: Option<usize>) -> Vec<Series> {
     let mut out = Vec::new();
     for g in gs {
         for (j, col) in g.col_labels.iter().enumerate() {
-            let mut name: Vec<String> = Vec::new();
-            if !g.group.is_empty() {
-                name.push(g.group.clone());
-            }
-            if let Some(c) = cols {
-                name.push(format!("{} = {col}", sweep.axes[c].field));
+            let mut name: Vec<String> = g.group_values.clone();
+            if cols.is_some() {
+                name.push(col.clone());
             }
             let points = g.row_values.iter().zip(&g.cells).map(|(&x, row)| (x, row[j].unwrap_or(f64::NAN))).collect();
             out.push(Series::new(if name.is_empty() { "all".to_string() } else { name.join(", ") }, points));
         }
     }
-    out.truncate(MAX_FIGURES);
+    out.truncate(MAX_SERIES);
     out
+}
+
+/// The fields the series of a line plot are named by: the group axes, then the columns axis.
+fn series_fields(sweep: &Sweep, lay: &super::grid::Layout) -> String {
+    let fields: Vec<&str> = lay.groups.iter().chain(lay.cols.iter()).map(|&a| sweep.axes[a].field.as_str()).collect();
+    fields.join(", ")
 }
