@@ -112,12 +112,15 @@ impl Figure for Drawn<'_> {
             }
         }
         let tick = text(15.0);
-        for (j, l) in m.cols.iter().enumerate() {
+        // At most about ten labels on the x axis, so they never overlap.
+        let stride = m.cols.len().div_ceil(10).max(1);
+        for (j, l) in m.cols.iter().enumerate().filter(|(j, _)| j % stride == 0) {
             let x = left + cw * j as i32 + cw / 2;
             root.draw(&Text::new(l.clone(), (x, bottom + 8), tick.pos(Pos::new(HPos::Center, VPos::Top))))
                 .map_err(failed)?;
         }
-        for (i, l) in m.rows.iter().enumerate() {
+        let stride = m.rows.len().div_ceil(16).max(1);
+        for (i, l) in m.rows.iter().enumerate().filter(|(i, _)| i % stride == 0) {
             let y = bottom - ch * i as i32 - ch / 2;
             root.draw(&Text::new(l.clone(), (left - 8, y), tick.pos(Pos::new(HPos::Right, VPos::Center))))
                 .map_err(failed)?;

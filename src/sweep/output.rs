@@ -4,7 +4,7 @@
 //!
 //! `<out>/<name>/` holds `sweep.csv` (the tidy table, [`super::table`]), `sweep.md` (provenance
 //! header and summary tables, [`super::summary`]), `plots/` (PNG + SVG, [`super::plots`]) and
-//! `sweep.json` (the counts). A shard writes `<out>/<name>.part-K-of-N/` with `part.json` and
+//! `sweep.json` (the counts: cases, rows, rows per status). A shard writes `<out>/<name>.part-K-of-N/` with `part.json` and
 //! `cases.csv` instead ([`super::shard`]).
 
 use std::collections::BTreeMap;
@@ -79,7 +79,8 @@ pub fn write_results(sweep: &Sweep, records: &[Record], command: &str, out: &Pat
         files.extend(plots.iter().flat_map(|p| [format!("plots/{}", p.file), format!("plots/{}", p.svg)]));
         let md = super::summary::markdown(sweep, records, command, &plots);
         put(scratch, "sweep.md", &md, &mut files)?;
-        let counts = outcome(&sweep.name, &dir, records, Vec::new());
+        let o = outcome(&sweep.name, &dir, records, Vec::new());
+        let counts = serde_json::json!({ "name": o.name, "cases": o.cases, "rows": o.rows, "statuses": o.statuses });
         let json = serde_json::to_string_pretty(&counts).map_err(|e| SweepError::Json(e.to_string()))?;
         put(scratch, "sweep.json", &(json + "\n"), &mut files)
     })?;
