@@ -319,3 +319,17 @@ fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
         max_relative = 1e-15
     );
 }
+
+#[test]
+fn a_given_circulation_adds_its_own_row() {
+    let s = sweep_ok(
+        &with_base("[compute]\npeaks = false")
+            .replace("name = \"tiny\"", "name = \"tiny\"\n[base.manoeuvre]\ncirculation = 3.3"),
+    );
+    let records = evaluate(&s, 0..1, false);
+    let schedules: Vec<&str> = records.iter().map(|r| r.schedule.as_str()).collect();
+    assert_eq!(schedules, ["paper", "calibrated", "given"]);
+    let given = records[2].numbers.expect("computed");
+    assert_eq!(given.circulation_rad.to_bits(), 3.3f64.to_bits());
+    assert!(given.peaks.is_none(), "peaks were not asked for");
+}

@@ -192,7 +192,7 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
                     Err(e) => Err((Status::Refused, e.to_string())),
                 }
             }
-            _ => Ok((given.unwrap_or(f64::NAN), None)),
+            _ => given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string())),
         };
         let (radians, evaluations) = match circulation {
             Ok(x) => x,
