@@ -36,8 +36,16 @@ pub fn body(sweep: &Sweep, records: &[Record], plots: &[PlotInfo]) -> String {
     for q in quantities(sweep) {
         let gs = grids(sweep, records, q.schedule, q.value);
         let _ = writeln!(s, "## {}\n", q.label);
-        for g in gs.iter().take(MAX_GRIDS) {
-            grid_table(&mut s, sweep, g);
+        for (k, g) in gs.iter().enumerate().take(MAX_GRIDS) {
+            // A quantity that does not depend on the group axes (π/C and the calibrated
+            // circulation do not depend on the profile: the flip depends on the path, not its
+            // timing) would repeat the same table; say so instead (equal as shown, to four digits).
+            match gs[..k].iter().find(|e| shown(e) == shown(g)) {
+                Some(e) => {
+                    let _ = writeln!(s, "{}: the same as for {}.\n", g.group, e.group);
+                }
+                None => grid_table(&mut s, sweep, g),
+            }
         }
         if gs.len() > MAX_GRIDS {
             let _ = writeln!(s, "({} more groups in `sweep.csv`.)\n", gs.len() - MAX_GRIDS);
@@ -187,6 +195,11 @@ fn best_choice(s: &mut String, sweep: &Sweep, records: &[Record], axis: usize) {
     s.push('\n');
 }
 
+/// A grid's cells as the tables show them.
+fn shown(g: &Grid) -> Vec<Vec<String>> {
+    g.cells.iter().map(|row| row.iter().map(|v| v.map_or_else(|| "—".to_string(), short)).collect()).collect()
+}
+
 fn grid_table(s: &mut String, sweep: &Sweep, g: &Grid) {
     let lay = super::grid::layout(sweep);
     if !g.group.is_empty() {
@@ -200,9 +213,8 @@ fn grid_table(s: &mut String, sweep: &Sweep, g: &Grid) {
     let cols: Vec<String> = if lay.cols.is_some() { g.col_labels.clone() } else { vec!["value".into()] };
     let _ = writeln!(s, "| {corner} | {} |", cols.join(" | "));
     let _ = writeln!(s, "|---|{}", "---:|".repeat(cols.len()));
-    for (label, row) in g.row_labels.iter().zip(&g.cells).take(MAX_ROWS) {
-        let cells: Vec<String> = row.iter().map(|v| v.map_or_else(|| "—".to_string(), short)).collect();
-        let _ = writeln!(s, "| {label} | {} |", cells.join(" | "));
+    for (label, row) in g.row_labels.iter().zip(shown(g)).take(MAX_ROWS) {
+        let _ = writeln!(s, "| {label} | {} |", row.join(" | "));
     }
     if g.row_labels.len() > MAX_ROWS {
         let _ = writeln!(s, "\n({} more rows in `sweep.csv`.)", g.row_labels.len() - MAX_ROWS);
