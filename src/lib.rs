@@ -53,3 +53,4 @@ pub mod optimize;
 pub mod problem;
 pub mod report;
 pub mod schedule;
+pub mod sweep;

@@ -84,6 +84,27 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// A grid of problems: tidy CSV, summary tables, heat maps; written to <out>/<name>/.
+    Sweep {
+        /// The sweep file (TOML).
+        #[arg(required_unless_present = "merge")]
+        sweep: Option<PathBuf>,
+        /// Join these shard part folders into the output one run would write, instead.
+        #[arg(long, num_args = 1.., conflicts_with_all = ["sweep", "shard"])]
+        merge: Vec<PathBuf>,
+        /// Where results go.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Run only the K-th of N slices of the cases; writes <out>/<name>.part-K-of-N/.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<catflip::sweep::Shard>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+        /// Print what was written as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
@@ -199,6 +220,21 @@ fn run() -> anyhow::Result<()> {
                 println!("{} files in {}", outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }
+        }
+        Command::Sweep { sweep, merge, out, shard, quiet, json } => {
+            let outcome = match sweep {
+                Some(path) => {
+                    let command = format!("cargo run --release -- sweep {}", path.display());
+                    let options = catflip::sweep::SweepOptions { out, shard, quiet, command };
+                    catflip::sweep::run_file(&path, &options)?
+                }
+                None => {
+                    let dirs: Vec<String> = merge.iter().map(|d| d.display().to_string()).collect();
+                    let command = format!("cargo run --release -- sweep --merge {}", dirs.join(" "));
+                    catflip::sweep::merge(&merge, &out, &command)?
+                }
+            };
+            emit(json, &outcome, || outcome.to_text())?;
         }
         Command::Compare(common) => {
             let r = Resolved::new(&load(&common, &[])?)?;

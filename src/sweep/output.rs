@@ -1,0 +1,153 @@
+//! Writing a sweep's output folder, atomically: everything goes into a scratch folder beside the
+//! target, which replaces the target only once complete, so a failed sweep leaves the previous
+//! results in place.
+//!
+//! `<out>/<name>/` holds `sweep.csv` (the tidy table, [`super::table`]), `sweep.md` (provenance
+//! header and summary tables, [`super::summary`]), `plots/` (PNG + SVG, [`super::plots`]) and
+//! `sweep.json` (the counts: cases, rows, rows per status). A shard writes `<out>/<name>.part-K-of-N/` with `part.json` and
+//! `cases.csv` instead ([`super::shard`]).
+
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::shard::{Manifest, Shard, CASES, MANIFEST};
+use super::spec::Sweep;
+use super::table::{to_csv, Record};
+use super::SweepError;
+
+/// What a sweep wrote.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepOutcome {
+    /// Name of the sweep.
+    pub name: String,
+    /// The folder written.
+    pub dir: PathBuf,
+    /// Cases evaluated.
+    pub cases: usize,
+    /// Rows written.
+    pub rows: usize,
+    /// Rows per status (`ok`, `refused`, `failed`, `not-available`).
+    pub statuses: BTreeMap<String, usize>,
+    /// Files written, relative to `dir`.
+    pub files: Vec<String>,
+}
+
+impl SweepOutcome {
+    /// One line per fact, for the terminal.
+    pub fn to_text(&self) -> String {
+        let counts: Vec<String> = self.statuses.iter().map(|(s, n)| format!("{n} {s}")).collect();
+        format!(
+            "sweep {}: {} cases, {} rows ({}); {} files in {}\n",
+            self.name,
+            self.cases,
+            self.rows,
+            counts.join(", "),
+            self.files.len(),
+            self.dir.display()
+        )
+    }
+}
+
+fn outcome(name: &str, dir: &Path, records: &[Record], files: Vec<String>) -> SweepOutcome {
+    let mut statuses = BTreeMap::new();
+    for r in records {
+        *statuses.entry(r.status.name().to_string()).or_insert(0) += 1;
+    }
+    let mut cases: Vec<usize> = records.iter().map(|r| r.case).collect();
+    cases.dedup();
+    SweepOutcome {
+        name: name.to_string(),
+        dir: dir.to_path_buf(),
+        cases: cases.len(),
+        rows: records.len(),
+        statuses,
+        files,
+    }
+}
+
+/// Writes the full output of a sweep from its records (in case order) to `<out>/<name>/`.
+pub fn write_results(sweep: &Sweep, records: &[Record], command: &str, out: &Path) -> Result<SweepOutcome, SweepError> {
+    let dir = out.join(&sweep.name);
+    let csv = to_csv(sweep, records)?;
+    let mut files = Vec::new();
+    atomically(&dir, |scratch| {
+        put(scratch, "sweep.csv", &csv, &mut files)?;
+        let plots = super::plots::plots(sweep, records, &scratch.join("plots"))?;
+        files.extend(plots.iter().flat_map(|p| [format!("plots/{}", p.file), format!("plots/{}", p.svg)]));
+        let md = super::summary::markdown(sweep, records, command, &plots);
+        put(scratch, "sweep.md", &md, &mut files)?;
+        let o = outcome(&sweep.name, &dir, records, Vec::new());
+        let counts = serde_json::json!({ "name": o.name, "cases": o.cases, "rows": o.rows, "statuses": o.statuses });
+        let json = serde_json::to_string_pretty(&counts).map_err(|e| SweepError::Json(e.to_string()))?;
+        put(scratch, "sweep.json", &(json + "\n"), &mut files)
+    })?;
+    Ok(outcome(&sweep.name, &dir, records, files))
+}
+
+/// Writes one shard's part to `<out>/<name>.part-K-of-N/`.
+pub fn write_part(
+    sweep: &Sweep,
+    shard: Shard,
+    range: Range<usize>,
+    records: &[Record],
+    out: &Path,
+) -> Result<SweepOutcome, SweepError> {
+    let dir = out.join(shard.folder(&sweep.name));
+    let manifest = Manifest { sweep: sweep.clone(), shard, first: range.start, end: range.end };
+    let json = serde_json::to_string_pretty(&manifest).map_err(|e| SweepError::Json(e.to_string()))?;
+    let csv = to_csv(sweep, records)?;
+    let mut files = Vec::new();
+    atomically(&dir, |scratch| {
+        put(scratch, MANIFEST, &(json + "\n"), &mut files)?;
+        put(scratch, CASES, &csv, &mut files)
+    })?;
+    let mut o = outcome(&sweep.name, &dir, records, files);
+    o.cases = range.len();
+    Ok(o)
+}
+
+fn io(path: &Path, source: std::io::Error) -> SweepError {
+    SweepError::Io { path: path.display().to_string(), source }
+}
+
+fn put(dir: &Path, name: &str, text: &str, files: &mut Vec<String>) -> Result<(), SweepError> {
+    let path = dir.join(name);
+    std::fs::write(&path, text).map_err(|e| io(&path, e))?;
+    files.push(name.to_string());
+    Ok(())
+}
+
+/// Fills a scratch folder beside `target` with `fill`, then swaps it in place of `target`; on any
+/// error the scratch folder is removed and `target` is left as it was.
+fn atomically(target: &Path, fill: impl FnOnce(&Path) -> Result<(), SweepError>) -> Result<(), SweepError> {
+    let parent = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
+    let leaf = target.file_name().map_or_else(|| "sweep".into(), |n| n.to_string_lossy().into_owned());
+    let scratch = parent.join(format!(".{leaf}.scratch-{}", std::process::id()));
+    let old = parent.join(format!(".{leaf}.old-{}", std::process::id()));
+    for d in [&scratch, &old] {
+        if d.exists() {
+            std::fs::remove_dir_all(d).map_err(|e| io(d, e))?;
+        }
+    }
+    std::fs::create_dir_all(&scratch).map_err(|e| io(&scratch, e))?;
+    if let Err(e) = fill(&scratch) {
+        let _ = std::fs::remove_dir_all(&scratch);
+        return Err(e);
+    }
+    if target.exists() {
+        std::fs::rename(target, &old).map_err(|e| io(target, e))?;
+    }
+    if let Err(e) = std::fs::rename(&scratch, target) {
+        // Put the previous results back before reporting.
+        let _ = std::fs::rename(&old, target);
+        return Err(io(target, e));
+    }
+    if old.exists() {
+        std::fs::remove_dir_all(&old).map_err(|e| io(&old, e))?;
+    }
+    Ok(())
+}

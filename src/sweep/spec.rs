@@ -1,0 +1,406 @@
+//! The sweep file (`SWEEP.toml`): a base problem, the axes to vary, how to combine them, and what
+//! to compute per case.
+//!
+//! ```toml
+//! name = "pi-over-c"                 # optional; the file's stem otherwise (names the results folder)
+//! base = "paper.toml"                # a problem file, relative to this file; or an inline [base] table
+//! combine = "product"                # or "zip" (every axis the same length)
+//!
+//! [[axis]]
+//! field = "cat.radius"               # any problem field, dotted
+//! range = { from = 0.05, to = 0.4, count = 8, scale = "log" }   # or "linear" (the default)
+//!
+//! [[axis]]
+//! field = "manoeuvre.bend_path"
+//! values = ["joint-circle", "cone"]  # TOML values, written into the problem as `--set` would
+//!
+//! [compute]                          # what each case computes (see `Compute`)
+//! paper_flip = true
+//! calibrated = true
+//! peaks = true
+//! ```
+//!
+//! Axis values enter the problem exactly like `--set field=value` overrides, so the problem file's
+//! own validation and messages apply to every case; a case the problem refuses is reported with that
+//! reason, never dropped. The spec itself is checked on load: unknown keys, an axis on a field the
+//! problem file does not have, an empty or malformed range, zipped axes of different lengths.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::problem::Problem;
+
+/// Why a sweep file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SpecError {
+    /// A file could not be read.
+    #[error("cannot read {path}")]
+    Io {
+        /// The path.
+        path: String,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// The sweep file is not valid TOML or does not have the sweep's shape.
+    #[error("sweep file {origin}: {message}")]
+    Parse {
+        /// The file.
+        origin: String,
+        /// The parser's message, naming the key.
+        message: String,
+    },
+    /// The base problem does not load.
+    #[error("the sweep's base problem: {0}")]
+    Base(#[from] crate::problem::ProblemError),
+    /// A field of the sweep file has a value it cannot use.
+    #[error("{field}: {reason}")]
+    BadField {
+        /// Which field, e.g. `axis[1].range.count`.
+        field: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Where the base problem comes from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum BaseSource {
+    /// A problem file, relative to the sweep file.
+    Path(String),
+    /// An inline problem table.
+    Inline(toml::Table),
+}
+
+/// How the values of a range are spaced.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RangeScale {
+    /// Equal steps.
+    #[default]
+    Linear,
+    /// Equal ratios (both ends positive).
+    Log,
+}
+
+/// `count` values from `from` to `to`, both ends included.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Number of values (1 gives `from` alone).
+    pub count: usize,
+    /// Spacing.
+    #[serde(default)]
+    pub scale: RangeScale,
+}
+
+impl Range {
+    /// The values: `from + (to − from)·k/(count − 1)`, or `from·(to/from)^{k/(count − 1)}` on a log
+    /// scale, `k = 0 … count − 1`; the first is `from` and the last `to`, exactly.
+    pub fn values(&self) -> Vec<f64> {
+        let n = self.count;
+        (0..n)
+            .map(|k| {
+                if k == 0 {
+                    return self.from;
+                }
+                if k + 1 == n {
+                    return self.to;
+                }
+                let u = if n > 1 { k as f64 / (n - 1) as f64 } else { 0.0 };
+                match self.scale {
+                    RangeScale::Linear => self.from + (self.to - self.from) * u,
+                    RangeScale::Log => (self.from.ln() + (self.to.ln() - self.from.ln()) * u).exp(),
+                }
+            })
+            .collect()
+    }
+}
+
+/// One swept field, as written in the file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSpec {
+    /// Dotted problem field, e.g. `cat.radius`.
+    pub field: String,
+    /// The values, as TOML values.
+    pub values: Option<Vec<toml::Value>>,
+    /// Or a numeric range.
+    pub range: Option<Range>,
+}
+
+/// How axes combine into cases.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Combine {
+    /// Every combination; the first axis varies slowest.
+    #[default]
+    Product,
+    /// The k-th values of every axis together; all axes the same length.
+    Zip,
+}
+
+/// What each case computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Compute {
+    /// The flip (twist, swing) with the paper's circulation `π/C`.
+    pub paper_flip: bool,
+    /// The calibrated circulation (exact flip by π) and its swing.
+    pub calibrated: bool,
+    /// Peak motor torques per phase and joint of each schedule.
+    pub peaks: bool,
+    /// The convex retiming's certified optimum (not available in this build: reported as such).
+    pub retiming: bool,
+    /// The whole-manoeuvre optimum (not available in this build: reported as such).
+    pub whole: bool,
+    /// The rapier verdict (not available in this build: reported as such).
+    pub rapier: bool,
+}
+
+impl Default for Compute {
+    fn default() -> Self {
+        Self { paper_flip: true, calibrated: true, peaks: true, retiming: false, whole: false, rapier: false }
+    }
+}
+
+/// A sweep file as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepFile {
+    /// Name of the sweep (letters, digits, `-`, `_`); the file's stem when absent.
+    pub name: Option<String>,
+    /// The base problem.
+    pub base: BaseSource,
+    /// The swept fields.
+    #[serde(default, rename = "axis")]
+    pub axes: Vec<AxisSpec>,
+    /// How the axes combine.
+    #[serde(default)]
+    pub combine: Combine,
+    /// What each case computes.
+    #[serde(default)]
+    pub compute: Compute,
+}
+
+/// One axis resolved to its values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    /// Dotted problem field.
+    pub field: String,
+    /// The values.
+    pub values: Vec<toml::Value>,
+    /// Whether every value is a number (the axis can be plotted along).
+    pub numeric: bool,
+}
+
+/// A checked sweep, ready to expand into cases (serialised whole into each shard's manifest, so
+/// parts can be merged where the sweep's files are not).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sweep {
+    /// Name of the sweep; names its results folder.
+    pub name: String,
+    /// The sweep file's text as read (recorded in the report and the shard manifests).
+    pub text: String,
+    /// The base problem's TOML text.
+    pub base_text: String,
+    /// Where the base text came from, for messages.
+    pub base_origin: String,
+    /// The axes, in file order.
+    pub axes: Vec<Axis>,
+    /// How they combine.
+    pub combine: Combine,
+    /// What each case computes.
+    pub compute: Compute,
+}
+
+/// Largest number of cases one sweep may expand to.
+pub const MAX_CASES: usize = 10_000_000;
+
+impl Sweep {
+    /// Reads and checks a sweep file.
+    pub fn load(path: &Path) -> Result<Sweep, SpecError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| SpecError::Io { path: path.display().to_string(), source })?;
+        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Sweep::from_toml(&text, &path.display().to_string(), &stem, &dir)
+    }
+
+    /// Parses and checks sweep text; `stem` names the sweep when the text does not, and `dir` is
+    /// where a base path is resolved from.
+    pub fn from_toml(text: &str, origin: &str, stem: &str, dir: &Path) -> Result<Sweep, SpecError> {
+        let file: SweepFile = toml::from_str(text)
+            .map_err(|e| SpecError::Parse { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
+        let name = file.name.clone().unwrap_or_else(|| stem.to_string());
+        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+            return Err(bad("name", &format!("{name:?} must be non-empty and use only letters, digits, '-' and '_'")));
+        }
+        let (base_text, base_origin) = match &file.base {
+            BaseSource::Path(p) => {
+                let path: PathBuf = dir.join(p);
+                let t = std::fs::read_to_string(&path)
+                    .map_err(|source| SpecError::Io { path: path.display().to_string(), source })?;
+                (t, path.display().to_string())
+            }
+            BaseSource::Inline(table) => (
+                toml::to_string(table).map_err(|e| bad("base", &one_line(&e.to_string())))?,
+                format!("{origin} [base]"),
+            ),
+        };
+        Problem::from_toml(&base_text, &base_origin, &[])?;
+        let known = known_fields();
+        let mut seen = BTreeSet::new();
+        let mut axes = Vec::with_capacity(file.axes.len());
+        for (i, a) in file.axes.iter().enumerate() {
+            let axis = resolve_axis(i, a, &known, &base_text, &base_origin)?;
+            if !seen.insert(axis.field.clone()) {
+                return Err(bad(&format!("axis[{i}].field"), &format!("`{}` is swept twice", axis.field)));
+            }
+            axes.push(axis);
+        }
+        check_count(&axes, file.combine)?;
+        Ok(Sweep {
+            name,
+            text: text.to_string(),
+            base_text,
+            base_origin,
+            axes,
+            combine: file.combine,
+            compute: file.compute,
+        })
+    }
+
+    /// Number of cases the axes expand to (1 with no axis: the base problem alone).
+    pub fn case_count(&self) -> usize {
+        match self.combine {
+            Combine::Product => self.axes.iter().map(|a| a.values.len()).product(),
+            Combine::Zip => self.axes.first().map_or(1, |a| a.values.len()),
+        }
+    }
+}
+
+/// Checks one axis and resolves its values.
+fn resolve_axis(
+    i: usize,
+    a: &AxisSpec,
+    known: &BTreeSet<String>,
+    base_text: &str,
+    base_origin: &str,
+) -> Result<Axis, SpecError> {
+    let at = |k: &str| format!("axis[{i}].{k}");
+    let values: Vec<toml::Value> = match (&a.values, &a.range) {
+        (Some(v), None) => v.clone(),
+        (None, Some(r)) => {
+            check_range(&at("range"), r)?;
+            r.values().into_iter().map(toml::Value::Float).collect()
+        }
+        _ => return Err(bad(&at("values"), "give exactly one of `values = [...]` or `range = {from, to, count}`")),
+    };
+    if values.is_empty() {
+        return Err(bad(&at("values"), "an axis needs at least one value"));
+    }
+    if a.field == "name" {
+        return Err(bad(&at("field"), "`name` cannot be swept: the sweep names its cases"));
+    }
+    if !known.contains(&a.field) && !accepted_by_problem(base_text, base_origin, &a.field, &values[0]) {
+        let list: Vec<&str> = known.iter().map(String::as_str).collect();
+        return Err(bad(&at("field"), &format!("`{}` is not a problem field (known: {})", a.field, list.join(", "))));
+    }
+    let numeric = values.iter().all(|v| matches!(v, toml::Value::Float(_) | toml::Value::Integer(_)));
+    Ok(Axis { field: a.field.clone(), values, numeric })
+}
+
+/// Checks a range's ends, count and scale.
+fn check_range(field: &str, r: &Range) -> Result<(), SpecError> {
+    if !r.from.is_finite() || !r.to.is_finite() {
+        return Err(bad(field, "`from` and `to` must be finite numbers"));
+    }
+    if r.count == 0 {
+        return Err(bad(&format!("{field}.count"), "must be at least 1"));
+    }
+    if r.scale == RangeScale::Log && (r.from <= 0.0 || r.to <= 0.0) {
+        return Err(bad(&format!("{field}.scale"), "a log range needs positive `from` and `to`"));
+    }
+    if r.count > MAX_CASES {
+        return Err(bad(&format!("{field}.count"), &format!("must be at most {MAX_CASES}")));
+    }
+    Ok(())
+}
+
+/// Checks the number of cases: zipped axes of equal length, a product not beyond [`MAX_CASES`].
+fn check_count(axes: &[Axis], combine: Combine) -> Result<(), SpecError> {
+    match combine {
+        Combine::Zip => {
+            if let Some(first) = axes.first() {
+                for (i, a) in axes.iter().enumerate().skip(1) {
+                    if a.values.len() != first.values.len() {
+                        return Err(bad(
+                            "combine",
+                            &format!(
+                                "\"zip\" needs axes of one length: axis[0] `{}` has {} values, axis[{i}] `{}` has {}",
+                                first.field,
+                                first.values.len(),
+                                a.field,
+                                a.values.len()
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Combine::Product => {
+            let n = axes.iter().try_fold(1usize, |acc, a| acc.checked_mul(a.values.len()));
+            if n.is_none_or(|n| n > MAX_CASES) {
+                return Err(bad("combine", &format!("the product of the axes exceeds {MAX_CASES} cases")));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The dotted paths of every leaf of the default problem (the fields an axis may name).
+pub fn known_fields() -> BTreeSet<String> {
+    fn walk(prefix: &str, t: &toml::Table, out: &mut BTreeSet<String>) {
+        for (k, v) in t {
+            let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+            match v {
+                toml::Value::Table(sub) => walk(&key, sub, out),
+                _ => {
+                    out.insert(key);
+                }
+            }
+        }
+    }
+    let mut out = BTreeSet::new();
+    if let Ok(t) = toml::Table::try_from(Problem::default()) {
+        walk("", &t, &mut out);
+    }
+    out.remove("name");
+    out
+}
+
+/// Whether the problem file accepts `field` (an optional field absent from the defaults): it
+/// parses with that field set, whatever it then says of the value.
+fn accepted_by_problem(base_text: &str, base_origin: &str, field: &str, value: &toml::Value) -> bool {
+    let set = format!("{field}={value}");
+    !matches!(
+        Problem::from_toml(base_text, base_origin, &[set]),
+        Err(crate::problem::ProblemError::Parse { .. } | crate::problem::ProblemError::BadOverride { .. })
+    )
+}
+
+fn bad(field: &str, reason: &str) -> SpecError {
+    SpecError::BadField { field: field.to_string(), reason: reason.to_string() }
+}
+
+/// A message on one line.
+pub(crate) fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}

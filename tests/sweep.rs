@@ -1,0 +1,343 @@
+//! Sweeps: expansion of the axes into cases, refused cases that carry their reason, output that is
+//! byte-identical whatever the thread count, shards that merge into the single run, and the
+//! command line end to end.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use approx::assert_relative_eq;
+use catflip::sweep::cases::{case, cases};
+use catflip::sweep::spec::{SpecError, Sweep};
+use catflip::sweep::table::to_csv;
+use catflip::sweep::{evaluate, merge, run, Shard, Status, SweepOptions};
+
+/// A fresh folder under the system's temporary directory, unique to this test and run.
+fn scratch(name: &str) -> PathBuf {
+    let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+    let d = std::env::temp_dir().join(format!("catflip-sweep-{name}-{}-{nanos}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("scratch folder");
+    d
+}
+
+/// The sweep text with an inline base problem (the paper's cat, a cheaper tolerance).
+fn with_base(rest: &str) -> String {
+    format!("name = \"t\"\n{rest}\n[base]\nname = \"tiny\"\n[base.exact]\ntolerance = 1e-8\ntorque_samples = 40\n")
+}
+
+fn sweep(text: &str) -> Result<Sweep, SpecError> {
+    Sweep::from_toml(text, "test.toml", "test", Path::new("."))
+}
+
+fn sweep_ok(text: &str) -> Sweep {
+    match sweep(text) {
+        Ok(s) => s,
+        Err(e) => panic!("the sweep should load: {e}"),
+    }
+}
+
+/// The bad field named by a spec error.
+fn bad_field(text: &str) -> (String, String) {
+    match sweep(text) {
+        Err(SpecError::BadField { field, reason }) => (field, reason),
+        Err(e) => panic!("expected a BadField error, got {e}"),
+        Ok(_) => panic!("expected the sweep to be refused"),
+    }
+}
+
+const TWO_AXES: &str = r#"
+[[axis]]
+field = "manoeuvre.bend_path"
+values = ["joint-circle", "cone"]
+[[axis]]
+field = "manoeuvre.theta_deg"
+range = { from = 120.0, to = 150.0, count = 3 }
+"#;
+
+#[test]
+fn a_product_varies_the_first_axis_slowest() {
+    let s = sweep_ok(&with_base(TWO_AXES));
+    assert_eq!(s.case_count(), 6);
+    let all = cases(&s);
+    let overrides: Vec<Vec<String>> = all.iter().map(|c| c.overrides.clone()).collect();
+    assert_eq!(overrides[0], ["manoeuvre.bend_path=\"joint-circle\"", "manoeuvre.theta_deg=120.0"]);
+    assert_eq!(overrides[2], ["manoeuvre.bend_path=\"joint-circle\"", "manoeuvre.theta_deg=150.0"]);
+    assert_eq!(overrides[3], ["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=120.0"]);
+    assert_eq!(all[4].picks, [1, 1]);
+    // Each case is a problem the problem file itself built from those overrides.
+    let p = all[4].problem(&s).expect("case 4 loads");
+    assert_eq!(p.manoeuvre.bend_path, catflip::problem::BendPath::Cone);
+    assert_relative_eq!(p.manoeuvre.theta_deg, 135.0, max_relative = 1e-15);
+}
+
+#[test]
+fn zip_takes_the_kth_value_of_every_axis_and_needs_equal_lengths() {
+    let s = sweep_ok(&with_base(&format!("combine = \"zip\"\n{}", TWO_AXES.replace("count = 3", "count = 2"))));
+    assert_eq!(s.case_count(), 2);
+    assert_eq!(case(&s, 1).overrides, ["manoeuvre.bend_path=\"cone\"", "manoeuvre.theta_deg=150.0"]);
+    let (field, reason) = bad_field(&with_base(&format!("combine = \"zip\"\n{TWO_AXES}")));
+    assert_eq!(field, "combine");
+    assert!(reason.contains("`manoeuvre.theta_deg` has 3"), "{reason}");
+}
+
+#[test]
+fn linear_and_log_ranges_include_both_ends_exactly() {
+    let lin = sweep_ok(&with_base("[[axis]]\nfield = \"cat.radius\"\nrange = { from = 0.1, to = 0.2, count = 5 }"));
+    let v: Vec<f64> = lin.axes[0].values.iter().filter_map(toml::Value::as_float).collect();
+    assert_eq!(v.len(), 5);
+    for (x, want) in v.iter().zip([0.1, 0.125, 0.15, 0.175, 0.2]) {
+        assert_relative_eq!(*x, want, max_relative = 1e-15);
+    }
+    assert_eq!(v[0].to_bits(), 0.1f64.to_bits());
+    assert_eq!(v[4].to_bits(), 0.2f64.to_bits());
+    let log = sweep_ok(&with_base(
+        "[[axis]]\nfield = \"drop.height\"\nrange = { from = 0.01, to = 100.0, count = 5, scale = \"log\" }",
+    ));
+    let v: Vec<f64> = log.axes[0].values.iter().filter_map(toml::Value::as_float).collect();
+    for (x, want) in v.iter().zip([0.01, 0.1, 1.0, 10.0, 100.0]) {
+        assert_relative_eq!(*x, want, max_relative = 1e-14);
+    }
+    assert_eq!((v[0].to_bits(), v[4].to_bits()), (0.01f64.to_bits(), 100.0f64.to_bits()));
+    // The override carries the value to the problem without loss.
+    let p = case(&log, 1).problem(&log).expect("loads");
+    assert_eq!(p.drop.height.to_bits(), v[1].to_bits());
+}
+
+#[test]
+fn a_bad_axis_is_refused_with_its_field_named() {
+    let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"cat.radus\"\nvalues = [0.1]"));
+    assert_eq!(field, "axis[0].field");
+    assert!(reason.contains("`cat.radus` is not a problem field") && reason.contains("cat.radius"), "{reason}");
+    let (field, _) = bad_field(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1]\nrange = { from = 1.0, to = 2.0, count = 2 }",
+    ));
+    assert_eq!(field, "axis[0].values");
+    let (field, _) = bad_field(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nrange = { from = -1.0, to = 2.0, count = 3, scale = \"log\" }",
+    ));
+    assert_eq!(field, "axis[0].range.scale");
+    let (field, _) =
+        bad_field(&with_base("[[axis]]\nfield = \"cat.radius\"\nrange = { from = 1.0, to = 2.0, count = 0 }"));
+    assert_eq!(field, "axis[0].range.count");
+    let (field, reason) = bad_field(&with_base(
+        "[[axis]]\nfield = \"cat.mass\"\nvalues = [1.0]\n[[axis]]\nfield = \"cat.mass\"\nvalues = [2.0]",
+    ));
+    assert_eq!(field, "axis[1].field", "{reason}");
+    // An optional field absent from the defaults is still a field.
+    sweep_ok(&with_base("[[axis]]\nfield = \"optimize.rate_limit\"\nvalues = [10.0]"));
+    match sweep(&with_base("[compute]\nrapid = true")) {
+        Err(SpecError::Parse { message, .. }) => assert!(message.contains("rapid"), "{message}"),
+        other => panic!("an unknown key must be refused by name: {other:?}"),
+    }
+}
+
+#[test]
+fn a_refused_case_carries_its_reason_and_never_a_nan() {
+    // θ = 90° on the cone path is gimbal lock; θ = 200° is no angle between the halves.
+    let s = sweep_ok(&with_base(
+        "[[axis]]\nfield = \"manoeuvre.bend_path\"\nvalues = [\"cone\"]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [90.0, 200.0, 135.0]\n[compute]\nrapier = true",
+    ));
+    let records = evaluate(&s, 0..s.case_count(), false);
+    let exact: Vec<_> = records.iter().filter(|r| r.engine == "exact").collect();
+    assert_eq!(exact.len(), 6, "paper and calibrated rows of three cases");
+    for r in &exact[..4] {
+        assert_eq!(r.status, Status::Refused, "case {}", r.case);
+        assert!(r.numbers.is_none());
+        assert!(!r.reason.is_empty() && !r.reason.contains('\n'), "{}", r.reason);
+    }
+    assert!(exact[0].reason.contains("gimbal lock"), "{}", exact[0].reason);
+    assert!(exact[2].reason.contains("manoeuvre.theta_deg = 200"), "{}", exact[2].reason);
+    assert!(exact[4..].iter().all(|r| r.status == Status::Ok && r.numbers.is_some()));
+    // Asked for but not wired in: said so on its own rows.
+    let rapier: Vec<_> = records.iter().filter(|r| r.engine == "rapier").collect();
+    assert_eq!(rapier.len(), 6);
+    assert!(rapier.iter().all(|r| r.status == Status::NotAvailable && r.reason == "not available in this build"));
+    let csv = to_csv(&s, &records).expect("CSV");
+    let lower = csv.to_lowercase();
+    assert!(!lower.contains("nan") && !lower.contains("inf"), "{csv}");
+    assert!(csv.lines().nth(1).is_some_and(|l| l.contains(",refused,") && l.contains("gimbal")), "{csv}");
+}
+
+/// A sweep of four cases with calibration and peaks.
+fn small() -> Sweep {
+    sweep_ok(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.08, 0.2]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [45.0, 135.0]",
+    ))
+}
+
+#[test]
+fn output_is_byte_identical_whatever_the_thread_count() {
+    let s = small();
+    let csv_with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a rayon pool");
+        let records = pool.install(|| evaluate(&s, 0..s.case_count(), false));
+        to_csv(&s, &records).expect("CSV")
+    };
+    let one = csv_with(1);
+    let two = csv_with(2);
+    assert_eq!(one.lines().count(), 1 + 4 * 2, "{one}");
+    assert!(one == two, "1 thread and 2 threads differ:\n{one}\n---\n{two}");
+}
+
+/// Every file under `dir`, relative path and bytes, sorted.
+fn tree(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("readable").flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).map_or_else(|_| p.display().to_string(), |r| r.display().to_string());
+                out.push((rel, std::fs::read(&p).expect("readable")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The report after its provenance header (date, machine and command differ between runs).
+fn body(md: &[u8]) -> String {
+    let text = String::from_utf8_lossy(md);
+    text.split_once("</details>").map_or_else(|| text.to_string(), |(_, b)| b.to_string())
+}
+
+#[test]
+fn merged_shards_equal_the_single_run() {
+    let s = small();
+    let root = scratch("merge");
+    let options =
+        |out: &Path, shard| SweepOptions { out: out.to_path_buf(), shard, quiet: true, command: "test".into() };
+    let single = run(&s, &options(&root.join("single"), None)).expect("single run");
+    let mut parts = Vec::new();
+    for k in [3, 1, 2] {
+        let part = run(&s, &options(&root.join("parts"), Some(Shard { k, n: 3 }))).expect("shard");
+        parts.push(part.dir);
+    }
+    // Merging refuses an incomplete set, naming what is missing.
+    match merge(&parts[..2], &root.join("merged"), "test") {
+        Err(e) => assert!(e.to_string().contains("missing shards 2/3"), "{e}"),
+        Ok(_) => panic!("an incomplete set of parts must not merge"),
+    }
+    let merged = merge(&parts, &root.join("merged"), "test").expect("merge");
+    assert_eq!((merged.cases, merged.rows), (single.cases, single.rows));
+    let (a, b) = (tree(&single.dir), tree(&merged.dir));
+    assert_eq!(a.iter().map(|f| &f.0).collect::<Vec<_>>(), b.iter().map(|f| &f.0).collect::<Vec<_>>());
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        match name.as_str() {
+            "sweep.md" => assert_eq!(body(x), body(y), "{name}"),
+            _ => assert!(x == y, "{name} differs between the single run and the merge"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn shards_slice_the_cases_contiguously_and_completely() {
+    for total in [0usize, 1, 7, 10, 10_000] {
+        for n in [1usize, 2, 3, 16] {
+            let ranges: Vec<_> = (1..=n).map(|k| Shard { k, n }.range(total)).collect();
+            assert_eq!(ranges[0].start, 0);
+            assert_eq!(ranges[n - 1].end, total);
+            assert!(ranges.windows(2).all(|w| w[0].end == w[1].start));
+        }
+    }
+    assert_eq!("3/16".parse::<Shard>(), Ok(Shard { k: 3, n: 16 }));
+    assert!("0/4".parse::<Shard>().is_err() && "5/4".parse::<Shard>().is_err() && "x".parse::<Shard>().is_err());
+}
+
+fn catflip(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+#[test]
+fn the_command_line_runs_shards_and_merges_a_tiny_sweep() {
+    let root = scratch("cli");
+    let file = root.join("tiny.toml");
+    std::fs::write(
+        &file,
+        with_base("[[axis]]\nfield = \"manoeuvre.profile\"\nvalues = [\"cycloidal\", \"bang-bang\"]\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]"),
+    )
+    .expect("write the sweep file");
+    let (f, out) = (file.display().to_string(), root.join("out").display().to_string());
+    let (code, stdout, stderr) = catflip(&["sweep", &f, "--out", &out, "--json", "--quiet"]);
+    assert_eq!(code, 0, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    assert_eq!((v["cases"].as_u64(), v["rows"].as_u64()), (Some(4), Some(8)), "{stdout}");
+    let single = std::fs::read(root.join("out/t/sweep.csv")).expect("the CSV is written");
+    let md = std::fs::read_to_string(root.join("out/t/sweep.md")).expect("the report is written");
+    assert!(md.contains("## Best `manoeuvre.profile` by peak torque"), "{md}");
+    for k in ["1/2", "2/2"] {
+        let (code, _, stderr) = catflip(&["sweep", &f, "--out", &out, "--shard", k, "--quiet"]);
+        assert_eq!(code, 0, "{stderr}");
+    }
+    let merged = root.join("merged").display().to_string();
+    let p1 = root.join("out/t.part-1-of-2").display().to_string();
+    let p2 = root.join("out/t.part-2-of-2").display().to_string();
+    let (code, _, stderr) = catflip(&["sweep", "--merge", &p2, &p1, "--out", &merged]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(std::fs::read(root.join("merged/t/sweep.csv")).expect("merged CSV") == single);
+    // A bad sweep file fails with the field named, and leaves the previous results in place.
+    std::fs::write(&file, with_base("[[axis]]\nfield = \"cat.radus\"\nvalues = [0.1]")).expect("rewrite");
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &out]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("axis[0].field") && stderr.contains("cat.radus"), "{stderr}");
+    assert!(std::fs::read(root.join("out/t/sweep.csv")).expect("still there") == single);
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
+    // The same problem through `simulate` (the library's one-problem path) and through a sweep
+    // case: the same code, so the same bits.
+    let mut problem = catflip::problem::Problem::default();
+    problem.manoeuvre.profile = catflip::problem::ProfileKind::Cycloidal;
+    let outcome = catflip::sweep::evaluate_case(&problem, &catflip::sweep::Compute::default());
+    let row = |s: &str| outcome.rows.iter().find(|r| r.schedule == s).and_then(|r| r.numbers).expect("an ok row");
+    let (paper, calibrated) = (row("paper"), row("calibrated"));
+    let sim_paper = catflip::report::simulate::simulate(
+        &catflip::engines::circulation::Resolved::new(&problem).expect("resolves"),
+        catflip::engines::Engine::Exact,
+    )
+    .expect("simulates");
+    problem.manoeuvre.circulation = catflip::problem::Circulation::Calibrated;
+    let sim_cal = catflip::report::simulate::simulate(
+        &catflip::engines::circulation::Resolved::new(&problem).expect("resolves"),
+        catflip::engines::Engine::Exact,
+    )
+    .expect("simulates");
+    for (n, sim) in [(paper, &sim_paper), (calibrated, &sim_cal)] {
+        assert_eq!(n.circulation_rad.to_bits(), sim.circulation_rad.to_bits());
+        assert_eq!(n.twist_deg.to_bits(), sim.twist_deg.to_bits());
+        assert_eq!(n.swing_deg.to_bits(), sim.swing_deg.to_bits());
+        assert_eq!(n.peaks, Some(sim.peak_torque_nm));
+    }
+    // The calibrated schedule flips by π to the tolerance; the paper's misses (DESIGN.md §4).
+    assert!(calibrated.flip_error_deg.abs() < 1e-10_f64.to_degrees() * 2.0, "{}", calibrated.flip_error_deg);
+    assert!(paper.flip_error_deg.abs() > 0.1, "{}", paper.flip_error_deg);
+    assert_relative_eq!(
+        outcome.circulation_error().expect("both circulations"),
+        calibrated.circulation_rad - paper.circulation_rad,
+        max_relative = 1e-15
+    );
+}
+
+#[test]
+fn a_given_circulation_adds_its_own_row() {
+    let s = sweep_ok(
+        &with_base("[compute]\npeaks = false")
+            .replace("name = \"tiny\"", "name = \"tiny\"\n[base.manoeuvre]\ncirculation = 3.3"),
+    );
+    let records = evaluate(&s, 0..1, false);
+    let schedules: Vec<&str> = records.iter().map(|r| r.schedule.as_str()).collect();
+    assert_eq!(schedules, ["paper", "calibrated", "given"]);
+    let given = records[2].numbers.expect("computed");
+    assert_eq!(given.circulation_rad.to_bits(), 3.3f64.to_bits());
+    assert!(given.peaks.is_none(), "peaks were not asked for");
+}
