@@ -52,8 +52,16 @@ enum Command {
     },
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
-    /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement.
-    Optimize(Common),
+    /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement; with --whole,
+    /// the whole-manoeuvre path optimum that flips the cat exactly ([optimize.whole]).
+    Optimize {
+        #[command(flatten)]
+        common: Common,
+        /// Optimise both joint paths over the whole fall (twist π, swing 0 as constraints), and
+        /// retime the problem's own path with the certified convex program.
+        #[arg(long)]
+        whole: bool,
+    },
     /// Everything above for each problem, written to <out>/<name>/.
     Run {
         /// Problem files (TOML).
@@ -175,10 +183,18 @@ fn run() -> anyhow::Result<()> {
             let report = catflip::report::simulate::simulate(&r, engine)?;
             emit(common.json, &report, || report.to_text())?;
         }
-        Command::Optimize(common) => {
+        Command::Optimize { common, whole: false } => {
             let r = Resolved::new(&load(&common, &[])?)?;
             let report = catflip::optimize::optimize(&r)?;
             emit(common.json, &report, || report.to_markdown())?;
+        }
+        Command::Optimize { common, whole: true } => {
+            let r = Resolved::new(&load(&common, &[])?)?;
+            let report = catflip::report::whole::whole(&r)?;
+            emit(common.json, &report, || report.to_markdown())?;
+            if report.best().is_none() {
+                anyhow::bail!("{}", report.status);
+            }
         }
         Command::Run { problems, overrides, out, rate } => {
             let export = catflip::exchange::ExportOptions { rate_hz: rate, ..Default::default() };

@@ -11,7 +11,7 @@ use catflip::report::plot::{
     PlotError, Series, FILMSTRIP_PANELS, PNG_SIZE,
 };
 use catflip::schedule::profile::Profile;
-use catflip::schedule::{paper_circulation, Schedule};
+use catflip::schedule::{paper_circulation, Schedule, Trajectory};
 use nalgebra::Vector3;
 
 /// A fresh folder under the system's temporary directory, unique to this test and run.
@@ -93,7 +93,9 @@ fn legend_says_which_curve_is_drawn_under_another() {
 fn torques_plot_writes_one_pair_per_joint() {
     let dir = temp_dir("torques");
     let (problem, schedule) = paper();
-    let files = torques_plot(&dir, &problem, &schedules(&schedule)).expect("torques plot");
+    let shown = schedules(&schedule);
+    let curves: Vec<(String, &dyn Trajectory)> = shown.iter().map(|(n, s)| (n.clone(), s as &dyn Trajectory)).collect();
+    let files = torques_plot(&dir, &problem, &curves).expect("torques plot");
     assert_eq!(files.len(), 4);
     for (stem, label) in [("torques_joint1", "torque τ₁ on B (N·m)"), ("torques_joint2", "torque τ₂ on B (N·m)")]
     {
@@ -109,12 +111,12 @@ fn torques_plot_writes_one_pair_per_joint() {
 fn flip_plot_marks_the_target() {
     let dir = temp_dir("flip");
     let (problem, schedule) = paper();
-    let files = flip_plot(&dir, &problem, &schedule, 64).expect("flip plot");
+    let files = flip_plot(&dir, &problem, "cycloidal", &schedule, 64).expect("flip plot");
     let svg = check_pair(&files, &dir, "flip");
     for label in ["angle (degrees)", "time t (s)", "target +180°", "target -180°", "twist (end", "swing (end"] {
         assert!(svg.contains(label), "flip plot lacks {label:?}");
     }
-    let zero = flip_plot(&dir, &problem, &schedule, 0);
+    let zero = flip_plot(&dir, &problem, "cycloidal", &schedule, 0);
     assert!(matches!(zero, Err(PlotError::BadArgument { .. })), "steps = 0 should be refused, got {zero:?}");
 }
 

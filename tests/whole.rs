@@ -162,10 +162,10 @@ fn other_cats_and_fall_times_flip() {
 fn bad_settings_name_the_field() {
     let settings = WholeSettings { control_points: 3, ..WholeSettings::default() };
     let err = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).map(|_| ()).unwrap_err();
-    assert!(err.to_string().starts_with("optimize.control_points = 3"), "{err}");
+    assert!(err.to_string().starts_with("optimize.whole.control_points = 3"), "{err}");
     let settings = WholeSettings { min_angle_deg: Some(200.0), ..WholeSettings::default() };
     let err = settings.validate().unwrap_err();
-    assert!(err.to_string().starts_with("optimize.min_angle_deg = 200"), "{err}");
+    assert!(err.to_string().starts_with("optimize.whole.min_angle_deg = 200"), "{err}");
 }
 
 #[test]

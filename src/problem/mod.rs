@@ -10,6 +10,7 @@ pub mod limits;
 pub mod manoeuvre;
 mod overrides;
 pub mod settings;
+pub mod whole;
 
 use std::path::Path;
 

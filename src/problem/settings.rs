@@ -169,7 +169,7 @@ pub enum Boundary {
 }
 
 /// Settings of the optimisers (DESIGN.md §5).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OptimizeSettings {
     /// Number of nodes of the discretised circulation rate.
@@ -186,6 +186,8 @@ pub struct OptimizeSettings {
     pub smoothness: f64,
     /// Outer iterations of the exact-dynamics refinement.
     pub refine_iterations: usize,
+    /// The whole-manoeuvre path optimisation (`[optimize.whole]`).
+    pub whole: super::whole::WholeSettings,
 }
 
 impl Default for OptimizeSettings {
@@ -197,6 +199,7 @@ impl Default for OptimizeSettings {
             jerk_limit: None,
             smoothness: 0.0,
             refine_iterations: 60,
+            whole: super::whole::WholeSettings::default(),
         }
     }
 }
@@ -220,6 +223,6 @@ impl OptimizeSettings {
                 &format!("must be at most {}", echo(limits::MAX_SMOOTHNESS)),
             ));
         }
-        Ok(())
+        self.whole.validate()
     }
 }

@@ -16,3 +16,4 @@ pub mod provenance;
 pub mod results_dir;
 pub mod run;
 pub mod simulate;
+pub mod whole;

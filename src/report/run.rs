@@ -20,8 +20,9 @@ use crate::report::audit::AuditError;
 use crate::report::bench::BenchError;
 use crate::report::compare::{compare, CompareTable};
 use crate::report::simulate::{exact_report, rapier_report, SimulationReport};
+use crate::report::whole::WHOLE;
 use crate::schedule::variant::{Origin, Variant, VariantCirculation};
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{Phase, Schedule, Trajectory};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -58,6 +59,9 @@ pub enum RunError {
     /// The problem could not be written as TOML for the report's header.
     #[error("cannot write the problem as TOML for the report header")]
     Toml(#[from] toml::ser::Error),
+    /// The whole-manoeuvre optimisation could not run.
+    #[error(transparent)]
+    Whole(#[from] crate::optimize::whole::WholeError),
     /// A schedule file could not be written.
     #[error(transparent)]
     Exchange(#[from] crate::exchange::ExchangeError),
@@ -199,9 +203,21 @@ fn produce(
     let opt = optimize(r)?;
     w.put("optimize.md", &opt.to_markdown())?;
     w.json("optimize.json", &opt)?;
+    let whole = crate::report::whole::whole(r)?;
+    w.put("whole.md", &whole.to_markdown())?;
+    w.json("whole.json", &whole)?;
+    let mut retimed = crate::report::whole::retime_rows(r, "problem", &r.schedule);
+    if let Some(cal) = r.calibrated() {
+        let name = Variant::new(Origin::Library(problem.manoeuvre.profile)).calibrated().to_string();
+        retimed.extend(crate::report::whole::retime_rows(r, &name, &r.schedule.with_circulation(cal.radians)));
+    }
+    w.put("retime.md", &crate::report::whole::retime_markdown(&retimed))?;
+    w.json("retime.json", &retimed)?;
     let extra: Vec<_> = opt.optima().map(|o| o.evaluation.clone()).collect();
     let table = compare(r, &extra);
-    w.put("compare.md", &table.to_markdown())?;
+    let mut compare_md = table.to_markdown();
+    compare_md.extend(crate::report::whole::compare_row_markdown(&whole));
+    w.put("compare.md", &compare_md)?;
     w.put("compare.csv", &table.to_csv())?;
     // 3. Every schedule of the table through both engines, and the recommended one: the most
     // refined schedule with the calibrated circulation (when the calibration converged).
@@ -224,8 +240,14 @@ fn produce(
             Ok(Verified { variant, schedule, exact, rapier })
         })
         .collect::<Result<Vec<_>, RunError>>()?;
+    let whole_verification = crate::report::whole::verify_whole(r, &whole)?;
     w.put("verification.csv", &verification_csv(&verified))?;
-    w.put("verification.md", &verification_markdown(problem, &verified))?;
+    let mut verification_md = verification_markdown(problem, &verified);
+    if let Some(v) = &whole_verification {
+        verification_md.extend(crate::report::whole::verification_row_markdown(&whole, v));
+        w.json("verification_whole.json", v)?;
+    }
+    w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
     // 4. Schedules for robots and other simulators (CSV + JSON sidecar), and the model files.
@@ -238,6 +260,13 @@ fn produce(
     );
     for (name, contents) in crate::exchange::results_files(problem, &exported, export)? {
         w.put(&name, &contents)?;
+    }
+    if let Some(spline) = whole.spline() {
+        let pieces: Vec<String> = (0..spline.piece_durations().len()).map(|i| format!("span-{i}")).collect();
+        let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
+        let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
+        w.put(&format!("schedules/{WHOLE}.csv"), &file.csv)?;
+        w.put(&format!("schedules/{WHOLE}.json"), &file.sidecar_json()?)?;
     }
     // 5. Plots and the animation.
     let plots = w.dir.join("plots");
@@ -252,16 +281,29 @@ fn produce(
         .map(|v| (v.variant.to_string(), v.schedule.clone()))
         .collect();
     w.record(crate::report::plot::profiles_plot(&plots, problem, &shown)?);
-    w.record(crate::report::plot::torques_plot(&plots, problem, &shown)?);
-    w.record(crate::report::plot::flip_plot(&plots, problem, &r.schedule, 256)?);
+    let mut curves: Vec<(String, &dyn Trajectory)> =
+        shown.iter().map(|(n, s)| (n.clone(), s as &dyn Trajectory)).collect();
+    if let Some(spline) = whole.spline() {
+        curves.push((WHOLE.to_string(), spline));
+    }
+    w.record(crate::report::plot::torques_plot(&plots, problem, &curves)?);
     let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
-    let (anim_name, anim_schedule) = verified
-        .iter()
-        .find(|v| v.variant.is_calibrated())
-        .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
-    w.record(crate::report::plot::flip_animation(&plots.join("flip.gif"), problem, &anim_name, anim_schedule, 72)?);
+    w.record(crate::report::plot::flip_plot(&plots, problem, &own, &r.schedule, 256)?);
+    // The animation shows the schedule to replay: the whole-manoeuvre optimum when there is
+    // one (it flips the cat exactly), else the most refined calibrated one, else the problem's.
+    let gif = plots.join("flip.gif");
+    if let Some(spline) = whole.spline() {
+        w.record(crate::report::plot::flip_animation(&gif, problem, WHOLE, spline, 72)?);
+    } else {
+        let (anim_name, anim_schedule) = verified
+            .iter()
+            .find(|v| v.variant.is_calibrated())
+            .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
+        w.record(crate::report::plot::flip_animation(&gif, problem, &anim_name, anim_schedule, 72)?);
+    }
     // 6. The report.
-    let summary = summary(r, &table, &opt, &verified);
+    let optimum = crate::report::whole::summary_lines(&whole, whole_verification.as_ref(), &retimed);
+    let summary = summary(r, &table, &opt, &verified, &optimum);
     let mut report =
         crate::report::provenance::header(&format!("catflip results: {}", problem.name), command, &settings);
     report.push_str(&summary);
@@ -343,7 +385,7 @@ fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
     s
 }
 
-fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &[Verified]) -> String {
+fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &[Verified], optimum: &str) -> String {
     let problem = &r.problem;
     let mut s = String::new();
     let _ = writeln!(s, "## Summary\n");
@@ -439,6 +481,10 @@ fn summary(r: &Resolved, table: &CompareTable, opt: &OptimizeReport, verified: &
             verified.iter().map(|v| (v.variant.to_string(), v.rapier.verification.as_ref()))
         )
     );
-    let _ = writeln!(s, "\nSee `audit.md`, `compare.md`, `optimize.md` and `verification.md` for the tables.");
+    s.push_str(optimum);
+    let _ = writeln!(
+        s,
+        "\nSee `audit.md`, `compare.md`, `optimize.md`, `whole.md`, `retime.md` and `verification.md` for the tables."
+    );
     s
 }

@@ -72,6 +72,38 @@ pub trait Trajectory {
     fn piece_durations(&self) -> Vec<f64>;
     /// State at local time `s ∈ [0, duration]` of a piece, by that piece's own formula.
     fn piece_state(&self, piece: usize, s: f64) -> JointState;
+
+    /// Total duration, s.
+    fn total_duration(&self) -> f64 {
+        self.piece_durations().iter().sum()
+    }
+
+    /// The piece containing global time `t` (the later one at a boundary; clamped to the
+    /// trajectory) and the local time in it.
+    fn locate_piece(&self, t: f64) -> (usize, f64) {
+        let d = self.piece_durations();
+        let mut start = 0.0;
+        for (i, &di) in d.iter().enumerate() {
+            if t < start + di || i + 1 == d.len() {
+                return (i, (t - start).clamp(0.0, di));
+            }
+            start += di;
+        }
+        (0, 0.0)
+    }
+
+    /// The state at global time `t`, by [`Trajectory::locate_piece`].
+    fn state_at(&self, t: f64) -> JointState {
+        let (piece, s) = self.locate_piece(t);
+        self.piece_state(piece, s)
+    }
+
+    /// The manoeuvre's phase at global time `t` when the pieces are its three phases (bend,
+    /// twist, unbend), else `None` (e.g. a whole-manoeuvre spline, which bends and circulates
+    /// at once).
+    fn phase_at(&self, t: f64) -> Option<Phase> {
+        (self.piece_durations().len() == Phase::ALL.len()).then(|| Phase::ALL[self.locate_piece(t).0])
+    }
 }
 
 /// A trajectory run backwards in time: `q_r(t) = q(T − t)`.

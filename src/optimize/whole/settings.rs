@@ -1,117 +1,7 @@
-//! Settings of the whole-manoeuvre optimisation (`[optimize]` in a problem file), with their
-//! defaults in one place.
+//! Errors of the whole-manoeuvre optimisation; its settings live with the problem file
+//! ([`crate::problem::whole`]).
 
-use serde::{Deserialize, Serialize};
-
-/// What the optimisation minimises.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Objective {
-    /// The peak motor torque `max_t max_j |τ_j(t)|`, N·m.
-    Peak,
-    /// The effort `∫ τ·τ dt`, N²·m²·s.
-    Energy,
-}
-
-impl Objective {
-    /// The kebab-case name used in problem files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Objective::Peak => "peak",
-            Objective::Energy => "energy",
-        }
-    }
-}
-
-/// A start of the optimisation: a library schedule fitted to the spline. None of them
-/// presupposes the answer's shape; each is the problem's manoeuvre (its bend, phases, profile)
-/// with the circulation calibrated so that the exact engine turns it by π.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum StartKind {
-    /// The paper's joint-circle schedule.
-    Paper,
-    /// Its mirror image `q2 → −q2`, which twists the other way.
-    PaperMirrored,
-    /// The cone path (constant bend) with the cycloidal profile.
-    Cone,
-    /// Its mirror image.
-    ConeMirrored,
-}
-
-impl StartKind {
-    /// The kebab-case name used in problem files.
-    pub fn name(self) -> &'static str {
-        match self {
-            StartKind::Paper => "paper",
-            StartKind::PaperMirrored => "paper-mirrored",
-            StartKind::Cone => "cone",
-            StartKind::ConeMirrored => "cone-mirrored",
-        }
-    }
-}
-
-/// Settings of the whole-manoeuvre optimisation.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct WholeSettings {
-    /// What to minimise.
-    pub objective: Objective,
-    /// Smallest angle allowed between the halves (180 = straight), degrees; none when absent.
-    pub min_angle_deg: Option<f64>,
-    /// Bound on `|q1|` and `|q2|`, degrees, imposed on the control points (so on the whole
-    /// curve, by the convex-hull property); none when absent.
-    pub joint_limit_deg: Option<f64>,
-    /// Control points per joint, ends included.
-    pub control_points: usize,
-    /// Control points of a first, coarse energy solve whose optimum starts the fine one (a coarse
-    /// spline has fewer poor local optima); none to start on the fine spline directly.
-    pub coarse_control_points: Option<usize>,
-    /// Whether the joint accelerations (and so the torques) also vanish at both ends.
-    pub zero_end_acceleration: bool,
-    /// Torque (and bend) samples per knot span for the peak objective.
-    pub samples_per_span: usize,
-    /// Magnus steps per knot span in the optimisation loop (the final flip is re-measured by
-    /// [`crate::engines::exact::flip`] to the requested tolerance).
-    pub steps_per_span: usize,
-    /// Most trust-region iterations per start (all stages together).
-    pub max_iterations: usize,
-    /// The starts, in order; the best feasible result is kept. The default pair covers both twist
-    /// directions and both bend paths (the paper's twists by −π, the mirrored cone by +π).
-    pub starts: Vec<StartKind>,
-    /// With the peak objective, first minimise the energy from each start (a smooth problem),
-    /// then the peak from there.
-    pub homotopy: bool,
-    /// Stop when the predicted decrease of the merit function is below this fraction of the
-    /// objective.
-    pub optimality: f64,
-    /// Initial trust radius on the control points, degrees.
-    pub trust_radius_deg: f64,
-    /// Weight of the orientation error `|e|₁` in the merit function, per radian, relative to the
-    /// current objective.
-    pub penalty: f64,
-}
-
-impl Default for WholeSettings {
-    fn default() -> Self {
-        Self {
-            objective: Objective::Peak,
-            min_angle_deg: None,
-            joint_limit_deg: None,
-            control_points: 120,
-            coarse_control_points: Some(10),
-            zero_end_acceleration: false,
-            samples_per_span: 4,
-            steps_per_span: 8,
-            max_iterations: 200,
-            starts: vec![StartKind::Paper, StartKind::ConeMirrored],
-            homotopy: true,
-            optimality: 1e-7,
-            trust_radius_deg: 10.0,
-            penalty: 1e4,
-        }
-    }
-}
+pub use crate::problem::whole::{Objective, StartKind, WholeSettings};
 
 /// Why the whole-manoeuvre optimisation could not run.
 #[derive(Debug, thiserror::Error)]
@@ -126,6 +16,9 @@ pub enum WholeError {
         /// Why it is rejected.
         reason: String,
     },
+    /// A setting of `[optimize.whole]` is out of range.
+    #[error(transparent)]
+    Settings(#[from] crate::problem::ProblemError),
     /// Clarabel refused a subproblem's data.
     #[error(transparent)]
     Qp(#[from] crate::optimize::qp::QpError),
@@ -140,64 +33,6 @@ fn positive(field: &'static str, value: f64) -> Result<(), WholeError> {
         Ok(())
     } else {
         Err(bad(field, value, "must be finite and positive"))
-    }
-}
-
-impl WholeSettings {
-    /// The spline's degree: cubic (module docs of [`super`] argue the choice).
-    pub const DEGREE: usize = 3;
-
-    /// Control points held at zero at each end of each joint.
-    pub fn fixed(&self) -> usize {
-        if self.zero_end_acceleration {
-            3
-        } else {
-            2
-        }
-    }
-
-    /// Checks every field; names the first one that is wrong.
-    pub fn validate(&self) -> Result<(), WholeError> {
-        if let Some(a) = self.min_angle_deg {
-            if !(a.is_finite() && (0.0..180.0).contains(&a)) {
-                return Err(bad("optimize.min_angle_deg", a, "must lie in [0, 180)"));
-            }
-        }
-        if let Some(l) = self.joint_limit_deg {
-            positive("optimize.joint_limit_deg", l)?;
-        }
-        let least = 2 * self.fixed() + 2;
-        if self.control_points < least.max(Self::DEGREE + 2) || self.control_points > 400 {
-            return Err(bad(
-                "optimize.control_points",
-                self.control_points,
-                &format!("must lie in [{least}, 400] (at least two free control points per joint)"),
-            ));
-        }
-        if let Some(n) = self.coarse_control_points {
-            if n < least.max(Self::DEGREE + 2) || n > self.control_points {
-                return Err(bad(
-                    "optimize.coarse_control_points",
-                    n,
-                    &format!("must lie in [{least}, optimize.control_points = {}]", self.control_points),
-                ));
-            }
-        }
-        if !(2..=64).contains(&self.samples_per_span) {
-            return Err(bad("optimize.samples_per_span", self.samples_per_span, "must lie in [2, 64]"));
-        }
-        if !(1..=1024).contains(&self.steps_per_span) {
-            return Err(bad("optimize.steps_per_span", self.steps_per_span, "must lie in [1, 1024]"));
-        }
-        if self.max_iterations == 0 {
-            return Err(bad("optimize.max_iterations", 0, "must be at least 1"));
-        }
-        if self.starts.is_empty() {
-            return Err(bad("optimize.starts", "[]", "name at least one start"));
-        }
-        positive("optimize.optimality", self.optimality)?;
-        positive("optimize.trust_radius_deg", self.trust_radius_deg)?;
-        positive("optimize.penalty", self.penalty)
     }
 }
 

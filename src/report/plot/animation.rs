@@ -21,7 +21,7 @@ use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, text, GUIDE};
 use super::PlotError;
 use crate::problem::Problem;
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{Phase, Trajectory};
 
 /// Frames in the PNG filmstrip written beside the GIF.
 pub const FILMSTRIP_PANELS: usize = 6;
@@ -51,14 +51,14 @@ pub fn flip_animation(
     path: &Path,
     problem: &Problem,
     name: &str,
-    schedule: &Schedule,
+    schedule: &impl Trajectory,
     frames: usize,
 ) -> Result<Vec<PathBuf>, PlotError> {
     let bad = |reason: String| PlotError::BadArgument { path: path.to_path_buf(), reason };
     if frames < 2 {
         return Err(bad(format!("an animation needs at least 2 frames, {frames} asked")));
     }
-    let total = schedule.duration();
+    let total = schedule.total_duration();
     if !(total.is_finite() && total > 0.0) {
         return Err(bad(format!("the schedule lasts {total} s; it must last a positive, finite time")));
     }
@@ -159,7 +159,8 @@ struct Scene {
     half: f64,
     radius: f64,
     title: String,
-    durations: [f64; 3],
+    /// The timeline's segments: the three phases, or the whole manoeuvre in one.
+    segments: Vec<(&'static str, f64)>,
 }
 
 /// The projected bounding box of every frame, m.
@@ -253,14 +254,24 @@ impl Layout {
     }
 }
 
+/// The timeline's segments of a trajectory: its three phases, or one for the whole manoeuvre.
+fn segments(t: &impl Trajectory) -> Vec<(&'static str, f64)> {
+    let d = t.piece_durations();
+    if d.len() == Phase::ALL.len() {
+        Phase::ALL.iter().zip(d).map(|(p, di)| (p.name(), di)).collect()
+    } else {
+        vec![("whole manoeuvre", t.total_duration())]
+    }
+}
+
 impl Scene {
-    fn new(problem: &Problem, name: &str, schedule: &Schedule) -> Scene {
+    fn new(problem: &Problem, name: &str, schedule: &impl Trajectory) -> Scene {
         Scene {
             camera: Camera::new(),
             half: 0.5 * problem.cat.length,
             radius: problem.cat.radius,
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
-            durations: schedule.durations,
+            segments: segments(schedule),
         }
     }
 
@@ -425,7 +436,7 @@ impl Scene {
         }
         self.timeline(area, pose, &lay)?;
         let captions = [
-            format!("t = {:.3} s   phase: {}", pose.time, pose.phase.name()),
+            format!("t = {:.3} s   phase: {}", pose.time, pose.phase.map_or("whole manoeuvre", |p| p.name())),
             format!("twist {:+.1}°   swing {:.1}°", pose.twist.to_degrees(), pose.swing.to_degrees()),
         ];
         for (line, y) in captions.into_iter().zip(lay.captions) {
@@ -463,17 +474,17 @@ impl Scene {
     ) -> Result<(), String> {
         let (u, y, bar) = (lay.u, lay.bar.0, lay.bar.1);
         let (x0, x1) = (24.0 * u, lay.w - 24.0 * u);
-        let total: f64 = self.durations.iter().sum();
+        let total: f64 = self.segments.iter().map(|s| s.1).sum();
         let at = |t: f64| x0 + (x1 - x0) * t / total;
         let shades = [RGBColor(228, 228, 228), RGBColor(205, 205, 205), RGBColor(228, 228, 228)];
         let mut start = 0.0;
-        for (phase, shade) in Phase::ALL.iter().zip(shades) {
-            let end = start + self.durations[phase.index()];
+        for (&(label, duration), shade) in self.segments.iter().zip(shades) {
+            let end = start + duration;
             let rect = [(at(start) as i32, y as i32), (at(end) as i32, (y + bar) as i32)];
             area.draw(&Rectangle::new(rect, shade.filled())).map_err(failed)?;
             let style = text(lay.small).color(&JOINT).pos(Pos::new(HPos::Center, VPos::Center));
             let centre = (at(0.5 * (start + end)) as i32, (y + 0.5 * bar) as i32);
-            area.draw(&Text::new(phase.name(), centre, style)).map_err(failed)?;
+            area.draw(&Text::new(label, centre, style)).map_err(failed)?;
             start = end;
         }
         let x = at(pose.time) as i32;
@@ -529,6 +540,7 @@ fn convex_hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::schedule::Schedule;
 
     #[test]
     fn hull_of_a_square_with_an_inner_point() {

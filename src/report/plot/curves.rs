@@ -10,7 +10,7 @@ use crate::engines::exact::history;
 use crate::engines::torque::joint_torques;
 use crate::model::Cylinder;
 use crate::problem::Problem;
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{Phase, Schedule, Trajectory};
 
 /// Points over the whole manoeuvre at which [`torques_plot`] evaluates the torques.
 pub const TORQUE_SAMPLES: usize = 1500;
@@ -62,11 +62,11 @@ fn rate_curve(schedule: &Schedule) -> Vec<(f64, f64)> {
 pub fn torques_plot(
     dir: &Path,
     problem: &Problem,
-    schedules: &[(String, Schedule)],
+    schedules: &[(String, &dyn Trajectory)],
 ) -> Result<Vec<PathBuf>, PlotError> {
     let sampled: Vec<(&str, TorqueCurve)> =
-        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&problem.cat, s))).collect();
-    let bands = schedules.first().map(|(_, s)| phase_bands(s)).unwrap_or_default();
+        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&problem.cat, *s))).collect();
+    let bands = schedules.first().map(|(_, s)| phase_bands(*s)).unwrap_or_default();
     let axes = ["1", "2"].iter().zip(["τ₁", "τ₂"]).zip(["about A's x axis", "about the cross's y axis"]);
     let mut files = Vec::new();
     for (j, ((number, symbol), about)) in axes.enumerate() {
@@ -90,35 +90,52 @@ pub fn torques_plot(
 /// `(t, [τ₁, τ₂])` samples, s and N·m.
 type TorqueCurve = Vec<(f64, [f64; 2])>;
 
-/// `(t, [τ₁, τ₂])` phase by phase, both ends of each phase included.
-fn torque_curve(cat: &Cylinder, schedule: &Schedule) -> TorqueCurve {
-    let total = schedule.duration();
-    let mut out = Vec::with_capacity(TORQUE_SAMPLES + 4);
-    for phase in Phase::ALL {
-        let (t0, dur) = (schedule.phase_start(phase), schedule.durations[phase.index()]);
+/// `(t, [τ₁, τ₂])` piece by piece (phase by phase for a schedule), both ends of each piece
+/// included.
+fn torque_curve(cat: &Cylinder, schedule: &dyn Trajectory) -> TorqueCurve {
+    let durations = schedule.piece_durations();
+    let total: f64 = durations.iter().sum();
+    let mut out = Vec::with_capacity(TORQUE_SAMPLES + 2 * durations.len() + 4);
+    let mut t0 = 0.0;
+    for (piece, &dur) in durations.iter().enumerate() {
         let n = ((TORQUE_SAMPLES as f64 * dur / total).round() as usize).max(2);
         out.extend((0..=n).map(|k| {
             let s = dur * k as f64 / n as f64;
-            (t0 + s, joint_torques(cat, &schedule.phase_state(phase, s)).tau)
+            (t0 + s, joint_torques(cat, &schedule.piece_state(piece, s)).tau)
         }));
+        t0 += dur;
     }
     out
 }
 
-/// One band per phase, named.
-fn phase_bands(schedule: &Schedule) -> Vec<Band> {
+/// One band per phase, named, when the pieces are the manoeuvre's three phases; none otherwise
+/// (a whole-manoeuvre trajectory has no phases).
+fn phase_bands(schedule: &dyn Trajectory) -> Vec<Band> {
+    let d = schedule.piece_durations();
+    if d.len() != Phase::ALL.len() {
+        return Vec::new();
+    }
+    let mut from = 0.0;
     Phase::ALL
         .iter()
-        .map(|&p| {
-            let from = schedule.phase_start(p);
-            Band { from, to: from + schedule.durations[p.index()], label: p.name().to_string() }
+        .zip(d)
+        .map(|(p, di)| {
+            let band = Band { from, to: from + di, label: p.name().to_string() };
+            from += di;
+            band
         })
         .collect()
 }
 
 /// Twist and swing of the front half A (degrees) over time from the exact engine with `steps`
 /// Magnus steps per phase, as `dir/flip.{png,svg}`, with the ±180° target dashed.
-pub fn flip_plot(dir: &Path, problem: &Problem, schedule: &Schedule, steps: usize) -> Result<Vec<PathBuf>, PlotError> {
+pub fn flip_plot(
+    dir: &Path,
+    problem: &Problem,
+    name: &str,
+    schedule: &impl Trajectory,
+    steps: usize,
+) -> Result<Vec<PathBuf>, PlotError> {
     if steps == 0 {
         return Err(PlotError::BadArgument {
             path: dir.join("flip"),
@@ -131,11 +148,7 @@ pub fn flip_plot(dir: &Path, problem: &Problem, schedule: &Schedule, steps: usiz
     let end = |c: &[(f64, f64)]| c.last().map_or(f64::NAN, |p| p.1);
     let mut plot = LinePlot::new(
         "flip",
-        format!(
-            "Reorientation of the front half A, problem \u{201c}{}\u{201d} ({})",
-            problem.name,
-            schedule.profile.name()
-        ),
+        format!("Reorientation of the front half A, problem \u{201c}{}\u{201d} ({})", problem.name, name),
         "time t (s)",
         "angle (degrees)",
         vec![

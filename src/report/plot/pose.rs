@@ -10,7 +10,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::engines::exact::{history, OrientationSample};
 use crate::model::{joint_rotation, Cylinder};
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{Phase, Trajectory};
 
 /// Magnus steps per phase of the orientation history the poses are interpolated from.
 const HISTORY_STEPS: usize = 600;
@@ -37,7 +37,7 @@ pub struct CatPose {
     /// Time, s.
     pub time: f64,
     /// The phase at that time (the later one at a boundary).
-    pub phase: Phase,
+    pub phase: Option<Phase>,
     /// A's twist (continued), rad.
     pub twist: f64,
     /// A's swing, rad.
@@ -49,20 +49,20 @@ pub struct CatPose {
 }
 
 /// The cat's pose at each of `times` (s, clamped to the manoeuvre).
-pub fn cat_poses(cat: &Cylinder, schedule: &Schedule, times: &[f64]) -> Vec<CatPose> {
+pub fn cat_poses(cat: &Cylinder, schedule: &impl Trajectory, times: &[f64]) -> Vec<CatPose> {
     let samples = history(cat, schedule, HISTORY_STEPS);
-    let total = schedule.duration();
+    let total = schedule.total_duration();
     times
         .iter()
         .map(|&t| {
             let t = t.clamp(0.0, total);
             let (orientation, twist, swing) = interpolate(&samples, t);
-            let r_ab = joint_rotation(schedule.state(t).q);
+            let r_ab = joint_rotation(schedule.state_at(t).q);
             let r_a = orientation.to_rotation_matrix().into_inner();
             let p = r_a * cat.offset(&r_ab);
             CatPose {
                 time: t,
-                phase: schedule.locate(t).0,
+                phase: schedule.phase_at(t),
                 twist,
                 swing,
                 a: BodyPose { centre: -0.5 * p, rotation: r_a },

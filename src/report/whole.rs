@@ -1,0 +1,429 @@
+//! `catflip optimize --whole`: the whole-manoeuvre optimum ([`crate::optimize::whole`]) and the
+//! certified convex retiming of the problem's own path ([`crate::optimize::retime`]), as a report.
+//!
+//! Every number here is re-measured by the exact engine on the final trajectory, never taken from
+//! a linearisation: the optimum's twist and swing from [`crate::engines::exact::flip`], its peak
+//! from [`crate::engines::torque::peak_torques`]. The optimum has no phases of its own (it bends
+//! and circulates at once), so its peaks are also given over the time windows of the problem's
+//! phases, for the peak-torque table; `max` is the peak over the whole fall.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::engines::circulation::Resolved;
+use crate::engines::peaks::PhasePeaks;
+use crate::engines::rapier::{verify, Quantity, RapierError, Reference, Verification};
+use crate::engines::torque::joint_torques;
+use crate::optimize::retime::{retime, RetimeSettings, Split};
+use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
+use crate::schedule::{Phase, Schedule, Trajectory};
+
+/// Samples per second of fall used to split the optimum's peaks over the phase windows (the
+/// whole-fall maximum is the refined peak of the optimiser's re-measurement).
+const WINDOW_SAMPLES: usize = 20_000;
+
+/// The whole-manoeuvre optimum of a problem.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct WholeReport {
+    /// Problem name.
+    pub problem: String,
+    /// What was minimised.
+    pub objective: Objective,
+    /// How the best start ended (`converged`), or why there is no optimum.
+    pub status: String,
+    /// Signed twist of the optimum, degrees (absent when no start flipped the cat).
+    pub twist_deg: Option<f64>,
+    /// Swing of the optimum, degrees.
+    pub swing_deg: Option<f64>,
+    /// Peak motor torques of the optimum, N·m: `max` over the whole fall, and over the time
+    /// windows of the problem's phases.
+    pub peak_torque_nm: Option<PhasePeaks>,
+    /// `∫ τ·τ dt` of the optimum, N²·m²·s.
+    pub energy: Option<f64>,
+    /// Trust-region iterations of the best start.
+    pub iterations: Option<usize>,
+    /// The largest bend of the optimum (angle between the spine axes), degrees.
+    pub max_bend_deg: Option<f64>,
+    /// How far its bend direction turns over the fall, turns.
+    pub bend_turns: Option<f64>,
+    /// Every start's outcome, the best one included.
+    pub outcome: WholeOutcome,
+}
+
+impl WholeReport {
+    /// The optimum, when a start converged to a flip.
+    pub fn best(&self) -> Option<&WholeSolution> {
+        self.outcome.best()
+    }
+
+    /// The optimum's trajectory, when there is one.
+    pub fn spline(&self) -> Option<&BSpline> {
+        self.best().map(|b| &b.spline)
+    }
+}
+
+/// Runs the whole-manoeuvre optimisation on a resolved problem (`[optimize.whole]`).
+pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
+    let p = &r.problem;
+    let settings = &p.optimize.whole;
+    let outcome = optimize_whole(&p.cat, p.drop.fall_time(), &p.manoeuvre, settings, p.exact.tolerance)?;
+    let best = outcome.best();
+    let status = match best {
+        Some(b) => b.status.to_string(),
+        None => format!(
+            "no optimum: none of the {} start(s) converged to a flip ({})",
+            outcome.solutions.len(),
+            outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect::<Vec<_>>().join("; ")
+        ),
+    };
+    let peaks = best.map(|b| window_peaks(r, &b.spline, b.peak_torque_nm));
+    Ok(WholeReport {
+        problem: p.name.clone(),
+        objective: settings.objective,
+        status,
+        twist_deg: best.map(|b| b.twist.to_degrees()),
+        swing_deg: best.map(|b| b.swing.to_degrees()),
+        peak_torque_nm: peaks,
+        energy: best.map(|b| b.energy),
+        iterations: best.map(|b| b.iterations),
+        max_bend_deg: best.map(|b| b.max_bend_deg),
+        bend_turns: best.map(|b| b.bend_turns),
+        outcome,
+    })
+}
+
+/// The optimum's peaks over the time windows of the problem's phases; `max` is `peak`, the
+/// refined whole-fall peak (at least every window's sampled peak).
+fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
+    let d = r.schedule.durations;
+    let total: f64 = spline.piece_durations().iter().sum();
+    let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
+    let mut w = [[0.0f64; 2]; 3];
+    let (mut piece, mut start) = (0, 0.0);
+    let durations = spline.piece_durations();
+    for k in 0..=n {
+        let t = total * k as f64 / n as f64;
+        while piece + 1 < durations.len() && t > start + durations[piece] {
+            start += durations[piece];
+            piece += 1;
+        }
+        let tau = joint_torques(&r.problem.cat, &spline.piece_state(piece, (t - start).min(durations[piece]))).tau;
+        let phase = if t < d[0] {
+            0
+        } else if t < d[0] + d[1] {
+            1
+        } else {
+            2
+        };
+        for j in 0..2 {
+            w[phase][j] = w[phase][j].max(tau[j].abs());
+        }
+    }
+    let sampled = w.iter().flatten().copied().fold(0.0, f64::max);
+    PhasePeaks { bend: w[0], twist: w[1], unbend: w[2], max: peak.max(sampled) }
+}
+
+impl WholeReport {
+    /// The report as Markdown.
+    pub fn to_markdown(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "## Whole-manoeuvre optimum (`{}`, objective {})\n", self.problem, self.objective.name());
+        let _ = writeln!(
+            s,
+            "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n"
+        );
+        match self.best() {
+            Some(b) => {
+                let p = self.peak_torque_nm.unwrap_or(PhasePeaks {
+                    bend: [0.0; 2],
+                    twist: [0.0; 2],
+                    unbend: [0.0; 2],
+                    max: b.peak_torque_nm,
+                });
+                let _ = writeln!(
+                    s,
+                    "- Status: **{}** (start `{}`, {} iterations, {} Newton steps, {:.2} s).",
+                    self.status, b.start, b.iterations, b.polish_steps, b.seconds
+                );
+                let _ = writeln!(
+                    s,
+                    "- Flip: twist **{:+.9}°**, swing **{:.3e}°** (| |twist| − 180° | = {:.2e} rad; engine error estimate {:.1e} rad).",
+                    b.twist.to_degrees(),
+                    b.swing.to_degrees(),
+                    b.twist_error,
+                    b.flip_error_estimate
+                );
+                let _ = writeln!(
+                    s,
+                    "- Peak motor torque **{:.6} N·m** at t = {:.4} s; over the problem's phase windows bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}] N·m.",
+                    p.max, b.peak_time, p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1]
+                );
+                let _ = writeln!(
+                    s,
+                    "- Energy ∫τ·τ dt = {:.6} N²·m²·s; largest bend {:.2}° (angle between the halves ≥ {:.2}°); the bend direction turns {:+.3} turns.",
+                    b.energy,
+                    b.max_bend_deg,
+                    180.0 - b.max_bend_deg,
+                    b.bend_turns
+                );
+            }
+            None => {
+                let _ = writeln!(s, "- **{}**", self.status);
+            }
+        }
+        let _ = writeln!(
+            s,
+            "\n| start | status | twist ° | swing ° | peak N·m | energy | max bend ° | iterations | time s | why |"
+        );
+        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---|");
+        for o in &self.outcome.solutions {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:+.6} | {:.2e} | {:.6} | {:.6} | {:.2} | {} | {:.2} | {} |",
+                o.start,
+                o.status,
+                o.twist.to_degrees(),
+                o.swing.to_degrees(),
+                o.peak_torque_nm,
+                o.energy,
+                o.max_bend_deg,
+                o.iterations,
+                o.seconds,
+                o.reason
+            );
+        }
+        for k in &self.outcome.skipped {
+            let _ = writeln!(s, "| {} | not started | | | | | | | | {} |", k.start, k.reason);
+        }
+        if let Some(b) = self.best() {
+            let _ = writeln!(
+                s,
+                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective):\n",
+                b.start
+            );
+            let _ = writeln!(
+                s,
+                "| # | stage objective | peak N·m | violation | trust radius | subproblem | ratio | accepted |"
+            );
+            let _ = writeln!(s, "|---:|---|---:|---:|---:|---|---:|---|");
+            for (i, l) in b.log.iter().enumerate() {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {:.6} | {:.2e} | {:.2e} | {} | {} | {} |",
+                    i + 1,
+                    l.objective.name(),
+                    l.peak_nm,
+                    l.violation,
+                    l.trust_radius,
+                    l.subproblem,
+                    l.ratio.map_or("—".to_string(), |x| format!("{x:.3}")),
+                    if l.accepted { "yes" } else { "no" }
+                );
+            }
+        }
+        s
+    }
+}
+
+/// The certified convex retiming of one schedule along its fixed joint path.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RetimeRow {
+    /// Which schedule was retimed (the problem's circulation, or the calibrated one).
+    pub schedule: String,
+    /// Whether the phase durations were kept or the split was free.
+    pub split: String,
+    /// The solver's status.
+    pub status: String,
+    /// The program's primal peak, N·m (absent when not solved).
+    pub peak_nm: Option<f64>,
+    /// Clarabel's dual objective: a certified lower bound on the discrete program's optimum, N·m.
+    pub lower_bound_nm: Option<f64>,
+    /// Duality gap, N·m.
+    pub gap_nm: Option<f64>,
+    /// The exact engine's peak of the retimed trajectory, N·m.
+    pub exact_peak_nm: Option<f64>,
+    /// Its twist, degrees (the path's: timing does not change it).
+    pub twist_deg: Option<f64>,
+    /// Its swing, degrees.
+    pub swing_deg: Option<f64>,
+    /// Solve time, s.
+    pub solve_time_s: f64,
+}
+
+/// Retimes `schedule` (named `name`) with both splits.
+pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeRow> {
+    let p = &r.problem;
+    let total = schedule.duration();
+    [Split::Kept, Split::Free]
+        .into_iter()
+        .map(|split| {
+            let settings = RetimeSettings { split, ..RetimeSettings::default() };
+            let label = match split {
+                Split::Kept => "phases kept",
+                Split::Free => "split free",
+            };
+            let row = |status: String| RetimeRow {
+                schedule: name.to_string(),
+                split: label.to_string(),
+                status,
+                peak_nm: None,
+                lower_bound_nm: None,
+                gap_nm: None,
+                exact_peak_nm: None,
+                twist_deg: None,
+                swing_deg: None,
+                solve_time_s: 0.0,
+            };
+            match retime(&p.cat, schedule, total, settings) {
+                Err(e) => row(format!("refused: {e}")),
+                Ok(t) => {
+                    let sol = &t.solution;
+                    let solved = sol.status.is_solved();
+                    let again =
+                        if solved { t.remeasure(&p.cat, 16 * settings.intervals, p.exact.tolerance) } else { None };
+                    RetimeRow {
+                        status: sol.status.to_string(),
+                        peak_nm: solved.then_some(sol.peak),
+                        lower_bound_nm: solved.then_some(sol.lower_bound),
+                        gap_nm: solved.then_some(sol.gap),
+                        exact_peak_nm: again.as_ref().map(|m| m.peaks.max),
+                        twist_deg: again.as_ref().map(|m| m.flip.twist.to_degrees()),
+                        swing_deg: again.as_ref().map(|m| m.flip.swing.to_degrees()),
+                        solve_time_s: sol.solve_time_s,
+                        ..row(String::new())
+                    }
+                }
+            }
+        })
+        .collect()
+}
+
+/// The retiming rows as a Markdown table.
+pub fn retime_markdown(rows: &[RetimeRow]) -> String {
+    let mut s = String::from("## Certified retiming along the problem's joint path (SOCP, Clarabel)\n\n");
+    s.push_str("The path stays, so does the flip; only the timing changes. *bound* is Clarabel's dual objective, a certified lower bound on the discrete program's optimum; *exact* is the exact engine's peak of the retimed trajectory.\n\n");
+    s.push_str("| schedule | split | status | peak N·m | bound N·m | gap | exact N·m | twist ° | swing ° | solve s |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+    let f = |x: Option<f64>, d: usize| x.map_or("—".to_string(), |v| format!("{v:.d$}"));
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
+            r.schedule,
+            r.split,
+            r.status,
+            f(r.peak_nm, 4),
+            f(r.lower_bound_nm, 4),
+            r.gap_nm.map_or("—".to_string(), |g| format!("{g:.1e}")),
+            f(r.exact_peak_nm, 4),
+            f(r.twist_deg, 6),
+            f(r.swing_deg, 6),
+            r.solve_time_s
+        );
+    }
+    s
+}
+
+/// The phases' names for a three-piece trajectory's pieces (used for schedule files).
+pub fn phase_names() -> Vec<String> {
+    Phase::ALL.iter().map(|p| p.name().to_string()).collect()
+}
+
+/// The whole-manoeuvre optimum through rapier, against the exact engine's numbers of the
+/// optimum (none when there is no optimum).
+pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verification>, RapierError> {
+    let Some(b) = report.best() else { return Ok(None) };
+    let reference = Reference { twist: b.twist, swing: b.swing, peak_torque: b.peak_torque_nm };
+    verify(r.cat(), &b.spline, &r.problem.rapier, &reference).map(Some)
+}
+
+/// The optimum's row of the peak-torque table (Markdown, the table's columns; the paper's
+/// model does not apply to a trajectory without a circulation profile).
+pub fn compare_row_markdown(report: &WholeReport) -> Option<String> {
+    let (b, p) = (report.best()?, report.peak_torque_nm?);
+    Some(format!(
+        "| {WHOLE} | whole | — | — | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | 0 (0.0000) | {:.6} | {:.6} |\n",
+        p.bend[0],
+        p.bend[1],
+        p.twist[0],
+        p.twist[1],
+        p.unbend[0],
+        p.unbend[1],
+        p.max,
+        b.twist.to_degrees(),
+        b.swing.to_degrees()
+    ))
+}
+
+/// The optimum's row of the verification table (Markdown, the table's columns).
+pub fn verification_row_markdown(report: &WholeReport, v: &Verification) -> Option<String> {
+    let b = report.best()?;
+    let run = v.finest.as_ref();
+    let value = |q: Quantity| v.quantity(q).and_then(|c| c.value).map_or("—".to_string(), |x| format!("{x:.4}"));
+    let raw = |x: Option<f64>, d: usize| x.map_or("—".to_string(), |x| format!("{x:.d$}"));
+    let tr = v.tracking_error_rad.map_or("—".to_string(), |t| format!("{:.1e}, {:.1e}", t[0], t[1]));
+    Some(format!(
+        "| {WHOLE} | {:.4} | {} | {} | {:.4} | {} | {} | {:.3} | {} | {} | {} | {tr} | {} |\n",
+        b.twist.to_degrees(),
+        raw(run.map(|x| x.twist.to_degrees()), 4),
+        value(Quantity::Twist),
+        b.swing.to_degrees(),
+        raw(run.map(|x| x.swing.to_degrees()), 4),
+        value(Quantity::Swing),
+        b.peak_torque_nm,
+        raw(run.map(|x| x.peak_torque.max), 3),
+        run.map_or("—".to_string(), |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / b.peak_torque_nm - 1.0))),
+        v.momentum_drift.map_or("—".to_string(), |x| format!("{x:.2e}")),
+        v.table_cells()
+    ))
+}
+
+/// The name of the whole-manoeuvre optimum in files and tables.
+pub const WHOLE: &str = "whole-optimum";
+
+/// The summary lines of the optimum, its verification and the certified retiming, for the
+/// run's report.
+pub fn summary_lines(report: &WholeReport, v: Option<&Verification>, retimed: &[RetimeRow]) -> String {
+    let mut s = String::new();
+    match report.best() {
+        Some(b) => {
+            let _ = writeln!(
+                s,
+                "- **Whole-manoeuvre optimum** (`{WHOLE}`, both joint paths optimised over the whole fall): twist **{:+.9}°**, swing {:.1e}°, peak torque **{:.4} N·m**, energy {:.4} N²·m²·s; it bends at most {:.1}° and its bend direction turns {:+.2} turns ({}, {} iterations). See `whole.md`.",
+                b.twist.to_degrees(),
+                b.swing.to_degrees(),
+                b.peak_torque_nm,
+                b.energy,
+                b.max_bend_deg,
+                b.bend_turns,
+                b.status,
+                b.iterations
+            );
+        }
+        None => {
+            let _ = writeln!(s, "- Whole-manoeuvre optimum: **{}**.", report.status);
+        }
+    }
+    if let Some(v) = v {
+        let _ = writeln!(s, "- rapier verification of `{WHOLE}`: **{}**.", v.verdict);
+    }
+    for row in retimed {
+        if let (Some(bound), Some(exact), Some(twist), Some(swing)) =
+            (row.lower_bound_nm, row.exact_peak_nm, row.twist_deg, row.swing_deg)
+        {
+            let _ = writeln!(
+                s,
+                "- Certified retiming of `{}` ({}): exact peak {:.4} N·m, certified bound {:.4} N·m for this path; twist {:+.6}°, swing {:.6}° (unchanged: the path is kept). See `retime.md`.",
+                row.schedule,
+                row.split,
+                exact,
+                bound,
+                twist,
+                swing
+            );
+        } else {
+            let _ = writeln!(s, "- Certified retiming of `{}` ({}): {}.", row.schedule, row.split, row.status);
+        }
+    }
+    s
+}
