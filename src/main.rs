@@ -203,6 +203,8 @@ fn run() -> anyhow::Result<()> {
             // Load every problem first, so a bad one stops the run before anything is written.
             let loaded =
                 problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
+            // Reserved names (`bench`) and two problems of one name would overwrite results.
+            catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
             for (path, problem) in loaded {
                 for w in problem.warnings() {
                     eprintln!("warning: {}: {w}", path.display());

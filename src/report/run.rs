@@ -19,6 +19,7 @@ use crate::problem::{Problem, ProfileKind};
 use crate::report::audit::AuditError;
 use crate::report::bench::BenchError;
 use crate::report::compare::{compare, CompareTable};
+use crate::report::results_dir::Staging;
 use crate::report::simulate::{exact_report, rapier_report, SimulationReport};
 use crate::report::whole::WHOLE;
 use crate::schedule::variant::{Origin, Variant, VariantCirculation};
@@ -59,6 +60,9 @@ pub enum RunError {
     /// The problem could not be written as TOML for the report's header.
     #[error("cannot write the problem as TOML for the report header")]
     Toml(#[from] toml::ser::Error),
+    /// The results folder could not be staged or swapped in.
+    #[error(transparent)]
+    ResultsDir(#[from] crate::report::results_dir::ResultsDirError),
     /// The whole-manoeuvre optimisation could not run.
     #[error(transparent)]
     Whole(#[from] crate::optimize::whole::WholeError),
@@ -79,17 +83,21 @@ pub struct RunOutcome {
 }
 
 struct Writer {
+    /// Where files are written (the scratch folder).
     dir: PathBuf,
+    /// The folder the user asked for, named in errors.
+    shown: PathBuf,
     files: Vec<String>,
 }
 
 impl Writer {
     fn put(&mut self, name: &str, contents: &str) -> Result<(), RunError> {
         let path = self.dir.join(name);
+        let shown = self.shown.join(name);
         if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|source| io(parent, source))?;
+            std::fs::create_dir_all(parent).map_err(|source| io(shown.parent().unwrap_or(&shown), source))?;
         }
-        std::fs::write(&path, contents).map_err(|source| io(&path, source))?;
+        std::fs::write(&path, contents).map_err(|source| io(&shown, source))?;
         self.files.push(name.to_string());
         Ok(())
     }
@@ -129,17 +137,17 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
-    atomically(&out_root.join(&r.problem.name), |w| produce(r, command, export, w))
+    atomically(out_root, &r.problem.name, |w| produce(r, command, export, w))
 }
 
 /// Runs `catflip bench` on the resolved problem and writes `out_root/bench/`.
 pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> Result<RunOutcome, RunError> {
-    atomically(&out_root.join("bench"), |w| {
+    atomically(out_root, "bench", |w| {
         let report = crate::report::bench::bench(r, dts)?;
         w.put("bench.csv", &report.to_csv())?;
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
-        std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
+        std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
         let points: Vec<(String, f64, f64)> =
             report.points.iter().map(|p| (p.engine.to_string(), p.time_s, p.error_rad)).collect();
         w.record(crate::report::plot::error_vs_time_plot(&plots, &points)?);
@@ -158,29 +166,17 @@ pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> R
 
 /// Writes into a scratch folder beside `final_dir` and moves it into place only on success.
 fn atomically(
-    final_dir: &Path,
+    out_root: &Path,
+    name: &str,
     body: impl FnOnce(&mut Writer) -> Result<String, RunError>,
 ) -> Result<RunOutcome, RunError> {
-    let parent = final_dir.parent().unwrap_or(Path::new("."));
-    let name = final_dir.file_name().map_or("results".into(), |n| n.to_string_lossy().into_owned());
-    let scratch = parent.join(format!(".{name}.partial-{}", std::process::id()));
-    if scratch.exists() {
-        std::fs::remove_dir_all(&scratch).map_err(|e| io(&scratch, e))?;
-    }
-    std::fs::create_dir_all(&scratch).map_err(|e| io(&scratch, e))?;
-    let mut w = Writer { dir: scratch.clone(), files: Vec::new() };
-    let summary = match body(&mut w) {
-        Ok(s) => s,
-        Err(e) => {
-            let _ = std::fs::remove_dir_all(&scratch);
-            return Err(e);
-        }
-    };
-    if final_dir.exists() {
-        std::fs::remove_dir_all(final_dir).map_err(|e| io(final_dir, e))?;
-    }
-    std::fs::rename(&scratch, final_dir).map_err(|e| io(final_dir, e))?;
-    Ok(RunOutcome { dir: final_dir.to_path_buf(), files: w.files, summary })
+    let staging = Staging::begin(out_root, name)?;
+    let mut w = Writer { dir: staging.dir().to_path_buf(), shown: staging.target().to_path_buf(), files: Vec::new() };
+    // On an error the staging folder is dropped, and with it the scratch folder: the previous
+    // results stay as they were.
+    let summary = body(&mut w)?;
+    let dir = staging.commit()?;
+    Ok(RunOutcome { dir, files: w.files, summary })
 }
 
 /// The library profiles shown in the plots beside the optimised ones.
@@ -270,7 +266,7 @@ fn produce(
     }
     // 5. Plots and the animation.
     let plots = w.dir.join("plots");
-    std::fs::create_dir_all(&plots).map_err(|e| io(&plots, e))?;
+    std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
     let shown: Vec<(String, Schedule)> = verified
         .iter()
         .filter(|v| v.variant.circulation == VariantCirculation::Problem)
