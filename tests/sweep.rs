@@ -8,7 +8,7 @@ use std::process::Command;
 use approx::assert_relative_eq;
 use catflip::sweep::cases::{case, cases};
 use catflip::sweep::spec::{SpecError, Sweep};
-use catflip::sweep::table::to_csv;
+use catflip::sweep::table::{from_csv, to_csv, Record};
 use catflip::sweep::{evaluate, merge, run, Shard, Status, SweepOptions};
 
 /// A fresh folder under the system's temporary directory, unique to this test and run.
@@ -147,10 +147,18 @@ fn a_refused_case_carries_its_reason_and_never_a_nan() {
     assert!(exact[0].reason.contains("gimbal lock"), "{}", exact[0].reason);
     assert!(exact[2].reason.contains("manoeuvre.theta_deg = 200"), "{}", exact[2].reason);
     assert!(exact[4..].iter().all(|r| r.status == Status::Ok && r.numbers.is_some()));
-    // Asked for but not wired in: said so on its own rows.
+    // Rapier checks each exact row: a refused case's rapier rows carry the case's reason, the
+    // computed case's are verified or say what they found.
     let rapier: Vec<_> = records.iter().filter(|r| r.engine == "rapier").collect();
     assert_eq!(rapier.len(), 6);
-    assert!(rapier.iter().all(|r| r.status == Status::NotAvailable && r.reason == "not available in this build"));
+    for r in &rapier[..4] {
+        assert_eq!(r.status, Status::Refused);
+        assert_eq!(r.reason, exact[if r.case == 0 { 0 } else { 2 }].reason);
+    }
+    for r in &rapier[4..] {
+        assert_eq!(r.status, Status::Ok, "{}", r.reason);
+        assert!(!r.labels.rapier_verdict.is_empty());
+    }
     let csv = to_csv(&s, &records).expect("CSV");
     let lower = csv.to_lowercase();
     assert!(!lower.contains("nan") && !lower.contains("inf"), "{csv}");
@@ -313,17 +321,18 @@ fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
     )
     .expect("simulates");
     for (n, sim) in [(paper, &sim_paper), (calibrated, &sim_cal)] {
-        assert_eq!(n.circulation_rad.to_bits(), sim.circulation_rad.to_bits());
+        assert_eq!(n.circulation_rad.map(f64::to_bits), Some(sim.circulation_rad.to_bits()));
         assert_eq!(n.twist_deg.to_bits(), sim.twist_deg.to_bits());
         assert_eq!(n.swing_deg.to_bits(), sim.swing_deg.to_bits());
         assert_eq!(n.peaks, Some(sim.peak_torque_nm));
+        assert_eq!(n.peak_nm.map(f64::to_bits), Some(sim.peak_torque_nm.max.to_bits()));
     }
     // The calibrated schedule flips by π to the tolerance; the paper's misses (DESIGN.md §4).
     assert!(calibrated.flip_error_deg.abs() < 1e-10_f64.to_degrees() * 2.0, "{}", calibrated.flip_error_deg);
     assert!(paper.flip_error_deg.abs() > 0.1, "{}", paper.flip_error_deg);
     assert_relative_eq!(
         outcome.circulation_error().expect("both circulations"),
-        calibrated.circulation_rad - paper.circulation_rad,
+        calibrated.circulation_rad.expect("a circulation") - paper.circulation_rad.expect("a circulation"),
         max_relative = 1e-15
     );
 }
@@ -338,6 +347,103 @@ fn a_given_circulation_adds_its_own_row() {
     let schedules: Vec<&str> = records.iter().map(|r| r.schedule.as_str()).collect();
     assert_eq!(schedules, ["paper", "calibrated", "given"]);
     let given = records[2].numbers.expect("computed");
-    assert_eq!(given.circulation_rad.to_bits(), 3.3f64.to_bits());
+    assert_eq!(given.circulation_rad.map(f64::to_bits), Some(3.3f64.to_bits()));
     assert!(given.peaks.is_none(), "peaks were not asked for");
+}
+
+/// Two cases with the retiming, the whole-manoeuvre optimum (a coarse 12-point spline, for
+/// speed) and rapier on.
+fn optimised() -> Sweep {
+    sweep_ok(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[compute]\nretiming = true\nwhole = true\nwhole_control_points = 12\nrapier = true",
+    ))
+}
+
+/// The record of a case's schedule through an engine.
+fn row<'a>(records: &'a [Record], case: usize, schedule: &str, engine: &str) -> &'a Record {
+    records
+        .iter()
+        .find(|r| r.case == case && r.schedule == schedule && r.engine == engine)
+        .unwrap_or_else(|| panic!("no {schedule}/{engine} row for case {case}"))
+}
+
+#[test]
+fn retiming_whole_optimum_and_rapier_give_numbers_or_a_stated_status() {
+    let s = optimised();
+    let records = evaluate(&s, 0..s.case_count(), false);
+    let order: Vec<(&str, &str)> =
+        records.iter().filter(|r| r.case == 0).map(|r| (r.schedule.as_str(), r.engine.as_str())).collect();
+    let want = ["paper", "calibrated", "retimed", "whole"];
+    let expected: Vec<(&str, &str)> =
+        want.iter().map(|&x| (x, "exact")).chain(want.iter().map(|&x| (x, "rapier"))).collect();
+    assert_eq!(order, expected);
+    for r in &records {
+        match r.status {
+            Status::Ok => assert!(r.numbers.is_some() && r.reason.is_empty(), "{r:?}"),
+            _ => assert!(r.numbers.is_none() && !r.reason.is_empty(), "{r:?}"),
+        }
+    }
+    // The paper's cat at r = 0.1 and a stouter one: both optimisers must succeed (tests/retime.rs
+    // and tests/whole.rs solve these cats).
+    for case in 0..2 {
+        let calibrated = row(&records, case, "calibrated", "exact").numbers.expect("calibrated numbers");
+        let retimed = row(&records, case, "retimed", "exact");
+        assert_eq!(retimed.labels.retimed_from, "calibrated");
+        assert_eq!(retimed.labels.solver_status, "solved");
+        let n = retimed.numbers.expect("the retiming solves");
+        let rt = n.retiming.expect("the retiming's numbers");
+        // Weak duality: the certified bound is below the program's peak, and the exact peak of
+        // the timed trajectory is not below the bound by more than the grid's discretisation.
+        assert!(rt.lower_bound_nm <= rt.program_peak_nm * (1.0 + 1e-6), "{rt:?}");
+        let peak = n.peak_nm.expect("re-measured");
+        assert!(peak >= rt.lower_bound_nm * (1.0 - 1e-2), "exact {peak} vs bound {}", rt.lower_bound_nm);
+        // The library timing is one timing of the same path: the optimum cannot be above it.
+        assert!(peak < calibrated.peak_nm.expect("calibrated peak"), "{peak} vs {calibrated:?}");
+        // Retiming keeps the path, so the flip: the same twist as the calibrated schedule.
+        assert_eq!(n.twist_deg.to_bits(), calibrated.twist_deg.to_bits());
+        let whole = row(&records, case, "whole", "exact");
+        let w = whole.numbers.unwrap_or_else(|| panic!("the whole optimum: {}", whole.reason));
+        assert!(w.flip_error_deg.abs() <= 1e-8_f64.to_degrees(), "{w:?}");
+        assert!(w.circulation_rad.is_none() && w.peaks.is_none());
+        assert!(w.peak_nm.is_some_and(|p| p > 0.0) && w.whole.is_some_and(|x| x.max_bend_deg > 0.0));
+        assert!(!whole.labels.whole_start.is_empty() && whole.labels.solver_status.contains("converged"));
+        for schedule in want {
+            let r = row(&records, case, schedule, "rapier");
+            assert_eq!(r.status, Status::Ok, "{}", r.reason);
+            let n = r.numbers.expect("rapier numbers");
+            let v = n.rapier.expect("the verification's numbers");
+            assert!(v.steps > 0 && v.steps <= 150_000 && v.finest_dt_s > 0.0, "{v:?}");
+            assert!(["verified", "not verified", "inconclusive"]
+                .iter()
+                .any(|w| r.labels.rapier_verdict.starts_with(w)));
+        }
+    }
+    let csv = to_csv(&s, &records).expect("CSV");
+    let lower = csv.to_lowercase();
+    assert!(!lower.contains("nan") && !lower.contains(",inf"), "{csv}");
+    // The CSV reads back to the same records, bit for bit (what a merge of shards relies on).
+    assert!(from_csv(&s, &csv, "test").expect("reads back") == records);
+}
+
+#[test]
+fn output_is_byte_identical_whatever_the_thread_count_with_the_optimisers_and_rapier() {
+    let s = optimised();
+    let csv_with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a rayon pool");
+        let records = pool.install(|| evaluate(&s, 0..s.case_count(), false));
+        to_csv(&s, &records).expect("CSV")
+    };
+    let (one, two) = (csv_with(1), csv_with(2));
+    assert_eq!(one.lines().count(), 1 + 2 * 8, "{one}");
+    assert!(one == two, "1 thread and 2 threads differ:\n{one}\n---\n{two}");
+}
+
+#[test]
+fn whole_control_points_needs_whole_and_a_usable_value() {
+    let (field, reason) = bad_field(&with_base("[compute]\nwhole_control_points = 20"));
+    assert_eq!(field, "compute.whole_control_points");
+    assert!(reason.contains("whole = true"), "{reason}");
+    let (field, reason) = bad_field(&with_base("[compute]\nwhole = true\nwhole_control_points = 3"));
+    assert_eq!(field, "compute.whole_control_points");
+    assert!(reason.contains("optimize.control_points = 3"), "{reason}");
 }

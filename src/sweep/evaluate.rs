@@ -1,4 +1,4 @@
-//! One case through the exact engine: the rows a sweep reports for it.
+//! One case through the engines and optimisers: the rows a sweep reports for it.
 //!
 //! Per case, with the problem's own `exact` settings:
 //! - schedule `paper`: the paper's circulation `D_p = π/C` ([`paper_circulation`]), its flip
@@ -7,6 +7,13 @@
 //!   ([`resolve_circulation`] with `circulation = "calibrated"`, i.e. [`crate::engines::calibrate::calibrate`]),
 //!   its swing and peak torques;
 //! - schedule `given`: when the problem file gives a circulation in radians, that one as well;
+//! - schedule `retimed` (with `retiming`): the certified convex retiming of the calibrated
+//!   schedule (the paper's when the calibration fails) along its fixed path, the duration free
+//!   to move between the phases ([`super::optimum`]);
+//! - schedule `whole` (with `whole`): the whole-manoeuvre optimum of least peak torque
+//!   ([`super::optimum`]);
+//! - engine `rapier` (with `rapier`): every exact row above verified by rapier
+//!   ([`super::verify`]);
 //! - the paper formula's error `D_c − D_p` (rad) and `(D_c − D_p)/D_p`, on every row of the case.
 //!
 //! Accuracy (the problem's `exact.tolerance` = ε): twist and swing to ε rad (Richardson estimate of
@@ -15,20 +22,22 @@
 //! torques from `exact.torque_samples` samples per phase, each peak refined by golden-section search
 //! between its neighbouring samples.
 //!
-//! The convex retiming, the whole-manoeuvre optimum and the rapier verdict are not wired into
-//! this build: asked for, they give rows with status `not-available` and say so.
+//! A row is `ok` only when every number it carries is finite and valid; otherwise its status
+//! (`refused`, `failed`, `skipped`) and a one-line reason say why, and it carries no number.
 
 use serde::Serialize;
 
 use crate::engines::circulation::{resolve_circulation, CirculationError};
 use crate::engines::exact::flip;
 use crate::engines::peaks::PhasePeaks;
+use crate::engines::rapier::Reference;
 use crate::engines::torque::peak_torques;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
 use crate::schedule::{paper_circulation, Schedule};
 
-use super::spec::Compute;
+use super::optimum::Subject;
+use super::spec::{one_line, Compute};
 
 /// How a row ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -38,10 +47,11 @@ pub enum Status {
     Ok,
     /// The problem (or the paper's formula) refuses this case; the reason says why.
     Refused,
-    /// The computation ran but gave no valid result (e.g. calibration found no root).
+    /// The computation ran but gave no valid result (e.g. calibration found no root, the
+    /// optimiser did not converge).
     Failed,
-    /// Asked for, but not available in this build.
-    NotAvailable,
+    /// Not computed because the row it rests on has no result (a rapier check of a failed row).
+    Skipped,
 }
 
 impl Status {
@@ -51,33 +61,133 @@ impl Status {
             Status::Ok => "ok",
             Status::Refused => "refused",
             Status::Failed => "failed",
-            Status::NotAvailable => "not-available",
+            Status::Skipped => "skipped",
         }
     }
 
     /// The status of a name written by [`Status::name`].
     pub fn parse(s: &str) -> Option<Status> {
-        [Status::Ok, Status::Refused, Status::Failed, Status::NotAvailable].into_iter().find(|x| x.name() == s)
+        [Status::Ok, Status::Refused, Status::Failed, Status::Skipped].into_iter().find(|x| x.name() == s)
     }
 }
 
-/// The numbers of one schedule of one case (present when the row's status is `ok`).
+/// The convex retiming's own numbers (schedule `retimed`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RetimeNumbers {
+    /// Clarabel's dual objective: a certified lower bound on the peak of any timing of this path
+    /// on the program's grid, N·m.
+    pub lower_bound_nm: f64,
+    /// The program's primal objective (peak at the grid nodes), N·m.
+    pub program_peak_nm: f64,
+    /// `program_peak − lower_bound`, N·m.
+    pub gap_nm: f64,
+}
+
+/// The whole-manoeuvre optimum's own numbers (schedule `whole`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct WholeNumbers {
+    /// Effort `∫ τ·τ dt`, N²·m²·s.
+    pub energy: f64,
+    /// Largest bend (angle between the spine axes), degrees.
+    pub max_bend_deg: f64,
+}
+
+/// Rapier's verification numbers (engine `rapier`; its raw finest-run twist, swing and peak are
+/// the row's `twist_deg`, `swing_deg` and peaks).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RapierNumbers {
+    /// Richardson-extrapolated twist, degrees (none with fewer than two runs).
+    pub twist_extrapolated_deg: Option<f64>,
+    /// Extrapolated swing, degrees.
+    pub swing_extrapolated_deg: Option<f64>,
+    /// Extrapolated peak torque, N·m.
+    pub peak_extrapolated_nm: Option<f64>,
+    /// Rapier steps of every run together.
+    pub steps: usize,
+    /// The finest run's step, s.
+    pub finest_dt_s: f64,
+}
+
+/// The numbers of one schedule of one case through one engine (present when the row's status is
+/// `ok`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Numbers {
-    /// Circulation `∫ω ds`, rad.
-    pub circulation_rad: f64,
+    /// Circulation `∫ω ds`, rad (none for the whole-manoeuvre optimum, which has no such parameter).
+    pub circulation_rad: Option<f64>,
     /// Signed twist about A's initial `+z`, degrees.
     pub twist_deg: f64,
     /// Swing of the spine axis, degrees.
     pub swing_deg: f64,
     /// `|twist| − 180°`, degrees: how far the schedule misses the flip.
     pub flip_error_deg: f64,
-    /// Richardson estimate of the orientation error, rad.
-    pub error_estimate_rad: f64,
-    /// Peak torques per phase and joint, N·m (when `peaks` is asked for).
+    /// Richardson estimate of the exact engine's orientation error, rad (none for rapier rows).
+    pub error_estimate_rad: Option<f64>,
+    /// Peak torques per phase and joint, N·m (three-phase schedules, when `peaks` is asked for).
     pub peaks: Option<PhasePeaks>,
+    /// The overall peak torque `max |τ|`, N·m (when measured).
+    pub peak_nm: Option<f64>,
     /// Exact-engine evaluations of the calibration (calibrated rows).
     pub calibration_evaluations: Option<usize>,
+    /// The retiming's numbers (`retimed` rows).
+    pub retiming: Option<RetimeNumbers>,
+    /// The whole-manoeuvre optimum's numbers (`whole` rows).
+    pub whole: Option<WholeNumbers>,
+    /// The verification's numbers (`rapier` rows).
+    pub rapier: Option<RapierNumbers>,
+}
+
+impl Numbers {
+    /// A flip's numbers: twist and swing in radians, everything else absent.
+    pub fn flip(circulation_rad: Option<f64>, twist: f64, swing: f64, error_estimate_rad: Option<f64>) -> Numbers {
+        Numbers {
+            circulation_rad,
+            twist_deg: twist.to_degrees(),
+            swing_deg: swing.to_degrees(),
+            flip_error_deg: twist.to_degrees().abs() - 180.0,
+            error_estimate_rad,
+            peaks: None,
+            peak_nm: None,
+            calibration_evaluations: None,
+            retiming: None,
+            whole: None,
+            rapier: None,
+        }
+    }
+
+    /// Whether every number is finite.
+    pub fn all_finite(&self) -> bool {
+        let mut v = vec![self.twist_deg, self.swing_deg, self.flip_error_deg];
+        v.extend(self.circulation_rad.iter().chain(&self.error_estimate_rad).chain(&self.peak_nm));
+        if let Some(p) = &self.peaks {
+            v.extend([p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max]);
+        }
+        if let Some(r) = &self.retiming {
+            v.extend([r.lower_bound_nm, r.program_peak_nm, r.gap_nm]);
+        }
+        if let Some(w) = &self.whole {
+            v.extend([w.energy, w.max_bend_deg]);
+        }
+        if let Some(r) = &self.rapier {
+            v.push(r.finest_dt_s);
+            v.extend(r.twist_extrapolated_deg.iter().chain(&r.swing_extrapolated_deg).chain(&r.peak_extrapolated_nm));
+        }
+        v.iter().all(|x| x.is_finite())
+    }
+}
+
+/// The words of a row beside its numbers (empty where they do not apply); written whatever the
+/// status, so a failed optimisation still says how its solver ended.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Labels {
+    /// The schedule a `retimed` row retimes: `calibrated`, or `paper` when the calibration failed.
+    pub retimed_from: String,
+    /// How the optimiser ended: the retiming's [`crate::optimize::retime::RetimeStatus`], the
+    /// whole optimum's [`crate::optimize::whole::WholeStatus`] per start.
+    pub solver_status: String,
+    /// The start the whole-manoeuvre optimum came from.
+    pub whole_start: String,
+    /// Rapier's verdict ([`crate::engines::rapier::Verdict`]'s text).
+    pub rapier_verdict: String,
 }
 
 /// One row: a schedule of a case through an engine.
@@ -91,8 +201,40 @@ pub struct Row {
     pub status: Status,
     /// Why, when not `ok` (one line).
     pub reason: String,
+    /// The row's words.
+    pub labels: Labels,
     /// The numbers, when `ok`.
     pub numbers: Option<Numbers>,
+}
+
+impl Row {
+    /// A row without numbers.
+    pub fn without(schedule: &str, engine: &str, status: Status, reason: &str, labels: Labels) -> Row {
+        Row {
+            schedule: schedule.to_string(),
+            engine: engine.to_string(),
+            status,
+            reason: one_line(reason),
+            labels,
+            numbers: None,
+        }
+    }
+
+    /// An `ok` row, or a `failed` one when a number is not finite.
+    pub fn with(schedule: &str, engine: &str, numbers: Numbers, labels: Labels) -> Row {
+        if numbers.all_finite() {
+            Row {
+                schedule: schedule.to_string(),
+                engine: engine.to_string(),
+                status: Status::Ok,
+                reason: String::new(),
+                labels,
+                numbers: Some(numbers),
+            }
+        } else {
+            Row::without(schedule, engine, Status::Failed, "the engine returned a non-finite number", labels)
+        }
+    }
 }
 
 /// What a case gives: its rows and the case-level numbers.
@@ -109,17 +251,12 @@ pub struct CaseOutcome {
 }
 
 impl CaseOutcome {
-    /// A case the problem file refuses: one row per asked schedule, each carrying the reason.
+    /// A case the problem file refuses: one row per asked schedule and engine, each carrying the
+    /// reason.
     pub fn refused(compute: &Compute, reason: &str) -> CaseOutcome {
         let rows = asked_schedules(compute, false)
             .into_iter()
-            .map(|(schedule, engine)| Row {
-                schedule: schedule.to_string(),
-                engine: engine.to_string(),
-                status: if engine == "exact" { Status::Refused } else { Status::NotAvailable },
-                reason: if engine == "exact" { reason.to_string() } else { NOT_AVAILABLE.to_string() },
-                numbers: None,
-            })
+            .map(|(schedule, engine)| Row::without(schedule, engine, Status::Refused, reason, Labels::default()))
             .collect();
         CaseOutcome { warnings: String::new(), paper_rad: None, calibrated_rad: None, rows }
     }
@@ -129,9 +266,6 @@ impl CaseOutcome {
         Some(self.calibrated_rad? - self.paper_rad?)
     }
 }
-
-/// The reason written on rows this build cannot compute.
-pub const NOT_AVAILABLE: &str = "not available in this build";
 
 /// The (schedule, engine) pairs `compute` asks for, in row order.
 fn asked_schedules(compute: &Compute, given: bool) -> Vec<(&'static str, &'static str)> {
@@ -158,87 +292,119 @@ fn asked_schedules(compute: &Compute, given: bool) -> Vec<(&'static str, &'stati
     out
 }
 
+/// An exact row and, when it is `ok`, the trajectory it measured and the exact engine's numbers
+/// for rapier to check.
+pub(crate) struct Measured {
+    /// The row.
+    pub row: Row,
+    /// What rapier verifies.
+    pub subject: Option<(Subject, Reference)>,
+}
+
+impl Measured {
+    /// A row with nothing to verify.
+    pub fn alone(row: Row) -> Measured {
+        Measured { row, subject: None }
+    }
+}
+
+/// A circulation and the calibration's evaluations, or the status and reason there is none.
+type Resolution = Result<(f64, Option<usize>), (Status, String)>;
+
 /// Evaluates one case. The single call site of the engines: switch it to the shared evaluation here.
 pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
-    let cat = &problem.cat;
-    let tol = problem.exact.tolerance;
     let given = match problem.manoeuvre.circulation {
         Circulation::Angle(a) => Some(a),
         _ => None,
     };
-    let paper = paper_circulation(cat, problem.manoeuvre.theta());
+    let paper = paper_circulation(&problem.cat, problem.manoeuvre.theta());
     let paper_rad = paper.as_ref().ok().copied();
-    let mut calibrated_rad = None;
-    let mut rows = Vec::new();
+    let paper: Resolution = paper.map(|d| (d, None)).map_err(|e| (Status::Refused, e.to_string()));
+    let calibrated = (compute.calibrated || compute.retiming).then(|| calibrate(problem));
+    let calibrated_rad = calibrated.as_ref().and_then(|c| c.as_ref().ok()).map(|c| c.0);
+    let mut measured = Vec::new();
     for (schedule, engine) in asked_schedules(compute, given.is_some()) {
-        let row = |status, reason: String, numbers| Row {
-            schedule: schedule.to_string(),
-            engine: engine.to_string(),
-            status,
-            reason,
-            numbers,
-        };
-        if engine != "exact" || schedule == "retimed" || schedule == "whole" {
-            rows.push(row(Status::NotAvailable, NOT_AVAILABLE.to_string(), None));
+        if engine != "exact" {
             continue;
         }
-        let circulation = match schedule {
-            "paper" => paper.as_ref().map(|&d| (d, None)).map_err(|e| (Status::Refused, e.to_string())),
-            "calibrated" => {
-                let mut p = problem.clone();
-                p.manoeuvre.circulation = Circulation::Calibrated;
-                match resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), p.exact.tolerance) {
-                    Ok(c) => Ok((c.radians, c.calibration.map(|x| x.evaluations))),
-                    Err(e @ CirculationError::Calibration { .. }) => Err((Status::Failed, e.to_string())),
-                    Err(e) => Err((Status::Refused, e.to_string())),
-                }
+        let m = match schedule {
+            "paper" => schedule_row(problem, compute, schedule, &paper),
+            "calibrated" => match &calibrated {
+                Some(c) => schedule_row(problem, compute, schedule, c),
+                None => schedule_row(problem, compute, schedule, &calibrate(problem)),
+            },
+            "retimed" => match calibrated.as_ref() {
+                Some(Ok((d, _))) => super::optimum::retimed(problem, "calibrated", *d),
+                _ => match &paper {
+                    Ok((d, _)) => super::optimum::retimed(problem, "paper", *d),
+                    Err((status, reason)) => Measured::alone(Row::without(
+                        schedule,
+                        engine,
+                        *status,
+                        &format!("no schedule to retime: the calibration failed and π/C is undefined ({reason})"),
+                        Labels::default(),
+                    )),
+                },
+            },
+            "whole" => super::optimum::whole(problem, compute),
+            _ => {
+                let g =
+                    given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string()));
+                schedule_row(problem, compute, schedule, &g)
             }
-            _ => given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string())),
         };
-        let (radians, evaluations) = match circulation {
-            Ok(x) => x,
-            Err((status, reason)) => {
-                rows.push(row(status, super::spec::one_line(&reason), None));
-                continue;
-            }
-        };
-        if schedule == "calibrated" {
-            calibrated_rad = Some(radians);
-        }
-        let s = Schedule::new(problem, radians);
-        let f = flip(cat, &s, tol);
-        if !f.converged {
-            let reason = format!(
-                "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
-                f.error_estimate
-            );
-            rows.push(row(Status::Failed, reason, None));
-            continue;
-        }
-        let peaks = compute.peaks.then(|| PhasePeaks::from_peaks(&peak_torques(cat, &s, problem.exact.torque_samples)));
-        let numbers = Numbers {
-            circulation_rad: radians,
-            twist_deg: f.twist.to_degrees(),
-            swing_deg: f.swing.to_degrees(),
-            flip_error_deg: f.twist.to_degrees().abs() - 180.0,
-            error_estimate_rad: f.error_estimate,
-            peaks,
-            calibration_evaluations: evaluations,
-        };
-        if all_finite(&numbers) {
-            rows.push(row(Status::Ok, String::new(), Some(numbers)));
-        } else {
-            rows.push(row(Status::Failed, "the engine returned a non-finite number".to_string(), None));
-        }
+        measured.push(m);
+    }
+    let mut rows: Vec<Row> = measured.iter().map(|m| m.row.clone()).collect();
+    if compute.rapier {
+        rows.extend(measured.iter().map(|m| super::verify::rapier_row(problem, m)));
     }
     CaseOutcome { warnings: problem.warnings().join("; "), paper_rad, calibrated_rad, rows }
 }
 
-/// Whether every number of a row is finite.
-fn all_finite(n: &Numbers) -> bool {
-    let mut v = vec![n.circulation_rad, n.twist_deg, n.swing_deg, n.flip_error_deg, n.error_estimate_rad];
-    if let Some(p) = &n.peaks {
-        v.extend([p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max]);
+/// The calibrated circulation of the case's manoeuvre.
+fn calibrate(problem: &Problem) -> Resolution {
+    let mut p = problem.clone();
+    p.manoeuvre.circulation = Circulation::Calibrated;
+    match resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), p.exact.tolerance) {
+        Ok(c) => Ok((c.radians, c.calibration.map(|x| x.evaluations))),
+        Err(e @ CirculationError::Calibration { .. }) => Err((Status::Failed, e.to_string())),
+        Err(e) => Err((Status::Refused, e.to_string())),
     }
-    v.iter().all(|x| x.is_finite())
+}
+
+/// The exact row of the library schedule with `circulation`.
+fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulation: &Resolution) -> Measured {
+    let (cat, tol) = (&problem.cat, problem.exact.tolerance);
+    let (radians, evaluations) = match circulation {
+        Ok(x) => *x,
+        Err((status, reason)) => {
+            return Measured::alone(Row::without(schedule, "exact", *status, reason, Labels::default()))
+        }
+    };
+    let s = Schedule::new(problem, radians);
+    let f = flip(cat, &s, tol);
+    if !f.converged {
+        let reason = format!(
+            "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
+            f.error_estimate
+        );
+        return Measured::alone(Row::without(schedule, "exact", Status::Failed, &reason, Labels::default()));
+    }
+    // Rapier is checked against the measured peak, so it is measured when rapier is asked for.
+    let measured = (compute.peaks || compute.rapier).then(|| peak_torques(cat, &s, problem.exact.torque_samples));
+    let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
+    numbers.calibration_evaluations = evaluations;
+    if compute.peaks {
+        numbers.peaks = measured.as_ref().map(PhasePeaks::from_peaks);
+        numbers.peak_nm = measured.as_ref().map(|p| p.max);
+    }
+    let row = Row::with(schedule, "exact", numbers, Labels::default());
+    let subject = match (&row.status, measured) {
+        (Status::Ok, Some(p)) => {
+            Some((Subject::Schedule(s), Reference { twist: f.twist, swing: f.swing, peak_torque: p.max }))
+        }
+        _ => None,
+    };
+    Measured { row, subject }
 }

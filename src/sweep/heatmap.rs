@@ -2,7 +2,7 @@
 //! scale (viridis anchors, low = dark violet, high = yellow) with the value written in it, a colour
 //! bar beside it, and cells without a value grey and marked "—". The axes are the swept
 //! values in sweep order, evenly spaced whatever their spacing (so log ranges read as such).
-//! Written as PNG and SVG with the shared plot style ([`crate::plot`]).
+//! Written as PNG and SVG with the shared plot style ([`crate::report::plot`]).
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,9 @@
 //!
 //! The pipeline: the sweep file ([`spec`]) → cases, each the base problem plus `--set`-style
 //! overrides ([`cases`]) → per case the flip with the paper's circulation, the calibrated
-//! circulation and peak torques ([`evaluate`]), in parallel with `rayon` → the table ([`table`]),
+//! circulation and peak torques ([`mod@evaluate`]), optionally the certified retiming and the
+//! whole-manoeuvre optimum ([`optimum`]) and rapier's verdict on every row ([`verify`]), in
+//! parallel with `rayon` → the table ([`table`]),
 //! the Markdown summary ([`summary`]) and the plots ([`plots`], [`heatmap`]) written atomically
 //! by [`output`]. [`shard`] splits a sweep into parts for a cluster's array job and merges them.
 //!
@@ -15,12 +17,15 @@ pub mod cases;
 pub mod evaluate;
 pub mod grid;
 pub mod heatmap;
+pub mod optimum;
 pub mod output;
 pub mod plots;
+pub mod schedules;
 pub mod shard;
 pub mod spec;
 pub mod summary;
 pub mod table;
+pub mod verify;
 
 use std::io::IsTerminal;
 use std::ops::Range;

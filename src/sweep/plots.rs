@@ -68,6 +68,22 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
             value: Record::peak_max,
         });
     }
+    if c.retiming {
+        q.push(Quantity {
+            stem: "retimed-peak",
+            label: "peak torque of the certified retiming (exact), N·m".into(),
+            schedule: "retimed",
+            value: Record::peak_max,
+        });
+    }
+    if c.whole {
+        q.push(Quantity {
+            stem: "whole-peak",
+            label: "peak torque of the whole-manoeuvre optimum, N·m".into(),
+            schedule: "whole",
+            value: Record::peak_max,
+        });
+    }
     q
 }
 

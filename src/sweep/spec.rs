@@ -18,6 +18,10 @@
 //! paper_flip = true
 //! calibrated = true
 //! peaks = true
+//! retiming = false                   # the certified convex retiming
+//! whole = false                      # the whole-manoeuvre optimum
+//! whole_control_points = 30          # optional: a coarser spline than the default 120
+//! rapier = false                     # rapier's verdict on every exact row
 //! ```
 //!
 //! Axis values enter the problem exactly like `--set field=value` overrides, so the problem file's
@@ -156,17 +160,29 @@ pub struct Compute {
     pub calibrated: bool,
     /// Peak motor torques per phase and joint of each schedule.
     pub peaks: bool,
-    /// The convex retiming's certified optimum (not available in this build: reported as such).
+    /// The convex retiming's certified optimum of the calibrated (else the paper's) schedule
+    /// along its path ([`super::optimum`]).
     pub retiming: bool,
-    /// The whole-manoeuvre optimum (not available in this build: reported as such).
+    /// The whole-manoeuvre optimum of least peak torque ([`super::optimum`]).
     pub whole: bool,
-    /// The rapier verdict (not available in this build: reported as such).
+    /// Control points per joint of the whole-manoeuvre spline, to lower the default (120) for
+    /// speed; the default when absent.
+    pub whole_control_points: Option<usize>,
+    /// Rapier's verification of every exact row ([`super::verify`]).
     pub rapier: bool,
 }
 
 impl Default for Compute {
     fn default() -> Self {
-        Self { paper_flip: true, calibrated: true, peaks: true, retiming: false, whole: false, rapier: false }
+        Self {
+            paper_flip: true,
+            calibrated: true,
+            peaks: true,
+            retiming: false,
+            whole: false,
+            whole_control_points: None,
+            rapier: false,
+        }
     }
 }
 
@@ -266,6 +282,7 @@ impl Sweep {
             axes.push(axis);
         }
         check_count(&axes, file.combine)?;
+        check_compute(&file.compute)?;
         Ok(Sweep {
             name,
             text: text.to_string(),
@@ -360,6 +377,21 @@ fn check_count(axes: &[Axis], combine: Combine) -> Result<(), SpecError> {
             if n.is_none_or(|n| n > MAX_CASES) {
                 return Err(bad("combine", &format!("the product of the axes exceeds {MAX_CASES} cases")));
             }
+        }
+    }
+    Ok(())
+}
+
+/// Checks `[compute]`: `whole_control_points` only with `whole`, and a value the whole-manoeuvre
+/// optimisation accepts.
+fn check_compute(c: &Compute) -> Result<(), SpecError> {
+    if let Some(n) = c.whole_control_points {
+        let field = "compute.whole_control_points";
+        if !c.whole {
+            return Err(bad(field, "is used only with `whole = true`"));
+        }
+        if let Err(e) = super::optimum::whole_settings(c).validate() {
+            return Err(bad(field, &format!("{n} is not usable ({e})")));
         }
     }
     Ok(())

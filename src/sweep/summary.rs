@@ -1,5 +1,6 @@
 //! The sweep's Markdown report: the provenance header, what was swept, the rows not computed and
-//! why, the best value of each choice axis (profile, bend path, …) per combination of the others
+//! why, the peak torque of each schedule per case and rapier's verdicts ([`super::schedules`]),
+//! the best value of each choice axis (profile, bend path, …) per combination of the others
 //! by lowest peak torque, each quantity over the axes, and the figures.
 
 use std::collections::BTreeMap;
@@ -30,6 +31,8 @@ pub fn body(sweep: &Sweep, records: &[Record], plots: &[PlotInfo]) -> String {
     let mut s = String::new();
     overview(&mut s, sweep, records);
     not_computed(&mut s, records);
+    super::schedules::by_schedule(&mut s, sweep, records);
+    super::schedules::verdicts(&mut s, sweep, records);
     for axis in 0..sweep.axes.len() {
         best_choice(&mut s, sweep, records, axis);
     }

@@ -6,15 +6,22 @@
 //! `calibrated_circulation_rad`, `circulation_error_rad` (calibrated − paper) and
 //! `circulation_rel_error` ((calibrated − paper)/paper), then the row's `circulation_rad`,
 //! `twist_deg`, `swing_deg`, `flip_error_deg` (`|twist| − 180°`), `error_estimate_rad`, the peak
-//! torques per phase and joint and their maximum (N·m), and `calibration_evaluations`. A cell is
-//! empty exactly when its quantity does not exist for that row (the status and reason say why);
-//! no cell holds NaN. Numbers are written with Rust's shortest round-trip formatting, so reading
-//! the CSV back gives the same bits.
+//! torques per phase and joint and their maximum `peak_max_nm` (N·m; the maximum alone for the
+//! whole-manoeuvre spline, which has no phases), and `calibration_evaluations`; then
+//! `retimed_from` and `solver_status` (the optimiser's own word), the retiming's
+//! `retime_lower_bound_nm` (certified), `retime_program_peak_nm` and `retime_gap_nm`, the whole
+//! optimum's `whole_start`, `energy_n2m2s` and `max_bend_deg`, and rapier's `rapier_verdict`,
+//! `rapier_twist_extrapolated_deg`, `rapier_swing_extrapolated_deg`,
+//! `rapier_peak_extrapolated_nm`, `rapier_steps` and `rapier_finest_dt_s` (its raw finest-run
+//! twist, swing and peaks are in the usual columns). A cell is empty exactly when its quantity
+//! does not exist for that row (the status and reason say why); no cell holds NaN. Numbers are
+//! written with Rust's shortest round-trip formatting, so reading the CSV back gives the same
+//! bits.
 
 use crate::engines::peaks::PhasePeaks;
 
 use super::cases::{case, cell};
-use super::evaluate::{CaseOutcome, Numbers, Status};
+use super::evaluate::{CaseOutcome, Labels, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers};
 use super::spec::Sweep;
 
 /// Why a table could not be written or read.
@@ -47,6 +54,8 @@ pub struct Record {
     pub reason: String,
     /// The case's warnings.
     pub warnings: String,
+    /// The row's words (optimiser status, rapier verdict, …).
+    pub labels: Labels,
     /// The case's π/C, rad.
     pub paper_rad: Option<f64>,
     /// The case's calibrated circulation, rad.
@@ -63,7 +72,7 @@ impl Record {
 
     /// The row's overall peak torque, N·m.
     pub fn peak_max(&self) -> Option<f64> {
-        self.numbers.and_then(|n| n.peaks).map(|p| p.max)
+        self.numbers.and_then(|n| n.peak_nm)
     }
 }
 
@@ -81,6 +90,7 @@ pub fn records(sweep: &Sweep, index: usize, outcome: &CaseOutcome) -> Vec<Record
             status: r.status,
             reason: r.reason.clone(),
             warnings: outcome.warnings.clone(),
+            labels: r.labels.clone(),
             paper_rad: outcome.paper_rad,
             calibrated_rad: outcome.calibrated_rad,
             numbers: r.numbers,
@@ -89,7 +99,7 @@ pub fn records(sweep: &Sweep, index: usize, outcome: &CaseOutcome) -> Vec<Record
 }
 
 const HEAD: [&str; 5] = ["schedule", "engine", "status", "reason", "warnings"];
-const NUMBERS: [&str; 17] = [
+const NUMBERS: [&str; 31] = [
     "paper_circulation_rad",
     "calibrated_circulation_rad",
     "circulation_error_rad",
@@ -107,19 +117,41 @@ const NUMBERS: [&str; 17] = [
     "unbend_tau2_nm",
     "peak_max_nm",
     "calibration_evaluations",
+    "retimed_from",
+    "solver_status",
+    "retime_lower_bound_nm",
+    "retime_program_peak_nm",
+    "retime_gap_nm",
+    "whole_start",
+    "energy_n2m2s",
+    "max_bend_deg",
+    "rapier_verdict",
+    "rapier_twist_extrapolated_deg",
+    "rapier_swing_extrapolated_deg",
+    "rapier_peak_extrapolated_nm",
+    "rapier_steps",
+    "rapier_finest_dt_s",
 ];
+
+/// The columns after the axes, in order.
+fn tail() -> impl Iterator<Item = &'static str> {
+    HEAD.into_iter().chain(NUMBERS)
+}
 
 /// The header row.
 pub fn header(sweep: &Sweep) -> Vec<String> {
     let mut h = vec!["case".to_string()];
     h.extend(sweep.axes.iter().map(|a| a.field.clone()));
-    h.extend(HEAD.iter().map(|s| s.to_string()));
-    h.extend(NUMBERS.iter().map(|s| s.to_string()));
+    h.extend(tail().map(str::to_string));
     h
 }
 
 fn num(x: Option<f64>) -> String {
     x.filter(|v| v.is_finite()).map_or_else(String::new, |v| format!("{v:?}"))
+}
+
+fn count(x: Option<usize>) -> String {
+    x.map_or_else(String::new, |v| v.to_string())
 }
 
 fn fields(sweep: &Sweep, r: &Record) -> Vec<String> {
@@ -128,26 +160,43 @@ fn fields(sweep: &Sweep, r: &Record) -> Vec<String> {
     f.extend([r.schedule.clone(), r.engine.clone(), r.status.name().to_string(), r.reason.clone(), r.warnings.clone()]);
     let n = r.numbers.as_ref();
     let p = n.and_then(|n| n.peaks);
+    let (rt, wh, ra) = (n.and_then(|n| n.retiming), n.and_then(|n| n.whole), n.and_then(|n| n.rapier));
     let error = r.calibrated_rad.zip(r.paper_rad).map(|(c, p)| c - p);
     f.extend([num(r.paper_rad), num(r.calibrated_rad), num(error), num(r.circulation_rel_error())]);
     f.extend(
         [
-            n.map(|n| n.circulation_rad),
+            n.and_then(|n| n.circulation_rad),
             n.map(|n| n.twist_deg),
             n.map(|n| n.swing_deg),
             n.map(|n| n.flip_error_deg),
-            n.map(|n| n.error_estimate_rad),
+            n.and_then(|n| n.error_estimate_rad),
             p.map(|p| p.bend[0]),
             p.map(|p| p.bend[1]),
             p.map(|p| p.twist[0]),
             p.map(|p| p.twist[1]),
             p.map(|p| p.unbend[0]),
             p.map(|p| p.unbend[1]),
-            p.map(|p| p.max),
+            n.and_then(|n| n.peak_nm),
         ]
         .map(num),
     );
-    f.push(n.and_then(|n| n.calibration_evaluations).map_or_else(String::new, |e| e.to_string()));
+    f.push(count(n.and_then(|n| n.calibration_evaluations)));
+    let l = &r.labels;
+    f.extend([l.retimed_from.clone(), l.solver_status.clone()]);
+    f.extend([rt.map(|x| x.lower_bound_nm), rt.map(|x| x.program_peak_nm), rt.map(|x| x.gap_nm)].map(num));
+    f.push(l.whole_start.clone());
+    f.extend([wh.map(|x| x.energy), wh.map(|x| x.max_bend_deg)].map(num));
+    f.push(l.rapier_verdict.clone());
+    f.extend(
+        [
+            ra.and_then(|x| x.twist_extrapolated_deg),
+            ra.and_then(|x| x.swing_extrapolated_deg),
+            ra.and_then(|x| x.peak_extrapolated_nm),
+        ]
+        .map(num),
+    );
+    f.push(count(ra.map(|x| x.steps)));
+    f.push(num(ra.map(|x| x.finest_dt_s)));
     f
 }
 
@@ -171,62 +220,103 @@ pub fn from_csv(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<Record>, 
     if head != header(sweep) {
         return Err(fail("its columns are not this sweep's".into()));
     }
-    let axes = sweep.axes.len();
+    let o = 1 + sweep.axes.len();
     let mut out = Vec::new();
     for (line, rec) in rd.records().enumerate() {
         let rec = rec.map_err(|e| fail(e.to_string()))?;
-        let at = |i: usize| rec.get(i).unwrap_or("");
         let bad = |what: &str| fail(format!("row {}: bad {what}", line + 2));
-        let float = |i: usize| -> Result<Option<f64>, TableError> {
-            let s = at(i);
+        // The cell of a named column after the axes.
+        let at = |name: &str| tail().position(|c| c == name).and_then(|k| rec.get(o + k)).unwrap_or("");
+        let text = |name: &str| at(name).to_string();
+        let float = |name: &str| -> Result<Option<f64>, TableError> {
+            let s = at(name);
             if s.is_empty() {
                 Ok(None)
             } else {
-                s.parse::<f64>().map(Some).map_err(|_| bad(&head[i]))
+                s.parse::<f64>().map(Some).map_err(|_| bad(name))
             }
         };
-        let index: usize = at(0).parse().map_err(|_| bad("case"))?;
+        let whole = |name: &str| -> Result<Option<usize>, TableError> {
+            let s = at(name);
+            if s.is_empty() {
+                Ok(None)
+            } else {
+                s.parse::<usize>().map(Some).map_err(|_| bad(name))
+            }
+        };
+        let index: usize = rec.get(0).unwrap_or("").parse().map_err(|_| bad("case"))?;
         if index >= sweep.case_count() {
             return Err(bad("case (beyond the sweep)"));
         }
-        let picks = case(sweep, index).picks;
-        let o = 1 + axes;
-        let status = Status::parse(at(o + 2)).ok_or_else(|| bad("status"))?;
-        let n = o + HEAD.len();
-        let v = (0..12).map(|k| float(n + 4 + k)).collect::<Result<Vec<_>, _>>()?;
-        let peaks = match v[5..12] {
-            [Some(b1), Some(b2), Some(t1), Some(t2), Some(u1), Some(u2), Some(max)] => {
+        let status = Status::parse(at("status")).ok_or_else(|| bad("status"))?;
+        let phase =
+            ["bend_tau1_nm", "bend_tau2_nm", "twist_tau1_nm", "twist_tau2_nm", "unbend_tau1_nm", "unbend_tau2_nm"]
+                .map(float);
+        let peak_nm = float("peak_max_nm")?;
+        let peaks = match (phase, peak_nm) {
+            ([Ok(Some(b1)), Ok(Some(b2)), Ok(Some(t1)), Ok(Some(t2)), Ok(Some(u1)), Ok(Some(u2))], Some(max)) => {
                 Some(PhasePeaks { bend: [b1, b2], twist: [t1, t2], unbend: [u1, u2], max })
             }
+            (phase, _) => {
+                for p in phase {
+                    p?;
+                }
+                None
+            }
+        };
+        let retiming =
+            match (float("retime_lower_bound_nm")?, float("retime_program_peak_nm")?, float("retime_gap_nm")?) {
+                (Some(lower_bound_nm), Some(program_peak_nm), Some(gap_nm)) => {
+                    Some(RetimeNumbers { lower_bound_nm, program_peak_nm, gap_nm })
+                }
+                _ => None,
+            };
+        let whole_numbers = match (float("energy_n2m2s")?, float("max_bend_deg")?) {
+            (Some(energy), Some(max_bend_deg)) => Some(WholeNumbers { energy, max_bend_deg }),
             _ => None,
         };
-        let evals = at(n + 16);
-        let calibration_evaluations =
-            if evals.is_empty() { None } else { Some(evals.parse().map_err(|_| bad("calibration_evaluations"))?) };
-        let numbers = match v[..5] {
-            [Some(circulation_rad), Some(twist_deg), Some(swing_deg), Some(flip_error_deg), Some(error_estimate_rad)] => {
-                Some(Numbers {
-                    circulation_rad,
-                    twist_deg,
-                    swing_deg,
-                    flip_error_deg,
-                    error_estimate_rad,
-                    peaks,
-                    calibration_evaluations,
-                })
-            }
+        let rapier = match (whole("rapier_steps")?, float("rapier_finest_dt_s")?) {
+            (Some(steps), Some(finest_dt_s)) => Some(RapierNumbers {
+                twist_extrapolated_deg: float("rapier_twist_extrapolated_deg")?,
+                swing_extrapolated_deg: float("rapier_swing_extrapolated_deg")?,
+                peak_extrapolated_nm: float("rapier_peak_extrapolated_nm")?,
+                steps,
+                finest_dt_s,
+            }),
+            _ => None,
+        };
+        let numbers = match (float("twist_deg")?, float("swing_deg")?, float("flip_error_deg")?) {
+            (Some(twist_deg), Some(swing_deg), Some(flip_error_deg)) => Some(Numbers {
+                circulation_rad: float("circulation_rad")?,
+                twist_deg,
+                swing_deg,
+                flip_error_deg,
+                error_estimate_rad: float("error_estimate_rad")?,
+                peaks,
+                peak_nm,
+                calibration_evaluations: whole("calibration_evaluations")?,
+                retiming,
+                whole: whole_numbers,
+                rapier,
+            }),
             _ => None,
         };
         out.push(Record {
             case: index,
-            picks,
-            schedule: at(o).to_string(),
-            engine: at(o + 1).to_string(),
+            picks: case(sweep, index).picks,
+            schedule: text("schedule"),
+            engine: text("engine"),
             status,
-            reason: at(o + 3).to_string(),
-            warnings: at(o + 4).to_string(),
-            paper_rad: float(n)?,
-            calibrated_rad: float(n + 1)?,
+            reason: text("reason"),
+            warnings: text("warnings"),
+            labels: Labels {
+                retimed_from: text("retimed_from"),
+                solver_status: text("solver_status"),
+                whole_start: text("whole_start"),
+                rapier_verdict: text("rapier_verdict"),
+            },
+            paper_rad: float("paper_circulation_rad")?,
+            calibrated_rad: float("calibrated_circulation_rad")?,
             numbers,
         });
     }

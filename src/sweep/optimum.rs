@@ -1,0 +1,130 @@
+//! The optimised rows of a case: the convex retiming of its schedule (`retimed`) and the
+//! whole-manoeuvre optimum (`whole`), each re-measured by the exact engine.
+//!
+//! - `retimed`: [`crate::optimize::retime::retime`] of the schedule with the calibrated
+//!   circulation (the paper's `π/C` when the calibration fails; the `retimed_from` column says
+//!   which) to the fall time, with [`Split::Free`] (the program shares the duration between the
+//!   phases) and otherwise default [`RetimeSettings`] (200 intervals per phase). The row reports
+//!   Clarabel's certified lower bound `τ_lb` (weak duality: no timing of this path on the
+//!   program's grid has a smaller peak), the program's primal peak and their gap, and the exact
+//!   engine's re-measurement of the timed trajectory ([`Retiming::remeasure`], `exact.torque_samples`
+//!   samples per phase): its peak torques per phase (`peak_max_nm` ≥ `τ_lb` up to the
+//!   discretisation between grid nodes). Twist and swing are the path's, which retiming leaves
+//!   unchanged (a geometric phase): the exact flip of the original schedule, to `exact.tolerance`.
+//! - `whole`: [`optimize_whole`] over the fall time from the problem's manoeuvre with default
+//!   [`WholeSettings`] (peak objective), except `control_points` when `[compute]
+//!   whole_control_points` lowers it for speed; the best start that converged and flips the cat
+//!   to `exact.tolerance` gives twist, swing, peak, effort and largest bend. When no start does,
+//!   the row is `failed` with every start's status and reason.
+
+use crate::engines::rapier::Reference;
+use crate::optimize::retime::{retime, RetimeSettings, RetimedTrajectory, Retiming, Split};
+use crate::optimize::whole::{optimize_whole, BSpline, WholeError, WholeOutcome, WholeSettings};
+use crate::problem::Problem;
+use crate::schedule::Schedule;
+
+use super::evaluate::{Labels, Measured, Numbers, RetimeNumbers, Row, Status, WholeNumbers};
+use super::spec::Compute;
+use crate::engines::peaks::PhasePeaks;
+
+/// A trajectory an exact row measured, for rapier to verify.
+pub enum Subject {
+    /// A library schedule.
+    Schedule(Schedule),
+    /// A schedule retimed.
+    Retimed(RetimedTrajectory<Schedule>),
+    /// The whole-manoeuvre optimum's spline.
+    Whole(BSpline),
+}
+
+/// The retiming settings of a sweep: the defaults with the phase durations free.
+pub fn retime_settings() -> RetimeSettings {
+    RetimeSettings { split: Split::Free, ..RetimeSettings::default() }
+}
+
+/// The whole-manoeuvre settings of a sweep: the defaults, with `control_points` (and the coarse
+/// stage, which cannot be finer) lowered to `[compute] whole_control_points` when given.
+pub fn whole_settings(compute: &Compute) -> WholeSettings {
+    let d = WholeSettings::default();
+    match compute.whole_control_points {
+        Some(n) => {
+            WholeSettings { control_points: n, coarse_control_points: d.coarse_control_points.map(|c| c.min(n)), ..d }
+        }
+        None => d,
+    }
+}
+
+/// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path.
+pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
+    let (cat, tol) = (&problem.cat, problem.exact.tolerance);
+    let labels = |solver: String| Labels { retimed_from: from.to_string(), solver_status: solver, ..Labels::default() };
+    let failed = |status, reason: &str, solver: String| {
+        Measured::alone(Row::without("retimed", "exact", status, reason, labels(solver)))
+    };
+    let s = Schedule::new(problem, radians);
+    let r: Retiming<Schedule> = match retime(cat, &s, s.duration(), retime_settings()) {
+        Ok(r) => r,
+        Err(e) => return failed(Status::Failed, &format!("the retiming could not be set up: {e}"), String::new()),
+    };
+    let sol = &r.solution;
+    let solver = sol.status.to_string();
+    if !sol.status.is_solved() {
+        return failed(Status::Failed, &format!("the retiming program is {solver}"), solver);
+    }
+    let (Some(m), Some(traj)) = (r.remeasure(cat, problem.exact.torque_samples, tol), r.trajectory.clone()) else {
+        return failed(Status::Failed, "the solved retiming has no trajectory", solver);
+    };
+    // Retiming keeps the path, so the twist and swing are the path's (a geometric phase); the
+    // retimed trajectory's own integration can be harder (its `ṡ` is singular where the path's
+    // rate vanishes to high order) and is not what the row reports.
+    let f = &m.original_flip;
+    if !f.converged {
+        let reason = format!(
+            "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
+            f.error_estimate
+        );
+        return failed(Status::Failed, &reason, solver);
+    }
+    let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
+    numbers.peaks = Some(PhasePeaks::from_peaks(&m.peaks));
+    numbers.peak_nm = Some(m.peaks.max);
+    numbers.retiming =
+        Some(RetimeNumbers { lower_bound_nm: sol.lower_bound, program_peak_nm: sol.peak, gap_nm: sol.gap });
+    let row = Row::with("retimed", "exact", numbers, labels(solver));
+    let reference = Reference { twist: f.twist, swing: f.swing, peak_torque: m.peaks.max };
+    let subject = (row.status == Status::Ok).then_some((Subject::Retimed(traj), reference));
+    Measured { row, subject }
+}
+
+/// The `whole` row: the whole-manoeuvre optimum of the case.
+pub(crate) fn whole(problem: &Problem, compute: &Compute) -> Measured {
+    let settings = whole_settings(compute);
+    let outcome =
+        optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, &settings, problem.exact.tolerance);
+    let outcome: WholeOutcome = match outcome {
+        Ok(o) => o,
+        Err(e @ WholeError::BadFieldValue { .. }) => {
+            return Measured::alone(Row::without("whole", "exact", Status::Refused, &e.to_string(), Labels::default()))
+        }
+        Err(e) => {
+            return Measured::alone(Row::without("whole", "exact", Status::Failed, &e.to_string(), Labels::default()))
+        }
+    };
+    let solver: Vec<String> = outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.status)).collect();
+    let Some(best) = outcome.best() else {
+        let mut why: Vec<String> =
+            outcome.solutions.iter().map(|s| format!("{} {}: {}", s.start, s.status, s.reason)).collect();
+        why.extend(outcome.skipped.iter().map(|s| format!("{} skipped: {}", s.start, s.reason)));
+        let reason = format!("no start converged to a flip ({})", why.join("; "));
+        let labels = Labels { solver_status: solver.join("; "), ..Labels::default() };
+        return Measured::alone(Row::without("whole", "exact", Status::Failed, &reason, labels));
+    };
+    let labels = Labels { solver_status: solver.join("; "), whole_start: best.start.clone(), ..Labels::default() };
+    let mut numbers = Numbers::flip(None, best.twist, best.swing, Some(best.flip_error_estimate));
+    numbers.peak_nm = Some(best.peak_torque_nm);
+    numbers.whole = Some(WholeNumbers { energy: best.energy, max_bend_deg: best.max_bend_deg });
+    let row = Row::with("whole", "exact", numbers, labels);
+    let reference = Reference { twist: best.twist, swing: best.swing, peak_torque: best.peak_torque_nm };
+    let subject = (row.status == Status::Ok).then(|| (Subject::Whole(best.spline.clone()), reference));
+    Measured { row, subject }
+}
