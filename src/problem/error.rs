@@ -43,9 +43,15 @@ pub enum ProblemError {
     },
 }
 
-/// A `BadFieldValue` error.
+/// A `BadFieldValue` error. Control characters in the value are escaped (`\n`, `\u{0}`), so
+/// that the message stays one line whatever the user wrote.
 pub(crate) fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> ProblemError {
-    ProblemError::BadFieldValue { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
+    let value: String = value
+        .to_string()
+        .chars()
+        .map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() })
+        .collect();
+    ProblemError::BadFieldValue { field: field.to_string(), value, reason: reason.to_string() }
 }
 
 /// Why a value is not finite and strictly positive, if it is not.
