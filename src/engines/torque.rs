@@ -265,9 +265,12 @@ fn refine_peak(v: &[f64], h: f64, f: &impl Fn(f64) -> f64) -> (f64, f64) {
         let c = k.clamp(1, n - 1);
         (v[c - 1] - 2.0 * v[c] + v[c + 1]).abs() / 8.0
     };
-    let is_local_max = |k: usize| (k == 0 || v[k] >= v[k - 1]) && (k == n || v[k] >= v[k + 1]);
-    let best = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let mut peak = (0.0, f64::NEG_INFINITY);
+    // Rising strictly into k (so a plateau counts once) and not rising after it; a zero
+    // torque has no peak to refine.
+    let is_local_max = |k: usize| v[k] > 0.0 && (k == 0 || v[k] > v[k - 1]) && (k == n || v[k] >= v[k + 1]);
+    let (k_best, best) =
+        v.iter().copied().enumerate().fold((0, f64::NEG_INFINITY), |a, (k, x)| if x > a.1 { (k, x) } else { a });
+    let mut peak = (k_best as f64 * h, best);
     for k in (0..=n).filter(|&k| is_local_max(k) && v[k] + miss(k) >= best) {
         let lo = k.saturating_sub(1) as f64 * h;
         let hi = (k + 1).min(n) as f64 * h;
