@@ -153,9 +153,9 @@ impl BenchReport {
                 .iter()
                 .filter(|c| c.error_is_angle == angle)
                 .map(|c| {
-                    let mut pts: Vec<(f64, f64)> =
+                    // In the sweep's order, so that the line follows the setting.
+                    let pts: Vec<(f64, f64)> =
                         c.points.iter().filter_map(|p| Some((p.outcome?.error, p.timing?.best_s))).collect();
-                    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
                     Series::new(c.name.clone(), pts)
                 })
                 .collect();
