@@ -21,11 +21,11 @@ use crate::problem::settings::Boundary;
 use crate::report::bench::curve::{Curve, Outcome};
 use crate::schedule::{Phase, Schedule};
 
-/// The profile QP's curve on the twist phase of `schedule`, over node counts `nodes`.
-pub fn qp_curve(cat: &Cylinder, schedule: &Schedule, nodes: &[usize]) -> Curve {
-    let settings: Vec<f64> = nodes.iter().map(|&n| n as f64).collect();
-    let base = ProfileQp {
-        nodes: 3,
+/// The profile QP of the paper's torque model on the twist phase of `schedule` with `nodes`
+/// nodes: rest-to-rest, no limits, no smoothing, so that it has a closed form.
+pub fn twist_qp(cat: &Cylinder, schedule: &Schedule, nodes: usize) -> ProfileQp {
+    ProfileQp {
+        nodes,
         duration: schedule.durations[Phase::Twist.index()],
         circulation: schedule.circulation,
         inertia: cat.end_transverse(),
@@ -33,9 +33,14 @@ pub fn qp_curve(cat: &Cylinder, schedule: &Schedule, nodes: &[usize]) -> Curve {
         rate_limit: None,
         jerk_limit: None,
         smoothness: 0.0,
-    };
+    }
+}
+
+/// The profile QP's curve on the twist phase of `schedule`, over node counts `nodes`.
+pub fn qp_curve(cat: &Cylinder, schedule: &Schedule, nodes: &[usize]) -> Curve {
+    let settings: Vec<f64> = nodes.iter().map(|&n| n as f64).collect();
     Curve::sweep("qp", "nodes N", "peak torque gap to the closed form (rel.)", &settings, |n| {
-        let qp = ProfileQp { nodes: n as usize, ..base };
+        let qp = twist_qp(cat, schedule, n as usize);
         let exact = qp.closed_form_peak().ok_or("no closed form for this QP")?;
         let solution = qp.solve().map_err(|e| e.to_string())?;
         if !solution.status.is_solved() {

@@ -26,10 +26,7 @@ use serde::Serialize;
 
 use crate::engines::circulation::Resolved;
 use crate::engines::evaluate::Evaluation;
-use crate::optimize::qp::ProfileQp;
-use crate::problem::settings::Boundary;
 use crate::problem::{Problem, ProfileKind};
-use crate::schedule::Phase;
 
 /// Largest relative angular momentum residual accepted.
 pub const MOMENTUM_LIMIT: f64 = 1e-6;
@@ -209,16 +206,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
 
 /// The QP's relative gap to its closed form at `nodes` on the twist phase of `r`.
 fn qp_gap(r: &Resolved, nodes: usize) -> Option<f64> {
-    let qp = ProfileQp {
-        nodes,
-        duration: r.schedule.durations[Phase::Twist.index()],
-        circulation: r.schedule.circulation,
-        inertia: r.problem.cat.end_transverse(),
-        boundary: Boundary::RestToRest,
-        rate_limit: None,
-        jerk_limit: None,
-        smoothness: 0.0,
-    };
+    let qp = super::optimizers::twist_qp(&r.problem.cat, &r.schedule, nodes);
     let exact = qp.closed_form_peak()?;
     let s = qp.solve().ok()?;
     s.status.is_solved().then(|| (s.peak_torque - exact).abs() / exact)
