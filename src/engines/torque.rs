@@ -160,6 +160,7 @@ pub struct PeakTorques {
     pub action_reaction_gap: f64,
     /// The peaks' stated accuracy: the largest relative change of a peak when every other
     /// sample is dropped ([`peak_torques_on`]); ≈ 1e-15 when the sampling resolves every peak.
+    /// Conservative: it is the halved grid's error, which bounds the full grid's in practice.
     pub accuracy: f64,
 }
 

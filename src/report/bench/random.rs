@@ -213,7 +213,7 @@ fn qp_gap(r: &Resolved, nodes: usize) -> Option<f64> {
 }
 
 /// Counts of verdicts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Tally {
     /// Cases run.
     pub cases: usize,
@@ -225,6 +225,16 @@ pub struct Tally {
     pub degraded: usize,
     /// Failed a check.
     pub failed: usize,
+    /// Worst relative momentum residual over the accepted cases.
+    pub worst_momentum: f64,
+    /// Worst relative action–reaction gap.
+    pub worst_action_reaction: f64,
+    /// Worst change of the twist at 10× the mass, rad.
+    pub worst_mass_twist: f64,
+    /// Worst deviation of the peak torque from ×10 at 10× the mass (relative).
+    pub worst_mass_torque: f64,
+    /// Worst QP gap to its closed form (relative).
+    pub worst_qp_gap: f64,
 }
 
 /// Runs cases `0..count` of `seed` on `base`; returns every result and the tally.
@@ -234,6 +244,16 @@ pub fn run_many(base: &str, seed: u64, count: usize) -> (Vec<RandomResult>, Tall
         .map(|i| {
             let r = run_case(base, &draw(seed, i));
             tally.cases += 1;
+            let worst = |w: &mut f64, x: f64| {
+                if x.is_finite() {
+                    *w = w.max(x);
+                }
+            };
+            worst(&mut tally.worst_momentum, r.momentum);
+            worst(&mut tally.worst_action_reaction, r.action_reaction);
+            worst(&mut tally.worst_mass_twist, r.mass_twist);
+            worst(&mut tally.worst_mass_torque, r.mass_torque);
+            worst(&mut tally.worst_qp_gap, r.qp_gap);
             match r.verdict {
                 Verdict::Passed => tally.passed += 1,
                 Verdict::Refused(_) => tally.refused += 1,
