@@ -229,6 +229,8 @@ fn run() -> anyhow::Result<()> {
                 1.0 / 2000.0,
                 1.0 / 4000.0,
                 1.0 / 8000.0,
+                1.0 / 16000.0,
+                1.0 / 32000.0,
             ];
             let outcome = catflip::report::run::run_bench(&Resolved::new(&p)?, &command, &out, &dts)?;
             if json {

@@ -445,5 +445,5 @@ fn whole_control_points_needs_whole_and_a_usable_value() {
     assert!(reason.contains("whole = true"), "{reason}");
     let (field, reason) = bad_field(&with_base("[compute]\nwhole = true\nwhole_control_points = 3"));
     assert_eq!(field, "compute.whole_control_points");
-    assert!(reason.contains("optimize.control_points = 3"), "{reason}");
+    assert!(reason.contains("optimize.whole.control_points = 3"), "{reason}");
 }

@@ -5,7 +5,10 @@
 //!   from the adaptive Magnus integration ([`crate::engines::exact::flip`]) to
 //!   `exact.tolerance`, with its error estimate and whether it met the tolerance;
 //! - the peak motor torques per phase and joint ([`PhasePeaks`], N·m) from Newton–Euler on the
-//!   zero-momentum motion, and the largest action–reaction gap;
+//!   zero-momentum motion, sampled by the schedule's own time scale
+//!   ([`crate::engines::torque::piece_samples`]: `exact.torque_samples` per phase at least, 64
+//!   per radian the bend direction turns), with their stated accuracy, and the largest
+//!   action–reaction gap;
 //! - the joint-rate jumps (impulses `M(q) Δq̇`, N·m·s) larger than [`JUMP_TOLERANCE`];
 //! - `momentum_max`: the largest `|H|` about the centre of mass along the motion, relative to a
 //!   half's typical momentum `I* · max|q̇|` (`I*` the end-transverse inertia; zero in exact
@@ -20,7 +23,7 @@ use serde::Serialize;
 
 use crate::engines::exact::{body_rate, flip, momentum, Flip};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::torque::{peak_torques, velocity_jumps, VelocityJump};
+use crate::engines::torque::{peak_torques_on, piece_samples, velocity_jumps, VelocityJump};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
@@ -36,6 +39,9 @@ pub struct Evaluation {
     pub peaks: PhasePeaks,
     /// Largest gap between the joint torques from B's and A's sides, N·m.
     pub action_reaction_gap: f64,
+    /// Stated relative accuracy of the peaks
+    /// ([`crate::engines::torque::PeakTorques::accuracy`]).
+    pub peak_accuracy: f64,
     /// Joint-rate jumps (impulses); empty when the schedule is smooth.
     pub jumps: Vec<VelocityJump>,
     /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
@@ -49,13 +55,14 @@ impl Evaluation {
     pub fn new(cat: &Cylinder, schedule: &Schedule, settings: &ExactSettings) -> Evaluation {
         let start = Instant::now();
         let flip = flip(cat, schedule, settings.tolerance);
-        let peaks = peak_torques(cat, schedule, settings.torque_samples);
+        let peaks = peak_torques_on(cat, schedule, &piece_samples(schedule, settings.torque_samples));
         let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
         let run_time_s = start.elapsed().as_secs_f64();
         Evaluation {
             flip,
             peaks: PhasePeaks::from_peaks(&peaks),
             action_reaction_gap: peaks.action_reaction_gap,
+            peak_accuracy: peaks.accuracy,
             jumps,
             momentum_max: momentum_max(cat, schedule, settings.torque_samples),
             run_time_s,

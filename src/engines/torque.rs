@@ -158,44 +158,130 @@ pub struct PeakTorques {
     pub max: f64,
     /// Largest disagreement between the two sides' torques seen while sampling, N·m.
     pub action_reaction_gap: f64,
+    /// The peaks' stated accuracy: the largest relative change of a peak when every other
+    /// sample is dropped ([`peak_torques_on`]); ≈ 1e-15 when the sampling resolves every peak.
+    /// Conservative: it is the halved grid's error, which bounds the full grid's in practice.
+    pub accuracy: f64,
 }
 
-/// Peak torques of a trajectory: `samples + 1` points per piece, then each peak refined by
-/// golden-section search between the neighbouring samples.
+/// Samples per radian the joint direction turns in a piece ([`piece_samples`]): the torque of
+/// a twist phase oscillates once per turn of the bend direction, so its peaks are as far apart
+/// in time as the circulation is fast; 64 per radian put ≥ 400 samples on each oscillation.
+pub const SAMPLES_PER_RADIAN: f64 = 64.0;
+
+/// Most samples per piece ([`piece_samples`]): a circulation of ~300 rad reaches it.
+pub const MAX_PIECE_SAMPLES: usize = 20_000;
+
+/// Samples per piece by the trajectory's own time scale: at least `floor`, and
+/// [`SAMPLES_PER_RADIAN`] per radian the bend direction turns in the piece, at most
+/// [`MAX_PIECE_SAMPLES`]. The bend direction is the azimuth `atan2(e_y, e_x)` of B's axis
+/// `e = R_AB(q) ẑ = (sin q2, −sin q1 cos q2, cos q1 cos q2)` about A's axis, found on a coarse
+/// pass of `floor` points (both bend paths turn it by the circulation in the twist phase).
+pub fn piece_samples(traj: &impl Trajectory, floor: usize) -> Vec<usize> {
+    use std::f64::consts::{PI, TAU};
+    let floor = floor.max(2);
+    traj.piece_durations()
+        .into_iter()
+        .enumerate()
+        .map(|(piece, dur)| {
+            let azimuth = |k: usize| {
+                let q = traj.piece_state(piece, dur * k as f64 / floor as f64).q;
+                (-q[0].sin() * q[1].cos()).atan2(q[1].sin())
+            };
+            let mut turned = 0.0;
+            let mut last = azimuth(0);
+            for k in 1..=floor {
+                let a = azimuth(k);
+                // The turn between neighbouring samples, wrapped to (−π, π].
+                turned += ((a - last + PI).rem_euclid(TAU) - PI).abs();
+                last = a;
+            }
+            let wanted = (SAMPLES_PER_RADIAN * turned).ceil();
+            if wanted.is_finite() {
+                (wanted as usize).clamp(floor, MAX_PIECE_SAMPLES.max(floor))
+            } else {
+                floor
+            }
+        })
+        .collect()
+}
+
+/// Peak torques of a trajectory with `samples + 1` points on every piece ([`peak_torques_on`]).
 pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> PeakTorques {
-    let samples = samples.max(2);
+    let n = vec![samples; traj.piece_durations().len()];
+    peak_torques_on(cat, traj, &n)
+}
+
+/// Peak torques of a trajectory: `samples[i] + 1` equally spaced points on piece `i`, then every
+/// sampled local maximum of `|τ_j|` that could still be the peak is refined by golden-section
+/// search between its neighbours.
+///
+/// Between samples `h` apart, a smooth `|τ|` exceeds the larger of two neighbouring samples by
+/// at most `h² max|τ''| / 8`; `τ''` is estimated by the second difference at each local
+/// maximum, and every local maximum within that bound of the best sample is refined (not only
+/// the best one, which on a fast twist phase may be the wrong oscillation). The peak's
+/// accuracy is stated a posteriori as [`PeakTorques::accuracy`]: the relative change of each
+/// peak when every other sample is dropped and the same search is repeated.
+pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
     let mut per_piece = Vec::new();
     let mut gap: f64 = 0.0;
+    let mut accuracy: f64 = 0.0;
     let mut t0 = 0.0;
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
-        let h = dur / samples as f64;
+        let n = samples.get(piece).copied().unwrap_or(2).max(4);
+        let h = dur / n as f64;
         let tau = |s: f64| joint_torques(cat, &traj.piece_state(piece, s));
-        let mut best = [(0.0f64, 0usize); 2];
-        for k in 0..=samples {
+        let mut values = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
+        for k in 0..=n {
             let jt = tau(k as f64 * h);
-            for (j, b) in best.iter_mut().enumerate() {
+            for (j, v) in values.iter_mut().enumerate() {
                 gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
-                if jt.tau[j].abs() > b.0 {
-                    *b = (jt.tau[j].abs(), k);
-                }
+                v.push(jt.tau[j].abs());
             }
         }
         let peaks = [0, 1].map(|j| {
-            let (v, k) = best[j];
-            let lo = k.saturating_sub(1) as f64 * h;
-            let hi = (k + 1).min(samples) as f64 * h;
-            let (s_best, v_best) = golden_max(|s| tau(s).tau[j].abs(), lo, hi, 40);
-            if v_best > v {
-                Peak { value: v_best, time: t0 + s_best }
-            } else {
-                Peak { value: v, time: t0 + k as f64 * h }
+            let f = |s: f64| tau(s).tau[j].abs();
+            let (s, value) = refine_peak(&values[j], h, &f);
+            let halved: Vec<f64> = values[j].iter().copied().step_by(2).collect();
+            let (_, coarse) = refine_peak(&halved, 2.0 * h, &f);
+            if value > 0.0 {
+                accuracy = accuracy.max((value - coarse).abs() / value);
             }
+            Peak { value, time: t0 + s }
         });
         per_piece.push(peaks);
         t0 += dur;
     }
     let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
-    PeakTorques { per_piece, max, action_reaction_gap: gap }
+    PeakTorques { per_piece, max, action_reaction_gap: gap, accuracy }
+}
+
+/// The refined maximum `(s, value)` of samples `v` (spacing `h`, at least 3) of `f`
+/// ([`peak_torques_on`]).
+fn refine_peak(v: &[f64], h: f64, f: &impl Fn(f64) -> f64) -> (f64, f64) {
+    let n = v.len() - 1;
+    // Second difference at k (one-sided at the ends), times h²/8: the most a smooth function
+    // can exceed its samples near k.
+    let miss = |k: usize| {
+        let c = k.clamp(1, n - 1);
+        (v[c - 1] - 2.0 * v[c] + v[c + 1]).abs() / 8.0
+    };
+    // Rising strictly into k (so a plateau counts once) and not rising after it; a zero
+    // torque has no peak to refine.
+    let is_local_max = |k: usize| v[k] > 0.0 && (k == 0 || v[k] > v[k - 1]) && (k == n || v[k] >= v[k + 1]);
+    let (k_best, best) =
+        v.iter().copied().enumerate().fold((0, f64::NEG_INFINITY), |a, (k, x)| if x > a.1 { (k, x) } else { a });
+    let mut peak = (k_best as f64 * h, best);
+    for k in (0..=n).filter(|&k| is_local_max(k) && v[k] + miss(k) >= best) {
+        let lo = k.saturating_sub(1) as f64 * h;
+        let hi = (k + 1).min(n) as f64 * h;
+        let (s, value) = golden_max(f, lo, hi, 40);
+        let candidate = if value > v[k] { (s, value) } else { (k as f64 * h, v[k]) };
+        if candidate.1 > peak.1 {
+            peak = candidate;
+        }
+    }
+    peak
 }
 
 /// A joint-rate jump: an impulse, not a torque.

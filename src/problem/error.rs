@@ -24,7 +24,7 @@ pub enum ProblemError {
         message: String,
     },
     /// A `--set key=value` override is malformed.
-    #[error("--set {assignment}: {reason}")]
+    #[error("--set {}: {}", one_line(assignment), one_line(reason))]
     BadOverride {
         /// The override as given.
         assignment: String,
@@ -43,9 +43,20 @@ pub enum ProblemError {
     },
 }
 
-/// A `BadFieldValue` error.
+/// A `BadFieldValue` error. Control characters in the value are escaped (`\n`, `\u{0}`), so
+/// that the message stays one line whatever the user wrote.
 pub(crate) fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> ProblemError {
-    ProblemError::BadFieldValue { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
+    ProblemError::BadFieldValue {
+        field: field.to_string(),
+        value: one_line(&value.to_string()),
+        reason: reason.to_string(),
+    }
+}
+
+/// `text` with its control characters escaped (`\n`, `\u{0}`), so that a message quoting what
+/// the user wrote stays one line.
+fn one_line(text: &str) -> String {
+    text.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
 }
 
 /// Why a value is not finite and strictly positive, if it is not.

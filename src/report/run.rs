@@ -148,19 +148,12 @@ pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> R
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
         std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
-        let points: Vec<(String, f64, f64)> =
-            report.points.iter().map(|p| (p.engine.to_string(), p.time_s, p.error_rad)).collect();
-        w.record(crate::report::plot::error_vs_time_plot(&plots, &points)?);
+        w.record(report.plots(&plots)?);
         let settings = toml::to_string(&r.problem)?;
         let mut md = crate::report::provenance::header("catflip benchmark: run time against error", command, &settings);
         md.push_str(&report.to_markdown());
-        md.push_str(
-            "
-![run time against error](plots/error_vs_time.png)
-",
-        );
         w.put("bench.md", &md)?;
-        Ok(report.to_markdown())
+        Ok(report.reach_table())
     })
 }
 

@@ -1,0 +1,53 @@
+//! Criterion benches grouped by size: the calibration by twist tolerance and by circulation
+//! (more turns, more steps), and the peak-torque search by circulation (the sampling grows with
+//! the radians the bend direction turns, `engines::torque::piece_samples`).
+//!
+//! Run with `cargo bench --bench calibration`; criterion reports the median with its
+//! confidence interval (the upper bound is the worst case it admits) per size.
+
+use catflip::engines::calibrate::calibrate;
+use catflip::engines::torque::{peak_torques_on, piece_samples};
+use catflip::problem::Problem;
+use catflip::schedule::{paper_circulation, Schedule};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+
+fn paper() -> (Problem, Schedule) {
+    let p = Problem::default();
+    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap_or(std::f64::consts::PI);
+    let s = Schedule::new(&p, d);
+    (p, s)
+}
+
+fn calibration(c: &mut Criterion) {
+    let (p, s) = paper();
+    let mut g = c.benchmark_group("calibrate_by_tolerance");
+    g.sample_size(20);
+    for tol in [1e-4, 1e-7, 1e-10] {
+        g.bench_with_input(BenchmarkId::from_parameter(format!("{tol:e}")), &tol, |b, &tol| {
+            b.iter(|| calibrate(&p.cat, &s, tol))
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("calibrate_by_circulation");
+    g.sample_size(10);
+    for turns in [1.0, 4.0, 10.0] {
+        let start = s.with_circulation(turns * s.circulation);
+        g.bench_with_input(BenchmarkId::from_parameter(format!("{:.1} rad", start.circulation)), &start, |b, st| {
+            b.iter(|| calibrate(&p.cat, st, 1e-10))
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("peak_torques_by_circulation");
+    g.sample_size(20);
+    for d in [s.circulation, 28.0, 100.0] {
+        let sch = s.with_circulation(d);
+        let n = piece_samples(&sch, p.exact.torque_samples);
+        g.bench_with_input(BenchmarkId::from_parameter(format!("{d:.1} rad")), &(sch, n), |b, (sch, n)| {
+            b.iter(|| peak_torques_on(&p.cat, sch, n))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, calibration);
+criterion_main!(benches);

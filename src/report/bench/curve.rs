@@ -1,0 +1,175 @@
+//! One work-precision curve: a sweep of a resolution setting, each point timed and its error
+//! measured, or a status saying why it has none.
+//!
+//! A curve is made by [`Curve::sweep`] from a closure `run(setting) → Result<Outcome, String>`
+//! that does the whole computation at one setting and measures its error against a reference
+//! computed once, outside the closure. The closure is first run once for its outcome, then
+//! repeated for timing ([`Timing::measure`]: up to `k` runs within a time budget, best and
+//! median kept). So adding a curve for a new engine or optimiser is one function that returns
+//! `Curve::sweep(name, setting, error, settings, run)`.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+/// Wall-clock time of repeated runs of one computation, s.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Timing {
+    /// Number of runs timed.
+    pub repeats: usize,
+    /// The fastest run, s.
+    pub best_s: f64,
+    /// The median run, s.
+    pub median_s: f64,
+}
+
+/// Most runs timed per point.
+pub const MAX_REPEATS: usize = 7;
+
+/// Time budget per point beyond its first timed run, s: slow points are timed fewer times.
+pub const BUDGET_S: f64 = 0.25;
+
+impl Timing {
+    /// Times `f`: at least once, at most [`MAX_REPEATS`] times, and no more once [`BUDGET_S`]
+    /// has been spent.
+    pub fn measure(mut f: impl FnMut()) -> Timing {
+        let mut times = Vec::new();
+        let start = Instant::now();
+        while times.is_empty() || (times.len() < MAX_REPEATS && start.elapsed().as_secs_f64() < BUDGET_S) {
+            let s = Instant::now();
+            f();
+            times.push(s.elapsed().as_secs_f64());
+        }
+        times.sort_by(f64::total_cmp);
+        Timing { repeats: times.len(), best_s: times[0], median_s: times[times.len() / 2] }
+    }
+}
+
+/// What one run at one setting produced.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Outcome {
+    /// The error against the curve's reference, in the curve's error unit (finite, ≥ 0).
+    pub error: f64,
+    /// A second measure beside it, when the curve has one (e.g. the swing error, the gap to
+    /// the continuous optimum).
+    pub secondary: Option<f64>,
+}
+
+impl Outcome {
+    /// An outcome with only an error.
+    pub fn error(error: f64) -> Outcome {
+        Outcome { error, secondary: None }
+    }
+}
+
+/// One point of a curve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchPoint {
+    /// The setting (steps, tolerance, time step, nodes…).
+    pub setting: f64,
+    /// Its timing; `None` when the run failed.
+    pub timing: Option<Timing>,
+    /// Its outcome; `None` when the run failed.
+    pub outcome: Option<Outcome>,
+    /// Why the run has no outcome (a refusal, a solver status), when it has none.
+    pub failed: Option<String>,
+}
+
+/// A work-precision curve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Curve {
+    /// Its name in files and tables (`exact-magnus6`, `qp`, …).
+    pub name: String,
+    /// What the setting is, with its unit.
+    pub setting: String,
+    /// What the error measures, with its unit.
+    pub error: String,
+    /// What the secondary measure is, when there is one.
+    pub secondary: Option<String>,
+    /// Whether the error is an angle in rad (such curves enter the time-to-reach table).
+    pub error_is_angle: bool,
+    /// The points, in the order of the settings.
+    pub points: Vec<BenchPoint>,
+}
+
+impl Curve {
+    /// Runs `run` at every setting: once for its outcome, then [`Timing::measure`]d. An `Err`
+    /// (a refusal or solver status, one line) or a non-finite error makes a failed point.
+    pub fn sweep(
+        name: &str,
+        setting: &str,
+        error: &str,
+        settings: &[f64],
+        mut run: impl FnMut(f64) -> Result<Outcome, String>,
+    ) -> Curve {
+        let points = settings
+            .iter()
+            .map(|&x| match run(x) {
+                Ok(o) if o.error.is_finite() && o.error >= 0.0 => {
+                    let timing = Timing::measure(|| {
+                        let _ = std::hint::black_box(run(x));
+                    });
+                    BenchPoint { setting: x, timing: Some(timing), outcome: Some(o), failed: None }
+                }
+                Ok(o) => BenchPoint {
+                    setting: x,
+                    timing: None,
+                    outcome: None,
+                    failed: Some(format!("error is {} (not a finite, non-negative number)", o.error)),
+                },
+                Err(why) => BenchPoint { setting: x, timing: None, outcome: None, failed: Some(why) },
+            })
+            .collect();
+        Curve {
+            name: name.to_string(),
+            setting: setting.to_string(),
+            error: error.to_string(),
+            secondary: None,
+            error_is_angle: false,
+            points,
+        }
+    }
+
+    /// The same curve with its error marked as an angle in rad.
+    pub fn angle(mut self) -> Curve {
+        self.error_is_angle = true;
+        self
+    }
+
+    /// The same curve with a name for its secondary measure.
+    pub fn with_secondary(mut self, what: &str) -> Curve {
+        self.secondary = Some(what.to_string());
+        self
+    }
+
+    /// The least best-of-k time of a point whose error is at most `target`; `None` when no
+    /// point reaches it.
+    pub fn time_to_reach(&self, target: f64) -> Option<f64> {
+        self.points
+            .iter()
+            .filter_map(|p| match (p.timing, p.outcome) {
+                (Some(t), Some(o)) if o.error <= target => Some(t.best_s),
+                _ => None,
+            })
+            .min_by(f64::total_cmp)
+    }
+
+    /// The observed order between neighbouring points, `ln(e_i/e_{i+1}) / ln(x_i/x_{i+1})`
+    /// (absolute), for each point after the first; `None` where an error is zero or missing.
+    pub fn observed_orders(&self) -> Vec<Option<f64>> {
+        let mut out = vec![None];
+        for w in self.points.windows(2) {
+            let order = match (w[0].outcome, w[1].outcome) {
+                (Some(a), Some(b))
+                    if a.error > 0.0 && b.error > 0.0 && (w[0].setting / w[1].setting).ln().abs() > 0.0 =>
+                {
+                    Some(((a.error / b.error).ln() / (w[0].setting / w[1].setting).ln()).abs())
+                }
+                _ => None,
+            };
+            out.push(order);
+        }
+        out.truncate(self.points.len());
+        out
+    }
+}

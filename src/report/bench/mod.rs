@@ -1,0 +1,90 @@
+//! `catflip bench`: run time against error for every engine and optimiser, one run, one
+//! machine, one report; and numerical stress tests.
+//!
+//! Each curve is a sweep of one resolution setting ([`curve::Curve`]): the exact engine fixed-step
+//! and adaptive, rapier raw and extrapolated ([`engines`]), the profile QP over `N` and the
+//! calibration over tolerances ([`optimizers`]). Every point is timed [`curve::Timing::measure`]
+//! (best and median of up to 7 runs within a budget) on this machine, named in the report.
+//! The table "time to reach 1e-3 / 1e-6 / 1e-9 rad" takes, per engine curve, the least best
+//! time of a point at or below the target ([`table`]).
+//!
+//! Stress: the named edge cases ([`stress`]) and a seeded sample of random problems spanning
+//! decades ([`random`], with the invariants they are checked against).
+//!
+//! ## Adding a curve
+//! Write `fn my_curve(...) -> Curve` that computes the reference once and returns
+//! `Curve::sweep(name, setting, error, &settings, |x| { …solve at x…; Ok(Outcome::error(gap)) })`
+//! (an `Err(status)` for a run without a result), then push it in [`bench`]. The CSV, the
+//! Markdown and the plots pick it up by its name.
+//!
+//! Times are for the record, not for pass/fail (the criterion benches in `benches/` are the
+//! controlled measurement).
+
+pub mod curve;
+pub mod engines;
+pub mod optimizers;
+pub mod random;
+pub mod stress;
+pub mod table;
+
+use serde::Serialize;
+
+use crate::engines::circulation::Resolved;
+use crate::problem::ProfileKind;
+use curve::{Curve, Timing};
+use random::{RandomResult, Tally, Verdict};
+use stress::StressCase;
+
+/// Why the benchmark could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// The base problem could not be written as TOML for the stress cases' overrides.
+    #[error("cannot write the bench problem as TOML for the stress cases")]
+    Toml(#[from] toml::ser::Error),
+}
+
+/// Seed of the random stress sample in the report.
+pub const RANDOM_SEED: u64 = 11;
+/// Random stress cases in the report.
+pub const RANDOM_CASES: usize = 100;
+
+/// The whole benchmark.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchReport {
+    /// The machine, as [`crate::report::provenance::machine`] names it.
+    pub machine: String,
+    /// The work-precision curves.
+    pub curves: Vec<Curve>,
+    /// Time of one default evaluation of the problem's schedule (flip, peaks, jumps).
+    pub evaluation: Timing,
+    /// The named stress cases.
+    pub stress: Vec<StressCase>,
+    /// The random stress sample's tally.
+    pub random: Tally,
+    /// The random cases that did not simply pass.
+    pub random_notable: Vec<RandomResult>,
+}
+
+/// The full benchmark on a resolved problem: its schedule for the exact engine and the
+/// calibration, a cycloidal profile (rest-to-rest) for rapier, rapier time steps `dts` (s,
+/// halving).
+pub fn bench(r: &Resolved, dts: &[f64]) -> Result<BenchReport, BenchError> {
+    let p = &r.problem;
+    let smooth = r.with_library(ProfileKind::Cycloidal);
+    let mut curves = vec![engines::exact_fixed(p, &r.schedule), engines::exact_adaptive(p, &r.schedule)];
+    curves.extend(engines::rapier_curves(p, &smooth, dts));
+    let nodes: Vec<usize> = (0..10).map(|k| 10usize << k).collect();
+    curves.push(optimizers::qp_curve(&p.cat, &r.schedule, &nodes));
+    let tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11];
+    curves.push(optimizers::calibration_curve(&p.cat, &r.schedule, &tolerances));
+    let base = toml::to_string(p)?;
+    let (results, tally) = random::run_many(&base, RANDOM_SEED, RANDOM_CASES);
+    Ok(BenchReport {
+        machine: crate::report::provenance::machine(),
+        curves,
+        evaluation: engines::evaluation_timing(p, &r.schedule),
+        stress: stress::stress(p)?,
+        random: tally,
+        random_notable: results.into_iter().filter(|x| x.verdict != Verdict::Passed).collect(),
+    })
+}

@@ -1,0 +1,267 @@
+//! Seeded random problems spanning decades, and the checks every engine must pass on them.
+//!
+//! A case draws (log-uniformly unless said): `r/l ∈ [1e-3, 1]` (`l = 1` m), `θ ∈ [10°, 179°]`
+//! (uniform), mass `m ∈ [1e-3, 1e3]` kg, fall time `t_f ∈ [0.1, 10]` s (the height
+//! `½ g t_f²`, `g = 9.8` m/s²), QP nodes `N ∈ [10, 1e5]`, the bend path and the profile
+//! (uniform). Each case is a problem file plus `--set` overrides, so a refusal is the loader's.
+//!
+//! On an accepted case:
+//! - the exact engine's twist, swing, peaks and momentum are finite; its flip met its
+//!   tolerance or says it did not (a status, never a silent number);
+//! - invariants that hold exactly in the model: the angular momentum stays zero (relative
+//!   residual ≤ [`MOMENTUM_LIMIT`]), action = reaction at the joint (gap ≤
+//!   [`ACTION_REACTION_LIMIT`] of the peak), the twist does not depend on the mass (the same
+//!   case at 10× the mass twists the same within [`MASS_TWIST_LIMIT`] rad) and the torques
+//!   scale with it (×10 within [`MASS_TORQUE_LIMIT`] relative);
+//! - the profile QP at `N` nodes is solved (or ends with a status) and its peak is within
+//!   [`QP_GAP_LIMIT`] of its closed form.
+//!
+//! A violation of any of these is a failure; a flip short of its tolerance, or a peak whose
+//! stated accuracy is worse than 1e-6, is recorded as a degradation with its cause.
+//!
+//! The generator is SplitMix64 (Steele, Lea, Flood, *Fast splittable pseudorandom number
+//! generators*, OOPSLA 2014): a seed gives the same cases on every machine.
+
+use serde::Serialize;
+
+use crate::engines::circulation::Resolved;
+use crate::engines::evaluate::Evaluation;
+use crate::problem::{Problem, ProfileKind};
+
+/// Largest relative angular momentum residual accepted.
+pub const MOMENTUM_LIMIT: f64 = 1e-6;
+/// Largest action–reaction gap accepted, relative to the peak torque.
+pub const ACTION_REACTION_LIMIT: f64 = 1e-6;
+/// Largest change of the twist accepted when the mass is multiplied by 10, rad.
+pub const MASS_TWIST_LIMIT: f64 = 1e-8;
+/// Largest relative deviation of the peak torque from ×10 when the mass is multiplied by 10.
+pub const MASS_TORQUE_LIMIT: f64 = 1e-6;
+/// Largest relative gap of the QP's peak to its closed form.
+pub const QP_GAP_LIMIT: f64 = 1e-4;
+
+/// SplitMix64: a small seeded generator.
+#[derive(Clone, Debug)]
+pub struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// The generator with `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)`.
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in `[lo, hi)`.
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+    /// Log-uniform in `[lo, hi)` (both positive).
+    pub fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
+    }
+    /// Uniform index below `n` (n > 0).
+    pub fn index(&mut self, n: usize) -> usize {
+        (self.unit() * n as f64) as usize % n
+    }
+}
+
+/// One drawn case.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RandomCase {
+    /// Its index in the seeded sequence.
+    pub index: usize,
+    /// The `--set` overrides that make it from the default problem.
+    pub overrides: Vec<String>,
+    /// QP nodes.
+    pub nodes: usize,
+}
+
+/// Draws case `index` of the sequence of `seed` (each case from its own stream, so any case
+/// can be rerun alone).
+pub fn draw(seed: u64, index: usize) -> RandomCase {
+    let mut g = SplitMix64::new(seed ^ (index as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    let radius = g.log_uniform(1e-3, 1.0);
+    let theta = g.uniform(10.0, 179.0);
+    let mass = g.log_uniform(1e-3, 1e3);
+    let fall = g.log_uniform(0.1, 10.0);
+    let nodes = g.log_uniform(10.0, 1e5) as usize;
+    let path = ["joint-circle", "cone"][g.index(2)];
+    let profile = ProfileKind::ALL[g.index(ProfileKind::ALL.len())];
+    let overrides = vec![
+        "cat.length=1.0".to_string(),
+        format!("cat.radius={radius:e}"),
+        format!("cat.mass={mass:e}"),
+        "drop.gravity=9.8".to_string(),
+        format!("drop.height={:e}", 0.5 * 9.8 * fall * fall),
+        format!("manoeuvre.theta_deg={theta:e}"),
+        format!("manoeuvre.bend_path=\"{path}\""),
+        format!("manoeuvre.profile=\"{}\"", profile.name()),
+        "manoeuvre.circulation=\"paper\"".to_string(),
+    ];
+    RandomCase { index, overrides, nodes }
+}
+
+/// What a case gave.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "verdict", content = "detail")]
+pub enum Verdict {
+    /// Every check passed.
+    Passed,
+    /// The loader or the resolution refused the case, with its one-line reason.
+    Refused(String),
+    /// Every check passed but accuracy degraded, with the cause.
+    Degraded(String),
+    /// A check failed: a non-finite number, or an invariant violated.
+    Failed(String),
+}
+
+/// A case and its verdict, with the numbers behind it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RandomResult {
+    /// The case.
+    pub case: RandomCase,
+    /// Its verdict.
+    pub verdict: Verdict,
+    /// Relative momentum residual (NaN when refused).
+    pub momentum: f64,
+    /// Relative action–reaction gap.
+    pub action_reaction: f64,
+    /// Change of the twist at 10× the mass, rad.
+    pub mass_twist: f64,
+    /// Relative deviation of the peak torque from ×10 at 10× the mass.
+    pub mass_torque: f64,
+    /// Relative gap of the QP's peak to its closed form.
+    pub qp_gap: f64,
+}
+
+/// Runs one case on the problem text `base` (TOML).
+pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
+    let mut out = RandomResult {
+        case: case.clone(),
+        verdict: Verdict::Passed,
+        momentum: f64::NAN,
+        action_reaction: f64::NAN,
+        mass_twist: f64::NAN,
+        mass_torque: f64::NAN,
+        qp_gap: f64::NAN,
+    };
+    let load = |extra: Option<String>| {
+        let mut o = case.overrides.clone();
+        o.extend(extra);
+        Problem::from_toml(base, "stress.toml", &o).map_err(|e| e.to_string())
+    };
+    let resolved = load(None).and_then(|p| Resolved::new(&p).map_err(|e| e.to_string()));
+    let r = match resolved {
+        Ok(r) => r,
+        Err(why) => {
+            out.verdict = Verdict::Refused(why);
+            return out;
+        }
+    };
+    let p = &r.problem;
+    let e = Evaluation::new(&p.cat, &r.schedule, &p.exact);
+    let heavy = match load(Some(format!("cat.mass={:e}", 10.0 * p.cat.mass))) {
+        Ok(h) => h,
+        Err(why) => {
+            out.verdict = Verdict::Failed(format!("10× the mass refused: {why}"));
+            return out;
+        }
+    };
+    let e10 = Evaluation::new(&heavy.cat, &r.schedule, &heavy.exact);
+    out.momentum = e.momentum_max;
+    out.action_reaction = e.action_reaction_gap / e.peaks.max;
+    out.mass_twist = (e10.flip.twist - e.flip.twist).abs();
+    out.mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();
+    out.qp_gap = qp_gap(&r, case.nodes).unwrap_or(f64::NAN);
+    let numbers = [e.flip.twist, e.flip.swing, e.peaks.max, e.momentum_max, e.action_reaction_gap, e.peak_accuracy];
+    let checks = [
+        (numbers.iter().all(|x| x.is_finite()), "a non-finite number from the exact engine".to_string()),
+        (out.momentum <= MOMENTUM_LIMIT, format!("momentum residual {:.1e}", out.momentum)),
+        (out.action_reaction <= ACTION_REACTION_LIMIT, format!("action–reaction gap {:.1e}", out.action_reaction)),
+        (out.mass_twist <= MASS_TWIST_LIMIT, format!("twist changes by {:.1e} rad at 10× the mass", out.mass_twist)),
+        (out.mass_torque <= MASS_TORQUE_LIMIT, format!("torque off ×10 by {:.1e} at 10× the mass", out.mass_torque)),
+        (out.qp_gap <= QP_GAP_LIMIT, format!("QP at N = {} off its closed form by {:.1e}", case.nodes, out.qp_gap)),
+    ];
+    if let Some((_, why)) = checks.iter().find(|(ok, _)| !ok) {
+        out.verdict = Verdict::Failed(why.clone());
+    } else if !e.flip.converged {
+        out.verdict = Verdict::Degraded(format!(
+            "flip short of {:e} rad (estimate {:.1e}, {} steps per phase)",
+            p.exact.tolerance, e.flip.error_estimate, e.flip.steps_per_phase
+        ));
+    } else if e.peak_accuracy > 1e-6 {
+        out.verdict = Verdict::Degraded(format!("peak torque accuracy {:.1e}", e.peak_accuracy));
+    }
+    out
+}
+
+/// The QP's relative gap to its closed form at `nodes` on the twist phase of `r`.
+fn qp_gap(r: &Resolved, nodes: usize) -> Option<f64> {
+    let qp = super::optimizers::twist_qp(&r.problem.cat, &r.schedule, nodes);
+    let exact = qp.closed_form_peak()?;
+    let s = qp.solve().ok()?;
+    s.peak_torque.filter(|_| s.status.is_solved()).map(|p| (p - exact).abs() / exact)
+}
+
+/// Counts of verdicts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Tally {
+    /// Cases run.
+    pub cases: usize,
+    /// Passed.
+    pub passed: usize,
+    /// Refused with a reason.
+    pub refused: usize,
+    /// Degraded accuracy, with a cause.
+    pub degraded: usize,
+    /// Failed a check.
+    pub failed: usize,
+    /// Worst relative momentum residual over the accepted cases.
+    pub worst_momentum: f64,
+    /// Worst relative action–reaction gap.
+    pub worst_action_reaction: f64,
+    /// Worst change of the twist at 10× the mass, rad.
+    pub worst_mass_twist: f64,
+    /// Worst deviation of the peak torque from ×10 at 10× the mass (relative).
+    pub worst_mass_torque: f64,
+    /// Worst QP gap to its closed form (relative).
+    pub worst_qp_gap: f64,
+}
+
+/// Runs cases `0..count` of `seed` on `base`; returns every result and the tally.
+pub fn run_many(base: &str, seed: u64, count: usize) -> (Vec<RandomResult>, Tally) {
+    let mut tally = Tally::default();
+    let results: Vec<RandomResult> = (0..count)
+        .map(|i| {
+            let r = run_case(base, &draw(seed, i));
+            tally.cases += 1;
+            let worst = |w: &mut f64, x: f64| {
+                if x.is_finite() {
+                    *w = w.max(x);
+                }
+            };
+            worst(&mut tally.worst_momentum, r.momentum);
+            worst(&mut tally.worst_action_reaction, r.action_reaction);
+            worst(&mut tally.worst_mass_twist, r.mass_twist);
+            worst(&mut tally.worst_mass_torque, r.mass_torque);
+            worst(&mut tally.worst_qp_gap, r.qp_gap);
+            match r.verdict {
+                Verdict::Passed => tally.passed += 1,
+                Verdict::Refused(_) => tally.refused += 1,
+                Verdict::Degraded(_) => tally.degraded += 1,
+                Verdict::Failed(_) => tally.failed += 1,
+            }
+            r
+        })
+        .collect();
+    (results, tally)
+}
