@@ -276,6 +276,16 @@ fn produce(
         curves.push((WHOLE.to_string(), spline));
     }
     w.record(crate::report::plot::torques_plot(&plots, problem, &curves)?);
+    if let Some(spline) = whole.spline() {
+        w.record(crate::report::plot::trajectory_torques_plot(
+            &plots,
+            problem,
+            "torques_whole_optimum",
+            WHOLE,
+            spline,
+        )?);
+        w.record(crate::report::plot::flip_plot(&plots.join(WHOLE), problem, WHOLE, spline, 256)?);
+    }
     let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
     w.record(crate::report::plot::flip_plot(&plots, problem, &own, &r.schedule, 256)?);
     // The animation shows the schedule to replay: the whole-manoeuvre optimum when there is

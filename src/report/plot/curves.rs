@@ -188,3 +188,30 @@ pub fn error_vs_time_plot(dir: &Path, points: &[(String, f64, f64)]) -> Result<V
     plot.markers = true;
     line_plot(dir, &plot)
 }
+
+/// Both motor torques of one trajectory over time (N·m), as `dir/<stem>.{png,svg}`, on their own
+/// scale: the whole-manoeuvre optimum's torques are far below the library schedules' and vanish on
+/// a shared axis.
+pub fn trajectory_torques_plot(
+    dir: &Path,
+    problem: &Problem,
+    stem: &str,
+    name: &str,
+    trajectory: &dyn Trajectory,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let curve = torque_curve(&problem.cat, trajectory);
+    let series = ["τ₁ (joint 1, about A's x)", "τ₂ (joint 2, about the cross's y)"]
+        .iter()
+        .enumerate()
+        .map(|(j, label)| Series::new(*label, curve.iter().map(|(t, tau)| (*t, tau[j])).collect()))
+        .collect();
+    let mut plot = LinePlot::new(
+        stem,
+        format!("Motor torques of {name}, problem \u{201c}{}\u{201d}", problem.name),
+        "time t (s)",
+        "torque on B (N·m)",
+        series,
+    );
+    plot.bands = phase_bands(trajectory);
+    line_plot(dir, &plot)
+}

@@ -42,7 +42,9 @@ use std::path::PathBuf;
 
 pub use animation::{flip_animation, FILMSTRIP_PANELS};
 pub use chart::{line_plot, Band, LinePlot, RefLine, Scale};
-pub use curves::{error_vs_time_plot, flip_plot, plot_profiles, profiles_plot, torques_plot, TORQUE_SAMPLES};
+pub use curves::{
+    error_vs_time_plot, flip_plot, plot_profiles, profiles_plot, torques_plot, trajectory_torques_plot, TORQUE_SAMPLES,
+};
 pub use pose::{cat_poses, BodyPose, CatPose};
 pub(crate) use style::{bold, failed, text, write_png_svg, Figure};
 pub use style::{PNG_SIZE, SVG_SIZE};
