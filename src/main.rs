@@ -57,10 +57,12 @@ enum Command {
     Optimize {
         #[command(flatten)]
         common: Common,
-        /// Optimise both joint paths over the whole fall (twist π, swing 0 as constraints), and
-        /// retime the problem's own path with the certified convex program.
+        /// Optimise both joint paths over the whole fall (twist π, swing 0 as constraints).
         #[arg(long)]
         whole: bool,
+        /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Everything above for each problem, written to <out>/<name>/.
     Run {
@@ -76,6 +78,9 @@ enum Command {
         /// Write the schedule CSVs on a uniform grid at this rate, Hz (default: 400 steps per phase).
         #[arg(long, value_name = "HZ")]
         rate: Option<f64>,
+        /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
+        #[arg(long)]
+        quiet: bool,
     },
     /// Run time against error for every engine, and stress tests; written to <out>/bench/.
     Bench {
@@ -147,6 +152,22 @@ fn regenerate(base: String, overrides: &[String]) -> String {
     overrides.iter().fold(base, |c, o| format!("{c} --set '{o}'"))
 }
 
+/// A spinner with the elapsed time on stderr while a long step runs; hidden when `quiet` or when
+/// stderr is not a terminal (scripts, CI).
+fn progress(quiet: bool, message: String) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new_spinner();
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {msg} [{elapsed}]") {
+        bar.set_style(style);
+    }
+    bar.set_message(message);
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar
+}
+
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
@@ -183,20 +204,24 @@ fn run() -> anyhow::Result<()> {
             let report = catflip::report::simulate::simulate(&r, engine)?;
             emit(common.json, &report, || report.to_text())?;
         }
-        Command::Optimize { common, whole: false } => {
+        Command::Optimize { common, whole: false, quiet } => {
             let r = Resolved::new(&load(&common, &[])?)?;
+            let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
             let report = catflip::optimize::optimize(&r)?;
+            spinner.finish_and_clear();
             emit(common.json, &report, || report.to_markdown())?;
         }
-        Command::Optimize { common, whole: true } => {
+        Command::Optimize { common, whole: true, quiet } => {
             let r = Resolved::new(&load(&common, &[])?)?;
+            let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;
+            spinner.finish_and_clear();
             emit(common.json, &report, || report.to_markdown())?;
             if report.best().is_none() {
                 anyhow::bail!("{}", report.status);
             }
         }
-        Command::Run { problems, overrides, out, rate } => {
+        Command::Run { problems, overrides, out, rate, quiet } => {
             let export = catflip::exchange::ExportOptions { rate_hz: rate, ..Default::default() };
             export.validate(0.0)?;
             let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
@@ -211,7 +236,10 @@ fn run() -> anyhow::Result<()> {
                 }
                 let command =
                     regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
+                let spinner =
+                    progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
                 let outcome = catflip::report::run::run_with(&Resolved::new(&problem)?, &command, &out, &export)?;
+                spinner.finish_and_clear();
                 println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
                 print!("{}", outcome.summary);
             }

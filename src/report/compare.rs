@@ -62,29 +62,32 @@ impl CompareTable {
 
     /// The table as tidy CSV: one row per problem × profile × engine.
     pub fn to_csv(&self) -> String {
-        let mut s = format!(
-            "problem,profile,origin,engine,rest_to_rest,accel_coefficient,model_peak_nm,{},velocity_jumps,max_impulse_nms,twist_deg,swing_deg,circulation_rad\n",
-            PhasePeaks::CSV_HEADER
-        );
+        let mut header =
+            vec!["problem", "profile", "origin", "engine", "rest_to_rest", "accel_coefficient", "model_peak_nm"];
+        header.extend(PhasePeaks::CSV_HEADER.split(','));
+        header.extend(["velocity_jumps", "max_impulse_nms", "twist_deg", "swing_deg", "circulation_rad"]);
         let mut rows: Vec<&CompareRow> = self.rows.iter().collect();
         rows.sort_by(|a, b| a.profile.cmp(&b.profile));
-        for r in rows {
-            s.push_str(&format!(
-                "{},{},{},exact,{},{:.9},{:.9},{},{},{:.9},{:.9},{:.9},{:.12}\n",
-                r.problem,
-                r.profile,
-                r.origin,
-                r.rest_to_rest,
-                r.accel_coefficient,
-                r.model_peak_nm,
-                r.exact_peak_nm.csv(),
-                r.velocity_jumps,
-                r.max_impulse_nms,
-                r.twist_deg,
-                r.swing_deg,
-                r.circulation_rad
-            ));
-        }
-        s
+        let records = rows.into_iter().map(|r| {
+            let mut f = vec![
+                r.problem.clone(),
+                r.profile.clone(),
+                r.origin.to_string(),
+                "exact".to_string(),
+                r.rest_to_rest.to_string(),
+                format!("{:.9}", r.accel_coefficient),
+                format!("{:.9}", r.model_peak_nm),
+            ];
+            f.extend(r.exact_peak_nm.fields());
+            f.extend([
+                r.velocity_jumps.to_string(),
+                format!("{:.9}", r.max_impulse_nms),
+                format!("{:.9}", r.twist_deg),
+                format!("{:.9}", r.swing_deg),
+                format!("{:.12}", r.circulation_rad),
+            ]);
+            f
+        });
+        crate::exchange::table::csv_table(&header, records)
     }
 }

@@ -315,36 +315,36 @@ fn produce(
 }
 
 fn verification_csv(rows: &[Verified]) -> String {
-    let mut s = format!(
-        "problem,schedule,engine,circulation_rad,twist_deg,swing_deg,{},momentum_max,dt_s,tracking1_rad,tracking2_rad,run_time_s,{}\n",
-        PhasePeaks::CSV_HEADER,
-        crate::engines::rapier::Verification::CSV_HEADER
-    );
+    let mut header = vec!["problem", "schedule", "engine", "circulation_rad", "twist_deg", "swing_deg"];
+    header.extend(PhasePeaks::CSV_HEADER.split(','));
+    header.extend(["momentum_max", "dt_s", "tracking1_rad", "tracking2_rad", "run_time_s"]);
+    header.extend(crate::engines::rapier::Verification::CSV_HEADER.split(','));
     let mut all: Vec<(String, &SimulationReport)> =
         rows.iter().flat_map(|v| [(v.variant.to_string(), &v.exact), (v.variant.to_string(), &v.rapier)]).collect();
     all.sort_by(|a, b| (&a.0, a.1.engine).cmp(&(&b.0, b.1.engine)));
-    for (name, r) in all {
+    let records = all.into_iter().map(|(name, r)| {
         let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
         let tr = r.tracking_error_rad;
-        let _ = writeln!(
-            s,
-            "{},{},{},{:.12},{:.9},{:.9},{},{:.3e},{},{},{},{:.6},{}",
-            r.problem,
+        let mut f = vec![
+            r.problem.clone(),
             name,
-            r.engine,
-            r.circulation_rad,
-            r.twist_deg,
-            r.swing_deg,
-            r.peak_torque_nm.csv(),
-            r.momentum_max,
+            r.engine.to_string(),
+            format!("{:.12}", r.circulation_rad),
+            format!("{:.9}", r.twist_deg),
+            format!("{:.9}", r.swing_deg),
+        ];
+        f.extend(r.peak_torque_nm.fields());
+        f.extend([
+            format!("{:.3e}", r.momentum_max),
             opt(r.dt),
             opt(tr.map(|t| t[0])),
             opt(tr.map(|t| t[1])),
-            r.run_time_s,
-            crate::engines::rapier::Verification::csv_or_empty(r.verification.as_ref())
-        );
-    }
-    s
+            format!("{:.6}", r.run_time_s),
+        ]);
+        f.extend(r.verification.as_ref().map_or_else(|| vec![String::new(); 7], |v| v.fields().to_vec()));
+        f
+    });
+    crate::exchange::table::csv_table(&header, records)
 }
 
 fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {

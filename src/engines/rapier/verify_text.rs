@@ -69,23 +69,24 @@ impl Verification {
 
     /// The verification as CSV fields (the dt sequence separated by `;`).
     pub fn csv(&self) -> String {
+        self.fields().join(",")
+    }
+
+    /// The fields of [`Verification::CSV_HEADER`], formatted (the dt sequence joined by `;`).
+    pub fn fields(&self) -> [String; 7] {
         let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
         let est = |q| opt(self.quantity(q).and_then(|c| c.estimate));
         let dts = self.dt_sequence.iter().map(|d| format!("{d:.6e}")).collect::<Vec<_>>().join(";");
         let order = opt(self.quantity(Quantity::Twist).and_then(|c| c.observed_order));
-        format!(
-            "{},{dts},{order},{},{},{},{:.6}",
-            self.status,
+        [
+            self.status.to_string(),
+            dts,
+            order,
             est(Quantity::Twist),
             est(Quantity::Swing),
             est(Quantity::PeakTorque),
-            self.run_time_s
-        )
-    }
-
-    /// [`Verification::csv`], or empty fields for an engine without a verification.
-    pub fn csv_or_empty(v: Option<&Verification>) -> String {
-        v.map_or_else(|| ",".repeat(Self::CSV_HEADER.matches(',').count()), Verification::csv)
+            format!("{:.6}", self.run_time_s),
+        ]
     }
 
     /// Four Markdown table cells: verdict, dt sequence, estimates, rapier time.
