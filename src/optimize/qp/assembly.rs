@@ -15,25 +15,39 @@ use super::solution::{QpStatus, SolveInfo};
 use super::QpError;
 use crate::problem::settings::Boundary;
 
-/// Rows of one cone, as triplets.
+/// Rows of one cone, as triplets (shared with the retiming's assembly).
 #[derive(Default)]
-struct Rows {
-    row: Vec<usize>,
-    col: Vec<usize>,
-    val: Vec<f64>,
-    rhs: Vec<f64>,
+pub(crate) struct Rows {
+    pub(crate) row: Vec<usize>,
+    pub(crate) col: Vec<usize>,
+    pub(crate) val: Vec<f64>,
+    pub(crate) rhs: Vec<f64>,
 }
 
 impl Rows {
     /// Appends the row `Σ val·x_col (+ s) = rhs`.
-    fn push(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+    pub(crate) fn push(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.push_where(entries, rhs, |_| true);
+    }
+
+    /// Appends the row `Σ val·x_col (+ s) = rhs`, leaving out zero coefficients.
+    pub(crate) fn push_nonzero(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
+        self.push_where(entries, rhs, |v| v != 0.0);
+    }
+
+    fn push_where(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64, keep: impl Fn(f64) -> bool) {
         let r = self.rhs.len();
-        for (c, v) in entries {
+        for (c, v) in entries.into_iter().filter(|&(_, v)| keep(v)) {
             self.row.push(r);
             self.col.push(c);
             self.val.push(v);
         }
         self.rhs.push(rhs);
+    }
+
+    /// Number of rows.
+    pub(crate) fn len(&self) -> usize {
+        self.rhs.len()
     }
 
     /// The rows on the folded variables: repeated entries summed, zeros dropped, and the rows

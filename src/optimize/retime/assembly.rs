@@ -11,35 +11,8 @@ use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
 use super::problemdata::{PathPiece, PathProblem};
 use super::solution::{RawSolution, RetimeSolution};
 use super::RetimeError;
+use crate::optimize::qp::assembly::Rows;
 use crate::optimize::qp::QpError;
-
-/// Rows of one kind of cone, as triplets.
-#[derive(Default)]
-struct Rows {
-    row: Vec<usize>,
-    col: Vec<usize>,
-    val: Vec<f64>,
-    rhs: Vec<f64>,
-}
-
-impl Rows {
-    /// Appends the row `Σ val·x_col + s = rhs`.
-    fn push(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
-        let r = self.rhs.len();
-        for (c, v) in entries {
-            if v != 0.0 {
-                self.row.push(r);
-                self.col.push(c);
-                self.val.push(v);
-            }
-        }
-        self.rhs.push(rhs);
-    }
-
-    fn len(&self) -> usize {
-        self.rhs.len()
-    }
-}
 
 /// Column indices of one piece's variables.
 #[derive(Clone, Copy)]
@@ -110,14 +83,14 @@ pub(crate) fn solve(problem: &PathProblem) -> Result<RetimeSolution, RetimeError
         add_piece(p, col, rest, &sc, &mut eq, &mut ineq, &mut soc);
         if let Some(r) = problem.settings.rate_limit {
             for k in 0..=col.n {
-                ineq.push([(col.x(k), 1.0)], r * r / v2);
+                ineq.push_nonzero([(col.x(k), 1.0)], r * r / v2);
             }
         }
         if let Some(a) = problem.settings.accel_limit {
             let bound = a * sc.length / v2;
             for k in 0..col.n {
-                ineq.push([(col.u(k), 1.0)], bound);
-                ineq.push([(col.u(k), -1.0)], bound);
+                ineq.push_nonzero([(col.u(k), 1.0)], bound);
+                ineq.push_nonzero([(col.u(k), -1.0)], bound);
             }
         }
     }
@@ -127,12 +100,12 @@ pub(crate) fn solve(problem: &PathProblem) -> Result<RetimeSolution, RetimeError
         let after = (j < columns.len()).then(|| (columns[j], 0));
         if let (Some((cb, kb)), Some((ca, ka)), Some((tb, ta))) = (before, after, junction.continuous) {
             let m = tb.max(ta);
-            eq.push([(ca.x(ka), ta / m), (cb.x(kb), -tb / m)], 0.0);
+            eq.push_nonzero([(ca.x(ka), ta / m), (cb.x(kb), -tb / m)], 0.0);
         }
         for (node, rest) in [(before, junction.rest_before), (after, junction.rest_after)] {
             if let (Some((c, k)), true) = (node, rest) {
-                eq.push([(c.x(k), 1.0)], 0.0);
-                eq.push([(c.y(k), 1.0)], 0.0);
+                eq.push_nonzero([(c.x(k), 1.0)], 0.0);
+                eq.push_nonzero([(c.y(k), 1.0)], 0.0);
             }
         }
     }
@@ -145,10 +118,10 @@ pub(crate) fn solve(problem: &PathProblem) -> Result<RetimeSolution, RetimeError
     match problem.piece_targets() {
         Some(targets) => {
             for ((p, &c), t) in problem.pieces.iter().zip(&columns).zip(targets) {
-                ineq.push(duration_row(p, c), t / problem.duration);
+                ineq.push_nonzero(duration_row(p, c), t / problem.duration);
             }
         }
-        None => ineq.push(problem.pieces.iter().zip(&columns).flat_map(|(p, &c)| duration_row(p, c)), 1.0),
+        None => ineq.push_nonzero(problem.pieces.iter().zip(&columns).flat_map(|(p, &c)| duration_row(p, c)), 1.0),
     }
 
     let mut q = vec![0.0; n_vars];
@@ -165,7 +138,7 @@ fn add_piece(p: &PathPiece, c: Columns, rest: [bool; 2], sc: &Scales, eq: &mut R
     let v2 = sc.speed * sc.speed;
     for k in 0..c.n {
         let dsigma = p.spacing(k) / sc.length;
-        eq.push([(c.x(k + 1), 1.0), (c.x(k), -1.0), (c.u(k), -2.0 * dsigma)], 0.0);
+        eq.push_nonzero([(c.x(k + 1), 1.0), (c.x(k), -1.0), (c.u(k), -2.0 * dsigma)], 0.0);
         // the torque at node e, and at the midpoint where x = (x_k + x_{k+1})/2
         let mid = p.midpoints.as_ref().map(|m| (&m[k], [(c.x(k), 0.5), (c.x(k + 1), 0.5)]));
         let ends = [k, k + 1].map(|e| (&p.nodes[e], [(c.x(e), 1.0), (c.x(e), 0.0)]));
@@ -178,24 +151,24 @@ fn add_piece(p: &PathPiece, c: Columns, rest: [bool; 2], sc: &Scales, eq: &mut R
                 }
                 for sign in [1.0, -1.0] {
                     let xs = x.map(|(col, w)| (col, sign * b * w));
-                    ineq.push([(c.u(k), sign * a), xs[0], xs[1], (0, -1.0)], 0.0);
+                    ineq.push_nonzero([(c.u(k), sign * a), xs[0], xs[1], (0, -1.0)], 0.0);
                 }
             }
         }
         // ‖(2√2, W − Y_k − Y_{k+1})‖ ≤ W + Y_k + Y_{k+1}
-        soc.push([(c.w(k), -1.0), (c.y(k), -1.0), (c.y(k + 1), -1.0)], 0.0);
-        soc.push([], 2.0 * std::f64::consts::SQRT_2);
-        soc.push([(c.w(k), -1.0), (c.y(k), 1.0), (c.y(k + 1), 1.0)], 0.0);
+        soc.push_nonzero([(c.w(k), -1.0), (c.y(k), -1.0), (c.y(k + 1), -1.0)], 0.0);
+        soc.push_nonzero([], 2.0 * std::f64::consts::SQRT_2);
+        soc.push_nonzero([(c.w(k), -1.0), (c.y(k), 1.0), (c.y(k + 1), 1.0)], 0.0);
     }
     for k in 0..=c.n {
         if (k == 0 && rest[0]) || (k == c.n && rest[1]) {
             continue;
         }
         // ‖(2Y, X − 1)‖ ≤ X + 1, and Y ≥ 0.
-        soc.push([(c.x(k), -1.0)], 1.0);
-        soc.push([(c.y(k), -2.0)], 0.0);
-        soc.push([(c.x(k), -1.0)], -1.0);
-        ineq.push([(c.y(k), -1.0)], 0.0);
+        soc.push_nonzero([(c.x(k), -1.0)], 1.0);
+        soc.push_nonzero([(c.y(k), -2.0)], 0.0);
+        soc.push_nonzero([(c.x(k), -1.0)], -1.0);
+        ineq.push_nonzero([(c.y(k), -1.0)], 0.0);
     }
 }
 
