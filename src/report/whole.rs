@@ -17,7 +17,7 @@ use crate::engines::rapier::{verify, Quantity, RapierError, Reference, Verificat
 use crate::engines::torque::joint_torques;
 use crate::optimize::retime::{retime, RetimeSettings, Split};
 use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
-use crate::schedule::{Phase, Schedule, Trajectory};
+use crate::schedule::{Schedule, Trajectory};
 
 /// Samples per second of fall used to split the optimum's peaks over the phase windows (the
 /// whole-fall maximum is the refined peak of the optimiser's re-measurement).
@@ -96,28 +96,15 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
 /// The optimum's peaks over the time windows of the problem's phases; `max` is `peak`, the
 /// refined whole-fall peak (at least every window's sampled peak).
 fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
-    let d = r.schedule.durations;
-    let total: f64 = spline.piece_durations().iter().sum();
+    let total = spline.total_duration();
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
     let mut w = [[0.0f64; 2]; 3];
-    let (mut piece, mut start) = (0, 0.0);
-    let durations = spline.piece_durations();
     for k in 0..=n {
         let t = total * k as f64 / n as f64;
-        while piece + 1 < durations.len() && t > start + durations[piece] {
-            start += durations[piece];
-            piece += 1;
-        }
-        let tau = joint_torques(&r.problem.cat, &spline.piece_state(piece, (t - start).min(durations[piece]))).tau;
-        let phase = if t < d[0] {
-            0
-        } else if t < d[0] + d[1] {
-            1
-        } else {
-            2
-        };
-        for j in 0..2 {
-            w[phase][j] = w[phase][j].max(tau[j].abs());
+        let tau = joint_torques(&r.problem.cat, &spline.state_at(t)).tau;
+        let window = &mut w[r.schedule.locate(t).0.index()];
+        for (m, x) in window.iter_mut().zip(tau) {
+            *m = m.max(x.abs());
         }
     }
     let sampled = w.iter().flatten().copied().fold(0.0, f64::max);
@@ -324,11 +311,6 @@ pub fn retime_markdown(rows: &[RetimeRow]) -> String {
     s
 }
 
-/// The phases' names for a three-piece trajectory's pieces (used for schedule files).
-pub fn phase_names() -> Vec<String> {
-    Phase::ALL.iter().map(|p| p.name().to_string()).collect()
-}
-
 /// The whole-manoeuvre optimum through rapier, against the exact engine's numbers of the
 /// optimum (none when there is no optimum).
 pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verification>, RapierError> {
@@ -338,7 +320,8 @@ pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verific
 }
 
 /// The optimum's row of the peak-torque table (Markdown, the table's columns; the paper's
-/// model does not apply to a trajectory without a circulation profile).
+/// model does not apply to a trajectory without a circulation profile, and a cubic spline's
+/// joint rates are continuous, so it has no velocity jumps).
 pub fn compare_row_markdown(report: &WholeReport) -> Option<String> {
     let (b, p) = (report.best()?, report.peak_torque_nm?);
     Some(format!(

@@ -35,26 +35,6 @@ pub enum QpStatus {
     CallbackTerminated,
 }
 
-impl QpStatus {
-    /// The kebab-case name, as in the JSON results.
-    pub fn name(self) -> &'static str {
-        match self {
-            QpStatus::Unsolved => "unsolved",
-            QpStatus::Solved => "solved",
-            QpStatus::AlmostSolved => "almost-solved",
-            QpStatus::PrimalInfeasible => "primal-infeasible",
-            QpStatus::DualInfeasible => "dual-infeasible",
-            QpStatus::AlmostPrimalInfeasible => "almost-primal-infeasible",
-            QpStatus::AlmostDualInfeasible => "almost-dual-infeasible",
-            QpStatus::MaxIterations => "max-iterations",
-            QpStatus::MaxTime => "max-time",
-            QpStatus::NumericalError => "numerical-error",
-            QpStatus::InsufficientProgress => "insufficient-progress",
-            QpStatus::CallbackTerminated => "callback-terminated",
-        }
-    }
-}
-
 impl From<SolverStatus> for QpStatus {
     fn from(status: SolverStatus) -> Self {
         match status {
