@@ -10,7 +10,9 @@
 //! circulation, and (computed once, on first use) the calibration of its joint path and the
 //! exact evaluation of every library profile on it.
 
-use std::cell::OnceCell;
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
 use std::fmt;
 
 use serde::Serialize;
@@ -119,8 +121,8 @@ pub struct Resolved {
     pub schedule: Schedule,
     /// The resolved circulation.
     pub circulation: ResolvedCirculation,
-    calibration: OnceCell<Calibration>,
-    library: OnceCell<Vec<(ProfileKind, Schedule, Evaluation)>>,
+    calibration: OnceLock<Calibration>,
+    library: OnceLock<Vec<(ProfileKind, Schedule, Evaluation)>>,
 }
 
 impl Resolved {
@@ -130,11 +132,11 @@ impl Resolved {
         let fall_time = problem.drop.fall_time();
         let circulation = resolve_circulation(&problem.cat, &problem.manoeuvre, fall_time, problem.exact.tolerance)?;
         let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
-        let calibration = OnceCell::new();
+        let calibration = OnceLock::new();
         if let Some(c) = circulation.calibration {
             let _ = calibration.set(c);
         }
-        Ok(Resolved { problem: problem.clone(), schedule, circulation, calibration, library: OnceCell::new() })
+        Ok(Resolved { problem: problem.clone(), schedule, circulation, calibration, library: OnceLock::new() })
     }
 
     /// The cat.
@@ -164,7 +166,7 @@ impl Resolved {
     pub fn library(&self) -> &[(ProfileKind, Schedule, Evaluation)] {
         self.library.get_or_init(|| {
             ProfileKind::ALL
-                .iter()
+                .par_iter()
                 .map(|&k| {
                     let s = self.with_library(k);
                     let e = Evaluation::new(self.cat(), &s, &self.problem.exact);

@@ -228,32 +228,55 @@ pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]
     let mut accuracy: f64 = 0.0;
     let mut t0 = 0.0;
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
-        let n = samples.get(piece).copied().unwrap_or(2).max(4);
-        let h = dur / n as f64;
-        let tau = |s: f64| joint_torques(cat, &traj.piece_state(piece, s));
-        let mut values = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
-        for k in 0..=n {
-            let jt = tau(k as f64 * h);
-            for (j, v) in values.iter_mut().enumerate() {
-                gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
-                v.push(jt.tau[j].abs());
-            }
-        }
-        let peaks = [0, 1].map(|j| {
-            let f = |s: f64| tau(s).tau[j].abs();
-            let (s, value) = refine_peak(&values[j], h, &f);
-            let halved: Vec<f64> = values[j].iter().copied().step_by(2).collect();
-            let (_, coarse) = refine_peak(&halved, 2.0 * h, &f);
-            if value > 0.0 {
-                accuracy = accuracy.max((value - coarse).abs() / value);
-            }
-            Peak { value, time: t0 + s }
-        });
-        per_piece.push(peaks);
+        let found = piece_peaks(cat, traj, piece, samples.get(piece).copied().unwrap_or(2));
+        gap = gap.max(found.action_reaction_gap);
+        accuracy = accuracy.max(found.accuracy);
+        per_piece.push(found.peaks.map(|p| Peak { value: p.value, time: t0 + p.time }));
         t0 += dur;
     }
     let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
     PeakTorques { per_piece, max, action_reaction_gap: gap, accuracy }
+}
+
+/// The peaks of one piece ([`piece_peaks`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PiecePeaks {
+    /// Per joint; times from the piece's start, s.
+    pub peaks: [Peak; 2],
+    /// As [`PeakTorques::action_reaction_gap`], on this piece.
+    pub action_reaction_gap: f64,
+    /// As [`PeakTorques::accuracy`], on this piece.
+    pub accuracy: f64,
+}
+
+/// The peaks of piece `piece` alone with `samples + 1` points (at least 5), found as
+/// [`peak_torques_on`] finds them.
+pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples: usize) -> PiecePeaks {
+    let dur = traj.piece_durations().get(piece).copied().unwrap_or(0.0);
+    let n = samples.max(4);
+    let h = dur / n as f64;
+    let tau = |s: f64| joint_torques(cat, &traj.piece_state(piece, s));
+    let mut gap: f64 = 0.0;
+    let mut accuracy: f64 = 0.0;
+    let mut values = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
+    for k in 0..=n {
+        let jt = tau(k as f64 * h);
+        for (j, v) in values.iter_mut().enumerate() {
+            gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
+            v.push(jt.tau[j].abs());
+        }
+    }
+    let peaks = [0, 1].map(|j| {
+        let f = |s: f64| tau(s).tau[j].abs();
+        let (s, value) = refine_peak(&values[j], h, &f);
+        let halved: Vec<f64> = values[j].iter().copied().step_by(2).collect();
+        let (_, coarse) = refine_peak(&halved, 2.0 * h, &f);
+        if value > 0.0 {
+            accuracy = accuracy.max((value - coarse).abs() / value);
+        }
+        Peak { value, time: s }
+    });
+    PiecePeaks { peaks, action_reaction_gap: gap, accuracy }
 }
 
 /// The refined maximum `(s, value)` of samples `v` (spacing `h`, at least 3) of `f`

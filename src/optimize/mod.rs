@@ -136,23 +136,28 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         .as_ref()
         .and_then(|f| Profile::from_rate_nodes(Origin::RefinedAllPhases.profile_name(), &f.rates).map(|p| (p, f)));
     if let Some((twist, twist_refinement)) = whole_twist {
-        let mut s = base.with_profile(twist);
-        let mut phases = Vec::new();
-        for phase in [Phase::Bend, Phase::Unbend] {
+        let s = base.with_profile(twist);
+        // A phase's torques depend on its own timing only (the joint state at its start is the
+        // path's), so the bend and the unbend are refined independently, in parallel.
+        let refine_phase = |phase: Phase| {
             let start = rate_nodes(
                 &Profile::harmonic(),
                 phase_distance(&s, phase),
                 s.durations[phase.index()],
                 problem.optimize.nodes,
             );
-            let f = refine(&problem.cat, &problem.exact, &problem.optimize, &s, phase, &start)?;
+            refine(&problem.cat, &problem.exact, &problem.optimize, &s, phase, &start)
+        };
+        let (bend, unbend) = rayon::join(|| refine_phase(Phase::Bend), || refine_phase(Phase::Unbend));
+        let (bend, unbend) = (bend?, unbend?);
+        let mut s = s;
+        for (phase, f) in [(Phase::Bend, &bend), (Phase::Unbend, &unbend)] {
             if let Some(p) = f.to_profile() {
                 s = retimed(&s, phase, p);
             }
-            phases.push(f);
         }
         let optimum = evaluate(s, Origin::RefinedAllPhases, twist_refinement.rates.clone());
-        whole = Some(WholeRetiming { optimum, bend: phases.remove(0), unbend: phases.remove(0) });
+        whole = Some(WholeRetiming { optimum, bend, unbend });
     }
     let best_library = r
         .library()

@@ -17,7 +17,9 @@
 //! - step: [`crate::optimize::qp::solve_linearised_step`] (Clarabel) with the integral, boundary and limit
 //!   constraints on `ω + δ`; accepted when the exact twist-phase peak, evaluated densely by
 //!   [`crate::engines::torque::peak_torques`] (not only at the samples), falls by at least a tenth of the
-//!   predicted fall; the radius doubles after good agreement and halves after poor.
+//!   predicted fall; the radius doubles after good agreement and, after poor, drops to half the
+//!   rejected step's length (half the radius when the step filled the box), so that a step well
+//!   inside the box is not proposed again and again (Nocedal and Wright, Alg. 4.1 and §4.1).
 //!
 //! Because the joint path (and so the flip) does not depend on the timing, the refinement
 //! changes torques only, never twist or swing. Bend and unbend are always rest to rest; the
@@ -28,7 +30,7 @@
 
 use serde::Serialize;
 
-use crate::engines::torque::{joint_torques, peak_torques};
+use crate::engines::torque::{joint_torques, piece_peaks, Peak};
 use crate::model::Cylinder;
 use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
 use crate::problem::settings::{ExactSettings, OptimizeSettings};
@@ -130,8 +132,15 @@ pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule 
 }
 
 /// Exact torque samples of one phase for node rates `w` of its progress variable, with their
-/// gradients.
-pub fn torque_samples(cat: &Cylinder, schedule: &Schedule, phase: Phase, w: &[f64]) -> Vec<TorqueSample> {
+/// gradients: at both ends and the midpoint of every interval, and at the phase-local instants
+/// `extra` (s; the dense peaks, which may fall between those samples).
+pub fn torque_samples(
+    cat: &Cylinder,
+    schedule: &Schedule,
+    phase: Phase,
+    w: &[f64],
+    extra: &[f64],
+) -> Vec<TorqueSample> {
     let n = w.len();
     let h = schedule.durations[phase.index()] / (n - 1) as f64;
     let phi: Vec<f64> = std::iter::once(0.0)
@@ -141,59 +150,79 @@ pub fn torque_samples(cat: &Cylinder, schedule: &Schedule, phase: Phase, w: &[f6
         }))
         .collect();
     let tau = |a: f64, b: f64, c: f64| joint_torques(cat, &phase_path(schedule, phase, a, b, c)).tau;
-    // A sample: φ, φ̇ and their gradients with respect to ω as (node, weight) lists.
+    // φ's gradient at node k with respect to ω as (node, weight): the trapezoid weights.
     let phi_grad = |k: usize| -> Vec<(usize, f64)> {
         if k == 0 {
             return Vec::new();
         }
-        let mut g = Vec::with_capacity(k + 1);
+        let mut g = Vec::with_capacity(k + 3);
         g.push((0, 0.5 * h));
         g.extend((1..k).map(|m| (m, h)));
         g.push((k, 0.5 * h));
         g
     };
-    let mut out = Vec::with_capacity(6 * (n - 1));
-    for i in 0..n - 1 {
+    let mut out = Vec::with_capacity(6 * (n - 1) + 2 * extra.len());
+    // The sample at fraction σ ∈ [0, 1] of interval i, where ω is linear:
+    // φ = φ_i + h(σ ω_i + σ²/2 (ω_{i+1} − ω_i)), φ̇ = (1 − σ) ω_i + σ ω_{i+1}, φ̈ = Δω/h.
+    let mut sample = |i: usize, sigma: f64| {
         let acc = (w[i + 1] - w[i]) / h;
-        let mid_phi = phi[i] + 0.375 * h * w[i] + 0.125 * h * w[i + 1];
-        let mut mid_phi_grad = phi_grad(i);
-        mid_phi_grad.extend([(i, 0.375 * h), (i + 1, 0.125 * h)]);
-        let points = [
-            (phi[i], w[i], phi_grad(i), vec![(i, 1.0)]),
-            (mid_phi, 0.5 * (w[i] + w[i + 1]), mid_phi_grad, vec![(i, 0.5), (i + 1, 0.5)]),
-            (phi[i + 1], w[i + 1], phi_grad(i + 1), vec![(i + 1, 1.0)]),
-        ];
-        for (a, b, ga, gb) in points {
-            let t0 = tau(a, b, acc);
-            let (ea, eb) = (1e-6, 1e-6 * (1.0 + b.abs()));
-            let (ap, am) = (tau(a + ea, b, acc), tau(a - ea, b, acc));
-            let (bp, bm) = (tau(a, b + eb, acc), tau(a, b - eb, acc));
-            let (cp, cm) = (tau(a, b, acc + 1.0), tau(a, b, acc - 1.0));
-            for j in 0..2 {
-                let d_phi = (ap[j] - am[j]) / (2.0 * ea);
-                let d_rate = (bp[j] - bm[j]) / (2.0 * eb);
-                let d_acc = (cp[j] - cm[j]) / 2.0;
-                let mut g: Vec<(usize, f64)> = Vec::with_capacity(ga.len() + 4);
-                g.extend(ga.iter().map(|&(k, x)| (k, x * d_phi)));
-                g.extend(gb.iter().map(|&(k, x)| (k, x * d_rate)));
-                g.push((i + 1, d_acc / h));
-                g.push((i, -d_acc / h));
-                out.push(TorqueSample { value: t0[j], gradient: g });
-            }
+        let (wa, wb) = (h * (sigma - 0.5 * sigma * sigma), 0.5 * h * sigma * sigma);
+        let a = phi[i] + wa * w[i] + wb * w[i + 1];
+        let b = (1.0 - sigma) * w[i] + sigma * w[i + 1];
+        let mut ga = phi_grad(i);
+        ga.extend([(i, wa), (i + 1, wb)].into_iter().filter(|&(_, x)| x != 0.0));
+        let gb = [(i, 1.0 - sigma), (i + 1, sigma)];
+        let t0 = tau(a, b, acc);
+        let (ea, eb) = (1e-6, 1e-6 * (1.0 + b.abs()));
+        let (ap, am) = (tau(a + ea, b, acc), tau(a - ea, b, acc));
+        let (bp, bm) = (tau(a, b + eb, acc), tau(a, b - eb, acc));
+        let (cp, cm) = (tau(a, b, acc + 1.0), tau(a, b, acc - 1.0));
+        for j in 0..2 {
+            let d_phi = (ap[j] - am[j]) / (2.0 * ea);
+            let d_rate = (bp[j] - bm[j]) / (2.0 * eb);
+            let d_acc = (cp[j] - cm[j]) / 2.0;
+            let mut g: Vec<(usize, f64)> = Vec::with_capacity(ga.len() + 4);
+            g.extend(ga.iter().map(|&(k, x)| (k, x * d_phi)));
+            g.extend(gb.iter().filter(|&&(_, x)| x != 0.0).map(|&(k, x)| (k, x * d_rate)));
+            g.push((i + 1, d_acc / h));
+            g.push((i, -d_acc / h));
+            out.push(TorqueSample { value: t0[j], gradient: g });
         }
+    };
+    for i in 0..n - 1 {
+        for sigma in [0.0, 0.5, 1.0] {
+            sample(i, sigma);
+        }
+    }
+    for &t in extra {
+        let x = (t / h).clamp(0.0, (n - 1) as f64);
+        let i = (x.floor() as usize).min(n - 2);
+        sample(i, x - i as f64);
     }
     out
 }
 
-/// The exact twist-phase peak of node rates `w`, evaluated densely.
-fn phase_peak(cat: &Cylinder, exact: &ExactSettings, schedule: &Schedule, phase: Phase, w: &[f64]) -> f64 {
-    match Profile::from_rate_nodes("trial", w) {
-        Some(p) => {
-            let peaks = peak_torques(cat, &retimed(schedule, phase, p), exact.torque_samples);
-            peaks.per_piece.get(phase.index()).map_or(f64::INFINITY, |x| x[0].value.max(x[1].value))
-        }
-        None => f64::INFINITY,
-    }
+/// The exact peaks of one phase for node rates `w`, evaluated densely (`None` when the rates
+/// do not make a profile).
+fn phase_peaks(
+    cat: &Cylinder,
+    exact: &ExactSettings,
+    schedule: &Schedule,
+    phase: Phase,
+    w: &[f64],
+) -> Option<[Peak; 2]> {
+    let p = Profile::from_rate_nodes("trial", w)?;
+    Some(piece_peaks(cat, &retimed(schedule, phase, p), phase.index(), exact.torque_samples).peaks)
+}
+
+/// The larger of two joints' peaks, N·m; infinite when there are none.
+fn larger(peaks: Option<[Peak; 2]>) -> f64 {
+    peaks.map_or(f64::INFINITY, |[a, b]| a.value.max(b.value))
+}
+
+/// The instants of the peaks, s from the phase's start.
+fn instants(peaks: Option<[Peak; 2]>) -> Vec<f64> {
+    peaks.map_or_else(Vec::new, |p| p.iter().map(|x| x.time).collect())
 }
 
 /// Node rates of a profile scaled to a phase: `ω_k = (D/T) V(k/(N−1))`.
@@ -222,7 +251,8 @@ pub fn refine(
     let boundary = if phase == Phase::Twist { opt.boundary } else { crate::problem::settings::Boundary::RestToRest };
     let unit = distance.abs() / t2;
     let mut w = start.to_vec();
-    let start_peak = phase_peak(cat, exact, schedule, phase, &w);
+    let start_peaks = phase_peaks(cat, exact, schedule, phase, &w);
+    let start_peak = larger(start_peaks);
     if unit == 0.0 {
         // A phase that does not move (the bend of a straight cat) has no timing to improve.
         return Ok(Refinement {
@@ -233,7 +263,7 @@ pub fn refine(
             status: RefineStatus::Converged,
         });
     }
-    let mut samples = torque_samples(cat, schedule, phase, &w);
+    let mut samples = torque_samples(cat, schedule, phase, &w, &instants(start_peaks));
     let mut peak = start_peak;
     let mut radius = 0.25 * unit;
     let floor = 1e-7 * unit;
@@ -273,20 +303,24 @@ pub fn refine(
             break;
         }
         let trial: Vec<f64> = w.iter().zip(&step.step).map(|(a, d)| a + d).collect();
-        let actual = phase_peak(cat, exact, schedule, phase, &trial);
+        let trial_peaks = phase_peaks(cat, exact, schedule, phase, &trial);
+        let actual = larger(trial_peaks);
         let predicted_fall = sampled_peak(&samples) - step.predicted_peak;
         let ratio = if predicted_fall > 0.0 { (peak - actual) / predicted_fall } else { -1.0 };
         record.actual = actual;
         if ratio > 0.1 {
             record.accepted = true;
-            samples = torque_samples(cat, schedule, phase, &trial);
+            samples = torque_samples(cat, schedule, phase, &trial, &instants(trial_peaks));
             w = trial;
             peak = actual;
             if ratio > 0.75 {
                 radius *= 2.0;
             }
         } else {
-            radius *= 0.5;
+            // A step smaller than the box would come back unchanged from a merely halved box:
+            // shrink below the rejected step itself.
+            let length = step.step.iter().fold(0.0, |m: f64, d| m.max(d.abs()));
+            radius = 0.5 * radius.min(length);
         }
         iterations.push(record);
         if radius < floor || predicted_fall <= 1e-12 * peak {

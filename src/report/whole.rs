@@ -9,6 +9,7 @@
 
 use std::fmt::Write as _;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::engines::circulation::Resolved;
@@ -243,7 +244,7 @@ pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeR
     let p = &r.problem;
     let total = schedule.duration();
     [Split::Kept, Split::Free]
-        .into_iter()
+        .into_par_iter()
         .map(|split| {
             let settings = RetimeSettings { split, ..RetimeSettings::default() };
             let label = match split {
@@ -268,7 +269,7 @@ pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeR
                     let sol = &t.solution;
                     let solved = sol.status.is_solved();
                     let again =
-                        if solved { t.remeasure(&p.cat, 16 * settings.intervals, p.exact.tolerance) } else { None };
+                        if solved { t.remeasure(&p.cat, 4 * settings.intervals, p.exact.tolerance) } else { None };
                     RetimeRow {
                         status: sol.status.to_string(),
                         peak_nm: solved.then_some(sol.peak),

@@ -60,6 +60,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use nalgebra::{UnitQuaternion, Vector3};
+use rayon::prelude::*;
 
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
@@ -94,10 +95,12 @@ pub fn optimize_whole(
 ) -> Result<WholeOutcome, WholeError> {
     settings.validate()?;
     settings::positive_input("drop duration", duration)?;
+    let built: Vec<_> =
+        settings.starts.par_iter().map(|&kind| (kind, build_start(cat, duration, manoeuvre, kind, settings))).collect();
     let mut starts = Vec::new();
     let mut skipped = Vec::new();
-    for &kind in &settings.starts {
-        match build_start(cat, duration, manoeuvre, kind, settings) {
+    for (kind, start) in built {
+        match start {
             Ok(s) => starts.push(s),
             Err(reason) => skipped.push(SkippedStart { start: kind.name().to_string(), reason }),
         }
@@ -118,10 +121,9 @@ pub fn optimize_from(
     settings.validate()?;
     settings::positive_input("tolerance", tolerance)?;
     let problem = ScvxProblem { cat, settings, target: Some(flipped()), qp: QpSettings::default() };
-    let mut solutions = Vec::with_capacity(starts.len());
-    for start in starts {
-        solutions.push(optimize_start(&problem, start, tolerance)?);
-    }
+    // The starts are independent: solved in parallel, reported in the order given.
+    let solutions =
+        starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
     let value = |s: &WholeSolution| match settings.objective {
         Objective::Peak => s.peak_torque_nm,
         Objective::Energy => s.energy,

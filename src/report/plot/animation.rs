@@ -15,7 +15,9 @@ use nalgebra::Vector3;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use rayon::prelude::*;
 
+use super::gif::RgbFrames;
 use super::pose::{cat_poses, BodyPose, CatPose};
 use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, text, GUIDE};
@@ -71,16 +73,21 @@ pub fn flip_animation(
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
-    {
-        let gif = BitMapBackend::gif(path, GIF_SIZE, delay_ms).map_err(|e| write_error(path)(e.to_string()))?;
-        let root = Raster::new(gif).into_drawing_area();
-        for pose in &poses {
-            scene
-                .draw(&root, pose, &extent, false)
-                .and_then(|()| root.present().map_err(failed))
-                .map_err(write_error(path))?;
-        }
-    }
+    // Frames are drawn in parallel, each into its own buffer, then encoded with one palette.
+    let (w, h) = GIF_SIZE;
+    let rendered = poses
+        .par_iter()
+        .map(|pose| {
+            let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+            {
+                let root = Raster::new(BitMapBackend::with_buffer(&mut rgb, GIF_SIZE)).into_drawing_area();
+                scene.draw(&root, pose, &extent, false).and_then(|()| root.present().map_err(failed))?;
+            }
+            Ok(rgb)
+        })
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(write_error(path))?;
+    RgbFrames::new(GIF_SIZE, rendered).and_then(|f| f.write(path, delay_ms)).map_err(write_error(path))?;
 
     let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));

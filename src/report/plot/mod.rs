@@ -33,6 +33,7 @@
 mod animation;
 mod chart;
 mod curves;
+mod gif;
 mod legend;
 mod pose;
 mod raster;

@@ -1,0 +1,85 @@
+//! Everything `catflip run` computes for one problem, before anything is written.
+//!
+//! The independent computations run in parallel (rayon): the profile QP and its refinements,
+//! the whole-manoeuvre optimum, the certified retimings and the rapier verification of every
+//! library schedule start together; the optimised schedules are verified once they exist. Each
+//! computation is deterministic and its result lands in a fixed place, so the output does not
+//! depend on the number of threads.
+
+use rayon::prelude::*;
+
+use super::{RunError, Verified};
+use crate::engines::circulation::{Resolved, ResolvedCirculation};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::rapier::Verification;
+use crate::optimize::{optimize, OptimizeReport};
+use crate::report::audit::Audit;
+use crate::report::simulate::{exact_report, rapier_report};
+use crate::report::whole::{retime_rows, verify_whole, RetimeRow, WholeReport};
+use crate::schedule::variant::{Origin, Variant};
+use crate::schedule::Schedule;
+
+/// The results of one run.
+pub(super) struct Computed {
+    pub audit: Audit,
+    pub opt: OptimizeReport,
+    pub whole: WholeReport,
+    pub retimed: Vec<RetimeRow>,
+    /// Library schedules first (in [`crate::problem::ProfileKind::ALL`] order), then the
+    /// optimised ones, then the most refined one with the calibrated circulation.
+    pub verified: Vec<Verified>,
+    pub whole_verification: Option<Verification>,
+}
+
+/// One schedule to verify: its name, itself, its circulation and its exact evaluation when
+/// one exists already.
+type Run<'a> = (Variant, Schedule, ResolvedCirculation, Option<&'a Evaluation>);
+
+/// Computes everything for `r` (module docs).
+pub(super) fn compute(r: &Resolved) -> Result<Computed, RunError> {
+    let audit = crate::report::audit::audit_with_exact(r)?;
+    let library: Vec<Run> = r
+        .library()
+        .iter()
+        .map(|(k, s, e)| (Variant::new(Origin::Library(*k)), s.clone(), r.circulation, Some(e)))
+        .collect();
+    let ((opt, whole), (retimed, library)) = rayon::join(
+        || rayon::join(|| optimize(r), || crate::report::whole::whole(r)),
+        || rayon::join(|| retimings(r), || verify_all(r, library)),
+    );
+    let (opt, whole, mut verified) = (opt?, whole?, library?);
+    // The optimised schedules, and the recommended one: the most refined schedule with the
+    // calibrated circulation (when the calibration converged).
+    let mut optimised: Vec<Run> =
+        opt.optima().map(|o| (o.variant, o.schedule.clone(), r.circulation, Some(&o.exact))).collect();
+    let most_refined =
+        opt.optima().last().filter(|o| matches!(o.variant.origin, Origin::Refined | Origin::RefinedAllPhases));
+    if let (Some(o), Some(cal)) = (most_refined, r.calibrated()) {
+        optimised.push((o.variant.calibrated(), o.schedule.with_circulation(cal.radians), cal, None));
+    }
+    let (optimised, whole_verification) = rayon::join(|| verify_all(r, optimised), || verify_whole(r, &whole));
+    verified.extend(optimised?);
+    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification: whole_verification? })
+}
+
+/// The certified retimings of the problem's schedule and, when the calibration converged, of
+/// the calibrated one.
+fn retimings(r: &Resolved) -> Vec<RetimeRow> {
+    let mut schedules = vec![("problem".to_string(), r.schedule.clone())];
+    if let Some(cal) = r.calibrated() {
+        let name = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).calibrated().to_string();
+        schedules.push((name, r.schedule.with_circulation(cal.radians)));
+    }
+    schedules.par_iter().flat_map_iter(|(name, s)| retime_rows(r, name, s)).collect()
+}
+
+/// Each schedule through the exact engine and rapier, in parallel, in order.
+fn verify_all(r: &Resolved, runs: Vec<Run>) -> Result<Vec<Verified>, RunError> {
+    runs.into_par_iter()
+        .map(|(variant, schedule, circ, evaluation)| {
+            let exact = exact_report(r, &schedule, circ, evaluation);
+            let rapier = rapier_report(r, &schedule, &exact)?;
+            Ok(Verified { variant, schedule, exact, rapier })
+        })
+        .collect()
+}
