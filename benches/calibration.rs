@@ -3,7 +3,10 @@
 //! the radians the bend direction turns, `engines::torque::piece_samples`).
 //!
 //! Run with `cargo bench --bench calibration`; criterion reports the median with its
-//! confidence interval (the upper bound is the worst case it admits) per size.
+//! confidence interval per size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
+
+use std::time::Duration;
 
 use catflip::engines::calibrate::calibrate;
 use catflip::engines::torque::{peak_torques_on, piece_samples};
@@ -21,7 +24,7 @@ fn paper() -> (Problem, Schedule) {
 fn calibration(c: &mut Criterion) {
     let (p, s) = paper();
     let mut g = c.benchmark_group("calibrate_by_tolerance");
-    g.sample_size(20);
+    g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for tol in [1e-4, 1e-7, 1e-10] {
         g.bench_with_input(BenchmarkId::from_parameter(format!("{tol:e}")), &tol, |b, &tol| {
             b.iter(|| calibrate(&p.cat, &s, tol))
@@ -29,7 +32,7 @@ fn calibration(c: &mut Criterion) {
     }
     g.finish();
     let mut g = c.benchmark_group("calibrate_by_circulation");
-    g.sample_size(10);
+    g.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
     for turns in [1.0, 4.0, 10.0] {
         let start = s.with_circulation(turns * s.circulation);
         g.bench_with_input(BenchmarkId::from_parameter(format!("{:.1} rad", start.circulation)), &start, |b, st| {
@@ -38,7 +41,7 @@ fn calibration(c: &mut Criterion) {
     }
     g.finish();
     let mut g = c.benchmark_group("peak_torques_by_circulation");
-    g.sample_size(20);
+    g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for d in [s.circulation, 28.0, 100.0] {
         let sch = s.with_circulation(d);
         let n = piece_samples(&sch, p.exact.torque_samples);

@@ -1,8 +1,14 @@
-//! Criterion benches of the exact engine: one evaluation of the paper's schedule (final
-//! orientation only, at several tolerances), its peak torques, and a calibration.
+//! Criterion benches of the exact engine on the paper's schedule, grouped by size: the adaptive
+//! flip by tolerance, the fixed-step sixth-order Magnus integration by steps per phase, and the
+//! peak-torque search by samples per phase. (The calibration is in `benches/calibration.rs`.)
+//!
+//! `cargo bench --bench engines`; one size: `cargo bench --bench engines -- 'exact/adaptive/1e-9'`.
+//! Criterion prints the median's confidence interval per size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
-use catflip::engines::calibrate::calibrate;
-use catflip::engines::exact::flip;
+use std::time::Duration;
+
+use catflip::engines::exact::{flip, integrate};
 use catflip::engines::torque::peak_torques;
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
@@ -17,17 +23,29 @@ fn paper() -> (Problem, Schedule) {
 
 fn exact(c: &mut Criterion) {
     let (p, s) = paper();
-    let mut g = c.benchmark_group("exact_flip");
-    for tol in [1e-6, 1e-9, 1e-10, 1e-12] {
+    let mut g = c.benchmark_group("exact/adaptive");
+    g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
+    for tol in [1e-6, 1e-9, 1e-12] {
         g.bench_with_input(BenchmarkId::from_parameter(format!("{tol:e}")), &tol, |b, &tol| {
             b.iter(|| flip(&p.cat, &s, tol))
         });
     }
     g.finish();
-    c.bench_function("peak_torques_400_per_phase", |b| b.iter(|| peak_torques(&p.cat, &s, 400)));
-    let mut g = c.benchmark_group("calibrate");
-    g.sample_size(20);
-    g.bench_function("paper_1e-10", |b| b.iter(|| calibrate(&p.cat, &s, 1e-10)));
+    let mut g = c.benchmark_group("exact/magnus6");
+    g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
+    for steps in [16usize, 128, 1024] {
+        g.bench_with_input(BenchmarkId::from_parameter(steps), &steps, |b, &n| {
+            b.iter(|| integrate(&p.cat, &s, n, |_| {}))
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("peak_torques");
+    g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
+    for samples in [100usize, 400, 1600] {
+        g.bench_with_input(BenchmarkId::from_parameter(samples), &samples, |b, &n| {
+            b.iter(|| peak_torques(&p.cat, &s, n))
+        });
+    }
     g.finish();
 }
 

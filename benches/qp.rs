@@ -2,6 +2,8 @@
 //!
 //! `cargo bench --bench qp`; one size: `cargo bench --bench qp -- 'profile_qp/large/100000'`.
 //! Targets (the optimiser's issue): N = 2000 within 10 ms, N = 10⁵ within 2 s.
+//! Criterion prints the median's confidence interval per size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -33,15 +35,19 @@ fn solve(qp: &ProfileQp) -> f64 {
 
 fn rest_to_rest(c: &mut Criterion) {
     let mut small = c.benchmark_group("profile_qp/small");
-    small.measurement_time(Duration::from_secs(10));
-    for nodes in [200, 2000] {
+    small.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    for nodes in [200, 2000, 5000] {
         let qp = problem(nodes);
         small.bench_with_input(BenchmarkId::from_parameter(nodes), &qp, |b, qp| b.iter(|| solve(black_box(qp))));
     }
     small.finish();
 
     let mut large = c.benchmark_group("profile_qp/large");
-    large.sample_size(10).sampling_mode(SamplingMode::Flat).measurement_time(Duration::from_secs(20));
+    large
+        .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(15));
     for nodes in [20_000, 100_000] {
         let qp = problem(nodes);
         large.bench_with_input(BenchmarkId::from_parameter(nodes), &qp, |b, qp| b.iter(|| solve(black_box(qp))));
@@ -59,7 +65,7 @@ fn with_limits(c: &mut Criterion) {
         ..problem(2000)
     };
     let mut group = c.benchmark_group("profile_qp/limits");
-    group.measurement_time(Duration::from_secs(10));
+    group.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
     group.bench_with_input(BenchmarkId::from_parameter(2000), &qp, |b, qp| b.iter(|| solve(black_box(qp))));
     group.finish();
 }
@@ -97,7 +103,7 @@ fn linearised_step(c: &mut Criterion) {
     };
     let settings = QpSettings::default();
     let mut group = c.benchmark_group("linearised_step");
-    group.sample_size(20);
+    group.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     group.bench_function(BenchmarkId::from_parameter(nodes), |b| {
         b.iter(|| {
             let sol = solve_linearised_step(black_box(&step), &settings).expect("valid step");

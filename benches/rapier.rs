@@ -2,7 +2,11 @@
 //! measurement: twist, momentum, torques) at 1 kHz and 2 kHz, and, to separate rapier's own cost
 //! from ours, the bare stepping of the scene over the same schedule at 1 kHz.
 //!
-//! Run with `cargo bench --bench rapier`.
+//! Run with `cargo bench --bench rapier`; grouped by step rate. Criterion prints the median's
+//! confidence interval per size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
+
+use std::time::Duration;
 
 use catflip::engines::rapier::{simulate, CatScene, MotorGains, RapierOptions};
 use catflip::problem::Problem;
@@ -18,20 +22,23 @@ fn paper() -> (Problem, Schedule) {
 
 fn rapier(c: &mut Criterion) {
     let (p, s) = paper();
-    let mut g = c.benchmark_group("rapier_paper");
-    g.sample_size(20);
-    for rate in [1000.0, 2000.0] {
+    let mut g = c.benchmark_group("rapier/simulate");
+    g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(4));
+    for rate in [500.0, 1000.0, 2000.0] {
         let settings = p.rapier.with_dt(1.0 / rate);
-        g.bench_with_input(BenchmarkId::new("simulate", format!("{rate} Hz")), &settings, |b, st| {
+        g.bench_with_input(BenchmarkId::from_parameter(format!("{rate} Hz")), &settings, |b, st| {
             b.iter(|| simulate(&p.cat, &s, st))
         });
     }
+    g.finish();
     // The scene alone: targets from the schedule and one rapier step per millisecond.
     let n = (s.duration() / 1e-3).ceil() as usize;
     let dt = s.duration() / n as f64;
     let opts = RapierOptions::default();
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
-    g.bench_function("steps_only/1000 Hz", |b| {
+    let mut g = c.benchmark_group("rapier/steps_only");
+    g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    g.bench_function(BenchmarkId::from_parameter("1000 Hz"), |b| {
         b.iter(|| {
             let mut scene =
                 CatScene::new(&p.cat, p.rapier.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), [0.0; 2])?;

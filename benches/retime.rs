@@ -3,6 +3,8 @@
 //!
 //! `cargo bench --bench retime`; one size: `cargo bench --bench retime -- 'retime/kept/200'`.
 //! Target (issue 13): the convex retiming of a whole schedule within 1 s.
+//! Criterion prints the median's confidence interval per grid size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -23,8 +25,12 @@ fn whole_schedule(c: &mut Criterion) {
     let (p, s) = paper();
     for (name, split) in [("retime/kept", Split::Kept), ("retime/free", Split::Free)] {
         let mut group = c.benchmark_group(name);
-        group.sample_size(10).sampling_mode(SamplingMode::Flat).measurement_time(Duration::from_secs(3));
-        for n in [50, 100, 200, 400] {
+        group
+            .sample_size(10)
+            .sampling_mode(SamplingMode::Flat)
+            .warm_up_time(Duration::from_secs(1))
+            .measurement_time(Duration::from_secs(3));
+        for n in [50, 100, 200, 400, 800] {
             let settings = RetimeSettings { intervals: n, split, ..RetimeSettings::default() };
             group.bench_with_input(BenchmarkId::from_parameter(n), &settings, |b, settings| {
                 b.iter(|| {

@@ -1,13 +1,17 @@
-//! Run time of the whole-manoeuvre optimisation on the paper's problem (issue 13: ≤ 2 s).
+//! Run time of the whole-manoeuvre optimisation on the paper's problem (issue 13: ≤ 2 s), grouped
+//! by control points per joint: with every default start, and with the paper's start alone for
+//! the peak and the energy objectives.
 //!
-//! `cargo bench --bench whole`; one start only: `cargo bench --bench whole -- 'whole/paper/one-start'`.
+//! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`.
+//! Criterion prints the median's confidence interval per size; the worst run is in
+//! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeSettings};
 use catflip::problem::Problem;
-use criterion::{criterion_group, criterion_main, Criterion, SamplingMode};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
 /// Solves once and insists on a converged flip, so that a bench never times a failure.
 fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
@@ -16,17 +20,37 @@ fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
     outcome.best().expect("a converged flip").peak_torque_nm
 }
 
+/// `settings` with `n` control points per joint (a coarse start no larger than the spline).
+fn at(settings: &WholeSettings, n: usize) -> WholeSettings {
+    WholeSettings {
+        control_points: n,
+        coarse_control_points: settings.coarse_control_points.map(|c| c.min(n)),
+        ..settings.clone()
+    }
+}
+
 fn paper(c: &mut Criterion) {
     let problem = Problem::default();
-    let mut group = c.benchmark_group("whole/paper");
-    group.sampling_mode(SamplingMode::Flat).sample_size(10).measurement_time(Duration::from_secs(10));
     let every = WholeSettings::default();
-    group.bench_function("peak/default-starts", |b| b.iter(|| solve(black_box(&problem), &every)));
     let one = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
-    group.bench_function("peak/one-start", |b| b.iter(|| solve(black_box(&problem), &one)));
     let energy = WholeSettings { objective: Objective::Energy, ..one.clone() };
-    group.bench_function("energy/one-start", |b| b.iter(|| solve(black_box(&problem), &energy)));
-    group.finish();
+    for (name, settings, sizes) in [
+        ("whole/peak", &every, &[20, 60, 120][..]),
+        ("whole/peak-one-start", &one, &[120]),
+        ("whole/energy-one-start", &energy, &[120]),
+    ] {
+        let mut group = c.benchmark_group(name);
+        group
+            .sampling_mode(SamplingMode::Flat)
+            .sample_size(10)
+            .warm_up_time(Duration::from_secs(1))
+            .measurement_time(Duration::from_secs(8));
+        for &n in sizes {
+            let s = at(settings, n);
+            group.bench_with_input(BenchmarkId::from_parameter(n), &s, |b, s| b.iter(|| solve(black_box(&problem), s)));
+        }
+        group.finish();
+    }
 }
 
 criterion_group!(benches, paper);

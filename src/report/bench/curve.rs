@@ -6,7 +6,9 @@
 //! computed once, outside the closure. The closure is first run once for its outcome, then
 //! repeated for timing ([`Timing::measure`]: up to `k` runs within a time budget, best and
 //! median kept). So adding a curve for a new engine or optimiser is one function that returns
-//! `Curve::sweep(name, setting, error, settings, run)`.
+//! `Curve::sweep(name, setting, error, settings, run)`. When measuring the error costs more
+//! than a small part of the run (a re-measurement by the exact engine), [`Curve::sweep_with`]
+//! takes the solve and the measurement apart and times only the solve.
 
 use std::time::Instant;
 
@@ -75,6 +77,16 @@ pub struct BenchPoint {
     pub failed: Option<String>,
 }
 
+/// A sentence for the report on what a curve's error means and against which reference (the
+/// reference's value when it is computed), printed under the curve's table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CurveNote {
+    /// The curve's name.
+    pub curve: String,
+    /// The sentence (Markdown).
+    pub note: String,
+}
+
 /// A work-precision curve.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Curve {
@@ -100,24 +112,37 @@ impl Curve {
         setting: &str,
         error: &str,
         settings: &[f64],
-        mut run: impl FnMut(f64) -> Result<Outcome, String>,
+        run: impl FnMut(f64) -> Result<Outcome, String>,
     ) -> Curve {
+        Curve::sweep_with(name, setting, error, settings, run, |_, o| Ok(*o))
+    }
+
+    /// Like [`Curve::sweep`], but the error is measured apart from the computation that is
+    /// timed: `solve(setting)` is run once, `measure(setting, &result)` turns its result into an
+    /// outcome (e.g. a re-measurement by the exact engine, which is not the method's cost), and
+    /// only `solve` is [`Timing::measure`]d. An `Err` from either makes a failed point, as does
+    /// a non-finite or negative error; a non-finite secondary measure is dropped (`—`).
+    pub fn sweep_with<T>(
+        name: &str,
+        setting: &str,
+        error: &str,
+        settings: &[f64],
+        mut solve: impl FnMut(f64) -> Result<T, String>,
+        mut measure: impl FnMut(f64, &T) -> Result<Outcome, String>,
+    ) -> Curve {
+        let failed = |x: f64, why: String| BenchPoint { setting: x, timing: None, outcome: None, failed: Some(why) };
         let points = settings
             .iter()
-            .map(|&x| match run(x) {
+            .map(|&x| match solve(x).and_then(|r| measure(x, &r)) {
                 Ok(o) if o.error.is_finite() && o.error >= 0.0 => {
                     let timing = Timing::measure(|| {
-                        let _ = std::hint::black_box(run(x));
+                        let _ = std::hint::black_box(solve(x));
                     });
-                    BenchPoint { setting: x, timing: Some(timing), outcome: Some(o), failed: None }
+                    let outcome = Outcome { secondary: o.secondary.filter(|v| v.is_finite()), ..o };
+                    BenchPoint { setting: x, timing: Some(timing), outcome: Some(outcome), failed: None }
                 }
-                Ok(o) => BenchPoint {
-                    setting: x,
-                    timing: None,
-                    outcome: None,
-                    failed: Some(format!("error is {} (not a finite, non-negative number)", o.error)),
-                },
-                Err(why) => BenchPoint { setting: x, timing: None, outcome: None, failed: Some(why) },
+                Ok(_) => failed(x, "the error is not a finite, non-negative number".to_string()),
+                Err(why) => failed(x, why),
             })
             .collect();
         Curve {

@@ -2,8 +2,9 @@
 //! machine, one report; and numerical stress tests.
 //!
 //! Each curve is a sweep of one resolution setting ([`curve::Curve`]): the exact engine fixed-step
-//! and adaptive, rapier raw and extrapolated ([`engines`]), the profile QP over `N` and the
-//! calibration over tolerances ([`optimizers`]). Every point is timed [`curve::Timing::measure`]
+//! and adaptive, rapier raw and extrapolated ([`engines`]), the profile QP over `N`, the
+//! calibration over tolerances, the certified retiming over grid sizes and the whole-manoeuvre
+//! optimiser over control points ([`optimizers`]). Every point is timed [`curve::Timing::measure`]
 //! (best and median of up to 7 runs within a budget) on this machine, named in the report.
 //! The table "time to reach 1e-3 / 1e-6 / 1e-9 rad" takes, per engine curve, the least best
 //! time of a point at or below the target ([`table`]).
@@ -15,7 +16,9 @@
 //! Write `fn my_curve(...) -> Curve` that computes the reference once and returns
 //! `Curve::sweep(name, setting, error, &settings, |x| { …solve at x…; Ok(Outcome::error(gap)) })`
 //! (an `Err(status)` for a run without a result), then push it in [`bench`]. The CSV, the
-//! Markdown and the plots pick it up by its name.
+//! Markdown and the plots pick it up by its name. When the error needs a costly measurement
+//! that is not the method's own work, [`curve::Curve::sweep_with`] times only the solve; a
+//! sentence on what the error means goes in [`BenchReport::notes`].
 //!
 //! Times are for the record, not for pass/fail (the criterion benches in `benches/` are the
 //! controlled measurement).
@@ -31,7 +34,7 @@ use serde::Serialize;
 
 use crate::engines::circulation::Resolved;
 use crate::problem::ProfileKind;
-use curve::{Curve, Timing};
+use curve::{Curve, CurveNote, Timing};
 use random::{RandomResult, Tally, Verdict};
 use stress::StressCase;
 
@@ -48,6 +51,13 @@ pub const RANDOM_SEED: u64 = 11;
 /// Random stress cases in the report.
 pub const RANDOM_CASES: usize = 100;
 
+/// Grid intervals per phase of the retiming curve (the two finest also give its reference).
+pub const RETIME_GRIDS: [usize; 7] = [25, 50, 100, 200, 400, 800, 1600];
+/// Control points per joint of the whole-manoeuvre optimiser's curve.
+pub const WHOLE_CONTROL_POINTS: [usize; 6] = [20, 40, 60, 90, 120, 160];
+/// Control points per joint of the whole-manoeuvre optimiser's reference run.
+pub const WHOLE_REFERENCE_POINTS: usize = 240;
+
 /// The whole benchmark.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BenchReport {
@@ -55,6 +65,8 @@ pub struct BenchReport {
     pub machine: String,
     /// The work-precision curves.
     pub curves: Vec<Curve>,
+    /// What some curves' errors mean and their references, printed under their tables.
+    pub notes: Vec<CurveNote>,
     /// Time of one default evaluation of the problem's schedule (flip, peaks, jumps).
     pub evaluation: Timing,
     /// The named stress cases.
@@ -77,11 +89,15 @@ pub fn bench(r: &Resolved, dts: &[f64]) -> Result<BenchReport, BenchError> {
     curves.push(optimizers::qp_curve(&p.cat, &r.schedule, &nodes));
     let tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11];
     curves.push(optimizers::calibration_curve(&p.cat, &r.schedule, &tolerances));
+    let (retime, retime_note) = optimizers::retime_curve(&p.cat, &r.schedule, &RETIME_GRIDS, [800, 1600]);
+    let (whole, whole_note) = optimizers::whole_curve(p, &WHOLE_CONTROL_POINTS, WHOLE_REFERENCE_POINTS);
+    curves.extend([retime, whole]);
     let base = toml::to_string(p)?;
     let (results, tally) = random::run_many(&base, RANDOM_SEED, RANDOM_CASES);
     Ok(BenchReport {
         machine: crate::report::provenance::machine(),
         curves,
+        notes: vec![retime_note, whole_note],
         evaluation: engines::evaluation_timing(p, &r.schedule),
         stress: stress::stress(p)?,
         random: tally,

@@ -131,16 +131,18 @@ pub struct RandomResult {
     pub case: RandomCase,
     /// Its verdict.
     pub verdict: Verdict,
-    /// Relative momentum residual (NaN when refused).
-    pub momentum: f64,
+    /// Relative momentum residual (this and the numbers below are absent when refused, or
+    /// when the case failed before they were measured).
+    pub momentum: Option<f64>,
     /// Relative action–reaction gap.
-    pub action_reaction: f64,
+    pub action_reaction: Option<f64>,
     /// Change of the twist at 10× the mass, rad.
-    pub mass_twist: f64,
+    pub mass_twist: Option<f64>,
     /// Relative deviation of the peak torque from ×10 at 10× the mass.
-    pub mass_torque: f64,
-    /// Relative gap of the QP's peak to its closed form.
-    pub qp_gap: f64,
+    pub mass_torque: Option<f64>,
+    /// Relative gap of the QP's peak to its closed form (absent when the QP has no solution or
+    /// no closed form).
+    pub qp_gap: Option<f64>,
 }
 
 /// Runs one case on the problem text `base` (TOML).
@@ -148,11 +150,11 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
     let mut out = RandomResult {
         case: case.clone(),
         verdict: Verdict::Passed,
-        momentum: f64::NAN,
-        action_reaction: f64::NAN,
-        mass_twist: f64::NAN,
-        mass_torque: f64::NAN,
-        qp_gap: f64::NAN,
+        momentum: None,
+        action_reaction: None,
+        mass_twist: None,
+        mass_torque: None,
+        qp_gap: None,
     };
     let load = |extra: Option<String>| {
         let mut o = case.overrides.clone();
@@ -177,19 +179,33 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
         }
     };
     let e10 = Evaluation::new(&heavy.cat, &r.schedule, &heavy.exact);
-    out.momentum = e.momentum_max;
-    out.action_reaction = e.action_reaction_gap / e.peaks.max;
-    out.mass_twist = (e10.flip.twist - e.flip.twist).abs();
-    out.mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();
-    out.qp_gap = qp_gap(&r, case.nodes).unwrap_or(f64::NAN);
+    let (momentum, action_reaction) = (e.momentum_max, e.action_reaction_gap / e.peaks.max);
+    let mass_twist = (e10.flip.twist - e.flip.twist).abs();
+    let mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();
+    let qp = qp_gap(&r, case.nodes);
+    let finite = |x: f64| x.is_finite().then_some(x);
+    out.momentum = finite(momentum);
+    out.action_reaction = finite(action_reaction);
+    out.mass_twist = finite(mass_twist);
+    out.mass_torque = finite(mass_torque);
+    out.qp_gap = qp.as_ref().ok().copied().and_then(finite);
     let numbers = [e.flip.twist, e.flip.swing, e.peaks.max, e.momentum_max, e.action_reaction_gap, e.peak_accuracy];
+    let numbers = numbers.iter().chain([&mass_twist, &mass_torque, &e10.peaks.max]);
+    // Each check passes only on a finite number within its limit (`≤` is false for NaN); the
+    // first check names a non-finite number, so no message below prints one.
     let checks = [
-        (numbers.iter().all(|x| x.is_finite()), "a non-finite number from the exact engine".to_string()),
-        (out.momentum <= MOMENTUM_LIMIT, format!("momentum residual {:.1e}", out.momentum)),
-        (out.action_reaction <= ACTION_REACTION_LIMIT, format!("action–reaction gap {:.1e}", out.action_reaction)),
-        (out.mass_twist <= MASS_TWIST_LIMIT, format!("twist changes by {:.1e} rad at 10× the mass", out.mass_twist)),
-        (out.mass_torque <= MASS_TORQUE_LIMIT, format!("torque off ×10 by {:.1e} at 10× the mass", out.mass_torque)),
-        (out.qp_gap <= QP_GAP_LIMIT, format!("QP at N = {} off its closed form by {:.1e}", case.nodes, out.qp_gap)),
+        (numbers.into_iter().all(|x| x.is_finite()), "a non-finite number from the exact engine".to_string()),
+        (momentum <= MOMENTUM_LIMIT, format!("momentum residual {momentum:.1e}")),
+        (action_reaction <= ACTION_REACTION_LIMIT, format!("action–reaction gap {action_reaction:.1e}")),
+        (mass_twist <= MASS_TWIST_LIMIT, format!("twist changes by {mass_twist:.1e} rad at 10× the mass")),
+        (mass_torque <= MASS_TORQUE_LIMIT, format!("torque off ×10 by {mass_torque:.1e} at 10× the mass")),
+        match &qp {
+            Ok(gap) if gap.is_finite() => {
+                (*gap <= QP_GAP_LIMIT, format!("QP at N = {} off its closed form by {gap:.1e}", case.nodes))
+            }
+            Ok(_) => (false, format!("QP at N = {}: a non-finite gap to its closed form", case.nodes)),
+            Err(why) => (false, format!("QP at N = {}: {why}", case.nodes)),
+        },
     ];
     if let Some((_, why)) = checks.iter().find(|(ok, _)| !ok) {
         out.verdict = Verdict::Failed(why.clone());
@@ -204,12 +220,14 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
     out
 }
 
-/// The QP's relative gap to its closed form at `nodes` on the twist phase of `r`.
-fn qp_gap(r: &Resolved, nodes: usize) -> Option<f64> {
+/// The QP's relative gap to its closed form at `nodes` on the twist phase of `r`, or why it has
+/// none.
+fn qp_gap(r: &Resolved, nodes: usize) -> Result<f64, String> {
     let qp = super::optimizers::twist_qp(&r.problem.cat, &r.schedule, nodes);
-    let exact = qp.closed_form_peak()?;
-    let s = qp.solve().ok()?;
-    s.peak_torque.filter(|_| s.status.is_solved()).map(|p| (p - exact).abs() / exact)
+    let exact = qp.closed_form_peak().ok_or("no closed form")?;
+    let s = qp.solve().map_err(|e| e.to_string())?;
+    let peak = s.peak_torque.filter(|_| s.status.is_solved()).ok_or_else(|| format!("Clarabel ended {}", s.status))?;
+    Ok((peak - exact).abs() / exact)
 }
 
 /// Counts of verdicts.
@@ -244,8 +262,8 @@ pub fn run_many(base: &str, seed: u64, count: usize) -> (Vec<RandomResult>, Tall
         .map(|i| {
             let r = run_case(base, &draw(seed, i));
             tally.cases += 1;
-            let worst = |w: &mut f64, x: f64| {
-                if x.is_finite() {
+            let worst = |w: &mut f64, x: Option<f64>| {
+                if let Some(x) = x {
                     *w = w.max(x);
                 }
             };

@@ -20,18 +20,18 @@ pub struct StressCase {
     pub overrides: Vec<String>,
     /// Whether the adaptive integration met its tolerance.
     pub converged: bool,
-    /// Its error estimate, rad.
-    pub error_estimate_rad: f64,
+    /// Its error estimate, rad (this and the numbers below are absent when refused).
+    pub error_estimate_rad: Option<f64>,
     /// Steps per phase it needed.
-    pub steps_per_phase: usize,
+    pub steps_per_phase: Option<usize>,
     /// Twist, degrees.
-    pub twist_deg: f64,
+    pub twist_deg: Option<f64>,
     /// Largest momentum along the motion relative to `I*·max|q̇|`.
-    pub momentum_max: f64,
+    pub momentum_max: Option<f64>,
     /// Largest action–reaction gap of the torques relative to the peak torque.
-    pub action_reaction_rel: f64,
+    pub action_reaction_rel: Option<f64>,
     /// Peak torque, N·m.
-    pub peak_torque_nm: f64,
+    pub peak_torque_nm: Option<f64>,
     /// A load error, when the case is refused (as it should be for invalid input).
     pub refused: Option<String>,
 }
@@ -43,12 +43,12 @@ impl StressCase {
             case: case.to_string(),
             overrides,
             converged: false,
-            error_estimate_rad: f64::NAN,
-            steps_per_phase: 0,
-            twist_deg: f64::NAN,
-            momentum_max: f64::NAN,
-            action_reaction_rel: f64::NAN,
-            peak_torque_nm: f64::NAN,
+            error_estimate_rad: None,
+            steps_per_phase: None,
+            twist_deg: None,
+            momentum_max: None,
+            action_reaction_rel: None,
+            peak_torque_nm: None,
             refused: Some(error),
         }
     }
@@ -93,12 +93,17 @@ fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<Stress
         case: case.to_string(),
         overrides,
         converged: e.flip.converged,
-        error_estimate_rad: e.flip.error_estimate,
-        steps_per_phase: e.flip.steps_per_phase,
-        twist_deg: e.twist_deg(),
-        momentum_max: e.momentum_max,
-        action_reaction_rel: e.action_reaction_gap / e.peaks.max.max(f64::MIN_POSITIVE),
-        peak_torque_nm: e.peaks.max,
+        error_estimate_rad: finite(e.flip.error_estimate),
+        steps_per_phase: Some(e.flip.steps_per_phase),
+        twist_deg: finite(e.twist_deg()),
+        momentum_max: finite(e.momentum_max),
+        action_reaction_rel: finite(e.action_reaction_gap / e.peaks.max.max(f64::MIN_POSITIVE)),
+        peak_torque_nm: finite(e.peaks.max),
         refused: None,
     })
+}
+
+/// `x` when it is finite: a number the engine could not give is shown as `—`, never as NaN.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
 }

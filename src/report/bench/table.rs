@@ -69,6 +69,9 @@ impl BenchReport {
         s.push_str("![work-precision of the engines](plots/bench_engines.png)\n![work-precision of the optimisers](plots/bench_optimizers.png)\n\n");
         for c in &self.curves {
             curve_markdown(&mut s, c);
+            for n in self.notes.iter().filter(|n| n.curve == c.name) {
+                let _ = writeln!(s, "{}\n", n.note);
+            }
         }
         self.stress_markdown(&mut s);
         s
@@ -77,17 +80,18 @@ impl BenchReport {
     fn stress_markdown(&self, s: &mut String) {
         s.push_str("## Stress: named edge cases of the exact engine\n\n| case | converged | error estimate rad | steps/phase | twist ° | momentum (rel.) | action–reaction (rel.) | peak torque N·m | refused with |\n|---|---|---:|---:|---:|---:|---:|---:|---|\n");
         for c in &self.stress {
+            let f = |x: Option<f64>, fmt: fn(f64) -> String| x.map_or("—".to_string(), fmt);
+            let converged = if c.refused.is_some() { "—".to_string() } else { c.converged.to_string() };
             let _ = writeln!(
                 s,
-                "| {} | {} | {:.1e} | {} | {:.4} | {:.1e} | {:.1e} | {:.4e} | {} |",
+                "| {} | {converged} | {} | {} | {} | {} | {} | {} | {} |",
                 c.case,
-                c.converged,
-                c.error_estimate_rad,
-                c.steps_per_phase,
-                c.twist_deg,
-                c.momentum_max,
-                c.action_reaction_rel,
-                c.peak_torque_nm,
+                f(c.error_estimate_rad, |x| format!("{x:.1e}")),
+                c.steps_per_phase.map_or("—".to_string(), |n| n.to_string()),
+                f(c.twist_deg, |x| format!("{x:.4}")),
+                f(c.momentum_max, |x| format!("{x:.1e}")),
+                f(c.action_reaction_rel, |x| format!("{x:.1e}")),
+                f(c.peak_torque_nm, |x| format!("{x:.4e}")),
                 c.refused.as_deref().unwrap_or("")
             );
         }
