@@ -124,7 +124,8 @@ mod verify_text;
 pub use bodies::{BodyState, MassModel, Snapshot};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
-    dt_sweep, extrapolate, simulate, simulate_with, Extrapolated, JumpTorque, MomentumDrift, RapierRun, TwistSample,
+    dt_sweep, extrapolate, simulate, simulate_with, swing_vector, Extrapolated, JumpTorque, MomentumDrift, RapierRun,
+    TwistSample,
 };
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};

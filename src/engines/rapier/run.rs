@@ -312,8 +312,11 @@ pub struct Extrapolated {
     pub peak_torque: f64,
 }
 
-/// The swing's rotation vector `(x, y)` of an orientation with twist `twist`.
-fn swing_vector(r: &UnitQuaternion<f64>, twist: f64) -> nalgebra::Vector3<f64> {
+/// The swing's rotation vector `(x, y, 0)` of an orientation `r` with twist `twist` (rad):
+/// `log(r · Rz(−twist))`, the swing–twist split `r = S · Rz(twist)`. Its length is the swing
+/// angle; unlike that length it is smooth in the step, so rapier's runs are compared and
+/// extrapolated through it (the length is not smooth where the vector passes near zero).
+pub fn swing_vector(r: &UnitQuaternion<f64>, twist: f64) -> nalgebra::Vector3<f64> {
     let untwist = UnitQuaternion::from_axis_angle(&nalgebra::Vector3::z_axis(), -twist);
     (r * untwist).scaled_axis()
 }

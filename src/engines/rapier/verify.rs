@@ -45,7 +45,7 @@
 use std::fmt;
 use std::time::Instant;
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use serde::Serialize;
 
 use super::{RapierError, RapierOptions, RapierRun, TimeScales, MAX_STEPS};
@@ -460,7 +460,6 @@ pub fn verify_with(
 }
 
 fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
-    let untwist = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), -run.twist);
     RunRecord {
         dt: run.dt,
         steps: run.steps,
@@ -470,7 +469,7 @@ fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
         tracking_error_rad: run.tracking_error,
         momentum_drift: run.momentum.max_rel,
         run_time_s,
-        swing_vector: (run.orientation * untwist).scaled_axis().map(f64::to_degrees),
+        swing_vector: super::swing_vector(&run.orientation, run.twist).map(f64::to_degrees),
     }
 }
 
