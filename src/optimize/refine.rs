@@ -43,6 +43,10 @@ use crate::schedule::{JointState, Phase, Schedule};
 pub enum RefineStatus {
     /// The trust radius shrank below its floor: no step improves the peak any more.
     Converged,
+    /// The last [`STALL_ITERATIONS`] iterations lowered the peak by less than
+    /// [`STALL_FRACTION`] of it: the first-order model creeps (a minimax optimum with many
+    /// nearly active peaks), so further iterations would buy less than that.
+    Stalled,
     /// The iteration budget ran out while still improving.
     MaxIterations,
     /// The step QP failed in a way a smaller radius cannot mend.
@@ -54,6 +58,7 @@ impl std::fmt::Display for RefineStatus {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             RefineStatus::Converged => f.write_str("converged"),
+            RefineStatus::Stalled => f.write_str("stalled"),
             RefineStatus::MaxIterations => f.write_str("max-iterations"),
             RefineStatus::StepFailed(qp) => write!(f, "step-failed ({qp})"),
         }
@@ -202,6 +207,12 @@ pub fn torque_samples(
     out
 }
 
+/// The refinement has stalled when [`STALL_ITERATIONS`] iterations lowered the peak by less
+/// than this fraction of it.
+pub const STALL_FRACTION: f64 = 1e-4;
+/// See [`STALL_FRACTION`].
+pub const STALL_ITERATIONS: usize = 8;
+
 /// The exact peaks of one phase for node rates `w`, evaluated densely (`None` when the rates
 /// do not make a profile).
 fn phase_peaks(
@@ -326,6 +337,12 @@ pub fn refine(
         if radius < floor || predicted_fall <= 1e-12 * peak {
             status = RefineStatus::Converged;
             break;
+        }
+        if let Some(before) = iterations.len().checked_sub(STALL_ITERATIONS).map(|k| iterations[k].peak) {
+            if before - peak < STALL_FRACTION * peak {
+                status = RefineStatus::Stalled;
+                break;
+            }
         }
     }
     Ok(Refinement { rates: w, start_peak, final_peak: peak, iterations, status })

@@ -114,7 +114,8 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
     // x is a step in v, so δ = x · D/T: the gradient column scale carries the sign of D.
     let column = problem.circulation / t / torque_unit;
     let h = 1.0 / (n - 1) as f64;
-    let rows: Vec<SampleRow> = problem.samples.iter().map(|s| SampleRow::new(&s.gradient, column, h)).collect();
+    let kept = screened(problem.samples, problem.trust_radius);
+    let rows: Vec<SampleRow> = kept.iter().map(|s| SampleRow::new(&s.gradient, column, h)).collect();
     let prefix = rows.iter().any(|r| !r.on_prefix.is_empty());
 
     let bound = n; // the column of the epigraph bound t̂, then the accelerations, prefix sums
@@ -139,7 +140,7 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
             asm.equal([(s(k), 1.0), (s(k - 1), -1.0), (k, -h)], 0.0);
         }
     }
-    for (row, sample) in rows.iter().zip(problem.samples) {
+    for (row, sample) in rows.iter().zip(&kept) {
         let entries = row.on_step.iter().copied().chain(row.on_prefix.iter().map(|&(k, g)| (first_sum + k, g)));
         asm.abs_at_most(entries, sample.value / torque_unit, bound);
     }
@@ -154,6 +155,18 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
     let mut info = solved.info;
     info.duality_gap *= torque_unit;
     Ok(StepSolution { status: solved.status, step, predicted_peak, info })
+}
+
+/// The samples that can bound the step's peak (module docs of `refine`, screening): within the
+/// trust box `|δ_k| ≤ Δ` a sample's model `|τ + gᵀδ|` lies in `|τ| ± ‖g‖₁ Δ`, so the optimal
+/// peak is at least `L = max (|τ| − ‖g‖₁ Δ)`, and a sample whose largest value `|τ| + ‖g‖₁ Δ`
+/// is below `L` is slack at the optimum: leaving it out changes neither the optimum nor the
+/// step. Exact, and it makes the late, small-radius steps cheap.
+fn screened(samples: &[TorqueSample], radius: f64) -> Vec<&TorqueSample> {
+    let reach: Vec<f64> =
+        samples.iter().map(|s| radius * s.gradient.iter().map(|(_, g)| g.abs()).sum::<f64>()).collect();
+    let floor = samples.iter().zip(&reach).map(|(s, r)| s.value.abs() - r).fold(f64::NEG_INFINITY, f64::max);
+    samples.iter().zip(&reach).filter(|(s, r)| s.value.abs() + *r >= floor).map(|(s, _)| s).collect()
 }
 
 /// Runs of equal coefficients shorter than this stay as they are.
