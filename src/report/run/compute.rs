@@ -2,7 +2,7 @@
 //!
 //! The independent computations run in parallel (rayon): the profile QP and its refinements,
 //! the whole-manoeuvre optimum, the certified retimings and the rapier verification of every
-//! library schedule start together; the optimised schedules are verified once they exist. Each
+//! library schedule start together; each optimised schedule is verified as soon as it exists. Each
 //! computation is deterministic and its result lands in a fixed place, so the output does not
 //! depend on the number of threads.
 
@@ -43,23 +43,36 @@ pub(super) fn compute(r: &Resolved) -> Result<Computed, RunError> {
         .iter()
         .map(|(k, s, e)| (Variant::new(Origin::Library(*k)), s.clone(), r.circulation, Some(e)))
         .collect();
+    // Four branches; each verifies what it produced as soon as it has it.
     let ((opt, whole), (retimed, library)) = rayon::join(
-        || rayon::join(|| optimize(r), || crate::report::whole::whole(r)),
+        || rayon::join(|| optimise_and_verify(r), || whole_and_verify(r)),
         || rayon::join(|| retimings(r), || verify_all(r, library)),
     );
-    let (opt, whole, mut verified) = (opt?, whole?, library?);
-    // The optimised schedules, and the recommended one: the most refined schedule with the
-    // calibrated circulation (when the calibration converged).
-    let mut optimised: Vec<Run> =
+    let ((opt, optimised), (whole, whole_verification), mut verified) = (opt?, whole?, library?);
+    verified.extend(optimised);
+    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification })
+}
+
+/// The profile QP and its refinements, then their verification, and the recommended schedule's:
+/// the most refined one with the calibrated circulation (when the calibration converged).
+fn optimise_and_verify(r: &Resolved) -> Result<(OptimizeReport, Vec<Verified>), RunError> {
+    let opt = optimize(r)?;
+    let mut runs: Vec<Run> =
         opt.optima().map(|o| (o.variant, o.schedule.clone(), r.circulation, Some(&o.exact))).collect();
     let most_refined =
         opt.optima().last().filter(|o| matches!(o.variant.origin, Origin::Refined | Origin::RefinedAllPhases));
     if let (Some(o), Some(cal)) = (most_refined, r.calibrated()) {
-        optimised.push((o.variant.calibrated(), o.schedule.with_circulation(cal.radians), cal, None));
+        runs.push((o.variant.calibrated(), o.schedule.with_circulation(cal.radians), cal, None));
     }
-    let (optimised, whole_verification) = rayon::join(|| verify_all(r, optimised), || verify_whole(r, &whole));
-    verified.extend(optimised?);
-    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification: whole_verification? })
+    let verified = verify_all(r, runs)?;
+    Ok((opt, verified))
+}
+
+/// The whole-manoeuvre optimum and its verification.
+fn whole_and_verify(r: &Resolved) -> Result<(WholeReport, Option<Verification>), RunError> {
+    let whole = crate::report::whole::whole(r)?;
+    let verification = verify_whole(r, &whole)?;
+    Ok((whole, verification))
 }
 
 /// The certified retimings of the problem's schedule and, when the calibration converged, of

@@ -8,6 +8,7 @@
 //! results (and keeps the previous ones).
 
 mod compute;
+mod figures;
 mod tables;
 
 use std::fmt::Write as _;
@@ -16,14 +17,13 @@ use std::path::{Path, PathBuf};
 use crate::engines::circulation::{CirculationError, Resolved};
 use crate::engines::rapier::RapierError;
 use crate::optimize::OptimizeError;
-use crate::problem::ProfileKind;
 use crate::report::audit::AuditError;
 use crate::report::bench::BenchError;
 use crate::report::compare::compare;
 use crate::report::results_dir::Staging;
 use crate::report::simulate::SimulationReport;
 use crate::report::whole::WHOLE;
-use crate::schedule::variant::{Origin, Variant, VariantCirculation};
+use crate::schedule::variant::Variant;
 use crate::schedule::{Schedule, Trajectory};
 use compute::{compute, Computed};
 use tables::{summary, verification_csv, verification_markdown};
@@ -175,10 +175,6 @@ fn atomically(
     Ok(RunOutcome { dir, files: w.files, summary })
 }
 
-/// The library profiles shown in the plots beside the optimised ones.
-const SHOWN: [ProfileKind; 4] =
-    [ProfileKind::PaperCosine, ProfileKind::Cycloidal, ProfileKind::BangBang, ProfileKind::Trapezoid];
-
 fn produce(
     r: &Resolved,
     command: &str,
@@ -214,67 +210,19 @@ fn produce(
     w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
-    // 4. Schedules for robots and other simulators (CSV + JSON sidecar), and the model files.
-    let mut exported = vec![("problem".to_string(), r.schedule.clone())];
-    exported.extend(
-        verified
-            .iter()
-            .filter(|v| v.variant.origin.is_optimised())
-            .map(|v| (v.variant.to_string(), v.schedule.clone())),
-    );
-    for (name, contents) in crate::exchange::results_files(problem, &exported, export)? {
-        w.put(&name, &contents)?;
-    }
-    if let Some(spline) = whole.spline() {
-        let pieces: Vec<String> = (0..spline.piece_durations().len()).map(|i| format!("span-{i}")).collect();
-        let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
-        let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
-        w.put(&format!("schedules/{WHOLE}.csv"), &file.csv)?;
-        w.put(&format!("schedules/{WHOLE}.json"), &file.sidecar_json()?)?;
-    }
-    // 5. Plots and the animation.
+    // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files,
+    // the plots and the animation: produced in parallel, recorded in this order.
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
-    let shown: Vec<(String, Schedule)> = verified
-        .iter()
-        .filter(|v| v.variant.circulation == VariantCirculation::Problem)
-        .filter(|v| match v.variant.origin {
-            Origin::Library(k) => SHOWN.contains(&k),
-            _ => true,
-        })
-        .map(|v| (v.variant.to_string(), v.schedule.clone()))
-        .collect();
-    w.record(crate::report::plot::profiles_plot(&plots, problem, &shown)?);
-    let mut curves: Vec<(String, &dyn Trajectory)> =
-        shown.iter().map(|(n, s)| (n.clone(), s as &dyn Trajectory)).collect();
-    if let Some(spline) = whole.spline() {
-        curves.push((WHOLE.to_string(), spline));
+    let (files, (figures, animation)) = rayon::join(
+        || schedule_files(r, &verified, &whole, export),
+        || rayon::join(|| figures::plots(r, &plots, &verified, &whole), || figures::animation(r, &plots, &verified, &whole)),
+    );
+    for (name, contents) in files? {
+        w.put(&name, &contents)?;
     }
-    w.record(crate::report::plot::torques_plot(&plots, problem, &curves)?);
-    if let Some(spline) = whole.spline() {
-        w.record(crate::report::plot::trajectory_torques_plot(
-            &plots,
-            problem,
-            "torques_whole_optimum",
-            WHOLE,
-            spline,
-        )?);
-        w.record(crate::report::plot::flip_plot(&plots.join(WHOLE), problem, WHOLE, spline, 256)?);
-    }
-    let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
-    w.record(crate::report::plot::flip_plot(&plots, problem, &own, &r.schedule, 256)?);
-    // The animation shows the schedule to replay: the whole-manoeuvre optimum when there is
-    // one (it flips the cat exactly), else the most refined calibrated one, else the problem's.
-    let gif = plots.join("flip.gif");
-    if let Some(spline) = whole.spline() {
-        w.record(crate::report::plot::flip_animation(&gif, problem, WHOLE, spline, 72)?);
-    } else {
-        let (anim_name, anim_schedule) = verified
-            .iter()
-            .find(|v| v.variant.is_calibrated())
-            .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
-        w.record(crate::report::plot::flip_animation(&gif, problem, &anim_name, anim_schedule, 72)?);
-    }
+    w.record(figures?);
+    w.record(animation?);
     // 6. The report.
     let optimum = crate::report::whole::summary_lines(&whole, whole_verification.as_ref(), &retimed);
     let summary = summary(r, &table, &opt, &verified, &optimum);
@@ -287,4 +235,31 @@ fn produce(
     }
     w.put("report.md", &report)?;
     Ok(summary)
+}
+
+/// The schedule files: the problem's and every optimised schedule's, the whole optimum's, and
+/// the model files, as (path in the results folder, contents).
+fn schedule_files(
+    r: &Resolved,
+    verified: &[Verified],
+    whole: &crate::report::whole::WholeReport,
+    export: &crate::exchange::ExportOptions,
+) -> Result<Vec<(String, String)>, RunError> {
+    let problem = &r.problem;
+    let mut exported = vec![("problem".to_string(), r.schedule.clone())];
+    exported.extend(
+        verified
+            .iter()
+            .filter(|v| v.variant.origin.is_optimised())
+            .map(|v| (v.variant.to_string(), v.schedule.clone())),
+    );
+    let mut files = crate::exchange::results_files(problem, &exported, export)?;
+    if let Some(spline) = whole.spline() {
+        let pieces: Vec<String> = (0..spline.piece_durations().len()).map(|i| format!("span-{i}")).collect();
+        let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
+        let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
+        files.push((format!("schedules/{WHOLE}.csv"), file.csv.clone()));
+        files.push((format!("schedules/{WHOLE}.json"), file.sidecar_json()?));
+    }
+    Ok(files)
 }

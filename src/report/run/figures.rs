@@ -1,0 +1,80 @@
+//! The plots and the animation of `catflip run`, drawn into the results folder's `plots/`.
+
+use std::path::{Path, PathBuf};
+
+use super::Verified;
+use crate::engines::circulation::Resolved;
+use crate::problem::ProfileKind;
+use crate::report::plot::PlotError;
+use crate::report::whole::{WholeReport, WHOLE};
+use crate::schedule::variant::{Origin, Variant, VariantCirculation};
+use crate::schedule::{Schedule, Trajectory};
+
+/// The library profiles shown in the plots beside the optimised ones.
+const SHOWN: [ProfileKind; 4] =
+    [ProfileKind::PaperCosine, ProfileKind::Cycloidal, ProfileKind::BangBang, ProfileKind::Trapezoid];
+
+/// Frames of the animation.
+const FRAMES: usize = 72;
+
+/// The profiles, the torques of the shown schedules and of the optimum, and the flips of the
+/// problem's schedule and of the optimum; returns the files written.
+pub(super) fn plots(
+    r: &Resolved,
+    plots: &Path,
+    verified: &[Verified],
+    whole: &WholeReport,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let problem = &r.problem;
+    let mut written = Vec::new();
+    let shown: Vec<(String, Schedule)> = verified
+        .iter()
+        .filter(|v| v.variant.circulation == VariantCirculation::Problem)
+        .filter(|v| match v.variant.origin {
+            Origin::Library(k) => SHOWN.contains(&k),
+            _ => true,
+        })
+        .map(|v| (v.variant.to_string(), v.schedule.clone()))
+        .collect();
+    written.extend(crate::report::plot::profiles_plot(plots, problem, &shown)?);
+    let mut curves: Vec<(String, &dyn Trajectory)> =
+        shown.iter().map(|(n, s)| (n.clone(), s as &dyn Trajectory)).collect();
+    if let Some(spline) = whole.spline() {
+        curves.push((WHOLE.to_string(), spline));
+    }
+    written.extend(crate::report::plot::torques_plot(plots, problem, &curves)?);
+    if let Some(spline) = whole.spline() {
+        written.extend(crate::report::plot::trajectory_torques_plot(
+            plots,
+            problem,
+            "torques_whole_optimum",
+            WHOLE,
+            spline,
+        )?);
+        written.extend(crate::report::plot::flip_plot(&plots.join(WHOLE), problem, WHOLE, spline, 256)?);
+    }
+    let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
+    written.extend(crate::report::plot::flip_plot(plots, problem, &own, &r.schedule, 256)?);
+    Ok(written)
+}
+
+/// The animation of the schedule to replay: the whole-manoeuvre optimum when there is one (it
+/// flips the cat exactly), else the most refined calibrated schedule, else the problem's.
+pub(super) fn animation(
+    r: &Resolved,
+    plots: &Path,
+    verified: &[Verified],
+    whole: &WholeReport,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let problem = &r.problem;
+    let gif = plots.join("flip.gif");
+    if let Some(spline) = whole.spline() {
+        return crate::report::plot::flip_animation(&gif, problem, WHOLE, spline, FRAMES);
+    }
+    let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
+    let (name, schedule) = verified
+        .iter()
+        .find(|v| v.variant.is_calibrated())
+        .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
+    crate::report::plot::flip_animation(&gif, problem, &name, schedule, FRAMES)
+}
