@@ -176,15 +176,7 @@ fn run() -> anyhow::Result<()> {
             let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
-        Command::Simulate { common, engine, dt: _, schedule: Some(file) } => {
-            let problem = load(&common, &[])?;
-            if let Engine::Rapier = engine {
-                anyhow::bail!("--schedule with --engine rapier is not available yet; use --engine exact");
-            }
-            let report = catflip::exchange::simulate_file(&problem, &file)?;
-            emit(common.json, &report, || report.to_text())?;
-        }
-        Command::Simulate { common, engine, dt, schedule: None } => {
+        Command::Simulate { common, engine, dt, schedule } => {
             if let Some(d) = dt {
                 if matches!(engine, Engine::Exact) {
                     anyhow::bail!(
@@ -200,9 +192,21 @@ fn run() -> anyhow::Result<()> {
                 }
             }
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
-            let r = Resolved::new(&load(&common, &extra)?)?;
-            let report = catflip::report::simulate::simulate(&r, engine)?;
-            emit(common.json, &report, || report.to_text())?;
+            let problem = load(&common, &extra)?;
+            if let Some(file) = schedule {
+                // The problem gives the cat and the settings; its own schedule is not needed.
+                let imported = catflip::exchange::read_schedule(&file)?;
+                let exact = catflip::exchange::evaluate(&problem, &imported);
+                let report = match engine {
+                    Engine::Exact => exact,
+                    Engine::Rapier => catflip::exchange::evaluate_rapier(&problem, &imported, &exact)?.into_report()?,
+                };
+                emit(common.json, &report, || report.to_text())?;
+            } else {
+                let r = Resolved::new(&problem)?;
+                let report = catflip::report::simulate::simulate(&r, engine)?;
+                emit(common.json, &report, || report.to_text())?;
+            }
         }
         Command::Optimize { common, whole: false, quiet } => {
             let r = Resolved::new(&load(&common, &[])?)?;

@@ -338,6 +338,61 @@ fn simulate_cli_evaluates_a_schedule_file() {
 }
 
 #[test]
+fn simulate_cli_verifies_a_schedule_file_in_rapier() {
+    // The paper's schedule written at 1 kHz and read back, through rapier against the exact
+    // engine on the same imported trajectory (it verifies in four runs, about 0.2 s).
+    let dir = std::env::temp_dir().join(format!("catflip-exchange-rapier-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let p = Problem::default();
+    let s = paper_schedule(&p);
+    let file = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+        .expect("writes");
+    let path = dir.join("paper.csv");
+    std::fs::write(&path, &file.csv).expect("writable");
+    let simulate = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_catflip"))
+            .args(["simulate", "problems/paper.toml", "--engine", "rapier", "--schedule"])
+            .arg(&path)
+            .args(extra)
+            .output()
+            .expect("the binary runs")
+    };
+    let out = simulate(&["--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!((v["engine"].as_str(), v["interpolation"].as_str()), (Some("rapier"), Some("quintic-hermite")));
+    assert_eq!(v["verdict"], "verified", "{}", v["verification"]["verdict"]);
+    // The reference is the exact engine on the imported trajectory, which is the schedule's
+    // (the round trip keeps the twist to 1e-9 rad); rapier → 0 agrees with it within the
+    // verification's stated tolerance.
+    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let twist = v["verification"]["quantities"].as_array().and_then(|q| q.iter().find(|c| c["quantity"] == "twist"));
+    let twist = twist.expect("the twist's convergence");
+    let number = |x: &serde_json::Value| x.as_f64().expect("a number");
+    assert_relative_eq!(number(&twist["reference"]), f.twist.to_degrees(), epsilon = 1e-6);
+    let tolerance = number(&twist["tolerance"]);
+    let extrapolated = number(&v["extrapolated"]["twist_deg"]);
+    assert!(
+        (extrapolated - f.twist.to_degrees()).abs() <= tolerance,
+        "rapier → 0 twist {extrapolated}° against the exact {}° (tolerance {tolerance}°)",
+        f.twist.to_degrees()
+    );
+    assert!(number(&v["dt"]) > 0.0 && v["peak_torque_nm"]["pieces"].as_array().is_some_and(|p| p.len() == 3));
+    // With no usable run (the budget below the first run), there is no rapier number to print:
+    // one line saying so, and a non-zero exit.
+    let out = simulate(&["--set", "rapier.step_budget=1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        err.lines().last().is_some_and(|l| l.starts_with(
+            "error: rapier has no result for this schedule: inconclusive: 0 of the 3 runs needed to judge (the first run, "
+        ) && l.ends_with("would overrun the budget of 1 steps (0 taken))")),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn results_files_hold_each_schedule_with_its_sidecar_and_the_model_once() {
     let p = problem();
     let s = paper_schedule(&p);

@@ -447,3 +447,31 @@ fn whole_control_points_needs_whole_and_a_usable_value() {
     assert_eq!(field, "compute.whole_control_points");
     assert!(reason.contains("optimize.whole.control_points = 3"), "{reason}");
 }
+
+#[test]
+fn a_verification_without_a_usable_run_counts_as_inconclusive() {
+    // A step budget below rapier's first run: no rapier number, but a verdict. The row has no
+    // numbers (`failed`, the verdict as reason), and the verdicts table counts it as
+    // `inconclusive`, as `catflip run` does, not as a row without a verdict.
+    let text = "name = \"t\"\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1]\n[compute]\nrapier = true\n[base]\nname = \"tiny\"\n[base.exact]\ntolerance = 1e-8\ntorque_samples = 40\n[base.rapier]\nstep_budget = 1\n";
+    let s = sweep_ok(text);
+    let root = scratch("no-rapier-run");
+    let options = SweepOptions { out: root.clone(), shard: None, quiet: true, command: "test".into() };
+    run(&s, &options).expect("the sweep runs");
+    let records =
+        from_csv(&s, &std::fs::read_to_string(root.join("t/sweep.csv")).expect("CSV"), "test").expect("reads");
+    let rapier: Vec<&Record> = records.iter().filter(|r| r.engine == "rapier").collect();
+    assert!(!rapier.is_empty());
+    for r in &rapier {
+        assert_eq!(r.status, Status::Failed, "{r:?}");
+        assert!(r.numbers.is_none(), "{r:?}");
+        assert!(r.labels.rapier_verdict.starts_with("inconclusive: 0 of the 3 runs"), "{r:?}");
+        assert!(r.reason.contains("budget of 1 steps"), "{r:?}");
+    }
+    let md = std::fs::read_to_string(root.join("t/sweep.md")).expect("the report");
+    for r in &rapier {
+        let line = format!("| {} | 0 | 0 | 1 | 0 |", r.schedule);
+        assert!(md.contains(&line), "no `{line}` in\n{md}");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -116,10 +116,99 @@ fn run_writes_every_result_file_atomically() {
         .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
+    // compare.csv has the whole-manoeuvre optimum's row as compare.md has it: the same columns,
+    // empty where the paper's profile model does not apply.
+    let (header, rows) = csv_records(&std::fs::read_to_string(outcome.dir.join("compare.csv")).expect("readable"));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let whole = rows.iter().find(|r| r[col("profile")] == "whole-optimum").expect("the optimum's row");
+    assert_eq!(whole.len(), header.len());
+    for empty in ["rest_to_rest", "accel_coefficient", "model_peak_nm", "circulation_rad"] {
+        assert!(whole[col(empty)].is_empty(), "{empty}: {whole:?}");
+    }
+    assert_eq!((whole[col("origin")].as_str(), whole[col("velocity_jumps")].as_str()), ("whole", "0"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(outcome.dir.join("whole.json")).expect("readable"))
+            .expect("JSON");
+    let peak = json["peak_torque_nm"]["max"].as_f64().expect("the optimum's peak");
+    assert_relative_eq!(whole[col("max_nm")].parse::<f64>().expect("a number"), peak, max_relative = 1e-8);
+    assert_relative_eq!(whole[col("twist_deg")].parse::<f64>().expect("a number").abs(), 180.0, epsilon = 1e-6);
+    let md = std::fs::read_to_string(outcome.dir.join("compare.md")).expect("readable");
+    let md_rows = md.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| profile")).count();
+    assert_eq!(md_rows, rows.len(), "compare.md and compare.csv have the same rows");
+    assert!(
+        md.contains(&format!(
+            "| whole-optimum | whole | — | — | {:.3}, ",
+            whole[col("bend_tau1_nm")].parse::<f64>().expect("a number")
+        )),
+        "{md}"
+    );
     // The schedule CSV replays the schedule: first row at rest and straight, last row straight.
     let csv = std::fs::read_to_string(outcome.dir.join("schedules/problem.csv")).expect("readable");
     let last = csv.lines().last().unwrap_or_default();
     let fields: Vec<f64> = last.split(',').filter_map(|x| x.parse().ok()).collect();
     assert!(fields[1].abs() < 1e-12 && fields[2].abs() < 1e-12, "{last}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// The records of a CSV text with its header, by column name.
+fn csv_records(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let header = reader.headers().expect("a header").iter().map(str::to_string).collect();
+    let rows = reader.records().map(|r| r.expect("a record").iter().map(str::to_string).collect()).collect();
+    (header, rows)
+}
+
+#[test]
+fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
+    // A step budget below rapier's first run: no verification makes a usable run, so rapier has
+    // no number for any schedule. That is a reported outcome, not a failed run: every file is
+    // written, each verification row says `inconclusive` and why, and no table shows a NaN.
+    let out = std::env::temp_dir().join(format!("catflip-run-inconclusive-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut p = small();
+    p.rapier.step_budget = 1;
+    let outcome = catflip::report::run::run(&Resolved::new(&p).expect("resolves"), "test", &out)
+        .expect("an inconclusive verification does not fail the run");
+    let read = |f: &str| std::fs::read_to_string(outcome.dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let (header, rows) = csv_records(&read("verification.csv"));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let (rapier, exact): (Vec<_>, Vec<_>) = rows.iter().partition(|r| r[col("engine")] == "rapier");
+    assert!(!rapier.is_empty() && rapier.len() == exact.len(), "{} rapier rows, {} exact", rapier.len(), exact.len());
+    for r in &rapier {
+        assert_eq!(r[col("verdict")], "inconclusive", "{r:?}");
+        let reason = &r[col("verdict_reason")];
+        assert!(reason.starts_with("inconclusive: 0 of the 3 runs") && reason.contains("budget of 1 steps"), "{r:?}");
+        for empty in ["twist_deg", "swing_deg", "max_nm", "momentum_max", "dt_s", "tracking1_rad"] {
+            assert!(r[col(empty)].is_empty(), "{empty} of {r:?}");
+        }
+        assert!(!r[col("circulation_rad")].is_empty(), "{r:?}");
+    }
+    assert!(exact.iter().all(|r| !r[col("twist_deg")].is_empty() && r[col("verdict")].is_empty()));
+    // The Markdown row of each schedule: the exact engine's numbers, — for rapier's, the verdict.
+    let md = read("verification.md");
+    let schedule_rows: Vec<&str> =
+        md.lines().filter(|l| l.starts_with("| ") && l.contains("inconclusive: 0 of the 3 runs")).collect();
+    assert_eq!(schedule_rows.len(), rapier.len() + 1, "the schedules and the whole optimum:\n{md}");
+    for l in &schedule_rows {
+        let cells: Vec<&str> = l.split(" | ").collect();
+        assert!(cells[1].parse::<f64>().is_ok() && cells[2] == "—" && cells[3] == "—", "{l}");
+    }
+    // simulate_rapier.json: null numbers beside the verdict and its reason.
+    let json: serde_json::Value = serde_json::from_str(&read("simulate_rapier.json")).expect("JSON");
+    let entries = json.as_array().expect("a list");
+    assert_eq!(entries.len(), rapier.len());
+    for e in entries {
+        assert!(e["engine"] == "rapier" && e["verdict"] == "inconclusive", "{e}");
+        assert!(e["twist_deg"].is_null() && e["peak_torque_nm"].is_null(), "{e}");
+        assert!(e["reason"].as_str().is_some_and(|r| r.starts_with("inconclusive: ")), "{e}");
+    }
+    // The summary counts them.
+    let n = rapier.len();
+    let counted = format!("0 verified, 0 not verified, {n} inconclusive");
+    assert!(outcome.summary.contains(&counted), "{}", outcome.summary);
+    assert!(outcome.summary.contains(&format!("rapier has no result for {n} of them")), "{}", outcome.summary);
+    for f in outcome.files.iter().filter(|f| f.ends_with(".md") || f.ends_with(".csv")) {
+        assert!(!read(f).contains("NaN"), "NaN in {f}");
+    }
     let _ = std::fs::remove_dir_all(&out);
 }

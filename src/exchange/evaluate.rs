@@ -1,11 +1,15 @@
-//! An imported schedule through the exact engine: what `catflip simulate PROBLEM --schedule
-//! FILE.csv` reports, with the problem's cat and `exact` settings.
+//! An imported schedule through the exact engine, and through rapier verified against it: what
+//! `catflip simulate PROBLEM --schedule FILE.csv [--engine rapier]` reports, with the problem's
+//! cat and `exact` and `rapier` settings.
 //!
 //! The same quantities as [`crate::report::simulate::SimulationReport`] where they apply: signed twist
 //! about A's initial `+z` and swing (degrees), peak motor torques per piece and joint and
 //! overall (N·m), the rate jumps between pieces with their impulses, the largest angular
 //! momentum relative to `I* · max|q̇|`, and the engine's error estimate. An imported schedule
-//! has no profile or circulation; it has a file, a row count and an interpolation scheme.
+//! has no profile or circulation; it has a file, a row count and an interpolation scheme. rapier's
+//! report has its own twist, swing, per-piece peaks and momentum drift, and beside them the
+//! [`RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
+//! exact engine on the same imported schedule, verdict).
 
 use std::path::Path;
 use std::time::Instant;
@@ -14,10 +18,13 @@ use serde::Serialize;
 
 use crate::engines::evaluate::momentum_max;
 use crate::engines::exact::flip;
+use crate::engines::rapier::{RapierError, Reference};
 use crate::engines::torque::peak_torques;
+use crate::engines::Engine;
 use crate::exchange::import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
 use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
+use crate::report::check::{rapier_check, Finest, RapierCheck, RapierOutcome};
 
 /// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -42,8 +49,8 @@ pub struct ImportedPeaks {
 pub struct ImportReport {
     /// Problem whose cat was used.
     pub problem: String,
-    /// Always `exact`.
-    pub engine: String,
+    /// The engine that ran it.
+    pub engine: Engine,
     /// The schedule file.
     pub schedule_file: String,
     /// Data rows read.
@@ -62,16 +69,20 @@ pub struct ImportReport {
     pub velocity_jumps: Vec<Jump>,
     /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
     pub momentum_max: f64,
-    /// Largest Magnus steps per piece.
+    /// Largest Magnus steps per piece (exact), or rapier's steps in the finest run.
     pub steps: usize,
-    /// Estimated error of twist and swing, rad.
-    pub error_estimate_rad: f64,
-    /// Whether the integration met `exact.tolerance`.
-    pub converged: bool,
-    /// Largest gap between the joint torques from B's and A's sides, N·m.
-    pub action_reaction_gap_nm: f64,
-    /// Wall-clock time of the engine run, s.
+    /// Estimated error of twist and swing, rad (exact only).
+    pub error_estimate_rad: Option<f64>,
+    /// Whether the integration met `exact.tolerance` (exact only).
+    pub converged: Option<bool>,
+    /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
+    pub action_reaction_gap_nm: Option<f64>,
+    /// Wall-clock time of the engine run (rapier: all runs of the verification), s.
     pub run_time_s: f64,
+    /// rapier's own numbers and its verdict against the exact engine (rapier only; every field
+    /// is `null` in the exact engine's report).
+    #[serde(flatten)]
+    pub check: RapierCheck,
 }
 
 /// Reads `path` and evaluates it with `problem`'s cat.
@@ -88,10 +99,68 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport 
     let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
     let momentum = momentum_max(&problem.cat, schedule, problem.exact.torque_samples);
     let run_time_s = start.elapsed().as_secs_f64();
-    // Consecutive pieces of one name (a phase cut where its acceleration jumps) are one phase.
+    ImportReport {
+        problem: problem.name.clone(),
+        engine: Engine::Exact,
+        schedule_file: schedule.path.clone(),
+        rows: schedule.rows,
+        interpolation: schedule.interpolation,
+        duration_s: crate::schedule::Trajectory::piece_durations(schedule).iter().sum(),
+        twist_deg: f.twist.to_degrees(),
+        swing_deg: f.swing.to_degrees(),
+        peak_torque_nm: ImportedPeaks {
+            pieces: merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value])),
+            max: peaks.max,
+        },
+        velocity_jumps: jumps,
+        momentum_max: momentum,
+        steps: f.steps_per_phase,
+        error_estimate_rad: Some(f.error_estimate),
+        converged: Some(f.converged),
+        action_reaction_gap_nm: Some(peaks.action_reaction_gap),
+        run_time_s,
+        check: RapierCheck::default(),
+    }
+}
+
+/// rapier's report on an imported schedule, verified against `exact`, the exact engine's report on
+/// the same schedule ([`evaluate`]); [`RapierOutcome::NoResult`] when the verification made no
+/// usable run.
+pub fn evaluate_rapier(
+    problem: &Problem,
+    schedule: &ImportedSchedule,
+    exact: &ImportReport,
+) -> Result<RapierOutcome<ImportReport>, RapierError> {
+    let reference = Reference {
+        twist: exact.twist_deg.to_radians(),
+        swing: exact.swing_deg.to_radians(),
+        peak_torque: exact.peak_torque_nm.max,
+    };
+    let outcome = rapier_check(&problem.cat, schedule, &problem.rapier, &reference)?;
+    Ok(outcome.map(|Finest { run, check, run_time_s }| ImportReport {
+        engine: Engine::Rapier,
+        twist_deg: run.twist.to_degrees(),
+        swing_deg: run.swing.to_degrees(),
+        peak_torque_nm: ImportedPeaks {
+            pieces: merged(schedule, run.peak_torque.per_piece.iter().copied()),
+            max: run.peak_torque.max,
+        },
+        momentum_max: run.momentum.max_rel,
+        steps: run.steps,
+        error_estimate_rad: None,
+        converged: None,
+        action_reaction_gap_nm: None,
+        run_time_s,
+        check,
+        ..exact.clone()
+    }))
+}
+
+/// Per-piece peaks `[max |τ1|, max |τ2|]` named by the schedule's pieces; consecutive pieces of
+/// one name (a phase cut where its acceleration jumps) are one phase.
+fn merged(schedule: &ImportedSchedule, per_piece: impl Iterator<Item = [f64; 2]>) -> Vec<PiecePeak> {
     let mut pieces: Vec<PiecePeak> = Vec::new();
-    for (p, pk) in schedule.pieces.iter().zip(&peaks.per_piece) {
-        let tau = [pk[0].value, pk[1].value];
+    for (p, tau) in schedule.pieces.iter().zip(per_piece) {
         match pieces.last_mut() {
             Some(last) if last.piece == p.name => {
                 last.tau_nm = [last.tau_nm[0].max(tau[0]), last.tau_nm[1].max(tau[1])]
@@ -99,24 +168,7 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport 
             _ => pieces.push(PiecePeak { piece: p.name.clone(), tau_nm: tau }),
         }
     }
-    ImportReport {
-        problem: problem.name.clone(),
-        engine: "exact".into(),
-        schedule_file: schedule.path.clone(),
-        rows: schedule.rows,
-        interpolation: schedule.interpolation,
-        duration_s: crate::schedule::Trajectory::piece_durations(schedule).iter().sum(),
-        twist_deg: f.twist.to_degrees(),
-        swing_deg: f.swing.to_degrees(),
-        peak_torque_nm: ImportedPeaks { pieces, max: peaks.max },
-        velocity_jumps: jumps,
-        momentum_max: momentum,
-        steps: f.steps_per_phase,
-        error_estimate_rad: f.error_estimate,
-        converged: f.converged,
-        action_reaction_gap_nm: peaks.action_reaction_gap,
-        run_time_s,
-    }
+    pieces
 }
 
 impl ImportReport {
@@ -126,7 +178,8 @@ impl ImportReport {
         let mut s = String::new();
         let _ = writeln!(
             s,
-            "exact engine — problem {}, schedule {} ({} rows, {}, {} phase(s), {:.6} s)",
+            "{} engine — problem {}, schedule {} ({} rows, {}, {} phase(s), {:.6} s)",
+            self.engine,
             self.problem,
             self.schedule_file,
             self.rows,
@@ -160,8 +213,11 @@ impl ImportReport {
             );
         }
         let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.momentum_max);
-        let _ = writeln!(s, "  error estimate   {:.1e} rad ({} steps per piece)", self.error_estimate_rad, self.steps);
-        if !self.converged {
+        s.push_str(&self.check.to_text());
+        if let Some(e) = self.error_estimate_rad {
+            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per piece)", self.steps);
+        }
+        if self.converged == Some(false) {
             let _ =
                 writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
         }

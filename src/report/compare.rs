@@ -36,6 +36,116 @@ pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
     CompareTable { problem: p.name.clone(), circulation: r.circulation, model_inertia: p.cat.end_transverse(), rows }
 }
 
+/// One line of the peak-torque table as both its Markdown and its CSV write it: a profile's row,
+/// or a trajectory's that has no circulation profile (the whole-manoeuvre optimum), whose
+/// profile columns (rest to rest, `C_a`, the paper's model peak, the circulation) are `None`:
+/// `—` in Markdown, empty in CSV.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompareLine {
+    /// Problem name.
+    pub problem: String,
+    /// Profile (or trajectory) name.
+    pub profile: String,
+    /// Where it comes from.
+    pub origin: String,
+    /// Whether the twist phase's rate is zero at both ends.
+    pub rest_to_rest: Option<bool>,
+    /// Peak-acceleration coefficient of the normalised profile.
+    pub accel_coefficient: Option<f64>,
+    /// Peak torque in the paper's model `I* · max|ω̇|`, N·m.
+    pub model_peak_nm: Option<f64>,
+    /// Exact peak torques per phase and joint, N·m.
+    pub exact_peak_nm: PhasePeaks,
+    /// Number of velocity jumps.
+    pub velocity_jumps: usize,
+    /// Largest generalised impulse of a jump, N·m·s (0 when none).
+    pub max_impulse_nms: f64,
+    /// Signed twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Circulation, rad.
+    pub circulation_rad: Option<f64>,
+}
+
+impl From<&CompareRow> for CompareLine {
+    fn from(r: &CompareRow) -> Self {
+        CompareLine {
+            problem: r.problem.clone(),
+            profile: r.profile.clone(),
+            origin: r.origin.to_string(),
+            rest_to_rest: Some(r.rest_to_rest),
+            accel_coefficient: Some(r.accel_coefficient),
+            model_peak_nm: Some(r.model_peak_nm),
+            exact_peak_nm: r.exact_peak_nm,
+            velocity_jumps: r.velocity_jumps,
+            max_impulse_nms: r.max_impulse_nms,
+            twist_deg: r.twist_deg,
+            swing_deg: r.swing_deg,
+            circulation_rad: Some(r.circulation_rad),
+        }
+    }
+}
+
+impl CompareLine {
+    /// Header of [`CompareLine::csv_fields`].
+    pub fn csv_header() -> Vec<&'static str> {
+        let mut header =
+            vec!["problem", "profile", "origin", "engine", "rest_to_rest", "accel_coefficient", "model_peak_nm"];
+        header.extend(PhasePeaks::CSV_HEADER.split(','));
+        header.extend(["velocity_jumps", "max_impulse_nms", "twist_deg", "swing_deg", "circulation_rad"]);
+        header
+    }
+
+    /// The line as CSV fields (empty where a column does not apply).
+    pub fn csv_fields(&self) -> Vec<String> {
+        let opt = |x: Option<f64>, d: usize| x.map_or(String::new(), |v| format!("{v:.d$}"));
+        let mut f = vec![
+            self.problem.clone(),
+            self.profile.clone(),
+            self.origin.clone(),
+            "exact".to_string(),
+            self.rest_to_rest.map_or(String::new(), |b| b.to_string()),
+            opt(self.accel_coefficient, 9),
+            opt(self.model_peak_nm, 9),
+        ];
+        f.extend(self.exact_peak_nm.fields());
+        f.extend([
+            self.velocity_jumps.to_string(),
+            format!("{:.9}", self.max_impulse_nms),
+            format!("{:.9}", self.twist_deg),
+            format!("{:.9}", self.swing_deg),
+            opt(self.circulation_rad, 12),
+        ]);
+        f
+    }
+
+    /// The line as a row of [`CompareTable::to_markdown`]'s table (`—` where a column does not
+    /// apply).
+    pub fn markdown(&self) -> String {
+        let opt = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.4}"));
+        let p = &self.exact_peak_nm;
+        format!(
+            "| {} | {} | {} | {} | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | {} ({:.4}) | {:.6} | {:.6} |\n",
+            self.profile,
+            self.origin,
+            opt(self.accel_coefficient),
+            opt(self.model_peak_nm),
+            p.bend[0],
+            p.bend[1],
+            p.twist[0],
+            p.twist[1],
+            p.unbend[0],
+            p.unbend[1],
+            p.max,
+            self.velocity_jumps,
+            self.max_impulse_nms,
+            self.twist_deg,
+            self.swing_deg
+        )
+    }
+}
+
 impl CompareTable {
     /// The table as Markdown.
     pub fn to_markdown(&self) -> String {
@@ -49,45 +159,22 @@ impl CompareTable {
         let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | jumps (max impulse N·m·s) | twist ° | swing ° |");
         let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
         for r in &self.rows {
-            let p = &r.exact_peak_nm;
-            let _ = writeln!(
-                s,
-                "| {} | {} | {:.4} | {:.4} | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | {} ({:.4}) | {:.6} | {:.6} |",
-                r.profile, r.origin, r.accel_coefficient, r.model_peak_nm, p.bend[0], p.bend[1], p.twist[0], p.twist[1],
-                p.unbend[0], p.unbend[1], p.max, r.velocity_jumps, r.max_impulse_nms, r.twist_deg, r.swing_deg
-            );
+            s.push_str(&CompareLine::from(r).markdown());
         }
         s
     }
 
     /// The table as tidy CSV: one row per problem × profile × engine.
     pub fn to_csv(&self) -> String {
-        let mut header =
-            vec!["problem", "profile", "origin", "engine", "rest_to_rest", "accel_coefficient", "model_peak_nm"];
-        header.extend(PhasePeaks::CSV_HEADER.split(','));
-        header.extend(["velocity_jumps", "max_impulse_nms", "twist_deg", "swing_deg", "circulation_rad"]);
-        let mut rows: Vec<&CompareRow> = self.rows.iter().collect();
-        rows.sort_by(|a, b| a.profile.cmp(&b.profile));
-        let records = rows.into_iter().map(|r| {
-            let mut f = vec![
-                r.problem.clone(),
-                r.profile.clone(),
-                r.origin.to_string(),
-                "exact".to_string(),
-                r.rest_to_rest.to_string(),
-                format!("{:.9}", r.accel_coefficient),
-                format!("{:.9}", r.model_peak_nm),
-            ];
-            f.extend(r.exact_peak_nm.fields());
-            f.extend([
-                r.velocity_jumps.to_string(),
-                format!("{:.9}", r.max_impulse_nms),
-                format!("{:.9}", r.twist_deg),
-                format!("{:.9}", r.swing_deg),
-                format!("{:.12}", r.circulation_rad),
-            ]);
-            f
-        });
-        crate::exchange::table::csv_table(&header, records)
+        self.to_csv_with(&[])
+    }
+
+    /// [`CompareTable::to_csv`] with `extra` lines (e.g. the whole-manoeuvre optimum's), sorted in
+    /// with the rows.
+    pub fn to_csv_with(&self, extra: &[CompareLine]) -> String {
+        let mut lines: Vec<CompareLine> = self.rows.iter().map(CompareLine::from).collect();
+        lines.extend_from_slice(extra);
+        lines.sort_by(|a, b| a.profile.cmp(&b.profile));
+        crate::exchange::table::csv_table(&CompareLine::csv_header(), lines.iter().map(CompareLine::csv_fields))
     }
 }

@@ -3,12 +3,14 @@
 //! - [`run`]: `catflip run`, everything for one problem written atomically to `results/<name>/`;
 //! - [`simulate`], [`compare`], [`optimize`], [`mod@bench`]: the reports of `catflip simulate`,
 //!   `compare`, `optimize` and `bench`;
+//! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`export`]: schedules as CSV;
 //! - [`provenance`]: the header every generated report starts with.
 
 pub mod audit;
 pub mod bench;
+pub mod check;
 pub mod compare;
 pub mod optimize;
 pub mod plot;

@@ -14,10 +14,12 @@ use serde::Serialize;
 
 use crate::engines::circulation::Resolved;
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{verify, Quantity, RapierError, Reference, Verification};
+use crate::engines::rapier::{verify, RapierError, Reference, Verification};
 use crate::engines::torque::joint_torques;
 use crate::optimize::retime::{retime, RetimeSettings, Split};
 use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
+use crate::report::check::{verification_row, ExactValues};
+use crate::report::compare::CompareLine;
 use crate::schedule::{Schedule, Trajectory};
 
 /// Samples per second of fall used to split the optimum's peaks over the phase windows (the
@@ -320,46 +322,42 @@ pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verific
     verify(r.cat(), &b.spline, &r.problem.rapier, &reference).map(Some)
 }
 
-/// The optimum's row of the peak-torque table (Markdown, the table's columns; the paper's
-/// model does not apply to a trajectory without a circulation profile, and a cubic spline's
-/// joint rates are continuous, so it has no velocity jumps).
-pub fn compare_row_markdown(report: &WholeReport) -> Option<String> {
+/// The optimum's line of the peak-torque table (its Markdown row and its CSV record). The
+/// paper's model, the rest-to-rest flag and the circulation do not apply to a trajectory without
+/// a circulation profile, and a cubic spline's joint rates are continuous, so it has no velocity
+/// jumps.
+pub fn compare_line(report: &WholeReport) -> Option<CompareLine> {
     let (b, p) = (report.best()?, report.peak_torque_nm?);
-    Some(format!(
-        "| {WHOLE} | whole | — | — | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | 0 (0.0000) | {:.6} | {:.6} |\n",
-        p.bend[0],
-        p.bend[1],
-        p.twist[0],
-        p.twist[1],
-        p.unbend[0],
-        p.unbend[1],
-        p.max,
-        b.twist.to_degrees(),
-        b.swing.to_degrees()
-    ))
+    Some(CompareLine {
+        problem: report.problem.clone(),
+        profile: WHOLE.to_string(),
+        origin: "whole".to_string(),
+        rest_to_rest: None,
+        accel_coefficient: None,
+        model_peak_nm: None,
+        exact_peak_nm: p,
+        velocity_jumps: 0,
+        max_impulse_nms: 0.0,
+        twist_deg: b.twist.to_degrees(),
+        swing_deg: b.swing.to_degrees(),
+        circulation_rad: None,
+    })
+}
+
+/// The optimum's row of the peak-torque table (Markdown, the table's columns).
+pub fn compare_row_markdown(report: &WholeReport) -> Option<String> {
+    compare_line(report).map(|l| l.markdown())
 }
 
 /// The optimum's row of the verification table (Markdown, the table's columns).
 pub fn verification_row_markdown(report: &WholeReport, v: &Verification) -> Option<String> {
     let b = report.best()?;
-    let run = v.finest.as_ref();
-    let value = |q: Quantity| v.quantity(q).and_then(|c| c.value).map_or("—".to_string(), |x| format!("{x:.4}"));
-    let raw = |x: Option<f64>, d: usize| x.map_or("—".to_string(), |x| format!("{x:.d$}"));
-    let tr = v.tracking_error_rad.map_or("—".to_string(), |t| format!("{:.1e}, {:.1e}", t[0], t[1]));
-    Some(format!(
-        "| {WHOLE} | {:.4} | {} | {} | {:.4} | {} | {} | {:.3} | {} | {} | {} | {tr} | {} |\n",
-        b.twist.to_degrees(),
-        raw(run.map(|x| x.twist.to_degrees()), 4),
-        value(Quantity::Twist),
-        b.swing.to_degrees(),
-        raw(run.map(|x| x.swing.to_degrees()), 4),
-        value(Quantity::Swing),
-        b.peak_torque_nm,
-        raw(run.map(|x| x.peak_torque.max), 3),
-        run.map_or("—".to_string(), |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / b.peak_torque_nm - 1.0))),
-        v.momentum_drift.map_or("—".to_string(), |x| format!("{x:.2e}")),
-        v.table_cells()
-    ))
+    let exact = ExactValues {
+        twist_deg: b.twist.to_degrees(),
+        swing_deg: b.swing.to_degrees(),
+        peak_torque_nm: b.peak_torque_nm,
+    };
+    Some(verification_row(WHOLE, exact, v))
 }
 
 /// The name of the whole-manoeuvre optimum in files and tables.

@@ -9,7 +9,6 @@ use super::heatmap::short;
 use super::spec::Sweep;
 use super::summary::MAX_ROWS;
 use super::table::Record;
-use super::Status;
 
 /// The schedules compared, in row order, with the peak a row shows for them.
 fn schedules(sweep: &Sweep) -> Vec<&'static str> {
@@ -96,7 +95,7 @@ pub fn verdicts(s: &mut String, sweep: &Sweep, records: &[Record]) {
     }
     let _ = writeln!(
         s,
-        "## Rapier's verdicts\n\nRows of each schedule by rapier's verdict against the exact engine (twist, swing, peak torque within the `[rapier]` tolerances; `rapier.step_budget` bounds the steps, no wall-clock budget); `no verdict` counts rapier rows that are not `ok` (see their reasons).\n\n| schedule | verified | not verified | inconclusive | no verdict |\n|---|---:|---:|---:|---:|"
+        "## Rapier's verdicts\n\nRows of each schedule by rapier's verdict against the exact engine (twist, swing, peak torque within the `[rapier]` tolerances; `rapier.step_budget` bounds the steps, no wall-clock budget); `no verdict` counts rapier rows that rapier could not judge at all (no exact result to verify, or rapier could not run; see their reasons); a verification without a usable run is `inconclusive` (its row is `failed`: it has no numbers).\n\n| schedule | verified | not verified | inconclusive | no verdict |\n|---|---:|---:|---:|---:|"
     );
     let mut order: Vec<&str> = Vec::new();
     for r in records.iter().filter(|r| r.engine == "rapier") {
@@ -106,9 +105,10 @@ pub fn verdicts(s: &mut String, sweep: &Sweep, records: &[Record]) {
     }
     for name in order {
         let rows: Vec<&Record> = records.iter().filter(|r| r.engine == "rapier" && r.schedule == name).collect();
-        let word =
-            |w: &str| rows.iter().filter(|r| r.status == Status::Ok && r.labels.rapier_verdict.starts_with(w)).count();
-        let none = rows.iter().filter(|r| r.status != Status::Ok).count();
+        // A verification that made no usable run has a verdict (inconclusive) but no numbers: it
+        // counts by its verdict, as in `catflip run`.
+        let word = |w: &str| rows.iter().filter(|r| r.labels.rapier_verdict.starts_with(w)).count();
+        let none = rows.iter().filter(|r| r.labels.rapier_verdict.is_empty()).count();
         let _ = writeln!(
             s,
             "| {name} | {} | {} | {} | {none} |",

@@ -10,8 +10,9 @@
 //! The row carries the finest run's raw twist, swing and peak torque (per phase for a three-phase
 //! schedule) in the usual columns, the extrapolated ones and the steps in `rapier_*` columns, and
 //! the verdict's text in `rapier_verdict`. A verification that ran is `ok` whatever its verdict
-//! (the verdict is its result); one with no run to show is `failed` with the verdict as reason;
-//! an exact row without a result gives a `skipped` rapier row.
+//! (the verdict is its result); one with no run to show is `failed` (it has no numbers) with the
+//! verdict as reason and in `rapier_verdict`, and counts as `inconclusive` among the verdicts,
+//! as in `catflip run`; an exact row without a result gives a `skipped` rapier row.
 
 use crate::engines::rapier::{verify, Quantity, RapierError, Reference, Verification};
 use crate::problem::settings::RapierSettings;

@@ -95,7 +95,8 @@ pub struct MomentumDrift {
     pub max_abs: f64,
     /// Reference momentum `I* · max_t |q̇(t)|`, N·m·s.
     pub reference: f64,
-    /// `max_abs / reference`.
+    /// `max_abs / reference`; `max_abs` itself for a trajectory that does not move (reference
+    /// zero), as the exact engine's `momentum_max`.
     pub max_rel: f64,
     /// `H` at the end, world frame, N·m·s.
     pub last: [f64; 3],
@@ -282,7 +283,7 @@ pub fn simulate_with(
         momentum: MomentumDrift {
             max_abs: drift,
             reference,
-            max_rel: if reference > 0.0 { drift / reference } else { f64::NAN },
+            max_rel: if reference > 0.0 { drift / reference } else { drift },
             last: [last_h.x, last_h.y, last_h.z],
         },
         peak_torque: peaks,

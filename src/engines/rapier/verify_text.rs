@@ -5,8 +5,11 @@
 use super::verify::{Convergence, Quantity, Status, StepSource, Verification};
 
 impl Verification {
-    /// The steps of the runs kept, s: `7.14e-4, 3.57e-4, 1.79e-4`.
+    /// The steps of the runs kept, s: `7.14e-4, 3.57e-4, 1.79e-4` (`—` when no run was kept).
     pub fn dt_sequence_text(&self) -> String {
+        if self.dt_sequence.is_empty() {
+            return "—".to_string();
+        }
         self.dt_sequence.iter().map(|d| format!("{d:.3e}")).collect::<Vec<_>>().join(", ")
     }
 

@@ -14,7 +14,7 @@ use crate::engines::evaluate::Evaluation;
 use crate::engines::rapier::Verification;
 use crate::optimize::{optimize, OptimizeReport};
 use crate::report::audit::Audit;
-use crate::report::simulate::{exact_report, rapier_report};
+use crate::report::simulate::{exact_report, rapier_outcome};
 use crate::report::whole::{retime_rows, verify_whole, RetimeRow, WholeReport};
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::Schedule;
@@ -86,12 +86,13 @@ fn retimings(r: &Resolved) -> Vec<RetimeRow> {
     schedules.par_iter().flat_map_iter(|(name, s)| retime_rows(r, name, s)).collect()
 }
 
-/// Each schedule through the exact engine and rapier, in parallel, in order.
+/// Each schedule through the exact engine and rapier, in parallel, in order. A verification
+/// without a rapier result is an outcome (its verdict is `inconclusive`), not an error.
 fn verify_all(r: &Resolved, runs: Vec<Run>) -> Result<Vec<Verified>, RunError> {
     runs.into_par_iter()
         .map(|(variant, schedule, circ, evaluation)| {
             let exact = exact_report(r, &schedule, circ, evaluation);
-            let rapier = rapier_report(r, &schedule, &exact)?;
+            let rapier = rapier_outcome(r, &schedule, &exact)?;
             Ok(Verified { variant, schedule, exact, rapier })
         })
         .collect()

@@ -15,13 +15,15 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::engines::circulation::{CirculationError, Resolved};
-use crate::engines::rapier::RapierError;
+use crate::engines::rapier::{RapierError, Status, Verification};
+use crate::engines::Engine;
 use crate::optimize::OptimizeError;
 use crate::report::audit::AuditError;
 use crate::report::bench::BenchError;
+use crate::report::check::ExactValues;
 use crate::report::compare::compare;
 use crate::report::results_dir::Staging;
-use crate::report::simulate::SimulationReport;
+use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::report::whole::WHOLE;
 use crate::schedule::variant::Variant;
 use crate::schedule::{Schedule, Trajectory};
@@ -119,12 +121,70 @@ fn io(path: &Path, source: std::io::Error) -> RunError {
     RunError::Io { path: path.display().to_string(), source }
 }
 
-/// A verified schedule: the exact engine's and rapier's reports side by side.
+/// A verified schedule: the exact engine's report and rapier's beside it, or rapier's
+/// verification alone when it made no usable run.
 pub(crate) struct Verified {
     variant: Variant,
     schedule: Schedule,
     exact: SimulationReport,
-    rapier: SimulationReport,
+    rapier: RapierOutcome<SimulationReport>,
+}
+
+impl Verified {
+    /// rapier's verification of the schedule, with or without a result.
+    fn verification(&self) -> Option<&Verification> {
+        match &self.rapier {
+            RapierOutcome::Report(r) => r.check.verification.as_ref(),
+            RapierOutcome::NoResult(v) => Some(v),
+        }
+    }
+
+    /// The exact engine's values the verification compares with.
+    fn exact_values(&self) -> ExactValues {
+        let e = &self.exact;
+        ExactValues { twist_deg: e.twist_deg, swing_deg: e.swing_deg, peak_torque_nm: e.peak_torque_nm.max }
+    }
+
+    /// The entry of `simulate_rapier.json`.
+    fn rapier_json(&self) -> RapierJson<'_> {
+        match &self.rapier {
+            RapierOutcome::Report(r) => RapierJson::Report(r),
+            RapierOutcome::NoResult(v) => RapierJson::NoResult {
+                problem: &self.exact.problem,
+                engine: Engine::Rapier,
+                profile: &self.exact.profile,
+                bend_path: self.exact.bend_path,
+                circulation_rad: self.exact.circulation_rad,
+                twist_deg: None,
+                swing_deg: None,
+                peak_torque_nm: None,
+                verdict: v.status,
+                reason: v.verdict.to_string(),
+                verification: v,
+            },
+        }
+    }
+}
+
+/// An entry of `simulate_rapier.json`: rapier's report, or, when rapier has no result, the
+/// schedule's identity, `null` numbers, the verdict (`inconclusive`) and why.
+#[derive(serde::Serialize)]
+#[serde(untagged)]
+enum RapierJson<'a> {
+    Report(&'a SimulationReport),
+    NoResult {
+        problem: &'a str,
+        engine: Engine,
+        profile: &'a str,
+        bend_path: crate::problem::BendPath,
+        circulation_rad: f64,
+        twist_deg: Option<f64>,
+        swing_deg: Option<f64>,
+        peak_torque_nm: Option<f64>,
+        verdict: Status,
+        reason: String,
+        verification: &'a Verification,
+    },
 }
 
 /// Runs everything for the resolved problem and writes `out_root/<name>/`. `command` is the
@@ -196,10 +256,11 @@ fn produce(
     w.json("retime.json", &retimed)?;
     let extra: Vec<_> = opt.optima().map(|o| o.evaluation.clone()).collect();
     let table = compare(r, &extra);
+    let whole_line: Vec<_> = crate::report::whole::compare_line(&whole).into_iter().collect();
     let mut compare_md = table.to_markdown();
-    compare_md.extend(crate::report::whole::compare_row_markdown(&whole));
+    compare_md.extend(whole_line.iter().map(|l| l.markdown()));
     w.put("compare.md", &compare_md)?;
-    w.put("compare.csv", &table.to_csv())?;
+    w.put("compare.csv", &table.to_csv_with(&whole_line))?;
     // 3. Every schedule of the table through both engines, and the recommended one.
     w.put("verification.csv", &verification_csv(&verified))?;
     let mut verification_md = verification_markdown(problem, &verified);
@@ -209,14 +270,19 @@ fn produce(
     }
     w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
-    w.json("simulate_rapier.json", &verified.iter().map(|v| &v.rapier).collect::<Vec<_>>())?;
+    w.json("simulate_rapier.json", &verified.iter().map(Verified::rapier_json).collect::<Vec<_>>())?;
     // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files,
     // the plots and the animation: produced in parallel, recorded in this order.
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
     let (files, (figures, animation)) = rayon::join(
         || schedule_files(r, &verified, &whole, export),
-        || rayon::join(|| figures::plots(r, &plots, &verified, &whole), || figures::animation(r, &plots, &verified, &whole)),
+        || {
+            rayon::join(
+                || figures::plots(r, &plots, &verified, &whole),
+                || figures::animation(r, &plots, &verified, &whole),
+            )
+        },
     );
     for (name, contents) in files? {
         w.put(&name, &contents)?;

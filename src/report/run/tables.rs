@@ -5,44 +5,89 @@ use std::fmt::Write as _;
 use super::Verified;
 use crate::engines::circulation::Resolved;
 use crate::engines::peaks::PhasePeaks;
+use crate::engines::rapier::Verification;
+use crate::engines::Engine;
 use crate::optimize::OptimizeReport;
 use crate::problem::Problem;
+use crate::report::check::{verification_row, VERIFICATION_TABLE_HEADER};
 use crate::report::compare::CompareTable;
-use crate::report::simulate::SimulationReport;
+use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::schedule::variant::Origin;
 use crate::schedule::Phase;
 
+/// The report's columns before rapier's verification columns.
+const REPORT_HEAD: [&str; 6] = ["problem", "schedule", "engine", "circulation_rad", "twist_deg", "swing_deg"];
+/// The measured columns after the peaks, up to the run time.
+const MEASURED: [&str; 4] = ["momentum_max", "dt_s", "tracking1_rad", "tracking2_rad"];
+
+/// `verification.csv`: one row per schedule and engine, sorted. A rapier row carries the
+/// verification's columns and `verdict_reason` (the verdict in words); a rapier row without a
+/// result has empty number fields.
 pub(super) fn verification_csv(rows: &[Verified]) -> String {
-    let mut header = vec!["problem", "schedule", "engine", "circulation_rad", "twist_deg", "swing_deg"];
+    let mut header = REPORT_HEAD.to_vec();
     header.extend(PhasePeaks::CSV_HEADER.split(','));
-    header.extend(["momentum_max", "dt_s", "tracking1_rad", "tracking2_rad", "run_time_s"]);
-    header.extend(crate::engines::rapier::Verification::CSV_HEADER.split(','));
-    let mut all: Vec<(String, &SimulationReport)> =
-        rows.iter().flat_map(|v| [(v.variant.to_string(), &v.exact), (v.variant.to_string(), &v.rapier)]).collect();
-    all.sort_by(|a, b| (&a.0, a.1.engine).cmp(&(&b.0, b.1.engine)));
-    let records = all.into_iter().map(|(name, r)| {
-        let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
-        let tr = r.tracking_error_rad;
-        let mut f = vec![
-            r.problem.clone(),
-            name,
-            r.engine.to_string(),
-            format!("{:.12}", r.circulation_rad),
-            format!("{:.9}", r.twist_deg),
-            format!("{:.9}", r.swing_deg),
-        ];
-        f.extend(r.peak_torque_nm.fields());
-        f.extend([
-            format!("{:.3e}", r.momentum_max),
-            opt(r.dt),
-            opt(tr.map(|t| t[0])),
-            opt(tr.map(|t| t[1])),
-            format!("{:.6}", r.run_time_s),
-        ]);
-        f.extend(r.verification.as_ref().map_or_else(|| vec![String::new(); 7], |v| v.fields().to_vec()));
+    header.extend(MEASURED);
+    header.push("run_time_s");
+    header.extend(Verification::CSV_HEADER.split(','));
+    header.push("verdict_reason");
+    let mut all: Vec<(String, Engine, Vec<String>)> = Vec::new();
+    for v in rows {
+        let name = v.variant.to_string();
+        all.push((name.clone(), Engine::Exact, report_fields(&name, &v.exact)));
+        all.push((name.clone(), Engine::Rapier, rapier_fields(&name, v)));
+    }
+    all.sort_by(|a, b| (&a.0, a.1).cmp(&(&b.0, b.1)));
+    let width = header.len();
+    let records = all.into_iter().map(|(_, _, mut f)| {
+        f.resize(width, String::new());
         f
     });
     crate::exchange::table::csv_table(&header, records)
+}
+
+/// A report's fields up to its run time.
+fn report_fields(name: &str, r: &SimulationReport) -> Vec<String> {
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
+    let tr = r.check.tracking_error_rad;
+    let mut f = vec![
+        r.problem.clone(),
+        name.to_string(),
+        r.engine.to_string(),
+        format!("{:.12}", r.circulation_rad),
+        format!("{:.9}", r.twist_deg),
+        format!("{:.9}", r.swing_deg),
+    ];
+    f.extend(r.peak_torque_nm.fields());
+    f.extend([
+        format!("{:.3e}", r.momentum_max),
+        opt(r.check.dt),
+        opt(tr.map(|t| t[0])),
+        opt(tr.map(|t| t[1])),
+        format!("{:.6}", r.run_time_s),
+    ]);
+    f
+}
+
+/// rapier's row: its report's fields, or empty ones when it has no result, then the
+/// verification's and the verdict's.
+fn rapier_fields(name: &str, v: &Verified) -> Vec<String> {
+    let mut f = match &v.rapier {
+        RapierOutcome::Report(r) => report_fields(name, r),
+        RapierOutcome::NoResult(x) => {
+            let e = &v.exact;
+            let mut f = vec![e.problem.clone(), name.to_string(), Engine::Rapier.to_string()];
+            f.push(format!("{:.12}", e.circulation_rad));
+            // No twist, swing, peaks or measurements: empty fields up to the run time.
+            f.resize(REPORT_HEAD.len() + PhasePeaks::CSV_HEADER.split(',').count() + MEASURED.len(), String::new());
+            f.push(format!("{:.6}", x.run_time_s));
+            f
+        }
+    };
+    if let Some(x) = v.verification() {
+        f.extend(x.fields());
+        f.push(x.verdict.to_string());
+    }
+    f
 }
 
 pub(super) fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
@@ -50,34 +95,19 @@ pub(super) fn verification_markdown(problem: &Problem, rows: &[Verified]) -> Str
         "## Verification in rapier3d-f64 (`{}`, first dt {})\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
         problem.name, problem.rapier.dt
     );
-    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step.\n\n");
-    if let Some(v) = rows.iter().find_map(|v| v.rapier.verification.as_ref()) {
+    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step; — where rapier has no such number (no run, or fewer than two).\n\n");
+    if let Some(v) = rows.iter().find_map(Verified::verification) {
         let _ =
             writeln!(s, "Tolerances: {}; budget {} rapier steps per schedule.\n", v.tolerances_text(), v.step_budget);
     }
-    s.push_str("| schedule | exact twist | rapier twist | rapier → 0 twist | exact swing | rapier swing | rapier → 0 swing | exact peak | rapier peak | peak diff | rapier momentum drift | tracking error rad | verdict | dt sequence s | estimates | rapier time s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|\n");
+    s.push_str(VERIFICATION_TABLE_HEADER);
     for v in rows {
-        let (e, r) = (&v.exact, &v.rapier);
-        let tr = r.tracking_error_rad.unwrap_or([f64::NAN; 2]);
-        let (xt, xs) = r.extrapolated.map_or((f64::NAN, f64::NAN), |x| (x.twist_deg, x.swing_deg));
-        let _ = writeln!(
-            s,
-            "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.3} | {:+.2}% | {:.2e} | {:.1e}, {:.1e} | {} |",
-            v.variant,
-            e.twist_deg,
-            r.twist_deg,
-            xt,
-            e.swing_deg,
-            r.swing_deg,
-            xs,
-            e.peak_torque_nm.max,
-            r.peak_torque_nm.max,
-            100.0 * (r.peak_torque_nm.max / e.peak_torque_nm.max - 1.0),
-            r.momentum_max,
-            tr[0],
-            tr[1],
-            r.verification.as_ref().map_or("— | — | — | —".to_string(), |x| x.table_cells())
-        );
+        match v.verification() {
+            Some(x) => s.push_str(&verification_row(&v.variant.to_string(), v.exact_values(), x)),
+            None => {
+                let _ = writeln!(s, "| {} | {} |", v.variant, ["—"; 15].join(" | "));
+            }
+        }
     }
     s
 }
@@ -164,30 +194,47 @@ pub(super) fn summary(
             e.phase_max(Phase::Unbend)
         );
     }
-    let worst = verified.iter().map(|v| (v.exact.twist_deg - v.rapier.twist_deg).abs()).fold(0.0, f64::max);
-    let worst_x =
-        verified.iter().filter_map(|v| v.rapier.extrapolated).map(|x| x.twist_error_deg.abs()).fold(0.0, f64::max);
-    let worst_peak = verified.iter().filter_map(|v| v.rapier.peak_torque_rel_error).map(f64::abs).fold(0.0, f64::max);
-    let _ = writeln!(
-        s,
-        "- rapier3d-f64 verification of {} schedules (first dt {}): peak torques within {:.2}% of the exact engine; twist within {:.3}° raw (rapier's first-order momentum leak) and {:.3}° extrapolated to dt → 0.",
-        verified.len(),
-        problem.rapier.dt,
-        100.0 * worst_peak,
-        worst,
-        worst_x
-    );
+    let _ = writeln!(s, "{}", rapier_line(problem, verified));
     let _ = writeln!(
         s,
         "- Verdicts: {}.",
-        crate::engines::rapier::Verification::verdicts_line(
-            verified.iter().map(|v| (v.variant.to_string(), v.rapier.verification.as_ref()))
-        )
+        Verification::verdicts_line(verified.iter().map(|v| (v.variant.to_string(), v.verification())))
     );
     s.push_str(optimum);
     let _ = writeln!(
         s,
         "\nSee `audit.md`, `compare.md`, `optimize.md`, `whole.md`, `retime.md` and `verification.md` for the tables."
     );
+    s
+}
+
+/// The summary's line on rapier: how close its results came to the exact engine's, and how many
+/// schedules it has no result for.
+fn rapier_line(problem: &Problem, verified: &[Verified]) -> String {
+    let reports: Vec<&SimulationReport> = verified.iter().filter_map(|v| v.rapier.report()).collect();
+    let missing = verified.len() - reports.len();
+    let mut s = format!("- rapier3d-f64 verification of {} schedules (first dt {})", verified.len(), problem.rapier.dt);
+    if !reports.is_empty() {
+        let worst = reports.iter().filter_map(|r| r.check.twist_error_deg).map(f64::abs).fold(0.0, f64::max);
+        let worst_x =
+            reports.iter().filter_map(|r| r.check.extrapolated).map(|x| x.twist_error_deg.abs()).fold(0.0, f64::max);
+        let worst_peak = reports.iter().filter_map(|r| r.check.peak_torque_rel_error).map(f64::abs).fold(0.0, f64::max);
+        let of = if missing > 0 { format!(" (of the {} with a result)", reports.len()) } else { String::new() };
+        let _ = write!(
+            s,
+            ": peak torques{of} within {:.2}% of the exact engine; twist within {:.3}° raw (rapier's first-order momentum leak) and {:.3}° extrapolated to dt → 0",
+            100.0 * worst_peak,
+            worst,
+            worst_x
+        );
+    }
+    if missing > 0 {
+        let sep = if reports.is_empty() { ":" } else { ";" };
+        let _ = write!(
+            s,
+            "{sep} rapier has no result for {missing} of them (inconclusive: no usable run; see `verification.md`)"
+        );
+    }
+    s.push('.');
     s
 }

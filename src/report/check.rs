@@ -1,0 +1,218 @@
+//! rapier's check of a trajectory against the exact engine, as every report shows it: the finest
+//! run's step, tracking error and jump spikes, the Richardson extrapolation to `dt → 0`, the
+//! errors against the exact engine and the verdict ([`crate::engines::rapier::verify`],
+//! DESIGN.md §6).
+//!
+//! A verification may end without a single usable run (rapier diverged at every step it tried, or
+//! the step budget did not allow the first run): then rapier has no number for the trajectory,
+//! and [`RapierOutcome::NoResult`] carries the verification alone, whose verdict is
+//! `inconclusive` and says why. Nothing here fills a missing number with NaN or zero.
+//!
+//! Twist and swing are in degrees (twist signed about A's initial `+z`), torques in N·m, the
+//! peak torque's error relative to the exact engine's peak.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::engines::rapier::{JumpTorque, Quantity, RapierError, RapierRun, Reference, Status, Verification};
+use crate::model::Cylinder;
+use crate::problem::settings::RapierSettings;
+use crate::schedule::Trajectory;
+
+/// rapier's results extrapolated to `dt → 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Extrapolation {
+    /// The two steps, s.
+    pub dt: [f64; 2],
+    /// Twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Peak torque, N·m.
+    pub peak_torque_nm: f64,
+    /// Exact engine's twist minus the extrapolated one, degrees.
+    pub twist_error_deg: f64,
+}
+
+/// rapier's own numbers beside a report's twist, swing and peaks: all `Some` in a rapier report,
+/// all `None` in the exact engine's.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RapierCheck {
+    /// Time step of the finest run, s.
+    pub dt: Option<f64>,
+    /// Largest joint tracking error per joint, rad.
+    pub tracking_error_rad: Option<[f64; 2]>,
+    /// The motors' torque spikes at rate jumps, as rapier measured them.
+    pub rapier_jumps: Option<Vec<JumpTorque>>,
+    /// First-order Richardson extrapolation to `dt → 0` from the last two runs (absent with
+    /// fewer than two).
+    pub extrapolated: Option<Extrapolation>,
+    /// Exact engine's twist minus rapier's, degrees.
+    pub twist_error_deg: Option<f64>,
+    /// Relative error of the peak torque against the exact engine's (absent when the exact peak
+    /// is zero: the schedule does not move).
+    pub peak_torque_rel_error: Option<f64>,
+    /// How rapier's verification ended; rapier's numbers are not to be used without it.
+    pub verdict: Option<Status>,
+    /// The verification behind the verdict: dt sequence, raw and extrapolated values, observed
+    /// orders, error estimates, tolerances.
+    pub verification: Option<Verification>,
+}
+
+/// The finest run of a verification that made one, and the check built from it.
+#[derive(Clone, Debug)]
+pub struct Finest {
+    /// The finest run in full (twist, swing, peaks per piece, momentum, steps).
+    pub run: RapierRun,
+    /// The check (every field `Some`, `extrapolated` when two runs were kept).
+    pub check: RapierCheck,
+    /// Time spent in rapier, all runs of the verification, s.
+    pub run_time_s: f64,
+}
+
+/// What rapier made of a trajectory.
+#[derive(Clone, Debug)]
+pub enum RapierOutcome<T> {
+    /// rapier's numbers, from the finest run, with the verification behind them.
+    Report(T),
+    /// The verification made no usable run: rapier has no number for this trajectory, only the
+    /// verification, whose verdict (`inconclusive`) says why.
+    NoResult(Box<Verification>),
+}
+
+impl<T> RapierOutcome<T> {
+    /// The outcome with its report mapped by `f`.
+    pub fn map<U>(self, f: impl FnOnce(T) -> U) -> RapierOutcome<U> {
+        match self {
+            RapierOutcome::Report(t) => RapierOutcome::Report(f(t)),
+            RapierOutcome::NoResult(v) => RapierOutcome::NoResult(v),
+        }
+    }
+
+    /// The report, if rapier made one.
+    pub fn report(&self) -> Option<&T> {
+        match self {
+            RapierOutcome::Report(t) => Some(t),
+            RapierOutcome::NoResult(_) => None,
+        }
+    }
+
+    /// The report, or [`RapierError::NoResult`] with the verdict, for a command that has nothing
+    /// else to show.
+    pub fn into_report(self) -> Result<T, RapierError> {
+        match self {
+            RapierOutcome::Report(t) => Ok(t),
+            RapierOutcome::NoResult(v) => Err(RapierError::NoResult(v.verdict.to_string())),
+        }
+    }
+}
+
+/// Verifies `traj` in rapier against the exact engine's `reference` and builds the check from the
+/// finest run; [`RapierOutcome::NoResult`] when there is none. `Err` only when the settings or the
+/// trajectory are invalid (see [`crate::engines::rapier::verify`]).
+pub fn rapier_check(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    settings: &RapierSettings,
+    reference: &Reference,
+) -> Result<RapierOutcome<Finest>, RapierError> {
+    let v = crate::engines::rapier::verify(cat, traj, settings, reference)?;
+    let Some(run) = v.finest.clone() else { return Ok(RapierOutcome::NoResult(Box::new(v))) };
+    let exact_twist = reference.twist.to_degrees();
+    let value = |q| v.quantity(q).and_then(|c| c.value);
+    let extrapolated = match (value(Quantity::Twist), value(Quantity::Swing), value(Quantity::PeakTorque)) {
+        (Some(t), Some(s), Some(p)) if v.dt_sequence.len() >= 2 => Some(Extrapolation {
+            dt: [v.dt_sequence[v.dt_sequence.len() - 2], run.dt],
+            twist_deg: t,
+            swing_deg: s,
+            peak_torque_nm: p,
+            twist_error_deg: exact_twist - t,
+        }),
+        _ => None,
+    };
+    let (peak, run_time_s) = (reference.peak_torque, v.run_time_s);
+    let check = RapierCheck {
+        dt: Some(run.dt),
+        tracking_error_rad: Some(run.tracking_error),
+        rapier_jumps: Some(run.jumps.clone()),
+        extrapolated,
+        twist_error_deg: Some(exact_twist - run.twist.to_degrees()),
+        peak_torque_rel_error: (peak > 0.0).then(|| (run.peak_torque.max - peak) / peak),
+        verdict: Some(v.status),
+        verification: Some(v),
+    };
+    Ok(RapierOutcome::Report(Finest { run, check, run_time_s }))
+}
+
+impl RapierCheck {
+    /// The check as indented lines of prose (nothing for the exact engine's report).
+    pub fn to_text(&self) -> String {
+        let mut s = String::new();
+        if let Some(dt) = self.dt {
+            let _ = writeln!(s, "  dt               {dt:e} s");
+        }
+        if let Some(e) = self.tracking_error_rad {
+            let _ = writeln!(s, "  tracking error   [{:.3e}, {:.3e}] rad", e[0], e[1]);
+        }
+        if let Some(e) = self.twist_error_deg {
+            let peak = self
+                .peak_torque_rel_error
+                .map_or("— (the exact peak is zero)".to_string(), |p| format!("{:+.3}%", 100.0 * p));
+            let _ = writeln!(s, "  vs exact engine  twist {e:+.4e}°, peak torque {peak}");
+        }
+        if let Some(x) = self.extrapolated {
+            let _ = writeln!(
+                s,
+                "  dt → 0 (from {:.2e} s and {:.2e} s): twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m; vs exact engine twist {:+.4e}°",
+                x.dt[0], x.dt[1], x.twist_deg, x.swing_deg, x.peak_torque_nm, x.twist_error_deg
+            );
+        }
+        if let Some(v) = &self.verification {
+            let _ = write!(s, "{}", v.to_text());
+        }
+        s
+    }
+}
+
+/// The exact engine's values a verification row compares with: twist and swing in degrees, the
+/// peak torque in N·m.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExactValues {
+    /// Signed twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Peak torque, N·m.
+    pub peak_torque_nm: f64,
+}
+
+/// Header of the verification table that [`verification_row`] fills.
+pub const VERIFICATION_TABLE_HEADER: &str = "| schedule | exact twist | rapier twist | rapier → 0 twist | exact swing | rapier swing | rapier → 0 swing | exact peak | rapier peak | peak diff | rapier momentum drift | tracking error rad | verdict | dt sequence s | estimates | rapier time s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|\n";
+
+/// One row of the verification table: the exact engine's values and rapier's verification of
+/// the same trajectory. rapier's raw columns are the finest run's, `→ 0` the last extrapolation;
+/// a number rapier does not have (no run, fewer than two runs, a zero exact peak) reads `—`.
+pub fn verification_row(name: &str, exact: ExactValues, v: &Verification) -> String {
+    let run = v.finest.as_ref();
+    let dash = || "—".to_string();
+    let value = |q: Quantity| v.quantity(q).and_then(|c| c.value).map_or_else(dash, |x| format!("{x:.4}"));
+    let raw = |x: Option<f64>, d: usize| x.map_or_else(dash, |x| format!("{x:.d$}"));
+    let tr = v.tracking_error_rad.map_or_else(dash, |t| format!("{:.1e}, {:.1e}", t[0], t[1]));
+    let diff = run
+        .filter(|_| exact.peak_torque_nm > 0.0)
+        .map_or_else(dash, |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / exact.peak_torque_nm - 1.0)));
+    format!(
+        "| {name} | {:.4} | {} | {} | {:.4} | {} | {} | {:.3} | {} | {diff} | {} | {tr} | {} |\n",
+        exact.twist_deg,
+        raw(run.map(|x| x.twist.to_degrees()), 4),
+        value(Quantity::Twist),
+        exact.swing_deg,
+        raw(run.map(|x| x.swing.to_degrees()), 4),
+        value(Quantity::Swing),
+        exact.peak_torque_nm,
+        raw(run.map(|x| x.peak_torque.max), 3),
+        v.momentum_drift.map_or_else(dash, |x| format!("{x:.2e}")),
+        v.table_cells()
+    )
+}
