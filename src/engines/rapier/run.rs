@@ -200,11 +200,6 @@ pub fn simulate_with(
     scene.start_at_zero_momentum(start.qd)?;
     let masses = *scene.masses();
 
-    let qd_max = (0..=n).map(|k| {
-        let qd = pieces.state(time(k)).qd;
-        qd[0].hypot(qd[1])
-    });
-    let reference = cat.end_transverse() * qd_max.fold(0.0, f64::max);
     let mut windows: Vec<JumpWindow> =
         pieces.rate_jumps(JUMP_TOLERANCE).iter().map(|&t| JumpWindow::new(t, JUMP_STEPS * dt)).collect();
     let boundaries = pieces.boundaries();
@@ -223,12 +218,17 @@ pub fn simulate_with(
     let mut last_h = nalgebra::Vector3::zeros();
     let mut last = None;
 
+    // The largest joint rate of the schedule, over the steps' instants.
+    let mut qd_max = 0.0f64;
+
     for k in 0..=n {
         let t = time(k);
+        // The schedule at t: the targets of the step that ends there and the tracking reference.
+        let target = pieces.state(t);
+        qd_max = qd_max.max(target.qd[0].hypot(target.qd[1]));
         if k > 0 {
             // Targets from the schedule at the end of the step, the position shifted by −h q̇ so
             // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
-            let target = pieces.state(t);
             let pos = [target.q[0] - dt * target.qd[0], target.q[1] - dt * target.qd[1]];
             scene.set_targets(pos, target.qd)?;
             scene.step();
@@ -241,8 +241,7 @@ pub fn simulate_with(
         drift = drift.max((h - *h0.get_or_insert(h)).norm());
         last_h = h;
         let st = tracker.update(&snap.rotations[0]);
-        let sched = pieces.state(t).q;
-        for (e, (q, s)) in tracking.iter_mut().zip(snap.q.iter().zip(sched)) {
+        for (e, (q, s)) in tracking.iter_mut().zip(snap.q.iter().zip(target.q)) {
             *e = e.max((q - s).abs());
         }
         if k % stride == 0 || k == n {
@@ -267,6 +266,7 @@ pub fn simulate_with(
         last = Some((snap.rotations[0], st, snap.q));
     }
     let (orientation, angles, final_q) = last.ok_or(RapierError::Missing("a final state"))?;
+    let reference = cat.end_transverse() * qd_max;
 
     Ok(RapierRun {
         dt_requested: requested,

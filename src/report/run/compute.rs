@@ -6,16 +6,18 @@
 //! computation is deterministic and its result lands in a fixed place, so the output does not
 //! depend on the number of threads.
 
+use std::path::{Path, PathBuf};
+
 use rayon::prelude::*;
 
-use super::{RunError, Verified};
+use super::{figures, RunError, Verified};
 use crate::engines::circulation::{Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::rapier::Verification;
 use crate::optimize::{optimize, OptimizeReport};
 use crate::report::audit::Audit;
 use crate::report::simulate::{exact_report, rapier_outcome};
-use crate::report::whole::{retime_rows, verify_whole, RetimeRow, WholeReport};
+use crate::report::whole::{retime_rows, verify_whole, RetimeRow, WholeReport, WHOLE};
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::Schedule;
 
@@ -29,14 +31,19 @@ pub(super) struct Computed {
     /// optimised ones, then the most refined one with the calibrated circulation.
     pub verified: Vec<Verified>,
     pub whole_verification: Option<Verification>,
+    /// The animation's files, when the whole optimum exists and was animated.
+    pub animation: Option<Vec<PathBuf>>,
 }
+
+/// The whole optimum's branch: the report, its verification, its animation's files.
+type WholeBranch = (WholeReport, Option<Verification>, Option<Vec<PathBuf>>);
 
 /// One schedule to verify: its name, itself, its circulation and its exact evaluation when
 /// one exists already.
 type Run<'a> = (Variant, Schedule, ResolvedCirculation, Option<&'a Evaluation>);
 
 /// Computes everything for `r` (module docs).
-pub(super) fn compute(r: &Resolved) -> Result<Computed, RunError> {
+pub(super) fn compute(r: &Resolved, plots: &Path) -> Result<Computed, RunError> {
     let audit = crate::report::audit::audit_with_exact(r)?;
     let library: Vec<Run> = r
         .library()
@@ -45,12 +52,12 @@ pub(super) fn compute(r: &Resolved) -> Result<Computed, RunError> {
         .collect();
     // Four branches; each verifies what it produced as soon as it has it.
     let ((opt, whole), (retimed, library)) = rayon::join(
-        || rayon::join(|| optimise_and_verify(r), || whole_and_verify(r)),
+        || rayon::join(|| optimise_and_verify(r), || whole_and_verify(r, plots)),
         || rayon::join(|| retimings(r), || verify_all(r, library)),
     );
-    let ((opt, optimised), (whole, whole_verification), mut verified) = (opt?, whole?, library?);
+    let ((opt, optimised), (whole, whole_verification, animation), mut verified) = (opt?, whole?, library?);
     verified.extend(optimised);
-    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification })
+    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification, animation })
 }
 
 /// The profile QP and its refinements, then their verification, and the recommended schedule's:
@@ -68,11 +75,15 @@ fn optimise_and_verify(r: &Resolved) -> Result<(OptimizeReport, Vec<Verified>), 
     Ok((opt, verified))
 }
 
-/// The whole-manoeuvre optimum and its verification.
-fn whole_and_verify(r: &Resolved) -> Result<(WholeReport, Option<Verification>), RunError> {
+/// The whole-manoeuvre optimum, then its verification and, beside it, its animation in `plots`
+/// (the schedule to replay: it flips the cat exactly).
+fn whole_and_verify(r: &Resolved, plots: &Path) -> Result<WholeBranch, RunError> {
     let whole = crate::report::whole::whole(r)?;
-    let verification = verify_whole(r, &whole)?;
-    Ok((whole, verification))
+    let (verification, animation) = rayon::join(
+        || verify_whole(r, &whole),
+        || whole.spline().map(|spline| figures::animation_of(r, plots, WHOLE, spline)),
+    );
+    Ok((whole, verification?, animation.transpose()?))
 }
 
 /// The certified retimings of the problem's schedule and, when the calibration converged, of

@@ -14,6 +14,9 @@ use crate::schedule::{Schedule, Trajectory};
 const SHOWN: [ProfileKind; 4] =
     [ProfileKind::PaperCosine, ProfileKind::Cycloidal, ProfileKind::BangBang, ProfileKind::Trapezoid];
 
+/// Magnus steps over the fall behind a flip plot.
+const FLIP_STEPS: usize = 768;
+
 /// Frames of the animation.
 const FRAMES: usize = 72;
 
@@ -51,30 +54,30 @@ pub(super) fn plots(
             WHOLE,
             spline,
         )?);
-        written.extend(crate::report::plot::flip_plot(&plots.join(WHOLE), problem, WHOLE, spline, 256)?);
+        written.extend(crate::report::plot::flip_plot(&plots.join(WHOLE), problem, WHOLE, spline, FLIP_STEPS)?);
     }
     let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
-    written.extend(crate::report::plot::flip_plot(plots, problem, &own, &r.schedule, 256)?);
+    written.extend(crate::report::plot::flip_plot(plots, problem, &own, &r.schedule, FLIP_STEPS)?);
     Ok(written)
 }
 
-/// The animation of the schedule to replay: the whole-manoeuvre optimum when there is one (it
-/// flips the cat exactly), else the most refined calibrated schedule, else the problem's.
-pub(super) fn animation(
-    r: &Resolved,
-    plots: &Path,
-    verified: &[Verified],
-    whole: &WholeReport,
-) -> Result<Vec<PathBuf>, PlotError> {
-    let problem = &r.problem;
-    let gif = plots.join("flip.gif");
-    if let Some(spline) = whole.spline() {
-        return crate::report::plot::flip_animation(&gif, problem, WHOLE, spline, FRAMES);
-    }
-    let own = Variant::new(Origin::Library(problem.manoeuvre.profile)).to_string();
+/// The animation of the schedule to replay when the whole optimum does not exist: the most
+/// refined calibrated schedule, else the problem's ([`super::compute`] animates the optimum).
+pub(super) fn fallback_animation(r: &Resolved, plots: &Path, verified: &[Verified]) -> Result<Vec<PathBuf>, PlotError> {
+    let own = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).to_string();
     let (name, schedule) = verified
         .iter()
         .find(|v| v.variant.is_calibrated())
         .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
-    crate::report::plot::flip_animation(&gif, problem, &name, schedule, FRAMES)
+    animation_of(r, plots, &name, schedule)
+}
+
+/// The animation of `traj`, named `name`, as `plots/flip.gif` and its filmstrip.
+pub(super) fn animation_of(
+    r: &Resolved,
+    plots: &Path,
+    name: &str,
+    traj: &impl Trajectory,
+) -> Result<Vec<PathBuf>, PlotError> {
+    crate::report::plot::flip_animation(&plots.join("flip.gif"), &r.problem, name, traj, FRAMES)
 }

@@ -243,7 +243,9 @@ fn produce(
 ) -> Result<String, RunError> {
     let problem = &r.problem;
     let settings = toml::to_string(problem)?;
-    let Computed { audit, opt, whole, retimed, verified, whole_verification } = compute(r)?;
+    let plots = w.dir.join("plots");
+    std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
+    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation } = compute(r, &plots)?;
     // 1. The audit.
     w.put("audit.md", &audit.to_markdown())?;
     w.json("audit.json", &audit)?;
@@ -273,14 +275,12 @@ fn produce(
     w.json("simulate_rapier.json", &verified.iter().map(Verified::rapier_json).collect::<Vec<_>>())?;
     // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files,
     // the plots and the animation: produced in parallel, recorded in this order.
-    let plots = w.dir.join("plots");
-    std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
     let (files, (figures, animation)) = rayon::join(
         || schedule_files(r, &verified, &whole, export),
         || {
             rayon::join(
                 || figures::plots(r, &plots, &verified, &whole),
-                || figures::animation(r, &plots, &verified, &whole),
+                || animation.map_or_else(|| figures::fallback_animation(r, &plots, &verified), Ok),
             )
         },
     );
