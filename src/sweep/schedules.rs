@@ -38,7 +38,7 @@ pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
     let names = schedules(sweep);
     let _ = writeln!(
         s,
-        "## Peak torque by schedule\n\nThe exact peak `max |τ|` (N·m) of each schedule per case; `retimed` is the calibrated schedule (`*`: the paper's, the calibration having failed) timed by the certified convex retiming, `bound` its certified lower bound for that path; `whole` the whole-manoeuvre optimum; — where the row has no result (see its status in `sweep.csv`).\n"
+        "## Peak torque by schedule\n\nThe exact peak `max |τ|` (N·m) of each schedule per case; `retimed` is the calibrated schedule (`*`: the paper's, the calibration having failed) timed by the certified convex retiming, `bound` the certified lower bound of its discrete program (finer grids lower it); `whole` the whole-manoeuvre optimum; — where the row has no result (see its status in `sweep.csv`).\n"
     );
     let mut head = String::from("| case |");
     for a in &sweep.axes {
