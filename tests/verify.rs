@@ -89,7 +89,8 @@ fn a_wrong_reference_is_not_verified_and_the_twist_named() {
 #[test]
 fn a_budget_too_small_is_inconclusive() {
     let (p, paper) = paper();
-    // The paper's first run takes 1663 steps and the second 3326: a budget of 4000 allows one.
+    // The paper's first run takes 3325 steps (first step 0.43 ms, set by the body rate) and the
+    // second 6650: a budget of 4000 allows one.
     let settings = RapierSettings { step_budget: 4000, ..p.rapier };
     let v = check(&p.cat, &paper, &settings);
     assert_eq!(v.status, Status::Inconclusive);
@@ -99,8 +100,10 @@ fn a_budget_too_small_is_inconclusive() {
     for c in &v.quantities {
         assert!(c.value.is_none() && c.estimate.is_none() && c.gap.is_none(), "{c:?}");
     }
-    // Three runs that do not converge far enough: rapier's own error is named.
-    let v = check(&p.cat, &paper, &RapierSettings { step_budget: 12_000, ..p.rapier });
+    // Three runs from a step twice as coarse (0.86 ms: 1663 + 3326 + 6652 steps) that do not
+    // converge far enough, the fourth over the budget: rapier's own error is named.
+    let coarse = RapierSettings { step_budget: 12_000, ..p.rapier.with_dt(8.59e-4) };
+    let v = check(&p.cat, &paper, &coarse);
     assert!(matches!(v.verdict, Verdict::NotConverged { .. }), "{}", v.to_text());
     assert!(v.verdict.to_string().starts_with("inconclusive: rapier's own"), "{}", v.verdict);
     // A step that would need more steps than a run allows: no run at all, and why.
