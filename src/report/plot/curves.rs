@@ -138,10 +138,7 @@ pub fn flip_plot(
     steps: usize,
 ) -> Result<Vec<PathBuf>, PlotError> {
     if steps == 0 {
-        return Err(PlotError::BadArgument {
-            path: dir.join("flip"),
-            reason: "steps must be at least 1".into(),
-        });
+        return Err(PlotError::BadArgument { path: dir.join("flip"), reason: "steps must be at least 1".into() });
     }
     let pieces = schedule.piece_durations().len().max(1);
     let samples = history(&problem.cat, schedule, steps.div_ceil(pieces).max(8));
