@@ -221,7 +221,13 @@ pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> P
 /// maximum, and every local maximum within that bound of the best sample is refined (not only
 /// the best one, which on a fast twist phase may be the wrong oscillation). The peak's
 /// accuracy is stated a posteriori as [`PeakTorques::accuracy`]: the relative change of each
-/// peak when every other sample is dropped and the same search is repeated.
+/// peak when every other sample is dropped and the same search is repeated. At a piece's
+/// [`Trajectory::acceleration_jumps`] (a retimed path's grid nodes) `τ` is smooth only between
+/// the jumps, and its supremum may be a one-sided limit, or a maximum inside a segment much
+/// shorter than the samples' spacing (a retimed path's grid is graded, finest where the path's
+/// rate vanishes), that no equally spaced sample comes near: each segment is then also sampled
+/// at its ends (each from its own side) and [`SEGMENT_SAMPLES`]` − 1` inner points, and its
+/// largest inner sample refined by golden-section search.
 pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
     let mut per_piece = Vec::new();
     let mut gap: f64 = 0.0;
@@ -237,6 +243,10 @@ pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]
     let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
     PeakTorques { per_piece, max, action_reaction_gap: gap, accuracy }
 }
+
+/// Equal parts of each smooth segment between a piece's acceleration jumps that
+/// [`piece_peaks`] samples before refining its largest inner sample.
+const SEGMENT_SAMPLES: usize = 4;
 
 /// The peaks of one piece ([`piece_peaks`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -266,7 +276,7 @@ pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples
             v.push(jt.tau[j].abs());
         }
     }
-    let peaks = [0, 1].map(|j| {
+    let mut peaks = [0, 1].map(|j| {
         let f = |s: f64| tau(s).tau[j].abs();
         let (s, value) = refine_peak(&values[j], h, &f);
         let halved: Vec<f64> = values[j].iter().copied().step_by(2).collect();
@@ -276,6 +286,44 @@ pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples
         }
         Peak { value, time: s }
     });
+    // Where q̈ jumps inside the piece, τ is smooth only between the jumps, and its supremum may
+    // be a one-sided limit or a maximum inside a segment shorter than the samples' spacing
+    // (none for a smooth piece): each segment is searched on its own, both ends taken from
+    // their side.
+    let jumps = traj.acceleration_jumps(piece);
+    if !jumps.is_empty() {
+        let ends: Vec<f64> = std::iter::once(0.0).chain(jumps).chain(std::iter::once(dur)).collect();
+        for w in ends.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let m = SEGMENT_SAMPLES;
+            let at = |k: usize| a + (b - a) * k as f64 / m as f64;
+            let states =
+                (0..=m)
+                    .map(|k| if k == m { traj.piece_state_before(piece, b) } else { traj.piece_state(piece, at(k)) });
+            let mut v = [Vec::with_capacity(m + 1), Vec::with_capacity(m + 1)];
+            for st in states {
+                let jt = joint_torques(cat, &st);
+                for (j, vj) in v.iter_mut().enumerate() {
+                    gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
+                    vj.push(jt.tau[j].abs());
+                }
+            }
+            for (j, p) in peaks.iter_mut().enumerate() {
+                let (k, &best) = v[j].iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1)).unwrap_or((0, &0.0));
+                let (mut s, mut value) = (at(k), best);
+                if k > 0 && k < m {
+                    let f = |x: f64| tau(x).tau[j].abs();
+                    let (sg, vg) = golden_max(f, at(k - 1), at(k + 1), 40);
+                    if vg > value {
+                        (s, value) = (sg, vg);
+                    }
+                }
+                if value > p.value {
+                    *p = Peak { value, time: s };
+                }
+            }
+        }
+    }
     PiecePeaks { peaks, action_reaction_gap: gap, accuracy }
 }
 

@@ -73,6 +73,23 @@ pub trait Trajectory {
     /// State at local time `s ∈ [0, duration]` of a piece, by that piece's own formula.
     fn piece_state(&self, piece: usize, s: f64) -> JointState;
 
+    /// Local times inside piece `piece` (strictly between its ends) where `q̈` may jump while
+    /// `q` and `q̇` stay continuous: the piece is smooth between them. None by default (a
+    /// trajectory smooth on each closed piece); a retimed path
+    /// ([`crate::optimize::retime::RetimedTrajectory`]) has one at every grid node. The torque
+    /// jumps there too, so a peak may be a one-sided limit: [`crate::engines::torque::peak_torques`]
+    /// evaluates both, and rapier keeps its motors' transients there out of its peaks.
+    fn acceleration_jumps(&self, _piece: usize) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// The left limit of the state at local time `s` of a piece: [`Trajectory::piece_state`]
+    /// except at an [`Trajectory::acceleration_jumps`] instant, where `piece_state` takes the
+    /// later side.
+    fn piece_state_before(&self, piece: usize, s: f64) -> JointState {
+        self.piece_state(piece, s)
+    }
+
     /// Total duration, s.
     fn total_duration(&self) -> f64 {
         self.piece_durations().iter().sum()
@@ -117,6 +134,18 @@ impl<T: Trajectory> Trajectory for Reversed<'_, T> {
         d
     }
     fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        // The later side backwards is the earlier side forwards.
+        let d = self.0.piece_durations();
+        let i = d.len() - 1 - piece;
+        let st = self.0.piece_state_before(i, d[i] - s);
+        JointState { q: st.q, qd: st.qd.map(|v| -v), qdd: st.qdd }
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        let d = self.0.piece_durations();
+        let i = d.len() - 1 - piece;
+        self.0.acceleration_jumps(i).iter().rev().map(|s| d[i] - s).collect()
+    }
+    fn piece_state_before(&self, piece: usize, s: f64) -> JointState {
         let d = self.0.piece_durations();
         let i = d.len() - 1 - piece;
         let st = self.0.piece_state(i, d[i] - s);

@@ -64,6 +64,28 @@ impl<'a, T: Trajectory> Pieces<'a, T> {
         self.traj.piece_state(i, s)
     }
 
+    /// Global times of the trajectory's [`Trajectory::acceleration_jumps`] where `‖Δq̈‖`
+    /// exceeds `fraction` of the largest `‖q̈‖` seen on either side of any of them or at the
+    /// pieces' quarters, sorted.
+    pub fn acceleration_jumps(&self, fraction: f64) -> Vec<f64> {
+        let norm = |a: [f64; 2]| a[0].hypot(a[1]);
+        let mut jumps = Vec::new();
+        let mut scale = 0.0f64;
+        for (i, (&start, &d)) in self.starts.iter().zip(&self.durations).enumerate() {
+            for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                scale = scale.max(norm(self.traj.piece_state(i, f * d).qdd));
+            }
+            for s in self.traj.acceleration_jumps(i) {
+                let (before, after) = (self.traj.piece_state_before(i, s).qdd, self.traj.piece_state(i, s).qdd);
+                scale = scale.max(norm(before)).max(norm(after));
+                jumps.push((start + s, norm([after[0] - before[0], after[1] - before[1]])));
+            }
+        }
+        let mut times: Vec<f64> = jumps.into_iter().filter(|&(_, j)| j > fraction * scale).map(|(t, _)| t).collect();
+        times.sort_by(f64::total_cmp);
+        times
+    }
+
     /// Times of the boundaries where the joint rates jump by more than `tol` relative to the
     /// rates of the two adjoining pieces (sampled at quarters; at least `tol` rad/s), so that
     /// round-off of a fast piece is not taken for a jump.

@@ -98,13 +98,34 @@ impl PieceTiming {
     }
 
     /// `(s, ṡ, s̈)` at local time `t` (clamped to the piece): on interval `k`,
-    /// `s = s_k + ṡ_k τ + u_k τ²/2`, `τ = t − t_k`.
+    /// `s = s_k + ṡ_k τ + u_k τ²/2`, `τ = t − t_k`. At a node, the later interval's.
     pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        self.on_interval(t, |times, t| times.partition_point(|&tk| tk <= t))
+    }
+
+    /// As [`PieceTiming::at`], but at a node the earlier interval's: the left limit (`s̈` jumps
+    /// at the nodes; `s` and `ṡ` do not).
+    pub fn at_before(&self, t: f64) -> (f64, f64, f64) {
+        self.on_interval(t, |times, t| times.partition_point(|&tk| tk < t))
+    }
+
+    /// The inner nodes' local times, s: where `s̈` may jump.
+    pub fn inner_node_times(&self) -> &[f64] {
+        let n = self.times.len();
+        if n < 3 {
+            &[]
+        } else {
+            &self.times[1..n - 1]
+        }
+    }
+
+    /// `(s, ṡ, s̈)` on the interval `after(times, t) − 1` (clamped to the intervals).
+    fn on_interval(&self, t: f64, after: impl Fn(&[f64], f64) -> usize) -> (f64, f64, f64) {
         let Some(last) = self.accel.len().checked_sub(1) else {
             return (0.0, 0.0, 0.0); // no interval: nothing moves
         };
         let t = t.clamp(0.0, self.duration());
-        let k = self.times.partition_point(|&tk| tk <= t).saturating_sub(1).min(last);
+        let k = after(&self.times, t).saturating_sub(1).min(last);
         let tau = t - self.times[k];
         let (v, u) = (self.speed_squared[k].sqrt(), self.accel[k]);
         let s = (self.grid[k] + v * tau + 0.5 * u * tau * tau).clamp(self.grid[k], self.grid[k + 1]);

@@ -2,7 +2,9 @@
 //!
 //! On piece `i`, interval `k`, `s(t) = s_k + ṡ_k τ + u_k τ²/2` exactly (piecewise constant
 //! `s̈`), so `q̇ = q' ṡ` is continuous and `q̈ = q' s̈ + q'' ṡ²` jumps where `s̈` does: the exact
-//! torques of this trajectory at the grid nodes are the program's.
+//! torques of this trajectory at the grid nodes are the program's. The trajectory reports the
+//! inner nodes as [`Trajectory::acceleration_jumps`] and gives both one-sided states there
+//! ([`Trajectory::piece_state_before`]), so that peaks include the one-sided limits of `|τ|`.
 
 use serde::Serialize;
 
@@ -27,7 +29,22 @@ impl<P: Trajectory> Trajectory for RetimedTrajectory<P> {
     }
 
     fn piece_state(&self, piece: usize, t: f64) -> JointState {
-        let (s, sd, sdd) = self.timings[piece].at(t);
+        self.compose(piece, self.timings[piece].at(t))
+    }
+
+    /// Every inner grid node: `s̈` is constant per interval, so `q̈` jumps at each.
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        self.timings[piece].inner_node_times().to_vec()
+    }
+
+    fn piece_state_before(&self, piece: usize, t: f64) -> JointState {
+        self.compose(piece, self.timings[piece].at_before(t))
+    }
+}
+
+impl<P: Trajectory> RetimedTrajectory<P> {
+    /// The joint state of piece `piece` at the path state `(s, ṡ, s̈)`.
+    fn compose(&self, piece: usize, (s, sd, sdd): (f64, f64, f64)) -> JointState {
         let p = self.path.piece_state(piece, s);
         JointState { q: p.q, qd: p.qd.map(|d| d * sd), qdd: [0, 1].map(|j| p.qd[j] * sdd + p.qdd[j] * sd * sd) }
     }
