@@ -313,9 +313,10 @@ fn malformed_files_name_the_line_and_column() {
     assert!(msg.contains("bad.csv") && msg.contains("line 3") && msg.contains("column 2"), "{msg}");
 }
 
-#[test]
-fn simulate_cli_evaluates_a_schedule_file() {
-    let dir = std::env::temp_dir().join(format!("catflip-exchange-{}", std::process::id()));
+/// The paper's schedule written at 1 kHz into a fresh scratch folder `catflip-<tag>-<pid>`:
+/// the folder, the file, the problem and the schedule.
+fn paper_csv_at_1khz(tag: &str) -> (std::path::PathBuf, std::path::PathBuf, Problem, Schedule) {
+    let dir = std::env::temp_dir().join(format!("catflip-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a scratch folder");
     let p = Problem::default();
     let s = paper_schedule(&p);
@@ -323,6 +324,12 @@ fn simulate_cli_evaluates_a_schedule_file() {
         .expect("writes");
     let path = dir.join("paper.csv");
     std::fs::write(&path, &file.csv).expect("writable");
+    (dir, path, p, s)
+}
+
+#[test]
+fn simulate_cli_evaluates_a_schedule_file() {
+    let (dir, path, p, s) = paper_csv_at_1khz("exchange");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_catflip"))
         .args(["simulate", "problems/paper.toml", "--schedule"])
         .arg(&path)
@@ -341,14 +348,7 @@ fn simulate_cli_evaluates_a_schedule_file() {
 fn simulate_cli_verifies_a_schedule_file_in_rapier() {
     // The paper's schedule written at 1 kHz and read back, through rapier against the exact
     // engine on the same imported trajectory (it verifies in four runs, about 0.2 s).
-    let dir = std::env::temp_dir().join(format!("catflip-exchange-rapier-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a scratch folder");
-    let p = Problem::default();
-    let s = paper_schedule(&p);
-    let file = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
-        .expect("writes");
-    let path = dir.join("paper.csv");
-    std::fs::write(&path, &file.csv).expect("writable");
+    let (dir, path, p, s) = paper_csv_at_1khz("exchange-rapier");
     let simulate = |extra: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_catflip"))
             .args(["simulate", "problems/paper.toml", "--engine", "rapier", "--schedule"])
