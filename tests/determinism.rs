@@ -1,5 +1,6 @@
 //! Determinism: the same problem gives bit-identical JSON on rerun, timing fields aside
-//! (`*_time_s` and `seconds`: wall-clock times, which are measurements of the machine, not results).
+//! (`*_time_s` and `seconds`: wall-clock times, which are measurements of the machine, not results),
+//! whatever the number of threads the run's parallel parts get.
 
 use std::path::{Path, PathBuf};
 
@@ -30,15 +31,18 @@ fn json_files(dir: &Path) -> Vec<PathBuf> {
 }
 
 #[test]
-fn paper_run_gives_identical_json_twice() {
+fn paper_run_gives_identical_json_twice_on_one_and_on_two_threads() {
     let problem = Problem::load(Path::new("problems/paper.toml"), &[]).expect("the paper's problem loads");
     let root = std::env::temp_dir().join(format!("catflip-determinism-{}", std::process::id()));
-    let outs: Vec<PathBuf> = ["a", "b"]
+    let outs: Vec<PathBuf> = [("a", 1), ("b", 2)]
         .iter()
-        .map(|run| {
+        .map(|&(run, threads)| {
             let out = root.join(run);
-            let r = Resolved::new(&problem).expect("the paper's problem resolves");
-            catflip::report::run::run(&r, "determinism test", &out).expect("the run succeeds").dir
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
+            pool.install(|| {
+                let r = Resolved::new(&problem).expect("the paper's problem resolves");
+                catflip::report::run::run(&r, "determinism test", &out).expect("the run succeeds").dir
+            })
         })
         .collect();
     let (a, b) = (json_files(&outs[0]), json_files(&outs[1]));
@@ -55,5 +59,8 @@ fn paper_run_gives_identical_json_twice() {
         // Bit-identical: the serialised text (shortest round-trip floats) must match exactly.
         assert_eq!(vx.to_string(), vy.to_string(), "{} differs between runs", x.display());
     }
+    // The animation too: frames drawn in parallel, one palette.
+    let gif = |d: &Path| std::fs::read(d.join("plots/flip.gif")).expect("the animation was written");
+    assert!(gif(&outs[0]) == gif(&outs[1]), "flip.gif differs between one and two threads");
     let _ = std::fs::remove_dir_all(&root);
 }
