@@ -219,7 +219,7 @@ fn round_trip_at_1khz_keeps_twist_swing_and_peak_torque() {
     let report = evaluate(&p, &imported);
     let f = flip(&p.cat, &s, p.exact.tolerance);
     let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
-    let (dt, ds) = (report.twist_deg.to_radians() - f.twist, report.swing_deg.to_radians() - f.swing);
+    let (dt, ds) = (report.figures.twist_deg.to_radians() - f.twist, report.figures.swing_deg.to_radians() - f.swing);
     eprintln!(
         "round trip at 1 kHz: twist {dt:.2e} rad, swing {ds:.2e} rad, peak {:.2e} relative",
         report.peak_torque_nm.max / peaks.max - 1.0
@@ -245,7 +245,7 @@ fn round_trip_with_angles_only_uses_the_spline() {
     assert_eq!(imported.interpolation, Interpolation::NotAKnotSpline);
     let report = evaluate(&p, &imported);
     let f = flip(&p.cat, &s, p.exact.tolerance);
-    let (dt, ds) = (report.twist_deg.to_radians() - f.twist, report.swing_deg.to_radians() - f.swing);
+    let (dt, ds) = (report.figures.twist_deg.to_radians() - f.twist, report.figures.swing_deg.to_radians() - f.swing);
     eprintln!("spline round trip at 1 kHz: twist {dt:.2e} rad, swing {ds:.2e} rad");
     assert!(dt.abs() < 1e-6 && ds.abs() < 1e-6, "twist {dt:.2e} rad, swing {ds:.2e} rad");
     // The paper's one jump is found; the spline's O(h³) end rates make no others.
@@ -448,5 +448,5 @@ fn acceleration_jumps_inside_a_phase_become_boundaries_and_keep_the_peak_torque(
     assert_relative_eq!(report.peak_torque_nm.max, peaks.max, max_relative = 1e-9);
     assert_eq!(report.peak_torque_nm.pieces.len(), 3, "cut pieces are merged back into phases");
     let f = flip(&p.cat, &s, p.exact.tolerance);
-    assert_relative_eq!(report.twist_deg.to_radians(), f.twist, epsilon = 1e-9);
+    assert_relative_eq!(report.figures.twist_deg.to_radians(), f.twist, epsilon = 1e-9);
 }

@@ -25,7 +25,7 @@ fn finite_at(overrides: &[&str]) {
     let resolved = Resolved::new(&p).unwrap_or_else(|e| panic!("{overrides:?}: {e}"));
     let r = simulate(&resolved, Engine::Exact).unwrap_or_else(|e| panic!("{overrides:?}: {e}"));
     let peaks = r.peak_torque_nm;
-    let all = [r.twist_deg, r.swing_deg, r.circulation_rad, r.momentum_max, peaks.max]
+    let all = [r.figures.twist_deg, r.figures.swing_deg, r.circulation_rad, r.figures.momentum_max, peaks.max]
         .into_iter()
         .chain(peaks.bend)
         .chain(peaks.twist)
@@ -33,7 +33,7 @@ fn finite_at(overrides: &[&str]) {
     for v in all {
         assert!(v.is_finite(), "{overrides:?}: non-finite result in {r:?}");
     }
-    assert_eq!(r.converged, Some(true), "{overrides:?}: not converged: {r:?}");
+    assert_eq!(r.figures.converged, Some(true), "{overrides:?}: not converged: {r:?}");
 }
 
 #[test]

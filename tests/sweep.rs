@@ -322,8 +322,8 @@ fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
     .expect("simulates");
     for (n, sim) in [(paper, &sim_paper), (calibrated, &sim_cal)] {
         assert_eq!(n.circulation_rad.map(f64::to_bits), Some(sim.circulation_rad.to_bits()));
-        assert_eq!(n.twist_deg.to_bits(), sim.twist_deg.to_bits());
-        assert_eq!(n.swing_deg.to_bits(), sim.swing_deg.to_bits());
+        assert_eq!(n.twist_deg.to_bits(), sim.figures.twist_deg.to_bits());
+        assert_eq!(n.swing_deg.to_bits(), sim.figures.swing_deg.to_bits());
         assert_eq!(n.peaks, Some(sim.peak_torque_nm));
         assert_eq!(n.peak_nm.map(f64::to_bits), Some(sim.peak_torque_nm.max.to_bits()));
     }

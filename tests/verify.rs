@@ -148,7 +148,7 @@ fn a_very_long_cat_gets_a_verdict_not_a_wrong_number() {
     let r = Resolved::new(&p).unwrap();
     let exact = exact_report(&r, &s, r.circulation, None);
     match rapier_report(&r, &s, &exact) {
-        Ok(r) => assert!(r.check.verdict.is_some() && r.check.verification.is_some()),
+        Ok(r) => assert!(r.figures.check.verdict.is_some() && r.figures.check.verification.is_some()),
         Err(e) => assert!(e.to_string().contains("inconclusive"), "{e}"),
     }
 }
@@ -304,7 +304,7 @@ fn random_problems() {
         done += 1;
         let (verdict, seq, est, steps, time, first) = match rapier_report(&r, &s, &exact) {
             Ok(r) => {
-                let v = r.check.verification.unwrap();
+                let v = r.figures.check.verification.unwrap();
                 counts[v.status as usize] += 1;
                 let first = format!("{:.2e} ({})", v.time_scales.first_step, v.time_scales.limited_by);
                 (v.verdict.to_string(), v.dt_sequence_text(), v.estimates_text(), v.steps_taken, v.run_time_s, first)

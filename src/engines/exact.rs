@@ -220,6 +220,17 @@ pub fn history(cat: &Cylinder, schedule: &impl Trajectory, steps: usize) -> Vec<
     out
 }
 
+/// Fewest Magnus steps per piece of a [`fall_history`].
+pub const MIN_HISTORY_PIECE_STEPS: usize = 8;
+
+/// [`history`] with about `steps` Magnus steps over the whole trajectory, shared equally between
+/// its pieces (at least [`MIN_HISTORY_PIECE_STEPS`] each): the same density whether the trajectory
+/// is three phases or a spline of a hundred spans.
+pub fn fall_history(cat: &Cylinder, traj: &impl Trajectory, steps: usize) -> Vec<OrientationSample> {
+    let pieces = traj.piece_durations().len().max(1);
+    history(cat, traj, steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS))
+}
+
 /// Total angular momentum about the centre of mass, in A's frame, of the motion `(q, q̇)` with
 /// A turning at `omega`: `I_lock Ω + R I_B Rᵀ ω_rel + μ p × ṗ`.
 pub fn momentum(cat: &Cylinder, state: &JointState, omega: &Vector3<f64>) -> Vector3<f64> {

@@ -18,13 +18,13 @@ use serde::Serialize;
 
 use crate::engines::evaluate::momentum_max;
 use crate::engines::exact::flip;
-use crate::engines::rapier::{RapierError, Reference};
+use crate::engines::rapier::RapierError;
 use crate::engines::torque::peak_torques;
 use crate::engines::Engine;
 use crate::exchange::import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
 use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
-use crate::report::check::{rapier_check, Finest, RapierCheck, RapierOutcome};
+use crate::report::check::{rapier_check, EngineFigures, RapierOutcome};
 
 /// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -59,30 +59,13 @@ pub struct ImportReport {
     pub interpolation: Interpolation,
     /// Duration, s.
     pub duration_s: f64,
-    /// Signed twist about A's initial `+z`, degrees.
-    pub twist_deg: f64,
-    /// Swing of the spine axis, degrees.
-    pub swing_deg: f64,
     /// Peak motor torques, N·m.
     pub peak_torque_nm: ImportedPeaks,
     /// Joint-rate jumps between pieces (impulses); empty when the rates are continuous.
     pub velocity_jumps: Vec<Jump>,
-    /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
-    pub momentum_max: f64,
-    /// Largest Magnus steps per piece (exact), or rapier's steps in the finest run.
-    pub steps: usize,
-    /// Estimated error of twist and swing, rad (exact only).
-    pub error_estimate_rad: Option<f64>,
-    /// Whether the integration met `exact.tolerance` (exact only).
-    pub converged: Option<bool>,
-    /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
-    pub action_reaction_gap_nm: Option<f64>,
-    /// Wall-clock time of the engine run (rapier: all runs of the verification), s.
-    pub run_time_s: f64,
-    /// rapier's own numbers and its verdict against the exact engine (rapier only; every field
-    /// is `null` in the exact engine's report).
+    /// Twist, swing and what the engine says of its own accuracy.
     #[serde(flatten)]
-    pub check: RapierCheck,
+    pub figures: EngineFigures,
 }
 
 /// Reads `path` and evaluates it with `problem`'s cat.
@@ -106,20 +89,12 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport 
         rows: schedule.rows,
         interpolation: schedule.interpolation,
         duration_s: crate::schedule::Trajectory::piece_durations(schedule).iter().sum(),
-        twist_deg: f.twist.to_degrees(),
-        swing_deg: f.swing.to_degrees(),
         peak_torque_nm: ImportedPeaks {
             pieces: merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value])),
             max: peaks.max,
         },
         velocity_jumps: jumps,
-        momentum_max: momentum,
-        steps: f.steps_per_phase,
-        error_estimate_rad: Some(f.error_estimate),
-        converged: Some(f.converged),
-        action_reaction_gap_nm: Some(peaks.action_reaction_gap),
-        run_time_s,
-        check: RapierCheck::default(),
+        figures: EngineFigures::exact(&f, momentum, peaks.action_reaction_gap, run_time_s),
     }
 }
 
@@ -131,27 +106,15 @@ pub fn evaluate_rapier(
     schedule: &ImportedSchedule,
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
-    let reference = Reference {
-        twist: exact.twist_deg.to_radians(),
-        swing: exact.swing_deg.to_radians(),
-        peak_torque: exact.peak_torque_nm.max,
-    };
+    let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome = rapier_check(&problem.cat, schedule, &problem.rapier, &reference)?;
-    Ok(outcome.map(|Finest { run, check, run_time_s }| ImportReport {
+    Ok(outcome.map(|finest| ImportReport {
         engine: Engine::Rapier,
-        twist_deg: run.twist.to_degrees(),
-        swing_deg: run.swing.to_degrees(),
         peak_torque_nm: ImportedPeaks {
-            pieces: merged(schedule, run.peak_torque.per_piece.iter().copied()),
-            max: run.peak_torque.max,
+            pieces: merged(schedule, finest.run.peak_torque.per_piece.iter().copied()),
+            max: finest.run.peak_torque.max,
         },
-        momentum_max: run.momentum.max_rel,
-        steps: run.steps,
-        error_estimate_rad: None,
-        converged: None,
-        action_reaction_gap_nm: None,
-        run_time_s,
-        check,
+        figures: EngineFigures::rapier(finest),
         ..exact.clone()
     }))
 }
@@ -187,8 +150,8 @@ impl ImportReport {
             self.peak_torque_nm.pieces.len(),
             self.duration_s
         );
-        let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.twist_deg);
-        let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.swing_deg);
+        let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
+        let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
         let per: Vec<String> = self
             .peak_torque_nm
             .pieces
@@ -212,16 +175,16 @@ impl ImportReport {
                 j.impulse_nms[1]
             );
         }
-        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.momentum_max);
-        s.push_str(&self.check.to_text());
-        if let Some(e) = self.error_estimate_rad {
-            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per piece)", self.steps);
+        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);
+        s.push_str(&self.figures.check.to_text());
+        if let Some(e) = self.figures.error_estimate_rad {
+            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per piece)", self.figures.steps);
         }
-        if self.converged == Some(false) {
+        if self.figures.converged == Some(false) {
             let _ =
                 writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
         }
-        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.run_time_s);
+        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.figures.run_time_s);
         s
     }
 }

@@ -15,6 +15,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use crate::engines::exact::Flip;
 use crate::engines::rapier::{JumpTorque, Quantity, RapierError, RapierRun, Reference, Status, Verification};
 use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;
@@ -58,6 +59,78 @@ pub struct RapierCheck {
     /// The verification behind the verdict: dt sequence, raw and extrapolated values, observed
     /// orders, error estimates, tolerances.
     pub verification: Option<Verification>,
+}
+
+/// What an engine says of a trajectory besides its peaks, as both the built-in schedules' report
+/// ([`crate::report::simulate::SimulationReport`]) and an imported schedule's
+/// ([`crate::exchange::ImportReport`]) show it: the exact engine fills the integration's fields,
+/// rapier its check.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EngineFigures {
+    /// Signed twist about A's initial `+z`, degrees.
+    pub twist_deg: f64,
+    /// Swing of the spine axis, degrees.
+    pub swing_deg: f64,
+    /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
+    pub momentum_max: f64,
+    /// Most Magnus steps of a piece (exact), or rapier's steps in its finest run.
+    pub steps: usize,
+    /// Estimated error of twist and swing, rad (exact only).
+    pub error_estimate_rad: Option<f64>,
+    /// Whether the exact integration met `exact.tolerance` (exact only); when false the angles
+    /// are not to be trusted to that tolerance.
+    pub converged: Option<bool>,
+    /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
+    pub action_reaction_gap_nm: Option<f64>,
+    /// Wall-clock time of the engine run (rapier: all runs of the verification), s.
+    pub run_time_s: f64,
+    /// rapier's own numbers and its verdict against the exact engine (rapier only; every field
+    /// is `null` in the exact engine's report).
+    #[serde(flatten)]
+    pub check: RapierCheck,
+}
+
+impl EngineFigures {
+    /// The exact engine's figures: its flip, the momentum residual and the two sides' torque gap.
+    pub fn exact(flip: &Flip, momentum_max: f64, action_reaction_gap_nm: f64, run_time_s: f64) -> Self {
+        Self {
+            twist_deg: flip.twist.to_degrees(),
+            swing_deg: flip.swing.to_degrees(),
+            momentum_max,
+            steps: flip.steps_per_phase,
+            error_estimate_rad: Some(flip.error_estimate),
+            converged: Some(flip.converged),
+            action_reaction_gap_nm: Some(action_reaction_gap_nm),
+            run_time_s,
+            check: RapierCheck::default(),
+        }
+    }
+
+    /// rapier's figures: its finest run and the check.
+    pub fn rapier(finest: Finest) -> Self {
+        let Finest { run, check, run_time_s } = finest;
+        Self {
+            twist_deg: run.twist.to_degrees(),
+            swing_deg: run.swing.to_degrees(),
+            momentum_max: run.momentum.max_rel,
+            steps: run.steps,
+            error_estimate_rad: None,
+            converged: None,
+            action_reaction_gap_nm: None,
+            run_time_s,
+            check,
+        }
+    }
+
+    /// The reference a rapier verification compares with: these figures (the exact engine's)
+    /// and the peak torque `peak_torque_nm`.
+    pub fn reference(&self, peak_torque_nm: f64) -> Reference {
+        Reference {
+            twist: self.twist_deg.to_radians(),
+            swing: self.swing_deg.to_radians(),
+            peak_torque: peak_torque_nm,
+        }
+    }
 }
 
 /// The finest run of a verification that made one, and the check built from it.

@@ -13,13 +13,13 @@ use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{RapierError, Reference};
+use crate::engines::rapier::RapierError;
 use crate::engines::torque::VelocityJump;
 use crate::engines::Engine;
 use crate::problem::BendPath;
 use crate::schedule::{Schedule, Trajectory};
 
-pub use super::check::{rapier_check, Extrapolation, Finest, RapierCheck, RapierOutcome};
+pub use super::check::{rapier_check, EngineFigures, Extrapolation, Finest, RapierCheck, RapierOutcome};
 
 /// What one engine says a schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -32,10 +32,6 @@ pub struct SimulationReport {
     pub profile: String,
     /// The bend path.
     pub bend_path: BendPath,
-    /// Signed twist about A's initial `+z`, degrees.
-    pub twist_deg: f64,
-    /// Swing of the spine axis, degrees.
-    pub swing_deg: f64,
     /// The circulation `∫ω ds`, rad.
     pub circulation_rad: f64,
     /// Where the circulation came from.
@@ -46,23 +42,9 @@ pub struct SimulationReport {
     pub peak_torque_nm: PhasePeaks,
     /// Joint-rate jumps (impulses); empty when the schedule is smooth.
     pub velocity_jumps: Vec<VelocityJump>,
-    /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
-    pub momentum_max: f64,
-    /// Integrator steps per phase (exact) or in all (rapier).
-    pub steps: usize,
-    /// Estimated error of twist and swing, rad (exact only).
-    pub error_estimate_rad: Option<f64>,
-    /// Whether the exact integration met `exact.tolerance` (exact only); when false the angles
-    /// are not to be trusted to that tolerance.
-    pub converged: Option<bool>,
-    /// Largest gap between the joint torques from B's and A's sides, N·m (exact only).
-    pub action_reaction_gap_nm: Option<f64>,
-    /// Wall-clock time of the engine run, s.
-    pub run_time_s: f64,
-    /// rapier's own numbers and its verdict against the exact engine (rapier only; every field
-    /// is `null` in the exact engine's report).
+    /// Twist, swing and what the engine says of its own accuracy.
     #[serde(flatten)]
-    pub check: RapierCheck,
+    pub figures: EngineFigures,
 }
 
 /// `catflip simulate`: the problem's schedule through `engine`.
@@ -95,20 +77,12 @@ pub fn exact_report(
         engine: Engine::Exact,
         profile: schedule.profile.name().to_string(),
         bend_path: schedule.path,
-        twist_deg: e.twist_deg(),
-        swing_deg: e.swing_deg(),
         circulation_rad: circ.radians,
         circulation_source: circ.source,
         calibration: circ.calibration,
         peak_torque_nm: e.peaks,
         velocity_jumps: e.jumps.clone(),
-        momentum_max: e.momentum_max,
-        steps: e.flip.steps_per_phase,
-        error_estimate_rad: Some(e.flip.error_estimate),
-        converged: Some(e.flip.converged),
-        action_reaction_gap_nm: Some(e.action_reaction_gap),
-        run_time_s: e.run_time_s,
-        check: RapierCheck::default(),
+        figures: EngineFigures::exact(&e.flip, e.momentum_max, e.action_reaction_gap, e.run_time_s),
     }
 }
 
@@ -122,31 +96,19 @@ pub fn rapier_outcome(
     schedule: &impl Trajectory,
     exact: &SimulationReport,
 ) -> Result<RapierOutcome<SimulationReport>, RapierError> {
-    let reference = Reference {
-        twist: exact.twist_deg.to_radians(),
-        swing: exact.swing_deg.to_radians(),
-        peak_torque: exact.peak_torque_nm.max,
-    };
+    let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome = rapier_check(r.cat(), schedule, &r.problem.rapier, &reference)?;
-    Ok(outcome.map(|Finest { run, check, run_time_s }| {
-        let peaks = run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
+    Ok(outcome.map(|finest| {
+        let peaks = finest.run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
             bend: [0.0; 2],
             twist: [0.0; 2],
             unbend: [0.0; 2],
-            max: run.peak_torque.max,
+            max: finest.run.peak_torque.max,
         });
         SimulationReport {
             engine: Engine::Rapier,
-            twist_deg: run.twist.to_degrees(),
-            swing_deg: run.swing.to_degrees(),
             peak_torque_nm: peaks,
-            momentum_max: run.momentum.max_rel,
-            steps: run.steps,
-            error_estimate_rad: None,
-            converged: None,
-            action_reaction_gap_nm: None,
-            run_time_s,
-            check,
+            figures: EngineFigures::rapier(finest),
             ..exact.clone()
         }
     }))
@@ -173,8 +135,8 @@ impl SimulationReport {
             self.engine, self.problem, self.profile, self.bend_path
         );
         let _ = writeln!(s, "  circulation      {:.9} rad ({})", self.circulation_rad, self.circulation_source);
-        let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.twist_deg);
-        let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.swing_deg);
+        let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
+        let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
         let _ = writeln!(
             s,
             "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}",
@@ -190,16 +152,16 @@ impl SimulationReport {
                 j.time, j.rates_before[0], j.rates_before[1], j.rates_after[0], j.rates_after[1], j.impulse[0], j.impulse[1]
             );
         }
-        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.momentum_max);
-        s.push_str(&self.check.to_text());
-        if let Some(e) = self.error_estimate_rad {
-            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.steps);
+        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);
+        s.push_str(&self.figures.check.to_text());
+        if let Some(e) = self.figures.error_estimate_rad {
+            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.figures.steps);
         }
-        if self.converged == Some(false) {
+        if self.figures.converged == Some(false) {
             let _ =
                 writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
         }
-        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.run_time_s);
+        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.figures.run_time_s);
         s
     }
 }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::chart::{line_plot, Band, LinePlot, RefLine, Scale};
 use super::{PlotError, Series};
-use crate::engines::exact::history;
+use crate::engines::exact::fall_history;
 use crate::engines::torque::joint_torques;
 use crate::model::Cylinder;
 use crate::problem::Problem;
@@ -128,7 +128,7 @@ fn phase_bands(schedule: &dyn Trajectory) -> Vec<Band> {
 }
 
 /// Twist and swing of the front half A (degrees) over time from the exact engine with `steps`
-/// Magnus steps over the whole fall (shared out equally between its pieces, at least 8 each), as
+/// Magnus steps over the whole fall ([`fall_history`]), as
 /// `dir/flip.{png,svg}`, with the ±180° target dashed.
 pub fn flip_plot(
     dir: &Path,
@@ -140,8 +140,7 @@ pub fn flip_plot(
     if steps == 0 {
         return Err(PlotError::BadArgument { path: dir.join("flip"), reason: "steps must be at least 1".into() });
     }
-    let pieces = schedule.piece_durations().len().max(1);
-    let samples = history(&problem.cat, schedule, steps.div_ceil(pieces).max(8));
+    let samples = fall_history(&problem.cat, schedule, steps);
     let twist: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.twist.to_degrees())).collect();
     let swing: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.swing.to_degrees())).collect();
     let end = |c: &[(f64, f64)]| c.last().map_or(f64::NAN, |p| p.1);

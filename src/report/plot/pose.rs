@@ -8,15 +8,13 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-use crate::engines::exact::{history, OrientationSample};
+use crate::engines::exact::{fall_history, OrientationSample};
 use crate::model::{joint_rotation, Cylinder};
 use crate::schedule::{Phase, Trajectory};
 
 /// Magnus steps over the whole fall of the orientation history the poses are interpolated from
-/// (600 per phase of a three-phase schedule), shared out equally between the pieces.
+/// (600 per phase of a three-phase schedule; [`fall_history`]).
 const HISTORY_STEPS: usize = 1800;
-/// Fewest Magnus steps per piece of that history.
-const MIN_PIECE_STEPS: usize = 8;
 
 /// One half's place in the world frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,8 +51,7 @@ pub struct CatPose {
 
 /// The cat's pose at each of `times` (s, clamped to the manoeuvre).
 pub fn cat_poses(cat: &Cylinder, schedule: &impl Trajectory, times: &[f64]) -> Vec<CatPose> {
-    let pieces = schedule.piece_durations().len().max(1);
-    let samples = history(cat, schedule, HISTORY_STEPS.div_ceil(pieces).max(MIN_PIECE_STEPS));
+    let samples = fall_history(cat, schedule, HISTORY_STEPS);
     let total = schedule.total_duration();
     times
         .iter()

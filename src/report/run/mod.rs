@@ -134,7 +134,7 @@ impl Verified {
     /// rapier's verification of the schedule, with or without a result.
     fn verification(&self) -> Option<&Verification> {
         match &self.rapier {
-            RapierOutcome::Report(r) => r.check.verification.as_ref(),
+            RapierOutcome::Report(r) => r.figures.check.verification.as_ref(),
             RapierOutcome::NoResult(v) => Some(v),
         }
     }
@@ -142,7 +142,11 @@ impl Verified {
     /// The exact engine's values the verification compares with.
     fn exact_values(&self) -> ExactValues {
         let e = &self.exact;
-        ExactValues { twist_deg: e.twist_deg, swing_deg: e.swing_deg, peak_torque_nm: e.peak_torque_nm.max }
+        ExactValues {
+            twist_deg: e.figures.twist_deg,
+            swing_deg: e.figures.swing_deg,
+            peak_torque_nm: e.peak_torque_nm.max,
+        }
     }
 
     /// The entry of `simulate_rapier.json`.
@@ -324,8 +328,9 @@ fn schedule_files(
         let pieces: Vec<String> = (0..spline.piece_durations().len()).map(|i| format!("span-{i}")).collect();
         let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
         let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
-        files.push((format!("schedules/{WHOLE}.csv"), file.csv.clone()));
-        files.push((format!("schedules/{WHOLE}.json"), file.sidecar_json()?));
+        let sidecar = file.sidecar_json()?;
+        files.push((format!("schedules/{WHOLE}.csv"), file.csv));
+        files.push((format!("schedules/{WHOLE}.json"), sidecar));
     }
     Ok(files)
 }

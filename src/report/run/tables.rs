@@ -48,22 +48,22 @@ pub(super) fn verification_csv(rows: &[Verified]) -> String {
 /// A report's fields up to its run time.
 fn report_fields(name: &str, r: &SimulationReport) -> Vec<String> {
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.6e}"));
-    let tr = r.check.tracking_error_rad;
+    let tr = r.figures.check.tracking_error_rad;
     let mut f = vec![
         r.problem.clone(),
         name.to_string(),
         r.engine.to_string(),
         format!("{:.12}", r.circulation_rad),
-        format!("{:.9}", r.twist_deg),
-        format!("{:.9}", r.swing_deg),
+        format!("{:.9}", r.figures.twist_deg),
+        format!("{:.9}", r.figures.swing_deg),
     ];
     f.extend(r.peak_torque_nm.fields());
     f.extend([
-        format!("{:.3e}", r.momentum_max),
-        opt(r.check.dt),
+        format!("{:.3e}", r.figures.momentum_max),
+        opt(r.figures.check.dt),
         opt(tr.map(|t| t[0])),
         opt(tr.map(|t| t[1])),
-        format!("{:.6}", r.run_time_s),
+        format!("{:.6}", r.figures.run_time_s),
     ]);
     f
 }
@@ -215,10 +215,14 @@ fn rapier_line(problem: &Problem, verified: &[Verified]) -> String {
     let missing = verified.len() - reports.len();
     let mut s = format!("- rapier3d-f64 verification of {} schedules (first dt {})", verified.len(), problem.rapier.dt);
     if !reports.is_empty() {
-        let worst = reports.iter().filter_map(|r| r.check.twist_error_deg).map(f64::abs).fold(0.0, f64::max);
-        let worst_x =
-            reports.iter().filter_map(|r| r.check.extrapolated).map(|x| x.twist_error_deg.abs()).fold(0.0, f64::max);
-        let worst_peak = reports.iter().filter_map(|r| r.check.peak_torque_rel_error).map(f64::abs).fold(0.0, f64::max);
+        let worst = reports.iter().filter_map(|r| r.figures.check.twist_error_deg).map(f64::abs).fold(0.0, f64::max);
+        let worst_x = reports
+            .iter()
+            .filter_map(|r| r.figures.check.extrapolated)
+            .map(|x| x.twist_error_deg.abs())
+            .fold(0.0, f64::max);
+        let worst_peak =
+            reports.iter().filter_map(|r| r.figures.check.peak_torque_rel_error).map(f64::abs).fold(0.0, f64::max);
         let of = if missing > 0 { format!(" (of the {} with a result)", reports.len()) } else { String::new() };
         let _ = write!(
             s,
