@@ -21,7 +21,7 @@ pub mod variant;
 use std::f64::consts::PI;
 
 use crate::problem::manoeuvre::BendPath;
-use crate::schedule::profile::Profile;
+use crate::schedule::profile::{Profile, ProfilePoint};
 
 /// Joint angles, rates and accelerations at one instant.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -160,6 +160,16 @@ impl Trajectory for Schedule {
     fn piece_state(&self, piece: usize, s: f64) -> JointState {
         self.phase_state(Phase::ALL[piece.min(2)], s)
     }
+    /// The breakpoints of the phase's timing profile (a piecewise profile's acceleration, and so
+    /// `q̈`, may jump there: the QP's and the refinement's piecewise-linear rates at every node).
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        let phase = Phase::ALL[piece.min(2)];
+        let d = self.durations[phase.index()];
+        self.timing(phase).inner_breakpoints().map(|u| u * d).collect()
+    }
+    fn piece_state_before(&self, piece: usize, s: f64) -> JointState {
+        self.phase_state_with(Phase::ALL[piece.min(2)], s, Profile::at_before)
+    }
 }
 
 /// A complete manoeuvre: bend, twist along a path with a profile, unbend.
@@ -207,16 +217,31 @@ impl Schedule {
 
     /// The state at local time `s ∈ [0, T_phase]` of a phase, by that phase's own formula.
     pub fn phase_state(&self, phase: Phase, s: f64) -> JointState {
+        self.phase_state_with(phase, s, Profile::at)
+    }
+
+    /// The profile that times `phase`.
+    fn timing(&self, phase: Phase) -> &Profile {
+        match phase {
+            Phase::Bend => &self.bend_profile,
+            Phase::Twist => &self.profile,
+            Phase::Unbend => &self.unbend_profile,
+        }
+    }
+
+    /// [`Schedule::phase_state`] with the phase's timing profile read by `at` (its value, or its
+    /// left limit at a breakpoint).
+    fn phase_state_with(&self, phase: Phase, s: f64, at: fn(&Profile, f64) -> ProfilePoint) -> JointState {
         match phase {
             Phase::Bend => {
                 let t1 = self.durations[0];
-                let p = self.bend_profile.at(s / t1);
+                let p = at(&self.bend_profile, s / t1);
                 let b = self.bend;
                 JointState { q: [b * p.position, 0.0], qd: [b * p.rate / t1, 0.0], qdd: [b * p.accel / (t1 * t1), 0.0] }
             }
             Phase::Twist => {
                 let t2 = self.durations[1];
-                let p = self.profile.at(s / t2);
+                let p = at(&self.profile, s / t2);
                 let d = self.circulation;
                 let phi = d * p.position;
                 let phid = d * p.rate / t2;
@@ -227,7 +252,7 @@ impl Schedule {
                 let end = self.phase_state(Phase::Twist, self.durations[1]).q;
                 let straight = nearest_straight(end);
                 let t3 = self.durations[2];
-                let p = self.unbend_profile.at(s / t3);
+                let p = at(&self.unbend_profile, s / t3);
                 let e = [end[0] - straight[0], end[1] - straight[1]];
                 JointState {
                     q: [straight[0] + e[0] * (1.0 - p.position), straight[1] + e[1] * (1.0 - p.position)],

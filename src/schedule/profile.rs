@@ -191,7 +191,23 @@ impl Profile {
     /// Position, rate and acceleration at normalised time `u` (clamped to `[0, 1]`).
     pub fn at(&self, u: f64) -> ProfilePoint {
         let u = u.clamp(0.0, 1.0);
-        let idx = self.segments.partition_point(|s| s.start <= u).saturating_sub(1);
+        self.on_segment(self.segments.partition_point(|s| s.start <= u).saturating_sub(1), u)
+    }
+
+    /// [`Profile::at`] with the earlier segment's formula at a breakpoint: the left limit, where
+    /// the acceleration may jump.
+    pub fn at_before(&self, u: f64) -> ProfilePoint {
+        let u = u.clamp(0.0, 1.0);
+        self.on_segment(self.segments.partition_point(|s| s.start < u).saturating_sub(1), u)
+    }
+
+    /// The breakpoints strictly inside `(0, 1)`, where the acceleration may jump.
+    pub fn inner_breakpoints(&self) -> impl Iterator<Item = f64> + '_ {
+        self.breakpoints().filter(|&u| u > 0.0 && u < 1.0)
+    }
+
+    /// Segment `idx`'s formula at `u`.
+    fn on_segment(&self, idx: usize, u: f64) -> ProfilePoint {
         let seg = &self.segments[idx];
         let tau = u - seg.start;
         let (dp, dv, a) = seg.shape.integrate(tau);
