@@ -144,24 +144,75 @@ fn integrate_piece(
     mut state: PieceState,
     observe: &mut impl FnMut(&OrientationSample),
 ) -> PieceState {
+    let t0 = state.time;
+    state = integrate_span(cat, schedule, piece, (0.0, duration), steps, state, observe);
+    state.time = t0 + duration;
+    state
+}
+
+/// Advances `state` across the local times `span = (a, b)` of one piece with `steps` Magnus
+/// steps; `state.time` is the piece's start and stays so.
+fn integrate_span(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    piece: usize,
+    (a, b): (f64, f64),
+    steps: usize,
+    mut state: PieceState,
+    observe: &mut impl FnMut(&OrientationSample),
+) -> PieceState {
     let steps = steps.max(1);
     let c = 15f64.sqrt() / 10.0;
-    let h = duration / steps as f64;
+    let h = (b - a) / steps as f64;
     let rate = |s: f64| {
         let st = schedule.piece_state(piece, s);
         body_rate(cat, st.q, st.qd)
     };
-    let t0 = state.time;
     for k in 0..steps {
-        let s = k as f64 * h;
+        let s = a + k as f64 * h;
         let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
         state.r = UnitQuaternion::new_normalize(*(state.r * UnitQuaternion::from_scaled_axis(sigma)).quaternion());
         state.angles = state.tracker.update(&state.r);
-        observe(&OrientationSample { time: t0 + s + h, orientation: state.r, angles: state.angles });
+        observe(&OrientationSample { time: state.time + s + h, orientation: state.r, angles: state.angles });
     }
-    state.time = t0 + duration;
     state
 }
+
+/// The smooth segments of a piece: the spans between its [`Trajectory::acceleration_jumps`],
+/// each with its share of [`FIRST_STEPS`] steps (at least one), so that every Magnus step lies
+/// where the integrand is smooth and the sixth order (and the Richardson divisor) holds.
+fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f64, f64), usize)> {
+    let mut cuts: Vec<f64> =
+        schedule.acceleration_jumps(piece).into_iter().filter(|s| *s > 0.0 && *s < duration).collect();
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let bounds: Vec<f64> = std::iter::once(0.0).chain(cuts).chain(std::iter::once(duration)).collect();
+    bounds
+        .windows(2)
+        .map(|w| ((w[0], w[1]), ((FIRST_STEPS as f64 * (w[1] - w[0]) / duration).ceil() as usize).max(1)))
+        .collect()
+}
+
+/// Advances `state` across one piece, segment by segment, with `multiple` times each segment's
+/// first step count.
+fn integrate_segments(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    piece: usize,
+    segments: &[((f64, f64), usize)],
+    multiple: usize,
+    mut state: PieceState,
+) -> PieceState {
+    let t0 = state.time;
+    for &(span, steps) in segments {
+        state = integrate_span(cat, schedule, piece, span, steps * multiple, state, &mut |_| {});
+    }
+    state.time = t0 + segments.last().map_or(0.0, |s| s.0 .1);
+    state
+}
+
+/// Magnus steps of a smooth piece in [`flip`]'s first try.
+const FIRST_STEPS: usize = 4;
 
 /// The sixth-order Magnus exponent of one step of `Ṙ = R [Ω]×` from the rates at the three
 /// Gauss–Legendre nodes (Blanes, Casas & Ros 2000, eq. for `Ω^{[6]}`, written for the
@@ -180,19 +231,25 @@ const RICHARDSON: f64 = 63.0;
 
 /// The final twist and swing of a schedule, to `tolerance` rad: each piece's steps are doubled
 /// until the Richardson estimate of its orientation error, `angle(R_n⁻¹ R_{2n}) / 63`, is below
-/// its share of the tolerance (a planar piece, whose rotations commute, converges at once).
+/// its share of the tolerance (a planar piece, whose rotations commute, converges at once). A
+/// piece whose `q̈` jumps inside ([`Trajectory::acceleration_jumps`]) is stepped segment by
+/// segment ([`segments`]): a step across a jump would be of second order only, and the
+/// estimate, which assumes the sixth, would be too small.
 pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip {
     let durations = schedule.piece_durations();
     let share = tolerance / durations.len().max(1) as f64;
     let mut state = PieceState::start();
     let (mut error_estimate, mut steps_used, mut converged) = (0.0, 0, true);
     for (piece, duration) in durations.into_iter().enumerate() {
-        let mut steps = 4;
-        let mut coarse = integrate_piece(cat, schedule, piece, duration, steps, state, &mut |_| {});
+        let parts = segments(schedule, piece, duration);
+        let first: usize = parts.iter().map(|p| p.1).sum();
+        let mut multiple = 1;
+        let mut coarse = integrate_segments(cat, schedule, piece, &parts, multiple, state);
         loop {
-            let fine = integrate_piece(cat, schedule, piece, duration, 2 * steps, state, &mut |_| {});
+            let fine = integrate_segments(cat, schedule, piece, &parts, 2 * multiple, state);
             let err = (coarse.r.inverse() * fine.r).angle() / RICHARDSON;
-            steps *= 2;
+            multiple *= 2;
+            let steps = first * multiple;
             if err <= share || steps >= MAX_STEPS_PER_PHASE {
                 converged &= err <= share;
                 error_estimate += err;

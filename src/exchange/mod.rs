@@ -85,12 +85,16 @@ pub fn results_files(
     schedules: &[(String, Schedule)],
     options: &ExportOptions,
 ) -> Result<Vec<(String, String)>, ExchangeError> {
-    let mut out = Vec::with_capacity(2 * schedules.len() + 2);
-    for (name, schedule) in schedules {
-        let file = write_schedule(problem, schedule, name, options)?;
-        out.push((format!("schedules/{name}.json"), file.sidecar_json()?));
-        out.push((format!("schedules/{name}.csv"), file.csv));
-    }
+    use rayon::prelude::*;
+    // Each schedule's file on its own (in parallel), listed in the given order.
+    let files = schedules
+        .par_iter()
+        .map(|(name, schedule)| {
+            let file = write_schedule(problem, schedule, name, options)?;
+            Ok([(format!("schedules/{name}.json"), file.sidecar_json()?), (format!("schedules/{name}.csv"), file.csv)])
+        })
+        .collect::<Result<Vec<_>, ExchangeError>>()?;
+    let mut out: Vec<(String, String)> = files.into_iter().flatten().collect();
     out.extend(model_files(problem).map(|(n, text)| (format!("schedules/{n}"), text)));
     Ok(out)
 }

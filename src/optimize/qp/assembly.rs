@@ -158,8 +158,19 @@ impl Assembly {
     where
         I: Iterator<Item = (usize, f64)> + Clone,
     {
-        self.at_most(entries.clone().chain([(bound, -1.0)]), -constant);
-        self.at_most(entries.map(|(c, v)| (c, -v)).chain([(bound, -1.0)]), constant);
+        self.signed_at_most(entries.clone(), constant, 1.0, bound);
+        self.signed_at_most(entries, constant, -1.0, bound);
+    }
+
+    /// One side of [`Assembly::abs_at_most`]: `sign · (Σ val·x_col + constant) ≤ x_bound`.
+    pub(crate) fn signed_at_most(
+        &mut self,
+        entries: impl Iterator<Item = (usize, f64)>,
+        constant: f64,
+        sign: f64,
+        bound: usize,
+    ) {
+        self.at_most(entries.map(|(c, v)| (c, sign * v)).chain([(bound, -1.0)]), -sign * constant);
     }
 
     /// The same QP on the variables of `fold`: its objective restricted to the subspace and its

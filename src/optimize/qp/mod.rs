@@ -97,6 +97,7 @@ use crate::numeric::numfmt::{echo, num};
 pub use problemdata::ProfileQp;
 pub use settings::QpSettings;
 pub use solution::{ProfileQpSolution, QpStatus, SolveInfo};
+pub(crate) use step::active_sides;
 pub use step::{solve_linearised_step, LinearisedStep, StepSolution, TorqueSample};
 
 /// Why a QP could not be set up, or why its answer does not exist. How a Clarabel solve ended is

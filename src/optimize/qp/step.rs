@@ -115,7 +115,7 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
     let column = problem.circulation / t / torque_unit;
     let h = 1.0 / (n - 1) as f64;
     let kept = screened(problem.samples, problem.trust_radius);
-    let rows: Vec<SampleRow> = kept.iter().map(|s| SampleRow::new(&s.gradient, column, h)).collect();
+    let rows: Vec<SampleRow> = kept.iter().map(|(s, _)| SampleRow::new(&s.gradient, column, h)).collect();
     let prefix = rows.iter().any(|r| !r.on_prefix.is_empty());
 
     let bound = n; // the column of the epigraph bound t̂, then the accelerations, prefix sums
@@ -140,9 +140,11 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
             asm.equal([(s(k), 1.0), (s(k - 1), -1.0), (k, -h)], 0.0);
         }
     }
-    for (row, sample) in rows.iter().zip(&kept) {
+    for (row, (sample, sides)) in rows.iter().zip(&kept) {
         let entries = row.on_step.iter().copied().chain(row.on_prefix.iter().map(|&(k, g)| (first_sum + k, g)));
-        asm.abs_at_most(entries, sample.value / torque_unit, bound);
+        for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| **side) {
+            asm.signed_at_most(entries.clone(), sample.value / torque_unit, sign, bound);
+        }
     }
 
     let solved = asm.solve(settings)?;
@@ -157,16 +159,24 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
     Ok(StepSolution { status: solved.status, step, predicted_peak, info })
 }
 
-/// The samples that can bound the step's peak (module docs of `refine`, screening): within the
-/// trust box `|δ_k| ≤ Δ` a sample's model `|τ + gᵀδ|` lies in `|τ| ± ‖g‖₁ Δ`, so the optimal
-/// peak is at least `L = max (|τ| − ‖g‖₁ Δ)`, and a sample whose largest value `|τ| + ‖g‖₁ Δ`
-/// is below `L` is slack at the optimum: leaving it out changes neither the optimum nor the
-/// step. Exact, and it makes the late, small-radius steps cheap.
-fn screened(samples: &[TorqueSample], radius: f64) -> Vec<&TorqueSample> {
-    let reach: Vec<f64> =
-        samples.iter().map(|s| radius * s.gradient.iter().map(|(_, g)| g.abs()).sum::<f64>()).collect();
-    let floor = samples.iter().zip(&reach).map(|(s, r)| s.value.abs() - r).fold(f64::NEG_INFINITY, f64::max);
-    samples.iter().zip(&reach).filter(|(s, r)| s.value.abs() + *r >= floor).map(|(s, _)| s).collect()
+/// The samples that can bound the step's peak, each with the sides of `|τ + gᵀδ| ≤ t` that
+/// can be active ([`active_sides`]).
+fn screened(samples: &[TorqueSample], radius: f64) -> Vec<(&TorqueSample, [bool; 2])> {
+    let spans: Vec<(f64, f64)> =
+        samples.iter().map(|s| (s.value, radius * s.gradient.iter().map(|(_, g)| g.abs()).sum::<f64>())).collect();
+    samples.iter().zip(active_sides(&spans)).filter(|(_, sides)| sides[0] || sides[1]).collect()
+}
+
+/// Screening of the rows `±(τ + gᵀδ) ≤ t` of a minimax step (module docs of `refine`): given
+/// each sample's `(τ, r)`, where `r = Σ|g_k| Δ` bounds `|gᵀδ|` within the trust box
+/// `|δ_k| ≤ Δ`, the optimal peak is at least `L = max (|τ| − r)`, and a side whose largest
+/// value (`τ + r` for `+`, `r − τ` for `−`) is below `L` holds at every point with `t ≥ L`,
+/// which the row attaining `L` enforces. The sides `[+, −]` that can be active: leaving the
+/// others out changes neither the feasible set nor the step. Exact, and it makes the late,
+/// small-radius steps cheap.
+pub(crate) fn active_sides(spans: &[(f64, f64)]) -> Vec<[bool; 2]> {
+    let floor = spans.iter().map(|(tau, r)| tau.abs() - r).fold(f64::NEG_INFINITY, f64::max);
+    spans.iter().map(|(tau, r)| [tau + r >= floor, r - tau >= floor]).collect()
 }
 
 /// Runs of equal coefficients shorter than this stay as they are.

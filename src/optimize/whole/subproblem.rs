@@ -23,7 +23,7 @@ use nalgebra::{DMatrix, Vector3};
 use super::sensitivity::{BendSample, TorqueSample};
 use super::settings::Objective;
 use crate::optimize::qp::assembly::Assembly;
-use crate::optimize::qp::{QpError, QpSettings, QpStatus};
+use crate::optimize::qp::{active_sides, QpError, QpSettings, QpStatus};
 
 /// Weight of the bend limit's elastic variable, relative to the current objective, per unit of
 /// `cos β`. Far above the limit's multiplier (of order one in these units) yet not so far that the
@@ -110,10 +110,16 @@ impl Subproblem<'_> {
         match self.objective {
             Objective::Peak => {
                 asm.linear_cost(bound, 1.0);
-                for s in self.samples {
-                    for j in 0..2 {
-                        let row = s.gradient[j].iter().map(|&(v, g)| (v, g * unit));
-                        asm.abs_at_most(row, s.tau[j] * unit, bound);
+                // Only the sides that can be active (exact; the trust box bounds every step).
+                let rows: Vec<(&[(usize, f64)], f64)> =
+                    self.samples.iter().flat_map(|s| (0..2).map(|j| (&s.gradient[j][..], s.tau[j]))).collect();
+                let spans: Vec<(f64, f64)> = rows
+                    .iter()
+                    .map(|(g, tau)| (*tau, self.trust_radius * g.iter().map(|(_, c)| c.abs()).sum::<f64>()))
+                    .collect();
+                for ((g, tau), sides) in rows.iter().zip(active_sides(&spans)) {
+                    for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| *side) {
+                        asm.signed_at_most(g.iter().map(|&(v, c)| (v, c * unit)), tau * unit, sign, bound);
                     }
                 }
             }

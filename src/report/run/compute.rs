@@ -50,10 +50,13 @@ pub(super) fn compute(r: &Resolved, plots: &Path) -> Result<Computed, RunError> 
         .iter()
         .map(|(k, s, e)| (Variant::new(Origin::Library(*k)), s.clone(), r.circulation, Some(e)))
         .collect();
-    // Four branches; each verifies what it produced as soon as it has it.
-    let ((opt, whole), (retimed, library)) = rayon::join(
-        || rayon::join(|| optimise_and_verify(r), || whole_and_verify(r, plots)),
-        || rayon::join(|| retimings(r), || verify_all(r, library)),
+    // Four branches; each verifies what it produced as soon as it has it. The longest chains
+    // start first: the whole optimum (solve, then verification beside the animation) and the
+    // refinement (sequential steps, then four verifications); the retimings and the library's
+    // verifications fill the gaps.
+    let (whole, (opt, (retimed, library))) = rayon::join(
+        || whole_and_verify(r, plots),
+        || rayon::join(|| optimise_and_verify(r), || rayon::join(|| retimings(r), || verify_all(r, library))),
     );
     let ((opt, optimised), (whole, whole_verification, animation), mut verified) = (opt?, whole?, library?);
     verified.extend(optimised);

@@ -323,14 +323,18 @@ fn schedule_files(
             .filter(|v| v.variant.origin.is_optimised())
             .map(|v| (v.variant.to_string(), v.schedule.clone())),
     );
-    let mut files = crate::exchange::results_files(problem, &exported, export)?;
-    if let Some(spline) = whole.spline() {
-        let pieces: Vec<String> = (0..spline.piece_durations().len()).map(|i| format!("span-{i}")).collect();
+    let whole_file = || -> Result<Vec<(String, String)>, RunError> {
+        let Some(spline) = whole.spline() else { return Ok(Vec::new()) };
+        // One name for every span: the rows are spread over the whole fall (the spans' joins,
+        // where only the jerk jumps, still get their boundary rows).
+        let pieces = vec!["whole".to_string(); spline.piece_durations().len()];
         let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
         let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
         let sidecar = file.sidecar_json()?;
-        files.push((format!("schedules/{WHOLE}.csv"), file.csv));
-        files.push((format!("schedules/{WHOLE}.json"), sidecar));
-    }
+        Ok(vec![(format!("schedules/{WHOLE}.csv"), file.csv), (format!("schedules/{WHOLE}.json"), sidecar)])
+    };
+    let (files, optimum) = rayon::join(|| crate::exchange::results_files(problem, &exported, export), whole_file);
+    let mut files = files?;
+    files.extend(optimum?);
     Ok(files)
 }
