@@ -101,6 +101,15 @@ impl LinearisedStep<'_> {
 /// the linear model's peak torque, with the integral, boundary and limits imposed on `ω + δ`.
 /// A solve that ends without a solution is not an error: its status says how it ended.
 pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings) -> Result<StepSolution, QpError> {
+    solve_rows(problem, settings, screened)
+}
+
+/// [`solve_linearised_step`] on the rows `rows` picks (the screened ones, or in tests all).
+fn solve_rows<'s>(
+    problem: &LinearisedStep<'s>,
+    settings: &QpSettings,
+    rows: impl Fn(&'s [TorqueSample], f64) -> Vec<(&'s TorqueSample, [bool; 2])>,
+) -> Result<StepSolution, QpError> {
     problem.validate()?;
     let n = problem.rates.len();
     let t = problem.duration;
@@ -114,7 +123,7 @@ pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings
     // x is a step in v, so δ = x · D/T: the gradient column scale carries the sign of D.
     let column = problem.circulation / t / torque_unit;
     let h = 1.0 / (n - 1) as f64;
-    let kept = screened(problem.samples, problem.trust_radius);
+    let kept = rows(problem.samples, problem.trust_radius);
     let rows: Vec<SampleRow> = kept.iter().map(|(s, _)| SampleRow::new(&s.gradient, column, h)).collect();
     let prefix = rows.iter().any(|r| !r.on_prefix.is_empty());
 
@@ -226,7 +235,57 @@ impl SampleRow {
 
 #[cfg(test)]
 mod tests {
-    use super::SampleRow;
+    use super::{screened, LinearisedStep, QpSettings, SampleRow, TorqueSample};
+    use crate::problem::settings::Boundary;
+
+    #[test]
+    fn screening_leaves_the_step_as_it_is() {
+        // Seeded samples of both signs and sizes, dense and local gradients, at a wide and a
+        // narrow trust radius: the screened LP (some samples and sides left out) gives the
+        // full LP's step and peak.
+        let n = 21;
+        let mut seed = 12345u64;
+        let mut uniform = move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let samples: Vec<TorqueSample> = (0..120)
+            .map(|j| {
+                let k = j % (n - 1);
+                let mut gradient: Vec<(usize, f64)> = (0..=k).map(|m| (m, 0.2 * uniform())).collect();
+                gradient.push((k + 1, 3.0 * uniform()));
+                TorqueSample { value: 10.0 * uniform() * (1.0 + (j % 7) as f64), gradient }
+            })
+            .collect();
+        // ω = 2t: at rest at the start, and its (trapezoid) integral over the unit time is one.
+        let rates: Vec<f64> = (0..n).map(|k| 2.0 * k as f64 / (n - 1) as f64).collect();
+        // Both signs of the same samples: each side of the screen gets to be the one that binds.
+        let negated: Vec<TorqueSample> = samples
+            .iter()
+            .map(|s| TorqueSample { value: -s.value, gradient: s.gradient.iter().map(|&(k, g)| (k, -g)).collect() })
+            .collect();
+        for (samples, radius) in [(&samples, 0.5), (&samples, 0.01), (&negated, 0.5), (&negated, 0.01)] {
+            let problem = LinearisedStep {
+                rates: &rates,
+                samples,
+                trust_radius: radius,
+                duration: 1.0,
+                circulation: 1.0,
+                boundary: Boundary::StartAtRest,
+                rate_limit: None,
+                jerk_limit: None,
+            };
+            let kept = screened(samples, radius);
+            let sides: usize = kept.iter().map(|(_, s)| s.iter().filter(|x| **x).count()).sum();
+            assert!(sides < 2 * samples.len(), "radius {radius}: nothing was screened, the test proves nothing");
+            let settings = QpSettings::default();
+            let a = super::solve_linearised_step(&problem, &settings).unwrap();
+            let b = super::solve_rows(&problem, &settings, |s, _| s.iter().map(|x| (x, [true, true])).collect()).unwrap();
+            assert!(a.status.is_solved() && b.status.is_solved());
+            let scale = b.predicted_peak.abs().max(1.0);
+            assert!((a.predicted_peak - b.predicted_peak).abs() <= 1e-6 * scale, "radius {radius}: {} vs {}", a.predicted_peak, b.predicted_peak);
+        }
+    }
 
     #[test]
     fn runs_of_equal_coefficients_move_to_prefix_sums_and_the_rest_stays() {
