@@ -399,8 +399,10 @@ fn retiming_whole_optimum_and_rapier_give_numbers_or_a_stated_status() {
         assert!(peak >= rt.lower_bound_nm * (1.0 - 1e-2), "exact {peak} vs bound {}", rt.lower_bound_nm);
         // The library timing is one timing of the same path: the optimum cannot be above it.
         assert!(peak < calibrated.peak_nm.expect("calibrated peak"), "{peak} vs {calibrated:?}");
-        // Retiming keeps the path, so the flip: the same twist as the calibrated schedule.
-        assert_eq!(n.twist_deg.to_bits(), calibrated.twist_deg.to_bits());
+        // Retiming keeps the path, so the flip: the calibrated schedule's twist, to the two
+        // integrations' tolerances (1e-8 rad each, the base problem's).
+        let twist_gap = (n.twist_deg - calibrated.twist_deg).abs();
+        assert!(twist_gap <= 2e-8_f64.to_degrees(), "retimed twist {} vs {}", n.twist_deg, calibrated.twist_deg);
         let whole = row(&records, case, "whole", "exact");
         let w = whole.numbers.unwrap_or_else(|| panic!("the whole optimum: {}", whole.reason));
         assert!(w.flip_error_deg.abs() <= 1e-8_f64.to_degrees(), "{w:?}");

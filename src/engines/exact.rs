@@ -233,7 +233,7 @@ const RICHARDSON: f64 = 63.0;
 /// until the Richardson estimate of its orientation error, `angle(R_n⁻¹ R_{2n}) / 63`, is below
 /// its share of the tolerance (a planar piece, whose rotations commute, converges at once). A
 /// piece whose `q̈` jumps inside ([`Trajectory::acceleration_jumps`]) is stepped segment by
-/// segment ([`segments`]): a step across a jump would be of second order only, and the
+/// segment: a step across a jump would be of second order only, and the
 /// estimate, which assumes the sixth, would be too small.
 pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip {
     let durations = schedule.piece_durations();

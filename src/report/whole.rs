@@ -16,7 +16,7 @@ use crate::engines::circulation::Resolved;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{verify, RapierError, Reference, Verification};
 use crate::engines::torque::joint_torques;
-use crate::optimize::retime::{retime, RetimeSettings, Split};
+use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
 use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
 use crate::report::check::{verification_row, ExactValues};
 use crate::report::compare::CompareLine;
@@ -244,7 +244,6 @@ pub struct RetimeRow {
 /// Retimes `schedule` (named `name`) with both splits.
 pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeRow> {
     let p = &r.problem;
-    let total = schedule.duration();
     [Split::Kept, Split::Free]
         .into_par_iter()
         .map(|split| {
@@ -265,7 +264,7 @@ pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeR
                 swing_deg: None,
                 solve_time_s: 0.0,
             };
-            match retime(&p.cat, schedule, total, settings) {
+            match retime_schedule(&p.cat, schedule, settings) {
                 Err(e) => row(format!("refused: {e}")),
                 Ok(t) => {
                     let sol = &t.solution;

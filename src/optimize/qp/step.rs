@@ -280,10 +280,16 @@ mod tests {
             assert!(sides < 2 * samples.len(), "radius {radius}: nothing was screened, the test proves nothing");
             let settings = QpSettings::default();
             let a = super::solve_linearised_step(&problem, &settings).unwrap();
-            let b = super::solve_rows(&problem, &settings, |s, _| s.iter().map(|x| (x, [true, true])).collect()).unwrap();
+            let b =
+                super::solve_rows(&problem, &settings, |s, _| s.iter().map(|x| (x, [true, true])).collect()).unwrap();
             assert!(a.status.is_solved() && b.status.is_solved());
             let scale = b.predicted_peak.abs().max(1.0);
-            assert!((a.predicted_peak - b.predicted_peak).abs() <= 1e-6 * scale, "radius {radius}: {} vs {}", a.predicted_peak, b.predicted_peak);
+            assert!(
+                (a.predicted_peak - b.predicted_peak).abs() <= 1e-6 * scale,
+                "radius {radius}: {} vs {}",
+                a.predicted_peak,
+                b.predicted_peak
+            );
         }
     }
 

@@ -62,7 +62,17 @@ impl PathPiece {
         length: f64,
         intervals: usize,
     ) -> Result<PathPiece, RetimeError> {
-        let grid = graded_grid(path, piece, length, intervals);
+        Self::sample_on(cat, path, piece, length, graded_grid(path, piece, length, intervals))
+    }
+
+    /// [`PathPiece::sample`] on the given grid (increasing from 0 to `length`).
+    pub(crate) fn sample_on(
+        cat: &Cylinder,
+        path: &impl Trajectory,
+        piece: usize,
+        length: f64,
+        grid: Vec<f64>,
+    ) -> Result<PathPiece, RetimeError> {
         let node = |s: f64| -> Result<PathNode, RetimeError> {
             let st = path.piece_state(piece, s);
             let a = joint_torques(cat, &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
@@ -107,6 +117,11 @@ pub struct PathProblem {
     pub duration: f64,
     /// Split, limits and solver settings (`intervals` is used only when sampling a trajectory).
     pub settings: RetimeSettings,
+    /// With [`Split::Kept`], the pieces' durations are in proportion to these (one per piece,
+    /// e.g. the original phases' durations when the path parameter is not a time); `None`: to
+    /// the pieces' lengths.
+    #[serde(default)]
+    pub kept: Option<Vec<f64>>,
 }
 
 /// Relative size below which a tangent is zero (the joints rest whatever `ṡ`).
@@ -148,7 +163,7 @@ impl PathProblem {
             .enumerate()
             .map(|(i, &l)| PathPiece::sample(cat, path, i, l, settings.intervals))
             .collect::<Result<Vec<_>, _>>()?;
-        let problem = PathProblem { pieces, duration, settings };
+        let problem = PathProblem { pieces, duration, settings, kept: None };
         problem.validate()?;
         Ok(problem)
     }
@@ -159,6 +174,14 @@ impl PathProblem {
         self.settings.validate()?;
         if self.pieces.is_empty() {
             return Err(bad("pieces", 0, "must hold at least one piece"));
+        }
+        if let Some(kept) = &self.kept {
+            if kept.len() != self.pieces.len() {
+                return Err(bad("kept durations", kept.len(), "must give one per piece"));
+            }
+            for &d in kept {
+                positive("kept duration", d)?;
+            }
         }
         for (i, p) in self.pieces.iter().enumerate() {
             positive("piece length", p.length)?;
@@ -206,8 +229,12 @@ impl PathProblem {
     pub fn piece_targets(&self) -> Option<Vec<f64>> {
         match self.settings.split {
             Split::Kept => {
-                let s = self.length();
-                Some(self.pieces.iter().map(|p| self.duration * p.length / s).collect())
+                let weights: Vec<f64> = match &self.kept {
+                    Some(w) => w.clone(),
+                    None => self.pieces.iter().map(|p| p.length).collect(),
+                };
+                let s: f64 = weights.iter().sum();
+                Some(weights.iter().map(|w| self.duration * w / s).collect())
             }
             Split::Free => None,
         }
@@ -250,7 +277,7 @@ impl PathProblem {
 
 /// The graded grid of [`PathPiece::sample`]: `N + 1` points equally spaced in
 /// `½ s/S + ½ ℓ(s)/L`, `ℓ` by the trapezoid rule on `16 N` points, inverted linearly.
-fn graded_grid(path: &impl Trajectory, piece: usize, length: f64, intervals: usize) -> Vec<f64> {
+pub(crate) fn graded_grid(path: &impl Trajectory, piece: usize, length: f64, intervals: usize) -> Vec<f64> {
     let m = GRADING_POINTS * intervals;
     let fine: Vec<f64> = (0..=m).map(|i| if i == m { length } else { length * i as f64 / m as f64 }).collect();
     let speed: Vec<f64> = fine.iter().map(|&s| norm(path.piece_state(piece, s).qd)).collect();

@@ -83,13 +83,34 @@ pub fn retime<P: Trajectory + Clone>(
     duration: f64,
     settings: RetimeSettings,
 ) -> Result<Retiming<P>, RetimeError> {
-    let problem = PathProblem::from_trajectory(cat, path, duration, settings)?;
-    let solution = problem.solve()?;
-    let trajectory = solution
-        .status
-        .is_solved()
-        .then(|| RetimedTrajectory { path: path.clone(), timings: solution.timings.clone() });
-    Ok(Retiming { solution, trajectory })
+    retime_with(cat, path, duration, None, settings)
+}
+
+/// [`retime`] with the durations the pieces keep under [`super::Split::Kept`] in proportion to
+/// `kept` (one per piece; `None`: to the pieces' extents in the path parameter, their durations
+/// when that is a time).
+pub fn retime_with<P: Trajectory + Clone>(
+    cat: &Cylinder,
+    path: &P,
+    duration: f64,
+    kept: Option<Vec<f64>>,
+    settings: RetimeSettings,
+) -> Result<Retiming<P>, RetimeError> {
+    let mut problem = PathProblem::from_trajectory(cat, path, duration, settings)?;
+    problem.kept = kept;
+    Retiming::solve(&problem, path)
+}
+
+impl<P: Trajectory + Clone> Retiming<P> {
+    /// Solves `problem`, the program of `path`'s path, and times `path` by its solution.
+    pub(crate) fn solve(problem: &PathProblem, path: &P) -> Result<Retiming<P>, RetimeError> {
+        let solution = problem.solve()?;
+        let trajectory = solution
+            .status
+            .is_solved()
+            .then(|| RetimedTrajectory { path: path.clone(), timings: solution.timings.clone() });
+        Ok(Retiming { solution, trajectory })
+    }
 }
 
 impl<P: Trajectory> Retiming<P> {

@@ -44,7 +44,7 @@ use crate::engines::exact::flip;
 use crate::engines::torque::peak_torques;
 use crate::model::Cylinder;
 use crate::optimize::qp::ProfileQp;
-use crate::optimize::retime::{retime, RetimeSettings, Retiming};
+use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, Retiming};
 use crate::optimize::whole::{flipped, optimize_whole, WholeOutcome, WholeSettings};
 use crate::problem::settings::Boundary;
 use crate::problem::Problem;
@@ -116,7 +116,7 @@ fn retime_settings(intervals: usize) -> RetimeSettings {
 
 /// Clarabel's certified lower bound of the retiming of `schedule` on `intervals` per phase, N·m.
 fn retime_bound(cat: &Cylinder, schedule: &Schedule, intervals: usize) -> Result<f64, String> {
-    let r = retime(cat, schedule, schedule.duration(), retime_settings(intervals)).map_err(|e| e.to_string())?;
+    let r = retime_schedule(cat, schedule, retime_settings(intervals)).map_err(|e| e.to_string())?;
     if !r.solution.status.is_solved() {
         return Err(format!("the retiming at N = {intervals} ended {}", r.solution.status));
     }
@@ -144,8 +144,8 @@ pub fn retime_curve(
         "grid intervals per phase N",
         "exact peak's gap to the converged bound (rel.)",
         &settings,
-        |n| retime(cat, schedule, schedule.duration(), retime_settings(n as usize)).map_err(|e| e.to_string()),
-        |n, r: &Retiming<Schedule>| {
+        |n| retime_schedule(cat, schedule, retime_settings(n as usize)).map_err(|e| e.to_string()),
+        |n, r: &Retiming<PhasePath>| {
             let (limit, ..) = limit.clone()?;
             let Some(traj) = r.trajectory.as_ref() else {
                 return Err(format!("Clarabel ended {}", r.solution.status));
