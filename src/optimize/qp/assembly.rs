@@ -8,9 +8,9 @@
 use std::collections::HashSet;
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
+use clarabel::solver::SupportedConeT;
 
-use super::settings::QpSettings;
+use super::settings::{solve_clarabel, QpSettings};
 use super::solution::{QpStatus, SolveInfo};
 use super::QpError;
 use crate::problem::settings::Boundary;
@@ -200,7 +200,6 @@ impl Assembly {
     /// Solves with Clarabel; returns the primal iterate and Clarabel's account, whatever the
     /// status.
     pub(crate) fn solve(self, settings: &QpSettings) -> Result<Solved, QpError> {
-        let settings = settings.clarabel()?;
         let (m_eq, m_ineq) = (self.eq.rhs.len(), self.ineq.rhs.len());
         let Assembly { n, q, p, eq, ineq } = self;
         let p = CscMatrix::new_from_triplets(n, n, p.row, p.col, p.val);
@@ -220,9 +219,7 @@ impl Assembly {
         if m_ineq > 0 {
             cones.push(SupportedConeT::NonnegativeConeT(m_ineq));
         }
-        let mut solver =
-            DefaultSolver::new(&p, &q, &a, &b, &cones, settings).map_err(|e| QpError::Setup(e.to_string()))?;
-        solver.solve();
+        let (solver, solve_time) = solve_clarabel(settings, &p, &q, &a, &b, &cones)?;
         let (sol, info) = (&solver.solution, &solver.info);
         Ok(Solved {
             x: sol.x.clone(),
@@ -230,7 +227,7 @@ impl Assembly {
             objective: sol.obj_val,
             info: SolveInfo {
                 iterations: sol.iterations,
-                solve_time_s: sol.solve_time,
+                solve_time_s: solve_time,
                 primal_residual: sol.r_prim,
                 dual_residual: sol.r_dual,
                 duality_gap: info.gap_abs,

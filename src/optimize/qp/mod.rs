@@ -95,6 +95,7 @@ mod step;
 use crate::numeric::numfmt::{echo, num};
 
 pub use problemdata::ProfileQp;
+pub(crate) use settings::solve_clarabel;
 pub use settings::QpSettings;
 pub use solution::{ProfileQpSolution, QpStatus, SolveInfo};
 pub(crate) use step::active_sides;

@@ -6,13 +6,13 @@
 //! `U_0…U_{N−1}` (`u = U v²/S`) and `W_0…W_{N−1}` (`W ≥ 2/(Y_k + Y_{k+1})`, time per unit of `σ`).
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
+use clarabel::solver::SupportedConeT;
 
 use super::problemdata::{PathPiece, PathProblem};
 use super::solution::{RawSolution, RetimeSolution};
 use super::RetimeError;
 use crate::optimize::qp::assembly::Rows;
-use crate::optimize::qp::QpError;
+use crate::optimize::qp::solve_clarabel;
 
 /// Column indices of one piece's variables.
 #[derive(Clone, Copy)]
@@ -181,7 +181,6 @@ fn clarabel_solve(
     soc: Rows,
     problem: &PathProblem,
 ) -> Result<RawSolution, RetimeError> {
-    let settings = problem.settings.solver.clarabel()?;
     let (m_eq, m_ineq, m_soc) = (eq.len(), ineq.len(), soc.len());
     let (mut row, mut col, mut val, mut b) = (eq.row, eq.col, eq.val, eq.rhs);
     row.extend(ineq.row.iter().map(|r| r + m_eq));
@@ -199,8 +198,7 @@ fn clarabel_solve(
         cones.push(SupportedConeT::NonnegativeConeT(m_ineq));
     }
     cones.extend((0..m_soc / 3).map(|_| SupportedConeT::SecondOrderConeT(3)));
-    let mut solver = DefaultSolver::new(&p, q, &a, &b, &cones, settings).map_err(|e| QpError::Setup(e.to_string()))?;
-    solver.solve();
+    let (solver, solve_time) = solve_clarabel(&problem.settings.solver, &p, q, &a, &b, &cones)?;
     let (sol, info) = (&solver.solution, &solver.info);
     Ok(RawSolution {
         x: sol.x.clone(),
@@ -210,6 +208,6 @@ fn clarabel_solve(
         dual_objective: info.cost_dual,
         primal_residual: sol.r_prim,
         dual_residual: sol.r_dual,
-        solve_time_s: sol.solve_time,
+        solve_time_s: solve_time,
     })
 }
