@@ -9,7 +9,8 @@ use catflip::engines::exact::flip;
 use catflip::engines::torque::{joint_torques, reduced_mass_matrix};
 use catflip::model::Cylinder;
 use catflip::optimize::retime::{
-    retime, retime_schedule, PathNode, PathPiece, PathProblem, RetimeError, RetimeSettings, RetimeStatus, Split,
+    retime, retime_schedule, PathNode, PathPiece, PathProblem, PhasePath, RetimeError, RetimeSettings, RetimeStatus,
+    Split,
 };
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
@@ -334,5 +335,32 @@ fn the_schedule_retiming_is_well_posed_whatever_the_solver_tolerance() {
         };
         let (coarse, fine) = (bound(1e-8), bound(1e-10));
         assert_relative_eq!(coarse, fine, max_relative = 1e-6);
+    }
+}
+
+#[test]
+fn the_phase_path_is_the_schedules_path() {
+    // The paper's schedule, and a cone path bent by 100° whose twist ends at q1 ≈ 4.54 rad, so
+    // that it straightens towards (2π, 0), not (0, 0): the progress-variable path must follow the
+    // schedule's own path (the same flip, a geometric phase) and end where it ends.
+    use catflip::problem::manoeuvre::BendPath;
+    use catflip::schedule::Phase;
+    let paper = Problem::default();
+    let mut cone = Problem::default();
+    cone.manoeuvre.theta_deg = 80.0;
+    cone.manoeuvre.bend_path = BendPath::Cone;
+    for (p, circulation) in
+        [(&paper, paper_circulation(&paper.cat, paper.manoeuvre.theta()).expect("C > 0")), (&cone, 3.0)]
+    {
+        let s = Schedule::new(p, circulation);
+        let path = PhasePath { schedule: s.clone() };
+        let (a, b) = (flip(&p.cat, &s, 1e-11), flip(&p.cat, &path, 1e-11));
+        assert!((a.orientation.inverse() * b.orientation).angle() < 1e-10, "{a:?} vs {b:?}");
+        let lengths = path.piece_durations();
+        for (k, phase) in Phase::ALL.into_iter().enumerate() {
+            let end = path.piece_state(k, lengths[k]).q;
+            let want = s.phase_state(phase, s.durations[k]).q;
+            assert!((end[0] - want[0]).hypot(end[1] - want[1]) < 1e-12, "{phase:?} ends at {end:?}, not {want:?}");
+        }
     }
 }

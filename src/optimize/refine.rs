@@ -35,7 +35,7 @@ use crate::model::Cylinder;
 use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
 use crate::problem::settings::{ExactSettings, OptimizeSettings};
 use crate::schedule::profile::Profile;
-use crate::schedule::{JointState, Phase, Schedule};
+use crate::schedule::{nearest_straight, JointState, Phase, Schedule};
 
 /// How the refinement ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -112,8 +112,15 @@ pub fn phase_path(schedule: &Schedule, phase: Phase, phi: f64, phid: f64, phidd:
         Phase::Twist => schedule.path_state(phi, phid, phidd),
         Phase::Bend => JointState { q: [phi, 0.0], qd: [phid, 0.0], qdd: [phidd, 0.0] },
         Phase::Unbend => {
-            let e = schedule.phase_state(Phase::Twist, schedule.durations[1]).q;
-            JointState { q: e.map(|x| x * (1.0 - phi)), qd: e.map(|x| -x * phid), qdd: e.map(|x| -x * phidd) }
+            // Towards the nearest straight pose, as the schedule's unbend ([`nearest_straight`]).
+            let end = schedule.phase_state(Phase::Twist, schedule.durations[1]).q;
+            let straight = nearest_straight(end);
+            let e = [end[0] - straight[0], end[1] - straight[1]];
+            JointState {
+                q: [0, 1].map(|j| straight[j] + e[j] * (1.0 - phi)),
+                qd: e.map(|x| -x * phid),
+                qdd: e.map(|x| -x * phidd),
+            }
         }
     }
 }

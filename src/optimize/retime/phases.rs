@@ -17,8 +17,8 @@
 use super::problemdata::graded_grid;
 use super::{PathPiece, PathProblem, RetimeError, RetimeSettings, Retiming};
 use crate::model::Cylinder;
-use crate::optimize::refine::phase_distance;
-use crate::schedule::{nearest_straight, JointState, Phase, Schedule, Trajectory};
+use crate::optimize::refine::{phase_distance, phase_path};
+use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// A schedule's path with every moving phase parametrised by `|φ|`, its progress variable
 /// (module docs); each piece lasts, in this parameter, the distance its phase covers.
@@ -64,21 +64,12 @@ impl Trajectory for PhasePath {
     }
 
     /// At `s` along piece `piece`: `q`, `q' = dq/ds` and `q'' = d²q/ds²`, on the schedule's
-    /// own path (the bend along joint 1, the circulation on the bend path, the straightening
-    /// towards the nearest straight pose).
+    /// own path ([`phase_path`] at `φ = ±s`, `φ̇ = ±1`, `φ̈ = 0`).
     fn piece_state(&self, piece: usize, s: f64) -> JointState {
         let phase = Phase::ALL[piece];
-        let sch = &self.schedule;
-        let Some(sign) = self.direction(phase) else { return sch.piece_state(piece, s) };
-        match phase {
-            Phase::Bend => JointState { q: [sign * s, 0.0], qd: [sign, 0.0], qdd: [0.0; 2] },
-            Phase::Twist => sch.path_state(sign * s, sign, 0.0),
-            Phase::Unbend => {
-                let end = sch.phase_state(Phase::Twist, sch.durations[1]).q;
-                let straight = nearest_straight(end);
-                let e = [end[0] - straight[0], end[1] - straight[1]];
-                JointState { q: [0, 1].map(|j| straight[j] + e[j] * (1.0 - s)), qd: e.map(|x| -x), qdd: [0.0; 2] }
-            }
+        match self.direction(phase) {
+            Some(sign) => phase_path(&self.schedule, phase, sign * s, sign, 0.0),
+            None => self.schedule.piece_state(piece, s),
         }
     }
 }
