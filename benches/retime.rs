@@ -1,5 +1,6 @@
 //! Run time of the certified convex retiming of the paper's whole schedule (three pieces, each
-//! on a grid of `N` intervals): sampling the path, the SOCP (Clarabel) and the reconstruction.
+//! on a grid of `N` intervals, along its progress-variable path): sampling the path, the SOCP
+//! (Clarabel) and the reconstruction.
 //!
 //! `cargo bench --bench retime`; one size: `cargo bench --bench retime -- 'retime/kept/200'`.
 //! Target (issue 13): the convex retiming of a whole schedule within 1 s.
@@ -9,7 +10,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use catflip::optimize::retime::{retime, RetimeSettings, Split};
+use catflip::optimize::retime::{retime_schedule, RetimeSettings, Split};
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
@@ -34,7 +35,7 @@ fn whole_schedule(c: &mut Criterion) {
             let settings = RetimeSettings { intervals: n, split, ..RetimeSettings::default() };
             group.bench_with_input(BenchmarkId::from_parameter(n), &settings, |b, settings| {
                 b.iter(|| {
-                    let r = retime(&p.cat, black_box(&s), s.duration(), *settings).expect("valid problem");
+                    let r = retime_schedule(&p.cat, black_box(&s), *settings).expect("valid problem");
                     assert!(r.solution.status.is_solved(), "{}", r.solution.status);
                     r.solution.peak
                 })
