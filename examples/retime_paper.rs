@@ -7,6 +7,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use catflip::engines::calibrate::calibrate;
+use catflip::engines::exact::flip;
 use catflip::optimize::retime::{retime_schedule, RetimeSettings, Split};
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
@@ -24,6 +25,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|");
     for (name, circ) in [("paper", paper), ("calibrated", calibrated)] {
         let path = Schedule::new(&problem, circ);
+        let original = flip(cat, &path, tol);
         for split in [Split::Kept, Split::Free] {
             for &n in &sizes {
                 let settings = RetimeSettings { intervals: n, split, ..RetimeSettings::default() };
@@ -36,8 +38,8 @@ fn main() -> anyhow::Result<()> {
                     (
                         m.peaks.max,
                         m.gap_to_bound,
-                        (m.flip.twist - m.original_flip.twist).to_degrees(),
-                        (m.flip.swing - m.original_flip.swing).to_degrees(),
+                        (m.flip.twist - original.twist).to_degrees(),
+                        (m.flip.swing - original.swing).to_degrees(),
                     )
                 });
                 let d: Vec<String> = s.durations().iter().map(|d| format!("{d:.4}")).collect();

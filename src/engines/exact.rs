@@ -111,7 +111,7 @@ pub fn integrate(
     let mut state = PieceState::start();
     observe(&OrientationSample { time: 0.0, orientation: state.r, angles: state.angles });
     for (piece, duration) in schedule.piece_durations().into_iter().enumerate() {
-        state = integrate_piece(cat, schedule, piece, duration, steps, state, &mut observe);
+        state = integrate_segments(cat, schedule, piece, &[((0.0, duration), steps)], 1, state, &mut observe);
     }
     (state.r, state.angles)
 }
@@ -132,22 +132,6 @@ impl PieceState {
         let angles = tracker.update(&r);
         PieceState { r, tracker, angles, time: 0.0 }
     }
-}
-
-/// Advances `state` across one piece with `steps` sixth-order Magnus steps.
-fn integrate_piece(
-    cat: &Cylinder,
-    schedule: &impl Trajectory,
-    piece: usize,
-    duration: f64,
-    steps: usize,
-    mut state: PieceState,
-    observe: &mut impl FnMut(&OrientationSample),
-) -> PieceState {
-    let t0 = state.time;
-    state = integrate_span(cat, schedule, piece, (0.0, duration), steps, state, observe);
-    state.time = t0 + duration;
-    state
 }
 
 /// Advances `state` across the local times `span = (a, b)` of one piece with `steps` Magnus
@@ -193,8 +177,9 @@ fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f6
         .collect()
 }
 
-/// Advances `state` across one piece, segment by segment, with `multiple` times each segment's
-/// first step count.
+/// Advances `state` across one piece, segment by segment (`(span, steps)`, spans covering the
+/// piece from 0), with `multiple` times each segment's step count, calling `observe` after every
+/// step.
 fn integrate_segments(
     cat: &Cylinder,
     schedule: &impl Trajectory,
@@ -202,10 +187,11 @@ fn integrate_segments(
     segments: &[((f64, f64), usize)],
     multiple: usize,
     mut state: PieceState,
+    observe: &mut impl FnMut(&OrientationSample),
 ) -> PieceState {
     let t0 = state.time;
     for &(span, steps) in segments {
-        state = integrate_span(cat, schedule, piece, span, steps * multiple, state, &mut |_| {});
+        state = integrate_span(cat, schedule, piece, span, steps * multiple, state, observe);
     }
     state.time = t0 + segments.last().map_or(0.0, |s| s.0 .1);
     state
@@ -244,9 +230,9 @@ pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip 
         let parts = segments(schedule, piece, duration);
         let first: usize = parts.iter().map(|p| p.1).sum();
         let mut multiple = 1;
-        let mut coarse = integrate_segments(cat, schedule, piece, &parts, multiple, state);
+        let mut coarse = integrate_segments(cat, schedule, piece, &parts, multiple, state, &mut |_| {});
         loop {
-            let fine = integrate_segments(cat, schedule, piece, &parts, 2 * multiple, state);
+            let fine = integrate_segments(cat, schedule, piece, &parts, 2 * multiple, state, &mut |_| {});
             let err = (coarse.r.inverse() * fine.r).angle() / RICHARDSON;
             multiple *= 2;
             let steps = first * multiple;

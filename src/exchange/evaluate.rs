@@ -11,7 +11,6 @@
 //! [`RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
 //! exact engine on the same imported schedule, verdict).
 
-use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -21,7 +20,7 @@ use crate::engines::exact::flip;
 use crate::engines::rapier::RapierError;
 use crate::engines::torque::peak_torques;
 use crate::engines::Engine;
-use crate::exchange::import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
+use crate::exchange::import::{ImportedSchedule, Interpolation};
 use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
 use crate::report::check::{rapier_check, EngineFigures, RapierOutcome};
@@ -66,11 +65,6 @@ pub struct ImportReport {
     /// Twist, swing and what the engine says of its own accuracy.
     #[serde(flatten)]
     pub figures: EngineFigures,
-}
-
-/// Reads `path` and evaluates it with `problem`'s cat.
-pub fn simulate_file(problem: &Problem, path: &Path) -> Result<ImportReport, ImportError> {
-    Ok(evaluate(problem, &read_schedule(path)?))
 }
 
 /// The exact engine's report on an imported schedule.

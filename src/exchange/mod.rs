@@ -28,7 +28,7 @@ pub mod sidecar;
 pub mod table;
 pub mod urdf;
 
-pub use evaluate::{evaluate, evaluate_rapier, simulate_file, ImportReport};
+pub use evaluate::{evaluate, evaluate_rapier, ImportReport};
 pub use import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
 pub use links::Links;
 pub use mjcf::{mjcf, MjcfOptions};

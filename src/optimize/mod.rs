@@ -28,7 +28,7 @@ use crate::schedule::profile::Profile;
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::{Phase, Schedule};
 use qp::{ProfileQp, ProfileQpSolution, QpError};
-use refine::{phase_distance, rate_nodes, refine, retimed, Refinement};
+use refine::{rate_nodes, refine, retimed, Refinement};
 
 /// Why optimisation could not run.
 #[derive(Debug, thiserror::Error)]
@@ -142,7 +142,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         let refine_phase = |phase: Phase| {
             let start = rate_nodes(
                 &Profile::harmonic(),
-                phase_distance(&s, phase),
+                s.progress_distance(phase),
                 s.durations[phase.index()],
                 problem.optimize.nodes,
             );

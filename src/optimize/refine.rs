@@ -3,7 +3,7 @@
 //! The profile QP ([`crate::optimize::qp`]) minimises the paper's model `I* · max|ω̇|`, which ignores the
 //! bend amplitude and the centripetal `φ̇²` terms that dominate the real torques. Here the timing
 //! of one phase is improved along its fixed joint path, described by a progress variable `φ`
-//! ([`phase_path`]): the bend direction in the twist (`φ ∈ [0, D]`), joint 1's angle in the bend
+//! ([`Schedule::progress_state`]): the bend direction in the twist (`φ ∈ [0, D]`), joint 1's angle in the bend
 //! (`φ ∈ [0, β]`), the fraction straightened in the unbend (`φ ∈ [0, 1]`). Its rate `ω = φ̇` at
 //! `N` nodes (linear between them) is improved by sequential linear programming with a trust
 //! region on the exact torques of Newton–Euler ([`crate::engines::torque`]):
@@ -35,7 +35,7 @@ use crate::model::Cylinder;
 use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
 use crate::problem::settings::{ExactSettings, OptimizeSettings};
 use crate::schedule::profile::Profile;
-use crate::schedule::{nearest_straight, JointState, Phase, Schedule};
+use crate::schedule::{Phase, Schedule};
 
 /// How the refinement ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -104,36 +104,6 @@ impl Refinement {
     }
 }
 
-/// The progress variable `φ` of each phase and the joint state it gives with its derivatives:
-/// the bend direction along the path (twist, `φ ∈ [0, D]`), joint 1's angle (bend,
-/// `φ ∈ [0, β]`), the fraction straightened (unbend, `φ ∈ [0, 1]`).
-pub fn phase_path(schedule: &Schedule, phase: Phase, phi: f64, phid: f64, phidd: f64) -> JointState {
-    match phase {
-        Phase::Twist => schedule.path_state(phi, phid, phidd),
-        Phase::Bend => JointState { q: [phi, 0.0], qd: [phid, 0.0], qdd: [phidd, 0.0] },
-        Phase::Unbend => {
-            // Towards the nearest straight pose, as the schedule's unbend ([`nearest_straight`]).
-            let end = schedule.phase_state(Phase::Twist, schedule.durations[1]).q;
-            let straight = nearest_straight(end);
-            let e = [end[0] - straight[0], end[1] - straight[1]];
-            JointState {
-                q: [0, 1].map(|j| straight[j] + e[j] * (1.0 - phi)),
-                qd: e.map(|x| -x * phid),
-                qdd: e.map(|x| -x * phidd),
-            }
-        }
-    }
-}
-
-/// The distance `∫ω` the progress variable covers in a phase (see [`phase_path`]).
-pub fn phase_distance(schedule: &Schedule, phase: Phase) -> f64 {
-    match phase {
-        Phase::Twist => schedule.circulation,
-        Phase::Bend => schedule.bend,
-        Phase::Unbend => 1.0,
-    }
-}
-
 /// The schedule with one phase's timing replaced by `profile`.
 pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule {
     match phase {
@@ -161,7 +131,7 @@ pub fn torque_samples(
             Some(*acc)
         }))
         .collect();
-    let tau = |a: f64, b: f64, c: f64| joint_torques(cat, &phase_path(schedule, phase, a, b, c)).tau;
+    let tau = |a: f64, b: f64, c: f64| joint_torques(cat, &schedule.progress_state(phase, a, b, c)).tau;
     // φ's gradient at node k with respect to ω as (node, weight): the trapezoid weights.
     let phi_grad = |k: usize| -> Vec<(usize, f64)> {
         if k == 0 {
@@ -264,7 +234,7 @@ pub fn refine(
     start: &[f64],
 ) -> Result<Refinement, QpError> {
     let t2 = schedule.durations[phase.index()];
-    let distance = phase_distance(schedule, phase);
+    let distance = schedule.progress_distance(phase);
     // Bend and unbend must start and end at rest; the twist phase takes the user's boundary.
     let boundary = if phase == Phase::Twist { opt.boundary } else { crate::problem::settings::Boundary::RestToRest };
     let unit = distance.abs() / t2;

@@ -343,11 +343,6 @@ pub fn compare_line(report: &WholeReport) -> Option<CompareLine> {
     })
 }
 
-/// The optimum's row of the peak-torque table (Markdown, the table's columns).
-pub fn compare_row_markdown(report: &WholeReport) -> Option<String> {
-    compare_line(report).map(|l| l.markdown())
-}
-
 /// The optimum's row of the verification table (Markdown, the table's columns).
 pub fn verification_row_markdown(report: &WholeReport, v: &Verification) -> Option<String> {
     let b = report.best()?;

@@ -221,7 +221,7 @@ impl Schedule {
     }
 
     /// The profile that times `phase`.
-    fn timing(&self, phase: Phase) -> &Profile {
+    pub(crate) fn timing(&self, phase: Phase) -> &Profile {
         match phase {
             Phase::Bend => &self.bend_profile,
             Phase::Twist => &self.profile,
@@ -230,37 +230,47 @@ impl Schedule {
     }
 
     /// [`Schedule::phase_state`] with the phase's timing profile read by `at` (its value, or its
-    /// left limit at a breakpoint).
+    /// left limit at a breakpoint): the profile times the phase's progress variable.
     fn phase_state_with(&self, phase: Phase, s: f64, at: fn(&Profile, f64) -> ProfilePoint) -> JointState {
+        let t = self.durations[phase.index()];
+        let p = at(self.timing(phase), s / t);
+        let d = self.progress_distance(phase);
+        self.progress_state(phase, d * p.position, d * p.rate / t, d * p.accel / (t * t))
+    }
+
+    /// The distance `∫φ̇` a phase's progress variable covers ([`Schedule::progress_state`]).
+    pub fn progress_distance(&self, phase: Phase) -> f64 {
         match phase {
-            Phase::Bend => {
-                let t1 = self.durations[0];
-                let p = at(&self.bend_profile, s / t1);
-                let b = self.bend;
-                JointState { q: [b * p.position, 0.0], qd: [b * p.rate / t1, 0.0], qdd: [b * p.accel / (t1 * t1), 0.0] }
-            }
-            Phase::Twist => {
-                let t2 = self.durations[1];
-                let p = at(&self.profile, s / t2);
-                let d = self.circulation;
-                let phi = d * p.position;
-                let phid = d * p.rate / t2;
-                let phidd = d * p.accel / (t2 * t2);
-                self.path_state(phi, phid, phidd)
-            }
+            Phase::Bend => self.bend,
+            Phase::Twist => self.circulation,
+            Phase::Unbend => 1.0,
+        }
+    }
+
+    /// The joint state at a phase's progress variable `φ` with its rates: joint 1's angle in the
+    /// bend (`φ ∈ [0, β]`), the bend direction on the bend path in the twist (`φ ∈ [0, D]`), the
+    /// fraction straightened in the unbend (`φ ∈ [0, 1]`, along [`Schedule::unbend_line`]).
+    pub fn progress_state(&self, phase: Phase, phi: f64, phid: f64, phidd: f64) -> JointState {
+        match phase {
+            Phase::Bend => JointState { q: [phi, 0.0], qd: [phid, 0.0], qdd: [phidd, 0.0] },
+            Phase::Twist => self.path_state(phi, phid, phidd),
             Phase::Unbend => {
-                let end = self.phase_state(Phase::Twist, self.durations[1]).q;
-                let straight = nearest_straight(end);
-                let t3 = self.durations[2];
-                let p = at(&self.unbend_profile, s / t3);
-                let e = [end[0] - straight[0], end[1] - straight[1]];
+                let (straight, e) = self.unbend_line();
                 JointState {
-                    q: [straight[0] + e[0] * (1.0 - p.position), straight[1] + e[1] * (1.0 - p.position)],
-                    qd: e.map(|e| -e * p.rate / t3),
-                    qdd: e.map(|e| -e * p.accel / (t3 * t3)),
+                    q: [0, 1].map(|j| straight[j] + e[j] * (1.0 - phi)),
+                    qd: e.map(|x| -x * phid),
+                    qdd: e.map(|x| -x * phidd),
                 }
             }
         }
+    }
+
+    /// The straight line the unbend follows, `q = straight + e (1 − f)` for the fraction `f`
+    /// straightened: from the twist's end towards the nearest straight pose.
+    pub fn unbend_line(&self) -> ([f64; 2], [f64; 2]) {
+        let end = self.phase_state(Phase::Twist, self.durations[1]).q;
+        let straight = nearest_straight(end);
+        (straight, [end[0] - straight[0], end[1] - straight[1]])
     }
 
     /// The state at global time `t`; at a phase boundary the later phase's formula is used.

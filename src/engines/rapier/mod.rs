@@ -82,7 +82,7 @@
 //!   an overshoot of about a tenth of the torque jump at every step size (measured on the
 //!   retimed paper path at r = 0.05 m: 7.83 → 7.55 N·m against the exact 6.68 → 6.44 N·m as `h`
 //!   falls from 434 to 54 µs); samples within six steps of a jump larger than 1 % of the
-//!   largest `‖q̈‖` are kept out of the peaks too, and the fraction excluded is reported.
+//!   largest `‖q̈‖` are kept out of the peaks too, and the fraction excluded is kept with the run ([`RapierRun::acceleration_jump_excluded`]; not in the reports).
 //!   Samples within six steps of a jump of `q̇` (the paper's cosine profile ends at `2ω0`, so
 //!   unbending starts with one) are reported apart ([`JumpTorque`]): the motors answer a jump
 //!   with an impulse, a spike whose height grows as `1/h` while its area `Σ (τ − τ_smooth) h`
@@ -139,7 +139,7 @@ pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
 pub use verify::{
-    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
+    richardson, verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
     Verification, ASYMPTOTIC, MIN_RUNS,
 };
 

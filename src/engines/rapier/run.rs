@@ -361,12 +361,11 @@ pub fn extrapolate(a: &RapierRun, b: &RapierRun) -> Option<Extrapolated> {
     if r.is_nan() || r <= 1.0 + 1e-9 {
         return None;
     }
-    let ex = |xc: f64, xf: f64| xf + (xf - xc) / (r - 1.0);
     let (sc, sf) = (swing_vector(&c.orientation, c.twist), swing_vector(&f.orientation, f.twist));
     Some(Extrapolated {
         dt: [c.dt, f.dt],
-        twist: ex(c.twist, f.twist),
-        swing: (sf + (sf - sc) / (r - 1.0)).norm(),
-        peak_torque: ex(c.peak_torque.max, f.peak_torque.max),
+        twist: super::richardson(c.twist, f.twist, r),
+        swing: super::richardson(sc, sf, r).norm(),
+        peak_torque: super::richardson(c.peak_torque.max, f.peak_torque.max, r),
     })
 }

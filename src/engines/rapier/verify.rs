@@ -473,8 +473,9 @@ fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
     }
 }
 
-/// Richardson with step ratio `r`: `x_f + (x_f − x_c)/(r − 1)`.
-fn richardson<V>(c: V, f: V, r: f64) -> V
+/// First-order Richardson extrapolation with step ratio `r = dt_c/dt_f > 1` of a coarse value
+/// `c` and a fine one `f` (numbers or vectors): `x_f + (x_f − x_c)/(r − 1)`.
+pub fn richardson<V>(c: V, f: V, r: f64) -> V
 where
     V: std::ops::Sub<Output = V> + std::ops::Add<Output = V> + std::ops::Mul<f64, Output = V> + Copy,
 {

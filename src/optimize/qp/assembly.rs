@@ -158,19 +158,19 @@ impl Assembly {
     where
         I: Iterator<Item = (usize, f64)> + Clone,
     {
-        self.signed_at_most(entries.clone(), constant, 1.0, bound);
-        self.signed_at_most(entries, constant, -1.0, bound);
+        self.sides_at_most(entries, constant, [true, true], bound);
     }
 
-    /// One side of [`Assembly::abs_at_most`]: `sign · (Σ val·x_col + constant) ≤ x_bound`.
-    pub(crate) fn signed_at_most(
-        &mut self,
-        entries: impl Iterator<Item = (usize, f64)>,
-        constant: f64,
-        sign: f64,
-        bound: usize,
-    ) {
-        self.at_most(entries.map(|(c, v)| (c, sign * v)).chain([(bound, -1.0)]), -sign * constant);
+    /// The sides `[+, −]` of [`Assembly::abs_at_most`] that `sides` keeps (the others screened
+    /// out as never binding, [`crate::optimize::qp::active_sides`]): `± (Σ val·x_col + constant)
+    /// ≤ x_bound`.
+    pub(crate) fn sides_at_most<I>(&mut self, entries: I, constant: f64, sides: [bool; 2], bound: usize)
+    where
+        I: Iterator<Item = (usize, f64)> + Clone,
+    {
+        for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| *side) {
+            self.at_most(entries.clone().map(|(c, v)| (c, sign * v)).chain([(bound, -1.0)]), -sign * constant);
+        }
     }
 
     /// The same QP on the variables of `fold`: its objective restricted to the subspace and its

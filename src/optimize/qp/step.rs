@@ -151,9 +151,7 @@ fn solve_rows<'s>(
     }
     for (row, (sample, sides)) in rows.iter().zip(&kept) {
         let entries = row.on_step.iter().copied().chain(row.on_prefix.iter().map(|&(k, g)| (first_sum + k, g)));
-        for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| **side) {
-            asm.signed_at_most(entries.clone(), sample.value / torque_unit, sign, bound);
-        }
+        asm.sides_at_most(entries, sample.value / torque_unit, *sides, bound);
     }
 
     let solved = asm.solve(settings)?;

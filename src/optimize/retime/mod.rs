@@ -94,7 +94,7 @@ pub use phases::{retime_schedule, PhasePath};
 pub use problemdata::{PathNode, PathPiece, PathProblem};
 pub use settings::{RetimeSettings, Split};
 pub use solution::{PieceTiming, RetimeSolution, RetimeStatus};
-pub use trajectory::{retime, retime_with, Remeasurement, RetimedTrajectory, Retiming};
+pub use trajectory::{retime, Remeasurement, RetimedTrajectory, Retiming};
 
 use crate::optimize::qp::QpError;
 

@@ -8,7 +8,7 @@
 //! on the paper's path with the split free, Clarabel's "solved" optima spread over 2 × 10⁻³
 //! (relative) as its equilibration or regularisation changes, and ECOS reports a third value,
 //! each with a duality gap near 10⁻⁸. The progress variables of
-//! [`crate::optimize::refine::phase_path`] (joint 1's angle in the bend, the bend direction in
+//! [`Schedule::progress_state`] (joint 1's angle in the bend, the bend direction in
 //! the twist, the fraction straightened in the unbend) move the joints at a rate that never
 //! vanishes on the phase, so `q'` stays away from zero and the program is well posed; the
 //! path, and with it the flip, is the same. A phase that does not move (no bend, no
@@ -17,7 +17,6 @@
 use super::problemdata::graded_grid;
 use super::{PathPiece, PathProblem, RetimeError, RetimeSettings, Retiming};
 use crate::model::Cylinder;
-use crate::optimize::refine::{phase_distance, phase_path};
 use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// A schedule's path with every moving phase parametrised by `|φ|`, its progress variable
@@ -32,7 +31,7 @@ impl PhasePath {
     /// The sign of `φ`'s travel in a phase, or `None` when the phase does not move (then its
     /// piece keeps the schedule's local time).
     fn direction(&self, phase: Phase) -> Option<f64> {
-        let d = phase_distance(&self.schedule, phase);
+        let d = self.schedule.progress_distance(phase);
         (d != 0.0 && d.is_finite()).then(|| d.signum())
     }
 
@@ -40,13 +39,8 @@ impl PhasePath {
     /// move).
     fn progress(&self, phase: Phase, t: f64) -> f64 {
         let s = &self.schedule;
-        let profile = match phase {
-            Phase::Bend => &s.bend_profile,
-            Phase::Twist => &s.profile,
-            Phase::Unbend => &s.unbend_profile,
-        };
         match self.direction(phase) {
-            Some(_) => phase_distance(s, phase).abs() * profile.at(t / s.durations[phase.index()]).position,
+            Some(_) => s.progress_distance(phase).abs() * s.timing(phase).at(t / s.durations[phase.index()]).position,
             None => t,
         }
     }
@@ -57,18 +51,18 @@ impl Trajectory for PhasePath {
         Phase::ALL
             .iter()
             .map(|&p| match self.direction(p) {
-                Some(_) => phase_distance(&self.schedule, p).abs(),
+                Some(_) => self.schedule.progress_distance(p).abs(),
                 None => self.schedule.durations[p.index()],
             })
             .collect()
     }
 
     /// At `s` along piece `piece`: `q`, `q' = dq/ds` and `q'' = d²q/ds²`, on the schedule's
-    /// own path ([`phase_path`] at `φ = ±s`, `φ̇ = ±1`, `φ̈ = 0`).
+    /// own path ([`Schedule::progress_state`] at `φ = ±s`, `φ̇ = ±1`, `φ̈ = 0`).
     fn piece_state(&self, piece: usize, s: f64) -> JointState {
         let phase = Phase::ALL[piece];
         match self.direction(phase) {
-            Some(sign) => phase_path(&self.schedule, phase, sign * s, sign, 0.0),
+            Some(sign) => self.schedule.progress_state(phase, sign * s, sign, 0.0),
             None => self.schedule.piece_state(piece, s),
         }
     }

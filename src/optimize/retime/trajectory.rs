@@ -61,7 +61,7 @@ pub struct Retiming<P> {
     pub trajectory: Option<RetimedTrajectory<P>>,
 }
 
-/// The retimed trajectory measured by the exact engine, beside the original path.
+/// The retimed trajectory measured by the exact engine.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Remeasurement {
     /// Exact peak torques of the retimed trajectory, per piece and joint (dense evaluation).
@@ -69,8 +69,6 @@ pub struct Remeasurement {
     /// `peaks.max − lower_bound`: how far the exact peak of this timing lies above the certified
     /// bound of the discrete problem, N·m.
     pub gap_to_bound: f64,
-    /// The original path's flip.
-    pub original_flip: Flip,
     /// The retimed trajectory's flip (a geometric phase: the same up to the tolerance).
     pub flip: Flip,
 }
@@ -83,21 +81,7 @@ pub fn retime<P: Trajectory + Clone>(
     duration: f64,
     settings: RetimeSettings,
 ) -> Result<Retiming<P>, RetimeError> {
-    retime_with(cat, path, duration, None, settings)
-}
-
-/// [`retime`] with the durations the pieces keep under [`super::Split::Kept`] in proportion to
-/// `kept` (one per piece; `None`: to the pieces' extents in the path parameter, their durations
-/// when that is a time).
-pub fn retime_with<P: Trajectory + Clone>(
-    cat: &Cylinder,
-    path: &P,
-    duration: f64,
-    kept: Option<Vec<f64>>,
-    settings: RetimeSettings,
-) -> Result<Retiming<P>, RetimeError> {
-    let mut problem = PathProblem::from_trajectory(cat, path, duration, settings)?;
-    problem.kept = kept;
+    let problem = PathProblem::from_trajectory(cat, path, duration, settings)?;
     Retiming::solve(&problem, path)
 }
 
@@ -115,15 +99,13 @@ impl<P: Trajectory + Clone> Retiming<P> {
 
 impl<P: Trajectory> Retiming<P> {
     /// Measures the retimed trajectory with the exact engine: its peak torques with `samples + 1`
-    /// points per piece ([`peak_torques`]) and its flip and the original's to `tolerance` rad
-    /// ([`flip`]). `None` when there is no trajectory.
+    /// points per piece ([`peak_torques`]) and its flip to `tolerance` rad ([`flip`]). `None` when there is no trajectory.
     pub fn remeasure(&self, cat: &Cylinder, samples: usize, tolerance: f64) -> Option<Remeasurement> {
         let traj = self.trajectory.as_ref()?;
         let peaks = peak_torques(cat, traj, samples);
         Some(Remeasurement {
             gap_to_bound: peaks.max - self.solution.lower_bound,
             peaks,
-            original_flip: flip(cat, &traj.path, tolerance),
             flip: flip(cat, traj, tolerance),
         })
     }

@@ -118,9 +118,7 @@ impl Subproblem<'_> {
                     .map(|(g, tau)| (*tau, self.trust_radius * g.iter().map(|(_, c)| c.abs()).sum::<f64>()))
                     .collect();
                 for ((g, tau), sides) in rows.iter().zip(active_sides(&spans)) {
-                    for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| *side) {
-                        asm.signed_at_most(g.iter().map(|&(v, c)| (v, c * unit)), tau * unit, sign, bound);
-                    }
+                    asm.sides_at_most(g.iter().map(|&(v, c)| (v, c * unit)), tau * unit, sides, bound);
                 }
             }
             Objective::Energy => {

@@ -60,7 +60,7 @@
 
 use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::{flip, integrate};
-use crate::engines::rapier::{simulate, swing_vector, RapierRun};
+use crate::engines::rapier::{richardson, simulate, swing_vector, RapierRun};
 use crate::problem::settings::ExactSettings;
 use crate::problem::Problem;
 use crate::report::bench::curve::{Curve, Outcome, Timing};
@@ -134,10 +134,7 @@ impl FinalAngles {
     /// run `f` with step ratio `r = dt_c/dt_f`, of the twist and of the swing vector (as
     /// [`crate::engines::rapier::verify`] does).
     pub fn extrapolate(c: &FinalAngles, f: &FinalAngles, r: f64) -> FinalAngles {
-        FinalAngles {
-            twist: f.twist + (f.twist - c.twist) / (r - 1.0),
-            swing: f.swing + (f.swing - c.swing) / (r - 1.0),
-        }
+        FinalAngles { twist: richardson(c.twist, f.twist, r), swing: richardson(c.swing, f.swing, r) }
     }
 }
 

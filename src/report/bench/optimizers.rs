@@ -7,7 +7,7 @@
 //!   own gap to the continuous optimum `4 I*|D|/T²`, `1/(N(N−2))`: the discretisation's.
 //! - `calibration`: [`calibrate`] at twist tolerances 1e-2…1e-11 rad; error = `|D − D_ref|`
 //!   (rad) against the calibration at 1e-12 rad; secondary = `|twist − π|`.
-//! - `retime`: the certified convex retiming ([`retime`], phases' durations kept) of the
+//! - `retime`: the certified convex retiming ([`retime_schedule`], phases' durations kept) of the
 //!   problem's schedule over grid sizes `N = 25…1600` intervals per phase; error = relative gap
 //!   of the retimed trajectory's *exact* peak torque (re-measured by the exact engine, 16 samples
 //!   per interval, not timed) to the converged bound `P_∞`; secondary = the certified duality
@@ -15,12 +15,13 @@
 //!   certified bounds on two grids `N₂ = r N₁` (in the report the sweep's two finest, 800 and
 //!   1600, solved once more for the reference): `P_∞ = (r b(N₂) − b(N₁))/(r − 1)`. The discrete
 //!   program's optimum converges at first order in `1/N` (piecewise constant `s̈` cannot hold
-//!   the torque at the bound across an interval; [`crate::optimize::retime`]); on the paper's
-//!   schedule the bound's successive differences halve with every doubling from 25 to 3200, and
-//!   the limit from (800, 1600) agrees with the one from (1600, 3200) to 6e-7 (relative). The
-//!   finest bound alone still carries its `O(1/N)` term (3e-4 at 1600): as large as the gap it
-//!   would be the reference for, so the curve would flatten onto its own reference and end
-//!   in a zero.
+//!   the torque at the bound across an interval; [`crate::optimize::retime`]). On the calibrated
+//!   schedule the limits from (800, 1600) and from (1600, 3200) differ by 3e-5 (relative); on the
+//!   paper's schedule `N = 3200` ends without a solution (Clarabel: insufficient progress) and
+//!   `N = 800` ends "almost solved" (`cargo run --release --example retime_paper 800 1600 3200`),
+//!   so the reference is good to about 1e-5, not to the duality gap. The finest bound alone
+//!   still carries its `O(1/N)` term (5e-4 at 1600): as large as the gap it would be the
+//!   reference for, so the curve would flatten onto its own reference and end in a zero.
 //! - `whole`: the whole-manoeuvre optimiser ([`optimize_whole`], the problem's
 //!   `[optimize.whole]` with every start) over control points per joint `20…160`; error =
 //!   relative gap of the peak torque reached to that of a finer run (240 control points,
