@@ -15,8 +15,15 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Samplin
 
 /// Solves once and insists on a converged flip, so that a bench never times a failure.
 fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
-    let outcome = optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, settings, 1e-8)
-        .expect("valid settings");
+    let outcome = optimize_whole(
+        &problem.cat,
+        problem.drop.fall_time(),
+        &problem.manoeuvre,
+        settings,
+        &problem.actuator.motors(),
+        1e-8,
+    )
+    .expect("valid settings");
     outcome.best().expect("a converged flip").peak_torque_nm
 }
 

@@ -29,7 +29,14 @@ fn main() -> anyhow::Result<()> {
             list.split(',').map(|n| serde_json::from_str(&format!("\"{n}\""))).collect::<Result<_, _>>()?;
     }
     let clock = std::time::Instant::now();
-    let outcome = optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, &settings, 1e-8)?;
+    let outcome = optimize_whole(
+        &problem.cat,
+        problem.drop.fall_time(),
+        &problem.manoeuvre,
+        &settings,
+        &problem.actuator.motors(),
+        1e-8,
+    )?;
     let total = clock.elapsed().as_secs_f64();
     for s in &outcome.solutions {
         println!(

@@ -2,6 +2,7 @@
 //! known answer, and the paper problem's optimum re-measured by the exact engine.
 
 use approx::assert_relative_eq;
+use catflip::model::motor::Motors;
 use catflip::model::Cylinder;
 use catflip::optimize::qp::QpSettings;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
@@ -79,8 +80,8 @@ fn paper_peak_optimum_flips_and_beats_the_target() {
     // Issue 13: an independent IPOPT collocation (800 intervals) found 0.3159 N·m; the target is
     // to match it within 1 %, i.e. ≤ 0.319 N·m.
     let settings = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
-    let outcome =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
     assert_eq!(best.status, WholeStatus::Converged);
     // Re-measured here by the exact engine, not taken from the optimiser.
@@ -100,8 +101,8 @@ fn paper_energy_optimum_matches_the_collocation() {
     // Issue 13: ∫τ·τ dt = 0.217 N²·m²·s from the IPOPT collocation; within 1 %.
     let settings =
         WholeSettings { objective: Objective::Energy, starts: vec![StartKind::Cone], ..WholeSettings::default() };
-    let outcome =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
     assert!(best.flips(FLIP));
     assert_relative_eq!(best.energy, 0.217, max_relative = 0.01);
@@ -115,8 +116,8 @@ fn mirrored_starts_reach_mirrored_optima() {
         starts: vec![StartKind::Paper, StartKind::PaperMirrored],
         ..WholeSettings::default()
     };
-    let outcome =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
     let [a, b] = [&outcome.solutions[0], &outcome.solutions[1]];
     assert!(a.flips(FLIP) && b.flips(FLIP));
     assert!(a.twist * b.twist < 0.0, "twists {} and {}", a.twist, b.twist);
@@ -134,7 +135,13 @@ fn energy_without_orientation_constraint_is_the_straight_cat_at_rest() {
     };
     let start =
         build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Cone, &settings).unwrap_or_else(|e| panic!("{e}"));
-    let problem = ScvxProblem { cat: &PAPER, settings: &settings, target: None, qp: QpSettings::default() };
+    let problem = ScvxProblem {
+        cat: &PAPER,
+        settings: &settings,
+        motors: &Motors::ideal(),
+        target: None,
+        qp: QpSettings::default(),
+    };
     let s = optimize_start(&problem, &start, FLIP).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.status, WholeStatus::Converged, "{}", s.reason);
     assert!(s.energy <= 1e-12, "energy {}", s.energy);
@@ -148,8 +155,8 @@ fn other_cats_and_fall_times_flip() {
     let settings = WholeSettings { control_points: 40, starts: vec![StartKind::Paper], ..WholeSettings::default() };
     for (radius, fall) in [(0.05, FALL), (0.3, FALL), (0.1, 0.5), (0.1, 3.0)] {
         let cat = Cylinder { radius, ..PAPER };
-        let outcome =
-            optimize_whole(&cat, fall, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+        let outcome = optimize_whole(&cat, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+            .unwrap_or_else(|e| panic!("{e}"));
         let best =
             outcome.best().unwrap_or_else(|| panic!("r = {radius}, T = {fall}: {}", outcome.solutions[0].reason));
         let f = catflip::engines::exact::flip(&cat, &best.spline, 1e-10);
@@ -161,7 +168,8 @@ fn other_cats_and_fall_times_flip() {
 #[test]
 fn bad_settings_name_the_field() {
     let settings = WholeSettings { control_points: 3, ..WholeSettings::default() };
-    let err = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).map(|_| ()).unwrap_err();
+    let err =
+        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP).map(|_| ()).unwrap_err();
     assert!(err.to_string().starts_with("optimize.whole.control_points = 3"), "{err}");
     let settings = WholeSettings { min_angle_deg: Some(200.0), ..WholeSettings::default() };
     let err = settings.validate().unwrap_err();
@@ -178,14 +186,14 @@ fn bend_limit_holds_on_the_optimum() {
         starts: vec![StartKind::Cone],
         ..WholeSettings::default()
     };
-    let outcome =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.solutions[0].reason));
     assert!(best.flips(FLIP));
     assert!(best.max_bend_deg <= 40.0 + catflip::optimize::whole::BEND_SLACK_DEG, "bend {}°", best.max_bend_deg);
     let free = WholeSettings { min_angle_deg: None, ..settings };
-    let unconstrained =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &free, FLIP).unwrap_or_else(|e| panic!("{e}"));
+    let unconstrained = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &free, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
     let free_peak = unconstrained.best().map_or(f64::NAN, |b| b.peak_torque_nm);
     assert!(best.peak_torque_nm > free_peak, "{} ≤ {free_peak}", best.peak_torque_nm);
 }
@@ -197,8 +205,8 @@ fn optimum_scales_with_the_fall_time() {
     // start is built from phase fractions, so the optimiser must find the scaled optimum.
     let settings = WholeSettings { control_points: 30, starts: vec![StartKind::Paper], ..WholeSettings::default() };
     let solve = |fall: f64| {
-        let outcome =
-            optimize_whole(&PAPER, fall, &Manoeuvre::default(), &settings, FLIP).unwrap_or_else(|e| panic!("{e}"));
+        let outcome = optimize_whole(&PAPER, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+            .unwrap_or_else(|e| panic!("{e}"));
         outcome.best().cloned().unwrap_or_else(|| panic!("T = {fall}: {}", outcome.solutions[0].reason))
     };
     let (a, b) = (solve(FALL), solve(0.5));

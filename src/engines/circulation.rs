@@ -169,7 +169,7 @@ impl Resolved {
                 .par_iter()
                 .map(|&k| {
                     let s = self.with_library(k);
-                    let e = Evaluation::new(self.cat(), &s, &self.problem.exact);
+                    let e = Evaluation::new(self.cat(), &s, &self.problem.actuator.motors(), &self.problem.exact);
                     (k, s, e)
                 })
                 .collect()

@@ -9,6 +9,8 @@
 //!   ([`crate::engines::torque::piece_samples`]: `exact.torque_samples` per phase at least, 64
 //!   per radian the bend direction turns), with their stated accuracy, and the largest
 //!   action–reaction gap;
+//! - what it asks of the motors ([`MotorDemand`]): peak speed and power per joint, and with
+//!   `[actuator]` limits each limit's worst usage and the least slow-down within them;
 //! - the joint-rate jumps (impulses `M(q) Δq̇`, N·m·s) larger than [`JUMP_TOLERANCE`];
 //! - `momentum_max`: the largest `|H|` about the centre of mass along the motion, relative to a
 //!   half's typical momentum `I* · max|q̇|` (`I*` the end-transverse inertia; zero in exact
@@ -22,9 +24,11 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::engines::exact::{body_rate, flip, momentum, Flip};
+use crate::engines::motors::{motor_demand, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::torque::{peak_torques_on, piece_samples, velocity_jumps, VelocityJump};
 use crate::engines::JUMP_TOLERANCE;
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
 use crate::schedule::variant::Origin;
@@ -42,6 +46,8 @@ pub struct Evaluation {
     /// Stated relative accuracy of the peaks
     /// ([`crate::engines::torque::PeakTorques::accuracy`]).
     pub peak_accuracy: f64,
+    /// Peak speed and power per joint, and the usage of each motor limit.
+    pub motors: MotorDemand,
     /// Joint-rate jumps (impulses); empty when the schedule is smooth.
     pub jumps: Vec<VelocityJump>,
     /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
@@ -51,11 +57,13 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
-    /// Evaluates `schedule` on `cat` with the exact engine's `settings`.
-    pub fn new(cat: &Cylinder, schedule: &Schedule, settings: &ExactSettings) -> Evaluation {
+    /// Evaluates `schedule` on `cat` driven by `motors` with the exact engine's `settings`.
+    pub fn new(cat: &Cylinder, schedule: &Schedule, motors: &Motors, settings: &ExactSettings) -> Evaluation {
         let start = Instant::now();
         let flip = flip(cat, schedule, settings.tolerance);
-        let peaks = peak_torques_on(cat, schedule, &piece_samples(schedule, settings.torque_samples));
+        let samples = piece_samples(schedule, settings.torque_samples);
+        let peaks = peak_torques_on(cat, schedule, &samples);
+        let motors = motor_demand(cat, schedule, &samples, motors);
         let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
         let run_time_s = start.elapsed().as_secs_f64();
         Evaluation {
@@ -63,6 +71,7 @@ impl Evaluation {
             peaks: PhasePeaks::from_peaks(&peaks),
             action_reaction_gap: peaks.action_reaction_gap,
             peak_accuracy: peaks.accuracy,
+            motors,
             jumps,
             momentum_max: momentum_max(cat, schedule, settings.torque_samples),
             run_time_s,

@@ -5,6 +5,7 @@
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
 //! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification;
+//! - [`motors`]: what a trajectory asks of its motors (peak speed, power, usage of each limit);
 //! - [`peaks`]: the peak torques per phase and joint, one type for both engines;
 //! - [`evaluate`]: one exact [`evaluate::Evaluation`] of a schedule, used by every command;
 //! - [`circulation`]: the circulation resolved once, and [`circulation::Resolved`], the problem
@@ -14,6 +15,7 @@ pub mod calibrate;
 pub mod circulation;
 pub mod evaluate;
 pub mod exact;
+pub mod motors;
 pub mod peaks;
 pub mod rapier;
 pub mod torque;

@@ -5,6 +5,7 @@
 //! in one `impl Default`. [`Problem::from_toml`] parses, applies `--set key=value` overrides and
 //! validates, so that a problem that loads is one every engine can run.
 
+pub mod actuator;
 pub mod error;
 pub mod limits;
 pub mod manoeuvre;
@@ -21,6 +22,7 @@ use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
 use limits::in_range;
 
+pub use actuator::{Actuator, PerJoint};
 pub use error::ProblemError;
 pub(crate) use error::{bad, not_positive, positive};
 pub use manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
@@ -60,6 +62,8 @@ pub struct Problem {
     pub drop: Drop,
     /// The manoeuvre: bend, twist, unbend.
     pub manoeuvre: Manoeuvre,
+    /// The joint motors' limits (`[actuator]`); absent means ideal motors.
+    pub actuator: Actuator,
     /// Settings of the exact engine.
     pub exact: ExactSettings,
     /// Settings of the rapier3d verification.
@@ -75,6 +79,7 @@ impl Default for Problem {
             cat: Cylinder::default(),
             drop: Drop::default(),
             manoeuvre: Manoeuvre::default(),
+            actuator: Actuator::default(),
             exact: ExactSettings::default(),
             rapier: RapierSettings::default(),
             optimize: OptimizeSettings::default(),
@@ -159,9 +164,17 @@ impl Problem {
             ));
         }
         self.manoeuvre.validate()?;
+        self.actuator.validate()?;
         self.exact.validate()?;
         self.rapier.validate()?;
         self.optimize.validate()?;
+        if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
+            return Err(bad(
+                "optimize.whole.objective",
+                "\"min-time\"",
+                crate::optimize::whole::settings::MIN_TIME_NEEDS_LIMITS,
+            ));
+        }
         Ok(())
     }
 
@@ -188,7 +201,12 @@ impl Problem {
 /// A parse error in the user's words: serde's type names replaced by the file's section names and
 /// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
 fn user_message(e: &toml::de::Error) -> String {
-    const NAMES: [(&str, &str); 12] = [
+    const NAMES: [(&str, &str); 14] = [
+        (
+            "data did not match any variant of untagged enum PerJoint",
+            "expected a number (both joints) or a pair [joint 1, joint 2]",
+        ),
+        ("struct Actuator", "the [actuator] section"),
         ("struct Problem", "a problem file"),
         ("struct Cylinder", "the [cat] section"),
         ("struct Drop", "the [drop] section"),

@@ -13,6 +13,9 @@ pub enum Objective {
     Peak,
     /// The effort `∫ τ·τ dt`, N²·m²·s.
     Energy,
+    /// The least fall time within the motors' limits (`[actuator]`), s: the least drop height
+    /// `g T²/2`. The path is optimised for its shape; its duration is the result.
+    MinTime,
 }
 
 impl Objective {
@@ -21,6 +24,7 @@ impl Objective {
         match self {
             Objective::Peak => "peak",
             Objective::Energy => "energy",
+            Objective::MinTime => "min-time",
         }
     }
 }

@@ -68,7 +68,7 @@ pub fn exact_report(
     let e = match evaluation {
         Some(e) => e,
         None => {
-            made = Evaluation::new(r.cat(), schedule, &r.problem.exact);
+            made = Evaluation::new(r.cat(), schedule, &r.problem.actuator.motors(), &r.problem.exact);
             &made
         }
     };

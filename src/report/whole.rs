@@ -13,6 +13,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::engines::circulation::Resolved;
+use crate::engines::motors::LimitUse;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{verify, RapierError, Reference, Verification};
 use crate::engines::torque::joint_torques;
@@ -25,6 +26,9 @@ use crate::schedule::{Schedule, Trajectory};
 /// Samples per second of fall used to split the optimum's peaks over the phase windows (the
 /// whole-fall maximum is the refined peak of the optimiser's re-measurement).
 const WINDOW_SAMPLES: usize = 20_000;
+
+/// A limit whose usage ratio is within this of 1 counts as active.
+pub const ACTIVE_RATIO: f64 = 1e-3;
 
 /// The whole-manoeuvre optimum of a problem.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -50,6 +54,19 @@ pub struct WholeReport {
     pub max_bend_deg: Option<f64>,
     /// How far its bend direction turns over the fall, turns.
     pub bend_turns: Option<f64>,
+    /// The optimum's fall time, s: the problem's, or with the objective `min-time` the least
+    /// fall time within the motors.
+    pub fall_time_s: Option<f64>,
+    /// The drop height of that fall, `g T²/2`, m.
+    pub drop_height_m: Option<f64>,
+    /// Peak joint speeds of joints 1 and 2, rad/s.
+    pub peak_speed_rad_s: Option<[f64; 2]>,
+    /// Peak mechanical powers `|τ q̇|` of joints 1 and 2, W.
+    pub peak_power_w: Option<[f64; 2]>,
+    /// The motor limits the optimum reaches (usage within [`ACTIVE_RATIO`] of 1), where and when.
+    pub active_limits: Vec<LimitUse>,
+    /// The motors' verdict on the optimum, in words ("ideal motors" without `[actuator]`).
+    pub motors: Option<String>,
     /// Every start's outcome, the best one included.
     pub outcome: WholeOutcome,
 }
@@ -70,7 +87,8 @@ impl WholeReport {
 pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
     let p = &r.problem;
     let settings = &p.optimize.whole;
-    let outcome = optimize_whole(&p.cat, p.drop.fall_time(), &p.manoeuvre, settings, p.exact.tolerance)?;
+    let outcome =
+        optimize_whole(&p.cat, p.drop.fall_time(), &p.manoeuvre, settings, &p.actuator.motors(), p.exact.tolerance)?;
     let best = outcome.best();
     let status = match best {
         Some(b) => b.status.to_string(),
@@ -81,6 +99,7 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
         ),
     };
     let peaks = best.map(|b| window_peaks(r, &b.spline, b.peak_torque_nm));
+    let fall = best.map(|b| b.fall_time_s);
     Ok(WholeReport {
         problem: p.name.clone(),
         objective: settings.objective,
@@ -92,20 +111,30 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
         iterations: best.map(|b| b.iterations),
         max_bend_deg: best.map(|b| b.max_bend_deg),
         bend_turns: best.map(|b| b.bend_turns),
+        fall_time_s: fall,
+        drop_height_m: fall.map(|t| 0.5 * p.drop.gravity * t * t),
+        peak_speed_rad_s: best.map(|b| b.motors.peak_speed_rad_s.map(|x| x.value)),
+        peak_power_w: best.map(|b| b.motors.peak_power_w.map(|x| x.value)),
+        active_limits: best
+            .map(|b| b.motors.limits.iter().copied().filter(|l| l.ratio >= 1.0 - ACTIVE_RATIO).collect())
+            .unwrap_or_default(),
+        motors: best.map(|b| b.motors.verdict()),
         outcome,
     })
 }
 
-/// The optimum's peaks over the time windows of the problem's phases; `max` is `peak`, the
+/// The optimum's peaks over the time windows of the problem's phases (as fractions of its own
+/// duration, which `min-time` makes shorter than the problem's fall); `max` is `peak`, the
 /// refined whole-fall peak (at least every window's sampled peak).
 fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
     let total = spline.total_duration();
+    let to_schedule = r.schedule.duration() / total;
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
     let mut w = [[0.0f64; 2]; 3];
     for k in 0..=n {
         let t = total * k as f64 / n as f64;
         let tau = joint_torques(&r.problem.cat, &spline.state_at(t)).tau;
-        let window = &mut w[r.schedule.locate(t).0.index()];
+        let window = &mut w[r.schedule.locate(t * to_schedule).0.index()];
         for (m, x) in window.iter_mut().zip(tau) {
             *m = m.max(x.abs());
         }
@@ -157,6 +186,7 @@ impl WholeReport {
                     180.0 - b.max_bend_deg,
                     b.bend_turns
                 );
+                let _ = writeln!(s, "{}", self.motor_lines(b));
             }
             None => {
                 let _ = writeln!(s, "- **{}**", self.status);
@@ -213,6 +243,34 @@ impl WholeReport {
             }
         }
         s
+    }
+}
+
+impl WholeReport {
+    /// The fall and motor lines of the Markdown report.
+    fn motor_lines(&self, b: &WholeSolution) -> String {
+        let m = &b.motors;
+        let fall = match (self.objective, self.drop_height_m) {
+            (Objective::MinTime, Some(h)) => format!(
+                "- Least fall time within the motors **{:.6} s**: drop height **{:.4} m**; active limits: {}.",
+                b.fall_time_s,
+                h,
+                if self.active_limits.is_empty() {
+                    "none".to_string()
+                } else {
+                    self.active_limits.iter().map(|l| l.describe()).collect::<Vec<_>>().join(", ")
+                }
+            ),
+            _ => format!("- Fall time {:.6} s.", b.fall_time_s),
+        };
+        format!(
+            "{fall}\n- Motor sizing: peak speed [{:.4}, {:.4}] rad/s, peak power [{:.4}, {:.4}] W (joints 1, 2); {}.",
+            m.peak_speed_rad_s[0].value,
+            m.peak_speed_rad_s[1].value,
+            m.peak_power_w[0].value,
+            m.peak_power_w[1].value,
+            m.verdict()
+        )
     }
 }
 

@@ -98,8 +98,14 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
 /// The `whole` row: the whole-manoeuvre optimum of the case.
 pub(crate) fn whole(problem: &Problem, compute: &Compute) -> Measured {
     let settings = whole_settings(compute);
-    let outcome =
-        optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, &settings, problem.exact.tolerance);
+    let outcome = optimize_whole(
+        &problem.cat,
+        problem.drop.fall_time(),
+        &problem.manoeuvre,
+        &settings,
+        &problem.actuator.motors(),
+        problem.exact.tolerance,
+    );
     let outcome: WholeOutcome = match outcome {
         Ok(o) => o,
         Err(e @ WholeError::BadFieldValue { .. }) => {

@@ -1,6 +1,7 @@
 //! The final measurement of a trajectory by the reference engines, never by the optimiser's
 //! model: flip by [`crate::engines::exact::flip`], peak by [`crate::engines::torque::peak_torques`], energy by
-//! Gauss–Legendre quadrature of [`crate::engines::torque::joint_torques`], and the bend's shape.
+//! Gauss–Legendre quadrature of [`crate::engines::torque::joint_torques`], the bend's shape, and
+//! what it asks of the motors by [`crate::engines::motors::motor_demand`].
 
 use std::f64::consts::{PI, TAU};
 
@@ -8,7 +9,9 @@ use serde::Serialize;
 
 use super::spline::BSpline;
 use crate::engines::exact::{flip, Flip};
-use crate::engines::torque::{joint_torques, peak_torques};
+use crate::engines::motors::{motor_demand, MotorDemand};
+use crate::engines::torque::{joint_torques, peak_torques, piece_samples};
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
@@ -16,7 +19,7 @@ use crate::schedule::Trajectory;
 pub const PEAK_SAMPLES_PER_SPAN: usize = 64;
 
 /// What the reference engines say of a trajectory.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Measurement {
     /// The flip.
     pub flip: Flip,
@@ -32,10 +35,12 @@ pub struct Measurement {
     pub max_bend: f64,
     /// Turns of the bend direction about A's axis.
     pub bend_turns: f64,
+    /// What it asks of the motors.
+    pub motors: MotorDemand,
 }
 
-/// Measures `spline` (flip to `tolerance` rad).
-pub fn measure(cat: &Cylinder, spline: &BSpline, tolerance: f64) -> Measurement {
+/// Measures `spline` driven by `motors` (flip to `tolerance` rad).
+pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64) -> Measurement {
     let flip = flip(cat, spline, tolerance);
     let peaks = peak_torques(cat, spline, PEAK_SAMPLES_PER_SPAN);
     let (peak, peak_time) = peaks.per_piece.iter().flatten().map(|p| (p.value, p.time)).fold((0.0, 0.0), |best, p| {
@@ -87,5 +92,6 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, tolerance: f64) -> Measurement 
         energy,
         max_bend,
         bend_turns: turned / TAU,
+        motors: motor_demand(cat, spline, &piece_samples(spline, PEAK_SAMPLES_PER_SPAN), motors),
     }
 }

@@ -47,6 +47,7 @@
 
 pub mod dual;
 pub mod dynamics;
+pub mod limits;
 pub mod measure;
 pub mod scvx;
 pub mod sensitivity;
@@ -68,6 +69,8 @@ pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, Whol
 pub use spline::BSpline;
 pub use starts::{build_start, NamedStart};
 
+use crate::engines::motors::RATIO_TOLERANCE;
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
@@ -78,23 +81,35 @@ const COARSE_OPTIMALITY: f64 = 1e-5;
 /// How far the measured bend may exceed its limit between the samples it is imposed on, degrees.
 pub const BEND_SLACK_DEG: f64 = 0.1;
 
+/// Most times the motor limits are tightened on the samples after the dense re-measurement
+/// found them exceeded between samples.
+const MAX_TIGHTENINGS: usize = 4;
+
+/// Relative margin below each motor limit that the samples are held to at a fixed fall: above the
+/// stage's feasibility threshold, so that a converged stage is within its limits.
+const LIMIT_MARGIN: f64 = 1e-6;
+
 /// The target orientation of a flip: a half turn about A's initial spine axis.
 pub fn flipped() -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI)
 }
 
-/// Optimises the whole manoeuvre of `cat` over a fall of `duration` s from the starts named in
-/// `settings` (built from `manoeuvre`: its bend, phases and profile), flipping the cat to
-/// `tolerance` rad in twist and swing.
+/// Optimises the whole manoeuvre of `cat`, driven by `motors`, over a fall of `duration` s from
+/// the starts named in `settings` (built from `manoeuvre`: its bend, phases and profile),
+/// flipping the cat to `tolerance` rad in twist and swing. With the objective `min-time` the
+/// result's duration is the least fall time within the motors (`duration` only scales the
+/// starts).
 pub fn optimize_whole(
     cat: &Cylinder,
     duration: f64,
     manoeuvre: &Manoeuvre,
     settings: &WholeSettings,
+    motors: &Motors,
     tolerance: f64,
 ) -> Result<WholeOutcome, WholeError> {
     settings.validate()?;
     settings::positive_input("drop duration", duration)?;
+    settings::needs_limits(settings.objective, motors)?;
     let built: Vec<_> =
         settings.starts.par_iter().map(|&kind| (kind, build_start(cat, duration, manoeuvre, kind, settings))).collect();
     let mut starts = Vec::new();
@@ -105,28 +120,31 @@ pub fn optimize_whole(
             Err(reason) => skipped.push(SkippedStart { start: kind.name().to_string(), reason }),
         }
     }
-    let mut outcome = optimize_from(cat, &starts, settings, tolerance)?;
+    let mut outcome = optimize_from(cat, &starts, settings, motors, tolerance)?;
     outcome.skipped = skipped;
     Ok(outcome)
 }
 
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
-/// with the ends fixed as `settings` says).
+/// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
     cat: &Cylinder,
     starts: &[NamedStart],
     settings: &WholeSettings,
+    motors: &Motors,
     tolerance: f64,
 ) -> Result<WholeOutcome, WholeError> {
     settings.validate()?;
     settings::positive_input("tolerance", tolerance)?;
-    let problem = ScvxProblem { cat, settings, target: Some(flipped()), qp: QpSettings::default() };
+    settings::needs_limits(settings.objective, motors)?;
+    let problem = ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default() };
     // The starts are independent: solved in parallel, reported in the order given.
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
     let value = |s: &WholeSolution| match settings.objective {
         Objective::Peak => s.peak_torque_nm,
         Objective::Energy => s.energy,
+        Objective::MinTime => s.fall_time_s,
     };
     let best = (0..solutions.len())
         .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
@@ -135,6 +153,10 @@ pub fn optimize_from(
 }
 
 /// Optimises from one start: the stages, the Newton phase, and the exact re-measurement.
+///
+/// With motor limits at a fixed fall (objectives `peak` and `energy`), a `min-time` stage comes
+/// first: its least fall time says whether any flip within the motors exists in this fall, and
+/// its path, slowed to the fall, is a start within the limits for the constrained final stage.
 pub fn optimize_start(
     problem: &ScvxProblem<'_>,
     start: &NamedStart,
@@ -150,80 +172,189 @@ pub fn optimize_start(
             reason: format!("needs {} cubic control points per joint", s.control_points),
         });
     }
-    let mut steps = s.steps_per_span;
-    let mut log = Vec::new();
+    let mut run = Run { problem, steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
     let (duration, degree, fixed) = (start.spline.duration(), WholeSettings::DEGREE, s.fixed());
     let mut spline = start.spline.clone();
     let quarter = (s.max_iterations / 4).max(1);
     if let Some(n) = s.coarse_control_points.filter(|&n| n < s.control_points) {
         let coarse_settings = WholeSettings { control_points: n, ..s.clone() };
         let coarse = ScvxProblem { settings: &coarse_settings, ..problem.clone() };
+        let steps = run.steps;
         let fitted = coarse.polish(BSpline::fit(duration, n, degree, fixed, |t| spline.state(t).q), steps, 8).0;
         let it = coarse.evaluate(fitted, Objective::Energy, steps);
-        let solved = coarse.stage(it, Objective::Energy, COARSE_OPTIMALITY, quarter, steps, &mut log)?.iterate.spline;
+        let solved = coarse
+            .stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, quarter, steps, &mut run.log)?
+            .iterate
+            .spline;
         spline = BSpline::fit(duration, s.control_points, degree, fixed, |t| solved.state(t).q);
     }
-    spline = problem.polish(spline, steps, 8).0;
-    if s.homotopy && s.objective == Objective::Peak {
-        let it = problem.evaluate(spline, Objective::Energy, steps);
-        let budget = log.len() + quarter;
-        spline = problem.stage(it, Objective::Energy, COARSE_OPTIMALITY, budget, steps, &mut log)?.iterate.spline;
+    spline = problem.polish(spline, run.steps, 8).0;
+    if s.homotopy && s.objective != Objective::Energy {
+        let it = problem.evaluate(spline, Objective::Energy, run.steps);
+        let budget = run.log.len() + quarter;
+        spline = problem
+            .stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, budget, run.steps, &mut run.log)?
+            .iterate
+            .spline;
     }
-    let it = problem.evaluate(spline, s.objective, steps);
-    let end = problem.stage(it, s.objective, s.optimality, s.max_iterations, steps, &mut log)?;
-    let (mut status, mut reason) = (end.status, end.reason);
-    let flip_tolerance = (1e-2 * tolerance).min(1e-10);
-    let (mut spline, mut polish_steps) = problem.polish(end.iterate.spline, steps, 8);
-    if problem.target.is_some() {
-        loop {
-            let f = crate::engines::exact::flip(problem.cat, &spline, flip_tolerance);
-            let good = ((f.twist.abs() - PI).abs() <= 0.1 * tolerance && f.swing <= 0.1 * tolerance) || steps >= 1024;
-            if good {
-                break;
-            }
-            steps *= 2;
-            let (next, k) = problem.polish(spline, steps, 8);
+    let constrained = !problem.motors.is_ideal() && s.objective != Objective::MinTime;
+    // At a fixed fall the motors' limits are constraints `ρ ≤ bound` of the final stage,
+    // tightened when the dense re-measurement finds them exceeded between the samples.
+    let mut bound = 1.0 - LIMIT_MARGIN;
+    if constrained {
+        // Feasibility first: shorten the least fall time until the path fits this one.
+        let (status, reason, shape, m) = run.solve(spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
+        let least = m.motors.stretch.map_or(0.0, |k| k.value);
+        if least > 1.0 + RATIO_TOLERANCE {
+            let reason = if status == WholeStatus::Converged {
+                format!(
+                    "no flip within the motors in a fall of {duration:.6} s: the least fall time found is {:.6} s ({least:.4}× this fall; objective \"min-time\" gives the least drop height)",
+                    duration * least
+                )
+            } else {
+                format!(
+                    "no flip within the motors found in a fall of {duration:.6} s (the least-fall-time stage ended {status} at {least:.4}× this fall: {reason})"
+                )
+            };
+            return Ok(run.solution(start, WholeStatus::Infeasible, reason, shape, m, clock));
+        }
+        spline = shape;
+    }
+    let mut tightenings = 0;
+    let (mut status, mut reason, spline, m) = loop {
+        let (status, reason, next, m) =
+            run.solve(spline, s.objective, constrained.then_some(bound), None, s.max_iterations)?;
+        let excess = m.motors.worst().map_or(0.0, |w| w.ratio);
+        if constrained && status == WholeStatus::Converged && excess > 1.0 && tightenings < MAX_TIGHTENINGS {
+            // Exceeded between the samples: hold the samples below the limit by the excess.
+            bound /= excess * (1.0 + LIMIT_MARGIN);
+            tightenings += 1;
             spline = next;
-            polish_steps += k;
+            continue;
         }
+        break (status, reason, next, m);
+    };
+    if tightenings > 0 {
+        reason = format!("{reason}; limits tightened {tightenings}× on the samples to hold between them");
     }
-    let m = measure::measure(problem.cat, &spline, flip_tolerance);
-    let flips = m.twist_error <= tolerance && m.flip.swing <= tolerance;
-    if problem.target.is_some() && !flips {
-        if status == WholeStatus::Converged {
-            status = WholeStatus::Infeasible;
+    // The least fall time: the path slowed by its largest stretch touches its limits exactly.
+    let (spline, m) = match (s.objective, m.motors.stretch) {
+        (Objective::MinTime, Some(k)) if k.value > 0.0 => {
+            let slowed = spline.stretched(k.value);
+            let m = measure::measure(problem.cat, &slowed, problem.motors, run.flip_tolerance());
+            (slowed, m)
         }
-        reason = format!(
-            "{reason}; the exact engine measures |twist| − π = {:.3e} rad, swing {:.3e} rad",
-            m.twist_error, m.flip.swing
-        );
+        _ => (spline, m),
+    };
+    if constrained && !m.motors.within() && status == WholeStatus::Converged {
+        status = WholeStatus::Infeasible;
+        reason = format!("{reason}; the dense re-measurement {}", m.motors.verdict());
     }
-    if let Some(limit) = s.min_angle_deg {
-        let excess = m.max_bend.to_degrees() - (180.0 - limit);
-        if excess > BEND_SLACK_DEG {
+    Ok(run.solution(start, status, reason, spline, m, clock))
+}
+
+/// The state of one start's optimisation: its problem, the loop's Magnus steps per span, the log
+/// and the Newton steps spent.
+struct Run<'a, 'b> {
+    problem: &'a ScvxProblem<'b>,
+    steps: usize,
+    log: Vec<IterationLog>,
+    polish_steps: usize,
+    tolerance: f64,
+}
+
+impl Run<'_, '_> {
+    /// The tolerance of the final flip's re-measurement, rad.
+    fn flip_tolerance(&self) -> f64 {
+        (1e-2 * self.tolerance).min(1e-10)
+    }
+
+    /// One stage of `objective` (with `bound` on the limit rows, ending early at `enough`,
+    /// [`ScvxProblem::stage`]) until `budget` log entries, then the Newton phase (doubling the
+    /// loop's steps until the adaptive engine agrees) and the exact re-measurement.
+    fn solve(
+        &mut self,
+        spline: BSpline,
+        objective: Objective,
+        bound: Option<f64>,
+        enough: Option<f64>,
+        budget: usize,
+    ) -> Result<(WholeStatus, String, BSpline, measure::Measurement), WholeError> {
+        let p = self.problem;
+        let optimality = p.settings.optimality;
+        let it = p.evaluate(spline, objective, self.steps);
+        let end = p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?;
+        let (mut spline, k) = p.polish(end.iterate.spline, self.steps, 8);
+        self.polish_steps += k;
+        let flip_tolerance = self.flip_tolerance();
+        if p.target.is_some() {
+            loop {
+                let f = crate::engines::exact::flip(p.cat, &spline, flip_tolerance);
+                let good = ((f.twist.abs() - PI).abs() <= 0.1 * self.tolerance && f.swing <= 0.1 * self.tolerance)
+                    || self.steps >= 1024;
+                if good {
+                    break;
+                }
+                self.steps *= 2;
+                let (next, k) = p.polish(spline, self.steps, 8);
+                spline = next;
+                self.polish_steps += k;
+            }
+        }
+        let m = measure::measure(p.cat, &spline, p.motors, flip_tolerance);
+        Ok((end.status, end.reason, spline, m))
+    }
+
+    /// The start's result: the flip and bend checked against the tolerances and limits.
+    fn solution(
+        self,
+        start: &NamedStart,
+        mut status: WholeStatus,
+        mut reason: String,
+        spline: BSpline,
+        m: measure::Measurement,
+        clock: Instant,
+    ) -> WholeSolution {
+        let p = self.problem;
+        let flips = m.twist_error <= self.tolerance && m.flip.swing <= self.tolerance;
+        if p.target.is_some() && !flips {
             if status == WholeStatus::Converged {
                 status = WholeStatus::Infeasible;
             }
-            reason = format!("{reason}; the bend exceeds its limit by {excess:.3}° between samples");
+            reason = format!(
+                "{reason}; the exact engine measures |twist| − π = {:.3e} rad, swing {:.3e} rad",
+                m.twist_error, m.flip.swing
+            );
+        }
+        if let Some(limit) = p.settings.min_angle_deg {
+            let excess = m.max_bend.to_degrees() - (180.0 - limit);
+            if excess > BEND_SLACK_DEG {
+                if status == WholeStatus::Converged {
+                    status = WholeStatus::Infeasible;
+                }
+                reason = format!("{reason}; the bend exceeds its limit by {excess:.3}° between samples");
+            }
+        }
+        WholeSolution {
+            start: start.name.clone(),
+            status,
+            reason,
+            twist: m.flip.twist,
+            swing: m.flip.swing,
+            twist_error: m.twist_error,
+            flip_error_estimate: m.flip.error_estimate,
+            peak_torque_nm: m.peak,
+            peak_time: m.peak_time,
+            energy: m.energy,
+            max_bend_deg: m.max_bend.to_degrees(),
+            bend_turns: m.bend_turns,
+            fall_time_s: spline.duration(),
+            motors: m.motors,
+            iterations: self.log.len(),
+            polish_steps: self.polish_steps,
+            seconds: clock.elapsed().as_secs_f64(),
+            log: self.log,
+            spline,
         }
     }
-    Ok(WholeSolution {
-        start: start.name.clone(),
-        status,
-        reason,
-        twist: m.flip.twist,
-        swing: m.flip.swing,
-        twist_error: m.twist_error,
-        flip_error_estimate: m.flip.error_estimate,
-        peak_torque_nm: m.peak,
-        peak_time: m.peak_time,
-        energy: m.energy,
-        max_bend_deg: m.max_bend.to_degrees(),
-        bend_turns: m.bend_turns,
-        iterations: log.len(),
-        polish_steps,
-        seconds: clock.elapsed().as_secs_f64(),
-        log,
-        spline,
-    })
 }

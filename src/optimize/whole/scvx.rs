@@ -32,6 +32,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion};
 
+use super::limits::{largest, limit_rows, LimitRow, RowForm};
 use super::sensitivity::{
     bend_samples, final_orientation, gauss_grid, torque_samples, uniform_grid, BendSample, FinalOrientation, Layout,
     TorqueSample,
@@ -39,7 +40,8 @@ use super::sensitivity::{
 use super::settings::{Objective, WholeError, WholeSettings};
 use super::solution::{IterationLog, WholeStatus};
 use super::spline::BSpline;
-use super::subproblem::{Subproblem, BEND_PENALTY};
+use super::subproblem::{Subproblem, BEND_PENALTY, LIMIT_PENALTY};
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 
@@ -59,6 +61,8 @@ pub struct ScvxProblem<'a> {
     pub cat: &'a Cylinder,
     /// The settings.
     pub settings: &'a WholeSettings,
+    /// The joint motors (ideal: no limit rows).
+    pub motors: &'a Motors,
     /// A's final orientation required; none leaves it free (a test problem with a known answer).
     pub target: Option<UnitQuaternion<f64>>,
     /// Clarabel's settings for every subproblem.
@@ -78,6 +82,18 @@ pub(crate) struct Iterate {
     pub(crate) violation: f64,
     /// `max_k max(0, cos β_max − cos β_k)`.
     bend_violation: f64,
+    /// The motor-limit rows on the peak grid ([`super::limits`]: `k²` for `min-time`, `ρ`
+    /// otherwise); empty with ideal motors.
+    limits: Vec<LimitRow>,
+    /// The largest `k²` or `ρ` of `limits`.
+    pub(crate) limit_max: f64,
+}
+
+impl Iterate {
+    /// How far the largest `ρ` exceeds `bound` (zero within, or without a bound).
+    fn limit_violation(&self, bound: Option<f64>) -> f64 {
+        bound.map_or(0.0, |b| (self.limit_max - b).max(0.0))
+    }
 }
 
 /// How a stage ended.
@@ -98,10 +114,19 @@ impl ScvxProblem<'_> {
         let layout = self.layout();
         let uniform = uniform_grid(&spline, self.settings.samples_per_span);
         let grid = match objective {
-            Objective::Peak => uniform.clone(),
+            Objective::Peak | Objective::MinTime => uniform.clone(),
             Objective::Energy => gauss_grid(&spline, 2),
         };
         let samples = torque_samples(self.cat, &spline, &layout, &grid);
+        let limits = match objective {
+            _ if self.motors.is_ideal() => Vec::new(),
+            Objective::MinTime => limit_rows(&samples, self.motors, RowForm::Stretch),
+            Objective::Peak => limit_rows(&samples, self.motors, RowForm::Ratio),
+            Objective::Energy => {
+                limit_rows(&torque_samples(self.cat, &spline, &layout, &uniform), self.motors, RowForm::Ratio)
+            }
+        };
+        let limit_max = largest(&limits);
         let bend =
             if self.settings.min_angle_deg.is_some() { bend_samples(&spline, &layout, &uniform) } else { Vec::new() };
         let orientation = self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t));
@@ -109,6 +134,7 @@ impl ScvxProblem<'_> {
         let value = match objective {
             Objective::Peak => peak,
             Objective::Energy => samples.iter().map(|s| s.weight * (s.tau[0].powi(2) + s.tau[1].powi(2))).sum(),
+            Objective::MinTime => limit_max,
         };
         let violation = orientation.as_ref().map_or(0.0, |o| o.error.abs().sum());
         let floor = self.settings.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
@@ -123,14 +149,22 @@ impl ScvxProblem<'_> {
             peak,
             violation,
             bend_violation,
+            limits,
+            limit_max,
         }
     }
 
-    /// Runs one stage (module docs) from `it` until it ends or the log holds `budget` entries.
+    /// Runs one stage (module docs) from `it` until it ends or the log holds `budget` entries;
+    /// with `bound`, every motor-limit ratio is held to `ρ ≤ bound` ([`super::limits`]); with
+    /// `enough`, it also ends (converged) at the first iterate on the orientation constraint whose
+    /// objective is at most `enough` (a feasibility phase).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn stage(
         &self,
         mut it: Iterate,
         objective: Objective,
+        bound: Option<f64>,
+        enough: Option<f64>,
         optimality: f64,
         budget: usize,
         steps: usize,
@@ -146,6 +180,10 @@ impl ScvxProblem<'_> {
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
         let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
         loop {
+            if enough.is_some_and(|e| it.objective <= e) && it.violation <= LOOP_FEASIBILITY {
+                let reason = format!("objective {:.6} within {:.6}", it.objective, enough.unwrap_or(0.0));
+                return end(it, WholeStatus::Converged, reason);
+            }
             if log.len() >= budget {
                 return end(it, WholeStatus::MaxIterations, format!("{budget} iterations used"));
             }
@@ -161,9 +199,16 @@ impl ScvxProblem<'_> {
                 values: &it.values,
                 joint_limit: s.joint_limit_deg.map(f64::to_radians),
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
+                limits: &it.limits,
+                limit_bound: bound,
             };
             let step = sub.solve(&self.qp)?;
-            let merit = |x: &Iterate| x.objective / scale + penalty * x.violation + BEND_PENALTY * x.bend_violation;
+            let merit = |x: &Iterate| {
+                x.objective / scale
+                    + penalty * x.violation
+                    + BEND_PENALTY * x.bend_violation
+                    + LIMIT_PENALTY * x.limit_violation(bound)
+            };
             let now = merit(&it);
             let mut entry = IterationLog {
                 iteration: log.len() + 1,
@@ -200,7 +245,11 @@ impl ScvxProblem<'_> {
             }
             if predicted <= optimality {
                 log.push(entry);
-                if it.violation <= LOOP_FEASIBILITY && it.bend_violation <= LOOP_FEASIBILITY {
+                let limit_violation = it.limit_violation(bound);
+                if it.violation <= LOOP_FEASIBILITY
+                    && it.bend_violation <= LOOP_FEASIBILITY
+                    && limit_violation <= LOOP_FEASIBILITY
+                {
                     return end(
                         it,
                         WholeStatus::Converged,
@@ -211,10 +260,18 @@ impl ScvxProblem<'_> {
                     penalty *= 10.0;
                     continue;
                 }
-                let reason = format!(
-                    "stationary with |e|₁ = {:.3e} rad and the bend limit exceeded by {:.3e} (cosine) at penalty {penalty:.1e}",
-                    it.violation, it.bend_violation
-                );
+                let reason = if limit_violation > LOOP_FEASIBILITY {
+                    format!(
+                        "no flip within the motors in this fall: a motor limit is still used at {:.2} % (|e|₁ = {:.3e} rad); objective \"min-time\" finds the least fall time",
+                        100.0 * it.limit_max,
+                        it.violation
+                    )
+                } else {
+                    format!(
+                        "stationary with |e|₁ = {:.3e} rad and the bend limit exceeded by {:.3e} (cosine) at penalty {penalty:.1e}",
+                        it.violation, it.bend_violation
+                    )
+                };
                 return end(it, WholeStatus::Infeasible, reason);
             }
             let moved = self.polish(layout.moved(&it.spline, &step.step), steps, PROJECTION_STEPS).0;

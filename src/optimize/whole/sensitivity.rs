@@ -189,6 +189,10 @@ pub struct TorqueSample {
     pub tau: [f64; 2],
     /// `∂τ_j/∂x` as `(variable, value)`, N·m per rad.
     pub gradient: [Vec<(usize, f64)>; 2],
+    /// `(q̇1, q̇2)`, rad/s.
+    pub rate: [f64; 2],
+    /// `∂q̇_j/∂x`, in the same entries as `gradient` (zero for the other joint's points), 1/s.
+    pub rate_gradient: [Vec<(usize, f64)>; 2],
 }
 
 /// The cosine of the bend, `e_z = cos q1 cos q2` (B's axis on A's), with its gradient.
@@ -245,7 +249,12 @@ pub fn torque_samples(cat: &Cylinder, spline: &BSpline, layout: &Layout, grid: &
                 layout.chain(&basis, [e[0], e[1]], [e[2], e[3]], [e[4], e[5]], &mut g);
                 g
             });
-            TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient }
+            let rate_gradient = [[1.0, 0.0], [0.0, 1.0]].map(|unit| {
+                let mut g = Vec::with_capacity(2 * basis.values[0].len());
+                layout.chain(&basis, [0.0; 2], unit, [0.0; 2], &mut g);
+                g
+            });
+            TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient, rate: st.qd, rate_gradient }
         })
         .collect()
 }

@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::settings::Objective;
 use super::spline::BSpline;
+use crate::engines::motors::MotorDemand;
 use crate::optimize::qp::QpStatus;
 
 /// How one start's optimisation ended.
@@ -85,6 +86,11 @@ pub struct WholeSolution {
     pub max_bend_deg: f64,
     /// How far the bend direction turns about A's axis over the fall, turns (signed).
     pub bend_turns: f64,
+    /// The trajectory's duration, s: the problem's fall time, or with the objective `min-time`
+    /// the least fall time within the motors.
+    pub fall_time_s: f64,
+    /// What it asks of the motors (peak speed and power per joint, each limit's usage).
+    pub motors: MotorDemand,
     /// Trust-region iterations used.
     pub iterations: usize,
     /// Final Newton steps on the orientation constraint.

@@ -74,6 +74,12 @@ impl BSpline {
         self.knots[self.knots.len() - 1]
     }
 
+    /// The same joint path traversed `factor` times slower (`factor > 0`): every knot scaled,
+    /// the control points kept, so `q̇` scales as `1/factor` and `q̈` as `1/factor²`.
+    pub fn stretched(&self, factor: f64) -> Self {
+        Self { knots: self.knots.iter().map(|u| u * factor).collect(), ..self.clone() }
+    }
+
     /// The span holding `t` (the later one at an inner knot).
     pub fn span_of(&self, t: f64) -> usize {
         let spans = self.spans();

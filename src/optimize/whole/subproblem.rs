@@ -20,6 +20,7 @@
 
 use nalgebra::{DMatrix, Vector3};
 
+use super::limits::{LimitRow, ROW_FLOOR};
 use super::sensitivity::{BendSample, TorqueSample};
 use super::settings::Objective;
 use crate::optimize::qp::assembly::Assembly;
@@ -30,6 +31,11 @@ use crate::optimize::qp::{active_sides, QpError, QpSettings, QpStatus};
 /// constraint's curvature dominates every ratio test: with the orientation's `10⁴` the trust
 /// radius stayed below `10⁻³` rad for 100 iterations on the paper's problem at a 40° limit.
 pub const BEND_PENALTY: f64 = 100.0;
+
+/// Weight of the motor limits' elastic variable, relative to the current objective, per unit of
+/// `k²` ([`super::limits`]); chosen as [`BEND_PENALTY`] is: the limits' multipliers are of order
+/// one in these units (a torque limit active at the peak has multiplier `τ_max/J_u ≈ 1`).
+pub const LIMIT_PENALTY: f64 = 100.0;
 
 /// The data of one subproblem.
 #[derive(Clone, Copy, Debug)]
@@ -55,6 +61,12 @@ pub struct Subproblem<'a> {
     pub joint_limit: Option<f64>,
     /// Bend samples and `cos β_max`; none without a bend limit.
     pub bend: Option<(&'a [BendSample], f64)>,
+    /// The motor-limit rows ([`super::limits`]): `k²`, the objective of `min-time`, or `ρ`,
+    /// constraints `ρ ≤ limit_bound` otherwise (none without a bound).
+    pub limits: &'a [LimitRow],
+    /// The bound on every `ρ` row at a fixed fall time; none leaves the rows out (or, for
+    /// `min-time`, makes them the objective).
+    pub limit_bound: Option<f64>,
 }
 
 /// The subproblem's answer.
@@ -87,24 +99,47 @@ impl Subproblem<'_> {
                     .sum::<f64>()
                     / self.scale
             }
+            Objective::MinTime => {
+                self.limit_rows().map(|r| lin(r.constant, &r.gradient)).fold(0.0, f64::max) / self.scale
+            }
         };
+        let limits = self
+            .constraint_bound()
+            .map_or(0.0, |b| self.limit_rows().map(|r| lin(r.constant, &r.gradient) - b).fold(0.0, f64::max));
         let bend = self.bend.map_or(0.0, |(samples, floor)| {
             samples.iter().map(|b| floor - lin(b.cos_bend, &b.gradient)).fold(0.0, f64::max)
         });
         let violation = self.orientation.filter(|_| !self.hard).map_or(0.0, |(e, jac)| {
             (0..3).map(|i| (e[i] + (0..step.len()).map(|v| jac[(i, v)] * step[v]).sum::<f64>()).abs()).sum()
         });
-        objective + self.penalty * violation + BEND_PENALTY * bend
+        objective + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
+    }
+
+    /// The bound of the motor-limit constraints, when they are constraints.
+    fn constraint_bound(&self) -> Option<f64> {
+        self.limit_bound.filter(|_| self.objective != Objective::MinTime)
+    }
+
+    /// The limit rows a subproblem keeps: those at or above [`ROW_FLOOR`] of the reference (the
+    /// bound, or the largest row for `min-time`).
+    fn limit_rows(&self) -> impl Iterator<Item = &LimitRow> + '_ {
+        let reference = match self.constraint_bound() {
+            Some(b) => b,
+            None if self.objective == Objective::MinTime => super::limits::largest(self.limits),
+            None => f64::INFINITY,
+        };
+        self.limits.iter().filter(move |r| !r.floored || r.value >= ROW_FLOOR * reference)
     }
 
     /// Assembles and solves the subproblem.
     pub fn solve(&self, settings: &QpSettings) -> Result<Step, QpError> {
         let n = self.values.len();
         let bound = n;
-        let slack = n + usize::from(self.objective == Objective::Peak);
+        let slack = n + usize::from(matches!(self.objective, Objective::Peak | Objective::MinTime));
         let soft = self.orientation.filter(|_| !self.hard);
         let elastic = slack + if soft.is_some() { 3 } else { 0 };
-        let total = elastic + usize::from(self.bend.is_some());
+        let limit_elastic = elastic + usize::from(self.bend.is_some());
+        let total = limit_elastic + usize::from(self.constraint_bound().is_some());
         let mut asm = Assembly::new(total);
         let unit = 1.0 / self.scale;
         match self.objective {
@@ -134,6 +169,33 @@ impl Subproblem<'_> {
                 }
                 for (v, &c) in linear.iter().enumerate() {
                     asm.linear_cost(v, c);
+                }
+            }
+            Objective::MinTime => {
+                asm.linear_cost(bound, 1.0);
+                // k² + gᵀδ ≤ t, screened as the peak's rows are: t is at least L = max(k² − r).
+                let rows: Vec<&LimitRow> = self.limit_rows().collect();
+                let spans: Vec<f64> = rows
+                    .iter()
+                    .map(|r| self.trust_radius * r.gradient.iter().map(|(_, c)| c.abs()).sum::<f64>())
+                    .collect();
+                let floor = rows.iter().zip(&spans).map(|(r, s)| r.constant - s).fold(f64::NEG_INFINITY, f64::max);
+                for (r, span) in rows.iter().zip(&spans) {
+                    if r.constant + span >= floor {
+                        let g = r.gradient.iter().map(|&(v, c)| (v, c * unit));
+                        asm.sides_at_most(g, r.constant * unit, [true, false], bound);
+                    }
+                }
+            }
+        }
+        if let Some(b) = self.constraint_bound() {
+            // k² + gᵀδ − σ ≤ b with σ ≥ 0; a row that cannot reach b within the trust box is left out.
+            asm.linear_cost(limit_elastic, LIMIT_PENALTY);
+            asm.at_most([(limit_elastic, -1.0)], 0.0);
+            for r in self.limit_rows() {
+                let span = self.trust_radius * r.gradient.iter().map(|(_, c)| c.abs()).sum::<f64>();
+                if r.constant + span >= b {
+                    asm.at_most(r.gradient.iter().copied().chain([(limit_elastic, -1.0)]), b - r.constant);
                 }
             }
         }

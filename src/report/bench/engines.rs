@@ -154,7 +154,12 @@ pub fn rapier_curves(problem: &Problem, smooth: &Schedule, dts: &[f64]) -> Vec<C
 /// The raw and extrapolated curves of one schedule, named `name` and `name-extrapolated`.
 fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) -> Vec<Curve> {
     let cat = &problem.cat;
-    let exact = Evaluation::new(cat, schedule, &ExactSettings { tolerance: 1e-12, ..problem.exact });
+    let exact = Evaluation::new(
+        cat,
+        schedule,
+        &problem.actuator.motors(),
+        &ExactSettings { tolerance: 1e-12, ..problem.exact },
+    );
     let reference = FinalAngles::new(&exact.flip.orientation, exact.flip.twist);
     let run_at = |dt: f64| simulate(cat, schedule, &problem.rapier.with_dt(dt));
     let error = "max(|Δtwist|, |Δswing vector|) (rad)";
@@ -191,6 +196,6 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
 /// The wall time of one `catflip`-style evaluation (flip, peaks, jumps) for the record.
 pub fn evaluation_timing(problem: &Problem, schedule: &Schedule) -> Timing {
     Timing::measure(|| {
-        std::hint::black_box(Evaluation::new(&problem.cat, schedule, &problem.exact));
+        std::hint::black_box(Evaluation::new(&problem.cat, schedule, &problem.actuator.motors(), &problem.exact));
     })
 }

@@ -178,8 +178,15 @@ fn whole_settings(settings: &WholeSettings, control_points: usize) -> WholeSetti
 /// Runs the whole-manoeuvre optimiser of `problem` at `control_points`.
 fn whole_at(problem: &Problem, control_points: usize) -> Result<WholeOutcome, String> {
     let settings = whole_settings(&problem.optimize.whole, control_points);
-    optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, &settings, problem.exact.tolerance)
-        .map_err(|e| e.to_string())
+    optimize_whole(
+        &problem.cat,
+        problem.drop.fall_time(),
+        &problem.manoeuvre,
+        &settings,
+        &problem.actuator.motors(),
+        problem.exact.tolerance,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// The best start's peak torque, N·m, or why there is none.

@@ -1,0 +1,247 @@
+//! What a trajectory asks of its motors: the motor-sizing figures (DESIGN.md §9).
+//!
+//! Per joint `j`, over the whole trajectory:
+//! - the peak speed `max |q̇_j|` (rad/s) and the peak mechanical power `max |τ_j q̇_j|` (W), with
+//!   the torques `τ` from Newton–Euler on the zero-momentum motion ([`crate::engines::torque`]);
+//! - with limits ([`crate::model::motor`]), each limit's worst usage ratio `max ρ` (within when
+//!   `ρ ≤ 1`; `1 − ρ` is the margin) and where it occurs;
+//! - the largest stretch `k`: the factor by which the same path must be slowed to stay within
+//!   every limit (`k ≤ 1`: within), so that the path's least duration is `k` times its own.
+//!
+//! Sampling follows the trajectory's own time scale, as the peak torques do
+//! ([`crate::engines::torque::piece_samples`]), with both sides of every acceleration jump; the
+//! largest sample of each quantity (and each piece's within 2 % of it) is refined by
+//! golden-section search between its neighbours.
+
+use serde::Serialize;
+
+use crate::engines::torque::{joint_torques, Peak};
+use crate::model::motor::{Limit, Motors};
+use crate::model::Cylinder;
+use crate::numeric::roots::golden_max;
+use crate::schedule::{JointState, Trajectory};
+
+/// A usage ratio above `1 + RATIO_TOLERANCE` exceeds its limit (round-off of the measurement).
+pub const RATIO_TOLERANCE: f64 = 1e-9;
+
+/// A limit's worst usage over a trajectory.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LimitUse {
+    /// Which limit.
+    pub limit: Limit,
+    /// Which joint, 1 or 2.
+    pub joint: usize,
+    /// `max ρ`, dimensionless (at most 1 within the limit).
+    pub ratio: f64,
+    /// When it occurs, s.
+    pub time: f64,
+}
+
+impl LimitUse {
+    /// Whether the limit is exceeded.
+    pub fn exceeded(&self) -> bool {
+        self.ratio > 1.0 + RATIO_TOLERANCE
+    }
+
+    /// The limit in words, e.g. "joint 2's speed limit at 0.712 s (112.0 %)".
+    pub fn describe(&self) -> String {
+        format!("joint {}'s {} limit at {:.3} s ({:.1} %)", self.joint, self.limit, self.time, 100.0 * self.ratio)
+    }
+}
+
+/// The largest stretch over a trajectory ([`crate::model::motor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StretchPeak {
+    /// `max k`, dimensionless.
+    pub value: f64,
+    /// When, s.
+    pub time: f64,
+    /// Which joint, 1 or 2.
+    pub joint: usize,
+    /// Which limit.
+    pub limit: Limit,
+}
+
+/// What a trajectory asks of its motors.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MotorDemand {
+    /// Peak `|q̇_j|` of joints 1 and 2, rad/s.
+    pub peak_speed_rad_s: [Peak; 2],
+    /// Peak `|τ_j q̇_j|` of joints 1 and 2, W.
+    pub peak_power_w: [Peak; 2],
+    /// Each limit's worst usage, joint 1's limits first; empty with ideal motors.
+    pub limits: Vec<LimitUse>,
+    /// The largest stretch; none with ideal motors.
+    pub stretch: Option<StretchPeak>,
+}
+
+impl MotorDemand {
+    /// The limits exceeded.
+    pub fn exceeded(&self) -> Vec<LimitUse> {
+        self.limits.iter().copied().filter(LimitUse::exceeded).collect()
+    }
+
+    /// The limit with the least margin (largest ratio), if any.
+    pub fn worst(&self) -> Option<LimitUse> {
+        self.limits.iter().copied().max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+    }
+
+    /// Whether every limit holds (true with ideal motors).
+    pub fn within(&self) -> bool {
+        self.exceeded().is_empty()
+    }
+
+    /// The verdict in words: within the motors (with the least margin), or which limits the
+    /// trajectory exceeds, by how much and when; "ideal motors" without limits.
+    pub fn verdict(&self) -> String {
+        let exceeded = self.exceeded();
+        if !exceeded.is_empty() {
+            let list: Vec<String> = exceeded.iter().map(LimitUse::describe).collect();
+            return format!("exceeds {}", list.join(", "));
+        }
+        match self.worst() {
+            Some(w) => {
+                format!("within the motors (least margin {:.1} %: {})", 100.0 * (1.0 - w.ratio).max(0.0), w.describe())
+            }
+            None => "ideal motors".to_string(),
+        }
+    }
+
+    /// The larger joint's peak speed, rad/s.
+    pub fn max_speed(&self) -> f64 {
+        self.peak_speed_rad_s[0].value.max(self.peak_speed_rad_s[1].value)
+    }
+
+    /// The larger joint's peak power, W.
+    pub fn max_power(&self) -> f64 {
+        self.peak_power_w[0].value.max(self.peak_power_w[1].value)
+    }
+}
+
+/// One sampled quantity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Channel {
+    Speed(usize),
+    Power(usize),
+    Ratio(usize, Limit),
+    Stretch,
+}
+
+impl Channel {
+    fn value(self, motors: &Motors, tau: [f64; 2], qd: [f64; 2]) -> f64 {
+        match self {
+            Channel::Speed(j) => qd[j].abs(),
+            Channel::Power(j) => (tau[j] * qd[j]).abs(),
+            Channel::Ratio(j, limit) => {
+                motors.joints[j].ratios(tau[j], qd[j]).into_iter().find(|r| r.0 == limit).map_or(0.0, |r| r.1)
+            }
+            Channel::Stretch => {
+                (0..2).filter_map(|j| motors.joints[j].stretch(tau[j], qd[j]).map(|s| s.1)).fold(0.0, f64::max)
+            }
+        }
+    }
+}
+
+/// The best sample of a channel: value, piece, position in the piece, and the sample spacing.
+#[derive(Clone, Copy, Debug)]
+struct Best {
+    value: f64,
+    piece: usize,
+    s: f64,
+    h: f64,
+}
+
+/// Measures what `traj` asks of `motors` on `samples[i] + 1` points of piece `i` (module docs).
+pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], motors: &Motors) -> MotorDemand {
+    let mut channels = vec![Channel::Speed(0), Channel::Speed(1), Channel::Power(0), Channel::Power(1)];
+    for (j, m) in motors.joints.iter().enumerate() {
+        channels.extend(m.ratios(0.0, 0.0).into_iter().map(|(l, _)| Channel::Ratio(j, l)));
+    }
+    if !motors.is_ideal() {
+        channels.push(Channel::Stretch);
+    }
+    let eval = |st: &JointState| {
+        let tau = joint_torques(cat, st).tau;
+        channels.iter().map(|c| c.value(motors, tau, st.qd)).collect::<Vec<f64>>()
+    };
+    let durations = traj.piece_durations();
+    let mut t0 = 0.0;
+    let starts: Vec<f64> = durations
+        .iter()
+        .map(|d| {
+            let s = t0;
+            t0 += d;
+            s
+        })
+        .collect();
+    // Per piece, per channel: the best sample.
+    let mut per_piece: Vec<Vec<Best>> = Vec::with_capacity(durations.len());
+    for (piece, &dur) in durations.iter().enumerate() {
+        let n = samples.get(piece).copied().unwrap_or(2).max(4);
+        let h = dur / n as f64;
+        let mut best = vec![Best { value: f64::NEG_INFINITY, piece, s: 0.0, h }; channels.len()];
+        let mut take = |values: Vec<f64>, s: f64, spacing: f64| {
+            for (b, v) in best.iter_mut().zip(values) {
+                if v > b.value {
+                    *b = Best { value: v, piece, s, h: spacing };
+                }
+            }
+        };
+        for k in 0..=n {
+            let s = k as f64 * h;
+            take(eval(&traj.piece_state(piece, s)), s, h);
+        }
+        // Both sides of every acceleration jump (no refinement: a one-sided limit).
+        for jump in traj.acceleration_jumps(piece) {
+            take(eval(&traj.piece_state_before(piece, jump)), jump, 0.0);
+            take(eval(&traj.piece_state(piece, jump)), jump, 0.0);
+        }
+        per_piece.push(best);
+    }
+    let refined: Vec<(f64, f64)> = (0..channels.len())
+        .map(|c| {
+            let top = per_piece.iter().map(|b| b[c].value).fold(f64::NEG_INFINITY, f64::max);
+            let mut out = (f64::NEG_INFINITY, 0.0);
+            for b in per_piece.iter().map(|b| b[c]).filter(|b| b.value >= top - 0.02 * top.abs()) {
+                let mut candidate = (b.value, b.s);
+                if b.h > 0.0 {
+                    let dur = durations[b.piece];
+                    let f = |s: f64| {
+                        let st = traj.piece_state(b.piece, s);
+                        channels[c].value(motors, joint_torques(cat, &st).tau, st.qd)
+                    };
+                    let (s, v) = golden_max(f, (b.s - b.h).max(0.0), (b.s + b.h).min(dur), 40);
+                    if v > candidate.0 {
+                        candidate = (v, s);
+                    }
+                }
+                if candidate.0 > out.0 {
+                    out = (candidate.0, starts[b.piece] + candidate.1);
+                }
+            }
+            out
+        })
+        .collect();
+    let peak = |c: usize| Peak { value: refined[c].0.max(0.0), time: refined[c].1 };
+    let mut limits = Vec::new();
+    let mut stretch = None;
+    for (c, ch) in channels.iter().enumerate() {
+        match *ch {
+            Channel::Ratio(j, limit) => {
+                limits.push(LimitUse { limit, joint: j + 1, ratio: refined[c].0.max(0.0), time: refined[c].1 })
+            }
+            Channel::Stretch => {
+                let (value, time) = refined[c];
+                let st = traj.state_at(time);
+                let tau = joint_torques(cat, &st).tau;
+                let (joint, limit) = (0..2)
+                    .filter_map(|j| motors.joints[j].stretch(tau[j], st.qd[j]).map(|(l, k)| (j, l, k)))
+                    .max_by(|a, b| a.2.total_cmp(&b.2))
+                    .map_or((1, Limit::Torque), |(j, l, _)| (j + 1, l));
+                stretch = Some(StretchPeak { value: value.max(0.0), time, joint, limit });
+            }
+            _ => {}
+        }
+    }
+    MotorDemand { peak_speed_rad_s: [peak(0), peak(1)], peak_power_w: [peak(2), peak(3)], limits, stretch }
+}
