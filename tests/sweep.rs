@@ -477,3 +477,57 @@ fn a_verification_without_a_usable_run_counts_as_inconclusive() {
     }
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| d.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_file_where_the_results_folder_goes_is_refused_and_left_alone() {
+    let root = scratch("file-in-the-way");
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, with_base("[compute]\ncalibrated = false\npeaks = false")).expect("the sweep file");
+    let out = root.join("out");
+    std::fs::create_dir_all(&out).expect("out");
+    std::fs::write(out.join("t"), "mine").expect("a file named like the results folder");
+    let (f, o) = (file.display().to_string(), out.display().to_string());
+    let (code, stdout, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert_eq!(
+        stderr.trim(),
+        format!("error: {}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out", out.join("t").display())
+    );
+    assert_eq!(listing(&out), ["t"], "nothing hidden, nothing added");
+    assert_eq!(std::fs::read_to_string(out.join("t")).expect("still a file"), "mine");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_sweep_removes_what_killed_sweeps_left_behind() {
+    let root = scratch("stale");
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, with_base("[compute]\ncalibrated = false\npeaks = false")).expect("the sweep file");
+    let out = root.join("out");
+    // A PID above Linux's PID_MAX_LIMIT: never a live process.
+    let dead = 4_194_304 + 21;
+    for stale in [
+        format!(".t.scratch-{dead}"),
+        format!(".t.partial-{dead}"),
+        format!(".t.old-{dead}"),
+        format!(".t.part-1-of-1.partial-{dead}"),
+    ] {
+        std::fs::create_dir_all(out.join(stale)).expect("a stale folder");
+    }
+    let (f, o) = (file.display().to_string(), out.display().to_string());
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet", "--shard", "1/1"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(listing(&out), ["t", "t.part-1-of-1"]);
+    let _ = std::fs::remove_dir_all(&root);
+}

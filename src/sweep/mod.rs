@@ -59,6 +59,9 @@ pub enum SweepError {
     /// A plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plot::PlotError),
+    /// A results folder could not be staged or swapped in.
+    #[error(transparent)]
+    ResultsDir(#[from] crate::report::results_dir::ResultsDirError),
     /// Parts cannot be merged.
     #[error("cannot merge: {0}")]
     Merge(String),
