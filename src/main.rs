@@ -132,9 +132,21 @@ fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
     Ok(problem)
 }
 
+/// Writes `text` to stdout. A closed stdout (`catflip … | head -1`) is not an error: the output
+/// is dropped quietly and the command goes on, as Unix tools do (Rust ignores SIGPIPE, so the
+/// write fails with `BrokenPipe`, which `print!` would turn into a panic). Any other write error
+/// is reported.
+fn say(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.context("cannot write to standard output"),
+    }
+}
+
 fn print_json(value: &impl serde::Serialize) -> anyhow::Result<()> {
-    println!("{}", serde_json::to_string_pretty(value).context("serialising the result")?);
-    Ok(())
+    say(&(serde_json::to_string_pretty(value).context("serialising the result")? + "\n"))
 }
 
 /// Prints `value` as JSON when asked, else its prose rendering.
@@ -142,8 +154,7 @@ fn emit<T: serde::Serialize>(json: bool, value: &T, prose: impl FnOnce() -> Stri
     if json {
         print_json(value)
     } else {
-        print!("{}", prose());
-        Ok(())
+        say(&prose())
     }
 }
 
@@ -244,8 +255,8 @@ fn run() -> anyhow::Result<()> {
                     progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
                 let outcome = catflip::report::run::run_with(&Resolved::new(&problem)?, &command, &out, &export)?;
                 spinner.finish_and_clear();
-                println!("{}: {} files in {}", problem.name, outcome.files.len(), outcome.dir.display());
-                print!("{}", outcome.summary);
+                say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
+                say(&outcome.summary)?;
             }
         }
         Command::Bench { problem, overrides, out, json } => {
@@ -267,10 +278,10 @@ fn run() -> anyhow::Result<()> {
             let outcome = catflip::report::run::run_bench(&Resolved::new(&p)?, &command, &out, &dts)?;
             if json {
                 let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
-                print!("{text}");
+                say(&text)?;
             } else {
-                println!("{} files in {}", outcome.files.len(), outcome.dir.display());
-                print!("{}", outcome.summary);
+                say(&format!("{} files in {}\n", outcome.files.len(), outcome.dir.display()))?;
+                say(&outcome.summary)?;
             }
         }
         Command::Sweep { sweep, merge, out, shard, quiet, json } => {

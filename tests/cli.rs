@@ -2,7 +2,7 @@
 //! non-zero exit, and no half-written results.
 
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Stdio};
 
 fn catflip(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
@@ -102,4 +102,27 @@ fn cone_at_gimbal_lock_is_refused_from_the_command_line() {
     ]);
     assert_ne!(code, 0);
     assert!(err.contains("gimbal lock"), "{err}");
+}
+
+#[test]
+fn a_closed_stdout_ends_a_command_quietly() {
+    // `catflip … | head -1`: the reader is gone before the first write. Rust ignores SIGPIPE, so
+    // the write fails with EPIPE, which `println!` turns into a panic (exit 101).
+    for args in [
+        &["simulate", "problems/paper.toml", "--json"][..],
+        &["simulate", "problems/paper.toml"],
+        &["audit", "problems/paper.toml", "--json"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_catflip"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("the binary ends");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {err}");
+        assert!(!err.contains("panicked") && !err.contains("Broken pipe"), "{args:?}: {err}");
+    }
 }

@@ -225,7 +225,7 @@ fn merged_shards_equal_the_single_run() {
     }
     // Merging refuses an incomplete set, naming what is missing.
     match merge(&parts[..2], &root.join("merged"), "test") {
-        Err(e) => assert!(e.to_string().contains("missing shards 2/3"), "{e}"),
+        Err(e) => assert!(e.to_string().contains("missing shard 2 of 3"), "{e}"),
         Ok(_) => panic!("an incomplete set of parts must not merge"),
     }
     let merged = merge(&parts, &root.join("merged"), "test").expect("merge");
@@ -475,5 +475,272 @@ fn a_verification_without_a_usable_run_counts_as_inconclusive() {
         let line = format!("| {} | 0 | 0 | 1 | 0 |", r.schedule);
         assert!(md.contains(&line), "no `{line}` in\n{md}");
     }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// A cheap sweep of `count` cases: the paper's flip alone, over the cat's radius.
+fn cheap(count: usize) -> Sweep {
+    sweep_ok(&with_base(&format!(
+        "[[axis]]\nfield = \"cat.radius\"\nrange = {{ from = 0.1, to = 0.2, count = {count} }}\n[compute]\npaper_flip = true\ncalibrated = false\npeaks = false"
+    )))
+}
+
+fn options(out: &Path, shard: Option<Shard>) -> SweepOptions {
+    SweepOptions { out: out.to_path_buf(), shard, quiet: true, command: "test".into() }
+}
+
+/// Runs every shard of `n` into `root/parts` and returns the part folders in shard order.
+fn parts(s: &Sweep, root: &Path, n: usize) -> Vec<PathBuf> {
+    (1..=n).map(|k| run(s, &options(&root.join("parts"), Some(Shard { k, n }))).expect("shard").dir).collect()
+}
+
+/// The merge's error message, which must exist.
+fn merge_error(parts: &[PathBuf], out: &Path) -> String {
+    match merge(parts, out, "test") {
+        Err(e) => e.to_string(),
+        Ok(o) => panic!("the merge must be refused, but wrote {}", o.dir.display()),
+    }
+}
+
+/// Rewrites a part's manifest through `edit` on its JSON.
+fn edit_manifest(part: &Path, edit: impl FnOnce(&mut serde_json::Value)) {
+    let path = part.join("part.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("manifest")).expect("JSON manifest");
+    edit(&mut v);
+    std::fs::write(&path, serde_json::to_string_pretty(&v).expect("JSON")).expect("rewrite the manifest");
+}
+
+/// Names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| d.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_manifest_naming_a_folder_outside_out_is_refused_before_anything_is_written() {
+    let s = cheap(2);
+    let root = scratch("manifest-name");
+    let part = parts(&s, &root, 1).remove(0);
+    let out = root.join("merged");
+    std::fs::create_dir_all(out.join("unrelated")).expect("a folder the merge must not touch");
+    let outside = root.join("outside");
+    for name in ["", "..", "../outside", outside.to_str().unwrap_or("/tmp/outside"), "a/b"] {
+        edit_manifest(&part, |v| v["sweep"]["name"] = serde_json::json!(name));
+        let e = merge_error(std::slice::from_ref(&part), &out);
+        let want = format!("{}: sweep.name: {name:?} must be non-empty", part.join("part.json").display());
+        assert!(e.contains(&want), "name {name:?}: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+        assert_eq!(listing(&out), ["unrelated"], "name {name:?}: --out was touched");
+        assert!(!outside.exists(), "name {name:?}: a folder was written outside --out");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_manifest_is_checked_like_a_sweep_file_field_by_field() {
+    let s = cheap(2);
+    let root = scratch("manifest-fields");
+    let part = parts(&s, &root, 1).remove(0);
+    let original = std::fs::read_to_string(part.join("part.json")).expect("manifest");
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(&str, Edit); 6] = [
+        ("sweep.axis[0].values: an axis needs at least one value", |v| {
+            v["sweep"]["axes"][0]["values"] = serde_json::json!([])
+        }),
+        ("sweep.axis[0].field: `cat.radus` is not a problem field", |v| {
+            v["sweep"]["axes"][0]["field"] = serde_json::json!("cat.radus")
+        }),
+        ("sweep.compute: [compute] asks for no schedule", |v| {
+            v["sweep"]["compute"]["paper_flip"] = serde_json::json!(false)
+        }),
+        ("shard.k: 3 is not between 1 and shard.n = 1", |v| v["shard"]["k"] = serde_json::json!(3)),
+        ("shard.n: 5 shards of a sweep of 2 cases: at most 2", |v| v["shard"] = serde_json::json!({"k": 1, "n": 5})),
+        ("first, end: 0..1 is not shard 1/1's cases 0..2 of 2", |v| v["end"] = serde_json::json!(1)),
+    ];
+    for (want, edit) in cases {
+        std::fs::write(part.join("part.json"), &original).expect("restore");
+        edit_manifest(&part, edit);
+        let e = merge_error(std::slice::from_ref(&part), &root.join("merged"));
+        assert!(e.contains(&format!("part.json: {want}")), "want {want:?}, got: {e}");
+        assert!(!root.join("merged").exists(), "{want}: results were written");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_manifest_of_shard_zero_of_zero_is_refused_without_a_panic() {
+    let s = cheap(2);
+    let root = scratch("manifest-zero");
+    let p = parts(&s, &root, 2);
+    for part in &p {
+        edit_manifest(part, |v| v["shard"] = serde_json::json!({"k": 0, "n": 0}));
+    }
+    let e = merge_error(&p, &root.join("merged"));
+    assert!(e.ends_with("part.json: shard.n: must be at least 1"), "{e}");
+    edit_manifest(&p[0], |v| v["shard"] = serde_json::json!({"k": 1, "n": 0}));
+    let e = merge_error(&p[..1], &root.join("merged"));
+    assert!(e.ends_with("part.json: shard.n: must be at least 1") && !e.contains("twice"), "{e}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn more_shards_than_cases_are_refused_and_missing_shards_are_named_as_ranges() {
+    let s = cheap(1000);
+    let root = scratch("shard-count");
+    match run(&s, &options(&root, Some(Shard { k: 1, n: 1001 }))) {
+        Err(e) => assert_eq!(
+            e.to_string(),
+            "--shard 1/1001: the sweep has 1000 cases, so N can be at most 1000 (at least one case per shard)"
+        ),
+        Ok(o) => panic!("1001 shards of 1000 cases must be refused, wrote {}", o.dir.display()),
+    }
+    assert!(listing(&root).is_empty(), "nothing is written: {:?}", listing(&root));
+    let p: Vec<PathBuf> = [1, 2, 999, 1000]
+        .into_iter()
+        .map(|k| run(&s, &options(&root.join("parts"), Some(Shard { k, n: 1000 }))).expect("shard").dir)
+        .collect();
+    let e = merge_error(&p, &root.join("merged"));
+    assert_eq!(e, "cannot merge: missing shards 3–998 of 1000 (996 missing)");
+    let e = merge_error(&[p[0].clone(), p[2].clone()], &root.join("merged"));
+    assert_eq!(e, "cannot merge: missing shards 2–998, 1000 of 1000 (998 missing)");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_sweep_that_computes_nothing_is_refused_at_load() {
+    let (field, reason) = bad_field(&with_base(
+        "[compute]\npaper_flip = false\ncalibrated = false\npeaks = false\nretiming = false\nwhole = false\nrapier = false",
+    ));
+    assert_eq!(field, "compute");
+    assert!(reason.contains("[compute] asks for no schedule"), "{reason}");
+    // Peaks and rapier check schedules; alone they ask for none.
+    let (field, _) =
+        bad_field(&with_base("[compute]\npaper_flip = false\ncalibrated = false\npeaks = true\nrapier = true"));
+    assert_eq!(field, "compute");
+}
+
+/// Rewrites line `line` (1-based; every record is one line) of a part's `cases.csv` through
+/// `edit` on its cells.
+fn edit_row(part: &Path, line: usize, edit: impl FnOnce(&[String], &mut Vec<String>)) {
+    let path = part.join("cases.csv");
+    let text = std::fs::read_to_string(&path).expect("cases.csv");
+    let mut rows: Vec<Vec<String>> = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(text.as_bytes())
+        .records()
+        .map(|r| r.expect("a CSV record").iter().map(str::to_string).collect())
+        .collect();
+    let head = rows[0].clone();
+    edit(&head, &mut rows[line - 1]);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in &rows {
+        w.write_record(r).expect("CSV");
+    }
+    std::fs::write(&path, w.into_inner().expect("CSV")).expect("rewrite cases.csv");
+}
+
+fn set(head: &[String], cells: &mut [String], column: &str, value: &str) {
+    let k = head.iter().position(|h| h == column).unwrap_or_else(|| panic!("no column {column}"));
+    cells[k] = value.to_string();
+}
+
+#[test]
+fn edited_parts_are_refused_naming_the_file_and_line() {
+    // Two cases of two rows each (paper, calibrated); shard 2 of 2 holds case 1 on lines 2 and 3.
+    let s = sweep_ok(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[compute]\npaper_flip = true\ncalibrated = true\npeaks = false",
+    ));
+    let root = scratch("edited");
+    let p = parts(&s, &root, 2);
+    let csv = p[1].join("cases.csv");
+    let original = std::fs::read_to_string(&csv).expect("cases.csv");
+    assert!(merge(&p, &root.join("merged"), "test").is_ok(), "the unedited parts merge");
+    type Edit = Box<dyn Fn(&Path)>;
+    let edits: [(&str, Edit); 5] = [
+        // The calibrated row dropped and the paper row doubled: same case, same row count.
+        (
+            "line 3: case 1 has rows paper/exact, paper/exact; a run gives it paper/exact, calibrated/exact",
+            Box::new(|part: &Path| {
+                let path = part.join("cases.csv");
+                let text = std::fs::read_to_string(&path).expect("cases.csv");
+                let lines: Vec<&str> = text.lines().collect();
+                std::fs::write(&path, format!("{}\n{}\n{}\n", lines[0], lines[1], lines[1])).expect("rewrite");
+            }),
+        ),
+        (
+            "line 2: swing_deg = \"NaN\" is not a finite number",
+            Box::new(|part: &Path| edit_row(part, 2, |h, c| set(h, c, "swing_deg", "NaN"))),
+        ),
+        (
+            "line 3: peak_max_nm = \"inf\" is not a finite number",
+            Box::new(|part: &Path| edit_row(part, 3, |h, c| set(h, c, "peak_max_nm", "inf"))),
+        ),
+        (
+            "line 2: status is ok but swing_deg is empty",
+            Box::new(|part: &Path| edit_row(part, 2, |h, c| set(h, c, "swing_deg", ""))),
+        ),
+        (
+            "line 3: cat.radius = \"0.1\" does not fit the rest of the row (a sweep writes \"0.2\" there)",
+            Box::new(|part: &Path| edit_row(part, 3, |h, c| set(h, c, "cat.radius", "0.1"))),
+        ),
+    ];
+    for (want, edit) in edits {
+        std::fs::write(&csv, &original).expect("restore");
+        edit(&p[1]);
+        let _ = std::fs::remove_dir_all(root.join("merged"));
+        let e = merge_error(&p, &root.join("merged"));
+        assert!(e.contains(&format!("{}", csv.display())) && e.contains(want), "want {want:?}, got: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+        assert!(!root.join("merged").exists(), "{want}: results were written");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_file_where_the_results_folder_goes_is_refused_and_left_alone() {
+    let root = scratch("file-in-the-way");
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, with_base("[compute]\ncalibrated = false\npeaks = false")).expect("the sweep file");
+    let out = root.join("out");
+    std::fs::create_dir_all(&out).expect("out");
+    std::fs::write(out.join("t"), "mine").expect("a file named like the results folder");
+    let (f, o) = (file.display().to_string(), out.display().to_string());
+    let (code, stdout, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert_eq!(
+        stderr.trim(),
+        format!("error: {}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out", out.join("t").display())
+    );
+    assert_eq!(listing(&out), ["t"], "nothing hidden, nothing added");
+    assert_eq!(std::fs::read_to_string(out.join("t")).expect("still a file"), "mine");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_sweep_removes_what_killed_sweeps_left_behind() {
+    let root = scratch("stale");
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, with_base("[compute]\ncalibrated = false\npeaks = false")).expect("the sweep file");
+    let out = root.join("out");
+    // A PID above Linux's PID_MAX_LIMIT: never a live process.
+    let dead = 4_194_304 + 21;
+    for stale in [
+        format!(".t.scratch-{dead}"),
+        format!(".t.partial-{dead}"),
+        format!(".t.old-{dead}"),
+        format!(".t.part-1-of-1.partial-{dead}"),
+    ] {
+        std::fs::create_dir_all(out.join(stale)).expect("a stale folder");
+    }
+    let (f, o) = (file.display().to_string(), out.display().to_string());
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet", "--shard", "1/1"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(listing(&out), ["t", "t.part-1-of-1"]);
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -20,6 +20,10 @@
 //! Names: [`check_names`] refuses a problem named like a reserved folder ([`RESERVED`], the
 //! `bench` command's) and two problems with the same name in one run, before anything is written.
 //!
+//! Both `catflip run` (`OUT/NAME/`) and `catflip sweep` (`OUT/NAME/` and its shard parts
+//! `OUT/NAME.part-K-of-N/`) write through [`Staging`]. A path `OUT/NAME` that exists and is not
+//! a folder is refused before anything is touched ([`ResultsDirError::NotAFolder`]).
+//!
 //! Stale folders `.NAME.partial-PID` and `.NAME.old-PID` are removed only when no process with
 //! that PID is alive (checked through `/proc/PID` on Linux; elsewhere a PID is taken as alive and
 //! its folders are left alone).
@@ -46,6 +50,15 @@ pub enum ResultsDirError {
     Duplicate {
         /// The shared name.
         name: String,
+    },
+    /// `OUT/NAME` exists but is not a folder: not results, so it is left alone.
+    #[error(
+        "{}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out",
+        path.display()
+    )]
+    NotAFolder {
+        /// The user's `OUT/NAME`.
+        path: PathBuf,
     },
     /// The file system refused a step; `path` is the user's folder or a file in it.
     #[error("cannot {action} {}", path.display())]
@@ -94,9 +107,13 @@ pub struct Staging {
 }
 
 impl Staging {
-    /// Cleans what killed runs left of `out/name` and creates the scratch folder.
+    /// Cleans what killed runs left of `out/name` and creates the scratch folder. Refuses,
+    /// before touching anything, when `out/name` exists and is not a folder.
     pub fn begin(out: &Path, name: &str) -> Result<Staging, ResultsDirError> {
         let target = out.join(name);
+        if std::fs::symlink_metadata(&target).is_ok() && !target.is_dir() {
+            return Err(ResultsDirError::NotAFolder { path: target });
+        }
         let fail = |action, source| ResultsDirError::Io { action, path: target.clone(), source };
         std::fs::create_dir_all(out).map_err(|source| ResultsDirError::Io {
             action: "create the folder",
@@ -211,10 +228,11 @@ enum StaleKind {
     Old,
 }
 
-/// `(kind, pid)` if `file` is `.name.partial-PID` or `.name.old-PID`.
+/// `(kind, pid)` if `file` is `.name.partial-PID` or `.name.old-PID` (or `.name.scratch-PID`, the
+/// scratch folder of sweeps before they staged through [`Staging`]).
 fn stale_kind(file: &str, name: &str) -> Option<(StaleKind, u32)> {
     let rest = file.strip_prefix('.')?.strip_prefix(name)?.strip_prefix('.')?;
-    let (kind, pid) = if let Some(p) = rest.strip_prefix("partial-") {
+    let (kind, pid) = if let Some(p) = rest.strip_prefix("partial-").or_else(|| rest.strip_prefix("scratch-")) {
         (StaleKind::Partial, p)
     } else {
         (StaleKind::Old, rest.strip_prefix("old-")?)
@@ -353,6 +371,23 @@ mod tests {
         let restored = clean_stale(&out, "paper").expect("cleans");
         assert_eq!(restored, [aside]);
         assert_eq!(read(&out.join("paper"), "a.csv"), "old a");
+    }
+
+    #[test]
+    fn a_file_where_the_results_folder_goes_is_refused_and_left_alone() {
+        let out = out("file");
+        write(&out, "paper", "not results");
+        let e = Staging::begin(&out, "paper").expect_err("a file is not a results folder");
+        assert!(matches!(e, ResultsDirError::NotAFolder { .. }), "{e}");
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out",
+                out.join("paper").display()
+            )
+        );
+        assert_eq!(listing(&out), ["paper"], "nothing hidden, nothing created");
+        assert_eq!(read(&out, "paper"), "not results");
     }
 
     #[test]

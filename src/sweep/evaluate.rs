@@ -37,7 +37,7 @@ use crate::problem::Problem;
 use crate::schedule::{paper_circulation, Schedule};
 
 use super::optimum::Subject;
-use super::spec::{one_line, Compute};
+use super::spec::{one_line, Compute, Sweep};
 
 /// How a row ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -265,6 +265,15 @@ impl CaseOutcome {
     pub fn circulation_error(&self) -> Option<f64> {
         Some(self.calibrated_rad? - self.paper_rad?)
     }
+}
+
+/// The (schedule, engine) pairs of case `index`'s rows, in order: those [`evaluate_case`] gives
+/// the case's problem, or [`CaseOutcome::refused`] when the problem file refuses it.
+pub fn row_keys(sweep: &Sweep, index: usize) -> Vec<(&'static str, &'static str)> {
+    let given = super::cases::case(sweep, index)
+        .problem(sweep)
+        .is_ok_and(|p| matches!(p.manoeuvre.circulation, Circulation::Angle(_)));
+    asked_schedules(&sweep.compute, given)
 }
 
 /// The (schedule, engine) pairs `compute` asks for, in row order.

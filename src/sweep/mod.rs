@@ -59,6 +59,19 @@ pub enum SweepError {
     /// A plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plot::PlotError),
+    /// `--shard K/N` with more shards than cases.
+    #[error("--shard {k}/{n}: the sweep has {cases} cases, so N can be at most {cases} (at least one case per shard)")]
+    TooManyShards {
+        /// The shard asked for.
+        k: usize,
+        /// The shard count asked for.
+        n: usize,
+        /// The sweep's cases.
+        cases: usize,
+    },
+    /// A results folder could not be staged or swapped in.
+    #[error(transparent)]
+    ResultsDir(#[from] crate::report::results_dir::ResultsDirError),
     /// Parts cannot be merged.
     #[error("cannot merge: {0}")]
     Merge(String),
@@ -120,6 +133,7 @@ pub fn run(sweep: &Sweep, options: &SweepOptions) -> Result<SweepOutcome, SweepE
             output::write_results(sweep, &records, &options.command, &options.out)
         }
         Some(shard) => {
+            shard.check(total)?;
             let range = shard.range(total);
             let records = evaluate(sweep, range.clone(), !options.quiet);
             output::write_part(sweep, shard, range, &records, &options.out)

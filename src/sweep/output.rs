@@ -1,6 +1,7 @@
-//! Writing a sweep's output folder, atomically: everything goes into a scratch folder beside the
-//! target, which replaces the target only once complete, so a failed sweep leaves the previous
-//! results in place.
+//! Writing a sweep's output folder, atomically, through the same [`Staging`] as `catflip run`
+//! ([`crate::report::results_dir`]): everything goes into a scratch folder beside the target,
+//! which replaces the target only once complete, so a failed sweep leaves the previous results in
+//! place, and a killed one leaves hidden folders the next sweep into `--out` removes.
 //!
 //! `<out>/<name>/` holds `sweep.csv` (the tidy table, [`super::table`]), `sweep.md` (provenance
 //! header and summary tables, [`super::summary`]), `plots/` (PNG + SVG, [`super::plots`]) and
@@ -12,6 +13,8 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
+
+use crate::report::results_dir::Staging;
 
 use super::shard::{Manifest, Shard, CASES, MANIFEST};
 use super::spec::Sweep;
@@ -73,7 +76,7 @@ pub fn write_results(sweep: &Sweep, records: &[Record], command: &str, out: &Pat
     let dir = out.join(&sweep.name);
     let csv = to_csv(sweep, records)?;
     let mut files = Vec::new();
-    atomically(&dir, |scratch| {
+    atomically(out, &sweep.name, |scratch| {
         put(scratch, "sweep.csv", &csv, &mut files)?;
         let plots = super::plots::plots(sweep, records, &scratch.join("plots"))?;
         files.extend(plots.iter().flat_map(|p| [format!("plots/{}", p.file), format!("plots/{}", p.svg)]));
@@ -95,12 +98,13 @@ pub fn write_part(
     records: &[Record],
     out: &Path,
 ) -> Result<SweepOutcome, SweepError> {
-    let dir = out.join(shard.folder(&sweep.name));
+    let folder = shard.folder(&sweep.name);
+    let dir = out.join(&folder);
     let manifest = Manifest { sweep: sweep.clone(), shard, first: range.start, end: range.end };
     let json = serde_json::to_string_pretty(&manifest).map_err(|e| SweepError::Json(e.to_string()))?;
     let csv = to_csv(sweep, records)?;
     let mut files = Vec::new();
-    atomically(&dir, |scratch| {
+    atomically(out, &folder, |scratch| {
         put(scratch, MANIFEST, &(json + "\n"), &mut files)?;
         put(scratch, CASES, &csv, &mut files)
     })?;
@@ -120,34 +124,30 @@ fn put(dir: &Path, name: &str, text: &str, files: &mut Vec<String>) -> Result<()
     Ok(())
 }
 
-/// Fills a scratch folder beside `target` with `fill`, then swaps it in place of `target`; on any
-/// error the scratch folder is removed and `target` is left as it was.
-fn atomically(target: &Path, fill: impl FnOnce(&Path) -> Result<(), SweepError>) -> Result<(), SweepError> {
-    let parent = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
-    let leaf = target.file_name().map_or_else(|| "sweep".into(), |n| n.to_string_lossy().into_owned());
-    let scratch = parent.join(format!(".{leaf}.scratch-{}", std::process::id()));
-    let old = parent.join(format!(".{leaf}.old-{}", std::process::id()));
-    for d in [&scratch, &old] {
-        if d.exists() {
-            std::fs::remove_dir_all(d).map_err(|e| io(d, e))?;
-        }
-    }
-    std::fs::create_dir_all(&scratch).map_err(|e| io(&scratch, e))?;
-    if let Err(e) = fill(&scratch) {
-        let _ = std::fs::remove_dir_all(&scratch);
-        return Err(e);
-    }
-    if target.exists() {
-        std::fs::rename(target, &old).map_err(|e| io(target, e))?;
-    }
-    if let Err(e) = std::fs::rename(&scratch, target) {
-        // Put the previous results back before reporting.
-        let _ = std::fs::rename(&old, target);
-        return Err(io(target, e));
-    }
-    if old.exists() {
-        std::fs::remove_dir_all(&old).map_err(|e| io(&old, e))?;
-    }
+/// Fills a scratch folder beside `out/name` with `fill`, then swaps it in place of `out/name`,
+/// through the results folder's [`Staging`] (which also removes what killed runs left, and
+/// refuses an `out/name` that is not a folder); on any error the scratch folder is removed and
+/// `out/name` is left as it was. Errors name the user's folder, never the scratch folder.
+fn atomically(out: &Path, name: &str, fill: impl FnOnce(&Path) -> Result<(), SweepError>) -> Result<(), SweepError> {
+    let staging = Staging::begin(out, name)?;
+    fill(staging.dir()).map_err(|e| shown(&staging, e))?;
+    staging.commit()?;
     Ok(())
+}
+
+/// `e` with any path in the scratch folder shown as the user's.
+fn shown(staging: &Staging, e: SweepError) -> SweepError {
+    use crate::report::plot::PlotError;
+    let at = |p: PathBuf| staging.shown(&p);
+    match e {
+        SweepError::Io { path, source } => SweepError::Io { path: at(path.into()).display().to_string(), source },
+        SweepError::Plot(p) => SweepError::Plot(match p {
+            PlotError::NoData { path, reason } => PlotError::NoData { path: at(path), reason },
+            PlotError::BadArgument { path, reason } => PlotError::BadArgument { path: at(path), reason },
+            PlotError::CreateDir { path, source } => PlotError::CreateDir { path: at(path), source },
+            PlotError::Write { path, message } => PlotError::Write { path: at(path), message },
+            other => other,
+        }),
+        other => other,
+    }
 }

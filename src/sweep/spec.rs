@@ -27,7 +27,9 @@
 //! Axis values enter the problem exactly like `--set field=value` overrides, so the problem file's
 //! own validation and messages apply to every case; a case the problem refuses is reported with that
 //! reason, never dropped. The spec itself is checked on load: unknown keys, an axis on a field the
-//! problem file does not have, an empty or malformed range, zipped axes of different lengths.
+//! problem file does not have, an empty or malformed range, zipped axes of different lengths, a
+//! `[compute]` that asks for no schedule. [`Sweep::validate`] repeats every check on a resolved
+//! sweep (a shard's manifest).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -255,9 +257,7 @@ impl Sweep {
         let file: SweepFile = toml::from_str(text)
             .map_err(|e| SpecError::Parse { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
         let name = file.name.clone().unwrap_or_else(|| stem.to_string());
-        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
-            return Err(bad("name", &format!("{name:?} must be non-empty and use only letters, digits, '-' and '_'")));
-        }
+        check_name(&name)?;
         let (base_text, base_origin) = match &file.base {
             BaseSource::Path(p) => {
                 let path: PathBuf = dir.join(p);
@@ -270,20 +270,8 @@ impl Sweep {
                 format!("{origin} [base]"),
             ),
         };
-        Problem::from_toml(&base_text, &base_origin, &[])?;
-        let known = known_fields();
-        let mut seen = BTreeSet::new();
-        let mut axes = Vec::with_capacity(file.axes.len());
-        for (i, a) in file.axes.iter().enumerate() {
-            let axis = resolve_axis(i, a, &known, &base_text, &base_origin)?;
-            if !seen.insert(axis.field.clone()) {
-                return Err(bad(&format!("axis[{i}].field"), &format!("`{}` is swept twice", axis.field)));
-            }
-            axes.push(axis);
-        }
-        check_count(&axes, file.combine)?;
-        check_compute(&file.compute)?;
-        Ok(Sweep {
+        let axes = file.axes.iter().enumerate().map(|(i, a)| resolve_axis(i, a)).collect::<Result<Vec<_>, _>>()?;
+        let sweep = Sweep {
             name,
             text: text.to_string(),
             base_text,
@@ -291,7 +279,28 @@ impl Sweep {
             axes,
             combine: file.combine,
             compute: file.compute,
-        })
+        };
+        sweep.validate()?;
+        Ok(sweep)
+    }
+
+    /// Checks a resolved sweep as strictly as its file is checked on load: the name, the base
+    /// problem, every axis (values, field, each swept once), the number of cases and `[compute]`.
+    /// A sweep read back from a shard's manifest goes through this before anything is merged,
+    /// so a manifest cannot name a folder outside `--out` or expand beyond [`MAX_CASES`].
+    pub fn validate(&self) -> Result<(), SpecError> {
+        check_name(&self.name)?;
+        Problem::from_toml(&self.base_text, &self.base_origin, &[])?;
+        let known = known_fields();
+        let mut seen = BTreeSet::new();
+        for (i, axis) in self.axes.iter().enumerate() {
+            check_axis(i, axis, &known, &self.base_text, &self.base_origin)?;
+            if !seen.insert(axis.field.as_str()) {
+                return Err(bad(&format!("axis[{i}].field"), &format!("`{}` is swept twice", axis.field)));
+            }
+        }
+        check_count(&self.axes, self.combine)?;
+        check_compute(&self.compute)
     }
 
     /// Number of cases the axes expand to (1 with no axis: the base problem alone).
@@ -303,14 +312,8 @@ impl Sweep {
     }
 }
 
-/// Checks one axis and resolves its values.
-fn resolve_axis(
-    i: usize,
-    a: &AxisSpec,
-    known: &BTreeSet<String>,
-    base_text: &str,
-    base_origin: &str,
-) -> Result<Axis, SpecError> {
+/// Resolves one axis to its values (a range checked and expanded); [`check_axis`] checks the rest.
+fn resolve_axis(i: usize, a: &AxisSpec) -> Result<Axis, SpecError> {
     let at = |k: &str| format!("axis[{i}].{k}");
     let values: Vec<toml::Value> = match (&a.values, &a.range) {
         (Some(v), None) => v.clone(),
@@ -320,18 +323,51 @@ fn resolve_axis(
         }
         _ => return Err(bad(&at("values"), "give exactly one of `values = [...]` or `range = {from, to, count}`")),
     };
-    if values.is_empty() {
+    let numeric = is_numeric(&values);
+    Ok(Axis { field: a.field.clone(), values, numeric })
+}
+
+/// Whether every value is a number.
+fn is_numeric(values: &[toml::Value]) -> bool {
+    values.iter().all(|v| matches!(v, toml::Value::Float(_) | toml::Value::Integer(_)))
+}
+
+/// Checks one resolved axis: at least one value, at most [`MAX_CASES`], a field the problem
+/// file has (never `name`), and `numeric` true exactly when every value is a number.
+fn check_axis(
+    i: usize,
+    a: &Axis,
+    known: &BTreeSet<String>,
+    base_text: &str,
+    base_origin: &str,
+) -> Result<(), SpecError> {
+    let at = |k: &str| format!("axis[{i}].{k}");
+    if a.values.is_empty() {
         return Err(bad(&at("values"), "an axis needs at least one value"));
+    }
+    if a.values.len() > MAX_CASES {
+        return Err(bad(&at("values"), &format!("at most {MAX_CASES} values")));
     }
     if a.field == "name" {
         return Err(bad(&at("field"), "`name` cannot be swept: the sweep names its cases"));
     }
-    if !known.contains(&a.field) && !accepted_by_problem(base_text, base_origin, &a.field, &values[0]) {
+    if !known.contains(&a.field) && !accepted_by_problem(base_text, base_origin, &a.field, &a.values[0]) {
         let list: Vec<&str> = known.iter().map(String::as_str).collect();
         return Err(bad(&at("field"), &format!("`{}` is not a problem field (known: {})", a.field, list.join(", "))));
     }
-    let numeric = values.iter().all(|v| matches!(v, toml::Value::Float(_) | toml::Value::Integer(_)));
-    Ok(Axis { field: a.field.clone(), values, numeric })
+    if a.numeric != is_numeric(&a.values) {
+        return Err(bad(&at("numeric"), &format!("is {} but the values say otherwise", a.numeric)));
+    }
+    Ok(())
+}
+
+/// Checks a sweep's name: it names a folder under `--out`, so it must be a plain, non-empty
+/// name (letters, digits, `-`, `_`): never empty, `..`, or a path.
+pub fn check_name(name: &str) -> Result<(), SpecError> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+        return Err(bad("name", &format!("{name:?} must be non-empty and use only letters, digits, '-' and '_'")));
+    }
+    Ok(())
 }
 
 /// Checks a range's ends, count and scale.
@@ -382,9 +418,16 @@ fn check_count(axes: &[Axis], combine: Combine) -> Result<(), SpecError> {
     Ok(())
 }
 
-/// Checks `[compute]`: `whole_control_points` only with `whole`, and a value the whole-manoeuvre
-/// optimisation accepts.
+/// Checks `[compute]`: at least one schedule asked for, `whole_control_points` only with
+/// `whole`, and a value the whole-manoeuvre optimisation accepts.
 fn check_compute(c: &Compute) -> Result<(), SpecError> {
+    if !(c.paper_flip || c.calibrated || c.retiming || c.whole) {
+        return Err(bad(
+            "compute",
+            "[compute] asks for no schedule (paper_flip, calibrated, retiming and whole are all false): \
+             the sweep would compute nothing; set at least one of them to true",
+        ));
+    }
     if let Some(n) = c.whole_control_points {
         let field = "compute.whole_control_points";
         if !c.whole {

@@ -214,6 +214,17 @@ pub fn to_csv(sweep: &Sweep, records: &[Record]) -> Result<String, TableError> {
 
 /// Reads a table written by [`to_csv`] for the same sweep.
 pub fn from_csv(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<Record>, TableError> {
+    Ok(from_csv_lines(sweep, text, origin)?.into_iter().map(|(_, r)| r).collect())
+}
+
+/// Reads a table written by [`to_csv`] for the same sweep, each record with its line in the file.
+///
+/// Nothing is dropped or changed silently: every number must be finite (the writer leaves a cell
+/// empty rather than write NaN), an `ok` row must carry its twist, swing and flip error and any
+/// other row none, and each row must read back to exactly its cells (a group of cells read
+/// together, e.g. the six phase peaks, present in full or not at all; axis cells the case's own
+/// values). Errors name the line and column.
+pub fn from_csv_lines(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<(u64, Record)>, TableError> {
     let fail = |message: String| TableError::Csv { context: format!("reading {origin}"), message };
     let mut rd = csv::Reader::from_reader(text.as_bytes());
     let head: Vec<String> = rd.headers().map_err(|e| fail(e.to_string()))?.iter().map(str::to_string).collect();
@@ -222,18 +233,22 @@ pub fn from_csv(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<Record>, 
     }
     let o = 1 + sweep.axes.len();
     let mut out = Vec::new();
-    for (line, rec) in rd.records().enumerate() {
+    let columns = header(sweep);
+    for rec in rd.records() {
         let rec = rec.map_err(|e| fail(e.to_string()))?;
-        let bad = |what: &str| fail(format!("row {}: bad {what}", line + 2));
+        let line = rec.position().map_or(0, csv::Position::line);
+        let bad = |what: &str| fail(format!("line {line}: bad {what}"));
         // The cell of a named column after the axes.
         let at = |name: &str| tail().position(|c| c == name).and_then(|k| rec.get(o + k)).unwrap_or("");
         let text = |name: &str| at(name).to_string();
         let float = |name: &str| -> Result<Option<f64>, TableError> {
             let s = at(name);
             if s.is_empty() {
-                Ok(None)
-            } else {
-                s.parse::<f64>().map(Some).map_err(|_| bad(name))
+                return Ok(None);
+            }
+            match s.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(Some(x)),
+                _ => Err(fail(format!("line {line}: {name} = {s:?} is not a finite number"))),
             }
         };
         let whole = |name: &str| -> Result<Option<usize>, TableError> {
@@ -301,7 +316,7 @@ pub fn from_csv(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<Record>, 
             }),
             _ => None,
         };
-        out.push(Record {
+        let record = Record {
             case: index,
             picks: case(sweep, index).picks,
             schedule: text("schedule"),
@@ -318,7 +333,27 @@ pub fn from_csv(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<Record>, 
             paper_rad: float("paper_circulation_rad")?,
             calibrated_rad: float("calibrated_circulation_rad")?,
             numbers,
-        });
+        };
+        match (record.status, &record.numbers) {
+            (Status::Ok, None) => {
+                let empty = ["twist_deg", "swing_deg", "flip_error_deg"].into_iter().find(|c| at(c).is_empty());
+                return Err(fail(format!("line {line}: status is ok but {} is empty", empty.unwrap_or("a number"))));
+            }
+            (status, Some(_)) if status != Status::Ok => {
+                return Err(fail(format!("line {line}: status is {} but the row carries numbers", status.name())));
+            }
+            _ => {}
+        }
+        let again = fields(sweep, &record);
+        if let Some(k) = (0..columns.len()).find(|&k| rec.get(k).unwrap_or("") != again[k]) {
+            return Err(fail(format!(
+                "line {line}: {} = {:?} does not fit the rest of the row (a sweep writes {:?} there)",
+                columns[k],
+                rec.get(k).unwrap_or(""),
+                again[k]
+            )));
+        }
+        out.push((line, record));
     }
     Ok(out)
 }

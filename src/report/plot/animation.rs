@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use super::gif::RgbFrames;
 use super::pose::{cat_poses, BodyPose, CatPose};
 use super::raster::Raster;
-use super::style::{bold, create_dir, ensure_fonts, failed, text, GUIDE};
+use super::style::{bold, create_dir, ensure_fonts, failed, png_written, text, GUIDE};
 use super::PlotError;
 use crate::problem::Problem;
 use crate::schedule::{Phase, Trajectory};
@@ -100,6 +100,7 @@ pub fn flip_animation(
             .and_then(|()| root.present().map_err(failed))
             .map_err(write_error(&strip))?;
     }
+    png_written(&strip).map_err(write_error(&strip))?;
     Ok(vec![path.to_path_buf(), strip])
 }
 

@@ -97,9 +97,31 @@ pub(crate) fn write_png_svg(dir: &Path, stem: &str, figure: &impl Figure) -> Res
     create_dir(dir)?;
     let png = dir.join(format!("{stem}.png"));
     render(&png, Raster::new(BitMapBackend::new(&png, PNG_SIZE)).into_drawing_area(), figure)?;
+    png_written(&png).map_err(|message| PlotError::Write { path: png.clone(), message })?;
     let svg = dir.join(format!("{stem}.svg"));
-    render(&svg, SVGBackend::new(&svg, SVG_SIZE).into_drawing_area(), figure)?;
+    // Drawn into memory and written here: plotters' SVG file target drops its buffered writer
+    // without a flush, so an error on the last write would be lost.
+    let mut text = String::new();
+    render(&svg, SVGBackend::with_string(&mut text, SVG_SIZE).into_drawing_area(), figure)?;
+    std::fs::write(&svg, text).map_err(|e| PlotError::Write { path: svg.clone(), message: e.to_string() })?;
     Ok(vec![png, svg])
+}
+
+/// Checks that a PNG plotters saved is complete. plotters saves through the `image` crate, whose
+/// buffered writer is dropped without a flush, so an error on the last write (a full disk) is
+/// not reported; the PNG end chunk (`IEND`) is the last thing written, so a file that ends with
+/// it was written whole.
+pub(crate) fn png_written(path: &Path) -> Result<(), String> {
+    use std::io::{Read, Seek, SeekFrom};
+    const IEND: [u8; 12] = [0, 0, 0, 0, b'I', b'E', b'N', b'D', 0xAE, 0x42, 0x60, 0x82];
+    let mut tail = [0u8; 12];
+    let mut file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let complete = file.seek(SeekFrom::End(-12)).is_ok() && file.read_exact(&mut tail).is_ok() && tail == IEND;
+    if complete {
+        Ok(())
+    } else {
+        Err("the PNG was not written whole (a write failed: is the disk full?)".into())
+    }
 }
 
 /// Draws `figure` on `root` and flushes it to `path`.
@@ -112,4 +134,29 @@ fn render<DB: DrawingBackend>(
         .draw(&root)
         .and_then(|()| root.present().map_err(failed))
         .map_err(|message| PlotError::Write { path: path.to_path_buf(), message })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_png_cut_short_is_refused() {
+        let dir = std::env::temp_dir().join(format!("catflip-png-written-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temporary folder");
+        struct Blank;
+        impl Figure for Blank {
+            fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+                root.fill(&WHITE).map_err(failed)
+            }
+        }
+        let files = write_png_svg(&dir, "blank", &Blank).expect("written");
+        let png = &files[0];
+        assert_eq!(png_written(png), Ok(()));
+        // What a failed last flush leaves: the file without its buffered tail.
+        let bytes = std::fs::read(png).expect("readable");
+        std::fs::write(png, &bytes[..bytes.len() - 5]).expect("writable");
+        assert!(png_written(png).is_err_and(|m| m.contains("not written whole")));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
