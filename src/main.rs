@@ -203,17 +203,24 @@ fn run() -> anyhow::Result<()> {
                 }
             }
             let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
-            let problem = load(&common, &extra)?;
             if let Some(file) = schedule {
-                // The problem gives the cat and the settings; its own schedule is not needed.
+                // The problem gives the cat and the settings; its manoeuvre is not used, so its
+                // warnings are not printed: the import's checks say what applies.
+                let problem = Problem::load(&common.problem, &[common.overrides.clone(), extra].concat())?;
                 let imported = catflip::exchange::read_schedule(&file)?;
-                let exact = catflip::exchange::evaluate(&problem, &imported);
+                let exact = catflip::exchange::evaluate(&problem, &imported)?;
                 let report = match engine {
                     Engine::Exact => exact,
                     Engine::Rapier => catflip::exchange::evaluate_rapier(&problem, &imported, &exact)?.into_report()?,
                 };
+                if !common.json {
+                    for w in &report.warnings {
+                        eprintln!("warning: {w}");
+                    }
+                }
                 emit(common.json, &report, || report.to_text())?;
             } else {
+                let problem = load(&common, &extra)?;
                 let r = Resolved::new(&problem)?;
                 let report = catflip::report::simulate::simulate(&r, engine)?;
                 emit(common.json, &report, || report.to_text())?;

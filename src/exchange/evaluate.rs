@@ -10,6 +10,12 @@
 //! report has its own twist, swing, per-piece peaks and momentum drift, and beside them the
 //! [`RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
 //! exact engine on the same imported schedule, verdict).
+//!
+//! Before the engine runs, [`crate::exchange::checks::check`] refuses what cannot be evaluated and
+//! warns of what looks wrong (`warnings`); the peak torque is sampled by the schedule's own time
+//! scale ([`crate::engines::torque::piece_samples`], `exact.torque_samples` per piece at least)
+//! and at every row, from both sides; after it, a number that came out NaN or infinite refuses
+//! the whole report ([`ImportError::NotComputable`]) rather than print it.
 
 use std::time::Instant;
 
@@ -18,12 +24,14 @@ use serde::Serialize;
 use crate::engines::evaluate::momentum_max;
 use crate::engines::exact::flip;
 use crate::engines::rapier::RapierError;
-use crate::engines::torque::peak_torques;
+use crate::engines::torque::peak_torques_on;
 use crate::engines::Engine;
-use crate::exchange::import::{ImportedSchedule, Interpolation};
+use crate::exchange::checks::{check, peak_samples, sampling};
+use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation};
 use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
 use crate::report::check::{rapier_check, EngineFigures, RapierOutcome};
+use crate::schedule::Trajectory;
 
 /// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -43,6 +51,43 @@ pub struct ImportedPeaks {
     pub max: f64,
 }
 
+/// A joint-rate jump between pieces, named as in `simulate --json`'s `velocity_jumps`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PieceJump {
+    /// Time from the schedule's start, s.
+    pub time: f64,
+    /// The piece that ends there (0-based; the next one starts there).
+    pub after_piece: usize,
+    /// Joint rates just before, rad/s.
+    pub rates_before: [f64; 2],
+    /// Joint rates just after, rad/s.
+    pub rates_after: [f64; 2],
+    /// Generalised impulse `M(q) Δq̇` the joints must deliver, N·m·s.
+    pub impulse: [f64; 2],
+}
+
+impl From<Jump> for PieceJump {
+    fn from(j: Jump) -> Self {
+        PieceJump {
+            time: j.time_s,
+            after_piece: j.after_piece,
+            rates_before: j.rates_before_rad_s,
+            rates_after: j.rates_after_rad_s,
+            impulse: j.impulse_nms,
+        }
+    }
+}
+
+/// A piece boundary whose rate jump could not be judged: the spline's rates at the two sides
+/// are too uncertain (a piece of fewer than seven rows).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct UncheckedBoundary {
+    /// Time from the schedule's start, s.
+    pub time: f64,
+    /// The two rows of the repeated time.
+    pub lines: [u64; 2],
+}
+
 /// What the exact engine says an imported schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ImportReport {
@@ -60,36 +105,75 @@ pub struct ImportReport {
     pub duration_s: f64,
     /// Peak motor torques, N·m.
     pub peak_torque_nm: ImportedPeaks,
-    /// Joint-rate jumps between pieces (impulses); empty when the rates are continuous.
-    pub velocity_jumps: Vec<Jump>,
+    /// Joint-rate jumps between pieces (impulses); empty when the rates are continuous (or
+    /// could not be checked: see `velocity_jumps_unchecked`).
+    pub velocity_jumps: Vec<PieceJump>,
+    /// Piece boundaries where whether the rates jump could not be checked.
+    pub velocity_jumps_unchecked: Vec<UncheckedBoundary>,
+    /// What looks wrong in the file (units, duration, ends, rates, sampling), in the user's words
+    /// with the line or the column; empty when nothing does.
+    pub warnings: Vec<String>,
     /// Twist, swing and what the engine says of its own accuracy.
     #[serde(flatten)]
     pub figures: EngineFigures,
 }
 
-/// The exact engine's report on an imported schedule.
-pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> ImportReport {
+/// The exact engine's report on an imported schedule, with the checks' warnings; refused when the
+/// file cannot be evaluated with this problem or a number cannot be computed.
+pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<ImportReport, ImportError> {
+    let mut warnings = check(problem, schedule)?;
     let cat = &problem.cat;
     let start = Instant::now();
     let f = flip(cat, schedule, problem.exact.tolerance);
-    let peaks = peak_torques(cat, schedule, problem.exact.torque_samples);
+    let peaks = peak_torques_on(cat, schedule, &peak_samples(schedule, problem.exact.torque_samples));
     let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
     let momentum = momentum_max(&problem.cat, schedule, problem.exact.torque_samples);
     let run_time_s = start.elapsed().as_secs_f64();
-    ImportReport {
+    let pieces = merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]));
+    let not_computable =
+        |quantity: &str| ImportError::NotComputable { path: schedule.path.clone(), quantity: quantity.into() };
+    let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+    if !finite(&[f.twist, f.swing]) {
+        return Err(not_computable("the twist and swing"));
+    }
+    if !pieces.iter().all(|p| finite(&p.tau_nm)) || !peaks.max.is_finite() {
+        return Err(not_computable("the peak torque"));
+    }
+    if !jumps.iter().all(|j| finite(&j.impulse_nms) && finite(&j.rates_before_rad_s) && finite(&j.rates_after_rad_s)) {
+        return Err(not_computable("the rate jumps' impulses"));
+    }
+    if !momentum.is_finite() {
+        return Err(not_computable("the angular momentum"));
+    }
+    let unchecked = (0..schedule.pieces.len().saturating_sub(1))
+        .filter(|&k| !schedule.boundary_rate_uncertainty(k).is_finite())
+        .map(|k| UncheckedBoundary {
+            time: schedule.piece_durations()[..=k].iter().sum(),
+            lines: [schedule.pieces[k].lines.1, schedule.pieces[k + 1].lines.0],
+        })
+        .collect::<Vec<_>>();
+    if !unchecked.is_empty() {
+        let lines: Vec<String> = unchecked.iter().map(|u| format!("{}–{}", u.lines[0], u.lines[1])).collect();
+        warnings.push(format!(
+            "lines {}: whether the rates jump there could not be checked: a piece of fewer than 7 rows is too short for the spline's rates at its ends; give q̇ (columns qd1, qd2) or more rows",
+            lines.join(", ")
+        ));
+    }
+    let per_piece: Vec<[f64; 2]> = peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]).collect();
+    warnings.extend(sampling(problem, schedule, &per_piece));
+    Ok(ImportReport {
         problem: problem.name.clone(),
         engine: Engine::Exact,
         schedule_file: schedule.path.clone(),
         rows: schedule.rows,
         interpolation: schedule.interpolation,
-        duration_s: crate::schedule::Trajectory::piece_durations(schedule).iter().sum(),
-        peak_torque_nm: ImportedPeaks {
-            pieces: merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value])),
-            max: peaks.max,
-        },
-        velocity_jumps: jumps,
+        duration_s: schedule.total_duration(),
+        peak_torque_nm: ImportedPeaks { pieces, max: peaks.max },
+        velocity_jumps: jumps.into_iter().map(PieceJump::from).collect(),
+        velocity_jumps_unchecked: unchecked,
+        warnings,
         figures: EngineFigures::exact(&f, momentum, peaks.action_reaction_gap, run_time_s),
-    }
+    })
 }
 
 /// rapier's report on an imported schedule, verified against `exact`, the exact engine's report on
@@ -153,20 +237,27 @@ impl ImportReport {
             .map(|p| format!("{} [{:.4}, {:.4}]", p.piece, p.tau_nm[0], p.tau_nm[1]))
             .collect();
         let _ = writeln!(s, "  peak torque N·m  {}  max {:.4}", per.join("  "), self.peak_torque_nm.max);
-        if self.velocity_jumps.is_empty() {
+        if !self.velocity_jumps_unchecked.is_empty() {
+            let at: Vec<String> = self
+                .velocity_jumps_unchecked
+                .iter()
+                .map(|u| format!("t = {:.6} s (lines {}–{})", u.time, u.lines[0], u.lines[1]))
+                .collect();
+            let _ = writeln!(s, "  velocity jumps   could not check at {}", at.join(", "));
+        } else if self.velocity_jumps.is_empty() {
             let _ = writeln!(s, "  velocity jumps   none");
         }
         for j in &self.velocity_jumps {
             let _ = writeln!(
                 s,
                 "  velocity jump    at t = {:.6} s: q̇ [{:.4}, {:.4}] → [{:.4}, {:.4}] rad/s, impulse [{:.5}, {:.5}] N·m·s",
-                j.time_s,
-                j.rates_before_rad_s[0],
-                j.rates_before_rad_s[1],
-                j.rates_after_rad_s[0],
-                j.rates_after_rad_s[1],
-                j.impulse_nms[0],
-                j.impulse_nms[1]
+                j.time,
+                j.rates_before[0],
+                j.rates_before[1],
+                j.rates_after[0],
+                j.rates_after[1],
+                j.impulse[0],
+                j.impulse[1]
             );
         }
         let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);

@@ -17,7 +17,7 @@
 //! piece with its one-sided values, the second starts the next), which is how rates may jump
 //! (catflip's own files mark such pairs `end`/`start` in their `boundary` column). Phases are
 //! optional: a file without duplicated times is one piece. The first row's time is the start
-//! (`t = 0` of the trajectory). Conventions are DESIGN.md §1's (`R_AB = Rx(q1) · Ry(q2)`).
+//! (`t = 0` of the trajectory). Conventions are the README's ("Replay elsewhere": `R_AB = Rx(q1) · Ry(q2)`).
 //!
 //! # Interpolation
 //!
@@ -143,6 +143,69 @@ pub enum ImportError {
         /// The scheme.
         scheme: Interpolation,
     },
+    /// A joint angle too large to be an angle in radians.
+    #[error("{path}: line {line}, column {column} (`{name}`): {value:e} rad is not a joint angle (more than {limit:e} rad, {turns:.0} turns); angles must be in radians")]
+    AbsurdAngle {
+        /// The file.
+        path: String,
+        /// The line.
+        line: u64,
+        /// The column, 1-based.
+        column: usize,
+        /// The column's name.
+        name: String,
+        /// The value.
+        value: f64,
+        /// The largest accepted magnitude, rad ([`MAX_ANGLE_RAD`]).
+        limit: f64,
+        /// The value in turns.
+        turns: f64,
+    },
+    /// A time written twice (a piece split) with different angles: the joints would have to jump.
+    #[error("{path}: lines {lines:?}: t = {time} s is written twice with `{name}` = {before} then {after} rad: a joint cannot jump (a repeated time splits pieces where the rates may jump, not the angles); write the same angles on both rows")]
+    PositionJump {
+        /// The file.
+        path: String,
+        /// The two lines.
+        lines: [u64; 2],
+        /// The time, s (the file's clock).
+        time: f64,
+        /// The angle column's name.
+        name: String,
+        /// The angle on the first row, rad.
+        before: f64,
+        /// The angle on the second row, rad.
+        after: f64,
+    },
+    /// The schedule's duration is so far from the fall's that its times cannot be seconds.
+    #[error("{path}: column `{name}`: the schedule lasts {duration_s:e} s against a fall of {fall_s} s (drop.height = {height} m, drop.gravity = {gravity} m/s²): {factor:.1e} times too {direction}; times must be in seconds")]
+    AbsurdDuration {
+        /// The file.
+        path: String,
+        /// The time column's name.
+        name: String,
+        /// The schedule's duration, s.
+        duration_s: f64,
+        /// The fall time, s.
+        fall_s: f64,
+        /// The problem's drop height, m.
+        height: f64,
+        /// The problem's gravity, m/s².
+        gravity: f64,
+        /// How many times too long or short.
+        factor: f64,
+        /// `long` or `short`.
+        direction: String,
+    },
+    /// The exact engine could not compute a number the report needs (it came out NaN or
+    /// infinite): nothing is reported rather than a wrong number.
+    #[error("{path}: the exact engine could not compute {quantity} for this schedule (it is not finite): the file's angles, rates or times are too large or too small to evaluate")]
+    NotComputable {
+        /// The file.
+        path: String,
+        /// What could not be computed.
+        quantity: String,
+    },
     /// The spline's linear system was singular (times too unevenly spaced).
     #[error("{path}: lines {first_line}–{last_line}: the not-a-knot spline's system is singular (times too unevenly spaced); give the rates q̇ too")]
     SplineFailed {
@@ -201,8 +264,49 @@ pub struct ImportedPiece {
     /// second spline through every other row (the rates are `O(h³)`), infinite when the piece has
     /// too few rows for that second spline (fewer than seven).
     pub end_rate_error: [f64; 2],
+    /// The file's rows of this piece, in order.
+    pub rows: Vec<Row>,
     joints: [Piecewise; 2],
 }
+
+/// One data row of a schedule file, as written (angles rad, rates rad/s, accelerations rad/s²).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// The line it is on.
+    pub line: u64,
+    /// Its time on the file's clock, s.
+    pub t: f64,
+    /// `q1`, `q2`.
+    pub q: [f64; 2],
+    /// `q̇1`, `q̇2`, when the file gives them.
+    pub qd: Option<[f64; 2]>,
+    /// `q̈1`, `q̈2`, when the file gives them.
+    pub qdd: Option<[f64; 2]>,
+    /// The `phase` column, if any.
+    pub phase: Option<String>,
+}
+
+/// The names of the columns read, as the header spells them (lower-cased).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Columns {
+    /// Time.
+    pub time: String,
+    /// Joint angles.
+    pub angles: [String; 2],
+    /// Joint rates, when given.
+    pub rates: Option<[String; 2]>,
+    /// Joint accelerations, when given.
+    pub accels: Option<[String; 2]>,
+}
+
+/// The largest joint angle accepted, rad: a joint turned further (more than 159 turns, or 17
+/// if the column holds degrees) is not a joint angle, and the engines' numbers would be
+/// meaningless.
+pub const MAX_ANGLE_RAD: f64 = 1e3;
+
+/// The largest difference of the angles on the two rows of a repeated time, rad: below any
+/// joint's resolution, above the round-off of a file written to seven digits or more.
+pub const POSITION_JUMP_TOLERANCE: f64 = 1e-6;
 
 /// How many times the estimated rate error a difference of rates must exceed to be a jump.
 pub const JUMP_SAFETY: f64 = 10.0;
@@ -250,6 +354,8 @@ pub struct ImportedSchedule {
     pub rows: usize,
     /// The pieces, in order.
     pub pieces: Vec<ImportedPiece>,
+    /// The columns read.
+    pub columns: Columns,
 }
 
 impl Trajectory for ImportedSchedule {
@@ -268,6 +374,20 @@ impl Trajectory for ImportedSchedule {
         let d = p.joints.each_ref().map(|j| j.eval(s));
         JointState { q: [d[0].value, d[1].value], qd: [d[0].rate, d[1].rate], qdd: [d[0].accel, d[1].accel] }
     }
+
+    /// Every inner row: the interpolant is a polynomial between rows only (cubic Hermite's `q̈`
+    /// jumps there; the other schemes' higher derivatives do), so the exact engine steps row
+    /// interval by row interval and the peak torque is sampled at every row, from both sides.
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        let k = self.pieces[piece.min(self.pieces.len() - 1)].joints[0].knots();
+        k[1..k.len() - 1].to_vec()
+    }
+
+    fn piece_state_before(&self, piece: usize, s: f64) -> JointState {
+        let p = &self.pieces[piece.min(self.pieces.len() - 1)];
+        let d = p.joints.each_ref().map(|j| j.eval_before(s));
+        JointState { q: [d[0].value, d[1].value], qd: [d[0].rate, d[1].rate], qdd: [d[0].accel, d[1].accel] }
+    }
 }
 
 /// Reads a schedule CSV file.
@@ -282,14 +402,6 @@ const TIME: [&str; 4] = ["t_s", "t", "time_s", "time"];
 const ANGLES: [[&str; 2]; 2] = [["q1_rad", "q1"], ["q2_rad", "q2"]];
 const RATES: [[&str; 2]; 2] = [["qd1_rad_s", "qd1"], ["qd2_rad_s", "qd2"]];
 const ACCELS: [[&str; 2]; 2] = [["qdd1_rad_s2", "qdd1"], ["qdd2_rad_s2", "qdd2"]];
-
-/// One data row.
-struct Sample {
-    line: u64,
-    t: f64,
-    values: [[f64; 2]; 3],
-    phase: Option<String>,
-}
 
 /// Parses a schedule CSV text; `origin` names it in errors.
 pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, ImportError> {
@@ -330,6 +442,13 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
         (Some(_), None) => Interpolation::CubicHermite,
         _ => Interpolation::NotAKnotSpline,
     };
+    let names = |cols: [usize; 2]| cols.map(|c| header[c].clone());
+    let columns = Columns {
+        time: header[t_col].clone(),
+        angles: names(q_cols),
+        rates: qd_cols.map(names),
+        accels: qdd_cols.map(names),
+    };
     let phase_col = header.iter().position(|h| h == "phase");
     let mut samples = Vec::new();
     for record in reader.records() {
@@ -356,17 +475,36 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
                 })
             }
         };
-        let both = |cols: Option<[usize; 2]>| -> Result<[f64; 2], ImportError> {
-            cols.map_or(Ok([0.0; 2]), |[a, b]| Ok([number(a)?, number(b)?]))
+        let angle = |col: usize| -> Result<f64, ImportError> {
+            let value = number(col)?;
+            if value.abs() <= MAX_ANGLE_RAD {
+                Ok(value)
+            } else {
+                Err(ImportError::AbsurdAngle {
+                    path: path.clone(),
+                    line,
+                    column: col + 1,
+                    name: header[col].clone(),
+                    value,
+                    limit: MAX_ANGLE_RAD,
+                    turns: value.abs() / std::f64::consts::TAU,
+                })
+            }
         };
-        samples.push(Sample {
+        let both = |cols: Option<[usize; 2]>| -> Result<Option<[f64; 2]>, ImportError> {
+            cols.map(|[a, b]| Ok([number(a)?, number(b)?])).transpose()
+        };
+        samples.push(Row {
             line,
             t: number(t_col)?,
-            values: [both(Some(q_cols))?, both(qd_cols)?, both(qdd_cols)?],
+            q: [angle(q_cols[0])?, angle(q_cols[1])?],
+            qd: both(qd_cols)?,
+            qdd: both(qdd_cols)?,
             phase: phase_col.and_then(|c| record.get(c)).filter(|s| !s.is_empty()).map(str::to_string),
         });
     }
     let groups = split_pieces(&samples, &path, t_col, &header[t_col])?;
+    check_continuity(&groups, &path, &columns)?;
     let pieces = groups
         .iter()
         .enumerate()
@@ -382,7 +520,7 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
             scheme: interpolation,
         });
     }
-    Ok(ImportedSchedule { path, interpolation, rows: samples.len(), pieces })
+    Ok(ImportedSchedule { path, interpolation, rows: samples.len(), pieces, columns })
 }
 
 fn incomplete(path: &str, present: &str, missing: &str) -> ImportError {
@@ -390,12 +528,7 @@ fn incomplete(path: &str, present: &str, missing: &str) -> ImportError {
 }
 
 /// Splits the rows at duplicated times; checks that time increases otherwise.
-fn split_pieces<'a>(
-    samples: &'a [Sample],
-    path: &str,
-    t_col: usize,
-    t_name: &str,
-) -> Result<Vec<&'a [Sample]>, ImportError> {
+fn split_pieces<'a>(samples: &'a [Row], path: &str, t_col: usize, t_name: &str) -> Result<Vec<&'a [Row]>, ImportError> {
     let mut groups = Vec::new();
     let mut start = 0;
     for i in 1..samples.len() {
@@ -424,7 +557,28 @@ fn split_pieces<'a>(
     Ok(groups)
 }
 
-fn build_piece(rows: &[Sample], k: usize, scheme: Interpolation, path: &str) -> Result<ImportedPiece, ImportError> {
+/// The angles on the two rows of a repeated time must agree ([`POSITION_JUMP_TOLERANCE`]): a
+/// piece split is where the rates may jump, never the angles.
+fn check_continuity(groups: &[&[Row]], path: &str, columns: &Columns) -> Result<(), ImportError> {
+    for w in groups.windows(2) {
+        let (Some(end), Some(start)) = (w[0].last(), w[1].first()) else { continue };
+        for j in 0..2 {
+            if (start.q[j] - end.q[j]).abs() > POSITION_JUMP_TOLERANCE {
+                return Err(ImportError::PositionJump {
+                    path: path.into(),
+                    lines: [end.line, start.line],
+                    time: start.t,
+                    name: columns.angles[j].clone(),
+                    before: end.q[j],
+                    after: start.q[j],
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+fn build_piece(rows: &[Row], k: usize, scheme: Interpolation, path: &str) -> Result<ImportedPiece, ImportError> {
     let lines = (rows.first().map_or(2, |r| r.line), rows.last().map_or(2, |r| r.line));
     if rows.len() < scheme.min_rows() {
         return Err(ImportError::TooFewRows {
@@ -438,20 +592,18 @@ fn build_piece(rows: &[Sample], k: usize, scheme: Interpolation, path: &str) -> 
     }
     let t0 = rows[0].t;
     let knots: Vec<f64> = rows.iter().map(|r| r.t - t0).collect();
-    let column = |kind: usize, joint: usize| rows.iter().map(|r| r.values[kind][joint]).collect::<Vec<f64>>();
+    let q = |joint: usize| rows.iter().map(|r| r.q[joint]).collect::<Vec<f64>>();
+    let qd = |joint: usize| rows.iter().map(|r| r.qd.map_or(0.0, |v| v[joint])).collect::<Vec<f64>>();
+    let qdd = |joint: usize| rows.iter().map(|r| r.qdd.map_or(0.0, |v| v[joint])).collect::<Vec<f64>>();
     let joint = |j: usize| match scheme {
-        Interpolation::QuinticHermite => {
-            Some(Piecewise::quintic_hermite(&knots, &column(0, j), &column(1, j), &column(2, j)))
-        }
-        Interpolation::CubicHermite => Some(Piecewise::cubic_hermite(&knots, &column(0, j), &column(1, j))),
-        Interpolation::NotAKnotSpline => Piecewise::not_a_knot(&knots, &column(0, j)),
+        Interpolation::QuinticHermite => Some(Piecewise::quintic_hermite(&knots, &q(j), &qd(j), &qdd(j))),
+        Interpolation::CubicHermite => Some(Piecewise::cubic_hermite(&knots, &q(j), &qd(j))),
+        Interpolation::NotAKnotSpline => Piecewise::not_a_knot(&knots, &q(j)),
     };
     let failed = || ImportError::SplineFailed { path: path.into(), first_line: lines.0, last_line: lines.1 };
     let joints = [joint(0).ok_or_else(failed)?, joint(1).ok_or_else(failed)?];
     let end_rate_error = match scheme {
-        Interpolation::NotAKnotSpline => {
-            spline_end_rate_error(&knots, [&column(0, 0), &column(0, 1)], [&joints[0], &joints[1]])
-        }
+        Interpolation::NotAKnotSpline => spline_end_rate_error(&knots, [&q(0), &q(1)], [&joints[0], &joints[1]]),
         _ => [0.0; 2],
     };
     Ok(ImportedPiece {
@@ -459,8 +611,40 @@ fn build_piece(rows: &[Sample], k: usize, scheme: Interpolation, path: &str) -> 
         file_start: t0,
         lines,
         end_rate_error,
+        rows: rows.to_vec(),
         joints,
     })
+}
+
+impl ImportedSchedule {
+    /// The same file with every other row of each piece dropped (a piece's first and last rows
+    /// kept), for an a-posteriori estimate of the interpolation's error; `None` when no piece has
+    /// rows to spare (every piece would stay as it is).
+    pub fn every_other_row(&self) -> Option<ImportedSchedule> {
+        let mut halved_any = false;
+        let mut pieces = Vec::with_capacity(self.pieces.len());
+        for (k, p) in self.pieces.iter().enumerate() {
+            let n = p.rows.len();
+            let mut keep: Vec<Row> = p.rows.iter().step_by(2).cloned().collect();
+            if n % 2 == 0 {
+                keep.push(p.rows[n - 1].clone());
+            }
+            if keep.len() >= self.interpolation.min_rows() && keep.len() < n {
+                if let Ok(piece) = build_piece(&keep, k, self.interpolation, &self.path) {
+                    halved_any = true;
+                    pieces.push(ImportedPiece { name: p.name.clone(), ..piece });
+                    continue;
+                }
+            }
+            pieces.push(p.clone());
+        }
+        halved_any.then(|| ImportedSchedule { pieces, ..self.clone() })
+    }
+
+    /// All rows, in order.
+    pub fn all_rows(&self) -> impl Iterator<Item = &Row> {
+        self.pieces.iter().flat_map(|p| p.rows.iter())
+    }
 }
 
 /// The CSV error's message without its position (the caller names the line).

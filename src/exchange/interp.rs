@@ -146,7 +146,18 @@ impl Piecewise {
     /// interval to its right is used — every scheme is at least C¹ there).
     pub fn eval(&self, t: f64) -> Derivatives {
         let last = self.coefficients.len() - 1;
-        let i = self.knots.partition_point(|&k| k <= t).saturating_sub(1).min(last);
+        self.eval_on(self.knots.partition_point(|&k| k <= t).saturating_sub(1).min(last), t)
+    }
+
+    /// As [`Piecewise::eval`], but at an inner knot the interval to its left: the left limits,
+    /// where the cubic Hermite's `q̈` jumps.
+    pub fn eval_before(&self, t: f64) -> Derivatives {
+        let last = self.coefficients.len() - 1;
+        self.eval_on(self.knots.partition_point(|&k| k < t).saturating_sub(1).min(last), t)
+    }
+
+    /// Value and derivatives at `t` by interval `i`'s polynomial (`u` clamped to `[0, 1]`).
+    fn eval_on(&self, i: usize, t: f64) -> Derivatives {
         let h = self.knots[i + 1] - self.knots[i];
         let u = ((t - self.knots[i]) / h).clamp(0.0, 1.0);
         let a = &self.coefficients[i];
@@ -234,6 +245,17 @@ mod tests {
                 assert_relative_eq!(d.accel, fdd(t), epsilon = 1e-8);
             }
         }
+    }
+
+    #[test]
+    fn eval_before_takes_the_left_interval_at_a_knot() {
+        // Cubic Hermite of t² with wrong rates: q̈ jumps at the inner knot; both sides are seen.
+        let k = [0.0, 1.0, 2.0];
+        let p = Piecewise::cubic_hermite(&k, &[0.0, 1.0, 4.0], &[0.0, 0.0, 0.0]);
+        let (left, right) = (p.eval_before(1.0), p.eval(1.0));
+        assert_relative_eq!(left.value, right.value, epsilon = 1e-15);
+        assert_relative_eq!(left.accel, -6.0, epsilon = 1e-12);
+        assert_relative_eq!(right.accel, 18.0, epsilon = 1e-12);
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //!   need a body with positive mass between two revolute joints, and at `f = 10⁻⁶` it changes
 //!   the flip by far less than the engines' tolerances;
 //! - joint 1 about A's `x` at A's `(0, 0, −l/2)`, joint 2 about the cross's `y` at the same point,
-//!   which is B's `(0, 0, +l/2)` (DESIGN.md §1): `R_AB = Rx(q1) · Ry(q2)`.
+//!   which is B's `(0, 0, +l/2)`: `R_AB = Rx(q1) · Ry(q2)`.
 //!
 //! Numbers are written with Rust's shortest round-trip formatting, so a parser reads back the
 //! very `f64` written.

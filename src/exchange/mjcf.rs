@@ -1,7 +1,7 @@
 //! The cat as an MJCF model, for MuJoCo.
 //!
 //! MJCF lets a body's frame sit anywhere relative to its joints, so every body frame here is the
-//! body frame of DESIGN.md §1:
+//! body frame of the README's "Replay elsewhere" (links A, cross, B):
 //!
 //! - body `A` (centre of mass, `z` towards the head) with a `freejoint` (the floating base; its
 //!   `qpos` is the position and the unit quaternion `(w, x, y, z)` of A in the world);
@@ -16,7 +16,7 @@
 //! 1, unlimited) apply joint torques in N·m, the CSV's `tau` columns.
 //!
 //! **Gravity** is zero by default: in the frame falling with the centre of mass, gravity exerts
-//! no torque about it, so the rotation is exactly that of the weightless cat (DESIGN.md §1); a
+//! no torque about it, so the rotation is exactly that of the weightless cat; a
 //! simulation with `g` gives the same rotation and a centre of mass on the ballistic parabola.
 //! [`MjcfOptions::gravity`] writes `g` along `−z` instead.
 //!
@@ -50,7 +50,7 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "<!-- catflip: the two-cylinder cat (DESIGN.md §1). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
+        "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
     );
     let _ = writeln!(s, "<mujoco model=\"{}\">", xml_escape(name));
     let _ = writeln!(s, "  <compiler angle=\"radian\" inertiafromgeom=\"false\" autolimits=\"true\"/>");

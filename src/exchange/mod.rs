@@ -9,13 +9,16 @@
 //! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
 //!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
 //! - [`table`]: every tidy CSV table, written with the `csv` crate;
+//! - [`checks`]: what is refused and what is warned of an imported schedule (units, duration,
+//!   ends, rates against angles, sampling);
 //! - [`mod@evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
 //!   --schedule FILE.csv`).
 //!
-//! Conventions are DESIGN.md §1's: body frames at the centres of mass with `z` towards the head,
+//! Conventions (the README's "Replay elsewhere"): body frames at the centres of mass with `z` towards the head,
 //! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)`; SI units;
 //! quaternions scalar first `(w, x, y, z)`.
 
+pub mod checks;
 pub mod evaluate;
 pub mod import;
 pub mod interp;

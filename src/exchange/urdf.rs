@@ -31,7 +31,7 @@ pub fn urdf(links: &Links, name: &str) -> String {
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
         s,
-        "<!-- catflip: the two-cylinder cat (DESIGN.md §1). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
+        "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
     );
     let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
     link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((l, r)));

@@ -42,6 +42,11 @@ pub struct Extrapolation {
 pub struct RapierCheck {
     /// Time step of the finest run, s.
     pub dt: Option<f64>,
+    /// The finest run's own twist, degrees: raw, before the extrapolation to `dt → 0` that the
+    /// report's `twist_deg` gives.
+    pub twist_deg_raw: Option<f64>,
+    /// The finest run's own swing, degrees (raw).
+    pub swing_deg_raw: Option<f64>,
     /// Largest joint tracking error per joint, rad.
     pub tracking_error_rad: Option<[f64; 2]>,
     /// The motors' torque spikes at rate jumps, as rapier measured them.
@@ -49,7 +54,7 @@ pub struct RapierCheck {
     /// First-order Richardson extrapolation to `dt → 0` from the last two runs (absent with
     /// fewer than two).
     pub extrapolated: Option<Extrapolation>,
-    /// Exact engine's twist minus rapier's, degrees.
+    /// Exact engine's twist minus rapier's raw one (`twist_deg_raw`), degrees.
     pub twist_error_deg: Option<f64>,
     /// Relative error of the peak torque against the exact engine's (absent when the exact peak
     /// is zero: the schedule does not move).
@@ -67,9 +72,11 @@ pub struct RapierCheck {
 /// rapier its check.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EngineFigures {
-    /// Signed twist about A's initial `+z`, degrees.
+    /// Signed twist about A's initial `+z`, degrees; rapier's is its estimate at `dt → 0` (the
+    /// extrapolation the verdict judges) when it has one, its finest run's otherwise (the raw
+    /// value is `twist_deg_raw`).
     pub twist_deg: f64,
-    /// Swing of the spine axis, degrees.
+    /// Swing of the spine axis, degrees; rapier's as its twist.
     pub swing_deg: f64,
     /// Largest angular momentum along the motion relative to `I* · max|q̇|`.
     pub momentum_max: f64,
@@ -106,12 +113,15 @@ impl EngineFigures {
         }
     }
 
-    /// rapier's figures: its finest run and the check.
+    /// rapier's figures: its finest run and the check; twist and swing extrapolated to `dt → 0`
+    /// when there is an extrapolation (the raw values are in the check).
     pub fn rapier(finest: Finest) -> Self {
         let Finest { run, check, run_time_s } = finest;
+        let raw = (run.twist.to_degrees(), run.swing.to_degrees());
+        let (twist_deg, swing_deg) = check.extrapolated.map_or(raw, |x| (x.twist_deg, x.swing_deg));
         Self {
-            twist_deg: run.twist.to_degrees(),
-            swing_deg: run.swing.to_degrees(),
+            twist_deg,
+            swing_deg,
             momentum_max: run.momentum.max_rel,
             steps: run.steps,
             error_estimate_rad: None,
@@ -207,6 +217,8 @@ pub fn rapier_check(
     let (peak, run_time_s) = (reference.peak_torque, v.run_time_s);
     let check = RapierCheck {
         dt: Some(run.dt),
+        twist_deg_raw: Some(run.twist.to_degrees()),
+        swing_deg_raw: Some(run.swing.to_degrees()),
         tracking_error_rad: Some(run.tracking_error),
         rapier_jumps: Some(run.jumps.clone()),
         extrapolated,
@@ -224,6 +236,9 @@ impl RapierCheck {
         let mut s = String::new();
         if let Some(dt) = self.dt {
             let _ = writeln!(s, "  dt               {dt:e} s");
+        }
+        if let (Some(t), Some(w)) = (self.twist_deg_raw, self.swing_deg_raw) {
+            let _ = writeln!(s, "  raw (finest dt)  twist {t:+.9}°, swing {w:.9}°");
         }
         if let Some(e) = self.tracking_error_rad {
             let _ = writeln!(s, "  tracking error   [{:.3e}, {:.3e}] rad", e[0], e[1]);

@@ -1,0 +1,278 @@
+//! What can be checked of an imported schedule before its numbers are believed: against the
+//! problem it is evaluated with, and against itself.
+//!
+//! Refused ([`ImportError`], nothing reported):
+//! - a duration more than [`ABSURD_DURATION_FACTOR`] times longer or shorter than the fall
+//!   `t_fall = √(2h/g)` (the times cannot be seconds; the engines' numbers would overflow);
+//! - (when the file is read, [`crate::exchange::import`]) a non-finite field, an angle beyond
+//!   [`crate::exchange::import::MAX_ANGLE_RAD`], angles that jump at a repeated time.
+//!
+//! Warned (the report is made, with the warning beside it):
+//! - a duration that is not the fall's (within [`DURATION_TOLERANCE`] relative), said as
+//!   milliseconds when it is a thousand times the fall;
+//! - a joint angle beyond π rad (the halves would fold through each other): degrees, most likely;
+//! - ends that are not straight (`|q| >` [`POSITION_JUMP_TOLERANCE`]) and at rest (the rates
+//!   within [`crate::engines::JUMP_TOLERANCE`] of zero relative to `max(1 rad/s, |q̇|)`, and the
+//!   spline's end-rate uncertainty): the cat is released and lands straight and at rest, so
+//!   starting or stopping otherwise takes an impulse `M(q) q̇` (stated) that no torque column
+//!   shows;
+//! - rates that contradict the angles: over each row interval `h`, the trapezoid rule with its
+//!   end correction, `Δq ≈ h (q̇_i + q̇_{i+1})/2 − h² (q̈_{i+1} − q̈_i)/12` (the correction when
+//!   `q̈` is given; error `O(h⁵)`, else `O(h³)`), and likewise `Δq̇ ≈ h (q̈_i + q̈_{i+1})/2`; the
+//!   residuals summed over the file larger than [`CONSISTENCY_FRACTION`] of `Σ|Δq|`;
+//! - rows too far apart for the interpolation: the peak torque recomputed with every other row
+//!   dropped, `|P_h − P_2h| / (2^p − 1)` (`p` the order of the scheme's `q̈`: 4 quintic Hermite,
+//!   2 otherwise) larger than [`SAMPLING_TOLERANCE`] of the peak;
+//! - piece boundaries whose rate jump cannot be judged (spline pieces of fewer than seven rows);
+//! - the problem's cat outside the paper's stability argument (`l < √3 r`). The problem's
+//!   manoeuvre is not used, so nothing is said of it.
+
+use crate::engines::torque::{peak_torques_on, piece_samples, reduced_mass_matrix};
+use crate::engines::JUMP_TOLERANCE;
+use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation, Row, POSITION_JUMP_TOLERANCE};
+use crate::problem::Problem;
+use crate::schedule::Trajectory;
+
+/// How many times longer or shorter than the fall a schedule may be before it is refused.
+pub const ABSURD_DURATION_FACTOR: f64 = 1e6;
+/// Relative difference of the schedule's duration and the fall's above which it is warned.
+pub const DURATION_TOLERANCE: f64 = 1e-6;
+/// Fraction of the angles' total motion the rates' residual may reach before it is warned.
+pub const CONSISTENCY_FRACTION: f64 = 0.1;
+/// Estimated relative error of the peak torque from the rows' spacing above which it is warned.
+pub const SAMPLING_TOLERANCE: f64 = 1e-3;
+
+/// The refusals and warnings of `schedule` evaluated with `problem` (module docs); the warnings
+/// in the user's words, naming the line or the column.
+pub fn check(problem: &Problem, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
+    let mut warnings = Vec::new();
+    duration(problem, schedule, &mut warnings)?;
+    degrees(schedule, &mut warnings);
+    ends(problem, schedule, &mut warnings);
+    consistency(schedule, &mut warnings);
+    if !problem.cat.is_long_enough() {
+        warnings.push(format!(
+            "cat.length = {} < √3 · cat.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
+            problem.cat.length,
+            3f64.sqrt() * problem.cat.radius
+        ));
+    }
+    Ok(warnings)
+}
+
+fn duration(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) -> Result<(), ImportError> {
+    let fall = problem.drop.fall_time();
+    let d = s.total_duration();
+    let ratio = d / fall;
+    let name = &s.columns.time;
+    if !(1.0 / ABSURD_DURATION_FACTOR..=ABSURD_DURATION_FACTOR).contains(&ratio) {
+        let long = ratio > 1.0;
+        return Err(ImportError::AbsurdDuration {
+            path: s.path.clone(),
+            name: name.clone(),
+            duration_s: d,
+            fall_s: fall,
+            height: problem.drop.height,
+            gravity: problem.drop.gravity,
+            factor: if long { ratio } else { 1.0 / ratio },
+            direction: if long { "long" } else { "short" }.into(),
+        });
+    }
+    let last = s.all_rows().last().map_or(0, |r| r.line);
+    if (ratio - 1e3).abs() < 0.05e3 {
+        warnings.push(format!(
+            "column `{name}`: the schedule lasts {d} s against a fall of {fall:.6} s (drop.height = {} m, drop.gravity = {} m/s²): the times look like milliseconds; they must be in seconds",
+            problem.drop.height, problem.drop.gravity
+        ));
+    } else if (ratio - 1.0).abs() > DURATION_TOLERANCE {
+        let gap = d - fall;
+        let when = if gap < 0.0 { "before" } else { "after" };
+        warnings.push(format!(
+            "line {last}: the schedule ends at {d:.6} s, {:.3} ms {when} the cat lands (fall {fall:.6} s from drop.height = {} m, drop.gravity = {} m/s²)",
+            1e3 * gap.abs(),
+            problem.drop.height,
+            problem.drop.gravity
+        ));
+    }
+    Ok(())
+}
+
+fn degrees(s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    for j in 0..2 {
+        let worst = s.all_rows().max_by(|a, b| a.q[j].abs().total_cmp(&b.q[j].abs()));
+        if let Some(r) = worst.filter(|r| r.q[j].abs() > std::f64::consts::PI) {
+            warnings.push(format!(
+                "line {}, column `{}`: {} rad ({:.0}°) bends the joint beyond 180°, folding the halves through each other: the column looks like degrees; angles must be in radians",
+                r.line,
+                s.columns.angles[j],
+                r.q[j],
+                r.q[j].to_degrees()
+            ));
+        }
+    }
+}
+
+/// Whether a row's state is straight (`q ≈ 0`) and at rest (`q̇ ≈ 0`, within `rate_uncertainty`).
+fn ends(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    let durations = s.piece_durations();
+    let (Some(first), Some(last)) = (s.pieces.first(), s.pieces.last()) else { return };
+    let n = durations.len() - 1;
+    let ends = [
+        ("starts", "is released", first.rows.first(), s.piece_state(0, 0.0), first.end_rate_error[0]),
+        ("ends", "lands", last.rows.last(), s.piece_state(n, durations[n]), last.end_rate_error[1]),
+    ];
+    for (verb, event, row, state, rate_error) in ends {
+        let line = row.map_or(0, |r: &Row| r.line);
+        let q = state.q;
+        if q[0].hypot(q[1]) > POSITION_JUMP_TOLERANCE {
+            warnings.push(format!(
+                "line {line}: the schedule {verb} bent (q = [{:.6}, {:.6}] rad): the cat is {event} straight (q = 0)",
+                q[0], q[1]
+            ));
+        }
+        let speed = state.qd[0].hypot(state.qd[1]);
+        let uncertainty = crate::exchange::import::JUMP_SAFETY * rate_error;
+        if !uncertainty.is_finite() {
+            warnings.push(format!(
+                "line {line}: whether the schedule {verb} at rest could not be checked: its piece has too few rows (fewer than 7) to estimate the spline's rate there; give q̇ or more rows"
+            ));
+        } else if speed > (JUMP_TOLERANCE * speed.max(1.0)).max(uncertainty) {
+            let m = reduced_mass_matrix(&problem.cat, q) * nalgebra::Vector2::new(state.qd[0], state.qd[1]);
+            warnings.push(format!(
+                "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat is {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
+                state.qd[0], state.qd[1], m[0], m[1]
+            ));
+        }
+    }
+}
+
+/// Rates against the angles' differences, and accelerations against the rates'.
+fn consistency(s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    let Some(rates) = &s.columns.rates else { return };
+    for j in 0..2 {
+        // Σ|Δq|, Σ|h·mean q̇|, Σ|residual|, worst (residual, lines); and the same one level up.
+        let mut q = Residuals::default();
+        let mut qd = Residuals::default();
+        for p in &s.pieces {
+            for w in p.rows.windows(2) {
+                let (a, b) = (&w[0], &w[1]);
+                let h = b.t - a.t;
+                let (Some(va), Some(vb)) = (a.qd, b.qd) else { continue };
+                let correction = match (a.qdd, b.qdd) {
+                    (Some(aa), Some(ab)) => {
+                        qd.add(vb[j] - va[j], 0.5 * h * (aa[j] + ab[j]), [a.line, b.line]);
+                        h * h * (ab[j] - aa[j]) / 12.0
+                    }
+                    _ => 0.0,
+                };
+                q.add(b.q[j] - a.q[j], 0.5 * h * (va[j] + vb[j]) - correction, [a.line, b.line]);
+            }
+        }
+        if let Some(lines) = q.inconsistent() {
+            warnings.push(format!(
+                "column `{}` contradicts `{}`: integrated, the rates move joint {} by {:.6} rad in all, the angles by {:.6} rad (worst between lines {} and {}); rates must be dq/dt in rad/s",
+                rates[j],
+                s.columns.angles[j],
+                j + 1,
+                q.integrated,
+                q.moved,
+                lines[0],
+                lines[1]
+            ));
+        }
+        if let (Some(lines), Some(accels)) = (qd.inconsistent(), &s.columns.accels) {
+            warnings.push(format!(
+                "column `{}` contradicts `{}`: integrated, the accelerations change joint {}'s rate by {:.6} rad/s in all, the rates by {:.6} rad/s (worst between lines {} and {}); accelerations must be d²q/dt² in rad/s²",
+                accels[j],
+                rates[j],
+                j + 1,
+                qd.integrated,
+                qd.moved,
+                lines[0],
+                lines[1]
+            ));
+        }
+    }
+}
+
+/// Sums of a difference column against its integrated derivative.
+#[derive(Default)]
+struct Residuals {
+    moved: f64,
+    integrated: f64,
+    residual: f64,
+    worst: (f64, [u64; 2]),
+}
+
+impl Residuals {
+    fn add(&mut self, difference: f64, integral: f64, lines: [u64; 2]) {
+        let r = (difference - integral).abs();
+        self.moved += difference.abs();
+        self.integrated += integral.abs();
+        self.residual += r;
+        if r > self.worst.0 {
+            self.worst = (r, lines);
+        }
+    }
+
+    /// The worst lines when the residual exceeds [`CONSISTENCY_FRACTION`] of the motion (and
+    /// round-off).
+    fn inconsistent(&self) -> Option<[u64; 2]> {
+        let floor = 1e-12 * self.moved.max(self.integrated).max(1.0);
+        (self.residual > CONSISTENCY_FRACTION * self.moved && self.residual > floor).then_some(self.worst.1)
+    }
+}
+
+/// Samples per piece for the peak torque: by the schedule's own time scale
+/// ([`piece_samples`], `torque_samples` at least); the rows are sampled too, as
+/// [`Trajectory::acceleration_jumps`].
+pub fn peak_samples(schedule: &ImportedSchedule, torque_samples: usize) -> Vec<usize> {
+    piece_samples(schedule, torque_samples)
+}
+
+/// The estimated relative error of the peak torques `peaks` (per piece and joint, as
+/// [`peak_torques_on`] gives them on `s`) from the rows' spacing (module docs), as a warning
+/// naming the worst piece's lines when it exceeds [`SAMPLING_TOLERANCE`] (pieces and joints whose
+/// peak is below [`SAMPLING_TOLERANCE`] of the largest are not judged); also when no piece has
+/// rows to spare.
+pub fn sampling(problem: &Problem, s: &ImportedSchedule, peaks: &[[f64; 2]]) -> Option<String> {
+    let Some(coarse) = s.every_other_row() else {
+        return Some(
+            "whether the rows are close enough for the interpolation could not be checked: no piece has rows to spare for a coarser copy"
+                .into(),
+        );
+    };
+    let coarse_peaks = peak_torques_on(&problem.cat, &coarse, &peak_samples(&coarse, problem.exact.torque_samples));
+    let divisor = match s.interpolation {
+        Interpolation::QuinticHermite => 15.0,
+        _ => 3.0,
+    };
+    let max = peaks.iter().flatten().copied().fold(0.0, f64::max);
+    // (estimated relative error, piece, joint, fine, coarse) of the worst piece and joint.
+    let mut worst = (0.0, 0, 0, 0.0, 0.0);
+    for (k, (fine, rough)) in peaks.iter().zip(&coarse_peaks.per_piece).enumerate() {
+        for j in 0..2 {
+            let (a, b) = (fine[j], rough[j].value);
+            if a > SAMPLING_TOLERANCE * max {
+                let error = (a - b).abs() / divisor / a;
+                if error > worst.0 {
+                    worst = (error, k, j, a, b);
+                }
+            }
+        }
+    }
+    let (error, k, j, a, b) = worst;
+    let piece = &s.pieces[k];
+    let rows_per_s = (piece.rows.len() - 1) as f64 / (piece.rows[piece.rows.len() - 1].t - piece.rows[0].t);
+    (error > SAMPLING_TOLERANCE).then(|| {
+        format!(
+            "lines {}–{}: the rows ({rows_per_s:.0} per second) are too far apart for {}: with every other row dropped joint {}'s peak torque there moves from {a:.6} to {b:.6} N·m, an estimated error of {:.2} %; write the rows closer together{}",
+            piece.lines.0,
+            piece.lines.1,
+            s.interpolation,
+            j + 1,
+            100.0 * error,
+            if s.interpolation == Interpolation::QuinticHermite { "" } else { ", or give q̇ and q̈" }
+        )
+    })
+}
