@@ -141,6 +141,8 @@ pub struct CompareRow {
     pub swing_deg: f64,
     /// Circulation, rad.
     pub circulation_rad: f64,
+    /// Peak speed and power per joint, and each motor limit's usage.
+    pub motors: MotorDemand,
 }
 
 impl CompareRow {
@@ -161,6 +163,7 @@ impl CompareRow {
             twist_deg: e.twist_deg(),
             swing_deg: e.swing_deg(),
             circulation_rad: schedule.circulation,
+            motors: e.motors.clone(),
         }
     }
 }

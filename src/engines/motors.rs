@@ -107,6 +107,46 @@ impl MotorDemand {
         }
     }
 
+    /// The worst usage as a table cell: `—` with ideal motors, else the largest ratio and its
+    /// limit, e.g. `82.1 % (joint 2 speed)`, with `EXCEEDS` in front when above 100 %.
+    pub fn usage_cell(&self) -> String {
+        match self.worst() {
+            None => "—".to_string(),
+            Some(w) => format!(
+                "{}{:.1} % (joint {} {})",
+                if w.exceeded() { "EXCEEDS " } else { "" },
+                100.0 * w.ratio,
+                w.joint,
+                w.limit
+            ),
+        }
+    }
+
+    /// The CSV header of [`MotorDemand::csv_fields`].
+    pub const CSV_HEADER: [&'static str; 7] = [
+        "peak_speed1_rad_s",
+        "peak_speed2_rad_s",
+        "peak_power1_w",
+        "peak_power2_w",
+        "motor_worst_ratio",
+        "motor_worst_limit",
+        "within_motors",
+    ];
+
+    /// The motor-sizing figures as CSV fields (the last three empty with ideal motors).
+    pub fn csv_fields(&self) -> [String; 7] {
+        let w = self.worst();
+        [
+            format!("{:.9}", self.peak_speed_rad_s[0].value),
+            format!("{:.9}", self.peak_speed_rad_s[1].value),
+            format!("{:.9}", self.peak_power_w[0].value),
+            format!("{:.9}", self.peak_power_w[1].value),
+            w.map_or(String::new(), |w| format!("{:.9}", w.ratio)),
+            w.map_or(String::new(), |w| format!("joint {} {}", w.joint, w.limit)),
+            w.map_or(String::new(), |_| self.within().to_string()),
+        ]
+    }
+
     /// The larger joint's peak speed, rad/s.
     pub fn max_speed(&self) -> f64 {
         self.peak_speed_rad_s[0].value.max(self.peak_speed_rad_s[1].value)

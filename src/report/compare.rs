@@ -2,7 +2,8 @@
 //!
 //! One row per profile: the peak torque in the paper's model `I* · max|ω̇|` (with the correct
 //! `I* = m(3r² + 4l²)/12`), the exact peak torque per phase and joint (Newton–Euler on the
-//! zero-momentum motion), velocity jumps, twist, swing and circulation. The bend path and the
+//! zero-momentum motion), the motor sizing (peak speed and mechanical power per joint, and with
+//! `[actuator]` the worst usage of a motor limit), velocity jumps, twist, swing and circulation. The bend path and the
 //! circulation are the problem's, shared by every row; since the reorientation depends only on
 //! the joint path (not its timing), twist and swing agree across rows: a check, printed anyway.
 
@@ -10,6 +11,7 @@ use serde::Serialize;
 
 use crate::engines::circulation::{Resolved, ResolvedCirculation};
 pub use crate::engines::evaluate::CompareRow;
+use crate::engines::motors::MotorDemand;
 use crate::engines::peaks::PhasePeaks;
 use crate::schedule::variant::Origin;
 
@@ -66,6 +68,8 @@ pub struct CompareLine {
     pub swing_deg: f64,
     /// Circulation, rad.
     pub circulation_rad: Option<f64>,
+    /// Peak speed and power per joint, and each motor limit's usage.
+    pub motors: MotorDemand,
 }
 
 impl From<&CompareRow> for CompareLine {
@@ -83,6 +87,7 @@ impl From<&CompareRow> for CompareLine {
             twist_deg: r.twist_deg,
             swing_deg: r.swing_deg,
             circulation_rad: Some(r.circulation_rad),
+            motors: r.motors.clone(),
         }
     }
 }
@@ -94,6 +99,7 @@ impl CompareLine {
             vec!["problem", "profile", "origin", "engine", "rest_to_rest", "accel_coefficient", "model_peak_nm"];
         header.extend(PhasePeaks::CSV_HEADER.split(','));
         header.extend(["velocity_jumps", "max_impulse_nms", "twist_deg", "swing_deg", "circulation_rad"]);
+        header.extend(MotorDemand::CSV_HEADER);
         header
     }
 
@@ -117,6 +123,7 @@ impl CompareLine {
             format!("{:.9}", self.swing_deg),
             opt(self.circulation_rad, 12),
         ]);
+        f.extend(self.motors.csv_fields());
         f
     }
 
@@ -126,7 +133,7 @@ impl CompareLine {
         let opt = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.4}"));
         let p = &self.exact_peak_nm;
         format!(
-            "| {} | {} | {} | {} | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | {} ({:.4}) | {:.6} | {:.6} |\n",
+            "| {} | {} | {} | {} | {:.3}, {:.3} | {:.3}, {:.3} | {:.3}, {:.3} | **{:.3}** | {:.3}, {:.3} | {:.3}, {:.3} | {} | {} ({:.4}) | {:.6} | {:.6} |\n",
             self.profile,
             self.origin,
             opt(self.accel_coefficient),
@@ -138,6 +145,11 @@ impl CompareLine {
             p.unbend[0],
             p.unbend[1],
             p.max,
+            self.motors.peak_speed_rad_s[0].value,
+            self.motors.peak_speed_rad_s[1].value,
+            self.motors.peak_power_w[0].value,
+            self.motors.peak_power_w[1].value,
+            self.motors.usage_cell(),
             self.velocity_jumps,
             self.max_impulse_nms,
             self.twist_deg,
@@ -156,8 +168,8 @@ impl CompareTable {
             "Peak torques of problem `{}` (circulation {:.6} rad, {}; paper's model with I* = {:.6} kg·m²). Exact peaks are |τ| per joint (τ1, τ2) in N·m.\n",
             self.problem, self.circulation.radians, self.circulation.source, self.model_inertia
         );
-        let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | jumps (max impulse N·m·s) | twist ° | swing ° |");
-        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+        let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | peak speed rad/s | peak power W | motors: worst usage | jumps (max impulse N·m·s) | twist ° | swing ° |");
+        let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|");
         for r in &self.rows {
             s.push_str(&CompareLine::from(r).markdown());
         }

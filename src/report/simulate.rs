@@ -12,6 +12,7 @@ use serde::Serialize;
 use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
+use crate::engines::motors::{LimitUse, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::RapierError;
 use crate::engines::torque::VelocityJump;
@@ -42,6 +43,9 @@ pub struct SimulationReport {
     pub peak_torque_nm: PhasePeaks,
     /// Joint-rate jumps (impulses); empty when the schedule is smooth.
     pub velocity_jumps: Vec<VelocityJump>,
+    /// What the schedule asks of its motors, by the exact engine: peak speed and power per joint,
+    /// each `[actuator]` limit's worst usage, and the verdict in words.
+    pub motors: MotorReport,
     /// Twist, swing and what the engine says of its own accuracy.
     #[serde(flatten)]
     pub figures: EngineFigures,
@@ -82,6 +86,7 @@ pub fn exact_report(
         calibration: circ.calibration,
         peak_torque_nm: e.peaks,
         velocity_jumps: e.jumps.clone(),
+        motors: MotorReport::new(&e.motors),
         figures: EngineFigures::exact(&e.flip, e.momentum_max, e.action_reaction_gap, e.run_time_s),
     }
 }
@@ -142,6 +147,13 @@ impl SimulationReport {
             "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}",
             p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max
         );
+        let m = &self.motors;
+        let _ = writeln!(
+            s,
+            "  peak speed       [{:.4}, {:.4}] rad/s   peak power [{:.4}, {:.4}] W",
+            m.peak_speed_rad_s[0], m.peak_speed_rad_s[1], m.peak_power_w[0], m.peak_power_w[1]
+        );
+        let _ = writeln!(s, "  motors           {}", m.verdict);
         if self.velocity_jumps.is_empty() {
             let _ = writeln!(s, "  velocity jumps   none");
         }
@@ -163,5 +175,34 @@ impl SimulationReport {
         }
         let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.figures.run_time_s);
         s
+    }
+}
+
+/// The motor figures of a simulation report (JSON `motors`): the exact engine's, whatever engine
+/// ran the schedule.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MotorReport {
+    /// Peak `|q̇|` of joints 1 and 2, rad/s.
+    pub peak_speed_rad_s: [f64; 2],
+    /// Peak `|τ q̇|` of joints 1 and 2, W.
+    pub peak_power_w: [f64; 2],
+    /// Each `[actuator]` limit's worst usage ratio (at most 1 within), joint and time.
+    pub limits: Vec<LimitUse>,
+    /// Whether every limit holds (true with ideal motors).
+    pub within: bool,
+    /// The verdict in words.
+    pub verdict: String,
+}
+
+impl MotorReport {
+    /// From the exact engine's measurement.
+    pub fn new(m: &MotorDemand) -> Self {
+        MotorReport {
+            peak_speed_rad_s: m.peak_speed_rad_s.map(|p| p.value),
+            peak_power_w: m.peak_power_w.map(|p| p.value),
+            limits: m.limits.clone(),
+            within: m.within(),
+            verdict: m.verdict(),
+        }
     }
 }

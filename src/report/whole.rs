@@ -398,6 +398,7 @@ pub fn compare_line(report: &WholeReport) -> Option<CompareLine> {
         twist_deg: b.twist.to_degrees(),
         swing_deg: b.swing.to_degrees(),
         circulation_rad: None,
+        motors: b.motors.clone(),
     })
 }
 
