@@ -1,0 +1,150 @@
+//! Motors with limits (DESIGN.md §9): the problem file's `[actuator]`, the least fall time
+//! (`min-time`) and the whole optimum at a fixed fall within the limits, each checked on a dense
+//! re-measurement made here, independently of the optimiser's own.
+
+use catflip::engines::torque::joint_torques;
+use catflip::model::motor::{Limit, Motor, Motors};
+use catflip::model::Cylinder;
+use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeOutcome, WholeSettings, WholeSolution};
+use catflip::problem::{Manoeuvre, Problem};
+use catflip::schedule::Trajectory;
+
+/// The paper's cat and fall time `√(2·10/9.8)` s (problems/paper.toml).
+const PAPER: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+const FALL: f64 = 1.428_571_428_571_428_5;
+const FLIP: f64 = 1e-8;
+
+fn motors(motor: Motor) -> Motors {
+    Motors { joints: [motor; 2] }
+}
+
+/// One start (the paper's schedule) keeps each solve short; the defaults otherwise.
+fn settings(objective: Objective) -> WholeSettings {
+    WholeSettings { objective, starts: vec![StartKind::Paper], ..WholeSettings::default() }
+}
+
+fn solve(objective: Objective, m: &Motors) -> WholeOutcome {
+    optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings(objective), m, FLIP).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn best(outcome: &WholeOutcome) -> &WholeSolution {
+    outcome.best().unwrap_or_else(|| {
+        let why: Vec<_> = outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect();
+        panic!("no optimum: {why:?}")
+    })
+}
+
+/// The largest usage ratio of any limit of `m` on 20 001 equally spaced instants of `traj`,
+/// computed here from the exact engine's torques and the trajectory's rates.
+fn dense_worst_ratio(traj: &impl Trajectory, m: &Motors) -> f64 {
+    let n = 20_000;
+    let total = traj.total_duration();
+    let mut worst: f64 = 0.0;
+    for k in 0..=n {
+        let st = traj.state_at(total * k as f64 / n as f64);
+        let tau = joint_torques(&PAPER, &st).tau;
+        for j in 0..2 {
+            for (_, r) in m.joints[j].ratios(tau[j], st.qd[j]) {
+                worst = worst.max(r);
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn the_actuator_section_is_validated_in_the_users_words() {
+    let load = |text: &str| Problem::from_toml(text, "t.toml", &[]).map(|_| ()).unwrap_err().to_string();
+    let e = load("[actuator]\ntorque_limit_nm = -1.0\n");
+    assert!(e.contains("actuator.torque_limit_nm") && e.contains("positive"), "{e}");
+    let e = load("[actuator]\nspeed_limit_rad_s = [6.0, 0.0]\n");
+    assert!(e.contains("actuator.speed_limit_rad_s[2]"), "{e}");
+    let e = load("[actuator]\nstall_torque_nm = 0.6\n");
+    assert!(e.contains("actuator.stall_torque_nm") && e.contains("free_speed_rad_s"), "{e}");
+    let e = load("[actuator]\npower_limit_w = \"lots\"\n");
+    assert!(e.contains("a number (both joints) or a pair"), "{e}");
+    let e = load("[optimize.whole]\nobjective = \"min-time\"\n");
+    assert!(e.contains("optimize.whole.objective") && e.contains("[actuator]"), "{e}");
+    let p = Problem::from_toml("[actuator]\ntorque_limit_nm = [0.5, 0.7]\n", "t.toml", &["actuator.speed_limit_rad_s=6".into()])
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m = p.actuator.motors();
+    assert_eq!(m.joints[1].torque, Some(0.7));
+    assert_eq!(m.joints[0].speed, Some(6.0));
+    assert!(m.torque_only() || m.joints[0].speed.is_some());
+    // The section round-trips through serde, as a problem file must.
+    let text = toml::to_string(&p).unwrap_or_else(|e| panic!("{e}"));
+    let back = Problem::from_toml(&text, "round-trip", &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(back.actuator, p.actuator);
+}
+
+/// DESIGN.md §9: the torques of a path scale exactly as `1/T²`, so with a torque limit alone the
+/// least fall time is `T √(peak(T)/τ_max)` with `peak(T)` the least peak torque at `T`.
+#[test]
+fn with_a_torque_limit_alone_the_least_fall_time_follows_the_peak_optimum_by_the_scaling_law() {
+    let limit = 0.5;
+    let peak = best(&solve(Objective::Peak, &Motors::ideal())).peak_torque_nm;
+    let m = motors(Motor { torque: Some(limit), ..Motor::default() });
+    let outcome = solve(Objective::MinTime, &m);
+    let b = best(&outcome);
+    let law = FALL * (peak / limit).sqrt();
+    let rel = (b.fall_time_s - law).abs() / law;
+    assert!(rel < 1e-4, "least fall time {} s, scaling law {law} s (peak {peak} N·m): {rel:.1e} apart", b.fall_time_s);
+    // The limit is reached, not exceeded, and the cat flips.
+    assert!((b.peak_torque_nm - limit).abs() < 1e-6 * limit, "peak {} at the least fall time", b.peak_torque_nm);
+    assert!(b.flips(FLIP));
+    let worst = dense_worst_ratio(&b.spline, &m);
+    assert!(worst <= 1.0 + 1e-9, "dense re-measurement: usage {worst}");
+}
+
+/// A speed limit does not scale as torques do: the least fall time departs from the law.
+#[test]
+fn a_speed_limit_lengthens_the_least_fall_time_beyond_the_scaling_law() {
+    let torque_only = motors(Motor { torque: Some(0.5), ..Motor::default() });
+    let both = motors(Motor { torque: Some(0.5), speed: Some(6.0), ..Motor::default() });
+    let t_torque = best(&solve(Objective::MinTime, &torque_only)).fall_time_s;
+    let outcome = solve(Objective::MinTime, &both);
+    let b = best(&outcome);
+    assert!(b.fall_time_s > 1.01 * t_torque, "with |q̇| ≤ 6 rad/s: {} s; torque alone {t_torque} s", b.fall_time_s);
+    let speed_used = b.motors.limits.iter().filter(|l| l.limit == Limit::Speed).map(|l| l.ratio).fold(0.0, f64::max);
+    assert!(speed_used > 0.999, "the speed limit is active at the least fall time (usage {speed_used})");
+    assert!(b.flips(FLIP));
+    let worst = dense_worst_ratio(&b.spline, &both);
+    assert!(worst <= 1.0 + 1e-9, "dense re-measurement: usage {worst}");
+}
+
+/// The DC-motor envelope `|τ| ≤ τ_s (1 − |q̇|/ω_0)` holds between the samples the optimiser used.
+#[test]
+fn the_least_fall_time_within_a_dc_motor_envelope_stays_inside_it() {
+    let m = motors(Motor { envelope: Some((0.6, 12.0)), ..Motor::default() });
+    let outcome = solve(Objective::MinTime, &m);
+    let b = best(&outcome);
+    assert!(b.flips(FLIP));
+    let worst = dense_worst_ratio(&b.spline, &m);
+    assert!(worst <= 1.0 + 1e-9, "dense re-measurement: usage {worst}");
+    assert!(worst > 1.0 - 1e-6, "the envelope is active at the least fall time (usage {worst})");
+    // Torque alone at the stall torque would allow a shorter fall: the envelope costs time.
+    let stall_only = motors(Motor { torque: Some(0.6), ..Motor::default() });
+    let t_stall = best(&solve(Objective::MinTime, &stall_only)).fall_time_s;
+    assert!(b.fall_time_s > t_stall, "envelope {} s against the stall torque alone {t_stall} s", b.fall_time_s);
+}
+
+/// At a fixed fall the optimum keeps within the motors, or says that no flip fits and why.
+#[test]
+fn a_fixed_fall_is_planned_within_the_motors_or_refused_with_the_least_fall_time() {
+    let free_peak = best(&solve(Objective::Peak, &Motors::ideal())).peak_torque_nm;
+    // Below the least peak torque at this fall: no flip exists within the motors.
+    let weak = motors(Motor { torque: Some(0.9 * free_peak), ..Motor::default() });
+    let outcome = solve(Objective::Peak, &weak);
+    assert!(outcome.best().is_none(), "a torque limit below the least peak torque cannot be met");
+    let reason = &outcome.solutions[0].reason;
+    assert!(reason.contains("no flip within the motors") && reason.contains("least fall time"), "{reason}");
+    // A speed limit that binds: the peak rises above the free optimum, every limit holds densely.
+    let m = motors(Motor { torque: Some(0.4), speed: Some(5.0), ..Motor::default() });
+    let outcome = solve(Objective::Peak, &m);
+    let b = best(&outcome);
+    assert!(b.flips(FLIP));
+    assert!((b.fall_time_s - FALL).abs() < 1e-12, "the fall is the problem's");
+    assert!(b.peak_torque_nm > free_peak, "the speed limit costs torque: {} vs {free_peak}", b.peak_torque_nm);
+    let worst = dense_worst_ratio(&b.spline, &m);
+    assert!(worst <= 1.0 + 1e-9, "dense re-measurement: usage {worst}");
+}
