@@ -65,8 +65,12 @@ fn the_actuator_section_is_validated_in_the_users_words() {
     assert!(e.contains("a number (both joints) or a pair"), "{e}");
     let e = load("[optimize.whole]\nobjective = \"min-time\"\n");
     assert!(e.contains("optimize.whole.objective") && e.contains("[actuator]"), "{e}");
-    let p = Problem::from_toml("[actuator]\ntorque_limit_nm = [0.5, 0.7]\n", "t.toml", &["actuator.speed_limit_rad_s=6".into()])
-        .unwrap_or_else(|e| panic!("{e}"));
+    let p = Problem::from_toml(
+        "[actuator]\ntorque_limit_nm = [0.5, 0.7]\n",
+        "t.toml",
+        &["actuator.speed_limit_rad_s=6".into()],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     let m = p.actuator.motors();
     assert_eq!(m.joints[1].torque, Some(0.7));
     assert_eq!(m.joints[0].speed, Some(6.0));

@@ -215,3 +215,26 @@ fn optimum_scales_with_the_fall_time() {
     assert_relative_eq!(b.peak_torque_nm, a.peak_torque_nm * k * k, max_relative = 1e-5);
     assert_relative_eq!(b.energy, a.energy * k * k * k, max_relative = 1e-5);
 }
+
+/// Issue 20 §6: a joint limit the starts violate (they bend 135° and 60°) used to end every start
+/// "PrimalInfeasible". The starts are now built within it. Reference: an independent IPOPT
+/// collocation finds 0.4111 N·m for `|q1|, |q2| ≤ 30°` on the paper's cat (issue 20).
+#[test]
+fn a_joint_limit_shapes_the_starts_and_is_solved() {
+    let limit = 30.0;
+    let settings = WholeSettings { joint_limit_deg: Some(limit), ..WholeSettings::default() };
+    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let b = outcome
+        .best()
+        .unwrap_or_else(|| panic!("no optimum: {:?}", outcome.solutions.iter().map(|s| &s.reason).collect::<Vec<_>>()));
+    assert!(b.flips(FLIP));
+    let most = b.spline.coefficients.iter().flatten().fold(0.0f64, |m, c| m.max(c.abs()));
+    assert!(most <= limit.to_radians() * (1.0 + 1e-12), "a control point at {}°", most.to_degrees());
+    let reference = 0.4111;
+    assert!(
+        (b.peak_torque_nm - reference).abs() < 0.01 * reference,
+        "peak {} N·m against the independent {reference} N·m",
+        b.peak_torque_nm
+    );
+}

@@ -6,7 +6,10 @@
 //! ([`BSpline::fit`]) with the ends held straight and at rest. The mirror image `q2 → −q2`
 //! (reflection through A's `yz`-plane, which reverses every twist) gives the other twist
 //! direction. The cone start bends at most 60° (module constant), below the gimbal lock; with a
-//! bend limit every start bends 2° less than it allows.
+//! bend limit every start bends 2° less than it allows, and with a joint limit `q_max` every start
+//! bends at most `q_max − 2°` (at least `q_max/2`), its control points clamped to `±q_max`:
+//! a start outside the limits makes the first subproblem infeasible (the trust box cannot reach
+//! the limit), which ended every start "PrimalInfeasible" at a 30° joint limit before.
 //! None of them is the answer's shape: they bend and unbend in separate phases.
 
 use super::settings::{StartKind, WholeSettings};
@@ -41,6 +44,7 @@ pub fn start_schedule(
     manoeuvre: &Manoeuvre,
     kind: StartKind,
     min_angle_deg: Option<f64>,
+    joint_limit_deg: Option<f64>,
 ) -> Result<Schedule, String> {
     let (path, profile) = match kind {
         StartKind::Paper | StartKind::PaperMirrored => (BendPath::JointCircle, manoeuvre.profile),
@@ -53,6 +57,10 @@ pub fn start_schedule(
     // A start within the bend limit (neither path bends beyond β = 180° − θ).
     if let Some(limit) = min_angle_deg {
         theta_deg = theta_deg.max(limit + START_BEND_MARGIN_DEG);
+    }
+    // Within the joint limit: both paths keep |q1|, |q2| at most the bend β = 180° − θ.
+    if let Some(limit) = joint_limit_deg {
+        theta_deg = theta_deg.max(180.0 - (limit - START_BEND_MARGIN_DEG).max(0.5 * limit));
     }
     let manoeuvre = Manoeuvre { theta_deg, ..manoeuvre.clone() };
     if path == BendPath::Cone && (manoeuvre.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
@@ -80,12 +88,19 @@ pub fn build_start(
     kind: StartKind,
     settings: &WholeSettings,
 ) -> Result<NamedStart, String> {
-    let schedule = start_schedule(cat, duration, manoeuvre, kind, settings.min_angle_deg)?;
+    let schedule = start_schedule(cat, duration, manoeuvre, kind, settings.min_angle_deg, settings.joint_limit_deg)?;
     let sign = if matches!(kind, StartKind::PaperMirrored | StartKind::ConeMirrored) { -1.0 } else { 1.0 };
-    let spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
+    let mut spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
         let q = schedule.state(t.min(duration)).q;
         [q[0], sign * q[1]]
     });
+    // The fit may overshoot the path a little: the joint limit holds on the control points (and so
+    // on the whole curve, by the convex-hull property) from the start.
+    if let Some(limit) = settings.joint_limit_deg.map(f64::to_radians) {
+        for c in spline.coefficients.iter_mut().flatten() {
+            *c = c.clamp(-limit, limit);
+        }
+    }
     // The orientation error log(R_zᵀ(π) R) is singular at a half-turn from the target.
     let f = crate::engines::exact::flip(cat, &spline, 1e-6);
     if f.swing > 0.5 * std::f64::consts::PI {
