@@ -1,6 +1,7 @@
 //! Run time of the whole-manoeuvre optimisation on the paper's problem (issue 13: ≤ 2 s), grouped
 //! by control points per joint: with every default start, and with the paper's start alone for
-//! the peak and the energy objectives.
+//! the peak and the energy objectives; and the least fall time within motor limits (issue 20:
+//! ≤ 2 s) with every default start, for the three motors of issue 20's targets.
 //!
 //! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`.
 //! Criterion prints the median's confidence interval per size; the worst run is in
@@ -9,22 +10,22 @@
 use std::hint::black_box;
 use std::time::Duration;
 
+use catflip::model::motor::{Motor, Motors};
 use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeSettings};
 use catflip::problem::Problem;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
 /// Solves once and insists on a converged flip, so that a bench never times a failure.
 fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
-    let outcome = optimize_whole(
-        &problem.cat,
-        problem.drop.fall_time(),
-        &problem.manoeuvre,
-        settings,
-        &problem.actuator.motors(),
-        1e-8,
-    )
-    .expect("valid settings");
-    outcome.best().expect("a converged flip").peak_torque_nm
+    solve_with(problem, settings, &problem.actuator.motors())
+}
+
+/// [`solve`] with `motors`; returns the peak torque and the fall time's sum (both are results).
+fn solve_with(problem: &Problem, settings: &WholeSettings, motors: &Motors) -> f64 {
+    let outcome = optimize_whole(&problem.cat, problem.drop.fall_time(), &problem.manoeuvre, settings, motors, 1e-8)
+        .expect("valid settings");
+    let best = outcome.best().expect("a converged flip");
+    best.peak_torque_nm + best.fall_time_s
 }
 
 /// `settings` with `n` control points per joint (a coarse start no larger than the spline).
@@ -60,5 +61,28 @@ fn paper(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, paper);
+fn min_time(c: &mut Criterion) {
+    let problem = Problem::default();
+    let settings = WholeSettings { objective: Objective::MinTime, ..WholeSettings::default() };
+    let motor = |m: Motor| Motors { joints: [m; 2] };
+    let cases = [
+        ("torque", motor(Motor { torque: Some(0.5), ..Motor::default() })),
+        ("torque-speed", motor(Motor { torque: Some(0.5), speed: Some(6.0), ..Motor::default() })),
+        ("envelope", motor(Motor { envelope: Some((0.6, 12.0)), ..Motor::default() })),
+    ];
+    let mut group = c.benchmark_group("whole/min-time");
+    group
+        .sampling_mode(SamplingMode::Flat)
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(10));
+    for (name, motors) in &cases {
+        group.bench_with_input(BenchmarkId::from_parameter(name), motors, |b, m| {
+            b.iter(|| solve_with(black_box(&problem), &settings, m))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, paper, min_time);
 criterion_main!(benches);

@@ -434,6 +434,21 @@ pub fn summary_lines(report: &WholeReport, v: Option<&Verification>, retimed: &[
                 b.status,
                 b.iterations
             );
+            if let (Objective::MinTime, Some(h)) = (report.objective, report.drop_height_m) {
+                let _ = writeln!(
+                    s,
+                    "- **Least fall time within the motors: {:.4} s, a drop of {h:.4} m**; the limits it reaches: {}.",
+                    b.fall_time_s,
+                    report.active_limits.iter().map(|l| l.describe()).collect::<Vec<_>>().join(", ")
+                );
+            }
+            let _ = writeln!(
+                s,
+                "- The optimum's motors reach {:.4} rad/s and {:.4} W: {}.",
+                b.motors.max_speed(),
+                b.motors.max_power(),
+                b.motors.verdict()
+            );
         }
         None => {
             let _ = writeln!(s, "- Whole-manoeuvre optimum: **{}**.", report.status);

@@ -147,6 +147,14 @@ pub(super) fn summary(
                 p.velocity_jumps, p.max_impulse_nms
             );
         }
+        let m = &p.motors;
+        let _ = writeln!(
+            s,
+            "- Its motors must reach {:.4} rad/s and {:.4} W (peak joint speed and mechanical power); with the problem's motors: {}.",
+            m.max_speed(),
+            m.max_power(),
+            m.verdict()
+        );
     }
     let c = &opt.calibration;
     if c.status.is_converged() {
