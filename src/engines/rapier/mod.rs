@@ -50,6 +50,10 @@
 //! the targets are fresh at every substep) with enough Gauss–Seidel sweeps (default 8) to settle
 //! the coupling of the two motor rows.
 //!
+//! With motor limits ([`RapierOptions::motors`]) each motor's torque is bounded at every step by
+//! what the actuator has at the joint's speed, and the steps where the schedule needs more are
+//! counted ([`saturation`]); ideal motors are unbounded.
+//!
 //! # Measurements
 //!
 //! Rapier holds, after step `k`, the poses `x_k` and the generalized velocities `v_k` with which
