@@ -185,7 +185,7 @@ pub fn evaluate_rapier(
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome = rapier_check(&problem.cat, schedule, &problem.rapier, &reference)?;
+    let outcome = rapier_check(&problem.cat, schedule, &problem.rapier, &reference, &problem.actuator.motors())?;
     Ok(outcome.map(|finest| ImportReport {
         engine: Engine::Rapier,
         peak_torque_nm: ImportedPeaks {

@@ -16,7 +16,10 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::engines::exact::Flip;
-use crate::engines::rapier::{JumpTorque, Quantity, RapierError, RapierRun, Reference, Status, Verification};
+use crate::engines::rapier::{
+    JumpTorque, Quantity, RapierError, RapierOptions, RapierRun, Reference, Status, Verification,
+};
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;
 use crate::schedule::Trajectory;
@@ -191,16 +194,18 @@ impl<T> RapierOutcome<T> {
     }
 }
 
-/// Verifies `traj` in rapier against the exact engine's `reference` and builds the check from the
-/// finest run; [`RapierOutcome::NoResult`] when there is none. `Err` only when the settings or the
-/// trajectory are invalid (see [`crate::engines::rapier::verify`]).
+/// Verifies `traj` in rapier, driven by `motors`, against the exact engine's `reference` and
+/// builds the check from the finest run; [`RapierOutcome::NoResult`] when there is none. `Err`
+/// only when the settings or the trajectory are invalid (see [`crate::engines::rapier::verify`]).
 pub fn rapier_check(
     cat: &Cylinder,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     reference: &Reference,
+    motors: &Motors,
 ) -> Result<RapierOutcome<Finest>, RapierError> {
-    let v = crate::engines::rapier::verify(cat, traj, settings, reference)?;
+    let opts = RapierOptions::within(*motors);
+    let v = crate::engines::rapier::verify_with(cat, traj, settings, reference, &opts)?;
     let Some(run) = v.finest.clone() else { return Ok(RapierOutcome::NoResult(Box::new(v))) };
     let exact_twist = reference.twist.to_degrees();
     let value = |q| v.quantity(q).and_then(|c| c.value);

@@ -102,7 +102,7 @@ pub fn rapier_outcome(
     exact: &SimulationReport,
 ) -> Result<RapierOutcome<SimulationReport>, RapierError> {
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome = rapier_check(r.cat(), schedule, &r.problem.rapier, &reference)?;
+    let outcome = rapier_check(r.cat(), schedule, &r.problem.rapier, &reference, &r.problem.actuator.motors())?;
     Ok(outcome.map(|finest| {
         let peaks = finest.run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
             bend: [0.0; 2],

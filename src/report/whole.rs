@@ -15,7 +15,7 @@ use serde::Serialize;
 use crate::engines::circulation::Resolved;
 use crate::engines::motors::LimitUse;
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{verify, RapierError, Reference, Verification};
+use crate::engines::rapier::{verify_with, RapierError, RapierOptions, Reference, Verification};
 use crate::engines::torque::joint_torques;
 use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
 use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
@@ -376,7 +376,8 @@ pub fn retime_markdown(rows: &[RetimeRow]) -> String {
 pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verification>, RapierError> {
     let Some(b) = report.best() else { return Ok(None) };
     let reference = Reference { twist: b.twist, swing: b.swing, peak_torque: b.peak_torque_nm };
-    verify(r.cat(), &b.spline, &r.problem.rapier, &reference).map(Some)
+    let opts = RapierOptions::within(r.problem.actuator.motors());
+    verify_with(r.cat(), &b.spline, &r.problem.rapier, &reference, &opts).map(Some)
 }
 
 /// The optimum's line of the peak-torque table (its Markdown row and its CSV record). The

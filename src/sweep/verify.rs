@@ -14,7 +14,7 @@
 //! verdict as reason and in `rapier_verdict`, and counts as `inconclusive` among the verdicts,
 //! as in `catflip run`; an exact row without a result gives a `skipped` rapier row.
 
-use crate::engines::rapier::{verify, Quantity, RapierError, Reference, Verification};
+use crate::engines::rapier::{verify_with, Quantity, RapierError, RapierOptions, Reference, Verification};
 use crate::problem::settings::RapierSettings;
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
@@ -73,5 +73,5 @@ fn run(
     settings: &RapierSettings,
     reference: &Reference,
 ) -> Result<Verification, RapierError> {
-    verify(&problem.cat, traj, settings, reference)
+    verify_with(&problem.cat, traj, settings, reference, &RapierOptions::within(problem.actuator.motors()))
 }

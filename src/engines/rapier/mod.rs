@@ -50,6 +50,10 @@
 //! the targets are fresh at every substep) with enough Gauss–Seidel sweeps (default 8) to settle
 //! the coupling of the two motor rows.
 //!
+//! With motor limits ([`RapierOptions::motors`]) each motor's torque is bounded at every step by
+//! what the actuator has at the joint's speed, and the steps where the schedule needs more are
+//! counted ([`saturation`]); ideal motors are unbounded.
+//!
 //! # Measurements
 //!
 //! Rapier holds, after step `k`, the poses `x_k` and the generalized velocities `v_k` with which
@@ -121,6 +125,7 @@ mod bodies;
 mod measure;
 mod pieces;
 mod run;
+pub mod saturation;
 pub mod scene;
 mod spin;
 mod timescale;
@@ -133,6 +138,7 @@ pub use run::{
     dt_sweep, extrapolate, simulate, simulate_with, swing_vector, Extrapolated, JumpTorque, MomentumDrift, RapierRun,
     TwistSample,
 };
+pub use saturation::{available_torque, MotorSaturation, SATURATION_TOLERANCE};
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
 pub use timescale::{
@@ -143,6 +149,7 @@ pub use verify::{
     Verification, ASYMPTOTIC, MIN_RUNS,
 };
 
+use crate::model::motor::Motors;
 use crate::problem::ProblemError;
 
 /// Why a rapier run could not be made.
@@ -209,7 +216,7 @@ pub const MIN_STEPS_PER_PHASE: usize = 10;
 /// Most steps a run may take.
 pub const MAX_STEPS: usize = 20_000_000;
 
-/// Options of a rapier run that are not problem settings (those are in
+/// Options of a rapier run that are not `[rapier]` settings (those are in
 /// [`crate::problem::settings::RapierSettings`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RapierOptions {
@@ -221,15 +228,24 @@ pub struct RapierOptions {
     pub pgs_iterations: usize,
     /// Most samples kept in each history (the run is decimated evenly to fit).
     pub history: usize,
+    /// The joints' motors (a problem's `[actuator]`, [`crate::problem::Problem`]): their limits
+    /// bound the torque of rapier's motors, and a verification reports when the schedule needed
+    /// more ([`saturation`]). Ideal by default.
+    pub motors: Motors,
 }
 
 impl Default for RapierOptions {
     fn default() -> Self {
-        Self { bandwidth_per_step: 20.0, damping_ratio: 1.0, pgs_iterations: 8, history: 2000 }
+        Self { bandwidth_per_step: 20.0, damping_ratio: 1.0, pgs_iterations: 8, history: 2000, motors: Motors::ideal() }
     }
 }
 
 impl RapierOptions {
+    /// The default options with `motors`.
+    pub fn within(motors: Motors) -> Self {
+        Self { motors, ..Self::default() }
+    }
+
     fn validate(&self) -> Result<(), RapierError> {
         let bad = |field, value: f64, reason| Err(RapierError::BadOption { field, value, reason });
         if !(self.bandwidth_per_step.is_finite() && self.bandwidth_per_step > 0.0) {

@@ -5,9 +5,11 @@ use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
 use super::pieces::Pieces;
+use super::saturation::{available_torque, bounds_torque, MotorSaturation, SaturationTracker};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::peaks::PhasePeaks;
+use crate::engines::torque::joint_torques;
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::orientation::TwistTracker;
 use crate::model::Cylinder;
@@ -155,6 +157,10 @@ pub struct RapierRun {
     pub jumps: Vec<JumpTorque>,
     /// Joint torques along the run.
     pub torque_history: Vec<TorqueSample>,
+    /// The joints whose motors saturated ([`super::saturation`]); empty when none did, or when
+    /// the motors bound no torque (then absent from JSON).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub saturation: Vec<MotorSaturation>,
 }
 
 fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::Error> {
@@ -227,6 +233,9 @@ pub fn simulate_with(
         accel_jumps.get(i).is_some_and(|&j| j <= t + accel_margin)
     };
     let mut accel_excluded = 0usize;
+    // The motors' torque bounds, when their limits bound any torque (ideal motors: untouched).
+    let bounded = bounds_torque(&opts.motors).then_some(opts.motors);
+    let mut saturation = SaturationTracker::default();
 
     let stride = n.div_ceil(opts.history.max(1)).max(1);
     let mut tracker = TwistTracker::default();
@@ -255,6 +264,14 @@ pub fn simulate_with(
             // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
             let pos = [target.q[0] - dt * target.qd[0], target.q[1] - dt * target.qd[1]];
             scene.set_targets(pos, target.qd)?;
+            if let Some(motors) = &bounded {
+                // Each motor's torque at rapier's joint rate at the start of the step, against
+                // the schedule's own torque at its end.
+                let rate = scene.joint_rates()?;
+                let bound = std::array::from_fn(|j| available_torque(&motors.joints[j], rate[j]));
+                scene.set_max_forces(bound)?;
+                saturation.step(t, bound, joint_torques(cat, &target).tau);
+            }
             scene.step();
         }
         let snap = scene.snapshot()?;
@@ -326,6 +343,7 @@ pub fn simulate_with(
             })
             .collect(),
         torque_history,
+        saturation: saturation.finish(),
     })
 }
 

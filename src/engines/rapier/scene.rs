@@ -213,6 +213,28 @@ impl CatScene {
         Ok(())
     }
 
+    /// Bounds each joint motor's torque, N·m (`None`: unbounded), for the next steps: rapier clamps
+    /// the motor's impulse per step to `max_force · dt` whatever the motor model (see
+    /// [`super::saturation`]).
+    pub fn set_max_forces(&mut self, bound: [Option<f64>; 2]) -> Result<(), RapierError> {
+        for (i, b) in bound.iter().enumerate() {
+            let (mb, id) =
+                self.world.multibody_joints.get_mut(self.joints[i]).ok_or(RapierError::Missing("a joint"))?;
+            let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
+            link.joint.data.set_motor_max_force(JointAxis::AngX, b.unwrap_or(f64::MAX));
+        }
+        Ok(())
+    }
+
+    /// The joint rates `(q̇1, q̇2)`, rad/s.
+    pub fn joint_rates(&self) -> Result<[f64; 2], RapierError> {
+        let v = self.multibody()?.generalized_velocity();
+        match (v.get(6), v.get(7)) {
+            (Some(a), Some(b)) => Ok([*a, *b]),
+            _ => Err(RapierError::Missing("a floating root with two joints (wrong DoF count)")),
+        }
+    }
+
     /// Sets the generalized velocities `(v_A, ω_A, q̇1, q̇2)`.
     pub fn set_velocities(&mut self, v: &[f64; NDOFS]) -> Result<(), RapierError> {
         let (mb, _) = self.multibody_mut()?;

@@ -39,6 +39,22 @@
 //!   coarse is recorded and the step halved; the runs before it are discarded, as they were not
 //!   in the asymptotic range.
 //!
+//! # Within the motors
+//!
+//! With motor limits ([`RapierOptions::motors`], a problem's `[actuator]`) rapier's motors get
+//! them as their torque bound ([`super::saturation`]), and the verdict first asks whether the
+//! schedule needs more than its motors:
+//! - **not verified, saturated**: in the finest run a motor's bound fell short of the torque the
+//!   schedule needs. The verdict names the joints, the fraction of the fall, the first instant and
+//!   the largest shortfall, and the flip rapier landed with against the planned one. A clipped
+//!   motor's run is not smooth in the step (where it clips moves with `dt`), so its runs are not
+//!   Richardson-extrapolated: the landed flip is the finest run's raw one, with how far it moved
+//!   from the run at twice the step; refinement stops after [`MIN_RUNS`] saturated runs;
+//! - **not verified, beyond the motors**: rapier's motors did not saturate, but the exact engine's
+//!   motor demand ([`crate::engines::motors::motor_demand`]) exceeds a limit — a speed limit,
+//!   which bounds no torque, or a torque limit exceeded by less than [`super::SATURATION_TOLERANCE`];
+//! - otherwise the verdict above, with the motors bounded in every run.
+//!
 //! Nothing here panics or returns a NaN as a result: a number that could not be had is a reason
 //! in the verdict.
 
@@ -48,9 +64,12 @@ use std::time::Instant;
 use nalgebra::Vector3;
 use serde::Serialize;
 
+use super::saturation::MotorSaturation;
 use super::{RapierError, RapierOptions, RapierRun, TimeScales, MAX_STEPS};
+use crate::engines::motors::{motor_demand, MotorDemand};
+use crate::engines::torque::piece_samples;
 use crate::model::Cylinder;
-use crate::problem::settings::{RapierSettings, TimeStep};
+use crate::problem::settings::{ExactSettings, RapierSettings, TimeStep};
 use crate::schedule::Trajectory;
 
 /// Fewest runs for a verdict: two extrapolations, and the observed order.
@@ -189,6 +208,29 @@ pub enum Verdict {
         /// Rapier's own error estimate.
         estimate: f64,
     },
+    /// A motor saturated in the finest run: the schedule needs more than its motors.
+    Saturated {
+        /// The joints whose motors saturated.
+        motors: Vec<MotorSaturation>,
+        /// The twist rapier landed with (finest run, not extrapolated), degrees.
+        twist_deg: f64,
+        /// The swing rapier landed with, degrees.
+        swing_deg: f64,
+        /// How far the landed twist moved from the run at twice the step, degrees (none with
+        /// one run).
+        twist_change_deg: Option<f64>,
+        /// The planned twist (the exact engine's), degrees.
+        planned_twist_deg: f64,
+        /// The planned swing, degrees.
+        planned_swing_deg: f64,
+        /// The finest run's step, s.
+        dt: f64,
+    },
+    /// The exact engine finds the schedule beyond its motors, though rapier's did not saturate.
+    BeyondMotors {
+        /// The exact engine's motor verdict ([`MotorDemand::verdict`]).
+        exceeded: String,
+    },
     /// Fewer than three runs could be made.
     TooFewRuns {
         /// Runs made in the last unbroken sequence.
@@ -205,7 +247,9 @@ impl Verdict {
     pub fn status(&self) -> Status {
         match self {
             Verdict::Verified => Status::Verified,
-            Verdict::NotVerified { .. } => Status::NotVerified,
+            Verdict::NotVerified { .. } | Verdict::Saturated { .. } | Verdict::BeyondMotors { .. } => {
+                Status::NotVerified
+            }
             _ => Status::Inconclusive,
         }
     }
@@ -235,6 +279,27 @@ impl fmt::Display for Verdict {
                 q.format_gap(*tolerance),
                 q.format_gap(*estimate)
             ),
+            Verdict::Saturated {
+                motors,
+                twist_deg,
+                swing_deg,
+                twist_change_deg,
+                planned_twist_deg,
+                planned_swing_deg,
+                dt,
+            } => {
+                let which: Vec<String> = motors.iter().map(MotorSaturation::describe).collect();
+                let moved = twist_change_deg
+                    .map_or(String::new(), |c| format!("; its twist moved {c:.1}° from the run at twice the step"));
+                write!(
+                    f,
+                    "not verified: {}: the cat lands with twist {twist_deg:+.1}°, swing {swing_deg:.1}° (planned {planned_twist_deg:+.1}°, {planned_swing_deg:.1}°; rapier's finest run, dt = {dt:.3e} s, not extrapolated: a clipped motor is not smooth in the step{moved})",
+                    which.join(", ")
+                )
+            }
+            Verdict::BeyondMotors { exceeded } => {
+                write!(f, "not verified: the schedule {exceeded} (the exact engine); rapier's motors did not saturate")
+            }
             Verdict::TooFewRuns { runs, why } => {
                 write!(f, "inconclusive: {runs} of the {MIN_RUNS} runs needed to judge ({why})")
             }
@@ -262,6 +327,9 @@ pub struct RunRecord {
     pub momentum_drift: f64,
     /// Wall-clock time, s.
     pub run_time_s: f64,
+    /// The joints whose motors saturated (absent when none did).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub saturation: Vec<MotorSaturation>,
     /// The swing's rotation vector, degrees (what is extrapolated).
     #[serde(skip)]
     swing_vector: Vector3<f64>,
@@ -329,6 +397,9 @@ pub struct Verification {
     pub steps_taken: usize,
     /// The step budget.
     pub step_budget: usize,
+    /// What the trajectory asks of its motors by the exact engine (absent with ideal motors).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motor_demand: Option<MotorDemand>,
     /// The finest run in full (torque peaks per piece, jumps, histories).
     #[serde(skip)]
     pub finest: Option<RapierRun>,
@@ -374,7 +445,12 @@ pub fn verify_with(
     };
     // Step counts double exactly: n_k = n_0 2^k, dt_k = T / n_k.
     let mut steps = (duration / first).ceil().max(1.0);
-    let (mut runs, mut kept, mut failures) = (Vec::new(), Vec::<RapierRun>::new(), Vec::new());
+    // The exact engine's view of the motors, sampled as its reports sample peaks.
+    let demand = (!opts.motors.is_ideal()).then(|| {
+        let samples = piece_samples(traj, ExactSettings::default().torque_samples);
+        motor_demand(cat, traj, &samples, &opts.motors)
+    });
+    let (mut runs, mut kept, mut failures) = (Vec::<RunRecord>::new(), Vec::<RapierRun>::new(), Vec::new());
     let mut spent = 0.0;
     let mut why_stopped = String::new();
     let mut last_attempt: Option<(f64, f64)> = None;
@@ -432,15 +508,39 @@ pub fn verify_with(
             }
             Err(e) => return Err(e),
         }
+        if runs.len() >= MIN_RUNS && runs[runs.len() - MIN_RUNS..].iter().all(|r| !r.saturation.is_empty()) {
+            // Saturated runs are not extrapolated, so refining them further shows nothing new.
+            break;
+        }
         let quantities = convergences(&runs, reference, settings);
         if runs.len() >= MIN_RUNS && quantities.iter().all(|c| c.estimate.is_some_and(|e| e <= c.tolerance)) {
             break;
         }
         steps *= 2.0;
     }
-    let quantities = convergences(&runs, reference, settings);
-    let verdict = judge(&quantities, reference, runs.len(), &why_stopped, &failures);
+    let mut quantities = convergences(&runs, reference, settings);
     let finest = kept.pop();
+    let verdict = match (&finest, &demand) {
+        (Some(run), _) if !run.saturation.is_empty() => {
+            // Not extrapolated (module docs): only the raw values stand.
+            for c in &mut quantities {
+                c.extrapolated.clear();
+                (c.observed_order, c.value, c.estimate, c.gap) = (None, None, None, None);
+            }
+            let n = runs.len();
+            Verdict::Saturated {
+                motors: run.saturation.clone(),
+                twist_deg: run.twist.to_degrees(),
+                swing_deg: run.swing.to_degrees(),
+                twist_change_deg: (n >= 2).then(|| runs[n - 1].twist_deg - runs[n - 2].twist_deg),
+                planned_twist_deg: reference.twist.to_degrees(),
+                planned_swing_deg: reference.swing.to_degrees(),
+                dt: run.dt,
+            }
+        }
+        (Some(_), Some(d)) if !d.within() => Verdict::BeyondMotors { exceeded: d.verdict() },
+        _ => judge(&quantities, reference, runs.len(), &why_stopped, &failures),
+    };
     Ok(Verification {
         status: verdict.status(),
         verdict,
@@ -455,6 +555,7 @@ pub fn verify_with(
         run_time_s: spent,
         steps_taken: attempted as usize,
         step_budget: settings.step_budget,
+        motor_demand: demand,
         finest,
     })
 }
@@ -469,6 +570,7 @@ fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
         tracking_error_rad: run.tracking_error,
         momentum_drift: run.momentum.max_rel,
         run_time_s,
+        saturation: run.saturation.clone(),
         swing_vector: super::swing_vector(&run.orientation, run.twist).map(f64::to_degrees),
     }
 }

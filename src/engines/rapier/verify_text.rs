@@ -43,12 +43,28 @@ impl Verification {
             self.step_budget,
             self.run_time_s
         );
+        if let Some(d) = &self.motor_demand {
+            let finest = self.runs.last().map(|r| &r.saturation);
+            let rapier = match finest {
+                Some(sat) if !sat.is_empty() => {
+                    sat.iter().map(|m| m.describe()).collect::<Vec<_>>().join(", ") + " in the finest run"
+                }
+                Some(_) => "rapier's motors stayed within their bounds".to_string(),
+                None => "no rapier run".to_string(),
+            };
+            let _ = writeln!(s, "  motors           {} (exact engine); {rapier}", d.verdict());
+        }
         for f in &self.failures {
             let _ = writeln!(s, "  failed run       dt = {:.3e} s: {}", f.dt, f.reason);
         }
         for c in &self.quantities {
             let unit = if c.quantity == Quantity::PeakTorque { " N·m" } else { "°" };
-            let list = |v: &[f64]| v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", ");
+            let list = |v: &[f64]| {
+                if v.is_empty() {
+                    return "—".to_string();
+                }
+                v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", ")
+            };
             let opt = |x: Option<f64>| x.map_or("—".to_string(), |e| c.quantity.format_gap(e));
             let _ = writeln!(
                 s,
