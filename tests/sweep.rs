@@ -351,11 +351,12 @@ fn a_given_circulation_adds_its_own_row() {
     assert!(given.peaks.is_none(), "peaks were not asked for");
 }
 
-/// Two cases with the retiming, the whole-manoeuvre optimum (a coarse 12-point spline, for
-/// speed) and rapier on.
+/// Two cases with the retiming, the whole-manoeuvre optimum (a coarse 12-point spline, the base
+/// problem's `optimize.whole.control_points`, for speed) and rapier on.
 fn optimised() -> Sweep {
-    sweep_ok(&with_base(
-        "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[compute]\nretiming = true\nwhole = true\nwhole_control_points = 12\nrapier = true",
+    sweep_ok(&format!(
+        "{}[base.optimize.whole]\ncontrol_points = 12\n",
+        with_base("[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[compute]\nretiming = true\nwhole = true\nrapier = true")
     ))
 }
 
@@ -409,11 +410,18 @@ fn retiming_whole_optimum_and_rapier_give_numbers_or_a_stated_status() {
         assert!(w.circulation_rad.is_none() && w.peaks.is_none());
         assert!(w.peak_nm.is_some_and(|p| p > 0.0) && w.whole.is_some_and(|x| x.max_bend_deg > 0.0));
         assert!(!whole.labels.whole_start.is_empty() && whole.labels.solver_status.contains("converged"));
+        // The peak objective keeps the case's fall (10 m, g = 9.8 m/s²), and measures the motors.
+        let wn = w.whole.expect("the whole optimum's numbers");
+        assert_relative_eq!(wn.fall_time_s, (2.0f64 * 10.0 / 9.8).sqrt(), max_relative = 1e-12);
+        assert_relative_eq!(wn.drop_height_m, 10.0, max_relative = 1e-12);
+        assert!(w.motors.is_some_and(|m| m.worst.is_none() && m.peak_speed_rad_s[0] > 0.0), "{w:?}");
         for schedule in want {
             let r = row(&records, case, schedule, "rapier");
             assert_eq!(r.status, Status::Ok, "{}", r.reason);
             let n = r.numbers.expect("rapier numbers");
             let v = n.rapier.expect("the verification's numbers");
+            // Rapier checks the exact engine's torques; the motor figures are the exact row's.
+            assert!(n.motors.is_none(), "{schedule}: a rapier row with motor figures");
             assert!(v.steps > 0 && v.steps <= 150_000 && v.finest_dt_s > 0.0, "{v:?}");
             assert!(["verified", "not verified", "inconclusive"]
                 .iter()
@@ -441,13 +449,26 @@ fn output_is_byte_identical_whatever_the_thread_count_with_the_optimisers_and_ra
 }
 
 #[test]
-fn whole_control_points_needs_whole_and_a_usable_value() {
-    let (field, reason) = bad_field(&with_base("[compute]\nwhole_control_points = 20"));
-    assert_eq!(field, "compute.whole_control_points");
-    assert!(reason.contains("whole = true"), "{reason}");
-    let (field, reason) = bad_field(&with_base("[compute]\nwhole = true\nwhole_control_points = 3"));
-    assert_eq!(field, "compute.whole_control_points");
-    assert!(reason.contains("optimize.whole.control_points = 3"), "{reason}");
+fn compute_whole_control_points_is_refused_naming_the_problem_field() {
+    // One source of truth: the spline's control points are the problem's
+    // `optimize.whole.control_points`, which `optimize --whole` reads too.
+    for compute in ["[compute]\nwhole = true\nwhole_control_points = 20", "[compute]\nwhole_control_points = 20"] {
+        let (field, reason) = bad_field(&with_base(compute));
+        assert_eq!(field, "compute.whole_control_points");
+        assert!(
+            reason.contains("retired") && reason.contains("optimize.whole.control_points") && reason.contains("axis"),
+            "{reason}"
+        );
+    }
+    // Its replacement: the problem's own field, in an inline base or as an axis; a value the
+    // optimiser cannot use is the problem file's refusal, naming that field, per case.
+    let s = sweep_ok(&format!(
+        "{}[base.optimize.whole]\ncontrol_points = 20\n",
+        with_base("[[axis]]\nfield = \"optimize.whole.control_points\"\nvalues = [3]\n[compute]\nwhole = true")
+    ));
+    let r = &evaluate(&s, 0..1, false)[2];
+    assert_eq!((r.schedule.as_str(), r.status), ("whole", Status::Refused));
+    assert!(r.reason.contains("optimize.whole.control_points = 3"), "{}", r.reason);
 }
 
 #[test]
@@ -743,4 +764,202 @@ fn a_sweep_removes_what_killed_sweeps_left_behind() {
     assert_eq!(code, 0, "{stderr}");
     assert_eq!(listing(&out), ["t", "t.part-1-of-1"]);
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// The report `catflip optimize --whole` gives for a case's problem.
+fn optimize_whole_report(s: &Sweep, index: usize) -> catflip::report::whole::WholeReport {
+    let problem = case(s, index).problem(s).expect("the case loads");
+    let resolved = catflip::engines::circulation::Resolved::new(&problem).expect("resolves");
+    catflip::report::whole::whole(&resolved).expect("the optimiser runs")
+}
+
+/// The whole optimum alone, on the base `base` (inline tables) and with `rest` before it.
+fn whole_only(rest: &str, base: &str) -> Sweep {
+    sweep_ok(&format!(
+        "{}{base}",
+        with_base(&format!("{rest}\n[compute]\npaper_flip = false\ncalibrated = false\npeaks = false\nwhole = true"))
+    ))
+}
+
+#[test]
+fn an_axis_over_whole_control_points_changes_the_whole_rows_as_optimize_whole_does() {
+    // The base says 12 control points (the default is 120) and the axis 12 and 16: each whole
+    // row is what `optimize --whole` gives for the case's own problem, bit for bit.
+    let s = whole_only(
+        "[[axis]]\nfield = \"optimize.whole.control_points\"\nvalues = [12, 16]",
+        "[base.optimize.whole]\ncontrol_points = 12\n",
+    );
+    let records = evaluate(&s, 0..2, false);
+    assert_eq!(records.len(), 2);
+    let peaks: Vec<u64> =
+        records.iter().map(|r| r.peak_max().unwrap_or_else(|| panic!("{}", r.reason)).to_bits()).collect();
+    assert_ne!(peaks[0], peaks[1], "the axis must change the optimum");
+    for (k, r) in records.iter().enumerate() {
+        let report = optimize_whole_report(&s, k);
+        let best = report.best().expect("optimize --whole finds an optimum");
+        assert_eq!(best.spline.control_points(), [12, 16][k], "{k}");
+        assert_eq!(peaks[k], best.peak_torque_nm.to_bits(), "case {k}");
+        assert_eq!(r.labels.whole_start, best.start);
+    }
+}
+
+/// A robot cat (halves 1.5 kg, 0.25 m, r = 0.06 m) with DC motors (2 N·m stall, 30 rad/s free),
+/// the least fall within them on a 20-point spline.
+const ROBOT: &str = "[base.cat]\nmass = 1.5\nlength = 0.25\nradius = 0.06\n[base.actuator]\nstall_torque_nm = 2.0\nfree_speed_rad_s = 30.0\n[base.optimize.whole]\nobjective = \"min-time\"\ncontrol_points = 20\n";
+
+/// The cell of `column` on data line `line` (1-based) of a CSV text.
+fn csv_cell(csv: &str, line: usize, column: &str) -> String {
+    let mut rd = csv::Reader::from_reader(csv.as_bytes());
+    let head: Vec<String> = rd.headers().expect("a header").iter().map(str::to_string).collect();
+    let k = head.iter().position(|h| h == column).unwrap_or_else(|| panic!("no column {column}"));
+    let rec = rd.records().nth(line - 1).expect("the line").expect("a record");
+    rec.get(k).unwrap_or("").to_string()
+}
+
+#[test]
+fn the_min_time_row_reports_the_drop_height_optimize_whole_gives() {
+    let s = whole_only("", ROBOT);
+    let records = evaluate(&s, 0..1, false);
+    let r = &records[0];
+    let n = r.numbers.unwrap_or_else(|| panic!("the min-time optimum: {}", r.reason));
+    let w = n.whole.expect("the whole optimum's numbers");
+    let report = optimize_whole_report(&s, 0);
+    // Bit for bit what `optimize --whole` reports for the same problem.
+    assert_eq!(Some(w.fall_time_s.to_bits()), report.fall_time_s.map(f64::to_bits));
+    assert_eq!(Some(w.drop_height_m.to_bits()), report.drop_height_m.map(f64::to_bits));
+    // h = g T²/2 (g = 9.8 m/s², the base's default), and the least fall is shorter than the
+    // base's 10 m drop (1.43 s).
+    assert_relative_eq!(w.drop_height_m, 0.5 * 9.8 * w.fall_time_s * w.fall_time_s, max_relative = 1e-15);
+    assert!(w.fall_time_s > 0.1 && w.fall_time_s < 1.0, "{w:?}");
+    // The least fall uses a limit fully, and stays within every one.
+    let m = n.motors.expect("the motor figures");
+    assert_eq!(Some(m.peak_speed_rad_s.map(f64::to_bits)), report.peak_speed_rad_s.map(|x| x.map(f64::to_bits)));
+    assert_eq!(Some(m.peak_power_w.map(f64::to_bits)), report.peak_power_w.map(|x| x.map(f64::to_bits)));
+    let worst = m.worst.expect("a limit");
+    assert!(worst.within() && worst.ratio > 0.99, "{worst:?}");
+    assert_eq!(worst.limit, catflip::model::motor::Limit::Envelope);
+    // In the table: the same numbers, the verdict in words.
+    let csv = to_csv(&s, &records).expect("CSV");
+    assert_eq!(csv_cell(&csv, 1, "drop_height_m"), format!("{:?}", w.drop_height_m));
+    assert_eq!(csv_cell(&csv, 1, "fall_time_s"), format!("{:?}", w.fall_time_s));
+    assert_eq!(csv_cell(&csv, 1, "within_motors"), "true");
+    assert_eq!(csv_cell(&csv, 1, "motor_worst_limit"), format!("joint {} envelope", worst.joint));
+    assert!(from_csv(&s, &csv, "test").expect("reads back") == records);
+}
+
+const MOTOR_COLUMNS: [&str; 7] = [
+    "peak_speed1_rad_s",
+    "peak_speed2_rad_s",
+    "peak_power1_w",
+    "peak_power2_w",
+    "motor_worst_ratio",
+    "motor_worst_limit",
+    "within_motors",
+];
+
+#[test]
+fn motor_columns_are_finite_where_they_exist_and_empty_elsewhere() {
+    // Ideal motors: speeds and powers on every row with peak torques, no limit to use.
+    let ideal = sweep_ok(&with_base("[compute]\nretiming = true"));
+    let records = evaluate(&ideal, 0..1, false);
+    let csv = to_csv(&ideal, &records).expect("CSV");
+    assert_eq!(records.len(), 3, "paper, calibrated, retimed");
+    for (line, r) in records.iter().enumerate() {
+        let n = r.numbers.unwrap_or_else(|| panic!("{}: {}", r.schedule, r.reason));
+        let m = n.motors.unwrap_or_else(|| panic!("{} has no motor figures", r.schedule));
+        let peak = n.peak_nm.expect("a peak torque");
+        for j in 0..2 {
+            let (speed, power) = (m.peak_speed_rad_s[j], m.peak_power_w[j]);
+            assert!(speed.is_finite() && speed > 0.0 && power.is_finite() && power > 0.0, "{m:?}");
+            // |τ q̇| ≤ max|τ| max|q̇| (both refined peaks; the product of separate maxima).
+            assert!(power <= peak * speed * (1.0 + 1e-9), "{} joint {}: {power} > {peak} × {speed}", r.schedule, j + 1);
+        }
+        assert!(m.worst.is_none(), "{m:?}");
+        for c in &MOTOR_COLUMNS[..4] {
+            assert!(csv_cell(&csv, line + 1, c).parse::<f64>().is_ok_and(f64::is_finite), "{c}");
+        }
+        for c in &MOTOR_COLUMNS[4..] {
+            assert_eq!(csv_cell(&csv, line + 1, c), "", "{c} with ideal motors");
+        }
+        for c in ["fall_time_s", "drop_height_m"] {
+            assert_eq!(csv_cell(&csv, line + 1, c), "", "{c} on a {} row", r.schedule);
+        }
+    }
+    // A torque limit of 0.5 N·m: its usage is the peak torque over the limit.
+    let limited = sweep_ok(&format!("{}[base.actuator]\ntorque_limit_nm = 0.5\n", with_base("")));
+    let records = evaluate(&limited, 0..1, false);
+    let csv = to_csv(&limited, &records).expect("CSV");
+    for (line, r) in records.iter().enumerate() {
+        let n = r.numbers.expect("computed");
+        let worst = n.motors.and_then(|m| m.worst).expect("a limit's usage");
+        assert_eq!(worst.limit, catflip::model::motor::Limit::Torque);
+        assert_relative_eq!(worst.ratio, n.peak_nm.expect("a peak") / 0.5, max_relative = 1e-6);
+        assert_eq!(csv_cell(&csv, line + 1, "within_motors"), worst.within().to_string());
+        assert_eq!(csv_cell(&csv, line + 1, "motor_worst_limit"), format!("joint {} torque", worst.joint));
+    }
+    // Without peak torques, no motor figures.
+    let no_peaks = sweep_ok(&with_base("[compute]\npeaks = false"));
+    let records = evaluate(&no_peaks, 0..1, false);
+    let csv = to_csv(&no_peaks, &records).expect("CSV");
+    for (line, r) in records.iter().enumerate() {
+        assert!(r.numbers.is_some_and(|n| n.motors.is_none()), "{r:?}");
+        for c in MOTOR_COLUMNS {
+            assert_eq!(csv_cell(&csv, line + 1, c), "", "{c} without peaks");
+        }
+    }
+    assert!(!csv.to_lowercase().contains("nan"));
+}
+
+#[test]
+fn edited_motor_cells_are_refused_by_the_merge() {
+    // Two cases (paper and calibrated rows) with a torque limit; shard 2 of 2 holds case 1.
+    let s = sweep_ok(&format!(
+        "{}[base.actuator]\ntorque_limit_nm = 0.5\n",
+        with_base("[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]")
+    ));
+    let root = scratch("edited-motors");
+    let p = parts(&s, &root, 2);
+    let csv = p[1].join("cases.csv");
+    let original = std::fs::read_to_string(&csv).expect("cases.csv");
+    assert!(merge(&p, &root.join("merged"), "test").is_ok(), "the unedited parts merge");
+    let flip = |v: &str| if v == "true" { "false" } else { "true" }.to_string();
+    let within = csv_cell(&original, 1, "within_motors");
+    let edits: [(String, &str, String); 4] = [
+        (
+            format!("line 2: within_motors = {:?} does not fit the rest of the row", flip(&within)),
+            "within_motors",
+            flip(&within),
+        ),
+        ("line 2: bad motor_worst_limit".into(), "motor_worst_limit", "joint 3 torque".into()),
+        ("line 3: peak_power2_w = \"NaN\" is not a finite number".into(), "peak_power2_w", "NaN".into()),
+        ("line 3: peak_speed2_rad_s = ".into(), "peak_speed1_rad_s", String::new()),
+    ];
+    for (want, column, value) in edits {
+        std::fs::write(&csv, &original).expect("restore");
+        let line = if want.starts_with("line 2") { 2 } else { 3 };
+        edit_row(&p[1], line, |h, c| set(h, c, column, &value));
+        let _ = std::fs::remove_dir_all(root.join("merged"));
+        let e = merge_error(&p, &root.join("merged"));
+        assert!(e.contains(&format!("{}", csv.display())) && e.contains(&want), "want {want:?}, got: {e}");
+        assert!(!root.join("merged").exists(), "{want}: results were written");
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_min_time_case_without_a_flip_is_failed_with_its_reason_never_a_height() {
+    // One trust-region iteration cannot reach the flip: the row is `failed`, says why, and the
+    // report's drop-height table shows the reason where the height would be.
+    let s = whole_only("", &format!("{ROBOT}max_iterations = 1\n"));
+    let records = evaluate(&s, 0..1, false);
+    let r = &records[0];
+    assert_eq!(r.status, Status::Failed, "{r:?}");
+    assert!(r.numbers.is_none() && r.reason.contains("no start converged to a flip"), "{}", r.reason);
+    let csv = to_csv(&s, &records).expect("CSV");
+    for c in ["drop_height_m", "fall_time_s", "peak_speed1_rad_s", "within_motors"] {
+        assert_eq!(csv_cell(&csv, 1, c), "", "{c}");
+    }
+    let md = catflip::sweep::summary::body(&s, &records, &[]);
+    let table = md.split("## Least drop height").nth(1).expect("the drop-height table");
+    assert!(table.contains("| — | — | failed: no start converged to a flip"), "{table}");
 }

@@ -10,8 +10,9 @@
 //! - schedule `retimed` (with `retiming`): the certified convex retiming of the calibrated
 //!   schedule (the paper's when the calibration fails) along its fixed path, the duration free
 //!   to move between the phases ([`super::optimum`]);
-//! - schedule `whole` (with `whole`): the whole-manoeuvre optimum of least peak torque
-//!   ([`super::optimum`]);
+//! - schedule `whole` (with `whole`): the whole-manoeuvre optimum of the case's own
+//!   `[optimize.whole]` (least peak torque, least effort, or with `min-time` the least fall within
+//!   the motors; [`super::optimum`]);
 //! - engine `rapier` (with `rapier`): every exact row above verified by rapier
 //!   ([`super::verify`]);
 //! - the paper formula's error `D_c − D_p` (rad) and `(D_c − D_p)/D_p`, on every row of the case.
@@ -20,7 +21,9 @@
 //! the sixth-order Magnus integration, reported per row); the calibrated circulation to `10⁻² ε`
 //! rad in circulation with its twist within ε of ±π (checked, else the row is `failed`); peak
 //! torques from `exact.torque_samples` samples per phase, each peak refined by golden-section search
-//! between its neighbouring samples.
+//! between its neighbouring samples (the schedule's own time scale, as `simulate` samples it); the
+//! motor demand (peak speed and power per joint, the limit with the least margin) from the same
+//! samples ([`MotorDemand`]).
 //!
 //! A row is `ok` only when every number it carries is finite and valid; otherwise its status
 //! (`refused`, `failed`, `skipped`) and a one-line reason say why, and it carries no number.
@@ -28,10 +31,12 @@
 use serde::Serialize;
 
 use crate::engines::circulation::{resolve_circulation, CirculationError};
+use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::flip;
+use crate::engines::motors::{MotorDemand, RATIO_TOLERANCE};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Reference;
-use crate::engines::torque::peak_torques;
+use crate::model::motor::Limit;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
 use crate::schedule::{paper_circulation, Schedule};
@@ -90,6 +95,72 @@ pub struct WholeNumbers {
     pub energy: f64,
     /// Largest bend (angle between the spine axes), degrees.
     pub max_bend_deg: f64,
+    /// The optimum's duration `T`, s: the case's fall time, or with the objective `min-time`
+    /// the least fall time within the motors.
+    pub fall_time_s: f64,
+    /// The drop height of that fall, `g T²/2`, m.
+    pub drop_height_m: f64,
+}
+
+/// The limit a trajectory comes closest to (or exceeds most): [`MotorDemand::worst`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct WorstLimit {
+    /// Which limit.
+    pub limit: Limit,
+    /// Which joint, 1 or 2.
+    pub joint: usize,
+    /// Its usage ratio `max ρ`, dimensionless (at most 1 within the limit).
+    pub ratio: f64,
+}
+
+impl WorstLimit {
+    /// The limit in words, e.g. `joint 2 speed` (the CSV's `motor_worst_limit`).
+    pub fn name(&self) -> String {
+        format!("joint {} {}", self.joint, self.limit)
+    }
+
+    /// The limit of a name written by [`WorstLimit::name`], with its ratio.
+    pub fn parse(name: &str, ratio: f64) -> Option<WorstLimit> {
+        let rest = name.strip_prefix("joint ")?;
+        let (joint, limit) = rest.split_once(' ')?;
+        let joint = match joint {
+            "1" => 1,
+            "2" => 2,
+            _ => return None,
+        };
+        let limit =
+            [Limit::Torque, Limit::Speed, Limit::Envelope, Limit::Power].into_iter().find(|l| l.name() == limit)?;
+        Some(WorstLimit { limit, joint, ratio })
+    }
+
+    /// Whether the trajectory stays within every limit (the worst one holds, up to
+    /// [`RATIO_TOLERANCE`]; [`MotorDemand::within`]).
+    pub fn within(&self) -> bool {
+        self.ratio <= 1.0 + RATIO_TOLERANCE
+    }
+}
+
+/// What a row's trajectory asks of its motors, from the exact engine's [`MotorDemand`] (the same
+/// measurement `simulate` and `optimize --whole` report).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MotorNumbers {
+    /// Peak `|q̇_j|` of joints 1 and 2, rad/s.
+    pub peak_speed_rad_s: [f64; 2],
+    /// Peak mechanical power `|τ_j q̇_j|` of joints 1 and 2, W.
+    pub peak_power_w: [f64; 2],
+    /// The limit with the least margin; none with ideal motors (no `[actuator]` limit).
+    pub worst: Option<WorstLimit>,
+}
+
+impl MotorNumbers {
+    /// The figures of a measured demand.
+    pub fn new(demand: &MotorDemand) -> MotorNumbers {
+        MotorNumbers {
+            peak_speed_rad_s: demand.peak_speed_rad_s.map(|p| p.value),
+            peak_power_w: demand.peak_power_w.map(|p| p.value),
+            worst: demand.worst().map(|w| WorstLimit { limit: w.limit, joint: w.joint, ratio: w.ratio }),
+        }
+    }
 }
 
 /// Rapier's verification numbers (engine `rapier`; its raw finest-run twist, swing and peak are
@@ -132,6 +203,8 @@ pub struct Numbers {
     pub retiming: Option<RetimeNumbers>,
     /// The whole-manoeuvre optimum's numbers (`whole` rows).
     pub whole: Option<WholeNumbers>,
+    /// What the trajectory asks of the motors (exact rows that report peak torques).
+    pub motors: Option<MotorNumbers>,
     /// The verification's numbers (`rapier` rows).
     pub rapier: Option<RapierNumbers>,
 }
@@ -150,6 +223,7 @@ impl Numbers {
             calibration_evaluations: None,
             retiming: None,
             whole: None,
+            motors: None,
             rapier: None,
         }
     }
@@ -165,7 +239,11 @@ impl Numbers {
             v.extend([r.lower_bound_nm, r.program_peak_nm, r.gap_nm]);
         }
         if let Some(w) = &self.whole {
-            v.extend([w.energy, w.max_bend_deg]);
+            v.extend([w.energy, w.max_bend_deg, w.fall_time_s, w.drop_height_m]);
+        }
+        if let Some(m) = &self.motors {
+            v.extend(m.peak_speed_rad_s.iter().chain(&m.peak_power_w));
+            v.extend(m.worst.map(|w| w.ratio));
         }
         if let Some(r) = &self.rapier {
             v.push(r.finest_dt_s);
@@ -320,7 +398,7 @@ impl Measured {
 /// A circulation and the calibration's evaluations, or the status and reason there is none.
 type Resolution = Result<(f64, Option<usize>), (Status, String)>;
 
-/// Evaluates one case. The single call site of the engines: switch it to the shared evaluation here.
+/// Evaluates one case.
 pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
     let given = match problem.manoeuvre.circulation {
         Circulation::Angle(a) => Some(a),
@@ -355,7 +433,7 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
                     )),
                 },
             },
-            "whole" => super::optimum::whole(problem, compute),
+            "whole" => super::optimum::whole(problem),
             _ => {
                 let g =
                     given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string()));
@@ -382,7 +460,9 @@ fn calibrate(problem: &Problem) -> Resolution {
     }
 }
 
-/// The exact row of the library schedule with `circulation`.
+/// The exact row of the library schedule with `circulation`: with `peaks` (or `rapier`, which
+/// checks the peak) the shared [`Evaluation`] (flip, peaks and motor demand, as `simulate`
+/// measures them), else the flip alone.
 fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulation: &Resolution) -> Measured {
     let (cat, tol) = (&problem.cat, problem.exact.tolerance);
     let (radians, evaluations) = match circulation {
@@ -392,7 +472,12 @@ fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulatio
         }
     };
     let s = Schedule::new(problem, radians);
-    let f = flip(cat, &s, tol);
+    let evaluation =
+        (compute.peaks || compute.rapier).then(|| Evaluation::new(cat, &s, &problem.actuator.motors(), &problem.exact));
+    let f = match &evaluation {
+        Some(e) => e.flip,
+        None => flip(cat, &s, tol),
+    };
     if !f.converged {
         let reason = format!(
             "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
@@ -400,18 +485,19 @@ fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulatio
         );
         return Measured::alone(Row::without(schedule, "exact", Status::Failed, &reason, Labels::default()));
     }
-    // Rapier is checked against the measured peak, so it is measured when rapier is asked for.
-    let measured = (compute.peaks || compute.rapier).then(|| peak_torques(cat, &s, problem.exact.torque_samples));
     let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
     numbers.calibration_evaluations = evaluations;
     if compute.peaks {
-        numbers.peaks = measured.as_ref().map(PhasePeaks::from_peaks);
-        numbers.peak_nm = measured.as_ref().map(|p| p.max);
+        if let Some(e) = &evaluation {
+            numbers.peaks = Some(e.peaks);
+            numbers.peak_nm = Some(e.peaks.max);
+            numbers.motors = Some(MotorNumbers::new(&e.motors));
+        }
     }
     let row = Row::with(schedule, "exact", numbers, Labels::default());
-    let subject = match (&row.status, measured) {
-        (Status::Ok, Some(p)) => {
-            Some((Subject::Schedule(s), Reference { twist: f.twist, swing: f.swing, peak_torque: p.max }))
+    let subject = match (&row.status, evaluation) {
+        (Status::Ok, Some(e)) => {
+            Some((Subject::Schedule(s), Reference { twist: f.twist, swing: f.swing, peak_torque: e.peaks.max }))
         }
         _ => None,
     };

@@ -1,6 +1,6 @@
 //! A heat map: one quantity over two swept axes, each cell coloured by its value on a sequential
 //! scale (viridis anchors, low = dark violet, high = yellow) with the value written in it, a colour
-//! bar beside it, and cells without a value grey and marked "—". The axes are the swept
+//! bar beside it (its unit above it, from the value label's last `, unit`), and cells without a value grey and marked "—". The axes are the swept
 //! values in sweep order, evenly spaced whatever their spacing (so log ranges read as such).
 //! Written as PNG and SVG with the shared plot style ([`crate::report::plot`]).
 
@@ -142,6 +142,11 @@ impl Figure for Drawn<'_> {
             let y1 = bottom - (bottom - top) * k / steps;
             let c = colour((f64::from(k) + 0.5) / f64::from(steps));
             root.draw(&Rectangle::new([(bx, y0), (bx + bw, y1)], c.filled())).map_err(failed)?;
+        }
+        // The colour bar's unit: what follows the value label's last comma ("…, m").
+        if let Some((_, unit)) = m.value_label.rsplit_once(", ") {
+            let style = text(15.0).pos(Pos::new(HPos::Left, VPos::Bottom));
+            root.draw(&Text::new(unit.to_string(), (bx, top - 8), style)).map_err(failed)?;
         }
         for (v, y) in [(hi, top), (0.5 * (lo + hi), (top + bottom) / 2), (lo, bottom)] {
             root.draw(&Text::new(short(v), (bx + bw + 6, y), tick.pos(Pos::new(HPos::Left, VPos::Center))))

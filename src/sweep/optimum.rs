@@ -11,21 +11,26 @@
 //!   samples per phase): its peak torques per phase (`peak_max_nm` ≥ `τ_lb` up to the
 //!   discretisation between grid nodes). Twist and swing are the path's, which retiming leaves
 //!   unchanged (a geometric phase): the exact flip of the original schedule, to `exact.tolerance`.
-//! - `whole`: [`optimize_whole`] over the fall time from the problem's manoeuvre with default
-//!   [`WholeSettings`] (peak objective), except `control_points` when `[compute]
-//!   whole_control_points` lowers it for speed; the best start that converged and flips the cat
-//!   to `exact.tolerance` gives twist, swing, peak, effort and largest bend. When no start does,
-//!   the row is `failed` with every start's status and reason.
+//!   The row also carries the motor demand of the timed trajectory ([`motor_demand`] on the
+//!   samples [`piece_samples`] gives it, with the case's `[actuator]`).
+//! - `whole`: [`optimize_whole`] over the fall time from the problem's manoeuvre with the case's
+//!   own `[optimize.whole]` and motors (`[actuator]`): exactly what `catflip optimize --whole`
+//!   computes for the case's problem, so an axis over `optimize.whole.*` or `actuator.*` is
+//!   honoured. The best start that converged and flips the cat to `exact.tolerance` gives twist,
+//!   swing, peak, effort, largest bend, the motor demand, and its duration `T` with the drop
+//!   height `g T²/2` (with the objective `min-time`, the least fall within the motors). When no
+//!   start does, the row is `failed` with every start's status and reason.
 
+use crate::engines::motors::motor_demand;
+use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Reference;
+use crate::engines::torque::piece_samples;
 use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, RetimedTrajectory, Retiming, Split};
-use crate::optimize::whole::{optimize_whole, BSpline, WholeError, WholeOutcome, WholeSettings};
+use crate::optimize::whole::{optimize_whole, BSpline, WholeError, WholeOutcome};
 use crate::problem::Problem;
 use crate::schedule::Schedule;
 
-use super::evaluate::{Labels, Measured, Numbers, RetimeNumbers, Row, Status, WholeNumbers};
-use super::spec::Compute;
-use crate::engines::peaks::PhasePeaks;
+use super::evaluate::{Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, WholeNumbers};
 
 /// A trajectory an exact row measured, for rapier to verify.
 pub enum Subject {
@@ -40,18 +45,6 @@ pub enum Subject {
 /// The retiming settings of a sweep: the defaults with the phase durations free.
 pub fn retime_settings() -> RetimeSettings {
     RetimeSettings { split: Split::Free, ..RetimeSettings::default() }
-}
-
-/// The whole-manoeuvre settings of a sweep: the defaults, with `control_points` (and the coarse
-/// stage, which cannot be finer) lowered to `[compute] whole_control_points` when given.
-pub fn whole_settings(compute: &Compute) -> WholeSettings {
-    let d = WholeSettings::default();
-    match compute.whole_control_points {
-        Some(n) => {
-            WholeSettings { control_points: n, coarse_control_points: d.coarse_control_points.map(|c| c.min(n)), ..d }
-        }
-        None => d,
-    }
 }
 
 /// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path.
@@ -87,6 +80,8 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
     let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
     numbers.peaks = Some(PhasePeaks::from_peaks(&m.peaks));
     numbers.peak_nm = Some(m.peaks.max);
+    let samples = piece_samples(&traj, problem.exact.torque_samples);
+    numbers.motors = Some(MotorNumbers::new(&motor_demand(cat, &traj, &samples, &problem.actuator.motors())));
     numbers.retiming =
         Some(RetimeNumbers { lower_bound_nm: sol.lower_bound, program_peak_nm: sol.peak, gap_nm: sol.gap });
     let row = Row::with("retimed", "exact", numbers, labels(solver));
@@ -96,13 +91,12 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
 }
 
 /// The `whole` row: the whole-manoeuvre optimum of the case.
-pub(crate) fn whole(problem: &Problem, compute: &Compute) -> Measured {
-    let settings = whole_settings(compute);
+pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome = optimize_whole(
         &problem.cat,
         problem.drop.fall_time(),
         &problem.manoeuvre,
-        &settings,
+        &problem.optimize.whole,
         &problem.actuator.motors(),
         problem.exact.tolerance,
     );
@@ -127,7 +121,14 @@ pub(crate) fn whole(problem: &Problem, compute: &Compute) -> Measured {
     let labels = Labels { solver_status: solver.join("; "), whole_start: best.start.clone(), ..Labels::default() };
     let mut numbers = Numbers::flip(None, best.twist, best.swing, Some(best.flip_error_estimate));
     numbers.peak_nm = Some(best.peak_torque_nm);
-    numbers.whole = Some(WholeNumbers { energy: best.energy, max_bend_deg: best.max_bend_deg });
+    let t = best.fall_time_s;
+    numbers.whole = Some(WholeNumbers {
+        energy: best.energy,
+        max_bend_deg: best.max_bend_deg,
+        fall_time_s: t,
+        drop_height_m: 0.5 * problem.drop.gravity * t * t,
+    });
+    numbers.motors = Some(MotorNumbers::new(&best.motors));
     let row = Row::with("whole", "exact", numbers, labels);
     let reference = Reference { twist: best.twist, swing: best.swing, peak_torque: best.peak_torque_nm };
     let subject = (row.status == Status::Ok).then(|| (Subject::Whole(best.spline.clone()), reference));

@@ -41,7 +41,7 @@ pub struct Quantity {
 
 /// The quantities a sweep computed.
 pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
-    let c = sweep.compute;
+    let c = &sweep.compute;
     let mut q = Vec::new();
     if c.calibrated {
         q.push(Quantity {
@@ -76,6 +76,14 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
             value: Record::peak_max,
         });
     }
+    if c.whole && min_time(sweep) {
+        q.push(Quantity {
+            stem: "drop-height",
+            label: "least drop height g·T²/2 within the motors (whole optimum, min-time), m".into(),
+            schedule: "whole",
+            value: |r| r.numbers.and_then(|n| n.whole).map(|w| w.drop_height_m),
+        });
+    }
     if c.whole {
         q.push(Quantity {
             stem: "whole-peak",
@@ -85,6 +93,14 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         });
     }
     q
+}
+
+/// Whether a sweep's whole optimum minimises the fall time: the base problem's
+/// `optimize.whole.objective` is `min-time`, or an axis sweeps the objective.
+pub fn min_time(sweep: &Sweep) -> bool {
+    let base = crate::problem::Problem::from_toml(&sweep.base_text, &sweep.base_origin, &[]);
+    base.is_ok_and(|p| p.optimize.whole.objective == crate::optimize::whole::Objective::MinTime)
+        || sweep.axes.iter().any(|a| a.field == "optimize.whole.objective")
 }
 
 /// Writes every figure into `dir` and returns them in order.
@@ -103,8 +119,8 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
                 let map = HeatMap {
                     stem: stem.clone(),
                     title,
-                    x_label: sweep.axes[c].field.clone(),
-                    y_label: sweep.axes[r].field.clone(),
+                    x_label: with_unit(&sweep.axes[c].field),
+                    y_label: with_unit(&sweep.axes[r].field),
                     value_label: q.label.clone(),
                     cols: g.col_labels.clone(),
                     rows: g.row_labels.clone(),
@@ -146,6 +162,20 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
         }
     }
     Ok(out)
+}
+
+/// An axis label: the field with its unit, e.g. `cat.mass (kg)`, `actuator.stall_torque_nm (N·m)`.
+pub fn with_unit(field: &str) -> String {
+    let unit = match field {
+        "cat.mass" => Some("kg"),
+        "cat.length" | "cat.radius" | "drop.height" => Some("m"),
+        "drop.gravity" => Some("m/s²"),
+        _ => [("_nm", "N·m"), ("_rad_s", "rad/s"), ("_w", "W"), ("_deg", "°"), ("_s", "s")]
+            .into_iter()
+            .find(|(suffix, _)| field.ends_with(suffix))
+            .map(|(_, u)| u),
+    };
+    unit.map_or_else(|| field.to_string(), |u| format!("{field} ({u})"))
 }
 
 fn title(name: &str, group: &str) -> String {

@@ -12,7 +12,7 @@ use super::table::Record;
 
 /// The schedules compared, in row order, with the peak a row shows for them.
 fn schedules(sweep: &Sweep) -> Vec<&'static str> {
-    let c = sweep.compute;
+    let c = &sweep.compute;
     let mut s = Vec::new();
     if c.peaks && c.paper_flip {
         s.push("paper");
@@ -31,7 +31,7 @@ fn schedules(sweep: &Sweep) -> Vec<&'static str> {
 
 /// "## Peak torque by schedule": one line per case (written only when an optimiser ran).
 pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
-    let c = sweep.compute;
+    let c = &sweep.compute;
     if !(c.retiming || c.whole) {
         return;
     }

@@ -19,8 +19,7 @@
 //! calibrated = true
 //! peaks = true
 //! retiming = false                   # the certified convex retiming
-//! whole = false                      # the whole-manoeuvre optimum
-//! whole_control_points = 30          # optional: a coarser spline than the default 120
+//! whole = false                      # the whole-manoeuvre optimum, by the case's [optimize.whole]
 //! rapier = false                     # rapier's verdict on every exact row
 //! ```
 //!
@@ -153,7 +152,7 @@ pub enum Combine {
 }
 
 /// What each case computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Compute {
     /// The flip (twist, swing) with the paper's circulation `π/C`.
@@ -165,11 +164,14 @@ pub struct Compute {
     /// The convex retiming's certified optimum of the calibrated (else the paper's) schedule
     /// along its path ([`super::optimum`]).
     pub retiming: bool,
-    /// The whole-manoeuvre optimum of least peak torque ([`super::optimum`]).
+    /// The whole-manoeuvre optimum by each case's own `[optimize.whole]` and `[actuator]`
+    /// ([`super::optimum`]).
     pub whole: bool,
-    /// Control points per joint of the whole-manoeuvre spline, to lower the default (120) for
-    /// speed; the default when absent.
-    pub whole_control_points: Option<usize>,
+    /// Retired: refused at load ([`RETIRED_CONTROL_POINTS`]). The spline's control points are
+    /// the problem's `optimize.whole.control_points` (in the base problem or as an axis), the
+    /// one place `optimize --whole` reads them too. Never written to a shard's manifest.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub whole_control_points: Option<toml::Value>,
     /// Rapier's verification of every exact row ([`super::verify`]).
     pub rapier: bool,
 }
@@ -418,24 +420,23 @@ fn check_count(axes: &[Axis], combine: Combine) -> Result<(), SpecError> {
     Ok(())
 }
 
-/// Checks `[compute]`: at least one schedule asked for, `whole_control_points` only with
-/// `whole`, and a value the whole-manoeuvre optimisation accepts.
+/// Why `[compute] whole_control_points` is refused: it duplicated (and silently overrode) the
+/// problem's own `optimize.whole.control_points`.
+pub const RETIRED_CONTROL_POINTS: &str = "the whole optimum uses each case's own [optimize.whole]; set `optimize.whole.control_points` in the base problem (or an inline [base.optimize.whole] table), \
+     or sweep it as an axis (field = \"optimize.whole.control_points\")";
+
+/// Checks `[compute]`: at least one schedule asked for, and not the retired
+/// `whole_control_points`.
 fn check_compute(c: &Compute) -> Result<(), SpecError> {
+    if let Some(v) = &c.whole_control_points {
+        return Err(bad("compute.whole_control_points", &format!("is retired (found {v}): {RETIRED_CONTROL_POINTS}")));
+    }
     if !(c.paper_flip || c.calibrated || c.retiming || c.whole) {
         return Err(bad(
             "compute",
             "[compute] asks for no schedule (paper_flip, calibrated, retiming and whole are all false): \
              the sweep would compute nothing; set at least one of them to true",
         ));
-    }
-    if let Some(n) = c.whole_control_points {
-        let field = "compute.whole_control_points";
-        if !c.whole {
-            return Err(bad(field, "is used only with `whole = true`"));
-        }
-        if let Err(e) = super::optimum::whole_settings(c).validate() {
-            return Err(bad(field, &format!("{n} is not usable ({e})")));
-        }
     }
     Ok(())
 }

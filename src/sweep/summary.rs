@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use super::cases::cell;
 use super::grid::{grids, primary_schedule, Grid};
 use super::heatmap::short;
-use super::plots::{quantities, PlotInfo};
+use super::plots::{min_time, quantities, PlotInfo};
 use super::spec::Sweep;
 use super::table::Record;
 use super::Status;
@@ -33,6 +33,7 @@ pub fn body(sweep: &Sweep, records: &[Record], plots: &[PlotInfo]) -> String {
     not_computed(&mut s, records);
     super::schedules::by_schedule(&mut s, sweep, records);
     super::schedules::verdicts(&mut s, sweep, records);
+    drop_heights(&mut s, sweep, records);
     for axis in 0..sweep.axes.len() {
         best_choice(&mut s, sweep, records, axis);
     }
@@ -194,6 +195,58 @@ fn best_choice(s: &mut String, sweep: &Sweep, records: &[Record], axis: usize) {
     }
     if groups.len() > MAX_ROWS {
         let _ = writeln!(s, "\n({} more rows in `sweep.csv`.)", groups.len() - MAX_ROWS);
+    }
+    s.push('\n');
+}
+
+/// "## Least drop height": with the `min-time` objective, one line per case: the least drop
+/// height and fall within the motors, the limit that binds, and the peak speeds and powers the
+/// motors must deliver; or the status and reason when no flip was found.
+fn drop_heights(s: &mut String, sweep: &Sweep, records: &[Record]) {
+    if !(sweep.compute.whole && min_time(sweep)) {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "## Least drop height\n\nPer case, the whole-manoeuvre optimum of least fall time `T` within the motors (`[actuator]`): the drop height `g T²/2` from which the cat can right itself, the limit it uses most (`ratio` ≤ 1: within), and the peak joint speeds and mechanical powers it asks of the motors (joint 1, joint 2). A case without a flip shows its status and reason, never a number.\n"
+    );
+    let mut head = String::from("| case |");
+    for a in &sweep.axes {
+        let _ = write!(head, " `{}` |", a.field);
+    }
+    let _ = writeln!(
+        s,
+        "{head} drop height (m) | fall (s) | binding limit | ratio | peak speed (rad/s) | peak power (W) |"
+    );
+    let _ = writeln!(s, "|---:|{}---:|---:|---|---:|---:|---:|", "---|".repeat(sweep.axes.len()));
+    let rows: Vec<&Record> = records.iter().filter(|r| r.schedule == "whole" && r.engine == "exact").collect();
+    for r in rows.iter().take(MAX_ROWS) {
+        let mut line = format!("| {} |", r.case);
+        for (a, &p) in sweep.axes.iter().zip(&r.picks) {
+            let _ = write!(line, " {} |", cell(&a.values[p]));
+        }
+        let pair = |x: [f64; 2]| format!("{}, {}", short(x[0]), short(x[1]));
+        match (r.numbers.and_then(|n| n.whole), r.numbers.and_then(|n| n.motors)) {
+            (Some(w), Some(m)) => {
+                let (limit, ratio) =
+                    m.worst.map_or_else(|| ("—".to_string(), "—".to_string()), |w| (w.name(), short(w.ratio)));
+                let _ = writeln!(
+                    s,
+                    "{line} **{}** | {} | {limit} | {ratio} | {} | {} |",
+                    short(w.drop_height_m),
+                    short(w.fall_time_s),
+                    pair(m.peak_speed_rad_s),
+                    pair(m.peak_power_w)
+                );
+            }
+            _ => {
+                let why = format!("{}: {}", r.status.name(), r.reason.replace('|', "\\|"));
+                let _ = writeln!(s, "{line} — | — | {why} | — | — | — |");
+            }
+        }
+    }
+    if rows.len() > MAX_ROWS {
+        let _ = writeln!(s, "\n({} more rows in `sweep.csv`.)", rows.len() - MAX_ROWS);
     }
     s.push('\n');
 }

@@ -7,13 +7,20 @@
 //! `circulation_rel_error` ((calibrated − paper)/paper), then the row's `circulation_rad`,
 //! `twist_deg`, `swing_deg`, `flip_error_deg` (`|twist| − 180°`), `error_estimate_rad`, the peak
 //! torques per phase and joint and their maximum `peak_max_nm` (N·m; the maximum alone for the
-//! whole-manoeuvre spline, which has no phases), and `calibration_evaluations`; then
+//! whole-manoeuvre spline, which has no phases), what the trajectory asks of its motors on every
+//! exact row with peak torques (`peak_speed1_rad_s`, `peak_speed2_rad_s`: peak `|q̇_j|`, rad/s;
+//! `peak_power1_w`, `peak_power2_w`: peak `|τ_j q̇_j|`, W; and with `[actuator]` limits the least
+//! margin's `motor_worst_ratio` (usage, ≤ 1 within), `motor_worst_limit` (e.g. `joint 2 speed`)
+//! and `within_motors` (`true`/`false`)), and `calibration_evaluations`; then
 //! `retimed_from` and `solver_status` (the optimiser's own word), the retiming's
 //! `retime_lower_bound_nm` (certified), `retime_program_peak_nm` and `retime_gap_nm`, the whole
-//! optimum's `whole_start`, `energy_n2m2s` and `max_bend_deg`, and rapier's `rapier_verdict`,
+//! optimum's `whole_start`, `energy_n2m2s`, `max_bend_deg`, `fall_time_s` (its duration `T`, s;
+//! with the objective `min-time` the least fall within the motors) and `drop_height_m`
+//! (`g T²/2`, m), and rapier's `rapier_verdict`,
 //! `rapier_twist_extrapolated_deg`, `rapier_swing_extrapolated_deg`,
 //! `rapier_peak_extrapolated_nm`, `rapier_steps` and `rapier_finest_dt_s` (its raw finest-run
-//! twist, swing and peaks are in the usual columns). A cell is empty exactly when its quantity
+//! twist, swing and peaks are in the usual columns; the motor columns stay empty on rapier rows,
+//! which check the exact engine's torques, not its motor figures). A cell is empty exactly when its quantity
 //! does not exist for that row (the status and reason say why); no cell holds NaN. Numbers are
 //! written with Rust's shortest round-trip formatting, so reading the CSV back gives the same
 //! bits.
@@ -21,7 +28,9 @@
 use crate::engines::peaks::PhasePeaks;
 
 use super::cases::{case, cell};
-use super::evaluate::{CaseOutcome, Labels, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers};
+use super::evaluate::{
+    CaseOutcome, Labels, MotorNumbers, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers, WorstLimit,
+};
 use super::spec::Sweep;
 
 /// Why a table could not be written or read.
@@ -99,7 +108,7 @@ pub fn records(sweep: &Sweep, index: usize, outcome: &CaseOutcome) -> Vec<Record
 }
 
 const HEAD: [&str; 5] = ["schedule", "engine", "status", "reason", "warnings"];
-const NUMBERS: [&str; 31] = [
+const NUMBERS: [&str; 40] = [
     "paper_circulation_rad",
     "calibrated_circulation_rad",
     "circulation_error_rad",
@@ -116,6 +125,13 @@ const NUMBERS: [&str; 31] = [
     "unbend_tau1_nm",
     "unbend_tau2_nm",
     "peak_max_nm",
+    "peak_speed1_rad_s",
+    "peak_speed2_rad_s",
+    "peak_power1_w",
+    "peak_power2_w",
+    "motor_worst_ratio",
+    "motor_worst_limit",
+    "within_motors",
     "calibration_evaluations",
     "retimed_from",
     "solver_status",
@@ -125,6 +141,8 @@ const NUMBERS: [&str; 31] = [
     "whole_start",
     "energy_n2m2s",
     "max_bend_deg",
+    "fall_time_s",
+    "drop_height_m",
     "rapier_verdict",
     "rapier_twist_extrapolated_deg",
     "rapier_swing_extrapolated_deg",
@@ -180,12 +198,29 @@ fn fields(sweep: &Sweep, r: &Record) -> Vec<String> {
         ]
         .map(num),
     );
+    let m = n.and_then(|n| n.motors);
+    let worst = m.and_then(|m| m.worst);
+    f.extend(
+        [
+            m.map(|m| m.peak_speed_rad_s[0]),
+            m.map(|m| m.peak_speed_rad_s[1]),
+            m.map(|m| m.peak_power_w[0]),
+            m.map(|m| m.peak_power_w[1]),
+            worst.map(|w| w.ratio),
+        ]
+        .map(num),
+    );
+    f.push(worst.map_or_else(String::new, |w| w.name()));
+    f.push(worst.map_or_else(String::new, |w| w.within().to_string()));
     f.push(count(n.and_then(|n| n.calibration_evaluations)));
     let l = &r.labels;
     f.extend([l.retimed_from.clone(), l.solver_status.clone()]);
     f.extend([rt.map(|x| x.lower_bound_nm), rt.map(|x| x.program_peak_nm), rt.map(|x| x.gap_nm)].map(num));
     f.push(l.whole_start.clone());
-    f.extend([wh.map(|x| x.energy), wh.map(|x| x.max_bend_deg)].map(num));
+    f.extend(
+        [wh.map(|x| x.energy), wh.map(|x| x.max_bend_deg), wh.map(|x| x.fall_time_s), wh.map(|x| x.drop_height_m)]
+            .map(num),
+    );
     f.push(l.rapier_verdict.clone());
     f.extend(
         [
@@ -286,9 +321,28 @@ pub fn from_csv_lines(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<(u6
                 }
                 _ => None,
             };
-        let whole_numbers = match (float("energy_n2m2s")?, float("max_bend_deg")?) {
-            (Some(energy), Some(max_bend_deg)) => Some(WholeNumbers { energy, max_bend_deg }),
-            _ => None,
+        let whole_numbers =
+            match (float("energy_n2m2s")?, float("max_bend_deg")?, float("fall_time_s")?, float("drop_height_m")?) {
+                (Some(energy), Some(max_bend_deg), Some(fall_time_s), Some(drop_height_m)) => {
+                    Some(WholeNumbers { energy, max_bend_deg, fall_time_s, drop_height_m })
+                }
+                _ => None,
+            };
+        let worst = match (float("motor_worst_ratio")?, at("motor_worst_limit")) {
+            (None, "") => None,
+            (Some(ratio), name) => Some(WorstLimit::parse(name, ratio).ok_or_else(|| bad("motor_worst_limit"))?),
+            (None, _) => return Err(bad("motor_worst_ratio (empty beside motor_worst_limit)")),
+        };
+        let motors = match ["peak_speed1_rad_s", "peak_speed2_rad_s", "peak_power1_w", "peak_power2_w"].map(float) {
+            [Ok(Some(s1)), Ok(Some(s2)), Ok(Some(p1)), Ok(Some(p2))] => {
+                Some(MotorNumbers { peak_speed_rad_s: [s1, s2], peak_power_w: [p1, p2], worst })
+            }
+            cells => {
+                for c in cells {
+                    c?;
+                }
+                None
+            }
         };
         let rapier = match (whole("rapier_steps")?, float("rapier_finest_dt_s")?) {
             (Some(steps), Some(finest_dt_s)) => Some(RapierNumbers {
@@ -312,6 +366,7 @@ pub fn from_csv_lines(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<(u6
                 calibration_evaluations: whole("calibration_evaluations")?,
                 retiming,
                 whole: whole_numbers,
+                motors,
                 rapier,
             }),
             _ => None,
