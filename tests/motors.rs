@@ -43,8 +43,8 @@ fn dense_worst_ratio(traj: &impl Trajectory, m: &Motors) -> f64 {
     for k in 0..=n {
         let st = traj.state_at(total * k as f64 / n as f64);
         let tau = joint_torques(&PAPER, &st).tau;
-        for j in 0..2 {
-            for (_, r) in m.joints[j].ratios(tau[j], st.qd[j]) {
+        for (j, motor) in m.joints.iter().enumerate() {
+            for (_, r) in motor.ratios(tau[j], st.qd[j]) {
                 worst = worst.max(r);
             }
         }
