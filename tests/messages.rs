@@ -106,3 +106,21 @@ fn every_echoed_number_is_shortened() {
         assert!(e.starts_with(start) && e.len() < 200, "{set}: {e}");
     }
 }
+
+/// Issue 18, "Messages": a step too fine to run, the paper's C at a straight cat and a bend limit
+/// that leaves no start are each said in one line, in the user's terms.
+#[test]
+fn impossible_settings_are_named_in_the_users_terms() {
+    let (code, e) = catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt", "1e-300"]);
+    let e = e.lines().last().unwrap_or_default().to_string();
+    assert!(code != 0 && e.contains("1.42857e300 steps") && e.len() < 300, "{e}");
+    let (code, e) = catflip(&["simulate", "problems/paper.toml", "--set", "manoeuvre.theta_deg=180"]);
+    assert!(code != 0 && e.contains("manoeuvre.theta_deg = 180") && e.contains("calibrated"), "{e}");
+    let (code, e) =
+        catflip(&["optimize", "problems/paper.toml", "--whole", "--set", "optimize.whole.min_angle_deg=179"]);
+    assert!(
+        code != 0 && e.contains("no start could be built") && e.contains("lower optimize.whole.min_angle_deg"),
+        "{e}"
+    );
+    assert!(!e.contains("none of the 0"), "{e}");
+}

@@ -92,6 +92,10 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
     let best = outcome.best();
     let status = match best {
         Some(b) => b.status.to_string(),
+        None if outcome.solutions.is_empty() => format!(
+            "no optimum: no start could be built ({})",
+            outcome.skipped.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect::<Vec<_>>().join("; ")
+        ),
         None => format!(
             "no optimum: none of the {} start(s) converged to a flip ({})",
             outcome.solutions.len(),

@@ -364,8 +364,8 @@ pub fn nearest_straight(q: [f64; 2]) -> [f64; 2] {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ScheduleError {
     /// The paper's `C` is not positive, so `π/C` is no circulation.
-    #[error("the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive: the paper's circulation π/C is undefined for this cat", crate::numeric::numfmt::num(*.0))]
-    NonPositiveC(f64),
+    #[error("manoeuvre.circulation = \"paper\": the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive at manoeuvre.theta_deg = {}, so π/C is no circulation; bend more (lower manoeuvre.theta_deg) or set manoeuvre.circulation = \"calibrated\" or a number of radians", crate::numeric::numfmt::num(*.0), crate::numeric::numfmt::echo(*.1))]
+    NonPositiveC(f64, f64),
     /// The paper's `π/C` is beyond [`crate::problem::manoeuvre::MAX_CIRCULATION`].
     #[error("manoeuvre.circulation = \"paper\": π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", crate::numeric::numfmt::num(*.0), crate::numeric::numfmt::num(*.1), max = crate::problem::manoeuvre::MAX_CIRCULATION)]
     CirculationTooLarge(f64, f64),
@@ -409,7 +409,7 @@ impl Schedule {
 pub fn paper_circulation(cat: &crate::model::Cylinder, theta: f64) -> Result<f64, ScheduleError> {
     let c = paper_c(cat.transverse(), cat.axial(), theta);
     if c <= 0.0 {
-        Err(ScheduleError::NonPositiveC(c))
+        Err(ScheduleError::NonPositiveC(c, theta.to_degrees()))
     } else if PI / c > crate::problem::manoeuvre::MAX_CIRCULATION {
         Err(ScheduleError::CirculationTooLarge(PI / c, c))
     } else {

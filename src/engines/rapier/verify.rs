@@ -459,7 +459,8 @@ pub fn verify_with(
         if steps > MAX_STEPS as f64 {
             let dt = duration / steps;
             why_stopped = format!(
-                "a run at dt = {dt:.3e} s would need {steps:.0} steps, more than the {MAX_STEPS} a run may take"
+                "a run at dt = {dt:.3e} s would need {} steps, more than the {MAX_STEPS} a run may take",
+                crate::numeric::numfmt::num(steps)
             );
             break;
         }

@@ -27,6 +27,10 @@ pub const CONE_START_BEND_DEG: f64 = 60.0;
 /// How far inside the bend limit a start bends, degrees.
 pub const START_BEND_MARGIN_DEG: f64 = 2.0;
 
+/// The straightest start, degrees between the halves: nearly straight halves need a
+/// circulation of hundreds of radians to turn the cat (`π/C` with `C → 0`).
+pub const MAX_START_THETA_DEG: f64 = 170.0;
+
 /// A start: its name and its trajectory.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NamedStart {
@@ -56,6 +60,14 @@ pub fn start_schedule(
         if path == BendPath::Cone { manoeuvre.theta_deg.max(180.0 - CONE_START_BEND_DEG) } else { manoeuvre.theta_deg };
     // A start within the bend limit (neither path bends beyond β = 180° − θ).
     if let Some(limit) = min_angle_deg {
+        if limit + START_BEND_MARGIN_DEG > MAX_START_THETA_DEG {
+            return Err(format!(
+                "optimize.whole.min_angle_deg = {limit} leaves a bend of at most {:.3}°; a start bends {START_BEND_MARGIN_DEG}° inside the limit and needs a bend of at least {:.0}°: lower optimize.whole.min_angle_deg to at most {}",
+                180.0 - limit,
+                180.0 - MAX_START_THETA_DEG,
+                MAX_START_THETA_DEG - START_BEND_MARGIN_DEG
+            ));
+        }
         theta_deg = theta_deg.max(limit + START_BEND_MARGIN_DEG);
     }
     // Within the joint limit: both paths keep |q1|, |q2| at most the bend β = 180° − θ.
