@@ -4,7 +4,7 @@
 //! follows from the joint motion alone. With `ω_rel = q̇1 x̂ + q̇2 Rx(q1) ŷ`, `p` B's centre
 //! relative to A's and `μ = m/2`,
 //!
-//! $$ H = \big[I_A + R I_B R^\top - μ [p]_×^2\big] Ω + R I_B R^\top ω_{rel} + μ\, p × \dot p = 0, $$
+//! $$ H = \big[I_A + R I_B R^\top - μ \[p\]_×^2\big] Ω + R I_B R^\top ω_{rel} + μ\, p × \dot p = 0, $$
 //!
 //! so `Ω = −I_lock⁻¹ (R I_B Rᵀ ω_rel + μ p × ṗ)`, linear in `q̇`: the reorientation depends on the
 //! path in joint space, not on its timing. A's world orientation obeys `Ṙ = R [Ω]×`, integrated on

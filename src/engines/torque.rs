@@ -5,7 +5,7 @@
 //!
 //! $$ \dot Ω = −M^{-1}\big(\dot M Ω + \dot K\big), \quad
 //!    \dot{(R I_B R^\top)} = [ω_{rel}]_× R I_B R^\top − R I_B R^\top [ω_{rel}]_×, $$
-//! $$ \dot M = \dot{(R I_B R^\top)} − μ\big([\dot p]_×[p]_× + [p]_×[\dot p]_×\big), \quad
+//! $$ \dot M = \dot{(R I_B R^\top)} − μ\big(\[\dot p\]_×\[p\]_× + \[p\]_×\[\dot p\]_×\big), \quad
 //!    \dot K = \dot{(R I_B R^\top)}\, ω_{rel} + R I_B R^\top \dot ω_{rel} + μ\, p × \ddot p. $$
 //!
 //! B's centre accelerates (inertially, A's components) at
@@ -226,7 +226,7 @@ pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> P
 /// the jumps, and its supremum may be a one-sided limit, or a maximum inside a segment much
 /// shorter than the samples' spacing (a retimed path's grid is graded, finest where the path's
 /// rate vanishes), that no equally spaced sample comes near: each segment is then also sampled
-/// at its ends (each from its own side) and [`SEGMENT_SAMPLES`]` − 1` inner points, and its
+/// at its ends (each from its own side) and `SEGMENT_SAMPLES − 1` (4 − 1) inner points, and its
 /// largest inner sample refined by golden-section search.
 pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
     let mut per_piece = Vec::new();

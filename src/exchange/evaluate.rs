@@ -8,7 +8,7 @@
 //! momentum relative to `I* · max|q̇|`, and the engine's error estimate. An imported schedule
 //! has no profile or circulation; it has a file, a row count and an interpolation scheme. rapier's
 //! report has its own twist, swing, per-piece peaks and momentum drift, and beside them the
-//! [`RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
+//! [`crate::report::check::RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
 //! exact engine on the same imported schedule, verdict).
 //!
 //! Before the engine runs, [`crate::exchange::checks::check`] refuses what cannot be evaluated and

@@ -46,10 +46,10 @@ impl ExactSettings {
 /// In a problem file `dt = "auto"` (the default) or `dt = 0.0005` (seconds); `catflip simulate
 /// --dt S` sets `Fixed(S)`. Either way it is the *first* step of a verification, which then
 /// halves it until rapier's own error estimate meets the tolerances
-/// ([`crate::rapier::verify`]); a single run ([`crate::rapier::simulate`]) uses it as is.
+/// ([`crate::engines::rapier::verify`]); a single run ([`crate::engines::rapier::simulate`]) uses it as is.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum TimeStep {
-    /// From the trajectory's own time scales ([`crate::rapier::TimeScales`]).
+    /// From the trajectory's own time scales ([`crate::engines::rapier::TimeScales`]).
     #[default]
     Auto,
     /// The user's step, s.

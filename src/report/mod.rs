@@ -5,7 +5,7 @@
 //!   `compare`, `optimize` and `bench`;
 //! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
-//! - [`plot`]: charts and the animation; [`export`]: schedules as CSV;
+//! - [`plot`]: charts and the animation; [`crate::exchange`]: schedules as CSV with URDF/MJCF;
 //! - [`provenance`]: the header every generated report starts with.
 
 pub mod audit;

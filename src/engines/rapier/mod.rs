@@ -112,7 +112,7 @@
 //!
 //! Every run takes any [`crate::schedule::Trajectory`]: pieces smooth on their closed
 //! intervals, rates possibly jumping between them. Torque peaks are kept per piece
-//! ([`TorquePeaks`]; the per-phase view of a three-piece schedule is [`TorquePeaks::phase`]), and
+//! (`TorquePeaks` in [`RapierRun`]; the per-phase view of a three-piece schedule is its `phase_peaks`), and
 //! samples near any piece boundary or rate jump are treated as described above for phases.
 //!
 //! ## References

@@ -149,7 +149,7 @@ pub struct RapierRun {
     /// Largest `|τ_i|` of all samples, boundary and jump samples included, N·m.
     pub peak_torque_all: f64,
     /// Jumps of `q̈` inside pieces whose neighbourhood is kept out of the peaks (those of the
-    /// trajectory's [`Trajectory::acceleration_jumps`] above [`ACCEL_JUMP_FRACTION`]).
+    /// trajectory's [`Trajectory::acceleration_jumps`] above `ACCEL_JUMP_FRACTION`).
     pub acceleration_jumps: usize,
     /// Fraction of the torque samples left out of the peaks for being near one of them.
     pub acceleration_jump_excluded: f64,

@@ -124,7 +124,7 @@ pub struct ProfileQpSolution {
 
 impl ProfileQpSolution {
     /// The solution if the QP was solved (to full or reduced accuracy), else
-    /// [`QpError::NotSolved`] with the status: for a caller whose result does not exist without it.
+    /// [`crate::optimize::qp::QpError::NotSolved`] with the status: for a caller whose result does not exist without it.
     pub fn solved(self) -> Result<ProfileQpSolution, super::QpError> {
         if self.status.is_solved() {
             Ok(self)

@@ -13,7 +13,7 @@
 //!
 //! both evaluated by Newton–Euler ([`crate::engines::torque::joint_torques`]) at the states
 //! `(q, q̇ = 0, q̈ = q')` and `(q, q̇ = q', q̈ = q'')`. The reorientation is a geometric phase of the
-//! path ([`crate::exact`]): no timing changes twist or swing.
+//! path ([`crate::engines::exact`]): no timing changes twist or swing.
 //!
 //! ## The convex program
 //!

@@ -4,12 +4,12 @@
 //! - [`body_rate`]: A's angular velocity `Ω = −I_lock⁻¹(R I_B Rᵀ ω_rel + μ p × ṗ)` at zero
 //!   momentum (DESIGN.md §2; [`crate::engines::exact::body_rate`]), with B's axis `e = R ẑ`,
 //!   `R I_B Rᵀ = I_t 𝟙 + (I_a − I_t) e eᵀ` and `−[p]×² = |p|² 𝟙 − p pᵀ`;
-//! - [`motor_torques`]: Newton–Euler on B ([`crate::torque`]'s module docs give the equations),
+//! - [`motor_torques`]: Newton–Euler on B ([`crate::engines::torque`]'s module docs give the equations),
 //!   `τ_i = T · a_i` on joint 1's axis `x̂` and joint 2's axis `Rx(q1) ŷ`;
 //! - [`magnus6`]: the sixth-order Magnus exponent of one step ([`crate::engines::exact::magnus6`]).
 //!
 //! They are the reference engine's formulas, not new physics: tests check at `f64` that they agree
-//! with [`crate::exact`] and [`crate::torque`] to round-off, and at dual numbers that their
+//! with [`crate::engines::exact`] and [`crate::engines::torque`] to round-off, and at dual numbers that their
 //! derivatives agree with central finite differences. All vectors in A's frame, SI units.
 
 use super::dual::{add, cross, dot, scale, scale_by, solve3, sub, Real, V3};

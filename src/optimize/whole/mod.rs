@@ -6,7 +6,7 @@
 //! Variables: the control points of two clamped cubic B-splines `q1(t), q2(t)` on `[0, T]`
 //! ([`spline`]), the first and last two of each held at zero so that the cat is straight and at
 //! rest at both ends (three with `optimize.zero_end_acceleration`). With `R(T)` A's final
-//! orientation from the zero-momentum dynamics ([`crate::exact`]):
+//! orientation from the zero-momentum dynamics ([`crate::engines::exact`]):
 //!
 //! $$ \min_c\; \max_{t,j} |τ_j(t)| \;\text{ or }\; \int_0^T τ·τ\,dt \quad\text{s.t.}\quad
 //!    R(T) = R_z(π),\; |c| ≤ q_{max},\; \cos β(t) ≥ \cos β_{max}. $$

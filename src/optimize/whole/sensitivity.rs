@@ -3,7 +3,7 @@
 //!
 //! ## Final orientation: forward sensitivity of the Magnus integrator
 //! The exact engine steps `R_{n+1} = R_n exp([σ_n]×)`, `σ_n = magnus6(h, Ω_{n,1}, Ω_{n,2}, Ω_{n,3})`
-//! on the Gauss–Legendre nodes of each step, knot span by knot span ([`crate::exact`]). Perturb
+//! on the Gauss–Legendre nodes of each step, knot span by knot span ([`crate::engines::exact`]). Perturb
 //! the rates: since `exp([σ + δσ]×) = exp([σ]×) exp([J_r(σ) δσ]×) + O(δ²)` with the right
 //! Jacobian `J_r(φ) = 𝟙 − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²`, `θ = |φ|`, a left
 //! perturbation `R̃_n = exp([η_n]×) R_n` propagates as

@@ -1,7 +1,7 @@
 //! Starts of the optimisation: library schedules fitted to the spline.
 //!
 //! Each start is the problem's three-phase manoeuvre (its bend and phase split) on one bend path,
-//! with its circulation calibrated on the exact engine ([`crate::calibrate`]) so that it turns
+//! with its circulation calibrated on the exact engine ([`crate::engines::calibrate`]) so that it turns
 //! the cat by π (up to the swing it leaves), then fitted to the clamped B-spline by least squares
 //! ([`BSpline::fit`]) with the ends held straight and at rest. The mirror image `q2 → −q2`
 //! (reflection through A's `yz`-plane, which reverses every twist) gives the other twist

@@ -15,7 +15,7 @@
 //! ## Adding a curve
 //! Write `fn my_curve(...) -> Curve` that computes the reference once and returns
 //! `Curve::sweep(name, setting, error, &settings, |x| { …solve at x…; Ok(Outcome::error(gap)) })`
-//! (an `Err(status)` for a run without a result), then push it in [`bench`]. The CSV, the
+//! (an `Err(status)` for a run without a result), then push it in [`fn@bench`]. The CSV, the
 //! Markdown and the plots pick it up by its name. When the error needs a costly measurement
 //! that is not the method's own work, [`curve::Curve::sweep_with`] times only the solve; a
 //! sentence on what the error means goes in [`BenchReport::notes`].
