@@ -847,15 +847,8 @@ fn the_min_time_row_reports_the_drop_height_optimize_whole_gives() {
     assert!(from_csv(&s, &csv, "test").expect("reads back") == records);
 }
 
-const MOTOR_COLUMNS: [&str; 7] = [
-    "peak_speed1_rad_s",
-    "peak_speed2_rad_s",
-    "peak_power1_w",
-    "peak_power2_w",
-    "motor_worst_ratio",
-    "motor_worst_limit",
-    "within_motors",
-];
+/// The motor-sizing columns, as the peak-torque table names them.
+const MOTOR_COLUMNS: [&str; 7] = catflip::engines::motors::MotorDemand::CSV_HEADER;
 
 #[test]
 fn motor_columns_are_finite_where_they_exist_and_empty_elsewhere() {

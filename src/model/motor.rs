@@ -42,6 +42,9 @@ pub enum Limit {
 }
 
 impl Limit {
+    /// Every limit, in the order a motor lists them.
+    pub const ALL: [Limit; 4] = [Limit::Torque, Limit::Speed, Limit::Envelope, Limit::Power];
+
     /// The name used in reports and JSON.
     pub fn name(self) -> &'static str {
         match self {
@@ -177,12 +180,6 @@ impl Motors {
     /// Whether neither motor has a limit.
     pub fn is_ideal(&self) -> bool {
         self.joints.iter().all(Motor::is_ideal)
-    }
-
-    /// Whether the only limits are torque limits (the least fall time then follows from the
-    /// peak-torque optimum by the `1/T²` scaling, DESIGN.md §9).
-    pub fn torque_only(&self) -> bool {
-        !self.is_ideal() && self.joints.iter().all(|m| m.speed.is_none() && m.envelope.is_none() && m.power.is_none())
     }
 }
 

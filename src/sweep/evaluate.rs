@@ -128,8 +128,7 @@ impl WorstLimit {
             "2" => 2,
             _ => return None,
         };
-        let limit =
-            [Limit::Torque, Limit::Speed, Limit::Envelope, Limit::Power].into_iter().find(|l| l.name() == limit)?;
+        let limit = Limit::ALL.into_iter().find(|l| l.name() == limit)?;
         Some(WorstLimit { limit, joint, ratio })
     }
 

@@ -1,8 +1,9 @@
 //! The successive-convexification loop: linearise, solve the convex subproblem in a trust
 //! region, accept by a merit function evaluated by the exact engine, update the radius.
 //!
-//! The merit function of an iterate `c` is `φ(c) = J(c)/J_u + λ |e(c)|₁` with the objective `J`
-//! (sampled peak or energy), its current value `J_u` as unit and the orientation error `e` from
+//! The merit function of an iterate `c` is `φ(c) = J(c)/J_u + λ |e(c)|₁` (plus the bend limit's and,
+//! at a fixed fall, the motor limits' elastic penalties) with the objective `J` (sampled peak,
+//! energy, or for `min-time` the largest stretch squared), its current value `J_u` as unit and the orientation error `e` from
 //! the Magnus integration ([`super::sensitivity::final_orientation`]). The subproblem's optimum
 //! `δ` predicts `φ(c) − L(δ)`; the trial `c + δ` is evaluated anew (torques by Newton–Euler, the
 //! orientation by the integrator, never by the linear model) and with

@@ -8,13 +8,17 @@
 //! $$ \text{peak: } \min\; t + λ \textstyle\sum_i s_i \quad
 //!    |τ̂_k + Ĝ_k δ| ≤ t \;\;\forall k \text{ and both joints}, $$
 //! $$ \text{energy: } \min\; \textstyle\sum_k w_k |τ_k + G_k δ|^2 / J_u + λ \sum_i s_i, $$
+//! $$ \text{min-time: } \min\; t + λ \textstyle\sum_i s_i \quad
+//!    (k^2_r + ∇k^2_r δ)/J_u ≤ t \;\;\forall \text{motor-limit rows } r \;([`super::limits`]), $$
 //!
 //! both subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
 //! `e + Jδ = 0` exactly and no `s`: an exact penalty weighted far above the multiplier turns
 //! Clarabel's residuals into noise of the model's size), the trust box `|δ|_∞ ≤ Δ`, the joint limit on the
 //! control points `|c + δ| ≤ q_max` and the linearised bend limit
 //! `cos β_k + g_kᵀ δ + σ ≥ cos β_max` on every sample, with one elastic variable `σ ≥ 0`
-//! weighted by [`BEND_PENALTY`] (so that a start bent beyond the limit can come back to it). The box makes every subproblem feasible
+//! weighted by [`BEND_PENALTY`] (so that a start bent beyond the limit can come back to it), and at
+//! a fixed fall with motor limits the rows `ρ_r + ∇ρ_r δ − σ_m ≤ b` with one elastic `σ_m ≥ 0`
+//! weighted by [`LIMIT_PENALTY`]. The box makes every subproblem feasible
 //! (`δ = 0` with `s = |e|` is a point when the current iterate meets the limits), so Clarabel's
 //! status is a statement about numerics, not about the physics.
 
