@@ -183,7 +183,9 @@ fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
         Command::Audit(common) => {
-            let r = Resolved::new(&load(&common, &[])?)?;
+            let problem = load(&common, &[])?;
+            problem.require_no_spin("the audit of the paper's numbers")?;
+            let r = Resolved::new(&problem)?;
             let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
@@ -207,6 +209,7 @@ fn run() -> anyhow::Result<()> {
                 // The problem gives the cat and the settings; its manoeuvre is not used, so its
                 // warnings are not printed: the import's checks say what applies.
                 let problem = Problem::load(&common.problem, &[common.overrides.clone(), extra].concat())?;
+                problem.require_no_spin("simulate --schedule")?;
                 let imported = catflip::exchange::read_schedule(&file)?;
                 let exact = catflip::exchange::evaluate(&problem, &imported)?;
                 let report = match engine {
@@ -227,14 +230,18 @@ fn run() -> anyhow::Result<()> {
             }
         }
         Command::Optimize { common, whole: false, quiet } => {
-            let r = Resolved::new(&load(&common, &[])?)?;
+            let problem = load(&common, &[])?;
+            problem.require_no_spin("optimize (the profile QP and the refinements)")?;
+            let r = Resolved::new(&problem)?;
             let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
             let report = catflip::optimize::optimize(&r)?;
             spinner.finish_and_clear();
             emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Optimize { common, whole: true, quiet } => {
-            let r = Resolved::new(&load(&common, &[])?)?;
+            let problem = load(&common, &[])?;
+            problem.require_no_spin("optimize --whole")?;
+            let r = Resolved::new(&problem)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;
             spinner.finish_and_clear();
@@ -250,6 +257,9 @@ fn run() -> anyhow::Result<()> {
             // Load every problem first, so a bad one stops the run before anything is written.
             let loaded =
                 problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
+            for (_, problem) in &loaded {
+                problem.require_no_spin("run (its optimisers and retimings)")?;
+            }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
             for (path, problem) in loaded {
@@ -268,6 +278,7 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Bench { problem, overrides, out, json } => {
             let p = Problem::load(&problem, &overrides)?;
+            p.require_no_spin("bench")?;
             let command =
                 regenerate(format!("cargo run --release -- bench --problem {}", problem.display()), &overrides);
             let dts = [

@@ -4,13 +4,15 @@
 //! of the twist the paper's circulation produces) is bracketed from the paper's `π/C` outwards
 //! and found by Brent's method. Each evaluation needs only the final orientation
 //! ([`crate::engines::exact::flip`]): no torques, no history. The swing at the solution is reported, not
-//! driven to zero (one circulation cannot fix two angles).
+//! driven to zero (one circulation cannot fix two angles). Released with spin, the twist is the
+//! spinning motion's ([`calibrate_spinning`]).
 
 use std::f64::consts::PI;
 
+use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::engines::exact::flip;
+use crate::engines::exact::flip_spinning;
 use crate::model::Cylinder;
 use crate::numeric::roots::{brent, expand_bracket, RootStatus};
 use crate::schedule::Schedule;
@@ -33,12 +35,19 @@ pub struct Calibration {
 /// Finds the circulation near `schedule.circulation` that makes the twist ±π, to `tolerance` rad
 /// in twist.
 pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibration {
+    calibrate_spinning(cat, schedule, &Vector3::zeros(), tolerance)
+}
+
+/// [`calibrate`] for a release with total angular momentum `spin` (N·m·s, world frame;
+/// [`crate::engines::exact::flip_spinning`]).
+pub fn calibrate_spinning(cat: &Cylinder, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
     let inner = 0.1 * tolerance;
     let d0 = schedule.circulation;
-    let first = flip(cat, schedule, inner).twist;
+    let flip = |s: &Schedule| flip_spinning(cat, s, spin, inner);
+    let first = flip(schedule).twist;
     let target = if first < 0.0 { -PI } else { PI };
     let mut evaluations = 1;
-    let mut f = |d: f64| flip(cat, &schedule.with_circulation(d), inner).twist - target;
+    let mut f = |d: f64| flip(&schedule.with_circulation(d)).twist - target;
     let f0 = first - target;
     let step = 0.05 * d0.abs().max(0.1);
     let Some((lo, hi)) = expand_bracket(&mut f, d0, f0, step, 12, &mut evaluations) else {
@@ -54,7 +63,7 @@ pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibra
     // `tolerance · 1e-2` rad leaves a twist error well below `tolerance` (checked below).
     let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
     evaluations += root.evaluations;
-    let at = flip(cat, &schedule.with_circulation(root.x), inner);
+    let at = flip(&schedule.with_circulation(root.x));
     // A root is only a root if the engine met its tolerance there and the twist is ±π.
     let status = if root.status == RootStatus::Converged && !(at.converged && (at.twist - target).abs() <= tolerance) {
         RootStatus::NotAtRoot

@@ -15,9 +15,10 @@ use std::sync::OnceLock;
 use rayon::prelude::*;
 use std::fmt;
 
+use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::engines::calibrate::{calibrate, Calibration};
+use crate::engines::calibrate::{calibrate_spinning, Calibration};
 use crate::engines::evaluate::Evaluation;
 use crate::model::Cylinder;
 use crate::numeric::roots::RootStatus;
@@ -87,11 +88,12 @@ impl ResolvedCirculation {
 }
 
 /// Resolves manoeuvre `m`'s circulation for `cat` over a fall of `fall_time` s (running the
-/// calibration to `tolerance` rad of twist if asked).
+/// calibration to `tolerance` rad of twist if asked, for a release with angular momentum `spin`).
 pub fn resolve_circulation(
     cat: &Cylinder,
     m: &Manoeuvre,
     fall_time: f64,
+    spin: &Vector3<f64>,
     tolerance: f64,
 ) -> Result<ResolvedCirculation, CirculationError> {
     let paper = || paper_circulation(cat, m.theta());
@@ -104,7 +106,7 @@ pub fn resolve_circulation(
         }
         Circulation::Calibrated => {
             let near = paper()?;
-            let cal = calibrate(cat, &Schedule::from_manoeuvre(m, fall_time, near), tolerance);
+            let cal = calibrate_spinning(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance);
             ResolvedCirculation::from_calibration(&cal)
                 .ok_or(CirculationError::Calibration { near, status: cal.status })?
         }
@@ -130,7 +132,9 @@ impl Resolved {
     /// schedule.
     pub fn new(problem: &Problem) -> Result<Resolved, CirculationError> {
         let fall_time = problem.drop.fall_time();
-        let circulation = resolve_circulation(&problem.cat, &problem.manoeuvre, fall_time, problem.exact.tolerance)?;
+        let spin = problem.drop.spin();
+        let circulation =
+            resolve_circulation(&problem.cat, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)?;
         let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
         let calibration = OnceLock::new();
         if let Some(c) = circulation.calibration {
@@ -148,7 +152,9 @@ impl Resolved {
     /// [`Resolved::new`] made for a calibrated problem, else made now (once). Its status may say
     /// it failed; [`Resolved::calibrated`] is the circulation only when it converged.
     pub fn calibration(&self) -> &Calibration {
-        self.calibration.get_or_init(|| calibrate(self.cat(), &self.schedule, self.problem.exact.tolerance))
+        self.calibration.get_or_init(|| {
+            calibrate_spinning(self.cat(), &self.schedule, &self.problem.drop.spin(), self.problem.exact.tolerance)
+        })
     }
 
     /// The calibrated circulation, when the calibration converged.
@@ -169,7 +175,13 @@ impl Resolved {
                 .par_iter()
                 .map(|&k| {
                     let s = self.with_library(k);
-                    let e = Evaluation::new(self.cat(), &s, &self.problem.actuator.motors(), &self.problem.exact);
+                    let e = Evaluation::new(
+                        self.cat(),
+                        &s,
+                        &self.problem.drop.spin(),
+                        &self.problem.actuator.motors(),
+                        &self.problem.exact,
+                    );
                     (k, s, e)
                 })
                 .collect()

@@ -14,19 +14,25 @@
 //! - the joint-rate jumps (impulses `M(q) Δq̇`, N·m·s) larger than [`JUMP_TOLERANCE`];
 //! - `momentum_max`: the largest `|H|` about the centre of mass along the motion, relative to a
 //!   half's typical momentum `I* · max|q̇|` (`I*` the end-transverse inertia; zero in exact
-//!   arithmetic).
+//!   arithmetic); released with spin `L`, the largest `|R H − L|` (the momentum stays `L`),
+//!   relative to `max(I* · max|q̇|, |L|)`.
+//!
+//! Released with spin (`[drop] angular_momentum`), the flip, the torques and the motor demand are
+//! those of the spinning motion ([`crate::engines::spin`]).
 //!
 //! [`CompareRow`] is the same evaluation as a row of the peak-torque table, with the peak
 //! torque of the paper's model `I* · max|ω̇| = I* C_a |D| / T²` beside it.
 
 use std::time::Instant;
 
+use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::engines::exact::{body_rate, flip, momentum, Flip};
-use crate::engines::motors::{motor_demand, MotorDemand};
+use crate::engines::exact::{body_rate, body_rate_spinning, flip, momentum, Flip};
+use crate::engines::motors::{motor_demand_from, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::torque::{peak_torques_on, piece_samples, velocity_jumps, VelocityJump};
+use crate::engines::spin::SpinHistory;
+use crate::engines::torque::{peak_torques_from, piece_samples, velocity_jumps, TorqueSource, VelocityJump};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
@@ -57,14 +63,30 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
-    /// Evaluates `schedule` on `cat` driven by `motors` with the exact engine's `settings`.
-    pub fn new(cat: &Cylinder, schedule: &Schedule, motors: &Motors, settings: &ExactSettings) -> Evaluation {
+    /// Evaluates `schedule` on `cat` released with total angular momentum `spin` (N·m·s, world
+    /// frame; zero for the zero-momentum flip) and driven by `motors`, with the exact engine's
+    /// `settings`.
+    pub fn new(
+        cat: &Cylinder,
+        schedule: &Schedule,
+        spin: &Vector3<f64>,
+        motors: &Motors,
+        settings: &ExactSettings,
+    ) -> Evaluation {
         let start = Instant::now();
-        let flip = flip(cat, schedule, settings.tolerance);
         let samples = piece_samples(schedule, settings.torque_samples);
-        let peaks = peak_torques_on(cat, schedule, &samples);
-        let motors = motor_demand(cat, schedule, &samples, motors);
+        let spun = (spin.norm_squared() > 0.0).then(|| SpinHistory::new(cat, schedule, spin, settings.tolerance));
+        let (flip, source) = match &spun {
+            None => (flip(cat, schedule, settings.tolerance), TorqueSource::zero_momentum(cat)),
+            Some((f, history)) => (*f, TorqueSource::spinning(cat, history)),
+        };
+        let peaks = peak_torques_from(&source, schedule, &samples);
+        let motors = motor_demand_from(&source, schedule, &samples, motors);
         let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
+        let momentum_max = match &spun {
+            None => momentum_max(cat, schedule, settings.torque_samples),
+            Some((_, history)) => momentum_error_spinning(cat, schedule, history, settings.torque_samples),
+        };
         let run_time_s = start.elapsed().as_secs_f64();
         Evaluation {
             flip,
@@ -73,7 +95,7 @@ impl Evaluation {
             peak_accuracy: peaks.accuracy,
             motors,
             jumps,
-            momentum_max: momentum_max(cat, schedule, settings.torque_samples),
+            momentum_max,
             run_time_s,
         }
     }
@@ -112,6 +134,30 @@ pub fn momentum_max(cat: &Cylinder, schedule: &impl Trajectory, samples: usize) 
     } else {
         h_max
     }
+}
+
+/// Largest `|R (I_lock Ω + h) − L|` (the world-frame momentum's departure from the release's)
+/// on `samples + 1` points per phase of a motion released with spin, relative to
+/// `max(I* · max|q̇|, |L|)`: the exact engine's "L constant" check.
+pub fn momentum_error_spinning(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    history: &SpinHistory,
+    samples: usize,
+) -> f64 {
+    let (mut err, mut qd_max) = (0.0f64, 0.0f64);
+    for (piece, dur) in schedule.piece_durations().into_iter().enumerate() {
+        for k in 0..=samples {
+            let s = dur * k as f64 / samples as f64;
+            let st = schedule.piece_state(piece, s);
+            let r = history.orientation(cat, schedule, piece, s);
+            let lambda = r.inverse_transform_vector(&history.spin);
+            let w = body_rate_spinning(cat, st.q, st.qd, &lambda);
+            err = err.max((r * momentum(cat, &st, &w) - history.spin).norm());
+            qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
+        }
+    }
+    err / (cat.end_transverse() * qd_max).max(history.spin.norm())
 }
 
 /// One row of the peak-torque table: an evaluation with the schedule's profile data.

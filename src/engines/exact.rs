@@ -14,6 +14,13 @@
 //! step count is doubled until the Richardson estimate of its orientation error is below its
 //! share of the tolerance.
 //!
+//! Released with total angular momentum `L` (world frame, constant; DESIGN.md §9) the momentum in
+//! A's frame is `λ = Rᵀ L` and `I_lock Ω + h = λ`, so `Ω = I_lock⁻¹ (Rᵀ L − h)` depends on `R` as
+//! well as on the joint motion: the Magnus step no longer applies, and [`Stepper::Spinning`]
+//! takes the classical fourth-order Runge–Kutta step on the unit quaternion instead
+//! ([`crate::engines::spin`]), with the same segments, doubling and Richardson estimate (divisor
+//! 15). The twist and swing then depend on the timing too, not only on the path.
+//!
 //! ## References
 //! - S. Blanes, F. Casas, J. Ros, *Improved high order integrators based on the Magnus
 //!   expansion*, BIT 40 (2000) 434–450;
@@ -43,6 +50,20 @@ pub fn joint2_axis(q1: f64) -> Vector3<f64> {
 /// `R I_B Rᵀ = I_t 𝟙 + (I_a − I_t) e eᵀ` and `−[p]×² = |p|² 𝟙 − p pᵀ`, so no rotation matrix is
 /// formed ([`Cylinder::configuration`] is the general form; a test checks they agree).
 pub fn body_rate(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> Vector3<f64> {
+    let (m, rhs) = locked_and_shape_momentum(cat, q, qd);
+    -solve_spd(&m, &rhs)
+}
+
+/// A's angular velocity `Ω = I_lock⁻¹ (λ − h)` (A's frame) when the total angular momentum in
+/// A's frame is `λ = Rᵀ L` (DESIGN.md §9); [`body_rate`] is `λ = 0`.
+pub fn body_rate_spinning(cat: &Cylinder, q: [f64; 2], qd: [f64; 2], lambda: &Vector3<f64>) -> Vector3<f64> {
+    let (m, rhs) = locked_and_shape_momentum(cat, q, qd);
+    solve_spd(&m, &(lambda - rhs))
+}
+
+/// The locked inertia `I_lock(q)` and the momentum `h = R I_B Rᵀ ω_rel + μ p × ṗ` of the joint
+/// motion at zero base rate, A's frame ([`body_rate`]'s docs).
+fn locked_and_shape_momentum(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> (Matrix3<f64>, Vector3<f64>) {
     let (s1, c1) = q[0].sin_cos();
     let (s2, c2) = q[1].sin_cos();
     // e = Rx(q1) Ry(q2) ẑ
@@ -57,7 +78,7 @@ pub fn body_rate(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> Vector3<f64> {
     let pp = p.norm_squared();
     let mut m = Matrix3::from_diagonal_element(2.0 * it + mu * pp) + (d * e) * e.transpose() - (mu * p) * p.transpose();
     m[(2, 2)] += d;
-    -solve_spd(&m, &rhs)
+    (m, rhs)
 }
 
 /// Solves `M x = b` for a symmetric positive definite 3×3 `M`.
@@ -97,8 +118,63 @@ pub struct OrientationSample {
     pub angles: SwingTwist,
 }
 
-/// Largest number of Magnus steps per phase that [`flip`] will try.
+/// Largest number of steps per phase that [`flip`] will try.
 pub const MAX_STEPS_PER_PHASE: usize = 1 << 16;
+
+/// How one step advances A's orientation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stepper {
+    /// Zero angular momentum: `Ω` depends on the joint motion alone and the sixth-order Magnus
+    /// step ([`magnus6`]) integrates `Ṙ = R [Ω]×` exactly up to its order.
+    Magnus,
+    /// A release with total angular momentum `L` (world frame): `Ω = I_lock⁻¹ (Rᵀ L − h)`
+    /// depends on `R` too, and the classical fourth-order Runge–Kutta step on the unit
+    /// quaternion ([`crate::engines::spin::rk4_step`]) integrates it.
+    Spinning(Vector3<f64>),
+}
+
+impl Stepper {
+    /// The stepper of a release with angular momentum `spin`: Magnus when it is zero.
+    pub fn for_spin(spin: &Vector3<f64>) -> Stepper {
+        if spin.norm_squared() > 0.0 {
+            Stepper::Spinning(*spin)
+        } else {
+            Stepper::Magnus
+        }
+    }
+
+    /// Richardson divisor `2^p − 1` of the scheme's order `p`.
+    fn richardson(self) -> f64 {
+        match self {
+            Stepper::Magnus => 63.0,
+            Stepper::Spinning(_) => 15.0,
+        }
+    }
+
+    /// A's orientation one step `h` on from `r` at local time `s` of `piece`.
+    pub fn step(
+        self,
+        cat: &Cylinder,
+        schedule: &impl Trajectory,
+        piece: usize,
+        r: &UnitQuaternion<f64>,
+        s: f64,
+        h: f64,
+    ) -> UnitQuaternion<f64> {
+        match self {
+            Stepper::Magnus => {
+                let c = 15f64.sqrt() / 10.0;
+                let rate = |s: f64| {
+                    let st = schedule.piece_state(piece, s);
+                    body_rate(cat, st.q, st.qd)
+                };
+                let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
+                UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma)).quaternion())
+            }
+            Stepper::Spinning(spin) => crate::engines::spin::rk4_step(cat, schedule, piece, &spin, r, s, h),
+        }
+    }
+}
 
 /// Integrates A's orientation with `steps` Magnus steps per phase, calling `observe` at the
 /// start and after every step; returns the final orientation and (continued) angles.
@@ -106,12 +182,24 @@ pub fn integrate(
     cat: &Cylinder,
     schedule: &impl Trajectory,
     steps: usize,
+    observe: impl FnMut(&OrientationSample),
+) -> (UnitQuaternion<f64>, SwingTwist) {
+    integrate_with(cat, schedule, Stepper::Magnus, steps, observe)
+}
+
+/// [`integrate`] with the given stepper.
+pub fn integrate_with(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    stepper: Stepper,
+    steps: usize,
     mut observe: impl FnMut(&OrientationSample),
 ) -> (UnitQuaternion<f64>, SwingTwist) {
     let mut state = PieceState::start();
     observe(&OrientationSample { time: 0.0, orientation: state.r, angles: state.angles });
     for (piece, duration) in schedule.piece_durations().into_iter().enumerate() {
-        state = integrate_segments(cat, schedule, piece, &[((0.0, duration), steps)], 1, state, &mut observe);
+        let parts = [((0.0, duration), steps)];
+        state = integrate_segments(cat, schedule, stepper, piece, &parts, 1, state, &mut observe);
     }
     (state.r, state.angles)
 }
@@ -134,11 +222,13 @@ impl PieceState {
     }
 }
 
-/// Advances `state` across the local times `span = (a, b)` of one piece with `steps` Magnus
-/// steps; `state.time` is the piece's start and stays so.
+/// Advances `state` across the local times `span = (a, b)` of one piece with `steps` steps;
+/// `state.time` is the piece's start and stays so.
+#[allow(clippy::too_many_arguments)]
 fn integrate_span(
     cat: &Cylinder,
     schedule: &impl Trajectory,
+    stepper: Stepper,
     piece: usize,
     (a, b): (f64, f64),
     steps: usize,
@@ -146,16 +236,10 @@ fn integrate_span(
     observe: &mut impl FnMut(&OrientationSample),
 ) -> PieceState {
     let steps = steps.max(1);
-    let c = 15f64.sqrt() / 10.0;
     let h = (b - a) / steps as f64;
-    let rate = |s: f64| {
-        let st = schedule.piece_state(piece, s);
-        body_rate(cat, st.q, st.qd)
-    };
     for k in 0..steps {
         let s = a + k as f64 * h;
-        let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
-        state.r = UnitQuaternion::new_normalize(*(state.r * UnitQuaternion::from_scaled_axis(sigma)).quaternion());
+        state.r = stepper.step(cat, schedule, piece, &state.r, s, h);
         state.angles = state.tracker.update(&state.r);
         observe(&OrientationSample { time: state.time + s + h, orientation: state.r, angles: state.angles });
     }
@@ -163,8 +247,8 @@ fn integrate_span(
 }
 
 /// The smooth segments of a piece: the spans between its [`Trajectory::acceleration_jumps`],
-/// each with its share of [`FIRST_STEPS`] steps (at least one), so that every Magnus step lies
-/// where the integrand is smooth and the sixth order (and the Richardson divisor) holds.
+/// each with its share of [`FIRST_STEPS`] steps (at least one), so that every step lies
+/// where the integrand is smooth and the scheme's order (and the Richardson divisor) holds.
 fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f64, f64), usize)> {
     let mut cuts: Vec<f64> =
         schedule.acceleration_jumps(piece).into_iter().filter(|s| *s > 0.0 && *s < duration).collect();
@@ -180,9 +264,11 @@ fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f6
 /// Advances `state` across one piece, segment by segment (`(span, steps)`, spans covering the
 /// piece from 0), with `multiple` times each segment's step count, calling `observe` after every
 /// step.
+#[allow(clippy::too_many_arguments)]
 fn integrate_segments(
     cat: &Cylinder,
     schedule: &impl Trajectory,
+    stepper: Stepper,
     piece: usize,
     segments: &[((f64, f64), usize)],
     multiple: usize,
@@ -191,13 +277,13 @@ fn integrate_segments(
 ) -> PieceState {
     let t0 = state.time;
     for &(span, steps) in segments {
-        state = integrate_span(cat, schedule, piece, span, steps * multiple, state, observe);
+        state = integrate_span(cat, schedule, stepper, piece, span, steps * multiple, state, observe);
     }
     state.time = t0 + segments.last().map_or(0.0, |s| s.0 .1);
     state
 }
 
-/// Magnus steps of a smooth piece in [`flip`]'s first try.
+/// Steps of a smooth piece in [`flip`]'s first try.
 const FIRST_STEPS: usize = 4;
 
 /// The sixth-order Magnus exponent of one step of `Ṙ = R [Ω]×` from the rates at the three
@@ -212,16 +298,32 @@ pub fn magnus6(h: f64, w1: Vector3<f64>, w2: Vector3<f64>, w3: Vector3<f64>) -> 
     a1 + a3 / 12.0 - (20.0 * a1 + a3 + c1).cross(&(c2 - a2)) / 240.0
 }
 
-/// Richardson divisor `2^p − 1` of the sixth-order scheme.
-const RICHARDSON: f64 = 63.0;
-
-/// The final twist and swing of a schedule, to `tolerance` rad: each piece's steps are doubled
-/// until the Richardson estimate of its orientation error, `angle(R_n⁻¹ R_{2n}) / 63`, is below
-/// its share of the tolerance (a planar piece, whose rotations commute, converges at once). A
-/// piece whose `q̈` jumps inside ([`Trajectory::acceleration_jumps`]) is stepped segment by
-/// segment: a step across a jump would be of second order only, and the
-/// estimate, which assumes the sixth, would be too small.
+/// The final twist and swing of a schedule at zero angular momentum, to `tolerance` rad: each
+/// piece's steps are doubled until the Richardson estimate of its orientation error,
+/// `angle(R_n⁻¹ R_{2n}) / 63`, is below its share of the tolerance (a planar piece, whose
+/// rotations commute, converges at once). A piece whose `q̈` jumps inside
+/// ([`Trajectory::acceleration_jumps`]) is stepped segment by segment: a step across a jump
+/// would be of second order only, and the estimate, which assumes the sixth, would be too small.
 pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip {
+    adaptive(cat, schedule, Stepper::Magnus, tolerance, None)
+}
+
+/// [`flip`] for a release with total angular momentum `spin` (N·m·s, world frame): the same
+/// adaptive integration with the stepper [`Stepper::for_spin`] chooses (Magnus when `spin` is
+/// zero, the same numbers as [`flip`]; otherwise fourth-order Runge–Kutta, divisor 15).
+pub fn flip_spinning(cat: &Cylinder, schedule: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> Flip {
+    adaptive(cat, schedule, Stepper::for_spin(spin), tolerance, None)
+}
+
+/// The adaptive integration behind [`flip`]; with `nodes`, the accepted run's orientations
+/// `(local time, R)` of every piece (its start included) are pushed there, piece by piece.
+pub(crate) fn adaptive(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    stepper: Stepper,
+    tolerance: f64,
+    mut nodes: Option<&mut Vec<Vec<(f64, UnitQuaternion<f64>)>>>,
+) -> Flip {
     let durations = schedule.piece_durations();
     let share = tolerance / durations.len().max(1) as f64;
     let mut state = PieceState::start();
@@ -230,16 +332,27 @@ pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip 
         let parts = segments(schedule, piece, duration);
         let first: usize = parts.iter().map(|p| p.1).sum();
         let mut multiple = 1;
-        let mut coarse = integrate_segments(cat, schedule, piece, &parts, multiple, state, &mut |_| {});
+        let mut coarse = integrate_segments(cat, schedule, stepper, piece, &parts, multiple, state, &mut |_| {});
         loop {
-            let fine = integrate_segments(cat, schedule, piece, &parts, 2 * multiple, state, &mut |_| {});
-            let err = (coarse.r.inverse() * fine.r).angle() / RICHARDSON;
+            let mut kept = Vec::new();
+            let t0 = state.time;
+            let mut keep = |o: &OrientationSample| {
+                if nodes.is_some() {
+                    kept.push((o.time - t0, o.orientation));
+                }
+            };
+            let fine = integrate_segments(cat, schedule, stepper, piece, &parts, 2 * multiple, state, &mut keep);
+            let err = (coarse.r.inverse() * fine.r).angle() / stepper.richardson();
             multiple *= 2;
             let steps = first * multiple;
             if err <= share || steps >= MAX_STEPS_PER_PHASE {
                 converged &= err <= share;
                 error_estimate += err;
                 steps_used = steps_used.max(steps);
+                if let Some(out) = nodes.as_deref_mut() {
+                    kept.insert(0, (0.0, state.r));
+                    out.push(kept);
+                }
                 state = fine;
                 break;
             }
@@ -258,8 +371,18 @@ pub fn flip(cat: &Cylinder, schedule: &impl Trajectory, tolerance: f64) -> Flip 
 
 /// The orientation history with `steps` Magnus steps per phase.
 pub fn history(cat: &Cylinder, schedule: &impl Trajectory, steps: usize) -> Vec<OrientationSample> {
+    history_with(cat, schedule, Stepper::Magnus, steps)
+}
+
+/// [`history`] with the given stepper.
+pub fn history_with(
+    cat: &Cylinder,
+    schedule: &impl Trajectory,
+    stepper: Stepper,
+    steps: usize,
+) -> Vec<OrientationSample> {
     let mut out = Vec::with_capacity(3 * steps + 1);
-    integrate(cat, schedule, steps, |s| out.push(*s));
+    integrate_with(cat, schedule, stepper, steps, |s| out.push(*s));
     out
 }
 
@@ -270,8 +393,18 @@ pub const MIN_HISTORY_PIECE_STEPS: usize = 8;
 /// its pieces (at least [`MIN_HISTORY_PIECE_STEPS`] each): the same density whether the trajectory
 /// is three phases or a spline of a hundred spans.
 pub fn fall_history(cat: &Cylinder, traj: &impl Trajectory, steps: usize) -> Vec<OrientationSample> {
+    fall_history_with(cat, traj, Stepper::Magnus, steps)
+}
+
+/// [`fall_history`] with the given stepper.
+pub fn fall_history_with(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    stepper: Stepper,
+    steps: usize,
+) -> Vec<OrientationSample> {
     let pieces = traj.piece_durations().len().max(1);
-    history(cat, traj, steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS))
+    history_with(cat, traj, stepper, steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS))
 }
 
 /// Total angular momentum about the centre of mass, in A's frame, of the motion `(q, q̇)` with

@@ -2,6 +2,7 @@
 //!
 //! - [`exact`]: the momentum-map engine (zero angular momentum, joint path integrated by a
 //!   sixth-order Magnus method) — the ground truth;
+//! - [`spin`]: the reorientation and torques of a release with spin;
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
 //! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification;
@@ -18,6 +19,7 @@ pub mod exact;
 pub mod motors;
 pub mod peaks;
 pub mod rapier;
+pub mod spin;
 pub mod torque;
 
 use std::fmt;

@@ -15,7 +15,7 @@
 
 use serde::Serialize;
 
-use crate::engines::torque::{joint_torques, Peak};
+use crate::engines::torque::{Peak, TorqueSource};
 use crate::model::motor::{Limit, Motors};
 use crate::model::Cylinder;
 use crate::numeric::roots::golden_max;
@@ -193,6 +193,16 @@ struct Best {
 
 /// Measures what `traj` asks of `motors` on `samples[i] + 1` points of piece `i` (module docs).
 pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], motors: &Motors) -> MotorDemand {
+    motor_demand_from(&TorqueSource::zero_momentum(cat), traj, samples, motors)
+}
+
+/// [`motor_demand`] with the torques of `source`.
+pub fn motor_demand_from(
+    source: &TorqueSource,
+    traj: &impl Trajectory,
+    samples: &[usize],
+    motors: &Motors,
+) -> MotorDemand {
     let mut channels = vec![Channel::Speed(0), Channel::Speed(1), Channel::Power(0), Channel::Power(1)];
     for (j, m) in motors.joints.iter().enumerate() {
         channels.extend(m.ratios(0.0, 0.0).into_iter().map(|(l, _)| Channel::Ratio(j, l)));
@@ -200,8 +210,8 @@ pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], m
     if !motors.is_ideal() {
         channels.push(Channel::Stretch);
     }
-    let eval = |st: &JointState| {
-        let tau = joint_torques(cat, st).tau;
+    let eval = |piece: usize, s: f64, st: &JointState| {
+        let tau = source.at(traj, piece, s, st).tau;
         channels.iter().map(|c| c.value(motors, tau, st.qd)).collect::<Vec<f64>>()
     };
     let durations = traj.piece_durations();
@@ -229,12 +239,12 @@ pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], m
         };
         for k in 0..=n {
             let s = k as f64 * h;
-            take(eval(&traj.piece_state(piece, s)), s, h);
+            take(eval(piece, s, &traj.piece_state(piece, s)), s, h);
         }
         // Both sides of every acceleration jump (no refinement: a one-sided limit).
         for jump in traj.acceleration_jumps(piece) {
-            take(eval(&traj.piece_state_before(piece, jump)), jump, 0.0);
-            take(eval(&traj.piece_state(piece, jump)), jump, 0.0);
+            take(eval(piece, jump, &traj.piece_state_before(piece, jump)), jump, 0.0);
+            take(eval(piece, jump, &traj.piece_state(piece, jump)), jump, 0.0);
         }
         per_piece.push(best);
     }
@@ -248,7 +258,7 @@ pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], m
                     let dur = durations[b.piece];
                     let f = |s: f64| {
                         let st = traj.piece_state(b.piece, s);
-                        channels[c].value(motors, joint_torques(cat, &st).tau, st.qd)
+                        channels[c].value(motors, source.at(traj, b.piece, s, &st).tau, st.qd)
                     };
                     let (s, v) = golden_max(f, (b.s - b.h).max(0.0), (b.s + b.h).min(dur), 40);
                     if v > candidate.0 {
@@ -272,8 +282,9 @@ pub fn motor_demand(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize], m
             }
             Channel::Stretch => {
                 let (value, time) = refined[c];
-                let st = traj.state_at(time);
-                let tau = joint_torques(cat, &st).tau;
+                let (piece, s) = traj.locate_piece(time);
+                let st = traj.piece_state(piece, s);
+                let tau = source.at(traj, piece, s, &st).tau;
                 let (joint, limit) = (0..2)
                     .filter_map(|j| motors.joints[j].stretch(tau[j], st.qd[j]).map(|(l, k)| (j, l, k)))
                     .max_by(|a, b| a.2.total_cmp(&b.2))

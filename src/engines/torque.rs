@@ -27,6 +27,7 @@ use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::Serialize;
 
 use crate::engines::exact::{joint2_axis, relative_rate, solve_spd};
+use crate::engines::spin::SpinHistory;
 use crate::model::{skew, Cylinder};
 use crate::numeric::roots::golden_max;
 use crate::schedule::{JointState, Phase, Schedule, Trajectory};
@@ -56,6 +57,17 @@ pub struct Kinematics {
 
 /// The kinematics of the zero-momentum motion through the joint state `s`.
 pub fn kinematics(cat: &Cylinder, s: &JointState) -> Kinematics {
+    kinematics_with(cat, s, None)
+}
+
+/// The kinematics of the motion through `s` when the total angular momentum in A's frame is
+/// `λ = Rᵀ L` (DESIGN.md §9): `Ω = M⁻¹(λ − K)` and, with `λ̇ = λ × Ω`,
+/// `Ω̇ = M⁻¹(λ × Ω − Ṁ Ω − K̇)` ([`crate::engines::spin`]).
+pub fn kinematics_spinning(cat: &Cylinder, s: &JointState, lambda: &Vector3<f64>) -> Kinematics {
+    kinematics_with(cat, s, Some(lambda))
+}
+
+fn kinematics_with(cat: &Cylinder, s: &JointState, lambda: Option<&Vector3<f64>>) -> Kinematics {
     let cfg = cat.configuration(s.q);
     let mu = cat.reduced_mass();
     let half = 0.5 * cat.length;
@@ -69,10 +81,17 @@ pub fn kinematics(cat: &Cylinder, s: &JointState) -> Kinematics {
     let ib = cfg.inertia_b;
     let ib_dot = skew(&w_rel) * ib - ib * skew(&w_rel);
     let m = cfg.locked_inertia;
-    let omega = -solve_spd(&m, &(ib * w_rel + mu * p.cross(&pd)));
+    let k = ib * w_rel + mu * p.cross(&pd);
+    let omega = match lambda {
+        None => -solve_spd(&m, &k),
+        Some(l) => solve_spd(&m, &(l - k)),
+    };
     let m_dot = ib_dot - mu * (skew(&pd) * skew(&p) + skew(&p) * skew(&pd));
     let k_dot = ib_dot * w_rel + ib * w_rel_dot + mu * p.cross(&pdd);
-    let omega_dot = -solve_spd(&m, &(m_dot * omega + k_dot));
+    let omega_dot = match lambda {
+        None => -solve_spd(&m, &(m_dot * omega + k_dot)),
+        Some(l) => solve_spd(&m, &(l.cross(&omega) - (m_dot * omega + k_dot))),
+    };
     Kinematics {
         omega,
         omega_dot,
@@ -101,7 +120,49 @@ pub struct JointTorques {
 
 /// Joint torques of the zero-momentum motion through the joint state `s`.
 pub fn joint_torques(cat: &Cylinder, s: &JointState) -> JointTorques {
-    let k = kinematics(cat, s);
+    torques_of(cat, s, &kinematics(cat, s))
+}
+
+/// Joint torques of the motion through `s` with total angular momentum `λ = Rᵀ L` in A's frame.
+pub fn joint_torques_spinning(cat: &Cylinder, s: &JointState, lambda: &Vector3<f64>) -> JointTorques {
+    torques_of(cat, s, &kinematics_spinning(cat, s, lambda))
+}
+
+/// Where the joint torques along a trajectory come from: the zero-momentum motion, or a release
+/// with spin whose orientations a [`SpinHistory`] holds.
+#[derive(Clone, Copy, Debug)]
+pub struct TorqueSource<'a> {
+    cat: &'a Cylinder,
+    spin: Option<&'a SpinHistory>,
+}
+
+impl<'a> TorqueSource<'a> {
+    /// Zero angular momentum ([`joint_torques`]).
+    pub fn zero_momentum(cat: &'a Cylinder) -> Self {
+        Self { cat, spin: None }
+    }
+
+    /// A release with spin ([`joint_torques_spinning`] at the history's orientation).
+    pub fn spinning(cat: &'a Cylinder, history: &'a SpinHistory) -> Self {
+        Self { cat, spin: Some(history) }
+    }
+
+    /// The cat.
+    pub fn cat(&self) -> &'a Cylinder {
+        self.cat
+    }
+
+    /// The torques at local time `s` of `piece`, where the joints are in `state`.
+    pub fn at(&self, traj: &impl Trajectory, piece: usize, s: f64, state: &JointState) -> JointTorques {
+        match self.spin {
+            None => joint_torques(self.cat, state),
+            Some(h) => joint_torques_spinning(self.cat, state, &h.body_momentum(self.cat, traj, piece, s)),
+        }
+    }
+}
+
+/// Newton–Euler on B (and on A, for action = reaction) with the base motion `k`.
+fn torques_of(cat: &Cylinder, s: &JointState, k: &Kinematics) -> JointTorques {
     let half = 0.5 * cat.length;
     let (w, wd, p) = (k.omega, k.omega_dot, k.offset);
     let a_b = 0.5 * (k.offset_ddot + wd.cross(&p) + 2.0 * w.cross(&k.offset_dot) + w.cross(&w.cross(&p)));
@@ -229,12 +290,17 @@ pub fn peak_torques(cat: &Cylinder, traj: &impl Trajectory, samples: usize) -> P
 /// at its ends (each from its own side) and `SEGMENT_SAMPLES − 1` (4 − 1) inner points, and its
 /// largest inner sample refined by golden-section search.
 pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
+    peak_torques_from(&TorqueSource::zero_momentum(cat), traj, samples)
+}
+
+/// [`peak_torques_on`] with the torques of `source`.
+pub fn peak_torques_from(source: &TorqueSource, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
     let mut per_piece = Vec::new();
     let mut gap: f64 = 0.0;
     let mut accuracy: f64 = 0.0;
     let mut t0 = 0.0;
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
-        let found = piece_peaks(cat, traj, piece, samples.get(piece).copied().unwrap_or(2));
+        let found = piece_peaks_from(source, traj, piece, samples.get(piece).copied().unwrap_or(2));
         gap = gap.max(found.action_reaction_gap);
         accuracy = accuracy.max(found.accuracy);
         per_piece.push(found.peaks.map(|p| Peak { value: p.value, time: t0 + p.time }));
@@ -262,10 +328,15 @@ pub struct PiecePeaks {
 /// The peaks of piece `piece` alone with `samples + 1` points (at least 5), found as
 /// [`peak_torques_on`] finds them.
 pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples: usize) -> PiecePeaks {
+    piece_peaks_from(&TorqueSource::zero_momentum(cat), traj, piece, samples)
+}
+
+/// [`piece_peaks`] with the torques of `source`.
+pub fn piece_peaks_from(source: &TorqueSource, traj: &impl Trajectory, piece: usize, samples: usize) -> PiecePeaks {
     let dur = traj.piece_durations().get(piece).copied().unwrap_or(0.0);
     let n = samples.max(4);
     let h = dur / n as f64;
-    let tau = |s: f64| joint_torques(cat, &traj.piece_state(piece, s));
+    let tau = |s: f64| source.at(traj, piece, s, &traj.piece_state(piece, s));
     let mut gap: f64 = 0.0;
     let mut accuracy: f64 = 0.0;
     let mut values = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
@@ -297,12 +368,16 @@ pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples
             let (a, b) = (w[0], w[1]);
             let m = SEGMENT_SAMPLES;
             let at = |k: usize| a + (b - a) * k as f64 / m as f64;
-            let states =
-                (0..=m)
-                    .map(|k| if k == m { traj.piece_state_before(piece, b) } else { traj.piece_state(piece, at(k)) });
+            let states = (0..=m).map(|k| {
+                if k == m {
+                    (b, traj.piece_state_before(piece, b))
+                } else {
+                    (at(k), traj.piece_state(piece, at(k)))
+                }
+            });
             let mut v = [Vec::with_capacity(m + 1), Vec::with_capacity(m + 1)];
-            for st in states {
-                let jt = joint_torques(cat, &st);
+            for (s, st) in states {
+                let jt = source.at(traj, piece, s, &st);
                 for (j, vj) in v.iter_mut().enumerate() {
                     gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
                     vj.push(jt.tau[j].abs());

@@ -23,7 +23,7 @@ use serde::Serialize;
 
 use crate::engines::evaluate::momentum_max;
 use crate::engines::exact::flip;
-use crate::engines::rapier::RapierError;
+use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::torque::peak_torques_on;
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};
@@ -185,7 +185,8 @@ pub fn evaluate_rapier(
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome = rapier_check(&problem.cat, schedule, &problem.rapier, &reference, &problem.actuator.motors())?;
+    let outcome =
+        rapier_check(&problem.cat, schedule, &problem.rapier, &reference, &RapierOptions::for_problem(problem))?;
     Ok(outcome.map(|finest| ImportReport {
         engine: Engine::Rapier,
         peak_torque_nm: ImportedPeaks {

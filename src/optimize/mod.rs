@@ -108,7 +108,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
     let calibrated = r.calibrated();
     // A schedule on the problem's circulation, evaluated there and with the calibrated one.
     let evaluate = |s: Schedule, origin: Origin, rates: Vec<f64>| {
-        let exact = Evaluation::new(&problem.cat, &s, &problem.actuator.motors(), &problem.exact);
+        let exact = Evaluation::new(&problem.cat, &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact);
         let at_calibrated =
             calibrated.map(|c| flip(&problem.cat, &s.with_circulation(c.radians), problem.exact.tolerance));
         Optimum {

@@ -15,6 +15,7 @@ pub mod whole;
 
 use std::path::Path;
 
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::model::Cylinder;
@@ -27,7 +28,7 @@ pub use error::ProblemError;
 pub(crate) use error::{bad, not_positive, positive};
 pub use manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
 
-/// The drop: how long the cat has to turn over.
+/// The drop: how long the cat has to turn over, and the spin it is released with.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Drop {
@@ -35,11 +36,20 @@ pub struct Drop {
     pub height: f64,
     /// Gravitational acceleration, m/s² (positive).
     pub gravity: f64,
+    /// Total angular momentum about the centre of mass at release, `[Lx, Ly, Lz]`, N·m·s
+    /// (kg·m²/s), in the world frame (A's frame at release: `z` along the spine towards the
+    /// head). Constant through the fall; zero is a release without spin (DESIGN.md §9).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub angular_momentum: [f64; 3],
+}
+
+fn is_zero(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.abs() <= 0.0)
 }
 
 impl Default for Drop {
     fn default() -> Self {
-        Self { height: 10.0, gravity: 9.8 }
+        Self { height: 10.0, gravity: 9.8, angular_momentum: [0.0; 3] }
     }
 }
 
@@ -48,7 +58,34 @@ impl Drop {
     pub fn fall_time(&self) -> f64 {
         (2.0 * self.height / self.gravity).sqrt()
     }
+
+    /// The release spin `L` (world frame), N·m·s.
+    pub fn spin(&self) -> Vector3<f64> {
+        Vector3::from(self.angular_momentum)
+    }
+
+    /// Whether the cat is released with spin.
+    pub fn spins(&self) -> bool {
+        !is_zero(&self.angular_momentum)
+    }
+
+    /// How far the release spin alone turns the straight cat during the fall, rigidly, in turns:
+    /// `|I⁻¹ L| T / 2π`, with `I = diag(I_t, I_t, I_a)` the straight cat's inertia about its
+    /// centre of mass (a symmetric top turns at the constant rate `|I⁻¹ L|` about its centre).
+    pub fn spin_turns(&self, cat: &Cylinder) -> f64 {
+        let (transverse, axial) = (2.0 * cat.end_transverse(), 2.0 * cat.axial());
+        let l = self.angular_momentum;
+        let rate = (l[0] / transverse).hypot(l[1] / transverse).hypot(l[2] / axial);
+        rate * self.fall_time() / std::f64::consts::TAU
+    }
 }
+
+/// Most turns the release spin may give the straight cat during the fall ([`Drop::spin_turns`]);
+/// beyond it the fall is a spin, not a flip, and the integrators' step budgets run out.
+pub const MAX_SPIN_TURNS: f64 = 100.0;
+/// Turns of the straight cat during the fall above which the release spin is warned about (a
+/// cat released by hand turns a fraction of a turn).
+pub const WARN_SPIN_TURNS: f64 = 2.0;
 
 /// A whole problem file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -163,6 +200,7 @@ impl Problem {
                 ),
             ));
         }
+        self.validate_spin()?;
         self.manoeuvre.validate()?;
         self.actuator.validate()?;
         self.exact.validate()?;
@@ -178,9 +216,56 @@ impl Problem {
         Ok(())
     }
 
+    /// `drop.angular_momentum`: finite, and not so large that the fall is a spin.
+    fn validate_spin(&self) -> Result<(), ProblemError> {
+        let l = self.drop.angular_momentum;
+        if let Some(i) = l.iter().position(|x| !x.is_finite()) {
+            return Err(bad(
+                &format!("drop.angular_momentum[{}]", i + 1),
+                echo(l[i]),
+                "must be a finite number (N·m·s)",
+            ));
+        }
+        let turns = self.drop.spin_turns(&self.cat);
+        if turns > MAX_SPIN_TURNS {
+            return Err(bad(
+                "drop.angular_momentum",
+                format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2])),
+                &format!(
+                    "would spin the straight cat {} turns during the {} s fall (at most {}): is it in N·m·s (kg·m²/s)?",
+                    num(turns),
+                    num(self.drop.fall_time()),
+                    MAX_SPIN_TURNS
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses a release with spin for a computation that plans or measures zero-momentum flips
+    /// only (`what` names it in the message).
+    pub fn require_no_spin(&self, what: &str) -> Result<(), ProblemError> {
+        if !self.drop.spins() {
+            return Ok(());
+        }
+        let l = self.drop.angular_momentum;
+        Err(bad(
+            "drop.angular_momentum",
+            format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2])),
+            &format!("{what} assumes a release without spin; `simulate` and `compare` take a spin (set it to [0, 0, 0] here)"),
+        ))
+    }
+
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
+        let turns = self.drop.spin_turns(&self.cat);
+        if turns > WARN_SPIN_TURNS {
+            out.push(format!(
+                "drop.angular_momentum turns the straight cat {} turns during the fall: a cat released by hand turns a fraction of a turn (is it in N·m·s, kg·m²/s?)",
+                num(turns)
+            ));
+        }
         if !self.cat.is_long_enough() {
             out.push(format!(
                 "cat.length = {} < √3 · cat.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",

@@ -19,7 +19,6 @@ use crate::engines::exact::Flip;
 use crate::engines::rapier::{
     JumpTorque, Quantity, RapierError, RapierOptions, RapierRun, Reference, Status, Verification,
 };
-use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;
 use crate::schedule::Trajectory;
@@ -194,7 +193,7 @@ impl<T> RapierOutcome<T> {
     }
 }
 
-/// Verifies `traj` in rapier, driven by `motors`, against the exact engine's `reference` and
+/// Verifies `traj` in rapier with `opts` (motors, release spin), against the exact engine's `reference` and
 /// builds the check from the finest run; [`RapierOutcome::NoResult`] when there is none. `Err`
 /// only when the settings or the trajectory are invalid (see [`crate::engines::rapier::verify`]).
 pub fn rapier_check(
@@ -202,10 +201,9 @@ pub fn rapier_check(
     traj: &impl Trajectory,
     settings: &RapierSettings,
     reference: &Reference,
-    motors: &Motors,
+    opts: &RapierOptions,
 ) -> Result<RapierOutcome<Finest>, RapierError> {
-    let opts = RapierOptions::within(*motors);
-    let v = crate::engines::rapier::verify_with(cat, traj, settings, reference, &opts)?;
+    let v = crate::engines::rapier::verify_with(cat, traj, settings, reference, opts)?;
     let Some(run) = v.finest.clone() else { return Ok(RapierOutcome::NoResult(Box::new(v))) };
     let exact_twist = reference.twist.to_degrees();
     let value = |q| v.quantity(q).and_then(|c| c.value);

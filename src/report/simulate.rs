@@ -4,7 +4,9 @@
 //! successful flip has `|twist| = 180°` and `swing = 0`. Torques are the motor torques on B
 //! about joint 1's and joint 2's axes. `momentum_max` is the largest total angular momentum
 //! about the centre of mass seen along the motion, relative to a half's typical momentum
-//! `I* · max|q̇|` (`I*` the end-transverse inertia). The exact numbers are one
+//! `I* · max|q̇|` (`I*` the end-transverse inertia); released with spin `L`
+//! (`angular_momentum_nms`), the exact engine's is the largest `|R H − L|`, relative to
+//! `max(I* · max|q̇|, |L|)`, and rapier's the drift of `H` from its start. The exact numbers are one
 //! [`Evaluation`]; rapier's run is reported beside them, with its errors against them.
 
 use serde::Serialize;
@@ -14,7 +16,7 @@ use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculati
 use crate::engines::evaluate::Evaluation;
 use crate::engines::motors::{LimitUse, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::RapierError;
+use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::torque::VelocityJump;
 use crate::engines::Engine;
 use crate::problem::BendPath;
@@ -33,6 +35,9 @@ pub struct SimulationReport {
     pub profile: String,
     /// The bend path.
     pub bend_path: BendPath,
+    /// The release spin: total angular momentum about the centre of mass, world frame, N·m·s
+    /// (`drop.angular_momentum`; zero for a release without spin).
+    pub angular_momentum_nms: [f64; 3],
     /// The circulation `∫ω ds`, rad.
     pub circulation_rad: f64,
     /// Where the circulation came from.
@@ -72,7 +77,13 @@ pub fn exact_report(
     let e = match evaluation {
         Some(e) => e,
         None => {
-            made = Evaluation::new(r.cat(), schedule, &r.problem.actuator.motors(), &r.problem.exact);
+            made = Evaluation::new(
+                r.cat(),
+                schedule,
+                &r.problem.drop.spin(),
+                &r.problem.actuator.motors(),
+                &r.problem.exact,
+            );
             &made
         }
     };
@@ -81,6 +92,7 @@ pub fn exact_report(
         engine: Engine::Exact,
         profile: schedule.profile.name().to_string(),
         bend_path: schedule.path,
+        angular_momentum_nms: r.problem.drop.angular_momentum,
         circulation_rad: circ.radians,
         circulation_source: circ.source,
         calibration: circ.calibration,
@@ -102,7 +114,8 @@ pub fn rapier_outcome(
     exact: &SimulationReport,
 ) -> Result<RapierOutcome<SimulationReport>, RapierError> {
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome = rapier_check(r.cat(), schedule, &r.problem.rapier, &reference, &r.problem.actuator.motors())?;
+    let outcome =
+        rapier_check(r.cat(), schedule, &r.problem.rapier, &reference, &RapierOptions::for_problem(&r.problem))?;
     Ok(outcome.map(|finest| {
         let peaks = finest.run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
             bend: [0.0; 2],
@@ -139,6 +152,11 @@ impl SimulationReport {
             "{} engine — problem {}, profile {}, path {}",
             self.engine, self.problem, self.profile, self.bend_path
         );
+        let spins = self.angular_momentum_nms.iter().any(|l| l.abs() > 0.0);
+        if spins {
+            let l = self.angular_momentum_nms;
+            let _ = writeln!(s, "  release spin     L = [{}, {}, {}] N·m·s (world frame)", l[0], l[1], l[2]);
+        }
         let _ = writeln!(s, "  circulation      {:.9} rad ({})", self.circulation_rad, self.circulation_source);
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
@@ -164,7 +182,12 @@ impl SimulationReport {
                 j.time, j.rates_before[0], j.rates_before[1], j.rates_after[0], j.rates_after[1], j.impulse[0], j.impulse[1]
             );
         }
-        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);
+        let scale = match (spins, self.engine) {
+            (true, Engine::Exact) => "|R H − L|, relative to max(I*·max|q̇|, |L|)",
+            (true, Engine::Rapier) => "drift of H from its start, relative to I*·max|q̇|",
+            (false, _) => "relative to I*·max|q̇|",
+        };
+        let _ = writeln!(s, "  momentum max     {:.3e} ({scale})", self.figures.momentum_max);
         s.push_str(&self.figures.check.to_text());
         if let Some(e) = self.figures.error_estimate_rad {
             let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per phase)", self.figures.steps);

@@ -380,7 +380,7 @@ pub fn retime_markdown(rows: &[RetimeRow]) -> String {
 pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verification>, RapierError> {
     let Some(b) = report.best() else { return Ok(None) };
     let reference = Reference { twist: b.twist, swing: b.swing, peak_torque: b.peak_torque_nm };
-    let opts = RapierOptions::within(r.problem.actuator.motors());
+    let opts = RapierOptions::for_problem(&r.problem);
     verify_with(r.cat(), &b.spline, &r.problem.rapier, &reference, &opts).map(Some)
 }
 

@@ -452,7 +452,7 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
 fn calibrate(problem: &Problem) -> Resolution {
     let mut p = problem.clone();
     p.manoeuvre.circulation = Circulation::Calibrated;
-    match resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), p.exact.tolerance) {
+    match resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), &p.drop.spin(), p.exact.tolerance) {
         Ok(c) => Ok((c.radians, c.calibration.map(|x| x.evaluations))),
         Err(e @ CirculationError::Calibration { .. }) => Err((Status::Failed, e.to_string())),
         Err(e) => Err((Status::Refused, e.to_string())),
@@ -471,8 +471,8 @@ fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulatio
         }
     };
     let s = Schedule::new(problem, radians);
-    let evaluation =
-        (compute.peaks || compute.rapier).then(|| Evaluation::new(cat, &s, &problem.actuator.motors(), &problem.exact));
+    let evaluation = (compute.peaks || compute.rapier)
+        .then(|| Evaluation::new(cat, &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact));
     let f = match &evaluation {
         Some(e) => e.flip,
         None => flip(cat, &s, tol),

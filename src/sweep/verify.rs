@@ -73,5 +73,5 @@ fn run(
     settings: &RapierSettings,
     reference: &Reference,
 ) -> Result<Verification, RapierError> {
-    verify_with(&problem.cat, traj, settings, reference, &RapierOptions::within(problem.actuator.motors()))
+    verify_with(&problem.cat, traj, settings, reference, &RapierOptions::for_problem(problem))
 }

@@ -149,6 +149,8 @@ pub use verify::{
     Verification, ASYMPTOTIC, MIN_RUNS,
 };
 
+use nalgebra::Vector3;
+
 use crate::model::motor::Motors;
 use crate::problem::ProblemError;
 
@@ -232,11 +234,22 @@ pub struct RapierOptions {
     /// bound the torque of rapier's motors, and a verification reports when the schedule needed
     /// more ([`saturation`]). Ideal by default.
     pub motors: Motors,
+    /// Total angular momentum at release, world frame, N·m·s (a problem's
+    /// `drop.angular_momentum`): the scene starts with the rigid rotation that gives the cat this
+    /// momentum ([`scene::CatScene::start_with_momentum`]). Zero by default.
+    pub spin: Vector3<f64>,
 }
 
 impl Default for RapierOptions {
     fn default() -> Self {
-        Self { bandwidth_per_step: 20.0, damping_ratio: 1.0, pgs_iterations: 8, history: 2000, motors: Motors::ideal() }
+        Self {
+            bandwidth_per_step: 20.0,
+            damping_ratio: 1.0,
+            pgs_iterations: 8,
+            history: 2000,
+            motors: Motors::ideal(),
+            spin: Vector3::zeros(),
+        }
     }
 }
 
@@ -244,6 +257,11 @@ impl RapierOptions {
     /// The default options with `motors`.
     pub fn within(motors: Motors) -> Self {
         Self { motors, ..Self::default() }
+    }
+
+    /// The default options for `problem`: its motors and its release spin.
+    pub fn for_problem(problem: &crate::problem::Problem) -> Self {
+        Self { motors: problem.actuator.motors(), spin: problem.drop.spin(), ..Self::default() }
     }
 
     fn validate(&self) -> Result<(), RapierError> {

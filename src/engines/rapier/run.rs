@@ -9,7 +9,7 @@ use super::saturation::{available_torque, bounds_torque, MotorSaturation, Satura
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::torque::joint_torques;
+use crate::engines::torque::{joint_torques, joint_torques_spinning};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::orientation::TwistTracker;
 use crate::model::Cylinder;
@@ -220,7 +220,7 @@ pub fn simulate_with(
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
     let start = pieces.state(0.0);
     let mut scene = CatScene::new(cat, settings.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), start.q)?;
-    scene.start_at_zero_momentum(start.qd)?;
+    scene.start_with_momentum(start.qd, &opts.spin)?;
     let masses = *scene.masses();
 
     let mut windows: Vec<JumpWindow> =
@@ -270,7 +270,14 @@ pub fn simulate_with(
                 let rate = scene.joint_rates()?;
                 let bound = std::array::from_fn(|j| available_torque(&motors.joints[j], rate[j]));
                 scene.set_max_forces(bound)?;
-                saturation.step(t, bound, joint_torques(cat, &target).tau);
+                // Released with spin, the schedule's torque at rapier's current attitude.
+                let planned = if opts.spin.norm_squared() > 0.0 {
+                    let lambda = scene.snapshot()?.rotations[0].inverse_transform_vector(&opts.spin);
+                    joint_torques_spinning(cat, &target, &lambda)
+                } else {
+                    joint_torques(cat, &target)
+                };
+                saturation.step(t, bound, planned.tau);
             }
             scene.step();
         }

@@ -249,6 +249,12 @@ impl CatScene {
     /// and angular momentum zero: angular velocity `ω = −I_lock⁻¹ H` about the centre of mass `c`
     /// (`I_lock` the locked inertia about `c`), velocity `−p/M` of `c`.
     pub fn start_at_zero_momentum(&mut self, qd: [f64; 2]) -> Result<(), RapierError> {
+        self.start_with_momentum(qd, &Vector3::zeros())
+    }
+
+    /// [`CatScene::start_at_zero_momentum`] with total angular momentum `spin` about the centre
+    /// of mass (world frame, N·m·s) instead of zero: `ω = I_lock⁻¹ (L − H)`.
+    pub fn start_with_momentum(&mut self, qd: [f64; 2], spin: &Vector3<f64>) -> Result<(), RapierError> {
         let mut v = [0.0; NDOFS];
         v[6] = qd[0];
         v[7] = qd[1];
@@ -270,7 +276,7 @@ impl CatScene {
         }
         let omega = locked
             .cholesky()
-            .map(|ch| -ch.solve(&h))
+            .map(|ch| ch.solve(&(spin - h)))
             .ok_or(RapierError::Missing("a positive definite locked inertia"))?;
         let lin = -p / total + omega.cross(&(bodies[0].position - c));
         v[..3].copy_from_slice(lin.as_slice());

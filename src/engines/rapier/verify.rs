@@ -66,8 +66,10 @@ use serde::Serialize;
 
 use super::saturation::MotorSaturation;
 use super::{RapierError, RapierOptions, RapierRun, TimeScales, MAX_STEPS};
-use crate::engines::motors::{motor_demand, MotorDemand};
-use crate::engines::torque::piece_samples;
+use crate::engines::motors::{motor_demand, motor_demand_from, MotorDemand};
+use crate::engines::spin::SpinHistory;
+use crate::engines::torque::{piece_samples, TorqueSource};
+
 use crate::model::Cylinder;
 use crate::problem::settings::{ExactSettings, RapierSettings, TimeStep};
 use crate::schedule::Trajectory;
@@ -448,7 +450,12 @@ pub fn verify_with(
     // The exact engine's view of the motors, sampled as its reports sample peaks.
     let demand = (!opts.motors.is_ideal()).then(|| {
         let samples = piece_samples(traj, ExactSettings::default().torque_samples);
-        motor_demand(cat, traj, &samples, &opts.motors)
+        if opts.spin.norm_squared() > 0.0 {
+            let (_, history) = SpinHistory::new(cat, traj, &opts.spin, ExactSettings::default().tolerance);
+            motor_demand_from(&TorqueSource::spinning(cat, &history), traj, &samples, &opts.motors)
+        } else {
+            motor_demand(cat, traj, &samples, &opts.motors)
+        }
     });
     let (mut runs, mut kept, mut failures) = (Vec::<RunRecord>::new(), Vec::<RapierRun>::new(), Vec::new());
     let mut spent = 0.0;

@@ -157,6 +157,7 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
     let exact = Evaluation::new(
         cat,
         schedule,
+        &problem.drop.spin(),
         &problem.actuator.motors(),
         &ExactSettings { tolerance: 1e-12, ..problem.exact },
     );
@@ -196,6 +197,12 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
 /// The wall time of one `catflip`-style evaluation (flip, peaks, jumps) for the record.
 pub fn evaluation_timing(problem: &Problem, schedule: &Schedule) -> Timing {
     Timing::measure(|| {
-        std::hint::black_box(Evaluation::new(&problem.cat, schedule, &problem.actuator.motors(), &problem.exact));
+        std::hint::black_box(Evaluation::new(
+            &problem.cat,
+            schedule,
+            &problem.drop.spin(),
+            &problem.actuator.motors(),
+            &problem.exact,
+        ));
     })
 }

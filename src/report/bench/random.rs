@@ -170,7 +170,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
         }
     };
     let p = &r.problem;
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let heavy = match load(Some(format!("cat.mass={:e}", 10.0 * p.cat.mass))) {
         Ok(h) => h,
         Err(why) => {
@@ -178,7 +178,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
             return out;
         }
     };
-    let e10 = Evaluation::new(&heavy.cat, &r.schedule, &heavy.actuator.motors(), &heavy.exact);
+    let e10 = Evaluation::new(&heavy.cat, &r.schedule, &heavy.drop.spin(), &heavy.actuator.motors(), &heavy.exact);
     let (momentum, action_reaction) = (e.momentum_max, e.action_reaction_gap / e.peaks.max);
     let mass_twist = (e10.flip.twist - e.flip.twist).abs();
     let mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();

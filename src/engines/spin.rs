@@ -1,0 +1,111 @@
+//! A release with spin: the reorientation and the momentum in A's frame when the total angular
+//! momentum `L` about the centre of mass is not zero (DESIGN.md §9).
+//!
+//! Falling freely, the cat's angular momentum about its centre of mass is constant in the world
+//! frame. In A's frame it is `λ(t) = R(t)ᵀ L`, and the momentum balance of §2 becomes
+//!
+//! $$ I_{lock}(q)\, Ω + h(q, \dot q) = R^\top L, \qquad Ω = I_{lock}^{-1}\big(R^\top L − h\big), $$
+//!
+//! with `h = R_AB I_B R_ABᵀ ω_rel + μ p × ṗ` the momentum of the joint motion at zero base rate
+//! (the bracket of [`crate::engines::exact`]). `Ω` now depends on `R`, so A's orientation obeys
+//! the nonlinear `Ṙ = R [Ω(t, R)]×`. [`rk4_step`] integrates it by the classical fourth-order
+//! Runge–Kutta method on the quaternion `ṙ = ½ r ⊗ (0, Ω)`, normalised after each step (the
+//! normalisation changes the result by the step's own error, so the order stays four).
+//!
+//! Differentiating `λ = Rᵀ L` gives `λ̇ = −[Ω]× λ = λ × Ω`, the term that the torques
+//! ([`crate::engines::torque::kinematics_spinning`]) add to `Ω̇`. The torques at an instant then
+//! need `λ` there, i.e. A's orientation: [`SpinHistory`] keeps the orientations of the accepted
+//! adaptive integration and reaches any instant from the node before it by one Runge–Kutta step
+//! (local error `O(h⁵)`, below the integration's own).
+//!
+//! Checks (tests/spin.rs): a rigid straight cat is a torque-free symmetric top (closed form);
+//! `L` along a principal axis of the straight cat is a steady spin; `L = 0` reproduces the Magnus
+//! engine; `|λ| = |L|` and `I_lock Ω + h = λ` along every motion; independent reference values.
+//!
+//! ## References
+//! - H. Goldstein, *Classical Mechanics* (3rd ed., 2002), §5.6, the torque-free symmetric top;
+//! - E. Hairer, C. Lubich, G. Wanner, *Geometric Numerical Integration* (2006), §IV.4, for
+//!   projection onto the unit sphere after a step.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+
+use crate::engines::exact::{adaptive, body_rate_spinning, Flip, Stepper};
+use crate::model::Cylinder;
+use crate::schedule::Trajectory;
+
+/// `ṙ = ½ r ⊗ (0, Ω)` at local time `s` of `piece`, for the (not necessarily unit) quaternion
+/// `r`, with `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r`.
+fn quaternion_rate(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    piece: usize,
+    spin: &Vector3<f64>,
+    r: &Quaternion<f64>,
+    s: f64,
+) -> Quaternion<f64> {
+    let unit = UnitQuaternion::new_normalize(*r);
+    let lambda = unit.inverse_transform_vector(spin);
+    let st = traj.piece_state(piece, s);
+    let omega = body_rate_spinning(cat, st.q, st.qd, &lambda);
+    r * Quaternion::from_parts(0.0, omega) * 0.5
+}
+
+/// One classical Runge–Kutta step `h` of A's orientation from `r` at local time `s` of `piece`,
+/// released with total angular momentum `spin` (world frame), normalised at the end.
+pub fn rk4_step(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    piece: usize,
+    spin: &Vector3<f64>,
+    r: &UnitQuaternion<f64>,
+    s: f64,
+    h: f64,
+) -> UnitQuaternion<f64> {
+    let y = *r.quaternion();
+    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(cat, traj, piece, spin, y, s);
+    let k1 = f(&y, s);
+    let k2 = f(&(y + k1 * (0.5 * h)), s + 0.5 * h);
+    let k3 = f(&(y + k2 * (0.5 * h)), s + 0.5 * h);
+    let k4 = f(&(y + k3 * h), s + h);
+    UnitQuaternion::new_normalize(y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0))
+}
+
+/// A's orientation along a motion released with spin, at any instant: the accepted adaptive
+/// integration's nodes, and one Runge–Kutta step from the node before the instant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpinHistory {
+    /// Total angular momentum `L`, world frame, N·m·s.
+    pub spin: Vector3<f64>,
+    /// Per piece, `(local time, R)` at every accepted step, the piece's start first.
+    nodes: Vec<Vec<(f64, UnitQuaternion<f64>)>>,
+}
+
+impl SpinHistory {
+    /// Integrates `traj` released with `spin` to `tolerance` ([`crate::engines::exact::flip_spinning`]) and
+    /// keeps the orientations; returns the flip with them.
+    pub fn new(cat: &Cylinder, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
+        let mut nodes = Vec::new();
+        let flip = adaptive(cat, traj, Stepper::Spinning(*spin), tolerance, Some(&mut nodes));
+        (flip, SpinHistory { spin: *spin, nodes })
+    }
+
+    /// A's orientation at local time `s` of `piece`.
+    pub fn orientation(&self, cat: &Cylinder, traj: &impl Trajectory, piece: usize, s: f64) -> UnitQuaternion<f64> {
+        let Some(nodes) = self.nodes.get(piece).filter(|n| !n.is_empty()) else {
+            return UnitQuaternion::identity();
+        };
+        let k = nodes.partition_point(|(t, _)| *t <= s).saturating_sub(1);
+        let (t, r) = nodes[k];
+        let h = s - t;
+        if h > 0.0 {
+            rk4_step(cat, traj, piece, &self.spin, &r, t, h)
+        } else {
+            r
+        }
+    }
+
+    /// The total angular momentum in A's frame, `λ = Rᵀ L`, at local time `s` of `piece`.
+    pub fn body_momentum(&self, cat: &Cylinder, traj: &impl Trajectory, piece: usize, s: f64) -> Vector3<f64> {
+        self.orientation(cat, traj, piece, s).inverse_transform_vector(&self.spin)
+    }
+}

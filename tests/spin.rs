@@ -1,0 +1,205 @@
+//! A release with spin (DESIGN.md §9): the exact engine with total angular momentum `L ≠ 0`
+//! against closed forms, against the zero-momentum engine, and its own conservation laws.
+#![deny(clippy::float_cmp)]
+
+use catflip::engines::evaluate::Evaluation;
+use catflip::engines::exact::{body_rate_spinning, flip, flip_spinning, momentum};
+use catflip::engines::spin::SpinHistory;
+use catflip::engines::torque::{joint_torques_spinning, kinematics_spinning};
+use catflip::model::Cylinder;
+use catflip::problem::Problem;
+use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// A cat held at joint angles `q` for `duration` s: a rigid body.
+struct Held {
+    q: [f64; 2],
+    duration: f64,
+}
+
+impl Trajectory for Held {
+    fn piece_durations(&self) -> Vec<f64> {
+        vec![self.duration]
+    }
+
+    fn piece_state(&self, _piece: usize, _s: f64) -> JointState {
+        JointState { q: self.q, ..JointState::default() }
+    }
+}
+
+fn paper_schedule(p: &Problem) -> Schedule {
+    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
+    Schedule::new(p, d)
+}
+
+/// The straight cat's principal inertias about its centre of mass: transverse `2 (I_t + m l²/4)`
+/// and axial `2 I_a`.
+fn straight_inertia(cat: &Cylinder) -> (f64, f64) {
+    (2.0 * cat.end_transverse(), 2.0 * cat.axial())
+}
+
+/// The torque-free symmetric top released at the identity with momentum `l` (Goldstein §5.6):
+/// `R(t) = exp(t |L|/I₁ [L̂]×) exp(t L_z (1/I₃ − 1/I₁) [ẑ]×)`. Its body momentum `Rᵀ L` turns
+/// about `ẑ` at `L_z (1/I₁ − 1/I₃)` while `L` stays fixed in space.
+fn symmetric_top(l: &Vector3<f64>, i1: f64, i3: f64, t: f64) -> UnitQuaternion<f64> {
+    let precession = UnitQuaternion::from_scaled_axis(l * (t / i1));
+    let spin = UnitQuaternion::from_scaled_axis(Vector3::z() * (t * l.z * (1.0 / i3 - 1.0 / i1)));
+    precession * spin
+}
+
+#[test]
+fn a_rigid_straight_cat_tumbles_as_the_torque_free_symmetric_top() {
+    let cat = Cylinder::default();
+    let (i1, i3) = straight_inertia(&cat);
+    for l in [Vector3::new(0.01, 0.0, 0.02), Vector3::new(-0.3, 0.2, 0.004), Vector3::new(0.0, 0.05, -0.01)] {
+        let held = Held { q: [0.0, 0.0], duration: 1.5 };
+        let f = flip_spinning(&cat, &held, &l, 1e-12);
+        let expected = symmetric_top(&l, i1, i3, held.duration);
+        let gap = (expected.inverse() * f.orientation).angle();
+        assert!(f.converged, "L = {l}: the integration did not converge");
+        assert!(gap < 1e-10, "L = {l}: the engine's attitude is {gap:.3e} rad from the closed form");
+    }
+}
+
+#[test]
+fn momentum_along_a_principal_axis_of_the_straight_cat_is_a_steady_spin() {
+    let cat = Cylinder::default();
+    let (i1, i3) = straight_inertia(&cat);
+    let held = Held { q: [0.0, 0.0], duration: 1.2 };
+    // About the spine: a pure twist at L_z / I₃.
+    let lz = 0.004;
+    let f = flip_spinning(&cat, &held, &Vector3::new(0.0, 0.0, lz), 1e-12);
+    let twist = lz * held.duration / i3;
+    assert!((f.twist - twist).abs() < 1e-10, "twist {} rad, steady spin gives {twist} rad", f.twist);
+    assert!(f.swing.abs() < 1e-10, "swing {} rad about the spine", f.swing);
+    // About a transverse axis: the spine swings by L_x T / I₁, no twist.
+    let lx = 0.2;
+    let f = flip_spinning(&cat, &held, &Vector3::new(lx, 0.0, 0.0), 1e-12);
+    let swing = lx * held.duration / i1;
+    assert!((f.swing - swing).abs() < 1e-10, "swing {} rad, steady spin gives {swing} rad", f.swing);
+    assert!(f.twist.abs() < 1e-10, "twist {} rad about a transverse axis", f.twist);
+}
+
+#[test]
+fn a_bent_rigid_cat_spins_about_a_principal_axis_of_its_locked_inertia() {
+    // Bent and held, the cat is a rigid body with the locked inertia I_lock(q); with L along one
+    // of its principal axes it turns steadily about that axis at |L| / I_k.
+    let cat = Cylinder::default();
+    let q = [0.7, -0.4];
+    let cfg = cat.configuration(q);
+    let eig = cfg.locked_inertia.symmetric_eigen();
+    let held = Held { q, duration: 1.0 };
+    for k in 0..3 {
+        let axis = eig.eigenvectors.column(k).into_owned();
+        let l = axis * 0.05;
+        let f = flip_spinning(&cat, &held, &l, 1e-12);
+        let expected = UnitQuaternion::from_scaled_axis(axis * (0.05 * held.duration / eig.eigenvalues[k]));
+        let gap = (expected.inverse() * f.orientation).angle();
+        assert!(gap < 1e-10, "principal axis {k}: {gap:.3e} rad from the steady spin");
+    }
+}
+
+#[test]
+fn a_vanishing_spin_reproduces_the_zero_momentum_engine() {
+    // The Runge–Kutta path with L = 1e-15 N·m·s against the Magnus path at L = 0: two different
+    // integrators of the same motion (the spin's own effect is ~1e-13 rad).
+    let p = Problem::default();
+    let s = paper_schedule(&p);
+    let magnus = flip(&p.cat, &s, 1e-11);
+    let rk = flip_spinning(&p.cat, &s, &Vector3::new(1e-15, -1e-15, 1e-15), 1e-11);
+    assert!(rk.converged && magnus.converged);
+    let gap = (magnus.orientation.inverse() * rk.orientation).angle();
+    assert!(gap < 1e-10, "Runge–Kutta and Magnus differ by {gap:.3e} rad");
+    // And L = 0 through the spinning entry point is the Magnus engine itself.
+    let zero = flip_spinning(&p.cat, &s, &Vector3::zeros(), 1e-11);
+    assert_eq!(zero.steps_per_phase, magnus.steps_per_phase);
+    assert!((zero.twist - magnus.twist).abs() <= 0.0, "L = 0 must take the Magnus path");
+}
+
+#[test]
+fn the_spin_is_conserved_in_the_world_frame_along_the_paper_schedule() {
+    let mut p = Problem::default();
+    p.drop.angular_momentum = [0.01, 0.02, -0.03];
+    let s = paper_schedule(&p);
+    let e = Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    assert!(e.flip.converged);
+    assert!(e.momentum_max < 1e-12, "|R H − L| relative {:.3e}", e.momentum_max);
+    // Action = reaction holds only when Ω̇ is the true rate of the spinning motion.
+    assert!(e.action_reaction_gap < 1e-9 * e.peaks.max, "action–reaction gap {:.3e} N·m", e.action_reaction_gap);
+    // The spin changes the flip: the paper's schedule turns the cat differently.
+    let still = flip(&p.cat, &s, p.exact.tolerance);
+    assert!((e.flip.twist - still.twist).abs() > 1e-3, "the spin left the twist unchanged");
+}
+
+#[test]
+fn the_spinning_body_acceleration_is_the_derivative_of_the_body_rate() {
+    // Ω̇ of kinematics_spinning against a central difference of Ω(t) = I_lock⁻¹(R(t)ᵀ L − h)
+    // along the paper's twist phase, with R(t) from the history.
+    let mut p = Problem::default();
+    p.drop.angular_momentum = [0.05, -0.02, 0.01];
+    let s = paper_schedule(&p);
+    let spin = p.drop.spin();
+    let (_, history) = SpinHistory::new(&p.cat, &s, &spin, 1e-12);
+    let rate = |t: f64| {
+        let st = s.piece_state(1, t);
+        body_rate_spinning(&p.cat, st.q, st.qd, &history.body_momentum(&p.cat, &s, 1, t))
+    };
+    for t in [0.05, 0.3, 0.61, 0.8] {
+        let st = s.piece_state(1, t);
+        let lambda = history.body_momentum(&p.cat, &s, 1, t);
+        let k = kinematics_spinning(&p.cat, &st, &lambda);
+        let h = 1e-5;
+        let fd = (rate(t + h) - rate(t - h)) / (2.0 * h);
+        let gap = (k.omega_dot - fd).norm();
+        assert!(gap < 1e-6 * k.omega_dot.norm().max(1.0), "t = {t}: Ω̇ {} against {fd}, gap {gap:.3e}", k.omega_dot);
+        // |λ| = |L|: the history's attitude is a rotation, and H = λ in A's frame.
+        assert!((lambda.norm() - spin.norm()).abs() < 1e-15);
+        assert!((momentum(&p.cat, &st, &k.omega) - lambda).norm() < 1e-14);
+        let tau = joint_torques_spinning(&p.cat, &st, &lambda);
+        let gap = (tau.tau[0] - tau.from_a[0]).abs().max((tau.tau[1] - tau.from_a[1]).abs());
+        assert!(gap < 1e-9, "t = {t}: action–reaction gap {gap:.3e} N·m");
+    }
+}
+
+#[test]
+fn a_spin_too_large_to_be_a_flip_is_refused_and_a_large_one_warned_about() {
+    let err = Problem::from_toml("[drop]\nangular_momentum = [1e3, 0, 0]\n", "t.toml", &[])
+        .expect_err("a thousand N·m·s spins the cat thousands of turns");
+    let msg = err.to_string();
+    assert!(msg.contains("drop.angular_momentum") && msg.contains("turns"), "{msg}");
+    let err = Problem::from_toml("[drop]\nangular_momentum = [0, nan, 0]\n", "t.toml", &[]).expect_err("NaN");
+    assert!(err.to_string().contains("drop.angular_momentum[2]"), "{err}");
+    // 1 N·m·s about the spine of the paper's cat: dozens of turns in the fall, warned about.
+    let p = Problem::from_toml("[drop]\nangular_momentum = [0, 0, 0.3]\n", "t.toml", &[]).expect("loads");
+    assert!(p.warnings().iter().any(|w| w.contains("drop.angular_momentum")), "{:?}", p.warnings());
+    let p = Problem::from_toml("[drop]\nangular_momentum = [0.01, 0, 0]\n", "t.toml", &[]).expect("loads");
+    assert!(!p.warnings().iter().any(|w| w.contains("drop.angular_momentum")));
+}
+
+#[test]
+fn computations_that_assume_no_spin_refuse_one() {
+    let p = Problem::from_toml("[drop]\nangular_momentum = [0, 0, 0.01]\n", "t.toml", &[]).expect("loads");
+    let err = p.require_no_spin("optimize --whole").expect_err("a spin");
+    let msg = err.to_string();
+    assert!(msg.contains("drop.angular_momentum") && msg.contains("optimize --whole"), "{msg}");
+    assert!(Problem::default().require_no_spin("optimize --whole").is_ok());
+}
+
+#[test]
+fn rapier_started_with_the_spin_verifies_the_spinning_flip() {
+    // rapier knows nothing of the exact engine's spin formula: it starts the multibody with the
+    // rigid rotation that gives it momentum L and integrates Newton's laws. Its dt → 0 estimate
+    // must agree with the exact engine's spinning flip (the spin moves the twist by ~3° here).
+    use catflip::engines::rapier::{verify_with, RapierOptions, Reference, Status};
+    let mut p = Problem::default();
+    p.drop.angular_momentum = [0.01, 0.02, -0.03];
+    let s = paper_schedule(&p);
+    let e = Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
+    let v = verify_with(&p.cat, &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
+    assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
+    // Without the spin, rapier lands elsewhere: the same reference is then not verified.
+    let still = RapierOptions::within(p.actuator.motors());
+    let v = verify_with(&p.cat, &s, &p.rapier, &reference, &still).expect("a valid scene");
+    assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
+}
