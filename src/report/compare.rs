@@ -24,6 +24,8 @@ pub struct CompareTable {
     pub circulation: ResolvedCirculation,
     /// `I*` used by the paper's model, kg·m².
     pub model_inertia: f64,
+    /// The release spin every row is measured with, world frame, N·m·s (zero: none).
+    pub angular_momentum_nms: [f64; 3],
     /// The rows, the paper's cosine first.
     pub rows: Vec<CompareRow>,
 }
@@ -35,7 +37,13 @@ pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
     let mut rows: Vec<CompareRow> =
         r.library().iter().map(|(k, s, e)| CompareRow::new(&p.name, &p.cat, s, Origin::Library(*k), e)).collect();
     rows.extend_from_slice(extra);
-    CompareTable { problem: p.name.clone(), circulation: r.circulation, model_inertia: p.cat.end_transverse(), rows }
+    CompareTable {
+        problem: p.name.clone(),
+        circulation: r.circulation,
+        model_inertia: p.cat.end_transverse(),
+        angular_momentum_nms: p.drop.angular_momentum,
+        rows,
+    }
 }
 
 /// One line of the peak-torque table as both its Markdown and its CSV write it: a profile's row,
@@ -168,6 +176,14 @@ impl CompareTable {
             "Peak torques of problem `{}` (circulation {:.6} rad, {}; paper's model with I* = {:.6} kg·m²). Exact peaks are |τ| per joint (τ1, τ2) in N·m.\n",
             self.problem, self.circulation.radians, self.circulation.source, self.model_inertia
         );
+        if self.angular_momentum_nms.iter().any(|l| l.abs() > 0.0) {
+            let l = self.angular_momentum_nms;
+            let _ = writeln!(
+                s,
+                "Released with spin L = [{}, {}, {}] N·m·s (world frame): the exact columns are the spinning motion's; the paper's model knows no spin.\n",
+                l[0], l[1], l[2]
+            );
+        }
         let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | peak speed rad/s | peak power W | motors: worst usage | jumps (max impulse N·m·s) | twist ° | swing ° |");
         let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|");
         for r in &self.rows {
