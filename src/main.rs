@@ -209,7 +209,6 @@ fn run() -> anyhow::Result<()> {
                 // The problem gives the cat and the settings; its manoeuvre is not used, so its
                 // warnings are not printed: the import's checks say what applies.
                 let problem = Problem::load(&common.problem, &[common.overrides.clone(), extra].concat())?;
-                problem.require_no_spin("simulate --schedule")?;
                 let imported = catflip::exchange::read_schedule(&file)?;
                 let exact = catflip::exchange::evaluate(&problem, &imported)?;
                 let report = match engine {

@@ -75,18 +75,12 @@ impl Evaluation {
     ) -> Evaluation {
         let start = Instant::now();
         let samples = piece_samples(schedule, settings.torque_samples);
-        let spun = (spin.norm_squared() > 0.0).then(|| SpinHistory::new(cat, schedule, spin, settings.tolerance));
-        let (flip, source) = match &spun {
-            None => (flip(cat, schedule, settings.tolerance), TorqueSource::zero_momentum(cat)),
-            Some((f, history)) => (*f, TorqueSource::spinning(cat, history)),
-        };
+        let (flip, history) = released_flip(cat, schedule, spin, settings.tolerance);
+        let source = torque_source(cat, history.as_ref());
         let peaks = peak_torques_from(&source, schedule, &samples);
         let motors = motor_demand_from(&source, schedule, &samples, motors);
         let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
-        let momentum_max = match &spun {
-            None => momentum_max(cat, schedule, settings.torque_samples),
-            Some((_, history)) => momentum_error_spinning(cat, schedule, history, settings.torque_samples),
-        };
+        let momentum_max = momentum_check(cat, schedule, history.as_ref(), settings.torque_samples);
         let run_time_s = start.elapsed().as_secs_f64();
         Evaluation {
             flip,
@@ -133,6 +127,41 @@ pub fn momentum_max(cat: &Cylinder, schedule: &impl Trajectory, samples: usize) 
         h_max / reference
     } else {
         h_max
+    }
+}
+
+/// The flip of `traj` released with angular momentum `spin` (world frame, N·m·s) to `tolerance`,
+/// with the orientation history its torques need when `spin` is not zero
+/// ([`crate::engines::exact::flip`] at zero, the Magnus engine).
+pub fn released_flip(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    spin: &Vector3<f64>,
+    tolerance: f64,
+) -> (Flip, Option<SpinHistory>) {
+    if spin.norm_squared() > 0.0 {
+        let (f, history) = SpinHistory::new(cat, traj, spin, tolerance);
+        (f, Some(history))
+    } else {
+        (flip(cat, traj, tolerance), None)
+    }
+}
+
+/// The torques of the motion [`released_flip`] found: spinning with its history, else at zero
+/// momentum.
+pub fn torque_source<'a>(cat: &'a Cylinder, history: Option<&'a SpinHistory>) -> TorqueSource<'a> {
+    match history {
+        Some(h) => TorqueSource::spinning(cat, h),
+        None => TorqueSource::zero_momentum(cat),
+    }
+}
+
+/// The momentum check of that motion: [`momentum_max`] at zero momentum, else
+/// [`momentum_error_spinning`].
+pub fn momentum_check(cat: &Cylinder, traj: &impl Trajectory, history: Option<&SpinHistory>, samples: usize) -> f64 {
+    match history {
+        Some(h) => momentum_error_spinning(cat, traj, h, samples),
+        None => momentum_max(cat, traj, samples),
     }
 }
 

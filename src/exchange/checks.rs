@@ -27,7 +27,8 @@
 //! - the problem's cat outside the paper's stability argument (`l < √3 r`). The problem's
 //!   manoeuvre is not used, so nothing is said of it.
 
-use crate::engines::torque::{peak_torques_on, piece_samples, reduced_mass_matrix};
+use crate::engines::evaluate::{released_flip, torque_source};
+use crate::engines::torque::{peak_torques_from, piece_samples, reduced_mass_matrix};
 use crate::engines::JUMP_TOLERANCE;
 use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation, Row, POSITION_JUMP_TOLERANCE};
 use crate::problem::Problem;
@@ -242,7 +243,10 @@ pub fn sampling(problem: &Problem, s: &ImportedSchedule, peaks: &[[f64; 2]]) -> 
                 .into(),
         );
     };
-    let coarse_peaks = peak_torques_on(&problem.cat, &coarse, &peak_samples(&coarse, problem.exact.torque_samples));
+    // The coarser copy's peaks are measured as the file's are (with the release spin, if any).
+    let (_, history) = released_flip(&problem.cat, &coarse, &problem.drop.spin(), problem.exact.tolerance);
+    let source = torque_source(&problem.cat, history.as_ref());
+    let coarse_peaks = peak_torques_from(&source, &coarse, &peak_samples(&coarse, problem.exact.torque_samples));
     let divisor = match s.interpolation {
         Interpolation::QuinticHermite => 15.0,
         _ => 3.0,

@@ -21,10 +21,9 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::engines::evaluate::momentum_max;
-use crate::engines::exact::flip;
 use crate::engines::rapier::{RapierError, RapierOptions};
-use crate::engines::torque::peak_torques_on;
+use crate::engines::evaluate::{momentum_check, released_flip, torque_source};
+use crate::engines::torque::peak_torques_from;
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};
 use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation};
@@ -124,10 +123,11 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
     let mut warnings = check(problem, schedule)?;
     let cat = &problem.cat;
     let start = Instant::now();
-    let f = flip(cat, schedule, problem.exact.tolerance);
-    let peaks = peak_torques_on(cat, schedule, &peak_samples(schedule, problem.exact.torque_samples));
+    let (f, history) = released_flip(cat, schedule, &problem.drop.spin(), problem.exact.tolerance);
+    let source = torque_source(cat, history.as_ref());
+    let peaks = peak_torques_from(&source, schedule, &peak_samples(schedule, problem.exact.torque_samples));
     let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
-    let momentum = momentum_max(&problem.cat, schedule, problem.exact.torque_samples);
+    let momentum = momentum_check(cat, schedule, history.as_ref(), problem.exact.torque_samples);
     let run_time_s = start.elapsed().as_secs_f64();
     let pieces = merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]));
     let not_computable =
