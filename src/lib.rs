@@ -52,5 +52,6 @@ pub mod numeric;
 pub mod optimize;
 pub mod problem;
 pub mod report;
+pub mod robust;
 pub mod schedule;
 pub mod sweep;

@@ -52,6 +52,18 @@ enum Command {
     },
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
+    /// How often the schedule lands the cat on its feet: a seeded Monte Carlo over the cat's
+    /// sizes and the release spin ([robust]), the schedule run open loop by the exact engine.
+    Robust {
+        #[command(flatten)]
+        common: Common,
+        /// Check this schedule CSV (e.g. an exported optimum) instead of the problem's own.
+        #[arg(long, value_name = "FILE.csv")]
+        schedule: Option<PathBuf>,
+        /// Also write robust.{md,csv,json,png,svg} into <out>/<name>-robust/.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement; with --whole,
     /// the whole-manoeuvre path optimum that flips the cat exactly ([optimize.whole]).
     Optimize {
@@ -315,6 +327,28 @@ fn run() -> anyhow::Result<()> {
                 }
             };
             emit(json, &outcome, || outcome.to_text())?;
+        }
+        Command::Robust { common, schedule, out } => {
+            let problem = load(&common, &[])?;
+            let check = match &schedule {
+                Some(file) => {
+                    let imported = catflip::exchange::read_schedule(file)?;
+                    // The import's own checks (units, ends, sampling) apply to the file.
+                    for w in catflip::exchange::evaluate(&problem, &imported)?.warnings {
+                        eprintln!("warning: {w}");
+                    }
+                    catflip::robust::robustness(&problem, &imported, &file.display().to_string())
+                }
+                None => {
+                    let r = Resolved::new(&problem)?;
+                    catflip::robust::robustness(&problem, &r.schedule, "the problem's schedule")
+                }
+            };
+            if let Some(out) = out {
+                let dir = check.write(&out)?;
+                eprintln!("wrote {}", dir.display());
+            }
+            emit(common.json, &check, || check.to_markdown())?;
         }
         Command::Compare(common) => {
             let r = Resolved::new(&load(&common, &[])?)?;

@@ -21,8 +21,8 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::evaluate::{momentum_check, released_flip, torque_source};
+use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::torque::peak_torques_from;
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};

@@ -10,6 +10,7 @@ pub mod error;
 pub mod limits;
 pub mod manoeuvre;
 mod overrides;
+pub mod robust;
 pub mod settings;
 pub mod whole;
 
@@ -107,6 +108,8 @@ pub struct Problem {
     pub rapier: RapierSettings,
     /// Settings of the optimisers.
     pub optimize: OptimizeSettings,
+    /// Settings of the robustness check (`catflip robust`).
+    pub robust: robust::RobustSettings,
 }
 
 impl Default for Problem {
@@ -120,6 +123,7 @@ impl Default for Problem {
             exact: ExactSettings::default(),
             rapier: RapierSettings::default(),
             optimize: OptimizeSettings::default(),
+            robust: robust::RobustSettings::default(),
         }
     }
 }
@@ -206,6 +210,7 @@ impl Problem {
         self.exact.validate()?;
         self.rapier.validate()?;
         self.optimize.validate()?;
+        self.robust.validate()?;
         if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
             return Err(bad(
                 "optimize.whole.objective",
@@ -286,7 +291,7 @@ impl Problem {
 /// A parse error in the user's words: serde's type names replaced by the file's section names and
 /// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
 fn user_message(e: &toml::de::Error) -> String {
-    const NAMES: [(&str, &str); 14] = [
+    const NAMES: [(&str, &str); 15] = [
         (
             "data did not match any variant of untagged enum PerJoint",
             "expected a number (both joints) or a pair [joint 1, joint 2]",
@@ -299,6 +304,7 @@ fn user_message(e: &toml::de::Error) -> String {
         ("struct ExactSettings", "the [exact] section"),
         ("struct RapierSettings", "the [rapier] section"),
         ("struct OptimizeSettings", "the [optimize] section"),
+        ("struct RobustSettings", "the [robust] section"),
         ("expected f64", "expected a number"),
         ("expected usize", "expected a whole number"),
         ("expected u32", "expected a whole number"),

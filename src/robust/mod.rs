@@ -1,0 +1,197 @@
+//! Will the schedule land the cat on its feet, and how often? A seeded Monte Carlo of the
+//! open-loop schedule on cats drawn around the problem's, released with random spin.
+//!
+//! Each trial `k` draws, from its own SplitMix64 stream (seed `robust.seed`, stream `k`), the
+//! factors of each half's mass, length and radius (uniform in `1 ± p/100`, both halves alike:
+//! the model's halves are identical) and the release spin `L = L₀ + σ n`, `n` three standard
+//! normals (world frame, `L₀ = drop.angular_momentum`). The joints then follow the schedule
+//! exactly (ideal tracking: the motors are the planned ones), and the exact engine
+//! ([`crate::engines::evaluate::released_flip`], spinning when `L ≠ 0`) gives A's attitude `R` at
+//! the end of the fall. Its **landing error** is the angle of `R_*⁻¹ R` to the target
+//! `R_* = Rz(π)`, the half turn about the initial spine; its twist part is `|twist| − 180°`
+//! and its swing part the spine's swing (DESIGN.md §2).
+//!
+//! The trials run in parallel; every number depends on the seed only, not on the thread count.
+//! What is not in it (yet): feedback, motor lag and saturation, sensor latency and noise, and
+//! unequal halves; the check is the open-loop plan's, on the exact model family.
+
+pub mod report;
+
+use std::f64::consts::PI;
+
+use nalgebra::{UnitQuaternion, Vector3};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::engines::evaluate::released_flip;
+use crate::model::Cylinder;
+use crate::numeric::random::SplitMix64;
+use crate::problem::robust::RobustSettings;
+use crate::problem::Problem;
+use crate::schedule::Trajectory;
+
+/// What one trial drew.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Draw {
+    /// Trial index.
+    pub trial: usize,
+    /// Mass of each half, kg.
+    pub mass: f64,
+    /// Length of each half, m.
+    pub length: f64,
+    /// Radius, m.
+    pub radius: f64,
+    /// Release spin, world frame, N·m·s.
+    pub angular_momentum_nms: [f64; 3],
+}
+
+/// How one trial landed.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Trial {
+    /// What it drew.
+    pub draw: Draw,
+    /// Angle between A's final attitude and the target half turn, degrees.
+    pub landing_error_deg: f64,
+    /// `|twist| − 180°`, degrees (signed: negative is short of the half turn).
+    pub twist_error_deg: f64,
+    /// Swing of the spine, degrees.
+    pub swing_deg: f64,
+    /// Whether the exact engine met its tolerance.
+    pub converged: bool,
+}
+
+/// Trial `k`'s draw around `problem` with `settings`.
+pub fn draw(problem: &Problem, settings: &RobustSettings, k: usize) -> Draw {
+    let mut g = SplitMix64::new(settings.seed ^ (k as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    let mut factor = |pct: f64| 1.0 + g.uniform(-pct, pct) / 100.0;
+    let (mass, length, radius) = (factor(settings.mass_pct), factor(settings.length_pct), factor(settings.radius_pct));
+    let l0 = problem.drop.angular_momentum;
+    let angular_momentum_nms = std::array::from_fn(|i| l0[i] + settings.spin_sigma_nms * g.normal());
+    Draw {
+        trial: k,
+        mass: problem.cat.mass * mass,
+        length: problem.cat.length * length,
+        radius: problem.cat.radius * radius,
+        angular_momentum_nms,
+    }
+}
+
+/// Runs `traj` open loop on the cat and spin of `draw`.
+pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> Trial {
+    let cat = Cylinder { mass: draw.mass, length: draw.length, radius: draw.radius };
+    let spin = Vector3::from(draw.angular_momentum_nms);
+    let (flip, _) = released_flip(&cat, traj, &spin, problem.exact.tolerance);
+    let target = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI);
+    Trial {
+        draw,
+        landing_error_deg: (target.inverse() * flip.orientation).angle().to_degrees(),
+        twist_error_deg: flip.twist.abs().to_degrees() - 180.0,
+        swing_deg: flip.swing.to_degrees(),
+        converged: flip.converged,
+    }
+}
+
+/// Percentiles of one landing figure, degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Percentiles {
+    /// Median.
+    pub p50: f64,
+    /// 90th percentile.
+    pub p90: f64,
+    /// 95th percentile.
+    pub p95: f64,
+    /// 99th percentile.
+    pub p99: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+impl Percentiles {
+    /// Of `values` (nearest-rank percentiles of the sorted values; not empty).
+    pub fn of(values: &[f64]) -> Percentiles {
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        let rank = |p: f64| v[((p / 100.0 * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+        Percentiles { p50: rank(50.0), p90: rank(90.0), p95: rank(95.0), p99: rank(99.0), max: rank(100.0) }
+    }
+}
+
+/// The whole check.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Robustness {
+    /// Problem name.
+    pub problem: String,
+    /// What was run: the problem's own schedule, or an imported file.
+    pub schedule: String,
+    /// The settings.
+    pub settings: RobustSettings,
+    /// The nominal cat's landing (no draw: the problem's cat and spin).
+    pub nominal: Trial,
+    /// Landing error percentiles, degrees.
+    pub landing_error_deg: Percentiles,
+    /// `| |twist| − 180° |` percentiles, degrees.
+    pub twist_error_deg: Percentiles,
+    /// Swing percentiles, degrees.
+    pub swing_deg: Percentiles,
+    /// Fraction of the trials within `tolerance_deg`.
+    pub within: f64,
+    /// Trials whose exact engine did not meet its tolerance.
+    pub not_converged: usize,
+    /// The worst trials, worst first (at most [`WORST`]).
+    pub worst: Vec<Trial>,
+    /// Every trial, in order.
+    #[serde(skip)]
+    pub trials: Vec<Trial>,
+    /// The verdict in words.
+    pub verdict: String,
+}
+
+/// Worst trials reported.
+pub const WORST: usize = 5;
+
+/// Runs the check of `traj` (named `schedule`) on `problem` with its `[robust]` settings.
+pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: &str) -> Robustness {
+    let settings = problem.robust;
+    let trials: Vec<Trial> =
+        (0..settings.trials).into_par_iter().map(|k| trial(problem, traj, draw(problem, &settings, k))).collect();
+    let nominal_draw = Draw {
+        trial: 0,
+        mass: problem.cat.mass,
+        length: problem.cat.length,
+        radius: problem.cat.radius,
+        angular_momentum_nms: problem.drop.angular_momentum,
+    };
+    let nominal = trial(problem, traj, nominal_draw);
+    let errors: Vec<f64> = trials.iter().map(|t| t.landing_error_deg).collect();
+    let twist: Vec<f64> = trials.iter().map(|t| t.twist_error_deg.abs()).collect();
+    let swing: Vec<f64> = trials.iter().map(|t| t.swing_deg).collect();
+    let inside = errors.iter().filter(|e| **e <= settings.tolerance_deg).count();
+    let within = inside as f64 / trials.len().max(1) as f64;
+    let mut worst = trials.clone();
+    worst.sort_by(|a, b| b.landing_error_deg.total_cmp(&a.landing_error_deg));
+    worst.truncate(WORST);
+    let not_converged = trials.iter().filter(|t| !t.converged).count();
+    let landing_error_deg = Percentiles::of(&errors);
+    let verdict = format!(
+        "lands within {}° in {:.1} % of {} trials (95th percentile {:.2}°; nominal cat {:.2}°)",
+        settings.tolerance_deg,
+        100.0 * within,
+        trials.len(),
+        landing_error_deg.p95,
+        nominal.landing_error_deg
+    );
+    Robustness {
+        problem: problem.name.clone(),
+        schedule: schedule.to_string(),
+        settings,
+        nominal,
+        landing_error_deg,
+        twist_error_deg: Percentiles::of(&twist),
+        swing_deg: Percentiles::of(&swing),
+        within,
+        not_converged,
+        worst,
+        trials,
+        verdict,
+    }
+}

@@ -1,0 +1,100 @@
+//! The robustness check (`catflip robust`): seeded draws, thread-count independence, and the
+//! landing error's meaning.
+#![deny(clippy::float_cmp)]
+
+use catflip::engines::circulation::Resolved;
+use catflip::problem::Problem;
+use catflip::robust::{draw, robustness, Percentiles};
+
+fn problem(extra: &[&str]) -> Problem {
+    let mut sets = vec!["robust.trials=40".to_string()];
+    sets.extend(extra.iter().map(|s| s.to_string()));
+    Problem::from_toml(
+        "name = \"paper\"\n[manoeuvre]\ncirculation = \"calibrated\"\nprofile = \"cycloidal\"\n",
+        "t.toml",
+        &sets,
+    )
+    .expect("a valid problem")
+}
+
+#[test]
+fn the_check_is_the_same_at_one_and_two_threads() {
+    let p = problem(&[]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let at = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+        pool.install(|| serde_json::to_string(&robustness(&p, &r.schedule, "s")).expect("serialises"))
+    };
+    let (one, two) = (at(1), at(2));
+    assert!(one == two, "the check depends on the thread count");
+}
+
+#[test]
+fn without_spread_every_trial_is_the_nominal_cat() {
+    let p = problem(&["robust.mass_pct=0", "robust.radius_pct=0", "robust.spin_sigma_nms=0"]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let c = robustness(&p, &r.schedule, "s");
+    for t in &c.trials {
+        assert!((t.landing_error_deg - c.nominal.landing_error_deg).abs() <= 0.0, "trial {}", t.draw.trial);
+    }
+    // The calibrated cycloidal schedule turns by exactly 180° and keeps its swing (1.27°,
+    // README): the landing error is the swing, the twist error zero.
+    assert!(c.nominal.twist_error_deg.abs() < 1e-6, "twist error {}", c.nominal.twist_error_deg);
+    assert!((c.nominal.landing_error_deg - c.nominal.swing_deg).abs() < 1e-6);
+    assert!(c.within >= 1.0 - f64::EPSILON, "every trial lands within 5°");
+}
+
+#[test]
+fn the_spin_spreads_the_landing_and_the_worst_trials_are_the_largest_errors() {
+    let p = problem(&["robust.spin_sigma_nms=0.005"]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let c = robustness(&p, &r.schedule, "s");
+    let largest = c.trials.iter().map(|t| t.landing_error_deg).fold(0.0, f64::max);
+    assert!((c.worst[0].landing_error_deg - largest).abs() <= 0.0);
+    assert!(c.worst.windows(2).all(|w| w[0].landing_error_deg >= w[1].landing_error_deg));
+    assert!(c.landing_error_deg.p95 > c.nominal.landing_error_deg, "a spin of σ = 0.005 N·m·s must move the landing");
+    assert!((c.landing_error_deg.max - largest).abs() <= 0.0);
+    // Each landing error bounds its parts (the angle of a rotation is at least its twist's and
+    // its swing's, up to the composition of small angles).
+    for t in &c.trials {
+        assert!(t.landing_error_deg + 1e-9 >= t.swing_deg.max(t.twist_error_deg.abs()) * 0.99, "{t:?}");
+    }
+    assert!(c.verdict.contains("40 trials"), "{}", c.verdict);
+}
+
+#[test]
+fn draws_follow_their_distributions_and_repeat_with_the_seed() {
+    let p = problem(&["robust.spin_sigma_nms=0.01", "robust.mass_pct=20"]);
+    let s = p.robust;
+    let n = 4000;
+    let draws: Vec<_> = (0..n).map(|k| draw(&p, &s, k)).collect();
+    assert!(draws.iter().all(|d| (d.mass - 1.0).abs() <= 0.2 && (d.length - 1.0).abs() <= 0.0));
+    for axis in 0..3 {
+        let var = draws.iter().map(|d| d.angular_momentum_nms[axis].powi(2)).sum::<f64>() / n as f64;
+        // The sample standard deviation of 4000 normals is within 5 % of σ with overwhelming odds.
+        assert!((var.sqrt() / 0.01 - 1.0).abs() < 0.05, "axis {axis}: σ = {}", var.sqrt());
+    }
+    assert!(draw(&p, &s, 17) == draws[17], "a trial's draw depends on its index and the seed only");
+}
+
+#[test]
+fn percentiles_are_nearest_rank() {
+    let v: Vec<f64> = (1..=100).map(f64::from).collect();
+    let p = Percentiles::of(&v);
+    assert!((p.p50 - 50.0).abs() <= 0.0 && (p.p95 - 95.0).abs() <= 0.0 && (p.max - 100.0).abs() <= 0.0);
+    let one = Percentiles::of(&[3.0]);
+    assert!((one.p50 - 3.0).abs() <= 0.0 && (one.p99 - 3.0).abs() <= 0.0);
+}
+
+#[test]
+fn bad_robust_settings_name_their_field() {
+    for (set, field) in [
+        ("robust.trials=0", "robust.trials"),
+        ("robust.mass_pct=95", "robust.mass_pct"),
+        ("robust.spin_sigma_nms=-1", "robust.spin_sigma_nms"),
+        ("robust.tolerance_deg=0", "robust.tolerance_deg"),
+    ] {
+        let err = Problem::from_toml("", "t.toml", &[set.to_string()]).expect_err(set);
+        assert!(err.to_string().contains(field), "{set}: {err}");
+    }
+}
