@@ -6,20 +6,16 @@
 //! confidence interval per size; the worst run is in
 //! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::time::Duration;
 
 use catflip::engines::calibrate::calibrate;
 use catflip::engines::torque::{peak_torques_on, piece_samples};
-use catflip::problem::Problem;
-use catflip::schedule::{paper_circulation, Schedule};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
-fn paper() -> (Problem, Schedule) {
-    let p = Problem::default();
-    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap_or(std::f64::consts::PI);
-    let s = Schedule::new(&p, d);
-    (p, s)
-}
+use common::paper;
 
 fn calibration(c: &mut Criterion) {
     let (p, s) = paper();

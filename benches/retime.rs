@@ -7,20 +7,16 @@
 //! Criterion prints the median's confidence interval per grid size; the worst run is in
 //! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::hint::black_box;
 use std::time::Duration;
 
 use catflip::optimize::retime::{retime_schedule, RetimeSettings, Split};
-use catflip::problem::Problem;
-use catflip::schedule::{paper_circulation, Schedule};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
-fn paper() -> (Problem, Schedule) {
-    let p = Problem::default();
-    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
-    let s = Schedule::new(&p, d);
-    (p, s)
-}
+use common::paper;
 
 fn whole_schedule(c: &mut Criterion) {
     let (p, s) = paper();

@@ -5,7 +5,7 @@
 //!
 //! The pipeline: problem file ([`problem`]) → model ([`model`]) → schedule ([`schedule`]) →
 //! engines ([`engines`]) → optimisers ([`optimize`]) → report ([`report`]); [`numeric`] holds the
-//! math with no physics in it.
+//! math with no physics in it. [`prelude`] re-exports the main nouns (`use catflip::prelude::*`).
 //!
 //! Conventions (DESIGN.md §1): each half has its body frame at its centre of mass with `z`
 //! along its axis towards the head; B relative to A is `R_AB(q) = Rx(q1) · Ry(q2)`; `q = 0` is
@@ -18,9 +18,7 @@
 //! circulation), evaluate the schedule with the exact engine and read the twist:
 //!
 //! ```
-//! use catflip::engines::circulation::Resolved;
-//! use catflip::engines::evaluate::Evaluation;
-//! use catflip::problem::Problem;
+//! use catflip::prelude::*;
 //!
 //! let toml = r#"
 //! name = "example"
@@ -50,6 +48,7 @@ pub mod exchange;
 pub mod model;
 pub mod numeric;
 pub mod optimize;
+pub mod prelude;
 pub mod problem;
 pub mod report;
 pub mod robust;

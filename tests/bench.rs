@@ -4,16 +4,13 @@
 
 #![deny(clippy::float_cmp)]
 
-use catflip::engines::circulation::Resolved;
-use catflip::problem::Problem;
+mod common;
+
 use catflip::report::bench::curve::{Curve, Outcome, Timing};
 use catflip::report::bench::random::run_many;
 use catflip::report::bench::{optimizers, stress, BenchReport};
 
-/// The paper's problem resolved (the defaults are problems/paper.toml).
-fn paper() -> Resolved {
-    Resolved::new(&Problem::default()).unwrap_or_else(|e| panic!("the paper's problem resolves: {e}"))
-}
+use common::paper_resolved;
 
 /// Every point's outcome, in the sweep's order; fails on a point without one.
 fn outcomes(c: &Curve) -> Vec<Outcome> {
@@ -25,7 +22,7 @@ fn outcomes(c: &Curve) -> Vec<Outcome> {
 
 #[test]
 fn retiming_gap_to_the_converged_bound_falls_at_first_order() {
-    let r = paper();
+    let r = paper_resolved();
     let (curve, note) = optimizers::retime_curve(&r.problem.cat, &r.schedule, &[25, 400], [400, 800]);
     let o = outcomes(&curve);
     println!("retime: {o:?}\n{}", note.note);
@@ -41,7 +38,7 @@ fn retiming_gap_to_the_converged_bound_falls_at_first_order() {
 
 #[test]
 fn whole_optimiser_converges_to_a_flip_and_its_peak_falls_with_the_spline() {
-    let r = paper();
+    let r = paper_resolved();
     let (curve, note) = optimizers::whole_curve(&r.problem, &[20, 60], 90);
     let o = outcomes(&curve);
     println!("whole: {o:?}\n{}", note.note);
@@ -57,7 +54,7 @@ fn whole_optimiser_converges_to_a_flip_and_its_peak_falls_with_the_spline() {
 
 #[test]
 fn refused_cases_and_missing_numbers_print_no_nan() {
-    let r = paper();
+    let r = paper_resolved();
     let p = &r.problem;
     let stress = stress::stress(p).unwrap_or_else(|e| panic!("{e}"));
     let refused: Vec<_> = stress.iter().filter(|c| c.refused.is_some()).collect();

@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 
 /// The problem's circulation, resolved as every command resolves it.
 fn resolve(p: &Problem) -> Result<ResolvedCirculation, CirculationError> {
-    resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), p.exact.tolerance)
+    resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), &p.drop.spin(), p.exact.tolerance)
 }
 
 fn schedule(theta: f64, path: BendPath, d: f64) -> Schedule {

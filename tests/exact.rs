@@ -1,6 +1,8 @@
 //! Physical-law and reference tests of the exact engine (DESIGN.md §2).
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use std::f64::consts::PI;
 
 use approx::assert_relative_eq;
@@ -10,15 +12,10 @@ use catflip::model::Cylinder;
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
 use catflip::schedule::profile::Profile;
-use catflip::schedule::{paper_circulation, JointState, Reversed, Schedule};
+use catflip::schedule::{JointState, Reversed, Schedule};
 use proptest::prelude::*;
 
-fn paper() -> (Problem, Schedule) {
-    let p = Problem::default();
-    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
-    let s = Schedule::new(&p, d);
-    (p, s)
-}
+use common::paper;
 
 fn cone_cycloidal() -> (Problem, Schedule) {
     let mut p = Problem::default();

@@ -2,6 +2,8 @@
 //! (`min-time`) and the whole optimum at a fixed fall within the limits, each checked on a dense
 //! re-measurement made here, independently of the optimiser's own.
 
+use std::sync::OnceLock;
+
 use catflip::engines::torque::joint_torques;
 use catflip::model::motor::{Limit, Motor, Motors};
 use catflip::model::Cylinder;
@@ -25,6 +27,19 @@ fn settings(objective: Objective) -> WholeSettings {
 
 fn solve(objective: Objective, m: &Motors) -> WholeOutcome {
     optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings(objective), m, FLIP).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The least peak torque at the paper's fall with ideal motors, solved once for the tests that
+/// compare with it.
+fn free_peak() -> f64 {
+    static PEAK: OnceLock<f64> = OnceLock::new();
+    *PEAK.get_or_init(|| best(&solve(Objective::Peak, &Motors::ideal())).peak_torque_nm)
+}
+
+/// The least fall time with a torque limit of 0.5 N·m alone, solved once for the tests that use it.
+fn min_time_torque_limit() -> &'static WholeOutcome {
+    static OUTCOME: OnceLock<WholeOutcome> = OnceLock::new();
+    OUTCOME.get_or_init(|| solve(Objective::MinTime, &motors(Motor { torque: Some(0.5), ..Motor::default() })))
 }
 
 fn best(outcome: &WholeOutcome) -> &WholeSolution {
@@ -85,10 +100,9 @@ fn the_actuator_section_is_validated_in_the_users_words() {
 #[test]
 fn with_a_torque_limit_alone_the_least_fall_time_follows_the_peak_optimum_by_the_scaling_law() {
     let limit = 0.5;
-    let peak = best(&solve(Objective::Peak, &Motors::ideal())).peak_torque_nm;
+    let peak = free_peak();
     let m = motors(Motor { torque: Some(limit), ..Motor::default() });
-    let outcome = solve(Objective::MinTime, &m);
-    let b = best(&outcome);
+    let b = best(min_time_torque_limit());
     let law = FALL * (peak / limit).sqrt();
     let rel = (b.fall_time_s - law).abs() / law;
     assert!(rel < 1e-4, "least fall time {} s, scaling law {law} s (peak {peak} N·m): {rel:.1e} apart", b.fall_time_s);
@@ -102,9 +116,8 @@ fn with_a_torque_limit_alone_the_least_fall_time_follows_the_peak_optimum_by_the
 /// A speed limit does not scale as torques do: the least fall time departs from the law.
 #[test]
 fn a_speed_limit_lengthens_the_least_fall_time_beyond_the_scaling_law() {
-    let torque_only = motors(Motor { torque: Some(0.5), ..Motor::default() });
     let both = motors(Motor { torque: Some(0.5), speed: Some(6.0), ..Motor::default() });
-    let t_torque = best(&solve(Objective::MinTime, &torque_only)).fall_time_s;
+    let t_torque = best(min_time_torque_limit()).fall_time_s;
     let outcome = solve(Objective::MinTime, &both);
     let b = best(&outcome);
     assert!(b.fall_time_s > 1.01 * t_torque, "with |q̇| ≤ 6 rad/s: {} s; torque alone {t_torque} s", b.fall_time_s);
@@ -134,7 +147,7 @@ fn the_least_fall_time_within_a_dc_motor_envelope_stays_inside_it() {
 /// At a fixed fall the optimum keeps within the motors, or says that no flip fits and why.
 #[test]
 fn a_fixed_fall_is_planned_within_the_motors_or_refused_with_the_least_fall_time() {
-    let free_peak = best(&solve(Objective::Peak, &Motors::ideal())).peak_torque_nm;
+    let free_peak = free_peak();
     // Below the least peak torque at this fall: no flip exists within the motors.
     let weak = motors(Motor { torque: Some(0.9 * free_peak), ..Motor::default() });
     let outcome = solve(Objective::Peak, &weak);

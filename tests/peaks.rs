@@ -19,7 +19,7 @@ fn paper(overrides: &[&str]) -> Problem {
 fn high_circulation_peak_within_its_stated_bound_of_a_dense_reference() {
     let p = paper(&["manoeuvre.circulation=28"]);
     let r = Resolved::new(&p).expect("a given circulation resolves");
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = peak_torques(&p.cat, &r.schedule, 40_000);
     let twist = Phase::Twist.index();
     // The twist phase turns the bend direction by at least 28 rad: 64 per radian, more than
@@ -47,7 +47,7 @@ fn paper_schedule_keeps_its_floor_and_its_peak() {
     let p = paper(&[]);
     let r = Resolved::new(&p).expect("the paper's circulation resolves");
     let n = piece_samples(&r.schedule, p.exact.torque_samples);
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = peak_torques(&p.cat, &r.schedule, 40_000);
     assert!(n.iter().all(|&k| k >= 400), "{n:?}");
     assert_relative_eq!(e.peaks.max, reference.max, max_relative = 1e-9);

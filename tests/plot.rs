@@ -2,17 +2,20 @@
 //! carry their text (drawn with the embedded font, no system font needed), and bad input gets a
 //! specific error instead of a panic.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use catflip::problem::manoeuvre::ProfileKind;
-use catflip::problem::Problem;
 use catflip::report::plot::{
     cat_poses, error_vs_time_plot, flip_animation, flip_plot, line_plot, profiles_plot, torques_plot, LinePlot,
     PlotError, Series, FILMSTRIP_PANELS, PNG_SIZE,
 };
 use catflip::schedule::profile::Profile;
-use catflip::schedule::{paper_circulation, Schedule, Trajectory};
+use catflip::schedule::{Schedule, Trajectory};
 use nalgebra::Vector3;
+
+use common::paper;
 
 /// A fresh folder under the system's temporary directory, unique to this test and run.
 fn temp_dir(name: &str) -> PathBuf {
@@ -20,14 +23,6 @@ fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("catflip-plot-{name}-{}-{nanos}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     dir
-}
-
-/// The paper's worked example and its schedule with the paper's circulation.
-fn paper() -> (Problem, Schedule) {
-    let problem = Problem::default();
-    let circulation = paper_circulation(&problem.cat, problem.manoeuvre.theta()).expect("paper's C is positive");
-    let schedule = Schedule::new(&problem, circulation);
-    (problem, schedule)
 }
 
 fn schedules(base: &Schedule) -> Vec<(String, Schedule)> {

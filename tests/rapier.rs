@@ -10,6 +10,8 @@
 //! The dt sweep table of the report (1/60 … 1/8000 s) is printed by
 //! `cargo test --release --test rapier -- --ignored --nocapture dt_sweep_table`.
 
+mod common;
+
 use approx::assert_relative_eq;
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -20,19 +22,11 @@ use catflip::engines::rapier::{
 use catflip::model::{joint_rotation, Cylinder};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::settings::RapierSettings;
-use catflip::problem::Problem;
 use catflip::report::bench::engines::FinalAngles;
 use catflip::schedule::profile::Profile;
-use catflip::schedule::{paper_circulation, Phase, Schedule};
+use catflip::schedule::{Phase, Schedule};
 
-/// The paper problem (m = 1, l = 1, r = 0.1, θ = 45°, h = 10, g = 9.8, phases 0.2/0.6/0.2) and
-/// its published schedule: paper cosine profile, joint-circle path, circulation π/C.
-fn paper() -> (Problem, Schedule) {
-    let problem = Problem::default();
-    let circulation = paper_circulation(&problem.cat, problem.manoeuvre.theta()).unwrap();
-    let schedule = Schedule::new(&problem, circulation);
-    (problem, schedule)
-}
+use common::paper;
 
 fn cycloidal(s: &Schedule) -> Schedule {
     s.with_profile(Profile::library(ProfileKind::Cycloidal))

@@ -3,6 +3,8 @@
 
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use approx::assert_relative_eq;
 use catflip::engines::calibrate::calibrate;
 use catflip::engines::exact::flip;
@@ -16,13 +18,7 @@ use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 use proptest::prelude::*;
 
-/// The paper's problem (the defaults are problems/paper.toml) and its schedule with `π/C`.
-fn paper() -> (Problem, Schedule) {
-    let p = Problem::default();
-    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
-    let s = Schedule::new(&p, d);
-    (p, s)
-}
+use common::paper;
 
 fn settings(intervals: usize, split: Split) -> RetimeSettings {
     RetimeSettings { intervals, split, ..RetimeSettings::default() }

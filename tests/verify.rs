@@ -7,6 +7,8 @@
 //! The 30 seeded random problems of the report are run by
 //! `cargo test --release --test verify -- --ignored --nocapture random_problems`.
 
+mod common;
+
 use catflip::engines::circulation::Resolved;
 use catflip::engines::rapier::{verify, Quantity, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC};
 use catflip::model::Cylinder;
@@ -17,12 +19,7 @@ use catflip::report::simulate::{exact_report, rapier_report};
 use catflip::schedule::profile::Profile;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 
-fn paper() -> (Problem, Schedule) {
-    let problem = Problem::default();
-    let circulation = paper_circulation(&problem.cat, problem.manoeuvre.theta()).unwrap();
-    let schedule = Schedule::new(&problem, circulation);
-    (problem, schedule)
-}
+use common::paper;
 
 fn reference(cat: &Cylinder, traj: &impl Trajectory) -> Reference {
     let f = catflip::engines::exact::flip(cat, traj, 1e-10);

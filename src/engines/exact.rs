@@ -26,7 +26,7 @@
 //!   expansion*, BIT 40 (2000) 434–450;
 //! - R. Montgomery, *Gauge theory of the falling cat* (1993), for the mechanical connection.
 
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use serde::Serialize;
 
 use crate::model::orientation::{SwingTwist, TwistTracker};
@@ -129,7 +129,7 @@ pub enum Stepper {
     Magnus,
     /// A release with total angular momentum `L` (world frame): `Ω = I_lock⁻¹ (Rᵀ L − h)`
     /// depends on `R` too, and the classical fourth-order Runge–Kutta step on the unit
-    /// quaternion ([`crate::engines::spin::rk4_step`]) integrates it.
+    /// quaternion ([`rk4_step`]) integrates it.
     Spinning(Vector3<f64>),
 }
 
@@ -171,9 +171,46 @@ impl Stepper {
                 let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
                 UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma)).quaternion())
             }
-            Stepper::Spinning(spin) => crate::engines::spin::rk4_step(cat, schedule, piece, &spin, r, s, h),
+            Stepper::Spinning(spin) => rk4_step(cat, schedule, piece, &spin, r, s, h),
         }
     }
+}
+
+/// `ṙ = ½ r ⊗ (0, Ω)` at local time `s` of `piece`, for the (not necessarily unit) quaternion
+/// `r`, with `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r`.
+fn quaternion_rate(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    piece: usize,
+    spin: &Vector3<f64>,
+    r: &Quaternion<f64>,
+    s: f64,
+) -> Quaternion<f64> {
+    let unit = UnitQuaternion::new_normalize(*r);
+    let lambda = unit.inverse_transform_vector(spin);
+    let st = traj.piece_state(piece, s);
+    let omega = body_rate_spinning(cat, st.q, st.qd, &lambda);
+    r * Quaternion::from_parts(0.0, omega) * 0.5
+}
+
+/// One classical Runge–Kutta step `h` of A's orientation from `r` at local time `s` of `piece`,
+/// released with total angular momentum `spin` (world frame), normalised at the end.
+pub fn rk4_step(
+    cat: &Cylinder,
+    traj: &impl Trajectory,
+    piece: usize,
+    spin: &Vector3<f64>,
+    r: &UnitQuaternion<f64>,
+    s: f64,
+    h: f64,
+) -> UnitQuaternion<f64> {
+    let y = *r.quaternion();
+    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(cat, traj, piece, spin, y, s);
+    let k1 = f(&y, s);
+    let k2 = f(&(y + k1 * (0.5 * h)), s + 0.5 * h);
+    let k3 = f(&(y + k2 * (0.5 * h)), s + 0.5 * h);
+    let k4 = f(&(y + k3 * h), s + h);
+    UnitQuaternion::new_normalize(y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0))
 }
 
 /// Integrates A's orientation with `steps` Magnus steps per phase, calling `observe` at the

@@ -6,6 +6,7 @@
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
 //! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification;
+//! - [`rapier_check`]: rapier's check of a trajectory against the exact engine, as reports show it;
 //! - [`motors`]: what a trajectory asks of its motors (peak speed, power, usage of each limit);
 //! - [`peaks`]: the peak torques per phase and joint, one type for both engines;
 //! - [`evaluate`]: one exact [`evaluate::Evaluation`] of a schedule, used by every command;
@@ -19,6 +20,7 @@ pub mod exact;
 pub mod motors;
 pub mod peaks;
 pub mod rapier;
+pub mod rapier_check;
 pub mod spin;
 pub mod torque;
 

@@ -8,7 +8,7 @@
 //!
 //! with `h = R_AB I_B R_ABᵀ ω_rel + μ p × ṗ` the momentum of the joint motion at zero base rate
 //! (the bracket of [`crate::engines::exact`]). `Ω` now depends on `R`, so A's orientation obeys
-//! the nonlinear `Ṙ = R [Ω(t, R)]×`. [`rk4_step`] integrates it by the classical fourth-order
+//! the nonlinear `Ṙ = R [Ω(t, R)]×`. [`crate::engines::exact::rk4_step`] integrates it by the classical fourth-order
 //! Runge–Kutta method on the quaternion `ṙ = ½ r ⊗ (0, Ω)`, normalised after each step (the
 //! normalisation changes the result by the step's own error, so the order stays four).
 //!
@@ -27,48 +27,11 @@
 //! - E. Hairer, C. Lubich, G. Wanner, *Geometric Numerical Integration* (2006), §IV.4, for
 //!   projection onto the unit sphere after a step.
 
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::engines::exact::{adaptive, body_rate_spinning, Flip, Stepper};
+use crate::engines::exact::{adaptive, rk4_step, Flip, Stepper};
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
-
-/// `ṙ = ½ r ⊗ (0, Ω)` at local time `s` of `piece`, for the (not necessarily unit) quaternion
-/// `r`, with `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r`.
-fn quaternion_rate(
-    cat: &Cylinder,
-    traj: &impl Trajectory,
-    piece: usize,
-    spin: &Vector3<f64>,
-    r: &Quaternion<f64>,
-    s: f64,
-) -> Quaternion<f64> {
-    let unit = UnitQuaternion::new_normalize(*r);
-    let lambda = unit.inverse_transform_vector(spin);
-    let st = traj.piece_state(piece, s);
-    let omega = body_rate_spinning(cat, st.q, st.qd, &lambda);
-    r * Quaternion::from_parts(0.0, omega) * 0.5
-}
-
-/// One classical Runge–Kutta step `h` of A's orientation from `r` at local time `s` of `piece`,
-/// released with total angular momentum `spin` (world frame), normalised at the end.
-pub fn rk4_step(
-    cat: &Cylinder,
-    traj: &impl Trajectory,
-    piece: usize,
-    spin: &Vector3<f64>,
-    r: &UnitQuaternion<f64>,
-    s: f64,
-    h: f64,
-) -> UnitQuaternion<f64> {
-    let y = *r.quaternion();
-    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(cat, traj, piece, spin, y, s);
-    let k1 = f(&y, s);
-    let k2 = f(&(y + k1 * (0.5 * h)), s + 0.5 * h);
-    let k3 = f(&(y + k2 * (0.5 * h)), s + 0.5 * h);
-    let k4 = f(&(y + k3 * h), s + h);
-    UnitQuaternion::new_normalize(y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0))
-}
 
 /// A's orientation along a motion released with spin, at any instant: the accepted adaptive
 /// integration's nodes, and one Runge–Kutta step from the node before the instant.

@@ -8,7 +8,7 @@
 //! momentum relative to `I* · max|q̇|`, and the engine's error estimate. An imported schedule
 //! has no profile or circulation; it has a file, a row count and an interpolation scheme. rapier's
 //! report has its own twist, swing, per-piece peaks and momentum drift, and beside them the
-//! [`crate::report::check::RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
+//! [`crate::engines::rapier_check::RapierCheck`] of every rapier report (step, tracking error, `dt → 0`, errors against the
 //! exact engine on the same imported schedule, verdict).
 //!
 //! Before the engine runs, [`crate::exchange::checks::check`] refuses what cannot be evaluated and
@@ -23,13 +23,13 @@ use serde::Serialize;
 
 use crate::engines::evaluate::{momentum_check, released_flip, torque_source};
 use crate::engines::rapier::{RapierError, RapierOptions};
+use crate::engines::rapier_check::{rapier_check, EngineFigures, RapierOutcome};
 use crate::engines::torque::peak_torques_from;
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};
 use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation};
 use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
-use crate::report::check::{rapier_check, EngineFigures, RapierOutcome};
 use crate::schedule::Trajectory;
 
 /// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.

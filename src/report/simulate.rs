@@ -22,7 +22,9 @@ use crate::engines::Engine;
 use crate::problem::BendPath;
 use crate::schedule::{Schedule, Trajectory};
 
-pub use super::check::{rapier_check, EngineFigures, Extrapolation, Finest, RapierCheck, RapierOutcome};
+pub use crate::engines::rapier_check::{
+    rapier_check, EngineFigures, Extrapolation, Finest, RapierCheck, RapierOutcome,
+};
 
 /// What one engine says a schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]

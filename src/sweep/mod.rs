@@ -20,6 +20,7 @@ pub mod heatmap;
 pub mod optimum;
 pub mod output;
 pub mod plots;
+pub mod row;
 pub mod schedules;
 pub mod shard;
 pub mod spec;
@@ -33,8 +34,9 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-pub use evaluate::{evaluate_case, CaseOutcome, Status};
+pub use evaluate::{evaluate_case, CaseOutcome};
 pub use output::SweepOutcome;
+pub use row::Status;
 pub use shard::Shard;
 pub use spec::{Compute, Sweep};
 pub use table::Record;

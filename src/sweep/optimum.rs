@@ -25,22 +25,12 @@ use crate::engines::motors::motor_demand;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Reference;
 use crate::engines::torque::piece_samples;
-use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, RetimedTrajectory, Retiming, Split};
-use crate::optimize::whole::{optimize_whole, BSpline, WholeError, WholeOutcome};
+use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, Retiming, Split};
+use crate::optimize::whole::{optimize_whole, WholeError, WholeOutcome};
 use crate::problem::Problem;
 use crate::schedule::Schedule;
 
-use super::evaluate::{Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, WholeNumbers};
-
-/// A trajectory an exact row measured, for rapier to verify.
-pub enum Subject {
-    /// A library schedule.
-    Schedule(Schedule),
-    /// A schedule retimed.
-    Retimed(RetimedTrajectory<PhasePath>),
-    /// The whole-manoeuvre optimum's spline.
-    Whole(BSpline),
-}
+use super::row::{Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, Subject, WholeNumbers};
 
 /// The retiming settings of a sweep: the defaults with the phase durations free.
 pub fn retime_settings() -> RetimeSettings {

@@ -7,8 +7,10 @@ use std::fmt::Write as _;
 use super::cases::cell;
 use super::heatmap::short;
 use super::spec::Sweep;
-use super::summary::MAX_ROWS;
 use super::table::Record;
+
+/// At most this many rows in one table, and grids per quantity.
+pub const MAX_ROWS: usize = 60;
 
 /// The schedules compared, in row order, with the peak a row shows for them.
 fn schedules(sweep: &Sweep) -> Vec<&'static str> {

@@ -10,12 +10,11 @@ use super::cases::cell;
 use super::grid::{grids, primary_schedule, Grid};
 use super::heatmap::short;
 use super::plots::{min_time, quantities, PlotInfo};
+use super::schedules::MAX_ROWS;
 use super::spec::Sweep;
 use super::table::Record;
 use super::Status;
 
-/// At most this many rows in one table, and grids per quantity.
-pub const MAX_ROWS: usize = 60;
 /// At most this many grids per quantity.
 pub const MAX_GRIDS: usize = 6;
 

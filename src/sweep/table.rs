@@ -28,9 +28,8 @@
 use crate::engines::peaks::PhasePeaks;
 
 use super::cases::{case, cell};
-use super::evaluate::{
-    CaseOutcome, Labels, MotorNumbers, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers, WorstLimit,
-};
+use super::evaluate::CaseOutcome;
+use super::row::{Labels, MotorNumbers, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers, WorstLimit};
 use super::spec::Sweep;
 
 /// Why a table could not be written or read.

@@ -19,8 +19,7 @@ use crate::problem::settings::RapierSettings;
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
 
-use super::evaluate::{Labels, Measured, Numbers, RapierNumbers, Row, Status};
-use super::optimum::Subject;
+use super::row::{Labels, Measured, Numbers, RapierNumbers, Row, Status, Subject};
 
 /// The problem's rapier settings without a wall-clock budget (module docs).
 pub fn rapier_settings(problem: &Problem) -> RapierSettings {

@@ -8,7 +8,7 @@
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::SupportedConeT;
 
-use super::problemdata::{PathPiece, PathProblem};
+use super::problemdata::{PathPiece, PathProblem, Scales};
 use super::solution::{RawSolution, RetimeSolution};
 use super::RetimeError;
 use crate::optimize::qp::assembly::Rows;
@@ -39,29 +39,12 @@ impl Columns {
     }
 }
 
-/// The normalisation of the module docs.
-#[derive(Clone, Copy)]
-pub(crate) struct Scales {
-    /// Whole path extent `S`.
-    pub(crate) length: f64,
-    /// Speed unit `v = S/T`.
-    pub(crate) speed: f64,
-    /// Torque unit `τ₀`, N·m.
-    pub(crate) torque: f64,
-}
-
-impl Scales {
-    fn new(problem: &PathProblem) -> Scales {
-        let length = problem.length();
-        let speed = length / problem.duration;
-        let v2 = speed * speed;
-        let torque = problem
-            .pieces
-            .iter()
-            .flat_map(|p| &p.nodes)
-            .flat_map(|n| (0..2).map(move |j| n.a[j].abs() * v2 / length + n.b[j].abs() * v2))
-            .fold(0.0, f64::max);
-        Scales { length, speed, torque: if torque > 0.0 { torque } else { 1.0 } }
+impl PathProblem {
+    /// Solves with Clarabel. A solve that ends without a solution is not an error: its status
+    /// says how it ended.
+    pub fn solve(&self) -> Result<RetimeSolution, RetimeError> {
+        self.validate()?;
+        solve(self)
     }
 }
 

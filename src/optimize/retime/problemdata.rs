@@ -3,7 +3,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::solution::RetimeSolution;
 use super::{bad, positive, RetimeError, RetimeSettings, Split};
 use crate::engines::torque::joint_torques;
 use crate::model::Cylinder;
@@ -240,13 +239,6 @@ impl PathProblem {
         }
     }
 
-    /// Solves with Clarabel. A solve that ends without a solution is not an error: its status
-    /// says how it ended.
-    pub fn solve(&self) -> Result<RetimeSolution, RetimeError> {
-        self.validate()?;
-        super::assembly::solve(self)
-    }
-
     /// The `P + 1` junctions of `P` pieces (module docs: rest at the ends and at kinks,
     /// continuity across straight joins).
     pub(crate) fn junctions(&self) -> Vec<Junction> {
@@ -272,6 +264,32 @@ impl PathProblem {
                 }
             })
             .collect()
+    }
+}
+
+/// The normalisation of the module docs.
+#[derive(Clone, Copy)]
+pub(crate) struct Scales {
+    /// Whole path extent `S`.
+    pub(crate) length: f64,
+    /// Speed unit `v = S/T`.
+    pub(crate) speed: f64,
+    /// Torque unit `τ₀`, N·m.
+    pub(crate) torque: f64,
+}
+
+impl Scales {
+    pub(crate) fn new(problem: &PathProblem) -> Scales {
+        let length = problem.length();
+        let speed = length / problem.duration;
+        let v2 = speed * speed;
+        let torque = problem
+            .pieces
+            .iter()
+            .flat_map(|p| &p.nodes)
+            .flat_map(|n| (0..2).map(move |j| n.a[j].abs() * v2 / length + n.b[j].abs() * v2))
+            .fold(0.0, f64::max);
+        Scales { length, speed, torque: if torque > 0.0 { torque } else { 1.0 } }
     }
 }
 

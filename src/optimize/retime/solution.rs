@@ -3,8 +3,7 @@
 
 use serde::Serialize;
 
-use super::assembly::Scales;
-use super::problemdata::{PathNode, PathPiece, PathProblem};
+use super::problemdata::{PathNode, PathPiece, PathProblem, Scales};
 use crate::optimize::qp::QpStatus;
 
 /// How the retiming's solve ended.

@@ -1,0 +1,25 @@
+//! Support shared by the integration tests and the benches: the paper's problem and schedule,
+//! built once here instead of in every file (`mod common;` in a test, `#[path =
+//! "../tests/common/mod.rs"] mod common;` in a bench).
+//!
+//! Each test binary uses only some of these, hence `dead_code` allowed.
+
+#![allow(dead_code)]
+
+use catflip::engines::circulation::Resolved;
+use catflip::problem::Problem;
+use catflip::schedule::{paper_circulation, Schedule};
+
+/// The paper's problem (every field at its default) and its schedule with the paper's
+/// circulation `π/C` (DESIGN.md §3).
+pub fn paper() -> (Problem, Schedule) {
+    let problem = Problem::default();
+    let circulation = paper_circulation(&problem.cat, problem.manoeuvre.theta()).expect("C > 0 for the paper's cat");
+    let schedule = Schedule::new(&problem, circulation);
+    (problem, schedule)
+}
+
+/// The paper's problem resolved (its schedule and circulation), as every command starts.
+pub fn paper_resolved() -> Resolved {
+    Resolved::new(&Problem::default()).unwrap_or_else(|e| panic!("the paper's problem resolves: {e}"))
+}
