@@ -33,18 +33,10 @@ STAGES = ["numeric", "model", "problem", "schedule", "engines", "optimize", "exc
 
 # Known upward imports not yet removed, each with the reason and who removes it. The list only
 # shrinks: an entry that no longer occurs is an error too, so it is deleted with its fix.
-KNOWN_UPWARD = {
-    # problem::validate names the min-time rule's message, which lives with the whole optimiser's
-    # settings; it moves to problem::whole when src/problem/ is next edited (issue 19).
-    ("problem", "optimize::whole::settings"),
-}
+KNOWN_UPWARD = set()
 
 # Known circles not yet removed (the siblings' parent and the set), on the same terms.
-KNOWN_CIRCLES = {
-    # rapier's run uses verify's `richardson`, verify uses run's `RapierRun`; src/engines/rapier/
-    # is being reworked (issue 19's one jump computation), which moves `richardson` down.
-    ("engines::rapier", frozenset({"run", "verify"})),
-}
+KNOWN_CIRCLES = set()
 
 
 def strip(text):

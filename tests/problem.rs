@@ -106,7 +106,7 @@ fn unknown_keys_and_profiles_are_refused() {
     );
     assert_eq!(
         error_of(PAPER, &["speed=3"]),
-        "--set speed=3: unknown field `speed`, expected one of `name`, `cat`, `drop`, `manoeuvre`, `actuator`, `exact`, `rapier`, `optimize`"
+        "--set speed=3: unknown field `speed`, expected one of `name`, `cat`, `drop`, `manoeuvre`, `actuator`, `exact`, `rapier`, `optimize`, `robust`"
     );
 }
 

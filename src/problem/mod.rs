@@ -212,11 +212,7 @@ impl Problem {
         self.optimize.validate()?;
         self.robust.validate()?;
         if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
-            return Err(bad(
-                "optimize.whole.objective",
-                "\"min-time\"",
-                crate::optimize::whole::settings::MIN_TIME_NEEDS_LIMITS,
-            ));
+            return Err(bad("optimize.whole.objective", "\"min-time\"", whole::MIN_TIME_NEEDS_LIMITS));
         }
         Ok(())
     }

@@ -176,3 +176,8 @@ impl WholeSettings {
         positive("optimize.whole.penalty", self.penalty)
     }
 }
+
+/// The message of a `min-time` objective without motor limits (shared with the problem file's
+/// validation).
+pub const MIN_TIME_NEEDS_LIMITS: &str =
+    "needs motor limits: give at least one of [actuator]'s torque_limit_nm, speed_limit_rad_s, stall_torque_nm with free_speed_rad_s, power_limit_w (with ideal motors any fall is long enough)";

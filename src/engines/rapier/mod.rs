@@ -145,7 +145,7 @@ pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
 pub use verify::{
-    richardson, verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
+    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
     Verification, ASYMPTOTIC, MIN_RUNS,
 };
 
@@ -153,6 +153,15 @@ use nalgebra::Vector3;
 
 use crate::model::motor::Motors;
 use crate::problem::ProblemError;
+
+/// First-order Richardson extrapolation with step ratio `r = dt_c/dt_f > 1` of a coarse value
+/// `c` and a fine one `f` (numbers or vectors): `x_f + (x_f − x_c)/(r − 1)`.
+pub fn richardson<V>(c: V, f: V, r: f64) -> V
+where
+    V: std::ops::Sub<Output = V> + std::ops::Add<Output = V> + std::ops::Mul<f64, Output = V> + Copy,
+{
+    f + (f - c) * (1.0 / (r - 1.0))
+}
 
 /// Why a rapier run could not be made.
 #[derive(Debug, thiserror::Error)]

@@ -583,15 +583,6 @@ fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
     }
 }
 
-/// First-order Richardson extrapolation with step ratio `r = dt_c/dt_f > 1` of a coarse value
-/// `c` and a fine one `f` (numbers or vectors): `x_f + (x_f − x_c)/(r − 1)`.
-pub fn richardson<V>(c: V, f: V, r: f64) -> V
-where
-    V: std::ops::Sub<Output = V> + std::ops::Add<Output = V> + std::ops::Mul<f64, Output = V> + Copy,
-{
-    f + (f - c) * (1.0 / (r - 1.0))
-}
-
 /// Each quantity's extrapolations, order, estimate and gap from the runs so far.
 fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
     let ratio = |w: &[RunRecord]| w[0].dt / w[1].dt;
@@ -607,7 +598,7 @@ fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSett
             };
             let scalar = |v: Vector3<f64>| if quantity == Quantity::Swing { v.norm() } else { v.x };
             let ex: Vec<Vector3<f64>> =
-                runs.windows(2).map(|w| richardson(vector(&w[0]), vector(&w[1]), ratio(w))).collect();
+                runs.windows(2).map(|w| super::richardson(vector(&w[0]), vector(&w[1]), ratio(w))).collect();
             let observed_order = runs.windows(3).last().and_then(|w| {
                 let (d1, d2) = ((vector(&w[0]) - vector(&w[1])).norm(), (vector(&w[1]) - vector(&w[2])).norm());
                 let p = (d1 / d2).ln() / ratio(&w[1..]).ln();

@@ -41,10 +41,7 @@ pub(crate) fn positive_input(field: &'static str, value: f64) -> Result<(), Whol
     positive(field, value)
 }
 
-/// The message of a `min-time` objective without motor limits (shared with the problem file's
-/// validation).
-pub const MIN_TIME_NEEDS_LIMITS: &str =
-    "needs motor limits: give at least one of [actuator]'s torque_limit_nm, speed_limit_rad_s, stall_torque_nm with free_speed_rad_s, power_limit_w (with ideal motors any fall is long enough)";
+pub use crate::problem::whole::MIN_TIME_NEEDS_LIMITS;
 
 /// Requires motor limits for the `min-time` objective.
 pub(crate) fn needs_limits(objective: Objective, motors: &crate::model::motor::Motors) -> Result<(), WholeError> {
