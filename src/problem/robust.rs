@@ -42,7 +42,7 @@ impl Default for RobustSettings {
             seed: 1,
             mass_pct: 10.0,
             length_pct: 0.0,
-            radius_pct: 10.0,
+            radius_pct: 0.0,
             spin_sigma_nms: 0.005,
             tolerance_deg: 5.0,
         }
