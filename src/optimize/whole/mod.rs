@@ -61,6 +61,7 @@ pub mod dual;
 pub mod dynamics;
 pub mod limits;
 pub mod measure;
+pub mod refine;
 pub mod scvx;
 pub mod sensitivity;
 pub mod settings;
@@ -184,7 +185,7 @@ pub fn optimize_start(
             reason: format!("needs {} cubic control points per joint", s.control_points),
         });
     }
-    let mut run = Run { problem, steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
+    let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
     let (duration, degree, fixed) = (start.spline.duration(), WholeSettings::DEGREE, s.fixed());
     let mut spline = start.spline.clone();
     let quarter = (s.max_iterations / 4).max(1);
@@ -215,7 +216,8 @@ pub fn optimize_start(
     let mut bound = 1.0 - LIMIT_MARGIN;
     if constrained {
         // Feasibility first: shorten the least fall time until the path fits this one.
-        let (status, reason, shape, m) = run.solve(spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
+        let (status, reason, shape, m) =
+            run.solve(problem, spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
         let least = m.motors.stretch.map_or(0.0, |k| k.value);
         if least > 1.0 + RATIO_TOLERANCE {
             let reason = if status == WholeStatus::Converged {
@@ -228,26 +230,55 @@ pub fn optimize_start(
                     "no flip within the motors found in a fall of {duration:.6} s (the least-fall-time stage ended {status} at {least:.4}× this fall: {reason})"
                 )
             };
-            return Ok(run.solution(start, WholeStatus::Infeasible, reason, shape, m, clock));
+            return Ok(run.solution(problem, start, WholeStatus::Infeasible, reason, shape, m, clock));
         }
         spline = shape;
     }
-    let mut tightenings = 0;
-    let (mut status, mut reason, spline, m) = loop {
-        let (status, reason, next, m) =
-            run.solve(spline, s.objective, constrained.then_some(bound), None, s.max_iterations)?;
-        let excess = m.motors.worst().map_or(0.0, |w| w.ratio);
-        if constrained && status == WholeStatus::Converged && excess > 1.0 && tightenings < MAX_TIGHTENINGS {
-            // Exceeded between the samples: hold the samples below the limit by the excess.
-            bound /= excess * (1.0 + LIMIT_MARGIN);
-            tightenings += 1;
-            spline = next;
-            continue;
+    let budget = s.max_iterations;
+    let mut end = run.final_stage(problem, spline, constrained, &mut bound, budget)?;
+    // Knot refinement where the torques switch, each round from the curve it refines.
+    let mut refined = Vec::new();
+    if s.objective != Objective::Energy {
+        for _ in 0..s.switch_refinements {
+            if end.status != WholeStatus::Converged {
+                break;
+            }
+            let spans = refine::switching_spans(problem.cat, &end.spline);
+            let finer = refine::refined(&end.spline, &spans);
+            if spans.is_empty() || finer.control_points() > WholeSettings::MAX_CONTROL_POINTS {
+                break;
+            }
+            let settings = WholeSettings {
+                control_points: finer.control_points(),
+                trust_radius_deg: s.trust_radius_deg * refine::TRUST_SHARE,
+                optimality: s.optimality.max(refine::OPTIMALITY),
+                ..s.clone()
+            };
+            let fine = ScvxProblem { settings: &settings, ..problem.clone() };
+            let budget = run.log.len() + quarter;
+            let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
+            let better = |a: &FinalStage, b: &FinalStage| match s.objective {
+                Objective::MinTime => stretch(&a.measurement) < stretch(&b.measurement),
+                _ => a.measurement.peak < b.measurement.peak,
+            };
+            if next.status != WholeStatus::Converged || !better(&next, &end) {
+                refined.push(format!(
+                    "a refinement ({} spans) ended {} and was not kept",
+                    next.spline.spans(),
+                    next.status
+                ));
+                break;
+            }
+            refined.push(format!("refined to {} spans where the torques switch", next.spline.spans()));
+            end = next;
         }
-        break (status, reason, next, m);
-    };
+    }
+    let FinalStage { mut status, mut reason, spline, measurement: m, tightenings } = end;
     if tightenings > 0 {
         reason = format!("{reason}; limits tightened {tightenings}× on the samples to hold between them");
+    }
+    for note in refined {
+        reason = format!("{reason}; {note}");
     }
     // The least fall time: the path slowed by its largest stretch touches its limits exactly.
     let (spline, m) = match (s.objective, m.motors.stretch) {
@@ -262,20 +293,61 @@ pub fn optimize_start(
         status = WholeStatus::Infeasible;
         reason = format!("{reason}; the dense re-measurement {}", m.motors.verdict());
     }
-    Ok(run.solution(start, status, reason, spline, m, clock))
+    Ok(run.solution(problem, start, status, reason, spline, m, clock))
 }
 
-/// The state of one start's optimisation: its problem, the loop's Magnus steps per span, the log
-/// and the Newton steps spent.
-struct Run<'a, 'b> {
-    problem: &'a ScvxProblem<'b>,
+/// The largest stretch of a measurement (0 with ideal motors).
+fn stretch(m: &measure::Measurement) -> f64 {
+    m.motors.stretch.map_or(0.0, |k| k.value)
+}
+
+/// How the final stage of one layout ended: its status, why, the spline, its measurement and the
+/// times the motor limits were tightened on the samples.
+struct FinalStage {
+    status: WholeStatus,
+    reason: String,
+    spline: BSpline,
+    measurement: measure::Measurement,
+    tightenings: usize,
+}
+
+/// The state of one start's optimisation: the loop's Magnus steps per span, the log and the
+/// Newton steps spent.
+struct Run {
     steps: usize,
     log: Vec<IterationLog>,
     polish_steps: usize,
     tolerance: f64,
 }
 
-impl Run<'_, '_> {
+impl Run {
+    /// The final stage of `objective` on the layout of `p` from `spline` (with the motor limits as
+    /// constraints `ρ ≤ bound` when `constrained`, the bound tightened while the dense
+    /// re-measurement finds them exceeded between the samples), until `budget` log entries.
+    fn final_stage(
+        &mut self,
+        p: &ScvxProblem<'_>,
+        mut spline: BSpline,
+        constrained: bool,
+        bound: &mut f64,
+        budget: usize,
+    ) -> Result<FinalStage, WholeError> {
+        let mut tightenings = 0;
+        loop {
+            let (status, reason, next, m) =
+                self.solve(p, spline, p.settings.objective, constrained.then_some(*bound), None, budget)?;
+            let excess = m.motors.worst().map_or(0.0, |w| w.ratio);
+            if constrained && status == WholeStatus::Converged && excess > 1.0 && tightenings < MAX_TIGHTENINGS {
+                // Exceeded between the samples: hold the samples below the limit by the excess.
+                *bound /= excess * (1.0 + LIMIT_MARGIN);
+                tightenings += 1;
+                spline = next;
+                continue;
+            }
+            return Ok(FinalStage { status, reason, spline: next, measurement: m, tightenings });
+        }
+    }
+
     /// The tolerance of the final flip's re-measurement, rad.
     fn flip_tolerance(&self) -> f64 {
         (1e-2 * self.tolerance).min(1e-10)
@@ -286,13 +358,13 @@ impl Run<'_, '_> {
     /// loop's steps until the adaptive engine agrees) and the exact re-measurement.
     fn solve(
         &mut self,
+        p: &ScvxProblem<'_>,
         spline: BSpline,
         objective: Objective,
         bound: Option<f64>,
         enough: Option<f64>,
         budget: usize,
     ) -> Result<(WholeStatus, String, BSpline, measure::Measurement), WholeError> {
-        let p = self.problem;
         let optimality = p.settings.optimality;
         let it = p.evaluate(spline, objective, self.steps);
         let end = p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?;
@@ -313,13 +385,22 @@ impl Run<'_, '_> {
                 self.polish_steps += k;
             }
         }
+        // The Newton steps move every control point, those on the joint limit too (by ~1e-11 rad
+        // on refined knots): the limit is held on the control points, as in the subproblems.
+        if let Some(limit) = p.settings.joint_limit_deg.map(f64::to_radians) {
+            for c in spline.coefficients.iter_mut().flatten() {
+                *c = c.clamp(-limit, limit);
+            }
+        }
         let m = measure::measure(p.cat, &spline, p.motors, flip_tolerance);
         Ok((end.status, end.reason, spline, m))
     }
 
     /// The start's result: the flip and bend checked against the tolerances and limits.
+    #[allow(clippy::too_many_arguments)]
     fn solution(
         self,
+        p: &ScvxProblem<'_>,
         start: &NamedStart,
         mut status: WholeStatus,
         mut reason: String,
@@ -327,7 +408,6 @@ impl Run<'_, '_> {
         m: measure::Measurement,
         clock: Instant,
     ) -> WholeSolution {
-        let p = self.problem;
         let flips = m.twist_error <= self.tolerance && m.flip.swing <= self.tolerance;
         if p.target.is_some() && !flips {
             if status == WholeStatus::Converged {
@@ -362,6 +442,7 @@ impl Run<'_, '_> {
             bend_turns: m.bend_turns,
             fall_time_s: spline.duration(),
             motors: m.motors,
+            chatter: m.chatter,
             iterations: self.log.len(),
             polish_steps: self.polish_steps,
             seconds: clock.elapsed().as_secs_f64(),
