@@ -10,7 +10,9 @@
 //! solved again) are split into [`PARTS`] equal spans by knot insertion
 //! ([`BSpline::with_knot`]), which leaves the curve as it is, so the refined solve starts from the
 //! optimum it refines, with a trust radius ([`TRUST_SHARE`]) and an optimality ([`OPTIMALITY`])
-//! fit for a start at an optimum. The refined result is kept when it converges lower.
+//! fit for a start at an optimum, for at most [`BUDGET`] iterations. The refined result is kept
+//! when it is lower than the converged optimum it refines and flips within the limits (also
+//! when it stopped at its budget, which the start's reason says).
 
 use super::spline::BSpline;
 use crate::engines::torque::joint_torques;
@@ -33,6 +35,11 @@ pub const TRUST_SHARE: f64 = 1.0 / 64.0;
 /// time within a speed limit crawled by `10⁻⁶` relative per step for 30 steps (ratios near 0.5)
 /// below it, at the paper's cat.
 pub const OPTIMALITY: f64 = 1e-6;
+
+/// Most iterations of a refined solve. From the optimum on the coarser knots it converges in 10–25
+/// on the paper's cat; on others (a bend limit, a small cat) it crawls on (ratios near 0.4 at a
+/// fixed radius, `10⁻⁵` relative per step), and the iterations past this bought `< 10⁻⁴`.
+pub const BUDGET: usize = 25;
 
 /// Torque samples per span of the switch search, ends included.
 const SAMPLES: usize = 8;
