@@ -194,7 +194,7 @@ impl WholeReport {
                     let c = &b.chatter;
                     let _ = writeln!(
                         s,
-                        "- Torque switches: joint 1 {}×, joint 2 {}×; total variation {:+.1} %, {:+.1} % of a clean bang-bang profile with the same switches; deepest dip of a saturated arc {:.1} %, {:.1} % of the peak.",
+                        "- Torque switches: joint 1 {}×, joint 2 {}×; total variation {:.1} %, {:.1} % above that of a clean bang-bang profile with the same switches; deepest dip of a saturated arc to {:.1} %, {:.1} % of the peak.",
                         c.switches[0],
                         c.switches[1],
                         100.0 * c.excess_variation[0],
