@@ -1,7 +1,8 @@
 //! Run time of the whole-manoeuvre optimisation on the paper's problem (issue 13: ≤ 2 s), grouped
 //! by control points per joint: with every default start, and with the paper's start alone for
 //! the peak and the energy objectives; and the least fall time within motor limits (issue 20:
-//! ≤ 2 s) with every default start, for the three motors of issue 20's targets.
+//! ≤ 2 s) with every default start, for the three motors of issue 20's targets; and the peak
+//! optimum without and with the knot refinement where the torques switch (issue 20 §6: ≤ 1 s).
 //!
 //! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`.
 //! Criterion prints the median's confidence interval per size; the worst run is in
@@ -61,6 +62,23 @@ fn paper(c: &mut Criterion) {
     }
 }
 
+/// Issue 20 §6: the paper's peak optimum on the uniform knots alone (0) and refined once where
+/// the torques switch (1, the default), every default start.
+fn refinements(c: &mut Criterion) {
+    let problem = Problem::default();
+    let mut group = c.benchmark_group("whole/peak-switch-refinements");
+    group
+        .sampling_mode(SamplingMode::Flat)
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(8));
+    for n in [0, 1] {
+        let s = WholeSettings { switch_refinements: n, ..WholeSettings::default() };
+        group.bench_with_input(BenchmarkId::from_parameter(n), &s, |b, s| b.iter(|| solve(black_box(&problem), s)));
+    }
+    group.finish();
+}
+
 fn min_time(c: &mut Criterion) {
     let problem = Problem::default();
     let settings = WholeSettings { objective: Objective::MinTime, ..WholeSettings::default() };
@@ -84,5 +102,5 @@ fn min_time(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, paper, min_time);
+criterion_group!(benches, paper, refinements, min_time);
 criterion_main!(benches);

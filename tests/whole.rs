@@ -5,6 +5,8 @@ use approx::assert_relative_eq;
 use catflip::model::motor::Motors;
 use catflip::model::Cylinder;
 use catflip::optimize::qp::QpSettings;
+use catflip::optimize::whole::measure::chatter;
+use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
 use catflip::optimize::whole::{
     build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeSettings,
@@ -48,6 +50,42 @@ fn orientation_jacobian_matches_central_differences() {
 }
 
 #[test]
+fn derivatives_hold_on_knots_refined_where_torques_switch() {
+    // Spans 3 and 6 and their neighbours split into four: narrow spans take fewer Magnus steps
+    // (`BSpline::by_width`), and the Jacobian must be that of the integrator as it steps.
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let spline = refined(&paper_start(&settings), &[3, 6]);
+    let layout = Layout { control_points: spline.control_points(), fixed: settings.fixed() };
+    let target = flipped();
+    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let base = at(&spline);
+    let grid = gauss_grid(&spline, 1);
+    let torques = torque_samples(&PAPER, &spline, &layout, &grid);
+    // Steps and tolerances as in the two tests on uniform knots below and above.
+    let h = 1e-6;
+    for v in 0..layout.variables() {
+        let mut step = vec![0.0; layout.variables()];
+        step[v] = h;
+        let (plus, tp) =
+            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        step[v] = -h;
+        let (minus, tm) =
+            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        let (ep, em) = (at(&plus).error, at(&minus).error);
+        for i in 0..3 {
+            assert_relative_eq!(base.jacobian[(i, v)], (ep[i] - em[i]) / (2.0 * h), epsilon = 1e-7);
+        }
+        for k in 0..grid.len() {
+            for j in 0..2 {
+                let g: f64 = torques[k].gradient[j].iter().filter(|e| e.0 == v).map(|e| e.1).sum();
+                let fd = (tp[k].tau[j] - tm[k].tau[j]) / (2.0 * h);
+                assert_relative_eq!(g, fd, epsilon = 1e-6, max_relative = 1e-7);
+            }
+        }
+    }
+}
+
+#[test]
 fn torque_gradients_match_central_differences() {
     let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
     let layout = Layout { control_points: 12, fixed: settings.fixed() };
@@ -75,10 +113,15 @@ fn torque_gradients_match_central_differences() {
 /// Flip tolerance of the issue's target, rad.
 const FLIP: f64 = 1e-8;
 
+/// Issue 13: an independent IPOPT collocation (800 intervals) found 0.31586 N·m; issue 20 §6 asks
+/// for 0.2 % of it (≤ 0.316492 N·m; 0.318346 on the uniform knots alone, 0.316452 refined where
+/// the torques switch), and torques that switch cleanly between saturated arcs. The clean measures
+/// ([`chatter`]) of the collocation's own N = 200 profile (`tests/reference/chatter.py`): deepest
+/// dips 0.855 and 0.841 of the peak, total variation +20.1 % and +11.4 % over a clean bang-bang
+/// profile; the uniform-knot optimum's dips were 0.515 (the spike at 0.72 s) and 0.865, its
+/// variation +16.2 % and +28.4 %.
 #[test]
 fn paper_peak_optimum_flips_and_beats_the_target() {
-    // Issue 13: an independent IPOPT collocation (800 intervals) found 0.3159 N·m; the target is
-    // to match it within 1 %, i.e. ≤ 0.319 N·m.
     let settings = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
     let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
@@ -89,8 +132,19 @@ fn paper_peak_optimum_flips_and_beats_the_target() {
     assert!((f.twist.abs() - PI).abs() <= FLIP, "twist {} rad", f.twist);
     assert!(f.swing <= FLIP, "swing {} rad", f.swing);
     let peak = catflip::engines::torque::peak_torques(&PAPER, &best.spline, 64).max;
-    assert!(peak <= 0.319, "peak {peak} N·m");
+    assert!(peak <= 0.31586 * 1.002, "peak {peak} N·m");
     assert_relative_eq!(peak, best.peak_torque_nm, max_relative = 1e-12);
+    // Chatter, on 20 001 instants sampled here.
+    let n = 20_000;
+    let times: Vec<f64> = (0..=n).map(|k| FALL * k as f64 / n as f64).collect();
+    let tau: Vec<[f64; 2]> =
+        times.iter().map(|&t| catflip::engines::torque::joint_torques(&PAPER, &best.spline.state(t)).tau).collect();
+    let c = chatter(&times, &tau, FALL);
+    assert_eq!(c.switches, [4, 3], "{c:?}");
+    for j in 0..2 {
+        assert!(c.deepest_dip[j] > 0.9, "joint {}: {c:?}", j + 1);
+        assert!(c.excess_variation[j] < 0.22, "joint {}: {c:?}", j + 1);
+    }
     // The shape the collocation found: bend never above ~47°, about three quarters of a turn.
     assert!(best.max_bend_deg < 48.0, "bend {}°", best.max_bend_deg);
     assert_relative_eq!(best.bend_turns.abs(), 0.75, epsilon = 0.05);
@@ -111,9 +165,11 @@ fn paper_energy_optimum_matches_the_collocation() {
 #[test]
 fn mirrored_starts_reach_mirrored_optima() {
     // Reflection through A's yz-plane maps q2 → −q2 and reverses the twist; the peak is the same.
+    // Each start's own solve: only the best start is refined where its torques switch.
     let settings = WholeSettings {
         control_points: 30,
         starts: vec![StartKind::Paper, StartKind::PaperMirrored],
+        switch_refinements: 0,
         ..WholeSettings::default()
     };
     let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)

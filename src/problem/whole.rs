@@ -77,6 +77,11 @@ pub struct WholeSettings {
     pub zero_end_acceleration: bool,
     /// Torque (and bend) samples per knot span for the peak objective.
     pub samples_per_span: usize,
+    /// Rounds of knot refinement where a torque switches, after the solve on the uniform knots
+    /// (objectives `peak` and `min-time`): each round splits every span across which a torque
+    /// swings by more than half the peak, and its neighbours, into four, and solves again from
+    /// the same curve; 0 solves on the uniform knots alone.
+    pub switch_refinements: usize,
     /// Magnus steps per knot span in the optimisation loop (the final flip is re-measured by
     /// [`crate::engines::exact::flip`] to the requested tolerance).
     pub steps_per_span: usize,
@@ -108,6 +113,7 @@ impl Default for WholeSettings {
             coarse_control_points: Some(10),
             zero_end_acceleration: false,
             samples_per_span: 4,
+            switch_refinements: 1,
             steps_per_span: 8,
             max_iterations: 200,
             starts: vec![StartKind::Paper, StartKind::ConeMirrored],
@@ -122,6 +128,9 @@ impl Default for WholeSettings {
 impl WholeSettings {
     /// The spline's degree: cubic (module docs of [`super`] argue the choice).
     pub const DEGREE: usize = 3;
+
+    /// The most control points per joint, of the setting and of a refined spline.
+    pub const MAX_CONTROL_POINTS: usize = 400;
 
     /// Control points held at zero at each end of each joint.
     pub fn fixed(&self) -> usize {
@@ -143,11 +152,14 @@ impl WholeSettings {
             positive("optimize.whole.joint_limit_deg", l)?;
         }
         let least = 2 * self.fixed() + 2;
-        if self.control_points < least.max(Self::DEGREE + 2) || self.control_points > 400 {
+        if self.control_points < least.max(Self::DEGREE + 2) || self.control_points > Self::MAX_CONTROL_POINTS {
             return Err(bad(
                 "optimize.whole.control_points",
                 self.control_points,
-                &format!("must lie in [{least}, 400] (at least two free control points per joint)"),
+                &format!(
+                    "must lie in [{least}, {}] (at least two free control points per joint)",
+                    Self::MAX_CONTROL_POINTS
+                ),
             ));
         }
         if let Some(n) = self.coarse_control_points {
@@ -161,6 +173,9 @@ impl WholeSettings {
         }
         if !(2..=64).contains(&self.samples_per_span) {
             return Err(bad("optimize.whole.samples_per_span", self.samples_per_span, "must lie in [2, 64]"));
+        }
+        if self.switch_refinements > 4 {
+            return Err(bad("optimize.whole.switch_refinements", self.switch_refinements, "must lie in [0, 4]"));
         }
         if !(1..=1024).contains(&self.steps_per_span) {
             return Err(bad("optimize.whole.steps_per_span", self.steps_per_span, "must lie in [1, 1024]"));

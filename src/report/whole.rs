@@ -190,6 +190,19 @@ impl WholeReport {
                     180.0 - b.max_bend_deg,
                     b.bend_turns
                 );
+                if self.objective != Objective::Energy {
+                    let c = &b.chatter;
+                    let _ = writeln!(
+                        s,
+                        "- Torque switches: joint 1 {}×, joint 2 {}×; total variation {:.1} %, {:.1} % above that of a clean bang-bang profile with the same switches; deepest dip of a saturated arc to {:.1} %, {:.1} % of the peak.",
+                        c.switches[0],
+                        c.switches[1],
+                        100.0 * c.excess_variation[0],
+                        100.0 * c.excess_variation[1],
+                        100.0 * c.deepest_dip[0],
+                        100.0 * c.deepest_dip[1]
+                    );
+                }
                 let _ = writeln!(s, "{}", self.motor_lines(b));
             }
             None => {

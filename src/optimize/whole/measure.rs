@@ -1,7 +1,8 @@
 //! The final measurement of a trajectory by the reference engines, never by the optimiser's
 //! model: flip by [`crate::engines::exact::flip`], peak by [`crate::engines::torque::peak_torques`], energy by
 //! Gauss–Legendre quadrature of [`crate::engines::torque::joint_torques`], the bend's shape, and
-//! what it asks of the motors by [`crate::engines::motors::motor_demand`].
+//! what it asks of the motors by [`crate::engines::motors::motor_demand`], and how cleanly the
+//! torques switch ([`Chatter`]).
 
 use std::f64::consts::{PI, TAU};
 
@@ -37,6 +38,68 @@ pub struct Measurement {
     pub bend_turns: f64,
     /// What it asks of the motors.
     pub motors: MotorDemand,
+    /// How cleanly the torques switch between saturated arcs.
+    pub chatter: Chatter,
+}
+
+/// How cleanly each joint's torque switches between saturated arcs, from [`CHATTER_SAMPLES`]
+/// samples per knot span: a minimum-peak optimum should ride `±τ_max` and cross between them,
+/// as an independent collocation does (`tests/reference/mintime.py`); a dip or spike between
+/// the arcs is chatter a motor would be commanded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Chatter {
+    /// Switches of `τ_j` from below `−τ_max/2` to above `τ_max/2` or back (`τ_max` the peak of
+    /// both joints).
+    pub switches: [usize; 2],
+    /// The total variation of `τ_j` over the fall divided by that of a clean bang-bang profile
+    /// with the same switches and end values, `2 τ_max n + (τ_max − |τ_j(0)|) + (τ_max − |τ_j(T)|)`,
+    /// minus one: 0 for a clean profile.
+    pub excess_variation: [f64; 2],
+    /// The least `|τ_j|/τ_max` farther than [`CHATTER_GUARD`] of the fall from `τ_j`'s own
+    /// switches: the deepest dip of a saturated arc (1 for a clean profile).
+    pub deepest_dip: [f64; 2],
+}
+
+/// Samples per knot span of [`Chatter`].
+pub const CHATTER_SAMPLES: usize = 16;
+
+/// The share of the fall on either side of a switch that [`Chatter::deepest_dip`] leaves out.
+pub const CHATTER_GUARD: f64 = 0.01;
+
+/// The [`Chatter`] of the torques `tau` sampled at `times` (in order) over a fall of `duration` s.
+pub fn chatter(times: &[f64], tau: &[[f64; 2]], duration: f64) -> Chatter {
+    let peak = tau.iter().flat_map(|t| t.map(f64::abs)).fold(0.0, f64::max);
+    let mut out = Chatter::default();
+    if peak <= 0.0 || tau.is_empty() {
+        return out;
+    }
+    for j in 0..2 {
+        let x: Vec<f64> = tau.iter().map(|t| t[j]).collect();
+        // The side (above +τ_max/2 or below −τ_max/2) last visited, none at first.
+        let (mut side, mut switch_times): (Option<bool>, _) = (None, Vec::new());
+        for (k, &v) in x.iter().enumerate() {
+            if v.abs() > 0.5 * peak {
+                if side.is_some_and(|above| above != (v > 0.0)) {
+                    switch_times.push(times[k]);
+                }
+                side = Some(v > 0.0);
+            }
+        }
+        let variation: f64 = x.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
+        let first = x[0].abs().min(peak);
+        let last = x[x.len() - 1].abs().min(peak);
+        let clean = 2.0 * peak * switch_times.len() as f64 + (peak - first) + (peak - last);
+        out.switches[j] = switch_times.len();
+        out.excess_variation[j] = if clean > 0.0 { variation / clean - 1.0 } else { 0.0 };
+        let guard = CHATTER_GUARD * duration;
+        out.deepest_dip[j] = times
+            .iter()
+            .zip(&x)
+            .filter(|(t, _)| switch_times.iter().all(|s| (*t - s).abs() > guard))
+            .map(|(_, v)| v.abs() / peak)
+            .fold(1.0, f64::min);
+    }
+    out
 }
 
 /// Measures `spline` driven by `motors` (flip to `tolerance` rad).
@@ -84,7 +147,20 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64
             last = Some(dir);
         }
     }
+    let (mut times, mut torques) = (Vec::new(), Vec::new());
+    let mut offset = 0.0;
+    for (piece, d) in spline.piece_durations().into_iter().enumerate() {
+        for k in 0..CHATTER_SAMPLES {
+            let s = d * k as f64 / CHATTER_SAMPLES as f64;
+            times.push(offset + s);
+            torques.push(joint_torques(cat, &spline.piece_state(piece, s)).tau);
+        }
+        offset += d;
+    }
+    times.push(spline.duration());
+    torques.push(joint_torques(cat, &spline.state(spline.duration())).tau);
     Measurement {
+        chatter: chatter(&times, &torques, spline.duration()),
         twist_error: (flip.twist.abs() - PI).abs(),
         flip,
         peak,
@@ -93,5 +169,27 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64
         max_bend,
         bend_turns: turned / TAU,
         motors: motor_demand(cat, spline, &piece_samples(spline, PEAK_SAMPLES_PER_SPAN), motors),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `−1` until 0.3, `+1` until 0.7, `−1` after, the switches ramps of 0.01: clean; with a dip
+    /// to 0.4 at 0.5 of one joint: that dip, and variation 2 × 0.6 over the clean 2 × 2.
+    #[test]
+    fn a_clean_bang_bang_profile_has_no_chatter_and_a_dip_is_measured() {
+        let ramp = |t: f64, at: f64| ((t - at) / 0.005).clamp(-1.0, 1.0);
+        let clean = |t: f64| ramp(t, 0.3) - ramp(t, 0.7) - 1.0;
+        let times: Vec<f64> = (0..=10_000).map(|k| k as f64 / 10_000.0).collect();
+        let tau: Vec<[f64; 2]> =
+            times.iter().map(|&t| [clean(t), clean(t) + if (t - 0.5).abs() < 0.02 { -0.6 } else { 0.0 }]).collect();
+        let c = chatter(&times, &tau, 1.0);
+        assert_eq!(c.switches, [2, 2]);
+        assert!(c.excess_variation[0].abs() < 1e-12, "{c:?}");
+        assert!((c.deepest_dip[0] - 1.0).abs() < 1e-12, "{c:?}");
+        assert!((c.excess_variation[1] - 1.2 / 4.0).abs() < 1e-12, "{c:?}");
+        assert!((c.deepest_dip[1] - 0.4).abs() < 1e-12, "{c:?}");
     }
 }

@@ -23,8 +23,11 @@
 //! span, which a minimum-peak optimum (bang-bang-like, several joints saturating at once) needs.
 //! Higher degrees buy smoothness the objective does not ask for and widen every basis function's
 //! support (denser Jacobians). The default 120 control points (117 spans) make 232 free
-//! variables; the optimum's peak falls from 0.3190 to 0.3183 N·m between 100 and 120 points on
-//! the paper's cat (README), 0.77 % above an independent collocation. Each knot
+//! variables; on these uniform knots the optimum's peak is 0.3183 N·m on the paper's cat, 0.77 %
+//! above an independent collocation, converging as `h²` (0.3168 at 200 points, 0.3162 at 300),
+//! limited where a torque switches across a span. One round of knot refinement there
+//! ([`refine`], `switch_refinements`) brings it to 0.31645 N·m (+0.19 %) on 186 spans, and
+//! takes away the spike and dips between saturated arcs ([`measure::Chatter`]). Each knot
 //! span is one piece of the [`Trajectory`](crate::schedule::Trajectory), so the Magnus integrator
 //! never steps across a jump of `q⃛`.
 //!
@@ -37,7 +40,9 @@
 //! the orientation and an ℓ∞ trust region) is solved by Clarabel, and the step is accepted by the
 //! ratio of the exact merit decrease to the predicted one. A final phase of minimum-norm Newton
 //! steps drives `|e|` to round-off. With `homotopy` the peak stage starts from the energy
-//! optimum of the same start, which is smooth and reached in a few steps. Several starts
+//! optimum of the same start, which is smooth and reached in a few steps. For `peak` and
+//! `min-time` the best converged start is then refined where its torques switch and solved again
+//! from the same curve ([`refine_solution`]). Several starts
 //! ([`starts`]); the best converged flip is kept, and every start's outcome is reported.
 //!
 //! ## Motor limits (DESIGN.md §9)
@@ -61,6 +66,7 @@ pub mod dual;
 pub mod dynamics;
 pub mod limits;
 pub mod measure;
+pub mod refine;
 pub mod scvx;
 pub mod sensitivity;
 pub mod settings;
@@ -158,9 +164,17 @@ pub fn optimize_from(
         Objective::Energy => s.energy,
         Objective::MinTime => s.fall_time_s,
     };
+    let mut solutions = solutions;
     let best = (0..solutions.len())
         .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
         .min_by(|&a, &b| value(&solutions[a]).total_cmp(&value(&solutions[b])));
+    if let Some(b) = best.filter(|_| settings.objective != Objective::Energy && settings.switch_refinements > 0) {
+        let refined = refine_solution(&problem, &solutions[b], tolerance)?;
+        // A refinement that ended outside the tolerances leaves the best as it was.
+        if refined.status == WholeStatus::Converged && refined.flips(tolerance) {
+            solutions[b] = refined;
+        }
+    }
     Ok(WholeOutcome { solutions, best, skipped: Vec::new() })
 }
 
@@ -184,7 +198,7 @@ pub fn optimize_start(
             reason: format!("needs {} cubic control points per joint", s.control_points),
         });
     }
-    let mut run = Run { problem, steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
+    let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
     let (duration, degree, fixed) = (start.spline.duration(), WholeSettings::DEGREE, s.fixed());
     let mut spline = start.spline.clone();
     let quarter = (s.max_iterations / 4).max(1);
@@ -215,7 +229,8 @@ pub fn optimize_start(
     let mut bound = 1.0 - LIMIT_MARGIN;
     if constrained {
         // Feasibility first: shorten the least fall time until the path fits this one.
-        let (status, reason, shape, m) = run.solve(spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
+        let (status, reason, shape, m) =
+            run.solve(problem, spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
         let least = m.motors.stretch.map_or(0.0, |k| k.value);
         if least > 1.0 + RATIO_TOLERANCE {
             let reason = if status == WholeStatus::Converged {
@@ -228,54 +243,178 @@ pub fn optimize_start(
                     "no flip within the motors found in a fall of {duration:.6} s (the least-fall-time stage ended {status} at {least:.4}× this fall: {reason})"
                 )
             };
-            return Ok(run.solution(start, WholeStatus::Infeasible, reason, shape, m, clock));
+            return Ok(run.solution(problem, &start.name, WholeStatus::Infeasible, reason, shape, m, clock));
         }
         spline = shape;
     }
-    let mut tightenings = 0;
-    let (mut status, mut reason, spline, m) = loop {
-        let (status, reason, next, m) =
-            run.solve(spline, s.objective, constrained.then_some(bound), None, s.max_iterations)?;
-        let excess = m.motors.worst().map_or(0.0, |w| w.ratio);
-        if constrained && status == WholeStatus::Converged && excess > 1.0 && tightenings < MAX_TIGHTENINGS {
-            // Exceeded between the samples: hold the samples below the limit by the excess.
-            bound /= excess * (1.0 + LIMIT_MARGIN);
-            tightenings += 1;
-            spline = next;
-            continue;
-        }
-        break (status, reason, next, m);
-    };
-    if tightenings > 0 {
-        reason = format!("{reason}; limits tightened {tightenings}× on the samples to hold between them");
-    }
-    // The least fall time: the path slowed by its largest stretch touches its limits exactly.
-    let (spline, m) = match (s.objective, m.motors.stretch) {
-        (Objective::MinTime, Some(k)) if k.value > 0.0 => {
-            let slowed = spline.stretched(k.value);
-            let m = measure::measure(problem.cat, &slowed, problem.motors, run.flip_tolerance());
-            (slowed, m)
-        }
-        _ => (spline, m),
-    };
-    if constrained && !m.motors.within() && status == WholeStatus::Converged {
-        status = WholeStatus::Infeasible;
-        reason = format!("{reason}; the dense re-measurement {}", m.motors.verdict());
-    }
-    Ok(run.solution(start, status, reason, spline, m, clock))
+    let end = run.final_stage(problem, spline, constrained, &mut bound, s.max_iterations)?;
+    Ok(run.finish(problem, &start.name, end, Vec::new(), constrained, clock))
 }
 
-/// The state of one start's optimisation: its problem, the loop's Magnus steps per span, the log
-/// and the Newton steps spent.
-struct Run<'a, 'b> {
-    problem: &'a ScvxProblem<'b>,
+/// The converged `best` of the starts refined where its torques switch ([`refine`]), for at most
+/// `switch_refinements` rounds, each solved again from the curve it refines; `best` itself (with
+/// the reason why in its own) when no round is kept. Only the best start is refined: the starts
+/// that converge land in the same optimum on the paper's cat, and the refined solve costs about
+/// as much again as the whole solve before it.
+pub fn refine_solution(
+    problem: &ScvxProblem<'_>,
+    best: &WholeSolution,
+    tolerance: f64,
+) -> Result<WholeSolution, WholeError> {
+    let clock = Instant::now();
+    let s = problem.settings;
+    let constrained = !problem.motors.is_ideal() && s.objective != Objective::MinTime;
+    let mut bound = 1.0 - LIMIT_MARGIN;
+    let mut run = Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance };
+    let measurement = measure::measure(problem.cat, &best.spline, problem.motors, run.flip_tolerance());
+    let mut end = FinalStage {
+        status: best.status,
+        reason: best.reason.clone(),
+        spline: best.spline.clone(),
+        measurement,
+        tightenings: 0,
+    };
+    let mut notes = Vec::new();
+    let mut kept = false;
+    for _ in 0..s.switch_refinements {
+        let spans = refine::switching_spans(problem.cat, &end.spline);
+        let finer = refine::refined(&end.spline, &spans);
+        if spans.is_empty() || finer.control_points() > WholeSettings::MAX_CONTROL_POINTS {
+            break;
+        }
+        let settings = WholeSettings {
+            control_points: finer.control_points(),
+            trust_radius_deg: s.trust_radius_deg * refine::TRUST_SHARE,
+            optimality: s.optimality.max(refine::OPTIMALITY),
+            ..s.clone()
+        };
+        let fine = ScvxProblem { settings: &settings, ..problem.clone() };
+        let budget = run.log.len() + refine::BUDGET;
+        let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
+        let lower = match s.objective {
+            Objective::MinTime => stretch(&next.measurement) < stretch(&end.measurement),
+            _ => next.measurement.peak < end.measurement.peak,
+        };
+        let m = &next.measurement;
+        let flips = m.twist_error <= tolerance && m.flip.swing <= tolerance;
+        let within = !constrained || m.motors.within();
+        // A refined stage that ends at its budget still crawling down from the converged
+        // optimum it refines is kept when it is lower and flips within the limits.
+        let usable = matches!(next.status, WholeStatus::Converged | WholeStatus::MaxIterations);
+        if !(usable && lower && flips && within) {
+            notes.push(format!("a refinement ({} spans) ended {} and was not kept", next.spline.spans(), next.status));
+            break;
+        }
+        notes.push(if next.status == WholeStatus::MaxIterations {
+            format!(
+                "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the optimum it refines)",
+                next.spline.spans(),
+                refine::BUDGET
+            )
+        } else {
+            format!("refined to {} spans where the torques switch", next.spline.spans())
+        });
+        end = FinalStage { status: WholeStatus::Converged, reason: best.reason.clone(), ..next };
+        kept = true;
+    }
+    if !kept {
+        let mut same = best.clone();
+        for note in notes {
+            same.reason = format!("{}; {note}", same.reason);
+        }
+        return Ok(same);
+    }
+    let mut refined = run.finish(problem, &best.start, end, notes, constrained, clock);
+    refined.seconds += best.seconds;
+    Ok(refined)
+}
+
+/// The largest stretch of a measurement (0 with ideal motors).
+fn stretch(m: &measure::Measurement) -> f64 {
+    m.motors.stretch.map_or(0.0, |k| k.value)
+}
+
+/// How the final stage of one layout ended: its status, why, the spline, its measurement and the
+/// times the motor limits were tightened on the samples.
+struct FinalStage {
+    status: WholeStatus,
+    reason: String,
+    spline: BSpline,
+    measurement: measure::Measurement,
+    tightenings: usize,
+}
+
+/// The state of one start's optimisation: the loop's Magnus steps per span, the log and the
+/// Newton steps spent.
+struct Run {
     steps: usize,
     log: Vec<IterationLog>,
     polish_steps: usize,
     tolerance: f64,
 }
 
-impl Run<'_, '_> {
+impl Run {
+    /// The start's result from its final stage: `notes` added to the reason, the least fall time's
+    /// path slowed to touch its limits, the limits checked on the dense re-measurement.
+    fn finish(
+        self,
+        p: &ScvxProblem<'_>,
+        name: &str,
+        end: FinalStage,
+        notes: Vec<String>,
+        constrained: bool,
+        clock: Instant,
+    ) -> WholeSolution {
+        let FinalStage { mut status, mut reason, spline, measurement: m, tightenings } = end;
+        if tightenings > 0 {
+            reason = format!("{reason}; limits tightened {tightenings}× on the samples to hold between them");
+        }
+        for note in notes {
+            reason = format!("{reason}; {note}");
+        }
+        // The least fall time: the path slowed by its largest stretch touches its limits exactly.
+        let (spline, m) = match (p.settings.objective, m.motors.stretch) {
+            (Objective::MinTime, Some(k)) if k.value > 0.0 => {
+                let slowed = spline.stretched(k.value);
+                let m = measure::measure(p.cat, &slowed, p.motors, self.flip_tolerance());
+                (slowed, m)
+            }
+            _ => (spline, m),
+        };
+        if constrained && !m.motors.within() && status == WholeStatus::Converged {
+            status = WholeStatus::Infeasible;
+            reason = format!("{reason}; the dense re-measurement {}", m.motors.verdict());
+        }
+        self.solution(p, name, status, reason, spline, m, clock)
+    }
+
+    /// The final stage of `objective` on the layout of `p` from `spline` (with the motor limits as
+    /// constraints `ρ ≤ bound` when `constrained`, the bound tightened while the dense
+    /// re-measurement finds them exceeded between the samples), until `budget` log entries.
+    fn final_stage(
+        &mut self,
+        p: &ScvxProblem<'_>,
+        mut spline: BSpline,
+        constrained: bool,
+        bound: &mut f64,
+        budget: usize,
+    ) -> Result<FinalStage, WholeError> {
+        let mut tightenings = 0;
+        loop {
+            let (status, reason, next, m) =
+                self.solve(p, spline, p.settings.objective, constrained.then_some(*bound), None, budget)?;
+            let excess = m.motors.worst().map_or(0.0, |w| w.ratio);
+            if constrained && status == WholeStatus::Converged && excess > 1.0 && tightenings < MAX_TIGHTENINGS {
+                // Exceeded between the samples: hold the samples below the limit by the excess.
+                *bound /= excess * (1.0 + LIMIT_MARGIN);
+                tightenings += 1;
+                spline = next;
+                continue;
+            }
+            return Ok(FinalStage { status, reason, spline: next, measurement: m, tightenings });
+        }
+    }
+
     /// The tolerance of the final flip's re-measurement, rad.
     fn flip_tolerance(&self) -> f64 {
         (1e-2 * self.tolerance).min(1e-10)
@@ -286,13 +425,13 @@ impl Run<'_, '_> {
     /// loop's steps until the adaptive engine agrees) and the exact re-measurement.
     fn solve(
         &mut self,
+        p: &ScvxProblem<'_>,
         spline: BSpline,
         objective: Objective,
         bound: Option<f64>,
         enough: Option<f64>,
         budget: usize,
     ) -> Result<(WholeStatus, String, BSpline, measure::Measurement), WholeError> {
-        let p = self.problem;
         let optimality = p.settings.optimality;
         let it = p.evaluate(spline, objective, self.steps);
         let end = p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?;
@@ -313,21 +452,29 @@ impl Run<'_, '_> {
                 self.polish_steps += k;
             }
         }
+        // The Newton steps move every control point, those on the joint limit too (by ~1e-11 rad
+        // on refined knots): the limit is held on the control points, as in the subproblems.
+        if let Some(limit) = p.settings.joint_limit_deg.map(f64::to_radians) {
+            for c in spline.coefficients.iter_mut().flatten() {
+                *c = c.clamp(-limit, limit);
+            }
+        }
         let m = measure::measure(p.cat, &spline, p.motors, flip_tolerance);
         Ok((end.status, end.reason, spline, m))
     }
 
     /// The start's result: the flip and bend checked against the tolerances and limits.
+    #[allow(clippy::too_many_arguments)]
     fn solution(
         self,
-        start: &NamedStart,
+        p: &ScvxProblem<'_>,
+        name: &str,
         mut status: WholeStatus,
         mut reason: String,
         spline: BSpline,
         m: measure::Measurement,
         clock: Instant,
     ) -> WholeSolution {
-        let p = self.problem;
         let flips = m.twist_error <= self.tolerance && m.flip.swing <= self.tolerance;
         if p.target.is_some() && !flips {
             if status == WholeStatus::Converged {
@@ -348,7 +495,7 @@ impl Run<'_, '_> {
             }
         }
         WholeSolution {
-            start: start.name.clone(),
+            start: name.to_string(),
             status,
             reason,
             twist: m.flip.twist,
@@ -362,6 +509,7 @@ impl Run<'_, '_> {
             bend_turns: m.bend_turns,
             fall_time_s: spline.duration(),
             motors: m.motors,
+            chatter: m.chatter,
             iterations: self.log.len(),
             polish_steps: self.polish_steps,
             seconds: clock.elapsed().as_secs_f64(),

@@ -75,6 +75,8 @@ pub struct ScvxProblem<'a> {
 pub(crate) struct Iterate {
     pub(crate) spline: BSpline,
     values: Vec<f64>,
+    /// Each variable's share of the trust radius ([`Layout::trust_scales`]).
+    trust_scales: Vec<f64>,
     orientation: Option<FinalOrientation>,
     samples: Vec<TorqueSample>,
     bend: Vec<BendSample>,
@@ -142,6 +144,7 @@ impl ScvxProblem<'_> {
         let bend_violation = floor.map_or(0.0, |f| bend.iter().map(|b| f - b.cos_bend).fold(0.0, f64::max));
         Iterate {
             values: layout.values(&spline),
+            trust_scales: layout.trust_scales(&spline),
             spline,
             orientation,
             samples,
@@ -197,6 +200,7 @@ impl ScvxProblem<'_> {
                 hard: it.violation <= HARD_CONSTRAINT,
                 penalty,
                 trust_radius: radius,
+                trust_scales: &it.trust_scales,
                 values: &it.values,
                 joint_limit: s.joint_limit_deg.map(f64::to_radians),
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
@@ -278,7 +282,7 @@ impl ScvxProblem<'_> {
             let moved = self.polish(layout.moved(&it.spline, &step.step), steps, PROJECTION_STEPS).0;
             let trial = self.evaluate(moved, objective, steps);
             let ratio = (now - merit(&trial)) / predicted;
-            let length = step.step.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+            let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
             entry.ratio = Some(ratio);
             entry.accepted = ratio >= 0.1;
             log.push(entry);

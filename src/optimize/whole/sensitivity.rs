@@ -59,6 +59,30 @@ impl Layout {
         (i >= self.fixed && i < self.control_points - self.fixed).then(|| j * self.free() + i - self.fixed)
     }
 
+    /// Each variable's share of the trust radius: the narrowest knot span in its control point's
+    /// support over the widest span of the spline (1 on uniform knots). A control point moved by
+    /// `δ` changes the rate by `O(δ/h)` on spans `h` wide, where the torque is nonlinear in
+    /// the rate: on knots refined where a torque switches, a radius fit for the wide spans made
+    /// the ratio test reject step after step near the optimum.
+    pub fn trust_scales(&self, spline: &BSpline) -> Vec<f64> {
+        let widths: Vec<f64> = (0..spline.spans()).map(|s| spline.span_bounds(s)).map(|(a, b)| b - a).collect();
+        let widest = widths.iter().copied().fold(0.0, f64::max);
+        let p = spline.degree;
+        let mut scales = vec![1.0; self.variables()];
+        for j in 0..2 {
+            for i in self.fixed..self.control_points - self.fixed {
+                if let Some(v) = self.variable(j, i) {
+                    // Control point i's support is spans i − p ..= i (those that exist).
+                    let narrowest = (i.saturating_sub(p)..=i.min(widths.len() - 1))
+                        .map(|s| widths[s])
+                        .fold(f64::INFINITY, f64::min);
+                    scales[v] = (narrowest / widest).min(1.0);
+                }
+            }
+        }
+        scales
+    }
+
     /// The current value of every variable.
     pub fn values(&self, spline: &BSpline) -> Vec<f64> {
         (0..2).flat_map(|j| spline.coefficients[j][self.fixed..self.control_points - self.fixed].to_vec()).collect()
@@ -123,7 +147,8 @@ pub fn left_jacobian_inverse(phi: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() - 0.5 * k + c * k * k
 }
 
-/// Integrates the orientation with `steps` Magnus steps per knot span, as
+/// Integrates the orientation with `steps` Magnus steps per knot span (on the widest span; fewer
+/// on narrower ones, [`BSpline::by_width`]), as
 /// [`crate::engines::exact::integrate`] does, and its exact derivative (module docs).
 pub fn final_orientation(
     cat: &Cylinder,
@@ -137,8 +162,10 @@ pub fn final_orientation(
     let mut r = UnitQuaternion::identity();
     let mut eta = DMatrix::<f64>::zeros(3, layout.variables());
     let mut columns: Vec<(usize, f64)> = Vec::new();
+    let widest = spline.widest_span();
     for span in 0..spline.spans() {
         let (t0, t1) = spline.span_bounds(span);
+        let steps = spline.by_width(span, widest, steps, 1);
         let h = (t1 - t0) / steps as f64;
         for n in 0..steps {
             // Rates and their partials at the three nodes.

@@ -91,6 +91,8 @@ pub struct WholeSolution {
     pub fall_time_s: f64,
     /// What it asks of the motors (peak speed and power per joint, each limit's usage).
     pub motors: MotorDemand,
+    /// How cleanly the torques switch between saturated arcs.
+    pub chatter: super::measure::Chatter,
     /// Trust-region iterations used.
     pub iterations: usize,
     /// Final Newton steps on the orientation constraint.

@@ -69,6 +69,19 @@ impl BSpline {
         (self.knots[self.degree + s], self.knots[self.degree + s + 1])
     }
 
+    /// The widest knot span, s.
+    pub fn widest_span(&self) -> f64 {
+        (0..self.spans()).map(|s| self.span_bounds(s)).map(|(a, b)| b - a).fold(0.0, f64::max)
+    }
+
+    /// `per_widest` shared out by width: `per_widest` on the widest span, proportionally fewer
+    /// (at least `least`) on span `s` of a spline whose widest span is `widest` s wide (the same
+    /// count on every span of uniform knots).
+    pub fn by_width(&self, s: usize, widest: f64, per_widest: usize, least: usize) -> usize {
+        let (a, b) = self.span_bounds(s);
+        ((per_widest as f64 * (b - a) / widest).round() as usize).clamp(least.min(per_widest), per_widest)
+    }
+
     /// Total duration, s.
     pub fn duration(&self) -> f64 {
         self.knots[self.knots.len() - 1]
@@ -141,6 +154,33 @@ impl BSpline {
     pub fn state(&self, t: f64) -> JointState {
         let s = self.span_of(t);
         self.state_from(&self.basis(s, t))
+    }
+
+    /// The same curve with `knot` inserted (Boehm's algorithm; de Boor ch. XI): one more control
+    /// point per joint, each new one `α c_i + (1 − α) c_{i−1}` with
+    /// `α = (u − u_i)/(u_{i+p} − u_i)` for the `p` points whose support holds `u`. A knot outside
+    /// the open interval `(0, T)` is ignored.
+    pub fn with_knot(&self, knot: f64) -> Self {
+        let p = self.degree;
+        if !(knot > 0.0 && knot < self.duration()) {
+            return self.clone();
+        }
+        // u_k ≤ knot < u_{k+1}
+        let k = p + self.span_of(knot);
+        let u = &self.knots;
+        let coefficients = self.coefficients.clone().map(|c| {
+            let mut out = Vec::with_capacity(c.len() + 1);
+            out.extend_from_slice(&c[..=k - p]);
+            for i in k - p + 1..=k {
+                let alpha = (knot - u[i]) / (u[i + p] - u[i]);
+                out.push(alpha * c[i] + (1.0 - alpha) * c[i - 1]);
+            }
+            out.extend_from_slice(&c[k..]);
+            out
+        });
+        let mut knots = self.knots.clone();
+        knots.insert(k + 1, knot);
+        Self { degree: p, knots, coefficients }
     }
 
     /// The least-squares fit of `target(t)` (joint angles, rad) on `20` points per span, with the
@@ -242,6 +282,23 @@ mod tests {
             for j in 0..2 {
                 assert_relative_eq!(b.qd[j], (c.q[j] - a.q[j]) / (2.0 * h), epsilon = 1e-7);
                 assert_relative_eq!(b.qdd[j], (c.qd[j] - a.qd[j]) / (2.0 * h), epsilon = 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn an_inserted_knot_leaves_the_curve_as_it_is() {
+        let s = sample();
+        let finer = s.with_knot(0.61).with_knot(0.61 + 1e-3).with_knot(1.69);
+        assert_eq!(finer.control_points(), s.control_points() + 3);
+        assert_eq!(finer.spans(), s.spans() + 3);
+        for k in 0..=170 {
+            let t = 1.7 * k as f64 / 170.0;
+            let (a, b) = (s.state(t), finer.state(t));
+            for j in 0..2 {
+                assert_relative_eq!(a.q[j], b.q[j], epsilon = 1e-13);
+                assert_relative_eq!(a.qd[j], b.qd[j], epsilon = 1e-12);
+                assert_relative_eq!(a.qdd[j], b.qdd[j], epsilon = 1e-10);
             }
         }
     }

@@ -13,7 +13,8 @@
 //!
 //! both subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
 //! `e + Jδ = 0` exactly and no `s`: an exact penalty weighted far above the multiplier turns
-//! Clarabel's residuals into noise of the model's size), the trust box `|δ|_∞ ≤ Δ`, the joint limit on the
+//! Clarabel's residuals into noise of the model's size), the trust box `|δ_v| ≤ Δ s_v` (`s_v = 1` on
+//! uniform knots, smaller where the knots are refined), the joint limit on the
 //! control points `|c + δ| ≤ q_max` and the linearised bend limit
 //! `cos β_k + g_kᵀ δ + σ ≥ cos β_max` on every sample, with one elastic variable `σ ≥ 0`
 //! weighted by [`BEND_PENALTY`] (so that a start bent beyond the limit can come back to it), and at
@@ -59,6 +60,9 @@ pub struct Subproblem<'a> {
     pub penalty: f64,
     /// `Δ`, rad.
     pub trust_radius: f64,
+    /// Each variable's share of the trust radius, in `(0, 1]`: its box is `|δ_v| ≤ Δ s_v`
+    /// ([`super::sensitivity::Layout::trust_scales`]).
+    pub trust_scales: &'a [f64],
     /// Current free control points, rad.
     pub values: &'a [f64],
     /// Joint limit, rad; none when absent.
@@ -119,6 +123,11 @@ impl Subproblem<'_> {
         objective + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
     }
 
+    /// The most a row with `gradient` can move within the trust box.
+    fn reach(&self, gradient: &[(usize, f64)]) -> f64 {
+        self.trust_radius * gradient.iter().map(|&(v, c)| c.abs() * self.trust_scales[v]).sum::<f64>()
+    }
+
     /// The bound of the motor-limit constraints, when they are constraints.
     fn constraint_bound(&self) -> Option<f64> {
         self.limit_bound.filter(|_| self.objective != Objective::MinTime)
@@ -152,10 +161,7 @@ impl Subproblem<'_> {
                 // Only the sides that can be active (exact; the trust box bounds every step).
                 let rows: Vec<(&[(usize, f64)], f64)> =
                     self.samples.iter().flat_map(|s| (0..2).map(|j| (&s.gradient[j][..], s.tau[j]))).collect();
-                let spans: Vec<(f64, f64)> = rows
-                    .iter()
-                    .map(|(g, tau)| (*tau, self.trust_radius * g.iter().map(|(_, c)| c.abs()).sum::<f64>()))
-                    .collect();
+                let spans: Vec<(f64, f64)> = rows.iter().map(|(g, tau)| (*tau, self.reach(g))).collect();
                 for ((g, tau), sides) in rows.iter().zip(active_sides(&spans)) {
                     asm.sides_at_most(g.iter().map(|&(v, c)| (v, c * unit)), tau * unit, sides, bound);
                 }
@@ -179,10 +185,7 @@ impl Subproblem<'_> {
                 asm.linear_cost(bound, 1.0);
                 // k² + gᵀδ ≤ t, screened as the peak's rows are: t is at least L = max(k² − r).
                 let rows: Vec<&LimitRow> = self.limit_rows().collect();
-                let spans: Vec<f64> = rows
-                    .iter()
-                    .map(|r| self.trust_radius * r.gradient.iter().map(|(_, c)| c.abs()).sum::<f64>())
-                    .collect();
+                let spans: Vec<f64> = rows.iter().map(|r| self.reach(&r.gradient)).collect();
                 let floor = rows.iter().zip(&spans).map(|(r, s)| r.constant - s).fold(f64::NEG_INFINITY, f64::max);
                 for (r, span) in rows.iter().zip(&spans) {
                     if r.constant + span >= floor {
@@ -197,7 +200,7 @@ impl Subproblem<'_> {
             asm.linear_cost(limit_elastic, LIMIT_PENALTY);
             asm.at_most([(limit_elastic, -1.0)], 0.0);
             for r in self.limit_rows() {
-                let span = self.trust_radius * r.gradient.iter().map(|(_, c)| c.abs()).sum::<f64>();
+                let span = self.reach(&r.gradient);
                 if r.constant + span >= b {
                     asm.at_most(r.gradient.iter().copied().chain([(limit_elastic, -1.0)]), b - r.constant);
                 }
@@ -215,7 +218,8 @@ impl Subproblem<'_> {
             }
         }
         for (v, &c) in self.values.iter().enumerate() {
-            let (mut lower, mut upper) = (-self.trust_radius, self.trust_radius);
+            let radius = self.trust_radius * self.trust_scales[v];
+            let (mut lower, mut upper) = (-radius, radius);
             if let Some(limit) = self.joint_limit {
                 lower = lower.max(-limit - c);
                 upper = upper.min(limit - c).max(lower);
