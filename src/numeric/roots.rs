@@ -280,15 +280,7 @@ mod tests {
     #[test]
     fn each_side_gives_its_bracket_the_nearer_first() {
         // A jump of sign at x = 2 (upper side) and a root at x = −3 (lower side), from x0 = 0.
-        let mut f = |x: f64| {
-            if x > 2.0 {
-                1.0
-            } else if x < -3.0 {
-                1.0
-            } else {
-                -1.0
-            }
-        };
+        let mut f = |x: f64| if (-3.0..=2.0).contains(&x) { -1.0 } else { 1.0 };
         let (mut n, mut brackets) = (0, Brackets::new(0.0, -1.0, 1.0, 10));
         let ((a, _), (b, _)) = brackets.next(&mut f, &mut n).expect("the upper bracket");
         assert!((a, b) == (0.0, 4.0) && n == 5, "[{a}, {b}] after {n} evaluations");
