@@ -24,6 +24,7 @@ use catflip::exchange::{evaluate, write_schedule, ExportOptions};
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
 use catflip::sweep::shard::{read_parts, MANIFEST};
+use catflip::sweep::spec::with_causes;
 use catflip::sweep::{Shard, Sweep, SweepOptions};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
@@ -121,17 +122,6 @@ where
         }
     }
     t
-}
-
-/// `e` and its causes, as the command line prints them.
-fn with_causes(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        text = format!("{text}: {c}");
-        cause = c.source();
-    }
-    text
 }
 
 /// A refusal's outcome: one non-empty line, or not.

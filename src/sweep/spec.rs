@@ -482,7 +482,7 @@ pub(crate) fn one_line(s: &str) -> String {
 }
 
 /// `e` and its causes, joined as the command line prints them (`the sweep's base problem: …`).
-pub(crate) fn with_causes(e: &dyn std::error::Error) -> String {
+pub fn with_causes(e: &dyn std::error::Error) -> String {
     let mut text = e.to_string();
     let mut cause = e.source();
     while let Some(c) = cause {
