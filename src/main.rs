@@ -144,6 +144,18 @@ fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
     Ok(problem)
 }
 
+/// Resolves `problem` (its circulation, calibrated if asked) and prints what the resolution
+/// warns of, unless the output is JSON.
+fn resolve(problem: &Problem, json: bool) -> anyhow::Result<Resolved> {
+    let r = Resolved::new(problem)?;
+    if !json {
+        for w in r.warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
+    Ok(r)
+}
+
 /// Writes `text` to stdout. A closed stdout (`catflip … | head -1`) is not an error: the output
 /// is dropped quietly and the command goes on, as Unix tools do (Rust ignores SIGPIPE, so the
 /// write fails with `BrokenPipe`, which `print!` would turn into a panic). Any other write error
@@ -197,7 +209,7 @@ fn run() -> anyhow::Result<()> {
         Command::Audit(common) => {
             let problem = load(&common, &[])?;
             problem.require_no_spin("the audit of the paper's numbers")?;
-            let r = Resolved::new(&problem)?;
+            let r = resolve(&problem, common.json)?;
             let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
@@ -234,8 +246,7 @@ fn run() -> anyhow::Result<()> {
                 }
                 emit(common.json, &report, || report.to_text())?;
             } else {
-                let problem = load(&common, &extra)?;
-                let r = Resolved::new(&problem)?;
+                let r = resolve(&load(&common, &extra)?, common.json)?;
                 let report = catflip::report::simulate::simulate(&r, engine)?;
                 emit(common.json, &report, || report.to_text())?;
             }
@@ -243,7 +254,7 @@ fn run() -> anyhow::Result<()> {
         Command::Optimize { common, whole: false, quiet } => {
             let problem = load(&common, &[])?;
             problem.require_no_spin("optimize (the profile QP and the refinements)")?;
-            let r = Resolved::new(&problem)?;
+            let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
             let report = catflip::optimize::optimize(&r)?;
             spinner.finish_and_clear();
@@ -252,7 +263,7 @@ fn run() -> anyhow::Result<()> {
         Command::Optimize { common, whole: true, quiet } => {
             let problem = load(&common, &[])?;
             problem.require_no_spin("optimize --whole")?;
-            let r = Resolved::new(&problem)?;
+            let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;
             spinner.finish_and_clear();
@@ -281,7 +292,7 @@ fn run() -> anyhow::Result<()> {
                     regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
                 let spinner =
                     progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
-                let outcome = catflip::report::run::run_with(&Resolved::new(&problem)?, &command, &out, &export)?;
+                let outcome = catflip::report::run::run_with(&resolve(&problem, false)?, &command, &out, &export)?;
                 spinner.finish_and_clear();
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
@@ -304,7 +315,7 @@ fn run() -> anyhow::Result<()> {
                 1.0 / 16000.0,
                 1.0 / 32000.0,
             ];
-            let outcome = catflip::report::run::run_bench(&Resolved::new(&p)?, &command, &out, &dts)?;
+            let outcome = catflip::report::run::run_bench(&resolve(&p, json)?, &command, &out, &dts)?;
             if json {
                 let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
                 say(&text)?;
@@ -340,7 +351,7 @@ fn run() -> anyhow::Result<()> {
                     catflip::robust::robustness(&problem, &imported, &file.display().to_string())
                 }
                 None => {
-                    let r = Resolved::new(&problem)?;
+                    let r = resolve(&problem, common.json)?;
                     catflip::robust::robustness(&problem, &r.schedule, "the problem's schedule")
                 }
             };
@@ -351,7 +362,7 @@ fn run() -> anyhow::Result<()> {
             emit(common.json, &check, || check.to_markdown())?;
         }
         Command::Compare(common) => {
-            let r = Resolved::new(&load(&common, &[])?)?;
+            let r = resolve(&load(&common, &[])?, common.json)?;
             let table = catflip::report::compare::compare(&r, &[]);
             emit(common.json, &table, || table.to_markdown())?;
         }

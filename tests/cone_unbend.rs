@@ -124,3 +124,47 @@ fn calibrated_circulation_works_on_cones_bent_beyond_90_degrees() {
         }
     }
 }
+
+/// Issue 18, "Accuracy": on the cone at θ = 41.9°, r/l = 0.405, the twist jumps by about 200°
+/// between 4.6 and 5.0 rad of circulation (the swing passes through π, where the twist is not
+/// defined), above the paper's π/C = 4.1697 rad. The search used to stop at the first sign change,
+/// on that side, and refused: "the bracket closed on a jump, not on a root". The root is on the
+/// other side; the reference is an independent bisection of the exact engine's twist + π.
+#[test]
+fn the_calibration_passes_over_a_jump_to_the_root_on_the_other_side() {
+    let mut p = Problem::default();
+    p.manoeuvre.theta_deg = 41.9;
+    p.cat.radius = 0.405;
+    p.manoeuvre.bend_path = BendPath::Cone;
+    p.manoeuvre.circulation = Circulation::Calibrated;
+    let c = match resolve(&p) {
+        Ok(c) => c,
+        Err(e) => panic!("no calibrated circulation: {e}"),
+    };
+    let cal = c.calibration.expect("a calibration was run");
+    let twist = |d: f64| catflip::engines::exact::flip(&p.cat, &Schedule::new(&p, d), 1e-12).twist;
+    let (mut lo, mut hi) = (2.9, 3.1);
+    assert!(twist(lo) + PI > 0.0 && twist(hi) + PI < 0.0, "the reference bracket");
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if twist(mid) + PI > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    // The twist moves 0.16 rad per rad of circulation here: 1e-10 rad of twist is 1e-9 rad of D.
+    assert!((cal.circulation - lo).abs() < 1e-8, "calibrated {} rad, bisection {lo} rad", cal.circulation);
+    assert!((cal.twist + PI).abs() <= p.exact.tolerance, "twist {} rad", cal.twist);
+    // The flip turns the cat by π with the spine swung by 114°: it is said that it does not land.
+    let swing = cal.swing.to_degrees();
+    assert!((113.0..115.0).contains(&swing), "swing {swing}°");
+    let r = catflip::engines::circulation::Resolved::new(&p).expect("resolves");
+    let w = r.warnings();
+    assert!(w.len() == 1 && w[0].contains("113.9°") && w[0].contains("does not land on its feet"), "{w:?}");
+    // The paper's own calibrated flip (swing 1.3°) is not warned of.
+    let mut paper = Problem::default();
+    paper.manoeuvre.circulation = Circulation::Calibrated;
+    let r = catflip::engines::circulation::Resolved::new(&paper).expect("resolves");
+    assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+}

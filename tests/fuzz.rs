@@ -1,7 +1,8 @@
 //! Fuzz the problem file and `--set` with hostile values on the real keys (proptest): no
 //! panic, and every rejection is one line that names the field as the user writes it (the
 //! dotted key, e.g. `cat.mass`). A fast sample runs in CI; 10⁵ inputs per property run with
-//! `cargo test --release --test fuzz -- --ignored`.
+//! `cargo test --release --test fuzz -- --ignored`. The file surfaces added since (schedule files,
+//! sweep files, shard manifests) are fuzzed in `tests/fuzz_files.rs`.
 
 use std::cell::Cell;
 

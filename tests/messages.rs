@@ -124,3 +124,155 @@ fn impossible_settings_are_named_in_the_users_terms() {
     );
     assert!(!e.contains("none of the 0"), "{e}");
 }
+
+/// `catflip ARGS` under a file-size limit of `blocks` 512-byte blocks (`ulimit -f`, with SIGXFSZ
+/// ignored so that a write past it fails with EFBIG as a full disk fails with ENOSPC). Unlike
+/// permission bits, the limit holds for root too.
+fn catflip_limited(blocks: u32, args: &[&str]) -> (i32, String) {
+    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+    let script =
+        format!("ulimit -f {blocks}; trap '' XFSZ; exec '{}' {}", env!("CARGO_BIN_EXE_catflip"), quoted.join(" "));
+    let out = Command::new("sh").args(["-c", &script]).output().expect("sh runs");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).trim().to_string())
+}
+
+/// A fresh folder for test `tag`.
+fn scratch(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("catflip-messages-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("a scratch folder");
+    d
+}
+
+/// Issue 18, "Messages": a write that fails (here on a file-size limit, as on a full disk) is
+/// said with the path the user will find (`OUT/NAME/…`, never the hidden scratch folder) and the
+/// OS error in words (before: `ImageError(IoError(Custom { kind: Other, error: "File too large
+/// (os error 27)" }))` for a PNG, and `OUT/.paper.partial-PID/plots/flip.gif` for a run).
+#[test]
+fn a_failed_write_names_the_users_path_and_the_os_error() {
+    let dir = scratch("write");
+    let sweep = dir.join("w.toml");
+    std::fs::write(
+        &sweep,
+        "name = \"w\"\n[base]\nname = \"tiny\"\n[base.exact]\ntolerance = 1e-8\ntorque_samples = 40\n\
+         [[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[compute]\npeaks = true\npaper_flip = true\ncalibrated = false\n",
+    )
+    .expect("writable");
+    let out = dir.join("out");
+    let out_s = out.display().to_string();
+    // 8 kB: the sweep's tables (2 kB) are written, its first PNG (50 kB) is not.
+    let (code, e) = catflip_limited(16, &["sweep", &sweep.display().to_string(), "--out", &out_s, "--quiet"]);
+    assert_eq!(code, 1, "{e}");
+    assert!(e.starts_with(&format!("error: cannot write {out_s}/w/plots/")) && e.contains(".png"), "{e}");
+    assert!(e.ends_with("File too large (os error 27)") && !e.contains('\n'), "{e}");
+    assert!(!e.contains("Error(") && !e.contains('{'), "Rust Debug text: {e}");
+    let (code, e) = catflip_limited(1, &["run", "problems/paper.toml", "--out", &out_s, "--quiet"]);
+    let e = e.lines().last().unwrap_or_default();
+    assert_eq!(code, 1, "{e}");
+    assert!(e.starts_with(&format!("error: cannot write {out_s}/paper/")) && !e.contains(".partial-"), "{e}");
+    assert!(e.ends_with("File too large (os error 27)"), "{e}");
+    let left: Vec<_> = std::fs::read_dir(&out).expect("the folder").filter_map(Result::ok).collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 18, "Messages": an error in a sweep's base problem is said once (it was printed twice,
+/// the sweep's message repeating its cause).
+#[test]
+fn a_sweep_base_problem_error_is_said_once() {
+    let dir = scratch("base");
+    std::fs::write(dir.join("bad.toml"), "[cat]\nmass = -1\n").expect("writable");
+    let sweep = dir.join("s.toml");
+    std::fs::write(
+        &sweep,
+        "base = \"bad.toml\"\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1]\n[compute]\npeaks = true\n",
+    )
+    .expect("writable");
+    let (code, e) = catflip(&["sweep", &sweep.display().to_string(), "--out", &dir.join("out").display().to_string()]);
+    assert_eq!((code, e.as_str()), (1, "error: the sweep's base problem: cat.mass = -1: must be positive"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The paper's schedule as a CSV at 1 kHz (`t_s` written in plain decimals), every time field
+/// through `retime` as text.
+fn paper_csv_retimed(retime: impl Fn(&str) -> String) -> String {
+    use catflip::exchange::{write_schedule, ExportOptions};
+    let p = Problem::default();
+    let c = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect("the paper's circulation exists");
+    let s = catflip::schedule::Schedule::new(&p, c);
+    let csv = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+        .expect("writes")
+        .csv;
+    let mut lines = csv.lines();
+    let mut text = lines.next().unwrap_or_default().to_string() + "\n";
+    for line in lines {
+        let (t, rest) = line.split_once(',').unwrap_or((line, ""));
+        text += &format!("{},{rest}\n", retime(t));
+    }
+    text
+}
+
+/// Issue 18, "Messages": times near 1e15 s, written in full, are held to 0.125 s in double
+/// precision, so rows 1 ms apart run together. Before, the error showed two equal times ("t =
+/// 1000000000000000 s after t = 1000000000000000 s: times must increase"); times near 1e9 s,
+/// accepted, moved the rows unsaid.
+#[test]
+fn times_far_from_zero_are_refused_or_warned_by_their_rounding() {
+    use catflip::exchange::import::parse_schedule;
+    use catflip::exchange::ImportError;
+    // 1e15 + t written as text: `100000000000000` then t's decimals (t < 10).
+    let far = paper_csv_retimed(|t| format!("100000000000000{t}"));
+    assert!(far.lines().nth(2).is_some_and(|l| l.starts_with("1000000000000000.001")), "{far:.200}");
+    match parse_schedule(&far, "far.csv").expect_err("refused") {
+        e @ ImportError::TimesUnresolved { .. } => {
+            let e = e.to_string();
+            assert!(e.starts_with("far.csv: column `t_s`: times near 1e15 s are held in double precision"), "{e}");
+            assert!(
+                e.contains("times the rows' mean spacing") && e.ends_with("from the start of the fall (t = 0)"),
+                "{e}"
+            );
+        }
+        e => panic!("{e}"),
+    }
+    let dir = scratch("far");
+    let path = dir.join("far.csv");
+    std::fs::write(&path, &far).expect("writable");
+    let (code, e) = catflip(&["simulate", "problems/paper.toml", "--schedule", &path.display().to_string()]);
+    assert!(code == 1 && !e.contains("must increase") && e.contains("times near 1e15 s"), "{e}");
+    // Near 1e9 s the rows move by 1e-7 s: accepted, with a warning naming the column.
+    let p = Problem::default();
+    let near = paper_csv_retimed(|t| format!("{}", 1e9 + t.parse::<f64>().expect("a time")));
+    let imported = parse_schedule(&near, "near.csv").expect("reads");
+    let r = catflip::exchange::evaluate(&p, &imported).expect("evaluates");
+    assert!(r.warnings.iter().any(|w| w.contains("column `t_s`: times near 1e9 s")), "{:?}", r.warnings);
+    // From zero, nothing is said.
+    let zero = paper_csv_retimed(str::to_string);
+    let r = catflip::exchange::evaluate(&p, &parse_schedule(&zero, "zero.csv").expect("reads")).expect("evaluates");
+    assert!(!r.warnings.iter().any(|w| w.contains("double precision")), "{:?}", r.warnings);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 18, "Messages": a schedule compressed to 1e-200 s, given to rapier, was blamed on
+/// "a positive definite locked inertia" (rapier's start at zero momentum, at rates of 1e200 rad/s);
+/// it is refused on its time column, whatever the engine.
+#[test]
+fn a_compressed_schedule_is_refused_on_its_times_for_every_engine() {
+    let tiny = paper_csv_retimed(|t| format!("{:e}", 1e-200 * t.parse::<f64>().expect("a time")));
+    let dir = scratch("tiny");
+    let path = dir.join("tiny.csv");
+    std::fs::write(&path, &tiny).expect("writable");
+    for engine in ["exact", "rapier"] {
+        let (code, e) = catflip(&[
+            "simulate",
+            "problems/paper.toml",
+            "--schedule",
+            &path.display().to_string(),
+            "--engine",
+            engine,
+        ]);
+        let e = e.lines().last().unwrap_or_default();
+        assert!(code == 1 && e.contains("column `t_s`") && e.contains("times must be in seconds"), "{engine}: {e}");
+        assert!(!e.contains("locked inertia"), "{engine}: {e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::engines::exact::flip_spinning;
 use crate::model::Cylinder;
-use crate::numeric::roots::{brent, expand_bracket, RootStatus};
+use crate::numeric::roots::{brent, Brackets, RootStatus};
 use crate::schedule::Schedule;
 
 /// The outcome of a calibration.
@@ -33,7 +33,9 @@ pub struct Calibration {
 }
 
 /// Finds the circulation near `schedule.circulation` that makes the twist ±π, to `tolerance` rad
-/// in twist.
+/// in twist. The brackets are tried nearest first ([`Brackets`]): where the twist jumps (the
+/// swing passing through π, where the twist is not defined), the sign change on that side is
+/// not a root, and the other side's is tried.
 pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibration {
     calibrate_spinning(cat, schedule, &Vector3::zeros(), tolerance)
 }
@@ -50,25 +52,33 @@ pub fn calibrate_spinning(cat: &Cylinder, schedule: &Schedule, spin: &Vector3<f6
     let mut f = |d: f64| flip(&schedule.with_circulation(d)).twist - target;
     let f0 = first - target;
     let step = 0.05 * d0.abs().max(0.1);
-    let Some((lo, hi)) = expand_bracket(&mut f, d0, f0, step, 12, &mut evaluations) else {
-        return Calibration {
-            circulation: d0,
-            twist: first,
-            swing: f64::NAN,
-            evaluations,
-            status: RootStatus::NoBracket,
-        };
-    };
-    // The twist changes by O(1) per radian of circulation, so a circulation accurate to
-    // `tolerance · 1e-2` rad leaves a twist error well below `tolerance` (checked below).
-    let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
-    evaluations += root.evaluations;
-    let at = flip(&schedule.with_circulation(root.x));
-    // A root is only a root if the engine met its tolerance there and the twist is ±π.
-    let status = if root.status == RootStatus::Converged && !(at.converged && (at.twist - target).abs() <= tolerance) {
-        RootStatus::NotAtRoot
-    } else {
-        root.status
-    };
-    Calibration { circulation: root.x, twist: at.twist, swing: at.swing, evaluations: evaluations + 1, status }
+    let mut brackets = Brackets::new(d0, f0, step, 12);
+    let mut failed: Option<Calibration> = None;
+    while let Some((lo, hi)) = brackets.next(&mut f, &mut evaluations) {
+        // The twist changes by O(1) per radian of circulation, so a circulation accurate to
+        // `tolerance · 1e-2` rad leaves a twist error well below `tolerance` (checked below).
+        let root = brent(&mut f, lo, hi, 1e-2 * tolerance, 100);
+        evaluations += root.evaluations;
+        let at = flip(&schedule.with_circulation(root.x));
+        evaluations += 1;
+        // A root is only a root if the engine met its tolerance there and the twist is ±π.
+        let status =
+            if root.status == RootStatus::Converged && !(at.converged && (at.twist - target).abs() <= tolerance) {
+                RootStatus::NotAtRoot
+            } else {
+                root.status
+            };
+        let found = Calibration { circulation: root.x, twist: at.twist, swing: at.swing, evaluations, status };
+        if status.is_converged() {
+            return found;
+        }
+        failed.get_or_insert(found);
+    }
+    match failed {
+        // The first bracket's outcome, with every evaluation counted.
+        Some(first_failure) => Calibration { evaluations, ..first_failure },
+        None => {
+            Calibration { circulation: d0, twist: first, swing: f64::NAN, evaluations, status: RootStatus::NoBracket }
+        }
+    }
 }

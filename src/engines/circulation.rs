@@ -113,6 +113,12 @@ pub fn resolve_circulation(
     })
 }
 
+/// The swing of the spine, degrees, above which a calibrated circulation is warned: it turns the
+/// cat by π about its spine, but the spine ends nearer across its start than along it, so the cat
+/// does not land on its feet (the paper's flip ends with the swing near zero; a circulation alone
+/// cannot set both angles).
+pub const LANDING_SWING_DEG: f64 = 45.0;
+
 /// A problem resolved once: its schedule and circulation, its calibration and its library
 /// profiles' evaluations, handed to every command.
 #[derive(Clone, Debug)]
@@ -141,6 +147,19 @@ impl Resolved {
             let _ = calibration.set(c);
         }
         Ok(Resolved { problem: problem.clone(), schedule, circulation, calibration, library: OnceLock::new() })
+    }
+
+    /// What is not an error but should be said: a calibrated circulation that turns the cat by
+    /// π with its spine swung by more than [`LANDING_SWING_DEG`].
+    pub fn warnings(&self) -> Vec<String> {
+        let Some(c) = self.circulation.calibration.filter(|c| c.swing.to_degrees().abs() > LANDING_SWING_DEG) else {
+            return Vec::new();
+        };
+        vec![format!(
+            "manoeuvre.circulation = \"calibrated\": {:.6} rad turns this cat by π, but its spine ends swung by {:.1}° (more than {LANDING_SWING_DEG}°), so it does not land on its feet (one circulation sets the twist, not the swing; `catflip optimize --whole` flips it with the swing held at 0)",
+            c.circulation,
+            c.swing.to_degrees()
+        )]
     }
 
     /// The cat.

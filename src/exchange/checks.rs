@@ -5,9 +5,14 @@
 //! - a duration more than [`ABSURD_DURATION_FACTOR`] times longer or shorter than the fall
 //!   `t_fall = √(2h/g)` (the times cannot be seconds; the engines' numbers would overflow);
 //! - (when the file is read, [`crate::exchange::import`]) a non-finite field, an angle beyond
-//!   [`crate::exchange::import::MAX_ANGLE_RAD`], angles that jump at a repeated time.
+//!   [`crate::exchange::import::MAX_ANGLE_RAD`], angles that jump at a repeated time, times so
+//!   far from zero that their rounding in double precision reaches
+//!   [`crate::exchange::import::TIME_ROUNDING_REFUSED`] of the rows' mean spacing
+//!   ([`crate::exchange::import::TimeRounding`]: near 1e15 s rows 1 ms apart run together).
 //!
 //! Warned (the report is made, with the warning beside it):
+//! - times whose rounding reaches [`TIME_ROUNDING_WARNED`] of the rows' mean spacing (a clock's
+//!   epoch, not the fall's start: near 1e9 s the rows move by 1e-7 s);
 //! - a duration that is not the fall's (within [`DURATION_TOLERANCE`] relative), said as
 //!   milliseconds when it is a thousand times the fall;
 //! - a joint angle beyond π rad (the halves would fold through each other): degrees, most likely;
@@ -30,7 +35,9 @@
 use crate::engines::evaluate::{released_flip, torque_source};
 use crate::engines::torque::{peak_torques_from, piece_samples, reduced_mass_matrix};
 use crate::engines::JUMP_TOLERANCE;
-use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation, Row, POSITION_JUMP_TOLERANCE};
+use crate::exchange::import::{
+    ImportError, ImportedSchedule, Interpolation, Row, TimeRounding, POSITION_JUMP_TOLERANCE, TIME_ROUNDING_WARNED,
+};
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
 
@@ -48,6 +55,7 @@ pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 pub fn check(problem: &Problem, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
     let mut warnings = Vec::new();
     duration(problem, schedule, &mut warnings)?;
+    time_rounding(schedule, &mut warnings);
     degrees(schedule, &mut warnings);
     ends(problem, schedule, &mut warnings);
     consistency(schedule, &mut warnings);
@@ -96,6 +104,18 @@ fn duration(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>)
         ));
     }
     Ok(())
+}
+
+/// Times far from zero are rounded by more than [`TIME_ROUNDING_WARNED`] of the rows' spacing
+/// (more than [`crate::exchange::import::TIME_ROUNDING_REFUSED`] was refused on reading).
+fn time_rounding(s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    let times: Vec<f64> = s.all_rows().map(|r| r.t).collect();
+    if let Some(r) = TimeRounding::of(&times).filter(|r| r.share() > TIME_ROUNDING_WARNED) {
+        warnings.push(format!(
+            "{}, which moves the rows and the accelerations interpolated between them; write the times from the start of the fall (t = 0)",
+            r.describe(&s.columns.time)
+        ));
+    }
 }
 
 fn degrees(s: &ImportedSchedule, warnings: &mut Vec<String>) {

@@ -17,7 +17,9 @@
 //! piece with its one-sided values, the second starts the next), which is how rates may jump
 //! (catflip's own files mark such pairs `end`/`start` in their `boundary` column). Phases are
 //! optional: a file without duplicated times is one piece. The first row's time is the start
-//! (`t = 0` of the trajectory). Conventions are the README's ("Replay elsewhere": `R_AB = Rx(q1) · Ry(q2)`).
+//! (`t = 0` of the trajectory); times far from zero lose their resolution in double precision
+//! ([`TimeRounding`]), so a file is refused when that rounding reaches
+//! [`TIME_ROUNDING_REFUSED`] of the rows' mean spacing. Conventions are the README's ("Replay elsewhere": `R_AB = Rx(q1) · Ry(q2)`).
 //!
 //! # Interpolation
 //!
@@ -197,6 +199,15 @@ pub enum ImportError {
         /// `long` or `short`.
         direction: String,
     },
+    /// The times are so large against the rows' spacing that double precision cannot keep the
+    /// rows apart (times near 1e15 s are held to 0.125 s).
+    #[error("{path}: {what}, so the rows run together; write the times from the start of the fall (t = 0)")]
+    TimesUnresolved {
+        /// The file.
+        path: String,
+        /// The column, the times' size and rounding against the spacing ([`TimeRounding::describe`]).
+        what: String,
+    },
     /// The exact engine could not compute a number the report needs (it came out NaN or
     /// infinite): nothing is reported rather than a wrong number.
     #[error("{path}: the exact engine could not compute {quantity} for this schedule (it is not finite): the file's angles, rates or times are too large or too small to evaluate")]
@@ -307,6 +318,56 @@ pub const MAX_ANGLE_RAD: f64 = 1e3;
 /// The largest difference of the angles on the two rows of a repeated time, rad: below any
 /// joint's resolution, above the round-off of a file written to seven digits or more.
 pub const POSITION_JUMP_TOLERANCE: f64 = 1e-6;
+
+/// The share of the rows' mean spacing that the times' rounding may reach before the file is
+/// refused ([`TimeRounding`]): beyond it the rows' spacing is wrong by 0.1 % and more, and the
+/// interpolated accelerations with it.
+pub const TIME_ROUNDING_REFUSED: f64 = 1e-3;
+/// The share above which the times' rounding is warned.
+pub const TIME_ROUNDING_WARNED: f64 = 1e-6;
+
+/// How finely a file's times are held: a time `t` is stored in double precision to within
+/// `|t| ε/2`, so times far from zero (a clock's epoch, not the fall's start) move the rows by that
+/// much, and near 1e15 s rows 0.7 ms apart run together.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimeRounding {
+    /// The largest `|t|` of the file, s.
+    pub largest: f64,
+    /// Its rounding, `|t| ε/2`, s.
+    pub rounding: f64,
+    /// The rows' mean spacing, s.
+    pub spacing: f64,
+}
+
+impl TimeRounding {
+    /// The rounding of a file's times; `None` for fewer than two rows or no time between them.
+    pub fn of(times: &[f64]) -> Option<TimeRounding> {
+        let (first, last) = (times.first()?, times.last()?);
+        let largest = times.iter().map(|t| t.abs()).fold(0.0, f64::max);
+        let spacing = (last - first) / (times.len() - 1) as f64;
+        (spacing > 0.0).then_some(TimeRounding { largest, rounding: largest * f64::EPSILON / 2.0, spacing })
+    }
+
+    /// The rounding as a share of the spacing.
+    pub fn share(&self) -> f64 {
+        self.rounding / self.spacing
+    }
+
+    /// In words, for the time column `name`: ``column `t_s`: times near 1e15 s are held in
+    /// double precision only to ±0.11 s, 156 times the rows' mean spacing of 0.000714 s``.
+    pub fn describe(&self, name: &str) -> String {
+        use crate::numeric::numfmt::sig;
+        let share = self.share();
+        let share =
+            if share >= 1.0 { format!("{} times", sig(share, 3)) } else { format!("{} % of", sig(100.0 * share, 2)) };
+        format!(
+            "column `{name}`: times near {} s are held in double precision only to ±{} s, {share} the rows' mean spacing of {} s",
+            sig(self.largest, 6),
+            sig(self.rounding, 2),
+            sig(self.spacing, 3)
+        )
+    }
+}
 
 /// How many times the estimated rate error a difference of rates must exceed to be a jump.
 pub const JUMP_SAFETY: f64 = 10.0;
@@ -502,6 +563,10 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
             qdd: both(qdd_cols)?,
             phase: phase_col.and_then(|c| record.get(c)).filter(|s| !s.is_empty()).map(str::to_string),
         });
+    }
+    let times: Vec<f64> = samples.iter().map(|r| r.t).collect();
+    if let Some(r) = TimeRounding::of(&times).filter(|r| r.share() > TIME_ROUNDING_REFUSED) {
+        return Err(ImportError::TimesUnresolved { path, what: r.describe(&header[t_col]) });
     }
     let groups = split_pieces(&samples, &path, t_col, &header[t_col])?;
     check_continuity(&groups, &path, &columns)?;

@@ -1,4 +1,5 @@
-//! Scalar root finding: bracket expansion and Brent's method.
+//! Scalar root finding: bracket expansion ([`Brackets`], each side's first sign change) and
+//! Brent's method.
 //!
 //! ## References
 //! - R. P. Brent, *Algorithms for Minimization without Derivatives* (1973), ch. 4.
@@ -62,28 +63,56 @@ pub struct Root {
     pub status: RootStatus,
 }
 
-/// Expands `[x0 − s, x0 + s]` geometrically (`s = step·2^k`) on both sides until `f` changes
-/// sign between `x0` and one end; returns the bracket with its function values.
-pub fn expand_bracket(
-    f: &mut impl FnMut(f64) -> f64,
+/// A bracket `((a, f(a)), (b, f(b)))` with `f(a) f(b) ≤ 0`.
+pub type Bracket = ((f64, f64), (f64, f64));
+
+/// Sign changes of `f` around `x0`, found by expanding `[x0 − s, x0 + s]` geometrically
+/// (`s = step·2^k`, `k < max_doublings`): each side's first sign change between `x0` and `x0 ± s`,
+/// in the order found (the nearer first; at one distance the upper side first). A side that has
+/// given its bracket is no longer evaluated, so asking for the second bracket only when the
+/// first held no root (a jump, not a zero) costs nothing in the common case.
+#[derive(Clone, Debug)]
+pub struct Brackets {
     x0: f64,
     f0: f64,
-    step: f64,
+    s: f64,
+    k: usize,
+    side: usize,
     max_doublings: usize,
-    evaluations: &mut usize,
-) -> Option<((f64, f64), (f64, f64))> {
-    let mut s = step;
-    for _ in 0..max_doublings {
-        for x in [x0 + s, x0 - s] {
-            let fx = f(x);
-            *evaluations += 1;
-            if fx.is_finite() && fx * f0 <= 0.0 {
-                return Some(if x > x0 { ((x0, f0), (x, fx)) } else { ((x, fx), (x0, f0)) });
-            }
-        }
-        s *= 2.0;
+    open: [bool; 2],
+}
+
+impl Brackets {
+    /// The expansion from `x0` (where `f = f0`) by `step`, at most `max_doublings` times.
+    pub fn new(x0: f64, f0: f64, step: f64, max_doublings: usize) -> Brackets {
+        Brackets { x0, f0, s: step, k: 0, side: 0, max_doublings, open: [true; 2] }
     }
-    None
+
+    /// The next bracket, counting `f`'s evaluations in `evaluations`; `None` when the expansion
+    /// is spent.
+    pub fn next(&mut self, f: &mut impl FnMut(f64) -> f64, evaluations: &mut usize) -> Option<Bracket> {
+        while self.k < self.max_doublings {
+            while self.side < 2 {
+                let side = self.side;
+                self.side += 1;
+                if !self.open[side] {
+                    continue;
+                }
+                let x = if side == 0 { self.x0 + self.s } else { self.x0 - self.s };
+                let fx = f(x);
+                *evaluations += 1;
+                if fx.is_finite() && fx * self.f0 <= 0.0 {
+                    self.open[side] = false;
+                    let (x0, f0) = (self.x0, self.f0);
+                    return Some(if x > x0 { ((x0, f0), (x, fx)) } else { ((x, fx), (x0, f0)) });
+                }
+            }
+            self.side = 0;
+            self.k += 1;
+            self.s *= 2.0;
+        }
+        None
+    }
 }
 
 /// Brent's method on a bracket `[a, b]` with `f(a) f(b) ≤ 0`, to `|b − a| ≤ xtol` or `f = 0`.
@@ -244,8 +273,21 @@ mod tests {
     fn bracket_expands_to_a_far_root() {
         let mut n = 0;
         let mut f = |x: f64| x - 37.0;
-        let ((a, _), (b, _)) = expand_bracket(&mut f, 1.0, -36.0, 0.5, 20, &mut n).expect("bracket");
+        let ((a, _), (b, _)) = Brackets::new(1.0, -36.0, 0.5, 20).next(&mut f, &mut n).expect("bracket");
         assert!(a <= 37.0 && 37.0 <= b, "[{a}, {b}] should hold 37");
+    }
+
+    #[test]
+    fn each_side_gives_its_bracket_the_nearer_first() {
+        // A jump of sign at x = 2 (upper side) and a root at x = −3 (lower side), from x0 = 0.
+        let mut f = |x: f64| if (-3.0..=2.0).contains(&x) { -1.0 } else { 1.0 };
+        let (mut n, mut brackets) = (0, Brackets::new(0.0, -1.0, 1.0, 10));
+        let ((a, _), (b, _)) = brackets.next(&mut f, &mut n).expect("the upper bracket");
+        assert!((a, b) == (0.0, 4.0) && n == 5, "[{a}, {b}] after {n} evaluations");
+        let ((a, _), (b, _)) = brackets.next(&mut f, &mut n).expect("the lower bracket");
+        assert!((a, b) == (-4.0, 0.0) && n == 6, "[{a}, {b}] after {n} evaluations");
+        assert!(brackets.next(&mut f, &mut n).is_none());
+        assert_eq!(n, 6, "a closed side is not evaluated again");
     }
 
     #[test]

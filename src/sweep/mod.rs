@@ -48,8 +48,10 @@ pub enum SweepError {
     #[error(transparent)]
     Spec(#[from] spec::SpecError),
     /// A file or folder could not be read or written.
-    #[error("cannot access {path}")]
+    #[error("cannot {action} {path}")]
     Io {
+        /// What was being done: `read` or `write`.
+        action: &'static str,
         /// The path.
         path: String,
         /// What the OS said.

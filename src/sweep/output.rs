@@ -114,7 +114,7 @@ pub fn write_part(
 }
 
 fn io(path: &Path, source: std::io::Error) -> SweepError {
-    SweepError::Io { path: path.display().to_string(), source }
+    SweepError::Io { action: "write", path: path.display().to_string(), source }
 }
 
 fn put(dir: &Path, name: &str, text: &str, files: &mut Vec<String>) -> Result<(), SweepError> {
@@ -137,17 +137,12 @@ fn atomically(out: &Path, name: &str, fill: impl FnOnce(&Path) -> Result<(), Swe
 
 /// `e` with any path in the scratch folder shown as the user's.
 fn shown(staging: &Staging, e: SweepError) -> SweepError {
-    use crate::report::plot::PlotError;
     let at = |p: PathBuf| staging.shown(&p);
     match e {
-        SweepError::Io { path, source } => SweepError::Io { path: at(path.into()).display().to_string(), source },
-        SweepError::Plot(p) => SweepError::Plot(match p {
-            PlotError::NoData { path, reason } => PlotError::NoData { path: at(path), reason },
-            PlotError::BadArgument { path, reason } => PlotError::BadArgument { path: at(path), reason },
-            PlotError::CreateDir { path, source } => PlotError::CreateDir { path: at(path), source },
-            PlotError::Write { path, message } => PlotError::Write { path: at(path), message },
-            other => other,
-        }),
+        SweepError::Io { action, path, source } => {
+            SweepError::Io { action, path: at(path.into()).display().to_string(), source }
+        }
+        SweepError::Plot(p) => SweepError::Plot(p.shown_as(at)),
         other => other,
     }
 }

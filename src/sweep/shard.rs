@@ -20,7 +20,7 @@ use std::str::FromStr;
 use serde::{Deserialize, Serialize};
 
 use super::evaluate::row_keys;
-use super::spec::{one_line, SpecError, Sweep};
+use super::spec::{one_line, with_causes, SpecError, Sweep};
 use super::table::{from_csv_lines, Record};
 use super::SweepError;
 
@@ -104,7 +104,7 @@ impl Manifest {
     pub fn validate(&self) -> Result<(), (String, String)> {
         self.sweep.validate().map_err(|e| match e {
             SpecError::BadField { field, reason } => (format!("sweep.{field}"), reason),
-            other => ("sweep".to_string(), one_line(&other.to_string())),
+            other => ("sweep".to_string(), one_line(&with_causes(&other))),
         })?;
         let Shard { k, n } = self.shard;
         let cases = self.sweep.case_count();
@@ -241,5 +241,9 @@ fn check_rows(sweep: &Sweep, range: Range<usize>, path: &str, rows: &[(u64, Reco
 }
 
 fn read(path: &Path) -> Result<String, SweepError> {
-    std::fs::read_to_string(path).map_err(|source| SweepError::Io { path: path.display().to_string(), source })
+    std::fs::read_to_string(path).map_err(|source| SweepError::Io {
+        action: "read",
+        path: path.display().to_string(),
+        source,
+    })
 }

@@ -56,8 +56,8 @@ pub enum SpecError {
         /// The parser's message, naming the key.
         message: String,
     },
-    /// The base problem does not load.
-    #[error("the sweep's base problem: {0}")]
+    /// The base problem does not load (its reason is the source, printed after this).
+    #[error("the sweep's base problem")]
     Base(#[from] crate::problem::ProblemError),
     /// A field of the sweep file has a value it cannot use.
     #[error("{field}: {reason}")]
@@ -479,4 +479,15 @@ fn bad(field: &str, reason: &str) -> SpecError {
 /// A message on one line.
 pub(crate) fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// `e` and its causes, joined as the command line prints them (`the sweep's base problem: …`).
+pub fn with_causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        text = format!("{text}: {c}");
+        cause = c.source();
+    }
+    text
 }

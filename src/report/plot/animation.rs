@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use super::gif::RgbFrames;
 use super::pose::{cat_poses, BodyPose, CatPose};
 use super::raster::Raster;
-use super::style::{bold, create_dir, ensure_fonts, failed, png_written, text, GUIDE};
+use super::style::{bold, create_dir, ensure_fonts, failed, png_written, save_failed, text, GUIDE};
 use super::PlotError;
 use crate::problem::Problem;
 use crate::schedule::{Phase, Trajectory};
@@ -97,7 +97,7 @@ pub fn flip_animation(
         let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
         scene
             .draw_filmstrip(&root, &panels, &extent)
-            .and_then(|()| root.present().map_err(failed))
+            .and_then(|()| root.present().map_err(save_failed))
             .map_err(write_error(&strip))?;
     }
     png_written(&strip).map_err(write_error(&strip))?;

@@ -90,6 +90,20 @@ pub enum PlotError {
     Font(String),
 }
 
+impl PlotError {
+    /// The same error with its path passed through `at`: a file written in a scratch folder is
+    /// named as the user will find it ([`crate::report::results_dir::Staging::shown`]).
+    pub fn shown_as(self, at: impl Fn(PathBuf) -> PathBuf) -> PlotError {
+        match self {
+            PlotError::NoData { path, reason } => PlotError::NoData { path: at(path), reason },
+            PlotError::BadArgument { path, reason } => PlotError::BadArgument { path: at(path), reason },
+            PlotError::CreateDir { path, source } => PlotError::CreateDir { path: at(path), source },
+            PlotError::Write { path, message } => PlotError::Write { path: at(path), message },
+            other @ PlotError::Font(_) => other,
+        }
+    }
+}
+
 /// One named curve: `(x, y)` points in the plot's units, drawn in the given order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {

@@ -6,6 +6,7 @@ use std::sync::OnceLock;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
+use plotters_backend::DrawingErrorKind;
 
 use super::raster::Raster;
 use super::PlotError;
@@ -86,6 +87,22 @@ pub(crate) fn failed<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind
     e.to_string()
 }
 
+/// A plotters error on saving a figure as a message. The bitmap backend's own errors print as
+/// Rust `Debug` text (`ImageError(IoError(Custom { … }))`), so its I/O and encoder errors are
+/// said by their own message: what the OS said, e.g. "No space left on device (os error 28)".
+pub(crate) fn save_failed<E: std::error::Error + Send + Sync + 'static>(e: DrawingAreaErrorKind<E>) -> String {
+    use plotters_bitmap::BitMapBackendError;
+    let DrawingAreaErrorKind::BackendError(DrawingErrorKind::DrawingError(inner)) = &e else {
+        return failed(e);
+    };
+    match (inner as &dyn std::any::Any).downcast_ref::<BitMapBackendError>() {
+        Some(BitMapBackendError::IOError(io)) => io.to_string(),
+        Some(BitMapBackendError::ImageError(image)) => image.to_string(),
+        Some(BitMapBackendError::InvalidBuffer) => "the bitmap's pixel buffer has the wrong size".into(),
+        _ => failed(e),
+    }
+}
+
 /// Creates `dir` (and its parents) if needed.
 pub(crate) fn create_dir(dir: &Path) -> Result<(), PlotError> {
     std::fs::create_dir_all(dir).map_err(|source| PlotError::CreateDir { path: dir.to_path_buf(), source })
@@ -125,14 +142,13 @@ pub(crate) fn png_written(path: &Path) -> Result<(), String> {
 }
 
 /// Draws `figure` on `root` and flushes it to `path`.
-fn render<DB: DrawingBackend>(
-    path: &Path,
-    root: DrawingArea<DB, Shift>,
-    figure: &impl Figure,
-) -> Result<(), PlotError> {
+fn render<DB: DrawingBackend>(path: &Path, root: DrawingArea<DB, Shift>, figure: &impl Figure) -> Result<(), PlotError>
+where
+    DB::ErrorType: 'static,
+{
     figure
         .draw(&root)
-        .and_then(|()| root.present().map_err(failed))
+        .and_then(|()| root.present().map_err(save_failed))
         .map_err(|message| PlotError::Write { path: path.to_path_buf(), message })
 }
 

@@ -234,7 +234,10 @@ fn atomically(
     let mut w = Writer { dir: staging.dir().to_path_buf(), shown: staging.target().to_path_buf(), files: Vec::new() };
     // On an error the staging folder is dropped, and with it the scratch folder: the previous
     // results stay as they were.
-    let summary = body(&mut w)?;
+    let summary = body(&mut w).map_err(|e| match e {
+        RunError::Plot(p) => RunError::Plot(p.shown_as(|path| staging.shown(&path))),
+        other => other,
+    })?;
     let dir = staging.commit()?;
     Ok(RunOutcome { dir, files: w.files, summary })
 }
