@@ -355,6 +355,13 @@ fn run() -> anyhow::Result<()> {
                     catflip::robust::robustness(&problem, &r.schedule, "the problem's schedule")
                 }
             };
+            let mut check = check;
+            let schedule_arg = schedule.as_ref().map_or(String::new(), |f| format!(" --schedule {}", f.display()));
+            let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
+            check.command = regenerate(
+                format!("cargo run --release -- robust {}{schedule_arg}{out_arg}", common.problem.display()),
+                &common.overrides,
+            );
             if let Some(out) = out {
                 let dir = check.write(&out)?;
                 eprintln!("wrote {}", dir.display());

@@ -144,6 +144,9 @@ pub struct Robustness {
     pub trials: Vec<Trial>,
     /// The verdict in words.
     pub verdict: String,
+    /// The command that regenerates the check (written at the top of its report; empty when
+    /// none was given).
+    pub command: String,
 }
 
 /// Worst trials reported.
@@ -193,5 +196,6 @@ pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: 
         worst,
         trials,
         verdict,
+        command: String::new(),
     }
 }

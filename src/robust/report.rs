@@ -34,6 +34,9 @@ impl Robustness {
         let s = &self.settings;
         let mut out = String::new();
         let _ = writeln!(out, "# Robustness of `{}` on problem `{}`\n", self.schedule, self.problem);
+        if !self.command.is_empty() {
+            let _ = writeln!(out, "Regenerate with `{}`.\n", self.command);
+        }
         let _ = writeln!(out, "**The open-loop schedule {}.**\n", self.verdict);
         let _ = writeln!(
             out,
