@@ -775,3 +775,17 @@ fn simulate_rapier_json_leads_with_the_verified_estimate() {
     let (raw, headline) = (number(&v["twist_deg_raw"]), number(&v["twist_deg"]));
     assert!((raw - headline).abs() > 0.0, "the raw twist {raw}° is the finest run's, not the estimate");
 }
+
+#[test]
+fn a_field_with_a_line_break_is_refused_on_one_line() {
+    // Found by tests/fuzz_files.rs's long run: a quoted CSV field may hold a newline, and the
+    // refusal quoted it raw, over two lines.
+    let dir = std::env::temp_dir().join(format!("catflip-newline-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let path = dir.join("s.csv");
+    std::fs::write(&path, "t_s,q1_rad,q2_rad\n0,0,0\n\"0.5\n1\",0.1,0\n1,0,0\n").expect("written");
+    let err = catflip::exchange::read_schedule(&path).expect_err("a field that is not a number");
+    let msg = err.to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(!msg.contains('\n') && msg.contains("is not a number") && msg.contains("\\n"), "{msg}");
+}

@@ -39,6 +39,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::exchange::interp::Piecewise;
+use crate::problem::error::one_line;
 use crate::schedule::{JointState, Trajectory};
 
 /// Why a schedule file could not be read.
@@ -521,8 +522,8 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
                 path: path.clone(),
                 line,
                 column: col + 1,
-                name: header[col].clone(),
-                value: field.into(),
+                name: one_line(&header[col]),
+                value: one_line(field),
             })?;
             if value.is_finite() {
                 Ok(value)

@@ -55,7 +55,7 @@ pub(crate) fn bad(field: &str, value: impl std::fmt::Display, reason: &str) -> P
 
 /// `text` with its control characters escaped (`\n`, `\u{0}`), so that a message quoting what
 /// the user wrote stays one line.
-fn one_line(text: &str) -> String {
+pub(crate) fn one_line(text: &str) -> String {
     text.chars().map(|c| if c.is_control() { c.escape_default().to_string() } else { c.to_string() }).collect()
 }
 
