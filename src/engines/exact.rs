@@ -352,6 +352,9 @@ pub fn flip_spinning(cat: &Cylinder, schedule: &impl Trajectory, spin: &Vector3<
     adaptive(cat, schedule, Stepper::for_spin(spin), tolerance, None)
 }
 
+/// A piece's accepted orientations, `(local time, R)`, its start first.
+pub type PieceNodes = Vec<(f64, UnitQuaternion<f64>)>;
+
 /// The adaptive integration behind [`flip`]; with `nodes`, the accepted run's orientations
 /// `(local time, R)` of every piece (its start included) are pushed there, piece by piece.
 pub(crate) fn adaptive(
@@ -359,7 +362,7 @@ pub(crate) fn adaptive(
     schedule: &impl Trajectory,
     stepper: Stepper,
     tolerance: f64,
-    mut nodes: Option<&mut Vec<Vec<(f64, UnitQuaternion<f64>)>>>,
+    mut nodes: Option<&mut Vec<PieceNodes>>,
 ) -> Flip {
     let durations = schedule.piece_durations();
     let share = tolerance / durations.len().max(1) as f64;

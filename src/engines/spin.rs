@@ -29,7 +29,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::engines::exact::{adaptive, rk4_step, Flip, Stepper};
+use crate::engines::exact::{adaptive, rk4_step, Flip, PieceNodes, Stepper};
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
@@ -40,7 +40,7 @@ pub struct SpinHistory {
     /// Total angular momentum `L`, world frame, N·m·s.
     pub spin: Vector3<f64>,
     /// Per piece, `(local time, R)` at every accepted step, the piece's start first.
-    nodes: Vec<Vec<(f64, UnitQuaternion<f64>)>>,
+    nodes: Vec<PieceNodes>,
 }
 
 impl SpinHistory {

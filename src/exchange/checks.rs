@@ -252,7 +252,7 @@ pub fn peak_samples(schedule: &ImportedSchedule, torque_samples: usize) -> Vec<u
 }
 
 /// The estimated relative error of the peak torques `peaks` (per piece and joint, as
-/// [`peak_torques_on`] gives them on `s`) from the rows' spacing (module docs), as a warning
+/// [`peak_torques_from`] gives them on `s`) from the rows' spacing (module docs), as a warning
 /// naming the worst piece's lines when it exceeds [`SAMPLING_TOLERANCE`] (pieces and joints whose
 /// peak is below [`SAMPLING_TOLERANCE`] of the largest are not judged); also when no piece has
 /// rows to spare.

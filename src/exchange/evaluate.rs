@@ -136,6 +136,9 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
     if !finite(&[f.twist, f.swing]) {
         return Err(not_computable("the twist and swing"));
     }
+    if !f.error_estimate.is_finite() {
+        return Err(not_computable("the twist's error estimate"));
+    }
     if !pieces.iter().all(|p| finite(&p.tau_nm)) || !peaks.max.is_finite() {
         return Err(not_computable("the peak torque"));
     }
