@@ -54,10 +54,12 @@ fn the_spin_spreads_the_landing_and_the_worst_trials_are_the_largest_errors() {
     assert!(c.worst.windows(2).all(|w| w[0].landing_error_deg >= w[1].landing_error_deg));
     assert!(c.landing_error_deg.p95 > c.nominal.landing_error_deg, "a spin of σ = 0.005 N·m·s must move the landing");
     assert!((c.landing_error_deg.max - largest).abs() <= 0.0);
-    // Each landing error bounds its parts (the angle of a rotation is at least its twist's and
-    // its swing's, up to the composition of small angles).
+    // The landing error bounds the swing exactly: the target turns about z, so `R_*⁻¹ R` tilts
+    // the spine as `R` does, and a rotation moves no unit vector by more than its angle. The
+    // twist part is bounded only up to the composition of the two small rotations (1 %).
     for t in &c.trials {
-        assert!(t.landing_error_deg + 1e-9 >= t.swing_deg.max(t.twist_error_deg.abs()) * 0.99, "{t:?}");
+        assert!(t.landing_error_deg + 1e-9 >= t.swing_deg, "{t:?}");
+        assert!(t.landing_error_deg + 1e-9 >= t.twist_error_deg.abs() * 0.99, "{t:?}");
     }
     assert!(c.verdict.contains("40 trials"), "{}", c.verdict);
 }

@@ -253,7 +253,7 @@ impl Problem {
         Err(bad(
             "drop.angular_momentum",
             format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2])),
-            &format!("{what} assumes a release without spin; `simulate` (also with --schedule) and `compare` take a spin (set it to [0, 0, 0] here)"),
+            &format!("{what} assumes a release without spin; `simulate` (also with --schedule), `compare` and `robust` take a spin (set it to [0, 0, 0] here)"),
         ))
     }
 
