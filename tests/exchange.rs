@@ -192,6 +192,33 @@ fn uniform_grid_marks_boundaries_and_states_the_jump() {
 }
 
 #[test]
+fn the_sidecar_sizes_the_motors_as_the_evaluation_does() {
+    // The sidecar's motor figures are the exact engine's (Evaluation, what `simulate` reports),
+    // measured on the file's trajectory; with a torque limit below the peak it says so.
+    let mut p = problem();
+    let s = paper_schedule(&p);
+    let e = catflip::prelude::Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let (_, _, sidecar) = paper_file_at_1khz(&p);
+    let m = &sidecar.motors;
+    assert!(m.within_motors && m.demand.limits.is_empty(), "ideal motors: {}", m.verdict);
+    let peak = m.peak_torque_nm[0].value.max(m.peak_torque_nm[1].value);
+    assert_relative_eq!(peak, e.peaks.max, max_relative = 1e-9);
+    for j in 0..2 {
+        let (a, b) = (m.demand.peak_speed_rad_s[j], e.motors.peak_speed_rad_s[j]);
+        assert_relative_eq!(a.value, b.value, max_relative = 1e-9);
+        assert_relative_eq!(m.demand.peak_power_w[j].value, e.motors.peak_power_w[j].value, max_relative = 1e-9);
+    }
+    p.actuator.torque_limit_nm = Some(catflip::problem::actuator::PerJoint::Both(0.5 * e.peaks.max));
+    let (_, _, limited) = paper_file_at_1khz(&p);
+    assert!(!limited.motors.within_motors, "{}", limited.motors.verdict);
+    let worst = limited.motors.demand.limits.iter().map(|l| l.ratio).fold(0.0, f64::max);
+    assert_relative_eq!(worst, 2.0, max_relative = 1e-9);
+    let text = serde_json::to_string(&limited).expect("serialises");
+    let back: Sidecar = serde_json::from_str(&text).expect("parses back");
+    assert_eq!(back, limited, "the sidecar round-trips with its motor figures");
+}
+
+#[test]
 fn orientation_columns_meet_the_engine_tolerance() {
     // Reference: the exact engine's final orientation at exact.tolerance = 1e-10 rad.
     let p = problem();

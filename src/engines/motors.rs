@@ -13,7 +13,7 @@
 //! largest sample of each quantity (and each piece's within 2 % of it) is refined by
 //! golden-section search between its neighbours.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::engines::torque::{Peak, TorqueSource};
 use crate::model::motor::{Limit, Motors};
@@ -25,7 +25,7 @@ use crate::schedule::{JointState, Trajectory};
 pub const RATIO_TOLERANCE: f64 = 1e-9;
 
 /// A limit's worst usage over a trajectory.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LimitUse {
     /// Which limit.
     pub limit: Limit,
@@ -50,7 +50,7 @@ impl LimitUse {
 }
 
 /// The largest stretch over a trajectory ([`crate::model::motor`]).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StretchPeak {
     /// `max k`, dimensionless.
     pub value: f64,
@@ -63,7 +63,7 @@ pub struct StretchPeak {
 }
 
 /// What a trajectory asks of its motors.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MotorDemand {
     /// Peak `|q̇_j|` of joints 1 and 2, rad/s.
     pub peak_speed_rad_s: [Peak; 2],

@@ -24,7 +24,7 @@
 //! - the paper §8, whose bound `I* · peak(dω/dt)` this replaces.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::engines::exact::{joint2_axis, relative_rate, solve_spd};
 use crate::engines::spin::SpinHistory;
@@ -202,7 +202,7 @@ pub fn reduced_mass_matrix(cat: &Cylinder, q: [f64; 2]) -> Matrix2<f64> {
 }
 
 /// The peak `|τ_i|` of one joint in one phase and when it occurs.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Peak {
     /// `max |τ_i|`, N·m.
     pub value: f64,

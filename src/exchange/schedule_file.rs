@@ -35,12 +35,13 @@
 use nalgebra::UnitQuaternion;
 
 use crate::engines::exact::{body_rate, flip, magnus6};
-use crate::engines::torque::joint_torques;
+use crate::engines::motors::motor_demand;
+use crate::engines::torque::{joint_torques, peak_torques_on, piece_samples, Peak};
 use crate::exchange::jumps::{rate_jumps, Jump};
 use crate::exchange::links::{num, Links};
 use crate::exchange::refined::{acceleration_cuts, Refined};
 use crate::exchange::sidecar::{
-    Column, Conventions, ModelInfo, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
+    Column, Conventions, ModelInfo, MotorSizing, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
 };
 use crate::exchange::ExchangeError;
 use crate::model::orientation::{SwingTwist, TwistTracker};
@@ -254,8 +255,30 @@ pub fn write_trajectory(
             final_swing_deg: engine.swing.to_degrees(),
         },
         interpolation: interpolation_advice(&jumps),
+        motors: motor_sizing(problem, traj),
     };
     Ok(ScheduleFile { csv, sidecar })
+}
+
+/// The motor-sizing figures of `traj` on `problem`'s cat and `[actuator]`, sampled as the
+/// reports sample peaks.
+fn motor_sizing(problem: &Problem, traj: &impl Trajectory) -> MotorSizing {
+    let samples = piece_samples(traj, problem.exact.torque_samples);
+    let peaks = peak_torques_on(&problem.cat, traj, &samples);
+    let largest = |j: usize| {
+        peaks
+            .per_piece
+            .iter()
+            .map(|p| p[j])
+            .fold(Peak { value: 0.0, time: 0.0 }, |a, b| if b.value > a.value { b } else { a })
+    };
+    let demand = motor_demand(&problem.cat, traj, &samples, &problem.actuator.motors());
+    MotorSizing {
+        peak_torque_nm: [largest(0), largest(1)],
+        within_motors: demand.within(),
+        verdict: demand.verdict(),
+        demand,
+    }
 }
 
 fn csv_error(e: csv::Error) -> ExchangeError {

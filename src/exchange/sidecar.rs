@@ -6,6 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::engines::motors::MotorDemand;
+use crate::engines::torque::Peak;
 use crate::exchange::jumps::Jump;
 use crate::exchange::links::Links;
 
@@ -38,6 +40,23 @@ pub struct Sidecar {
     pub orientation: OrientationInfo,
     /// How to interpolate between rows.
     pub interpolation: String,
+    /// What the schedule asks of its motors, measured by the exact engine.
+    pub motors: MotorSizing,
+}
+
+/// The motor-sizing figures of a schedule (DESIGN.md §9), from the exact engine's torques on the
+/// trajectory's own samples ([`crate::engines::motors`]), against the problem's `[actuator]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MotorSizing {
+    /// Peak `|τ_j|` of joints 1 and 2 over the whole schedule, N·m, and when.
+    pub peak_torque_nm: [Peak; 2],
+    /// Peak speed and power per joint, and each limit's worst usage (none with ideal motors).
+    #[serde(flatten)]
+    pub demand: MotorDemand,
+    /// Whether every limit of `[actuator]` holds (true with ideal motors).
+    pub within_motors: bool,
+    /// The verdict in words.
+    pub verdict: String,
 }
 
 /// Where a schedule came from.

@@ -25,10 +25,10 @@
 //! (proportional to the drop height) with its partial derivatives, which the whole-manoeuvre
 //! optimiser linearises.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Which limit of a motor.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Limit {
     /// `|τ| ≤ τ_max`.

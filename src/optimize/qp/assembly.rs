@@ -137,6 +137,20 @@ impl Assembly {
         }
     }
 
+    /// Adds `½ weight · xᵀ M x` to the objective, `M` symmetric over the first `M.nrows()`
+    /// variables (upper triangle; exact zeros left out).
+    pub(crate) fn quadratic_cost(&mut self, m: &nalgebra::DMatrix<f64>, weight: f64) {
+        for j in 0..m.ncols() {
+            for i in 0..=j {
+                if m[(i, j)] != 0.0 {
+                    self.p.row.push(i);
+                    self.p.col.push(j);
+                    self.p.val.push(weight * m[(i, j)]);
+                }
+            }
+        }
+    }
+
     /// The equality `Σ val·x_col = rhs`.
     pub(crate) fn equal(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
         self.eq.push(entries, rhs);

@@ -62,6 +62,7 @@
 //! - C. de Boor, *A Practical Guide to Splines* (2001);
 //! - R. Montgomery, *Gauge theory of the falling cat* (1993).
 
+pub mod curvature;
 pub mod dual;
 pub mod dynamics;
 pub mod limits;

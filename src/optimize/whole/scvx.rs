@@ -33,6 +33,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion};
 
+use super::curvature::{Curvature, Point};
 use super::limits::{largest, limit_rows, LimitRow, RowForm};
 use super::sensitivity::{
     bend_samples, final_orientation, gauss_grid, torque_samples, uniform_grid, BendSample, FinalOrientation, Layout,
@@ -52,6 +53,13 @@ const LOOP_FEASIBILITY: f64 = 1e-7;
 const HARD_CONSTRAINT: f64 = 1e-9;
 /// Newton steps that return each trial point to the constraint (module docs).
 const PROJECTION_STEPS: usize = 3;
+/// An energy step whose merit fell by more than this multiple of the predicted decrease is
+/// extended: doubled along `δ` while the merit keeps falling, within the trust radius. The model's
+/// curvature (Gauss–Newton plus [`super::curvature`]) is positive definite; along a flat valley of
+/// the true merit it overestimates, the actual decrease is twice the predicted one, and without
+/// the extension the steps stay short (measured on a fat cat, r/l = 0.25: ratios of 2.00 for 160
+/// iterations at the largest radius).
+const EXTEND_RATIO: f64 = 1.5;
 /// The trust radius below which a stage has stalled, rad.
 const MIN_RADIUS: f64 = 1e-10;
 
@@ -183,6 +191,8 @@ impl ScvxProblem<'_> {
         let floor = 1e-12 * it.objective.max(1e-300);
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
         let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
+        // What the energy's Gauss–Newton model leaves out, learnt from the accepted steps.
+        let mut curvature = Curvature::default();
         loop {
             if enough.is_some_and(|e| it.objective <= e) && it.violation <= LOOP_FEASIBILITY {
                 let reason = format!("objective {:.6} within {:.6}", it.objective, enough.unwrap_or(0.0));
@@ -206,6 +216,7 @@ impl ScvxProblem<'_> {
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
                 limits: &it.limits,
                 limit_bound: bound,
+                curvature: curvature.matrix(),
             };
             let step = sub.solve(&self.qp)?;
             let merit = |x: &Iterate| {
@@ -280,9 +291,22 @@ impl ScvxProblem<'_> {
                 return end(it, WholeStatus::Infeasible, reason);
             }
             let moved = self.polish(layout.moved(&it.spline, &step.step), steps, PROJECTION_STEPS).0;
-            let trial = self.evaluate(moved, objective, steps);
+            let mut trial = self.evaluate(moved, objective, steps);
             let ratio = (now - merit(&trial)) / predicted;
             let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
+            if objective == Objective::Energy && ratio > EXTEND_RATIO {
+                let mut factor = 2.0;
+                while factor * length <= radius {
+                    let longer: Vec<f64> = step.step.iter().map(|d| d * factor).collect();
+                    let moved = self.polish(layout.moved(&it.spline, &longer), steps, PROJECTION_STEPS).0;
+                    let candidate = self.evaluate(moved, objective, steps);
+                    if merit(&candidate) >= merit(&trial) {
+                        break;
+                    }
+                    trial = candidate;
+                    factor *= 2.0;
+                }
+            }
             entry.ratio = Some(ratio);
             entry.accepted = ratio >= 0.1;
             log.push(entry);
@@ -292,6 +316,14 @@ impl ScvxProblem<'_> {
                 radius = (2.0 * radius).min(max_radius);
             }
             if ratio >= 0.1 {
+                if objective == Objective::Energy {
+                    if let (Some(from), Some(to)) = (it.orientation.as_ref(), trial.orientation.as_ref()) {
+                        curvature.update(
+                            Point { values: &it.values, samples: &it.samples, jacobian: &from.jacobian },
+                            Point { values: &trial.values, samples: &trial.samples, jacobian: &to.jacobian },
+                        );
+                    }
+                }
                 it = trial;
             }
             if radius < MIN_RADIUS {

@@ -75,6 +75,9 @@ pub struct Subproblem<'a> {
     /// The bound on every `ρ` row at a fixed fall time; none leaves the rows out (or, for
     /// `min-time`, makes them the objective).
     pub limit_bound: Option<f64>,
+    /// For the energy: the estimate `B` of the curvature Gauss–Newton leaves out
+    /// ([`super::curvature`]), N²·m²·s per rad²; the model gains `½ δᵀBδ / J_u`.
+    pub curvature: Option<&'a DMatrix<f64>>,
 }
 
 /// The subproblem's answer.
@@ -120,7 +123,16 @@ impl Subproblem<'_> {
         let violation = self.orientation.filter(|_| !self.hard).map_or(0.0, |(e, jac)| {
             (0..3).map(|i| (e[i] + (0..step.len()).map(|v| jac[(i, v)] * step[v]).sum::<f64>()).abs()).sum()
         });
-        objective + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
+        let curvature = self.energy_curvature().map_or(0.0, |b| {
+            let d = nalgebra::DVector::from_column_slice(step);
+            0.5 * d.dot(&(b * &d)) / self.scale
+        });
+        objective + curvature + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
+    }
+
+    /// The curvature estimate, which only the energy's model takes.
+    fn energy_curvature(&self) -> Option<&DMatrix<f64>> {
+        self.curvature.filter(|_| self.objective == Objective::Energy)
     }
 
     /// The most a row with `gradient` can move within the trust box.
@@ -179,6 +191,9 @@ impl Subproblem<'_> {
                 }
                 for (v, &c) in linear.iter().enumerate() {
                     asm.linear_cost(v, c);
+                }
+                if let Some(b) = self.energy_curvature() {
+                    asm.quadratic_cost(b, unit);
                 }
             }
             Objective::MinTime => {
