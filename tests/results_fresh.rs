@@ -164,6 +164,26 @@ fn paper_run_gives_identical_json_twice_on_one_and_on_two_threads() {
 }
 
 #[test]
+fn run_prints_the_answer_first_and_one_short_table() {
+    // Issue 19: the terminal leads with the optimum's flip and torque against the problem's own
+    // schedule, then one row per schedule it names, the numbers those of the report's JSON.
+    let outcome = paper_run();
+    let first = outcome.summary.lines().next().unwrap_or_default();
+    assert!(first.starts_with("The whole-manoeuvre optimum flips the cat"), "{}", outcome.summary);
+    let whole: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(outcome.dir.join("whole.json")).expect("readable"))
+            .expect("JSON");
+    let peak = whole["peak_torque_nm"]["max"].as_f64().expect("the optimum's peak");
+    assert!(first.contains(&format!("peak torque of {peak:.4} N·m")), "{first} (whole.json: {peak})");
+    let row = |name: &str| outcome.summary.lines().find(|l| l.starts_with(&format!("| {name}"))).map(str::to_string);
+    assert!(row("whole-optimum").is_some_and(|r| r.contains(&format!("| {peak:.4} |"))), "{}", outcome.summary);
+    assert!(row("paper-cosine (the problem's)").is_some(), "{}", outcome.summary);
+    let rows = outcome.summary.lines().filter(|l| l.starts_with("| ")).count();
+    assert!(rows <= 10, "a short table: {rows} lines\n{}", outcome.summary);
+    assert!(outcome.summary.contains("report.md"), "{}", outcome.summary);
+}
+
+#[test]
 fn run_writes_every_result_file_atomically() {
     let outcome = paper_run();
     let out = outcome.dir.parent().expect("the results folder is inside its output root");
@@ -266,11 +286,15 @@ fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
         assert!(e["twist_deg"].is_null() && e["peak_torque_nm"].is_null(), "{e}");
         assert!(e["reason"].as_str().is_some_and(|r| r.starts_with("inconclusive: ")), "{e}");
     }
-    // The summary counts them.
+    // The report's summary counts them; the terminal's table says so on every row.
     let n = rapier.len();
+    let report = read("report.md");
     let counted = format!("0 verified, 0 not verified, {n} inconclusive");
-    assert!(outcome.summary.contains(&counted), "{}", outcome.summary);
-    assert!(outcome.summary.contains(&format!("rapier has no result for {n} of them")), "{}", outcome.summary);
+    assert!(report.contains(&counted), "{report}");
+    assert!(report.contains(&format!("rapier has no result for {n} of them")), "{report}");
+    let rows: Vec<&str> =
+        outcome.summary.lines().filter(|l| l.starts_with("| ") && !l.starts_with("| schedule")).collect();
+    assert!(!rows.is_empty() && rows.iter().all(|l| l.ends_with("| inconclusive |")), "{}", outcome.summary);
     for f in outcome.files.iter().filter(|f| f.ends_with(".md") || f.ends_with(".csv")) {
         assert!(!read(f).contains("NaN"), "NaN in {f}");
     }

@@ -7,6 +7,7 @@
 //! and moved into place only when everything succeeded: a failed run leaves no half-written
 //! results (and keeps the previous ones).
 
+mod answer;
 mod compute;
 mod figures;
 mod tables;
@@ -83,7 +84,8 @@ pub struct RunOutcome {
     pub dir: PathBuf,
     /// Files written, relative to it.
     pub files: Vec<String>,
-    /// The report's summary lines.
+    /// What the command prints: for `run` the answer and one short table (the report's summary
+    /// is in `report.md`), for `bench` the reach table.
     pub summary: String,
 }
 
@@ -307,7 +309,8 @@ fn produce(
         let _ = writeln!(report, "- [`{f}`]({f})");
     }
     w.put("report.md", &report)?;
-    Ok(summary)
+    let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
+    Ok(answer::answer(own, &verified, &whole, whole_verification.as_ref(), &w.shown.display().to_string()))
 }
 
 /// The schedule files: the problem's and every optimised schedule's, the whole optimum's, and
