@@ -132,10 +132,10 @@ enum Command {
     },
 }
 
-fn load(common: &Common, extra: &[String]) -> anyhow::Result<Problem> {
-    let mut overrides = common.overrides.clone();
-    overrides.extend_from_slice(extra);
-    let problem = Problem::load(&common.problem, &overrides)?;
+/// Loads the problem (its rapier step set to `dt` when given) and prints its warnings, unless
+/// the output is JSON.
+fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
+    let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
     if !common.json {
         for w in problem.warnings() {
             eprintln!("warning: {w}");
@@ -207,32 +207,23 @@ fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
         Command::Audit(common) => {
-            let problem = load(&common, &[])?;
+            let problem = load(&common, None)?;
             problem.require_no_spin("the audit of the paper's numbers")?;
             let r = resolve(&problem, common.json)?;
             let audit = catflip::report::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt, schedule } => {
-            if let Some(d) = dt {
-                if matches!(engine, Engine::Exact) {
-                    anyhow::bail!(
-                        "--dt {}: --dt is the time step of --engine rapier; the exact engine chooses its own steps (exact.tolerance)",
-                        catflip::numeric::numfmt::echo(d)
-                    );
-                }
-                if !d.is_finite() || d <= 0.0 {
-                    anyhow::bail!(
-                        "--dt {}: must be a finite, positive time step in seconds",
-                        catflip::numeric::numfmt::echo(d)
-                    );
-                }
+            if let (Some(d), Engine::Exact) = (dt, engine) {
+                anyhow::bail!(
+                    "--dt {}: --dt is the time step of --engine rapier; the exact engine chooses its own steps (exact.tolerance)",
+                    catflip::numeric::numfmt::echo(d)
+                );
             }
-            let extra: Vec<String> = dt.map(|d| format!("rapier.dt={d:e}")).into_iter().collect();
             if let Some(file) = schedule {
                 // The problem gives the cat and the settings; its manoeuvre is not used, so its
                 // warnings are not printed: the import's checks say what applies.
-                let problem = Problem::load(&common.problem, &[common.overrides.clone(), extra].concat())?;
+                let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
                 let imported = catflip::exchange::read_schedule(&file)?;
                 let exact = catflip::exchange::evaluate(&problem, &imported)?;
                 let report = match engine {
@@ -246,13 +237,13 @@ fn run() -> anyhow::Result<()> {
                 }
                 emit(common.json, &report, || report.to_text())?;
             } else {
-                let r = resolve(&load(&common, &extra)?, common.json)?;
+                let r = resolve(&load(&common, dt)?, common.json)?;
                 let report = catflip::report::simulate::simulate(&r, engine)?;
                 emit(common.json, &report, || report.to_text())?;
             }
         }
         Command::Optimize { common, whole: false, quiet } => {
-            let problem = load(&common, &[])?;
+            let problem = load(&common, None)?;
             problem.require_no_spin("optimize (the profile QP and the refinements)")?;
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
@@ -261,7 +252,7 @@ fn run() -> anyhow::Result<()> {
             emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Optimize { common, whole: true, quiet } => {
-            let problem = load(&common, &[])?;
+            let problem = load(&common, None)?;
             problem.require_no_spin("optimize --whole")?;
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
@@ -303,22 +294,9 @@ fn run() -> anyhow::Result<()> {
             p.require_no_spin("bench")?;
             let command =
                 regenerate(format!("cargo run --release -- bench --problem {}", problem.display()), &overrides);
-            let dts = [
-                1.0 / 60.0,
-                1.0 / 125.0,
-                1.0 / 250.0,
-                1.0 / 500.0,
-                1.0 / 1000.0,
-                1.0 / 2000.0,
-                1.0 / 4000.0,
-                1.0 / 8000.0,
-                1.0 / 16000.0,
-                1.0 / 32000.0,
-            ];
-            let outcome = catflip::report::run::run_bench(&resolve(&p, json)?, &command, &out, &dts)?;
+            let (outcome, report) = catflip::report::run::run_bench(&resolve(&p, json)?, &command, &out)?;
             if json {
-                let text = std::fs::read_to_string(outcome.dir.join("bench.json")).context("reading bench.json")?;
-                say(&text)?;
+                print_json(&report)?;
             } else {
                 say(&format!("{} files in {}\n", outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
@@ -340,7 +318,7 @@ fn run() -> anyhow::Result<()> {
             emit(json, &outcome, || outcome.to_text())?;
         }
         Command::Robust { common, schedule, out } => {
-            let problem = load(&common, &[])?;
+            let problem = load(&common, None)?;
             let check = match &schedule {
                 Some(file) => {
                     let imported = catflip::exchange::read_schedule(file)?;
@@ -369,7 +347,7 @@ fn run() -> anyhow::Result<()> {
             emit(common.json, &check, || check.to_markdown())?;
         }
         Command::Compare(common) => {
-            let r = resolve(&load(&common, &[])?, common.json)?;
+            let r = resolve(&load(&common, None)?, common.json)?;
             let table = catflip::report::compare::compare(&r, &[]);
             emit(common.json, &table, || table.to_markdown())?;
         }

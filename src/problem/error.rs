@@ -31,6 +31,16 @@ pub enum ProblemError {
         /// Why it cannot be applied.
         reason: String,
     },
+    /// A command-line option that sets a field has a value the model cannot use.
+    #[error("{option} {value}: {reason}")]
+    BadOption {
+        /// The option, e.g. `--dt`.
+        option: String,
+        /// The value given.
+        value: String,
+        /// Why it is rejected.
+        reason: String,
+    },
     /// A field has a value the model cannot use.
     #[error("{field} = {value}: {reason}")]
     BadFieldValue {

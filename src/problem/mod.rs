@@ -161,6 +161,21 @@ impl Problem {
         Ok(problem)
     }
 
+    /// The problem with rapier's first step set to `dt` seconds when given (the command line's
+    /// `--dt`, which overrides `rapier.dt`), refused unless finite and positive.
+    pub fn with_rapier_dt(mut self, dt: Option<f64>) -> Result<Problem, ProblemError> {
+        let Some(dt) = dt else { return Ok(self) };
+        if !dt.is_finite() || dt <= 0.0 {
+            return Err(ProblemError::BadOption {
+                option: "--dt".into(),
+                value: crate::numeric::numfmt::echo(dt),
+                reason: "must be a finite, positive time step in seconds".into(),
+            });
+        }
+        self.rapier = self.rapier.with_dt(dt);
+        Ok(self)
+    }
+
     /// Checks every field a model or engine relies on; names the first bad one.
     pub fn validate(&self) -> Result<(), ProblemError> {
         if self.name.is_empty() || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {

@@ -77,6 +77,22 @@ pub struct BenchReport {
     pub random_notable: Vec<RandomResult>,
 }
 
+/// The rapier time steps `catflip bench` measures, s: from a game engine's 60 Hz, halving
+/// (with 125 Hz between) down to 32 kHz, where rapier's first-order error meets round-off on
+/// the paper's cat.
+pub const RAPIER_STEPS: [f64; 10] = [
+    1.0 / 60.0,
+    1.0 / 125.0,
+    1.0 / 250.0,
+    1.0 / 500.0,
+    1.0 / 1000.0,
+    1.0 / 2000.0,
+    1.0 / 4000.0,
+    1.0 / 8000.0,
+    1.0 / 16000.0,
+    1.0 / 32000.0,
+];
+
 /// The full benchmark on a resolved problem: its schedule for the exact engine and the
 /// calibration, a cycloidal profile (rest-to-rest) for rapier, rapier time steps `dts` (s,
 /// halving).

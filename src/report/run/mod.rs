@@ -206,13 +206,19 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
-    atomically(out_root, &r.problem.name, |w| produce(r, command, export, w))
+    atomically(out_root, &r.problem.name, |w| produce(r, command, export, w).map(|s| (s, ()))).map(|(o, ())| o)
 }
 
-/// Runs `catflip bench` on the resolved problem and writes `out_root/bench/`.
-pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> Result<RunOutcome, RunError> {
+/// Runs `catflip bench` on the resolved problem (rapier at
+/// [`crate::report::bench::RAPIER_STEPS`]), writes `out_root/bench/` and returns the report
+/// beside what was written.
+pub fn run_bench(
+    r: &Resolved,
+    command: &str,
+    out_root: &Path,
+) -> Result<(RunOutcome, crate::report::bench::BenchReport), RunError> {
     atomically(out_root, "bench", |w| {
-        let report = crate::report::bench::bench(r, dts)?;
+        let report = crate::report::bench::bench(r, &crate::report::bench::RAPIER_STEPS)?;
         w.put("bench.csv", &report.to_csv())?;
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
@@ -222,26 +228,27 @@ pub fn run_bench(r: &Resolved, command: &str, out_root: &Path, dts: &[f64]) -> R
         let mut md = crate::report::provenance::header("catflip benchmark: run time against error", command, &settings);
         md.push_str(&report.to_markdown());
         w.put("bench.md", &md)?;
-        Ok(report.reach_table())
+        Ok((report.reach_table(), report))
     })
 }
 
-/// Writes into a scratch folder beside `final_dir` and moves it into place only on success.
-fn atomically(
+/// Writes into a scratch folder beside `final_dir` and moves it into place only on success;
+/// `body` returns what to print and what else it computed.
+fn atomically<T>(
     out_root: &Path,
     name: &str,
-    body: impl FnOnce(&mut Writer) -> Result<String, RunError>,
-) -> Result<RunOutcome, RunError> {
+    body: impl FnOnce(&mut Writer) -> Result<(String, T), RunError>,
+) -> Result<(RunOutcome, T), RunError> {
     let staging = Staging::begin(out_root, name)?;
     let mut w = Writer { dir: staging.dir().to_path_buf(), shown: staging.target().to_path_buf(), files: Vec::new() };
     // On an error the staging folder is dropped, and with it the scratch folder: the previous
     // results stay as they were.
-    let summary = body(&mut w).map_err(|e| match e {
+    let (summary, value) = body(&mut w).map_err(|e| match e {
         RunError::Plot(p) => RunError::Plot(p.shown_as(|path| staging.shown(&path))),
         other => other,
     })?;
     let dir = staging.commit()?;
-    Ok(RunOutcome { dir, files: w.files, summary })
+    Ok((RunOutcome { dir, files: w.files, summary }, value))
 }
 
 fn produce(
