@@ -72,7 +72,7 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     // Retiming bend and unbend too lowers the whole manoeuvre's peak below the twist-only
     // refinement's (which the harmonic bend dominates), keeps every phase rest to rest, and
     // leaves the flip alone (same joint path).
-    let whole = r.whole.as_ref().expect("whole retiming ran");
+    let whole = r.all_phases.as_ref().expect("the all-phases refinement ran");
     assert!(
         whole.optimum.evaluation.exact_peak_nm.max < refined.evaluation.exact_peak_nm.max,
         "{} vs {}",

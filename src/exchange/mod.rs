@@ -19,13 +19,13 @@
 //! quaternions scalar first `(w, x, y, z)`.
 
 pub mod checks;
+pub mod cuts;
 pub mod evaluate;
 pub mod import;
 pub mod interp;
 pub mod jumps;
 pub mod links;
 pub mod mjcf;
-pub mod refined;
 pub mod schedule_file;
 pub mod sidecar;
 pub mod table;

@@ -21,7 +21,7 @@
 //!   pieces of one name), plus the rows of every boundary.
 //!
 //! A three-phase schedule's phases are cut where the acceleration jumps
-//! ([`crate::exchange::refined`]): the instant is written twice like a phase boundary, so that
+//! ([`crate::exchange::cuts`]): the instant is written twice like a phase boundary, so that
 //! every piece between `end`/`start` pairs is smooth.
 //!
 //! # Orientation to the engine's tolerance
@@ -37,9 +37,9 @@ use nalgebra::UnitQuaternion;
 use crate::engines::exact::{body_rate, flip, magnus6};
 use crate::engines::motors::motor_demand;
 use crate::engines::torque::{joint_torques, peak_torques_on, piece_samples, Peak};
+use crate::exchange::cuts::{acceleration_cuts, CutTrajectory};
 use crate::exchange::jumps::{rate_jumps, Jump};
 use crate::exchange::links::{num, Links};
-use crate::exchange::refined::{acceleration_cuts, Refined};
 use crate::exchange::sidecar::{
     Column, Conventions, ModelInfo, MotorSizing, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
 };
@@ -133,14 +133,14 @@ impl ScheduleFile {
 }
 
 /// One of a problem's three-phase schedules as a file named `name` (`name.csv`, `name.json`),
-/// its phases cut where the acceleration jumps ([`Refined`]), so every piece is smooth.
+/// its phases cut where the acceleration jumps ([`CutTrajectory`]), so every piece is smooth.
 pub fn write_schedule(
     problem: &Problem,
     schedule: &Schedule,
     name: &str,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
-    let refined = Refined::new(schedule, &acceleration_cuts(schedule));
+    let refined = CutTrajectory::new(schedule, &acceleration_cuts(schedule));
     let names: Vec<String> =
         (0..refined.piece_durations().len()).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
     let description = format!(

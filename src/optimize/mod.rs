@@ -28,7 +28,7 @@ use crate::schedule::profile::Profile;
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::{Phase, Schedule};
 use qp::{ProfileQp, ProfileQpSolution, QpError};
-use refine::{rate_nodes, refine, retimed, Refinement};
+use refine::{rate_nodes, refine, with_phase_profile, Refinement};
 
 /// Why optimisation could not run.
 #[derive(Debug, thiserror::Error)]
@@ -63,7 +63,7 @@ pub struct Optimum {
 /// The schedule with all three phases retimed against their exact peaks: the joint path (and so
 /// the flip) is the problem's; only the timing of bend, twist and unbend changes.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct WholeRetiming {
+pub struct AllPhasesRefinement {
     /// Its evaluation (the twist phase's node rates as `rates`).
     #[serde(flatten)]
     pub optimum: Optimum,
@@ -93,7 +93,7 @@ pub struct OptimizeReport {
     /// The refined profile, evaluated.
     pub refined_optimum: Option<Optimum>,
     /// Every phase retimed against its exact peak (twist, then bend and unbend).
-    pub whole: Option<WholeRetiming>,
+    pub all_phases: Option<AllPhasesRefinement>,
     /// The best library profile by exact twist-phase peak: name and peak, N·m.
     pub best_library: (String, f64),
 }
@@ -131,7 +131,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         .as_ref()
         .and_then(|f| f.to_profile().map(|p| evaluate(base.with_profile(p), Origin::Refined, f.rates.clone())));
     // Beyond the twist: retime the bend and the unbend too (their paths stay, so does the flip).
-    let mut whole = None;
+    let mut all_phases = None;
     let whole_twist = refinement
         .as_ref()
         .and_then(|f| Profile::from_rate_nodes(Origin::RefinedAllPhases.profile_name(), &f.rates).map(|p| (p, f)));
@@ -153,11 +153,11 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         let mut s = s;
         for (phase, f) in [(Phase::Bend, &bend), (Phase::Unbend, &unbend)] {
             if let Some(p) = f.to_profile() {
-                s = retimed(&s, phase, p);
+                s = with_phase_profile(&s, phase, p);
             }
         }
         let optimum = evaluate(s, Origin::RefinedAllPhases, twist_refinement.rates.clone());
-        whole = Some(WholeRetiming { optimum, bend, unbend });
+        all_phases = Some(AllPhasesRefinement { optimum, bend, unbend });
     }
     let best_library = r
         .library()
@@ -173,7 +173,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         qp_optimum,
         refinement,
         refined_optimum,
-        whole,
+        all_phases,
         best_library,
     })
 }
@@ -181,7 +181,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
 impl OptimizeReport {
     /// The optimised schedules, evaluated: QP, refined, every phase refined (those that exist).
     pub fn optima(&self) -> impl Iterator<Item = &Optimum> {
-        [self.qp_optimum.as_ref(), self.refined_optimum.as_ref(), self.whole.as_ref().map(|w| &w.optimum)]
+        [self.qp_optimum.as_ref(), self.refined_optimum.as_ref(), self.all_phases.as_ref().map(|w| &w.optimum)]
             .into_iter()
             .flatten()
     }

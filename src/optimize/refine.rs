@@ -105,7 +105,7 @@ impl Refinement {
 }
 
 /// The schedule with one phase's timing replaced by `profile`.
-pub fn retimed(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule {
+pub fn with_phase_profile(schedule: &Schedule, phase: Phase, profile: Profile) -> Schedule {
     match phase {
         Phase::Twist => schedule.with_profile(profile),
         Phase::Bend => Schedule { bend_profile: profile, ..schedule.clone() },
@@ -200,7 +200,7 @@ fn phase_peaks(
     w: &[f64],
 ) -> Option<[Peak; 2]> {
     let p = Profile::from_rate_nodes("trial", w)?;
-    Some(piece_peaks(cat, &retimed(schedule, phase, p), phase.index(), exact.torque_samples).peaks)
+    Some(piece_peaks(cat, &with_phase_profile(schedule, phase, p), phase.index(), exact.torque_samples).peaks)
 }
 
 /// The larger of two joints' peaks, N·m; infinite when there are none.

@@ -75,7 +75,7 @@ impl OptimizeReport {
                 failed_or(o.calibrated_swing_deg, 6)
             );
         }
-        if let Some(w) = &self.whole {
+        if let Some(w) = &self.all_phases {
             let e = &w.optimum.evaluation.exact_peak_nm;
             let _ = writeln!(
                 s,

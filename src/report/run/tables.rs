@@ -191,7 +191,7 @@ pub(super) fn summary(
             o.evaluation.exact_peak_nm.max
         );
     }
-    if let Some(w) = &opt.whole {
+    if let Some(w) = &opt.all_phases {
         let e = &w.optimum.evaluation.exact_peak_nm;
         let _ = writeln!(
             s,

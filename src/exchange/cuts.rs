@@ -19,7 +19,7 @@ const INSIDE: f64 = 1e-12;
 
 /// `inner`'s pieces cut at interior instants.
 #[derive(Clone, Debug)]
-pub struct Refined<'a, T: Trajectory> {
+pub struct CutTrajectory<'a, T: Trajectory> {
     inner: &'a T,
     /// `(inner piece, local start, local end)` of each piece, in order.
     pieces: Vec<(usize, f64, f64)>,
@@ -27,7 +27,7 @@ pub struct Refined<'a, T: Trajectory> {
     inner_durations: Vec<f64>,
 }
 
-impl<'a, T: Trajectory> Refined<'a, T> {
+impl<'a, T: Trajectory> CutTrajectory<'a, T> {
     /// `inner` with piece `k` cut at the local times `cuts[k]` (outside `(0, T_k)` ignored).
     pub fn new(inner: &'a T, cuts: &[Vec<f64>]) -> Self {
         let inner_durations = inner.piece_durations();
@@ -42,7 +42,7 @@ impl<'a, T: Trajectory> Refined<'a, T> {
                 a = c;
             }
         }
-        Refined { inner, pieces, inner_durations }
+        CutTrajectory { inner, pieces, inner_durations }
     }
 
     /// The inner piece each piece comes from.
@@ -51,7 +51,7 @@ impl<'a, T: Trajectory> Refined<'a, T> {
     }
 }
 
-impl<T: Trajectory> Trajectory for Refined<'_, T> {
+impl<T: Trajectory> Trajectory for CutTrajectory<'_, T> {
     fn piece_durations(&self) -> Vec<f64> {
         self.pieces.iter().map(|&(_, a, b)| b - a).collect()
     }
