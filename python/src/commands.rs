@@ -14,6 +14,8 @@ use crate::{message, refuse, worker, CatflipError};
 
 /// A report as JSON text, and the warnings that go with it.
 type Report = (String, Vec<String>);
+/// A report, its warnings, and schedule files `(name, csv)`.
+type WithFiles = (String, Vec<String>, Vec<(String, String)>);
 
 /// An error of the library as a [`CatflipError`] with the CLI's message.
 fn refuse_any(e: anyhow::Error) -> PyErr {
@@ -94,7 +96,7 @@ pub fn optimize(
     series: bool,
     steps_per_piece: usize,
     rate_hz: Option<f64>,
-) -> PyResult<(String, Vec<String>, Vec<(String, String)>)> {
+) -> PyResult<WithFiles> {
     let inner = problem.inner.clone();
     run(py, move || {
         inner.problem.require_no_spin("optimize (the profile QP and the refinements)")?;
