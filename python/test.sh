@@ -16,19 +16,26 @@ skip() {
     echo "python/test.sh: skipping the Python package: $1"
     exit 0
 }
+# `step LABEL COMMAND…` runs a step and prints how long it took (the added CI time, by step).
+step() {
+    local label=$1 start=$SECONDS
+    shift
+    "$@" || return $?
+    echo "python/test.sh: $label took $((SECONDS - start)) s"
+}
 command -v python3 > /dev/null || skip "python3 is not installed"
 python3 -c "import venv, ensurepip" 2> /dev/null || skip "python3 has no venv/ensurepip module"
 venv=$(mktemp -d)
 trap 'rm -rf "$venv"' EXIT
 python3 -m venv "$venv"
-"$venv/bin/pip" install --quiet --disable-pip-version-check pytest numpy || skip "pip cannot install pytest and numpy"
-cargo build --release --bin catflip --example simulate_10k
-"$venv/bin/pip" install --quiet --disable-pip-version-check ./python
+step "installing pytest and numpy" "$venv/bin/pip" install --quiet --disable-pip-version-check pytest numpy || skip "pip cannot install pytest and numpy"
+step "building the CLI" cargo build --release --bin catflip --example simulate_10k
+step "pip install ./python" "$venv/bin/pip" install --quiet --disable-pip-version-check ./python
 # From the repository root, so that `import catflip` is the installed package (python/catflip/
 # alone lacks the compiled half).
-"$venv/bin/pytest" -q -p no:cacheprovider python/tests
-"$venv/bin/pip" install --quiet --disable-pip-version-check mujoco || echo "python/test.sh: mujoco not installable; its example will say so"
+step pytest "$venv/bin/pytest" -q -p no:cacheprovider python/tests
+step "installing mujoco" "$venv/bin/pip" install --quiet --disable-pip-version-check mujoco || echo "python/test.sh: mujoco not installable; its example will say so"
 for example in python/examples/*.py; do
-    "$venv/bin/python" "$example"
+    step "$example" "$venv/bin/python" "$example"
 done
-PYO3_PYTHON="$venv/bin/python" cargo clippy -p catflip-python --all-targets -- -D warnings
+PYO3_PYTHON="$venv/bin/python" step "clippy on the binding" cargo clippy -p catflip-python --all-targets -- -D warnings
