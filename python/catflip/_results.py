@@ -125,6 +125,12 @@ class Measurement:
         """The largest motor torque over the schedule, N·m."""
         return self.report["peak_torque_nm"]["max"]
 
+    @property
+    def verdict(self) -> Optional[str]:
+        """rapier's verdict against the exact engine (``verified``, ``not verified …``,
+        ``inconclusive``); ``None`` for the exact engine."""
+        return self.report.get("verdict")
+
 
 @dataclass(frozen=True)
 class Optimization:
