@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, List, Optional, Sequence, Union
+from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
 
@@ -108,8 +108,7 @@ def verify(problem: Problem, *, schedule: Optional[Schedule] = None, series: boo
 
 def schedule_series(problem: Problem, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None) -> Series:
     """The problem's schedule sampled as ``catflip run`` writes ``schedules/problem.csv``."""
-    text, _sidecar = _catflip.schedule_file(problem, steps_per_piece, rate_hz)
-    return Series.from_csv(text)
+    return Series.from_csv(*_catflip.schedule_file(problem, steps_per_piece, rate_hz))
 
 
 def compare(problem: Problem) -> Dict[str, Any]:
@@ -126,7 +125,7 @@ def optimize(
     ``series``, each optimum's time series by name. Refused for a problem released with spin."""
     text, warnings, files = _catflip.optimize(problem, series, steps_per_piece, rate_hz)
     _warn(warnings)
-    return Optimization(json.loads(text), {name: Series.from_csv(csv) for name, csv in files})
+    return Optimization(json.loads(text), {name: Series.from_csv(csv, sidecar) for name, csv, sidecar in files})
 
 
 def optimize_whole(
@@ -135,9 +134,9 @@ def optimize_whole(
     """``catflip optimize --whole --json``: both joint paths optimised over the whole fall (twist
     π and swing 0 as constraints), with ``[optimize.whole]``. No optimum is not an error here:
     ``solved`` is false and ``report["status"]`` says why (the CLI exits non-zero)."""
-    text, warnings, csv = _catflip.optimize_whole(problem, series, steps_per_piece, rate_hz)
+    text, warnings, file = _catflip.optimize_whole(problem, series, steps_per_piece, rate_hz)
     _warn(warnings)
-    return WholeOptimum(json.loads(text), Series.from_csv(csv) if csv is not None else None)
+    return WholeOptimum(json.loads(text), Series.from_csv(*file) if file is not None else None)
 
 
 def read_schedule(path: Union[str, "os.PathLike[str]"]) -> Schedule:
@@ -158,7 +157,10 @@ def import_schedule(
     optionally rates ``qd`` and accelerations ``qdd`` (``(n, 2)``). Read by the same parser as a
     schedule file, with the same checks and messages (row ``k`` is "line ``k + 2``", ``name``
     stands for the file); a time written twice in a row splits the schedule into pieces there."""
-    columns = [("t", np.asarray(t, dtype=float).reshape(-1))]
+    times = np.asarray(t, dtype=float)
+    if times.ndim != 1:
+        raise CatflipError(f"{name}: `t` must have shape (n,), not {times.shape}")
+    columns = [("t", times)]
     for names, value in ((("q1", "q2"), q), (("qd1", "qd2"), qd), (("qdd1", "qdd2"), qdd)):
         if value is None:
             continue
@@ -185,13 +187,16 @@ def export(
 ) -> List[str]:
     """Writes into the folder ``out`` what ``catflip run`` writes into ``schedules/``: the
     problem's schedule (``problem.csv`` + ``problem.json`` sidecar), the model (``model.urdf``,
-    ``model.xml``) and, when given and solved, the whole optimum (``whole-optimum.csv``).
+    ``model.xml``) and, when given and solved, the whole optimum (``whole-optimum.csv`` +
+    ``whole-optimum.json``).
     Returns the paths written."""
     os.makedirs(out, exist_ok=True)
     csv, sidecar = _catflip.schedule_file(problem, steps_per_piece, rate_hz)
     files = {"problem.csv": csv, "problem.json": sidecar, **model_files(problem)}
     if optimum is not None and optimum.series is not None:
         files["whole-optimum.csv"] = optimum.series.csv
+        if optimum.series.sidecar is not None:
+            files["whole-optimum.json"] = optimum.series.sidecar
     written = []
     for name, text in files.items():
         path = os.path.join(out, name)

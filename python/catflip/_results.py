@@ -46,10 +46,12 @@ class Series:
     boundary: List[str]
     #: The CSV text itself (the file ``catflip run`` writes).
     csv: str = field(repr=False)
+    #: Its sidecar ``NAME.json`` (units, conventions, model, jumps), when catflip made the series.
+    sidecar: Optional[str] = field(default=None, repr=False)
 
     @staticmethod
-    def from_csv(text: str) -> "Series":
-        """Reads a schedule file written by catflip (``NAME.csv``)."""
+    def from_csv(text: str, sidecar: Optional[str] = None) -> "Series":
+        """Reads a schedule file written by catflip (``NAME.csv``, and its sidecar's text)."""
         rows = list(csv.DictReader(io.StringIO(text)))
 
         def col(name: str) -> np.ndarray:
@@ -71,6 +73,7 @@ class Series:
             phase=[r["phase"] for r in rows],
             boundary=[r["boundary"] for r in rows],
             csv=text,
+            sidecar=sidecar,
         )
 
     def to_dict(self) -> Dict[str, np.ndarray]:

@@ -14,8 +14,8 @@ use crate::{message, refuse, worker, CatflipError};
 
 /// A report as JSON text, and the warnings that go with it.
 type Report = (String, Vec<String>);
-/// A report, its warnings, and schedule files `(name, csv)`.
-type WithFiles = (String, Vec<String>, Vec<(String, String)>);
+/// A report, its warnings, and schedule files `(name, csv, sidecar_json)`.
+type WithFiles = (String, Vec<String>, Vec<(String, String, String)>);
 
 /// An error of the library as a [`CatflipError`] with the CLI's message.
 fn refuse_any(e: anyhow::Error) -> PyErr {
@@ -88,7 +88,7 @@ pub fn compare(py: Python<'_>, problem: &Problem) -> PyResult<Report> {
 }
 
 /// `catflip optimize PROBLEM --json`: the profile QP, its exact refinement and the retiming of
-/// every phase; with `series`, each optimum's schedule file `(name, csv)` as well.
+/// every phase; with `series`, each optimum's schedule file `(name, csv, sidecar_json)` as well.
 #[pyfunction]
 pub fn optimize(
     py: Python<'_>,
@@ -112,7 +112,8 @@ pub fn optimize(
                     &name,
                     &export(steps_per_piece, rate_hz),
                 )?;
-                files.push((name, file.csv));
+                let sidecar = file.sidecar_json()?;
+                files.push((name, file.csv, sidecar));
             }
         }
         Ok((json(&report)?, r.warnings(), files))
@@ -120,7 +121,8 @@ pub fn optimize(
 }
 
 /// `catflip optimize PROBLEM --whole --json`: the whole-manoeuvre optimum; with `series`, its
-/// schedule file (`whole-optimum.csv` of `catflip run`) when there is an optimum.
+/// schedule file `(csv, sidecar_json)` (`whole-optimum.csv` and `.json` of `catflip run`) when
+/// there is an optimum.
 #[pyfunction]
 pub fn optimize_whole(
     py: Python<'_>,
@@ -128,7 +130,7 @@ pub fn optimize_whole(
     series: bool,
     steps_per_piece: usize,
     rate_hz: Option<f64>,
-) -> PyResult<(String, Vec<String>, Option<String>)> {
+) -> PyResult<(String, Vec<String>, Option<(String, String)>)> {
     let inner = problem.inner.clone();
     run(py, move || {
         inner.problem.require_no_spin("optimize --whole")?;
@@ -138,7 +140,8 @@ pub fn optimize_whole(
             true => catflip::report::whole::optimum_file(&r.problem, &report, &export(steps_per_piece, rate_hz))?,
             false => None,
         };
-        Ok((json(&report)?, r.warnings(), file.map(|f| f.csv)))
+        let file = file.map(|f| f.sidecar_json().map(|sidecar| (f.csv, sidecar))).transpose()?;
+        Ok((json(&report)?, r.warnings(), file))
     })
 }
 

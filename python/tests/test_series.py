@@ -57,7 +57,7 @@ def test_rate_grid(paper):
     assert all(abs(t * 100.0 - round(t * 100.0)) < 1e-6 for t in ordinary[:-1])
 
 
-def test_optimize_series_are_the_optima(paper):
+def test_optimize_series_are_the_optima(paper, tmp_path):
     opt = catflip.optimize(paper, steps_per_piece=50)
     assert opt.series, "no optimum schedule"
     for name, s in opt.series.items():
@@ -66,6 +66,10 @@ def test_optimize_series_are_the_optima(paper):
     assert whole.solved and whole.series is not None
     assert abs(abs(whole.series.twist_deg[-1]) - 180.0) < 1e-6
     assert np.max(np.abs(whole.series.tau)) <= whole.report["peak_torque_nm"]["max"] * (1 + 1e-6)
+    names = {p.split("/")[-1] for p in catflip.export(paper, tmp_path, optimum=whole)}
+    assert {"whole-optimum.csv", "whole-optimum.json"} <= names
+    assert json.loads((tmp_path / "whole-optimum.json").read_text())["columns"]
+    assert all(json.loads(s.sidecar)["columns"] for s in opt.series.values())
 
 
 def test_sweep_records_are_the_clis_table(tmp_path, cli):
