@@ -16,6 +16,8 @@ use crate::{message, refuse, worker, CatflipError};
 type Report = (String, Vec<String>);
 /// A report, its warnings, and schedule files `(name, csv, sidecar_json)`.
 type WithFiles = (String, Vec<String>, Vec<(String, String, String)>);
+/// A report, its warnings, and maybe one schedule file `(csv, sidecar_json)`.
+type WithFile = (String, Vec<String>, Option<(String, String)>);
 
 /// An error of the library as a [`CatflipError`] with the CLI's message.
 fn refuse_any(e: anyhow::Error) -> PyErr {
@@ -130,7 +132,7 @@ pub fn optimize_whole(
     series: bool,
     steps_per_piece: usize,
     rate_hz: Option<f64>,
-) -> PyResult<(String, Vec<String>, Option<(String, String)>)> {
+) -> PyResult<WithFile> {
     let inner = problem.inner.clone();
     run(py, move || {
         inner.problem.require_no_spin("optimize --whole")?;
