@@ -78,7 +78,7 @@ def dict_to_toml(d: Mapping[str, Any]) -> str:
     lines: list[str] = []
 
     def table(prefix: str, t: Mapping[str, Any]) -> None:
-        subs = []
+        subs: list[tuple[str, Any]] = []
         for k, v in t.items():
             if v is None:
                 continue  # an absent optional field, as TOML writes none
