@@ -94,3 +94,25 @@ def test_spin_refused_by_optimize(cli, args, call):
 def test_unknown_engine():
     problem = catflip.load(PAPER)
     assert "not an engine" in refused(lambda: catflip.simulate(problem, "bullet"))
+
+
+def test_gimbal_lock_refused(cli):
+    args = ["--set", "manoeuvre.bend_path=cone", "--set", "manoeuvre.theta_deg=90"]
+    message = same_as_cli(cli, ["simulate", PAPER, *args], lambda: catflip.simulate(catflip.load(PAPER, args[1::2])))
+    assert "gimbal lock" in message
+
+
+def test_bad_sweep_file(tmp_path, cli):
+    path = tmp_path / "bad-sweep.toml"
+    path.write_text(f'name = "x"\nbase = "{PROBLEMS / "paper.toml"}"\nbogus = 1\n')
+    assert "unknown field `bogus`" in same_as_cli(cli, ["sweep", str(path)], lambda: catflip.sweep(path))
+
+
+def test_missing_schedule_file(cli):
+    same_as_cli(cli, ["simulate", PAPER, "--schedule", "no-such.csv"], lambda: catflip.read_schedule("no-such.csv"))
+
+
+def test_still_usable_after_a_refusal():
+    problem = catflip.load(PAPER)
+    refused(lambda: catflip.load(PAPER, ["cat.mass=0"]))
+    assert catflip.simulate(problem, series=False).report["engine"] == "exact"

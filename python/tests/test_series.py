@@ -120,3 +120,5 @@ def test_interrupt_raises_at_once_and_the_gil_is_free():
         counter.join()
     assert not returned, "the call ran to its end: the interrupt was not delivered inside it"
     assert len(ticks) > 10, "the counting thread did not run while the call waited"
+    # The package goes on working (the interrupted computation finishes in the background).
+    assert catflip.simulate(problem, series=False).report["problem"] == "servo"
