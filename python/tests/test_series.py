@@ -105,7 +105,7 @@ def test_interrupt_raises_at_once_and_the_gil_is_free():
 
     counter = threading.Thread(target=count)
     counter.start()
-    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer = threading.Timer(0.1, _thread.interrupt_main)  # the call below takes seconds
     returned = False
     try:
         timer.start()
@@ -119,6 +119,6 @@ def test_interrupt_raises_at_once_and_the_gil_is_free():
         stop.set()
         counter.join()
     assert not returned, "the call ran to its end: the interrupt was not delivered inside it"
-    assert len(ticks) > 10, "the counting thread did not run while the call waited"
+    assert len(ticks) >= 3, "the counting thread did not run while the call waited"  # 0 or 1 if it held the GIL
     # The package goes on working (the interrupted computation finishes in the background).
     assert catflip.simulate(problem, series=False).report["problem"] == "servo"
