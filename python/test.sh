@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The Python package's checks (README, "Python"), run by .ci/run after the Rust steps and runnable
 # alone from anywhere: `bash python/test.sh`. In a fresh virtual environment it installs the
-# package with the README's one command (`pip install ./python`: maturin builds the abi3 wheel,
-# reusing target/), then runs the pytest suite (against target/release/catflip, built first), the
+# package with the README's one command (`pip install ./python`: maturin builds the abi3 wheel in
+# target/), then runs the pytest suite (against target/release/catflip, built first), the
 # examples (MuJoCo's replay when `pip install mujoco` works) and clippy on the binding crate.
 # Without python3 (or its venv module) it says so and exits 0, except under CI=true, where
 # a missing Python is a failure.
