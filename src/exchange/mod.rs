@@ -9,6 +9,8 @@
 //! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
 //!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
 //! - [`table`]: every tidy CSV table, written with the `csv` crate;
+//! - [`arrays`]: a schedule given as columns of numbers (the Python package's numpy arrays),
+//!   read by the same parser;
 //! - [`checks`]: what is refused and what is warned of an imported schedule (units, duration,
 //!   ends, rates against angles, sampling);
 //! - [`mod@evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
@@ -18,6 +20,7 @@
 //! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)`; SI units;
 //! quaternions scalar first `(w, x, y, z)`.
 
+pub mod arrays;
 pub mod checks;
 pub mod cuts;
 pub mod evaluate;
@@ -31,6 +34,7 @@ pub mod sidecar;
 pub mod table;
 pub mod urdf;
 
+pub use arrays::schedule_from_columns;
 pub use evaluate::{evaluate, evaluate_rapier, ImportReport};
 pub use import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
 pub use links::Links;

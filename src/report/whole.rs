@@ -434,6 +434,20 @@ pub fn verification_row_markdown(report: &WholeReport, v: &Verification) -> Opti
 /// The name of the whole-manoeuvre optimum in files and tables.
 pub const WHOLE: &str = "whole-optimum";
 
+/// The optimum as the schedule file `WHOLE.csv` (+ sidecar) that `catflip run` writes, when there
+/// is an optimum: one piece name for every span, so the rows spread over the whole fall (the
+/// spans' joins, where only the jerk jumps, still get their boundary rows).
+pub fn optimum_file(
+    problem: &crate::problem::Problem,
+    report: &WholeReport,
+    export: &crate::exchange::ExportOptions,
+) -> Result<Option<crate::exchange::ScheduleFile>, crate::exchange::ExchangeError> {
+    let Some(spline) = report.spline() else { return Ok(None) };
+    let pieces = vec!["whole".to_string(); spline.piece_durations().len()];
+    let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
+    crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export).map(Some)
+}
+
 /// The summary lines of the optimum, its verification and the certified retiming, for the
 /// run's report.
 pub fn summary_lines(report: &WholeReport, v: Option<&Verification>, retimed: &[RetimeRow]) -> String {

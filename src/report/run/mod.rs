@@ -27,7 +27,7 @@ use crate::report::results_dir::Staging;
 use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::report::whole::WHOLE;
 use crate::schedule::variant::Variant;
-use crate::schedule::{Schedule, Trajectory};
+use crate::schedule::Schedule;
 use compute::{compute, Computed};
 use tables::{summary, verification_csv, verification_markdown};
 
@@ -337,12 +337,7 @@ fn schedule_files(
             .map(|v| (v.variant.to_string(), v.schedule.clone())),
     );
     let whole_file = || -> Result<Vec<(String, String)>, RunError> {
-        let Some(spline) = whole.spline() else { return Ok(Vec::new()) };
-        // One name for every span: the rows are spread over the whole fall (the spans' joins,
-        // where only the jerk jumps, still get their boundary rows).
-        let pieces = vec!["whole".to_string(); spline.piece_durations().len()];
-        let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
-        let file = crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export)?;
+        let Some(file) = crate::report::whole::optimum_file(problem, whole, export)? else { return Ok(Vec::new()) };
         let sidecar = file.sidecar_json()?;
         Ok(vec![(format!("schedules/{WHOLE}.csv"), file.csv), (format!("schedules/{WHOLE}.json"), sidecar)])
     };

@@ -1,0 +1,214 @@
+"""catflip from Python: plan and check how a falling cat turns itself over.
+
+The same Rust library as the ``catflip`` command line, called directly: every report is the
+dict of the CLI's ``--json`` output for the same problem (the same numbers, to the last bit),
+time series are numpy arrays, every refusal is a :class:`CatflipError` with the CLI's message.
+
+>>> import catflip
+>>> p = catflip.load("problems/paper.toml", overrides={"manoeuvre.profile": "cycloidal"})
+>>> m = catflip.simulate(p)                       # the exact engine
+>>> round(m.twist_deg, 3), m.series.tau.shape     # doctest: +SKIP
+
+The nouns (README, "Python"):
+
+- :func:`load`, :func:`loads`, :func:`from_dict` → :class:`Problem`;
+- :func:`simulate` (exact or rapier) and :func:`verify` → :class:`Measurement`;
+- :func:`compare` → the peak-torque table; :func:`optimize` → :class:`Optimization`;
+  :func:`optimize_whole` → :class:`WholeOptimum`;
+- :func:`import_schedule` (numpy arrays), :func:`read_schedule` (a CSV) → :class:`Schedule`,
+  which :func:`simulate` takes in place of the problem's own schedule;
+- :func:`export` (URDF, MJCF, schedule CSV), :func:`model_files`;
+- :func:`sweep` → a list of records; :func:`frame` → a pandas/polars frame.
+
+Long calls release the GIL and run on a worker thread; Ctrl-C raises ``KeyboardInterrupt`` at
+once while the worker finishes in the background (its result is dropped).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Optional, Union
+
+import numpy as np
+
+from . import _catflip
+from ._catflip import CatflipError, Problem, Schedule, __version__
+from ._problem import CatflipWarning, _warn, from_dict, load, loads
+from ._results import Measurement, Optimization, Series, WholeOptimum
+from ._table import frame, records_from_csv
+
+__all__ = [
+    "CatflipError",
+    "CatflipWarning",
+    "Measurement",
+    "Optimization",
+    "Problem",
+    "Schedule",
+    "Series",
+    "WholeOptimum",
+    "__version__",
+    "compare",
+    "export",
+    "frame",
+    "from_dict",
+    "import_schedule",
+    "load",
+    "loads",
+    "model_files",
+    "optimize",
+    "optimize_whole",
+    "read_schedule",
+    "schedule_series",
+    "simulate",
+    "sweep",
+    "verify",
+]
+
+#: Intervals per phase of a time series (the CLI's default for schedule files).
+STEPS_PER_PIECE = 400
+
+
+def _report(pair: Any) -> Dict[str, Any]:
+    text, warnings = pair
+    _warn(warnings)
+    return json.loads(text)
+
+
+def simulate(
+    problem: Problem,
+    engine: str = "exact",
+    *,
+    schedule: Optional[Schedule] = None,
+    series: bool = True,
+    steps_per_piece: int = STEPS_PER_PIECE,
+    rate_hz: Optional[float] = None,
+) -> Measurement:
+    """Runs the problem's schedule (or ``schedule``, imported, on the problem's cat) through an
+    engine: ``"exact"`` (the momentum-map engine, ground truth) or ``"rapier"`` (the rapier3d
+    verification, ending in a verdict). ``report`` is ``catflip simulate --json`` (with
+    ``--schedule`` when ``schedule`` is given).
+
+    With ``series`` the problem's schedule is sampled too (:class:`Series`: ``steps_per_piece``
+    intervals per phase, or the uniform grid ``rate_hz``), the exact engine's torques and
+    orientation on every row.
+    """
+    if schedule is not None:
+        return Measurement(_report(_catflip.simulate_schedule(problem, schedule, engine)))
+    report = _report(_catflip.simulate(problem, engine))
+    return Measurement(report, schedule_series(problem, steps_per_piece, rate_hz) if series else None)
+
+
+def verify(problem: Problem, *, schedule: Optional[Schedule] = None, series: bool = False) -> Measurement:
+    """The rapier verification of the problem's schedule (or of ``schedule``):
+    ``simulate(problem, "rapier")``; ``report["verdict"]`` is ``verified``, ``not verified`` or
+    ``inconclusive`` against the ``[rapier]`` tolerances."""
+    return simulate(problem, "rapier", schedule=schedule, series=series)
+
+
+def schedule_series(problem: Problem, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None) -> Series:
+    """The problem's schedule sampled as ``catflip run`` writes ``schedules/problem.csv``."""
+    return Series.from_csv(*_catflip.schedule_file(problem, steps_per_piece, rate_hz))
+
+
+def compare(problem: Problem) -> Dict[str, Any]:
+    """``catflip compare --json``: every library profile on the problem's path and circulation,
+    side by side (``["rows"]``, one record per profile: peak torques, twist, swing, jumps)."""
+    return _report(_catflip.compare(problem))
+
+
+def optimize(
+    problem: Problem, *, series: bool = True, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None
+) -> Optimization:
+    """``catflip optimize --json``: the profile QP (Clarabel), its exact-dynamics refinement and
+    every phase retimed against its exact peak, with the problem's ``[optimize]`` settings; with
+    ``series``, each optimum's time series by name. Refused for a problem released with spin."""
+    text, warnings, files = _catflip.optimize(problem, series, steps_per_piece, rate_hz)
+    _warn(warnings)
+    return Optimization(json.loads(text), {name: Series.from_csv(csv, sidecar) for name, csv, sidecar in files})
+
+
+def optimize_whole(
+    problem: Problem, *, series: bool = True, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None
+) -> WholeOptimum:
+    """``catflip optimize --whole --json``: both joint paths optimised over the whole fall (twist
+    π and swing 0 as constraints), with ``[optimize.whole]``. No optimum is not an error here:
+    ``solved`` is false and ``report["status"]`` says why (the CLI exits non-zero)."""
+    text, warnings, file = _catflip.optimize_whole(problem, series, steps_per_piece, rate_hz)
+    _warn(warnings)
+    return WholeOptimum(json.loads(text), Series.from_csv(*file) if file is not None else None)
+
+
+def read_schedule(path: Union[str, "os.PathLike[str]"]) -> Schedule:
+    """Reads a schedule CSV (``t, q1, q2`` and optionally ``qd1, qd2``, ``qdd1, qdd2``, ``phase``),
+    as ``catflip simulate --schedule FILE.csv`` does."""
+    return _catflip.read_schedule(os.fspath(path))
+
+
+def import_schedule(
+    t: Any,
+    q: Any,
+    qd: Any = None,
+    qdd: Any = None,
+    *,
+    name: str = "<arrays>",
+) -> Schedule:
+    """A schedule from arrays: times ``t`` (s, ``(n,)``), joint angles ``q`` (rad, ``(n, 2)``),
+    optionally rates ``qd`` and accelerations ``qdd`` (``(n, 2)``). Read by the same parser as a
+    schedule file, with the same checks and messages (row ``k`` is "line ``k + 2``", ``name``
+    stands for the file); a time written twice in a row splits the schedule into pieces there."""
+    times = np.asarray(t, dtype=float)
+    if times.ndim != 1:
+        raise CatflipError(f"{name}: `t` must have shape (n,), not {times.shape}")
+    columns = [("t", times)]
+    for names, value in ((("q1", "q2"), q), (("qd1", "qd2"), qd), (("qdd1", "qdd2"), qdd)):
+        if value is None:
+            continue
+        a = np.asarray(value, dtype=float)
+        if a.ndim != 2 or a.shape[1] != 2:
+            raise CatflipError(f"{name}: `{names[0][:-1]}` must have shape (n, 2), not {a.shape}")
+        columns += [(names[0], a[:, 0]), (names[1], a[:, 1])]
+    return _catflip.schedule_from_columns([c[0] for c in columns], [c[1].tolist() for c in columns], name)
+
+
+def model_files(problem: Problem) -> Dict[str, str]:
+    """The cat as ``model.urdf`` and ``model.xml`` (MJCF): file name → text, as ``catflip run``
+    writes them beside the schedules (true inertias, zero gravity: the falling frame)."""
+    return dict(_catflip.model_files(problem))
+
+
+def export(
+    problem: Problem,
+    out: Union[str, "os.PathLike[str]"],
+    *,
+    optimum: Optional[WholeOptimum] = None,
+    steps_per_piece: int = STEPS_PER_PIECE,
+    rate_hz: Optional[float] = None,
+) -> List[str]:
+    """Writes into the folder ``out`` what ``catflip run`` writes into ``schedules/``: the
+    problem's schedule (``problem.csv`` + ``problem.json`` sidecar), the model (``model.urdf``,
+    ``model.xml``) and, when given and solved, the whole optimum (``whole-optimum.csv`` +
+    ``whole-optimum.json``).
+    Returns the paths written."""
+    os.makedirs(out, exist_ok=True)
+    csv, sidecar = _catflip.schedule_file(problem, steps_per_piece, rate_hz)
+    files = {"problem.csv": csv, "problem.json": sidecar, **model_files(problem)}
+    if optimum is not None and optimum.series is not None:
+        files["whole-optimum.csv"] = optimum.series.csv
+        if optimum.series.sidecar is not None:
+            files["whole-optimum.json"] = optimum.series.sidecar
+    written = []
+    for name, text in files.items():
+        path = os.path.join(out, name)
+        with open(path, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+        written.append(path)
+    return written
+
+
+def sweep(path: Union[str, "os.PathLike[str]"], *, out: Union[str, "os.PathLike[str]", None] = None) -> List[Dict[str, Any]]:
+    """Runs a sweep file (``catflip sweep SWEEP.toml``) and returns its tidy table, one record per
+    case × schedule × engine (the rows of ``sweep.csv``); with ``out``, also writes the CLI's
+    output folder ``<out>/<name>/`` (table, summary, plots). :func:`frame` makes it a frame."""
+    text, _written = _catflip.sweep(os.fspath(path), os.fspath(out) if out is not None else None)
+    return records_from_csv(text)

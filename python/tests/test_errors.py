@@ -1,0 +1,118 @@
+"""Each class of bad input the CLI refuses is a ``catflip.CatflipError`` (a ``ValueError``) with
+the CLI's message, word for word (its ``error: …`` line without the prefix); never a crash."""
+
+import numpy as np
+import pytest
+
+import catflip
+from conftest import PROBLEMS, cli_error
+
+PAPER = "problems/paper.toml"
+
+
+def refused(call) -> str:
+    with pytest.raises(catflip.CatflipError) as e:
+        call()
+    assert isinstance(e.value, ValueError)
+    return str(e.value)
+
+
+def same_as_cli(cli, args, call):
+    code, _, err = cli(*args)
+    assert code != 0
+    message = refused(call)
+    assert message == cli_error(err)
+    return message
+
+
+@pytest.mark.parametrize(
+    "text, says",
+    [
+        ("[cat]\nmas = 1.0\n", "unknown field `mas`"),  # unknown field
+        ('[cat]\nmass = "heavy"\n', "invalid type"),  # wrong type
+        ("[cat]\nmass = -1.0\n", "cat.mass = -1: must be positive"),  # out of range
+        ("[manoeuvre]\nphases = [0.5, 0.6, 0.2]\n", "manoeuvre.phases"),  # out of range, a list
+        ("[cat\nmass = 1.0\n", "unclosed table"),  # not TOML
+    ],
+)
+def test_bad_problem_files(tmp_path, cli, text, says):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    message = same_as_cli(cli, ["simulate", str(path)], lambda: catflip.load(path))
+    assert says in message
+    # The same text as a string is refused for the same reason (named by its origin instead).
+    assert refused(lambda: catflip.loads(text, origin=str(path))) == message
+
+
+def test_bad_dict_value_names_the_field():
+    assert refused(lambda: catflip.from_dict({"cat": {"mass": float("nan")}})) == "cat.mass = NaN: must be a finite number"
+
+
+@pytest.mark.parametrize("override", ["cat.mass", "cat.mass=", "nosuch.field=1", "cat.mass=[1"])
+def test_bad_overrides(cli, override):
+    same_as_cli(cli, ["simulate", PAPER, "--set", override], lambda: catflip.load(PROBLEMS / "paper.toml", [override]))
+
+
+def test_a_dict_override_is_written_as_toml(cli):
+    same_as_cli(cli, ["simulate", PAPER, "--set", "cat.mass=-2.5"], lambda: catflip.load(PAPER, {"cat.mass": -2.5}))
+
+
+def test_missing_file(cli):
+    message = same_as_cli(cli, ["simulate", "problems/no-such.toml"], lambda: catflip.load("problems/no-such.toml"))
+    assert "No such file" in message
+
+
+def test_truncated_schedule(tmp_path, cli):
+    path = tmp_path / "cut.csv"
+    path.write_text("t,q1,q2\n0,0,0\n0.1,0.01,0\n0.2,0.02,0\n0.3,0.03\n")
+    same_as_cli(cli, ["simulate", PAPER, "--schedule", str(path)], lambda: catflip.read_schedule(path))
+    # Arrays of unequal lengths are the same truncated file.
+    t = [0.0, 0.1, 0.2, 0.3]
+    q = np.array([[0, 0], [0.01, 0], [0.02, 0], [0.03, 0]])
+    assert refused(lambda: catflip.import_schedule(t, q[:3], name=str(path))).startswith(f"{path}: line ")
+
+
+def test_not_finite_arrays_name_the_row_and_column():
+    t = np.linspace(0, 1, 8)
+    q = np.zeros((8, 2))
+    q[3, 1] = np.inf
+    assert refused(lambda: catflip.import_schedule(t, q)) == "<arrays>: line 5, column 3 (`q2`): inf is not finite"
+
+
+def test_wrong_shape_is_refused():
+    assert "shape (n, 2)" in refused(lambda: catflip.import_schedule([0, 1], [0, 1]))
+
+
+@pytest.mark.parametrize("args, call", [(["optimize"], catflip.optimize), (["optimize", "--whole"], catflip.optimize_whole)])
+def test_spin_refused_by_optimize(cli, args, call):
+    spin = "drop.angular_momentum=[0.0, 0.0, 0.01]"
+    problem = catflip.load(PAPER, [spin])
+    message = same_as_cli(cli, [args[0], PAPER, "--set", spin, *args[1:]], lambda: call(problem))
+    assert "spin" in message
+
+
+def test_unknown_engine():
+    problem = catflip.load(PAPER)
+    assert "not an engine" in refused(lambda: catflip.simulate(problem, "bullet"))
+
+
+def test_gimbal_lock_refused(cli):
+    args = ["--set", "manoeuvre.bend_path=cone", "--set", "manoeuvre.theta_deg=90"]
+    message = same_as_cli(cli, ["simulate", PAPER, *args], lambda: catflip.simulate(catflip.load(PAPER, args[1::2])))
+    assert "gimbal lock" in message
+
+
+def test_bad_sweep_file(tmp_path, cli):
+    path = tmp_path / "bad-sweep.toml"
+    path.write_text(f'name = "x"\nbase = "{PROBLEMS / "paper.toml"}"\nbogus = 1\n')
+    assert "unknown field `bogus`" in same_as_cli(cli, ["sweep", str(path)], lambda: catflip.sweep(path))
+
+
+def test_missing_schedule_file(cli):
+    same_as_cli(cli, ["simulate", PAPER, "--schedule", "no-such.csv"], lambda: catflip.read_schedule("no-such.csv"))
+
+
+def test_still_usable_after_a_refusal():
+    problem = catflip.load(PAPER)
+    refused(lambda: catflip.load(PAPER, ["cat.mass=0"]))
+    assert catflip.simulate(problem, series=False).report["engine"] == "exact"
