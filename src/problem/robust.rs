@@ -10,11 +10,38 @@ use crate::problem::limits::{count_in_range, CountRange};
 pub const TRIALS: CountRange = CountRange { min: 1, max: 100_000 };
 /// Largest spread of a size, percent: a half must keep a positive mass, length and radius.
 pub const MAX_SPREAD_PCT: f64 = 90.0;
+/// Coarsest rapier step of the tracked trials, s: the servo and the schedule's time scales
+/// (tenths of a second) need many steps.
+pub const MAX_DT_S: f64 = 0.01;
+
+/// Which engines the robustness check runs its trials through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RobustEngine {
+    /// The exact engine with ideal tracking: the joints follow the schedule exactly.
+    Exact,
+    /// Rapier, the schedule tracked by feed-forward plus joint PD through the actuators, with
+    /// an attitude sensor (and, with `landing`, the ground).
+    Rapier,
+    /// Both, side by side.
+    Both,
+}
+
+impl RobustEngine {
+    /// Whether the exact engine's check runs.
+    pub fn exact(self) -> bool {
+        matches!(self, RobustEngine::Exact | RobustEngine::Both)
+    }
+    /// Whether rapier's tracked check runs.
+    pub fn rapier(self) -> bool {
+        matches!(self, RobustEngine::Rapier | RobustEngine::Both)
+    }
+}
 
 /// Settings of the robustness check: each trial draws a cat around the problem's (each size
-/// scaled by a factor uniform in `[1 − p/100, 1 + p/100]`, both halves alike) and a release spin
-/// (each world component normal with standard deviation `spin_sigma_nms`), and runs the schedule
-/// open loop on it.
+/// scaled by a factor uniform in `[1 − p/100, 1 + p/100]`, both halves alike), a release spin
+/// (each world component normal with standard deviation `spin_sigma_nms`) and, for rapier, each
+/// joint's servo gains (a factor uniform in `1 ± gain_pct/100`), and runs the schedule on it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RobustSettings {
@@ -33,6 +60,27 @@ pub struct RobustSettings {
     pub spin_sigma_nms: f64,
     /// A trial lands when A's final attitude is within this angle of the target, degrees.
     pub tolerance_deg: f64,
+    /// The engines the trials run through.
+    pub engine: RobustEngine,
+    /// Rapier's time step in the tracked trials, s (first-order integrator: its attitude bias
+    /// is proportional to it).
+    pub dt_s: f64,
+    /// Natural frequency of the joint servo (PD on the straight cat's joint inertia), Hz.
+    pub servo_hz: f64,
+    /// Damping ratio of the joint servo.
+    pub servo_damping: f64,
+    /// Spread of each joint's servo gains, percent.
+    pub gain_pct: f64,
+    /// Latency of the attitude estimate handed to the controller, s.
+    pub attitude_latency_s: f64,
+    /// Noise of the attitude estimate, per axis (standard deviation), degrees.
+    pub attitude_noise_deg: f64,
+    /// Whether the tracked trials fall onto the ground `drop.height` below the release and
+    /// report their touch-down.
+    pub landing: bool,
+    /// A trial lands on its feet when each half's feet point within this angle of straight
+    /// down at touch-down, degrees.
+    pub feet_down_deg: f64,
 }
 
 impl Default for RobustSettings {
@@ -45,6 +93,15 @@ impl Default for RobustSettings {
             radius_pct: 0.0,
             spin_sigma_nms: 0.005,
             tolerance_deg: 5.0,
+            engine: RobustEngine::Exact,
+            dt_s: 1e-4,
+            servo_hz: 10.0,
+            servo_damping: 1.0,
+            gain_pct: 20.0,
+            attitude_latency_s: 0.010,
+            attitude_noise_deg: 0.5,
+            landing: false,
+            feet_down_deg: 20.0,
         }
     }
 }
@@ -66,6 +123,27 @@ impl RobustSettings {
         }
         if !(self.tolerance_deg > 0.0 && self.tolerance_deg <= 180.0) {
             return Err(bad("robust.tolerance_deg", echo(self.tolerance_deg), "must lie in (0, 180] degrees"));
+        }
+        if !(self.dt_s > 0.0 && self.dt_s <= MAX_DT_S) {
+            return Err(bad("robust.dt_s", echo(self.dt_s), &format!("must lie in (0, {MAX_DT_S}] s")));
+        }
+        if !(self.servo_hz.is_finite() && self.servo_hz >= 0.0) {
+            return Err(bad("robust.servo_hz", echo(self.servo_hz), "must be a finite number ≥ 0 (Hz; 0: feed-forward alone)"));
+        }
+        if !(self.servo_damping.is_finite() && self.servo_damping >= 0.0) {
+            return Err(bad("robust.servo_damping", echo(self.servo_damping), "must be a finite number ≥ 0"));
+        }
+        if !(0.0..=MAX_SPREAD_PCT).contains(&self.gain_pct) {
+            return Err(bad("robust.gain_pct", echo(self.gain_pct), &format!("must lie in [0, {MAX_SPREAD_PCT}] percent")));
+        }
+        if !(self.attitude_latency_s.is_finite() && self.attitude_latency_s >= 0.0) {
+            return Err(bad("robust.attitude_latency_s", echo(self.attitude_latency_s), "must be a finite number ≥ 0 (s)"));
+        }
+        if !(self.attitude_noise_deg.is_finite() && (0.0..=180.0).contains(&self.attitude_noise_deg)) {
+            return Err(bad("robust.attitude_noise_deg", echo(self.attitude_noise_deg), "must lie in [0, 180] degrees"));
+        }
+        if !(self.feet_down_deg > 0.0 && self.feet_down_deg <= 180.0) {
+            return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));
         }
         Ok(())
     }

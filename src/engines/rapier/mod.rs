@@ -122,6 +122,8 @@
 //! - DESIGN.md §1, §2 and §6.
 
 mod bodies;
+pub mod control;
+pub mod ground;
 mod measure;
 mod pieces;
 mod run;
@@ -129,10 +131,13 @@ pub mod saturation;
 pub mod scene;
 mod spin;
 mod timescale;
+pub mod track;
 mod verify;
 mod verify_text;
 
 pub use bodies::{BodyState, MassModel, Snapshot};
+pub use control::{AttitudeEstimate, Controller, FeedForwardPd, JointReading, PdGains, Plan};
+pub use ground::{Landing, Part, Touchdown};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
     dt_sweep, extrapolate, simulate, simulate_with, swing_vector, Extrapolated, JumpTorque, MomentumDrift, RapierRun,
@@ -141,6 +146,7 @@ pub use run::{
 pub use saturation::{available_torque, MotorSaturation, SATURATION_TOLERANCE};
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
+pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
