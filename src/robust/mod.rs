@@ -184,9 +184,6 @@ pub struct Robustness {
     /// frames are drawn from.
     #[serde(skip)]
     pub film: Option<tracked::Film>,
-    /// The command that regenerates the check (written at the top of its report; empty when
-    /// none was given).
-    pub command: String,
 }
 
 /// Worst trials reported.
@@ -257,7 +254,6 @@ pub(crate) fn summarise(
         verdict,
         tracking: None,
         film: None,
-        command: String::new(),
     }
 }
 
@@ -266,4 +262,30 @@ pub(crate) fn summarise(
 pub(crate) fn landing_figures(r: &UnitQuaternion<f64>, twist: f64, swing: f64) -> (f64, f64, f64) {
     let target = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI);
     ((target.inverse() * r).angle().to_degrees(), twist.abs().to_degrees() - 180.0, swing.to_degrees())
+}
+
+/// The check as `[robust] engine` asks: the exact engine's, rapier's tracked one, or both.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RobustReport {
+    /// One check per engine run, exact first.
+    pub checks: Vec<Robustness>,
+    /// The command that regenerates the report (empty when none was given).
+    pub command: String,
+}
+
+/// Runs the engines `problem.robust.engine` names on `traj` (named `schedule`).
+pub fn check(
+    problem: &Problem,
+    traj: &(impl Trajectory + Sync),
+    schedule: &str,
+) -> Result<RobustReport, crate::engines::rapier::RapierError> {
+    let engine = problem.robust.engine;
+    let mut checks = Vec::new();
+    if engine.exact() {
+        checks.push(robustness(problem, traj, schedule));
+    }
+    if engine.rapier() {
+        checks.push(tracked::tracked_robustness(problem, traj, schedule)?);
+    }
+    Ok(RobustReport { checks, command: String::new() })
 }

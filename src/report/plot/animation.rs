@@ -550,7 +550,11 @@ impl Scene {
         let (head, body) = root.split_vertically(STRIP_TITLE);
         let title = format!("{}: {caption} (A front: orange, B rear: blue, belly: red)", self.title);
         let (w, _) = head.dim_in_pixel();
-        head.draw(&Text::new(title, (w as i32 / 2, 20), bold(20.0).pos(Pos::new(HPos::Center, VPos::Center))))
+        // A title wider than the strip (few panels) shrinks to fit rather than being cropped.
+        let width = f64::from(head.estimate_text_size(&title, &bold(20.0)).map_err(failed)?.0);
+        let room = f64::from(w) - 16.0;
+        let size = if width > room { 20.0 * room / width } else { 20.0 };
+        head.draw(&Text::new(title, (w as i32 / 2, 20), bold(size).pos(Pos::new(HPos::Center, VPos::Center))))
             .map_err(failed)?;
         for (panel, pose) in body.split_evenly((1, poses.len().max(1))).iter().zip(poses) {
             self.draw(panel, pose, extent, true)?;
