@@ -5,8 +5,8 @@
 //! each step `[t_k, t_{k+1}]`, `h = T/n`:
 //!
 //! 1. the encoders read `(q, q̇)` (rapier's joint coordinates and rates, exact);
-//! 2. the attitude sensor gives A's orientation `δ` earlier, `R_A(t_k − δ)` (the step nearest
-//!    to it; the release attitude before the release), times a noise rotation `exp([σ n]×)` in
+//! 2. the attitude sensor gives A's orientation `δ` earlier, `R_A(t_{k−d})` with
+//!    `d = round(δ/h)` whole steps (the release attitude before the release), times a noise rotation `exp([σ n]×)` in
 //!    A's frame, `n` three standard normals drawn per step from the run's own stream;
 //! 3. the controller returns `τ`; each joint's is clamped to what its actuator has at the
 //!    measured rate ([`super::available_torque`]: torque limit, DC envelope, power; none →
@@ -139,7 +139,7 @@ pub fn track(
         let seen = attitudes[k.saturating_sub(delay)];
         let n3 = Vector3::new(noise.normal(), noise.normal(), noise.normal());
         let attitude = AttitudeEstimate {
-            measured_at: t - delay as f64 * dt,
+            measured_at: k.saturating_sub(delay) as f64 * dt,
             orientation: seen * UnitQuaternion::from_scaled_axis(opts.sensor.noise * n3),
         };
         let command = controller.torques(t, &joints, &attitude);
