@@ -58,7 +58,8 @@ fn exact_feed_forward_on_the_nominal_cat_tracks_the_plan_to_first_order() {
     let cat = p.cat;
     let exact = flip(&cat, &s, 1e-10);
     assert!((exact.twist.abs().to_degrees() - 180.0).abs() < 1e-6, "the calibrated schedule turns by π");
-    let (coarse, fine) = (run(&cat, &cat, &s, 2e-4, 10.0, Motors::ideal()), run(&cat, &cat, &s, 1e-4, 10.0, Motors::ideal()));
+    let (coarse, fine) =
+        (run(&cat, &cat, &s, 2e-4, 10.0, Motors::ideal()), run(&cat, &cat, &s, 1e-4, 10.0, Motors::ideal()));
     let (ec, ef) = (twist_error(&coarse), twist_error(&fine));
     // Rapier's integrator is first order: the twist error halves with the step (measured:
     // 0.755° → 0.381° → 0.193° at 200, 100, 50 µs), and Richardson removes it.

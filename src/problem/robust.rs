@@ -128,19 +128,35 @@ impl RobustSettings {
             return Err(bad("robust.dt_s", echo(self.dt_s), &format!("must lie in (0, {MAX_DT_S}] s")));
         }
         if !(self.servo_hz.is_finite() && self.servo_hz >= 0.0) {
-            return Err(bad("robust.servo_hz", echo(self.servo_hz), "must be a finite number ≥ 0 (Hz; 0: feed-forward alone)"));
+            return Err(bad(
+                "robust.servo_hz",
+                echo(self.servo_hz),
+                "must be a finite number ≥ 0 (Hz; 0: feed-forward alone)",
+            ));
         }
         if !(self.servo_damping.is_finite() && self.servo_damping >= 0.0) {
             return Err(bad("robust.servo_damping", echo(self.servo_damping), "must be a finite number ≥ 0"));
         }
         if !(0.0..=MAX_SPREAD_PCT).contains(&self.gain_pct) {
-            return Err(bad("robust.gain_pct", echo(self.gain_pct), &format!("must lie in [0, {MAX_SPREAD_PCT}] percent")));
+            return Err(bad(
+                "robust.gain_pct",
+                echo(self.gain_pct),
+                &format!("must lie in [0, {MAX_SPREAD_PCT}] percent"),
+            ));
         }
         if !(self.attitude_latency_s.is_finite() && self.attitude_latency_s >= 0.0) {
-            return Err(bad("robust.attitude_latency_s", echo(self.attitude_latency_s), "must be a finite number ≥ 0 (s)"));
+            return Err(bad(
+                "robust.attitude_latency_s",
+                echo(self.attitude_latency_s),
+                "must be a finite number ≥ 0 (s)",
+            ));
         }
         if !(self.attitude_noise_deg.is_finite() && (0.0..=180.0).contains(&self.attitude_noise_deg)) {
-            return Err(bad("robust.attitude_noise_deg", echo(self.attitude_noise_deg), "must lie in [0, 180] degrees"));
+            return Err(bad(
+                "robust.attitude_noise_deg",
+                echo(self.attitude_noise_deg),
+                "must lie in [0, 180] degrees",
+            ));
         }
         if !(self.feet_down_deg > 0.0 && self.feet_down_deg <= 180.0) {
             return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));

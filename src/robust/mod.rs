@@ -92,14 +92,7 @@ pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> 
     let spin = Vector3::from(draw.angular_momentum_nms);
     let (flip, _) = released_flip(&cat, traj, &spin, problem.exact.tolerance);
     let (landing_error_deg, twist_error_deg, swing_deg) = landing_figures(&flip.orientation, flip.twist, flip.swing);
-    Trial {
-        draw,
-        landing_error_deg,
-        twist_error_deg,
-        swing_deg,
-        converged: flip.converged,
-        tracked: None,
-    }
+    Trial { draw, landing_error_deg, twist_error_deg, swing_deg, converged: flip.converged, tracked: None }
 }
 
 /// Percentiles of one landing figure, degrees.

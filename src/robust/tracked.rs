@@ -25,7 +25,7 @@ use serde::Serialize;
 use super::{draw, landing_figures, nominal_draw, summarise, Draw, Engine, Percentiles, Robustness, Trial};
 use crate::engines::rapier::{
     track, AttitudeSensor, FeedForwardPd, Landing, Part, PdGains, Plan, RapierError, RapierOptions, Snapshot,
-    TrackOptions, TrackedRun, Touchdown, MAX_STEPS,
+    Touchdown, TrackOptions, TrackedRun, MAX_STEPS,
 };
 use crate::model::Cylinder;
 use crate::problem::Problem;
@@ -127,11 +127,7 @@ impl Setup {
             pgs_iterations: RapierOptions::default().pgs_iterations,
             motors: problem.actuator.motors(),
             spin: Vector3::zeros(),
-            sensor: AttitudeSensor {
-                latency: s.attitude_latency_s,
-                noise: s.attitude_noise_deg.to_radians(),
-                seed: 0,
-            },
+            sensor: AttitudeSensor { latency: s.attitude_latency_s, noise: s.attitude_noise_deg.to_radians(), seed: 0 },
             landing,
             keep_poses_at: Vec::new(),
         };
@@ -182,7 +178,8 @@ pub fn tracked_robustness(
     let mut check = summarise(problem, schedule, Engine::Rapier, nominal, trials);
 
     let figures: Vec<TrackFigures> = check.trials.iter().filter_map(|t| t.tracked).collect();
-    let worst_tracking: Vec<f64> = figures.iter().map(|f| f.tracking_error_deg[0].max(f.tracking_error_deg[1])).collect();
+    let worst_tracking: Vec<f64> =
+        figures.iter().map(|f| f.tracking_error_deg[0].max(f.tracking_error_deg[1])).collect();
     let landing = settings.landing.then(|| landing_summary(&figures, settings.feet_down_deg));
     check.tracking = Some(TrackingSummary {
         dt_s: setup.plan.dt,
@@ -228,11 +225,8 @@ fn landing_summary(figures: &[TrackFigures], feet_down_deg: f64) -> LandingSumma
         (!v.is_empty()).then(|| Percentiles::of(&v))
     };
     let parts = [Part::FrontPaw, Part::HindPaw, Part::FrontBody, Part::RearBody];
-    let first_part = parts
-        .iter()
-        .map(|p| (*p, downs.iter().filter(|d| d.part == *p).count()))
-        .filter(|(_, c)| *c > 0)
-        .collect();
+    let first_part =
+        parts.iter().map(|p| (*p, downs.iter().filter(|d| d.part == *p).count())).filter(|(_, c)| *c > 0).collect();
     let on_its_feet = feet as f64 / n;
     LandingSummary {
         on_its_feet,

@@ -146,10 +146,10 @@ pub use run::{
 pub use saturation::{available_torque, MotorSaturation, SATURATION_TOLERANCE};
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
-pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
+pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use verify::{
     verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
     Verification, ASYMPTOTIC, MIN_RUNS,
