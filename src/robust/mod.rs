@@ -11,9 +11,15 @@
 //! `R_* = Rz(π)`, the half turn about the initial spine; its twist part is `|twist| − 180°`
 //! and its swing part the spine's swing (DESIGN.md §2).
 //!
+//! With `robust.engine = "rapier"` (or `"both"`, side by side) each trial is instead a rapier
+//! run in which a controller tracks the schedule through the actuators, with an attitude sensor
+//! that is late and noisy, and optionally falls onto the ground ([`tracked`]): the same draws
+//! (plus each joint's servo gain factor, drawn after them, so the sizes and spins stay those of
+//! the exact check), the same landing error.
+//!
 //! The trials run in parallel; every number depends on the seed only, not on the thread count.
-//! What is not in it (yet): feedback, motor lag and saturation, sensor latency and noise, and
-//! unequal halves; the check is the open-loop plan's, on the exact model family.
+//! What is not in it (yet): feedback on the attitude (the [`crate::engines::rapier::Controller`]
+//! seam takes one) and unequal halves.
 
 pub mod report;
 pub mod tracked;

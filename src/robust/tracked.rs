@@ -5,12 +5,12 @@
 //! *nominal* cat needs (the problem's cat and release spin: what the plan would command), shared
 //! by every trial ([`crate::engines::rapier::Plan`]). Trial `k` draws its cat, its spin and its
 //! two joints' gain factors from its own stream ([`super::draw`]), and runs
-//! [`crate::engines::rapier::track`] with a [`FeedForwardPd`] whose gains are the servo's
+//! [`crate::engines::rapier::track()`] with a [`FeedForwardPd`] whose gains are the servo's
 //! (`robust.servo_hz`, `robust.servo_damping` on the nominal cat, [`PdGains::servo`]) times its
 //! factors, the problem's actuators, and an attitude sensor `robust.attitude_latency_s` late with
 //! `robust.attitude_noise_deg` of noise per axis (its own stream, seeded from the trial's). The
 //! landing error is measured at the schedule's end exactly as the exact engine's
-//! ([`super::landing_figures`]).
+//! (`landing_figures`).
 //!
 //! What the trials add to the exact engine's check: the servo's tracking error, the torque the
 //! actuators delivered and how often they saturated, and with `robust.landing` the touch-down

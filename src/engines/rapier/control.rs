@@ -1,4 +1,4 @@
-//! The joint controller of a tracked run ([`super::track`]): the seam a controller plugs into,
+//! The joint controller of a tracked run ([`mod@super::track`]): the seam a controller plugs into,
 //! and the plan-tracking one, feed-forward of the planned torques plus joint PD.
 //!
 //! # The seam

@@ -3,7 +3,8 @@
 //!
 //! # Scene
 //!
-//! Zero gravity and no colliders. Falling freely, the centre of mass follows the ballistic
+//! Zero gravity and no colliders (a tracked run that asks for a landing, [`mod@track`] with
+//! [`ground`], adds gravity, colliders and the ground to its own scene only). Falling freely, the centre of mass follows the ballistic
 //! parabola and gravity exerts no torque about it, so the rotation about the centre of mass is
 //! the same as in weightlessness: simulating the falling frame with `g = 0` loses nothing.
 //!
@@ -107,6 +108,13 @@
 //! time scales ([`time_scales`]), halves it until the Richardson estimate of rapier's own error
 //! meets the tolerances of [`crate::problem::settings::RapierSettings`], and ends in a [`Verdict`]
 //! (`verified`, `not verified` with the quantity and the gap, or `inconclusive` with why).
+//!
+//! # Tracked runs
+//!
+//! The verification drives the joints with rapier's motors. A tracked run ([`mod@track`]) instead
+//! leaves the joints free and applies explicit joint torques from a [`Controller`] ([`control`]:
+//! the seam, and feed-forward plus PD), saturated at the actuators' limits, with an attitude
+//! sensor that is late and noisy: the robustness check's trials ([`crate::robust`]).
 //!
 //! # Trajectories
 //!

@@ -150,8 +150,8 @@ pub fn track(
             }
             command[j].clamp(-bound, bound)
         });
-        for j in 0..2 {
-            peak[j] = peak[j].max(tau[j].abs());
+        for (p, t) in peak.iter_mut().zip(tau) {
+            *p = p.max(t.abs());
         }
         let before = snap.bodies(&masses);
         scene.apply_joint_torques(tau)?;
@@ -165,8 +165,8 @@ pub fn track(
         let st = tracker.update(&snap.rotations[0]);
         if k < n {
             let target = plan.state(k + 1);
-            for j in 0..2 {
-                tracking[j] = tracking[j].max((snap.q[j] - target.q[j]).abs());
+            for (e, (q, q_plan)) in tracking.iter_mut().zip(snap.q.iter().zip(target.q)) {
+                *e = e.max((q - q_plan).abs());
             }
             if keep.binary_search(&(k + 1)).is_ok() {
                 poses.push((now, snap));
