@@ -13,6 +13,8 @@ pub const MAX_SPREAD_PCT: f64 = 90.0;
 /// Coarsest rapier step of the tracked trials, s: the servo and the schedule's time scales
 /// (tenths of a second) need many steps.
 pub const MAX_DT_S: f64 = 0.01;
+/// Largest `ω_n h` (rad per step) of the tracked trials' servo without a warning.
+pub const WARN_SERVO_PER_STEP: f64 = 0.2;
 
 /// Which engines the robustness check runs its trials through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -162,5 +164,30 @@ impl RobustSettings {
             return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));
         }
         Ok(())
+    }
+
+    /// Careless tracked-check settings that still run: a servo the step barely resolves (the PD
+    /// is explicit: `ω_n h` beyond [`WARN_SERVO_PER_STEP`] rad per step loses accuracy, and it
+    /// goes unstable near 2), an attitude estimate older than the fall.
+    pub(crate) fn warnings(&self, fall_time: f64) -> Vec<String> {
+        let mut out = Vec::new();
+        if !self.engine.rapier() {
+            return out;
+        }
+        let per_step = std::f64::consts::TAU * self.servo_hz * self.dt_s;
+        if per_step > WARN_SERVO_PER_STEP {
+            out.push(format!(
+                "robust.servo_hz = {} at robust.dt_s = {} turns the servo by {per_step:.2} rad per step: the explicit PD needs ω_n·dt well below 1 (it is unstable near 2); shorten robust.dt_s",
+                echo(self.servo_hz),
+                echo(self.dt_s)
+            ));
+        }
+        if self.attitude_latency_s >= fall_time {
+            out.push(format!(
+                "robust.attitude_latency_s = {} s is not shorter than the fall ({fall_time:.3} s): the controller never sees the cat move",
+                echo(self.attitude_latency_s)
+            ));
+        }
+        out
     }
 }
