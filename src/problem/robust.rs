@@ -63,49 +63,83 @@ pub struct RobustSettings {
     /// A trial lands when A's final attitude is within this angle of the target, degrees.
     pub tolerance_deg: f64,
     /// The engines the trials run through.
+    #[serde(skip_serializing_if = "default::engine")]
     pub engine: RobustEngine,
     /// Rapier's time step in the tracked trials, s (first-order integrator: its attitude bias
     /// is proportional to it).
+    #[serde(skip_serializing_if = "default::dt_s")]
     pub dt_s: f64,
     /// Natural frequency of the joint servo (PD on the straight cat's joint inertia), Hz.
+    #[serde(skip_serializing_if = "default::servo_hz")]
     pub servo_hz: f64,
     /// Damping ratio of the joint servo.
+    #[serde(skip_serializing_if = "default::servo_damping")]
     pub servo_damping: f64,
     /// Spread of each joint's servo gains, percent.
+    #[serde(skip_serializing_if = "default::gain_pct")]
     pub gain_pct: f64,
     /// Latency of the attitude estimate handed to the controller, s.
+    #[serde(skip_serializing_if = "default::attitude_latency_s")]
     pub attitude_latency_s: f64,
     /// Noise of the attitude estimate, per axis (standard deviation), degrees.
+    #[serde(skip_serializing_if = "default::attitude_noise_deg")]
     pub attitude_noise_deg: f64,
     /// Whether the tracked trials fall onto the ground `drop.height` below the release and
     /// report their touch-down.
+    #[serde(skip_serializing_if = "default::landing")]
     pub landing: bool,
     /// A trial lands on its feet when each half's feet point within this angle of straight
     /// down at touch-down, degrees.
+    #[serde(skip_serializing_if = "default::feet_down_deg")]
     pub feet_down_deg: f64,
 }
 
 impl Default for RobustSettings {
     fn default() -> Self {
-        Self {
-            trials: 200,
-            seed: 1,
-            mass_pct: 10.0,
-            length_pct: 0.0,
-            radius_pct: 0.0,
-            spin_sigma_nms: 0.005,
-            tolerance_deg: 5.0,
-            engine: RobustEngine::Exact,
-            dt_s: 1e-4,
-            servo_hz: 10.0,
-            servo_damping: 1.0,
-            gain_pct: 20.0,
-            attitude_latency_s: 0.010,
-            attitude_noise_deg: 0.5,
-            landing: false,
-            feet_down_deg: 20.0,
-        }
+        DEFAULT
     }
+}
+
+/// The settings' defaults (the one place they live; [`Default`] returns them).
+const DEFAULT: RobustSettings = RobustSettings {
+    trials: 200,
+    seed: 1,
+    mass_pct: 10.0,
+    length_pct: 0.0,
+    radius_pct: 0.0,
+    spin_sigma_nms: 0.005,
+    tolerance_deg: 5.0,
+    engine: RobustEngine::Exact,
+    dt_s: 1e-4,
+    servo_hz: 10.0,
+    servo_damping: 1.0,
+    gain_pct: 20.0,
+    attitude_latency_s: 0.010,
+    attitude_noise_deg: 0.5,
+    landing: false,
+    feet_down_deg: 20.0,
+};
+
+/// Whether a tracked-check setting is at its default, and so left out of a problem's echo
+/// (problem files and results written before the tracked check stay as they were, as
+/// `drop.angular_momentum` is left out at zero).
+mod default {
+    use super::{RobustEngine, DEFAULT};
+
+    pub fn engine(v: &RobustEngine) -> bool {
+        *v == DEFAULT.engine
+    }
+    pub fn landing(v: &bool) -> bool {
+        *v == DEFAULT.landing
+    }
+    macro_rules! same_number {
+        ($($f:ident),*) => {$(
+            pub fn $f(v: &f64) -> bool {
+                v.to_bits() == DEFAULT.$f.to_bits()
+            }
+        )*};
+    }
+    same_number!(dt_s, servo_hz, servo_damping, gain_pct, attitude_latency_s, attitude_noise_deg, feet_down_deg);
 }
 
 impl RobustSettings {
