@@ -212,7 +212,6 @@ pub fn tracked_robustness(
         }
         check.film = Some(Film { worst_trial: k, worst, touchdowns });
     }
-    check.verdict = format!("{} (rapier, tracked by feed-forward + PD through the actuators)", check.verdict);
     Ok(check)
 }
 
