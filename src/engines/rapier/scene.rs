@@ -288,10 +288,10 @@ impl CatScene {
 
     /// Applies joint torques `(τ1, τ2)`, N·m, for the next step as equal and opposite couples:
     /// `+τ1 a1` on the cross and `−τ1 a1` on A (joint 1 drives {cross, B}), `+τ2 a2` on B and
-    /// `−τ2 a2` on the cross, with `a1` A's `x` and `a2` the cross's `y` at the current poses.
-    /// They replace the torques of the previous step.
-    pub fn apply_joint_torques(&mut self, tau: [f64; 2]) -> Result<(), RapierError> {
-        let [a1, a2] = self.snapshot()?.joint_axes();
+    /// `−τ2 a2` on the cross, with `a1` A's `x` and `a2` the cross's `y` at the poses of `now`
+    /// (this scene's current [`CatScene::snapshot`]). They replace the previous step's torques.
+    pub fn apply_joint_torques(&mut self, tau: [f64; 2], now: &Snapshot) -> Result<(), RapierError> {
+        let [a1, a2] = now.joint_axes();
         let couples = [-tau[0] * a1, tau[0] * a1 - tau[1] * a2, tau[1] * a2];
         for (handle, couple) in self.bodies.iter().zip(couples) {
             let body = self.world.bodies.get_mut(*handle).ok_or(RapierError::Missing("a body"))?;

@@ -153,8 +153,8 @@ pub fn track(
         for (p, t) in peak.iter_mut().zip(tau) {
             *p = p.max(t.abs());
         }
-        let before = snap.bodies(&masses);
-        scene.apply_joint_torques(tau)?;
+        let before = ground.is_some().then(|| snap.bodies(&masses));
+        scene.apply_joint_torques(tau, &snap)?;
         scene.step();
         snap = scene.snapshot()?;
         let now = (k + 1) as f64 * dt;
@@ -175,8 +175,8 @@ pub fn track(
                 end = Some((snap.rotations[0], st));
             }
         }
-        if let (Some(g), None) = (&ground, &touchdown) {
-            touchdown = g.touchdown(&scene, &before, &snap, now, dt);
+        if let (Some(g), Some(before), None) = (&ground, &before, &touchdown) {
+            touchdown = g.touchdown(&scene, before, &snap, now, dt);
             if let Some(td) = &touchdown {
                 poses.push((td.time, snap));
             }
