@@ -104,7 +104,7 @@ pub struct TrackedRun {
 pub fn track(
     cat: &Cylinder,
     plan: &Plan,
-    controller: &mut impl Controller,
+    controller: &mut (impl Controller + ?Sized),
     opts: &TrackOptions,
 ) -> Result<TrackedRun, RapierError> {
     let (n, dt) = (plan.steps(), plan.dt);
