@@ -53,14 +53,15 @@ enum Command {
     /// Every profile side by side: the peak-torque table.
     Compare(Common),
     /// How often the schedule lands the cat on its feet: a seeded Monte Carlo over the cat's
-    /// sizes and the release spin ([robust]), the schedule run open loop by the exact engine.
+    /// sizes and the release spin ([robust]): the schedule run by the exact engine (ideal
+    /// tracking) and/or tracked with motors in rapier (`robust.engine`).
     Robust {
         #[command(flatten)]
         common: Common,
         /// Check this schedule CSV (e.g. an exported optimum) instead of the problem's own.
         #[arg(long, value_name = "FILE.csv")]
         schedule: Option<PathBuf>,
-        /// Also write robust.{md,csv,json,png,svg} into <out>/<name>-robust/.
+        /// Also write robust.{md,csv,json}, the plots and filmstrips into <out>/<name>-robust/.
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -319,32 +320,36 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Robust { common, schedule, out } => {
             let problem = load(&common, None)?;
-            let check = match &schedule {
+            let schedule_arg = schedule.as_ref().map_or(String::new(), |f| format!(" --schedule {}", f.display()));
+            let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
+            let command = regenerate(
+                format!("cargo run --release -- robust {}{schedule_arg}{out_arg}", common.problem.display()),
+                &common.overrides,
+            );
+            let (report, dir) = match &schedule {
                 Some(file) => {
                     let imported = catflip::exchange::read_schedule(file)?;
                     // The import's own checks (units, ends, sampling) apply to the file.
                     for w in catflip::exchange::evaluate(&problem, &imported)?.warnings {
                         eprintln!("warning: {w}");
                     }
-                    catflip::robust::robustness(&problem, &imported, &file.display().to_string())
+                    let mut report = catflip::robust::check(&problem, &imported, &file.display().to_string())?;
+                    report.command = command;
+                    let dir = out.as_ref().map(|o| report.write(o, &problem, &imported)).transpose()?;
+                    (report, dir)
                 }
                 None => {
                     let r = resolve(&problem, common.json)?;
-                    catflip::robust::robustness(&problem, &r.schedule, "the problem's schedule")
+                    let mut report = catflip::robust::check(&problem, &r.schedule, "the problem's schedule")?;
+                    report.command = command;
+                    let dir = out.as_ref().map(|o| report.write(o, &problem, &r.schedule)).transpose()?;
+                    (report, dir)
                 }
             };
-            let mut check = check;
-            let schedule_arg = schedule.as_ref().map_or(String::new(), |f| format!(" --schedule {}", f.display()));
-            let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
-            check.command = regenerate(
-                format!("cargo run --release -- robust {}{schedule_arg}{out_arg}", common.problem.display()),
-                &common.overrides,
-            );
-            if let Some(out) = out {
-                let dir = check.write(&out)?;
+            if let Some(dir) = dir {
                 eprintln!("wrote {}", dir.display());
             }
-            emit(common.json, &check, || check.to_markdown())?;
+            emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Compare(common) => {
             let r = resolve(&load(&common, None)?, common.json)?;

@@ -126,3 +126,48 @@ fn a_closed_stdout_ends_a_command_quietly() {
         assert!(!err.contains("panicked") && !err.contains("Broken pipe"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn robust_with_both_engines_and_landing_writes_its_report_and_pictures() {
+    let out = scratch("robust");
+    let dir = out.display().to_string();
+    let (code, stdout, err) = catflip(&[
+        "robust",
+        "problems/paper.toml",
+        "--schedule",
+        "results/paper/schedules/whole-optimum.csv",
+        "--set",
+        "robust.engine=both",
+        "--set",
+        "robust.landing=true",
+        "--set",
+        "robust.trials=4",
+        "--set",
+        "robust.dt_s=4e-4",
+        "--out",
+        &dir,
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    let engines: Vec<&str> =
+        v["checks"].as_array().expect("checks").iter().filter_map(|c| c["engine"].as_str()).collect();
+    assert_eq!(engines, ["exact", "rapier"]);
+    assert!(v["checks"][1]["tracking"]["landing"]["verdict"].as_str().is_some_and(|s| s.contains("lands on its feet")));
+    let folder = out.join("paper-robust");
+    for f in [
+        "robust.md",
+        "robust.csv",
+        "robust.json",
+        "robust.png",
+        "robust_histogram.png",
+        "robust_histogram.svg",
+        "robust_worst_filmstrip.png",
+        "robust_touchdown_filmstrip.png",
+    ] {
+        assert!(folder.join(f).is_file(), "missing {f}");
+    }
+    let md = std::fs::read_to_string(folder.join("robust.md")).expect("the report");
+    assert!(md.contains("**Landing: the cat lands on its feet"), "{md}");
+    let _ = std::fs::remove_dir_all(&out);
+}

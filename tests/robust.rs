@@ -4,7 +4,7 @@
 
 use catflip::engines::circulation::Resolved;
 use catflip::problem::Problem;
-use catflip::robust::{draw, robustness, Percentiles};
+use catflip::robust::{check, draw, robustness, Engine, Percentiles};
 
 fn problem(extra: &[&str]) -> Problem {
     let mut sets = vec!["robust.trials=40".to_string()];
@@ -27,6 +27,31 @@ fn the_check_is_the_same_at_one_and_two_threads() {
     };
     let (one, two) = (at(1), at(2));
     assert!(one == two, "the check depends on the thread count");
+}
+
+#[test]
+fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
+    let p = problem(&["robust.trials=6", "robust.engine=both", "robust.dt_s=4e-4", "robust.landing=true"]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let at = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+        pool.install(|| {
+            let report = check(&p, &r.schedule, "s").expect("the check");
+            (serde_json::to_string(&report).expect("serialises"), report.to_csv(), report.to_markdown())
+        })
+    };
+    let (one, two) = (at(1), at(2));
+    assert!(one == two, "the tracked check depends on the thread count");
+    let report = check(&p, &r.schedule, "s").expect("the check");
+    let engines: Vec<Engine> = report.checks.iter().map(|c| c.engine).collect();
+    assert_eq!(engines, [Engine::Exact, Engine::Rapier]);
+    let tracked = &report.checks[1];
+    assert!(tracked.trials.iter().all(|t| t.tracked.and_then(|f| f.touchdown).is_some()), "every trial lands");
+    // Same draws, same sizes and spins, through both engines.
+    for (a, b) in report.checks[0].trials.iter().zip(&tracked.trials) {
+        assert!(a.draw == b.draw);
+    }
+    assert!(tracked.film.as_ref().is_some_and(|f| !f.worst.is_empty() && f.touchdowns.len() == 2));
 }
 
 #[test]
@@ -95,6 +120,15 @@ fn bad_robust_settings_name_their_field() {
         ("robust.mass_pct=95", "robust.mass_pct"),
         ("robust.spin_sigma_nms=-1", "robust.spin_sigma_nms"),
         ("robust.tolerance_deg=0", "robust.tolerance_deg"),
+        ("robust.dt_s=0", "robust.dt_s"),
+        ("robust.dt_s=0.5", "robust.dt_s"),
+        ("robust.servo_hz=-1", "robust.servo_hz"),
+        ("robust.servo_damping=-0.1", "robust.servo_damping"),
+        ("robust.gain_pct=95", "robust.gain_pct"),
+        ("robust.attitude_latency_s=-0.01", "robust.attitude_latency_s"),
+        ("robust.attitude_noise_deg=200", "robust.attitude_noise_deg"),
+        ("robust.feet_down_deg=0", "robust.feet_down_deg"),
+        ("robust.engine=mujoco", "engine"),
     ] {
         let err = Problem::from_toml("", "t.toml", &[set.to_string()]).expect_err(set);
         assert!(err.to_string().contains(field), "{set}: {err}");

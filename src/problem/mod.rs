@@ -295,6 +295,7 @@ impl Problem {
                 self.manoeuvre.theta_deg
             ));
         }
+        out.extend(self.robust.warnings(self.drop.fall_time()));
         out
     }
 }

@@ -10,11 +10,40 @@ use crate::problem::limits::{count_in_range, CountRange};
 pub const TRIALS: CountRange = CountRange { min: 1, max: 100_000 };
 /// Largest spread of a size, percent: a half must keep a positive mass, length and radius.
 pub const MAX_SPREAD_PCT: f64 = 90.0;
+/// Coarsest rapier step of the tracked trials, s: the servo and the schedule's time scales
+/// (tenths of a second) need many steps.
+pub const MAX_DT_S: f64 = 0.01;
+/// Largest `ω_n h` (rad per step) of the tracked trials' servo without a warning.
+pub const WARN_SERVO_PER_STEP: f64 = 0.2;
+
+/// Which engines the robustness check runs its trials through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RobustEngine {
+    /// The exact engine with ideal tracking: the joints follow the schedule exactly.
+    Exact,
+    /// Rapier, the schedule tracked by feed-forward plus joint PD through the actuators, with
+    /// an attitude sensor (and, with `landing`, the ground).
+    Rapier,
+    /// Both, side by side.
+    Both,
+}
+
+impl RobustEngine {
+    /// Whether the exact engine's check runs.
+    pub fn exact(self) -> bool {
+        matches!(self, RobustEngine::Exact | RobustEngine::Both)
+    }
+    /// Whether rapier's tracked check runs.
+    pub fn rapier(self) -> bool {
+        matches!(self, RobustEngine::Rapier | RobustEngine::Both)
+    }
+}
 
 /// Settings of the robustness check: each trial draws a cat around the problem's (each size
-/// scaled by a factor uniform in `[1 − p/100, 1 + p/100]`, both halves alike) and a release spin
-/// (each world component normal with standard deviation `spin_sigma_nms`), and runs the schedule
-/// open loop on it.
+/// scaled by a factor uniform in `[1 − p/100, 1 + p/100]`, both halves alike), a release spin
+/// (each world component normal with standard deviation `spin_sigma_nms`) and, for rapier, each
+/// joint's servo gains (a factor uniform in `1 ± gain_pct/100`), and runs the schedule on it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct RobustSettings {
@@ -33,20 +62,84 @@ pub struct RobustSettings {
     pub spin_sigma_nms: f64,
     /// A trial lands when A's final attitude is within this angle of the target, degrees.
     pub tolerance_deg: f64,
+    /// The engines the trials run through.
+    #[serde(skip_serializing_if = "default::engine")]
+    pub engine: RobustEngine,
+    /// Rapier's time step in the tracked trials, s (first-order integrator: its attitude bias
+    /// is proportional to it).
+    #[serde(skip_serializing_if = "default::dt_s")]
+    pub dt_s: f64,
+    /// Natural frequency of the joint servo (PD on the straight cat's joint inertia), Hz.
+    #[serde(skip_serializing_if = "default::servo_hz")]
+    pub servo_hz: f64,
+    /// Damping ratio of the joint servo.
+    #[serde(skip_serializing_if = "default::servo_damping")]
+    pub servo_damping: f64,
+    /// Spread of each joint's servo gains, percent.
+    #[serde(skip_serializing_if = "default::gain_pct")]
+    pub gain_pct: f64,
+    /// Latency of the attitude estimate handed to the controller, s.
+    #[serde(skip_serializing_if = "default::attitude_latency_s")]
+    pub attitude_latency_s: f64,
+    /// Noise of the attitude estimate, per axis (standard deviation), degrees.
+    #[serde(skip_serializing_if = "default::attitude_noise_deg")]
+    pub attitude_noise_deg: f64,
+    /// Whether the tracked trials fall onto the ground `drop.height` below the release and
+    /// report their touch-down.
+    #[serde(skip_serializing_if = "default::landing")]
+    pub landing: bool,
+    /// A trial lands on its feet when each half's feet point within this angle of straight
+    /// down at touch-down, degrees.
+    #[serde(skip_serializing_if = "default::feet_down_deg")]
+    pub feet_down_deg: f64,
 }
 
 impl Default for RobustSettings {
     fn default() -> Self {
-        Self {
-            trials: 200,
-            seed: 1,
-            mass_pct: 10.0,
-            length_pct: 0.0,
-            radius_pct: 0.0,
-            spin_sigma_nms: 0.005,
-            tolerance_deg: 5.0,
-        }
+        DEFAULT
     }
+}
+
+/// The settings' defaults (the one place they live; [`Default`] returns them).
+const DEFAULT: RobustSettings = RobustSettings {
+    trials: 200,
+    seed: 1,
+    mass_pct: 10.0,
+    length_pct: 0.0,
+    radius_pct: 0.0,
+    spin_sigma_nms: 0.005,
+    tolerance_deg: 5.0,
+    engine: RobustEngine::Exact,
+    dt_s: 1e-4,
+    servo_hz: 10.0,
+    servo_damping: 1.0,
+    gain_pct: 20.0,
+    attitude_latency_s: 0.010,
+    attitude_noise_deg: 0.5,
+    landing: false,
+    feet_down_deg: 20.0,
+};
+
+/// Whether a tracked-check setting is at its default, and so left out of a problem's echo
+/// (problem files and results written before the tracked check stay as they were, as
+/// `drop.angular_momentum` is left out at zero).
+mod default {
+    use super::{RobustEngine, DEFAULT};
+
+    pub fn engine(v: &RobustEngine) -> bool {
+        *v == DEFAULT.engine
+    }
+    pub fn landing(v: &bool) -> bool {
+        *v == DEFAULT.landing
+    }
+    macro_rules! same_number {
+        ($($f:ident),*) => {$(
+            pub fn $f(v: &f64) -> bool {
+                v.to_bits() == DEFAULT.$f.to_bits()
+            }
+        )*};
+    }
+    same_number!(dt_s, servo_hz, servo_damping, gain_pct, attitude_latency_s, attitude_noise_deg, feet_down_deg);
 }
 
 impl RobustSettings {
@@ -67,6 +160,68 @@ impl RobustSettings {
         if !(self.tolerance_deg > 0.0 && self.tolerance_deg <= 180.0) {
             return Err(bad("robust.tolerance_deg", echo(self.tolerance_deg), "must lie in (0, 180] degrees"));
         }
+        if !(self.dt_s > 0.0 && self.dt_s <= MAX_DT_S) {
+            return Err(bad("robust.dt_s", echo(self.dt_s), &format!("must lie in (0, {MAX_DT_S}] s")));
+        }
+        if !(self.servo_hz.is_finite() && self.servo_hz >= 0.0) {
+            return Err(bad(
+                "robust.servo_hz",
+                echo(self.servo_hz),
+                "must be a finite number ≥ 0 (Hz; 0: feed-forward alone)",
+            ));
+        }
+        if !(self.servo_damping.is_finite() && self.servo_damping >= 0.0) {
+            return Err(bad("robust.servo_damping", echo(self.servo_damping), "must be a finite number ≥ 0"));
+        }
+        if !(0.0..=MAX_SPREAD_PCT).contains(&self.gain_pct) {
+            return Err(bad(
+                "robust.gain_pct",
+                echo(self.gain_pct),
+                &format!("must lie in [0, {MAX_SPREAD_PCT}] percent"),
+            ));
+        }
+        if !(self.attitude_latency_s.is_finite() && self.attitude_latency_s >= 0.0) {
+            return Err(bad(
+                "robust.attitude_latency_s",
+                echo(self.attitude_latency_s),
+                "must be a finite number ≥ 0 (s)",
+            ));
+        }
+        if !(self.attitude_noise_deg.is_finite() && (0.0..=180.0).contains(&self.attitude_noise_deg)) {
+            return Err(bad(
+                "robust.attitude_noise_deg",
+                echo(self.attitude_noise_deg),
+                "must lie in [0, 180] degrees",
+            ));
+        }
+        if !(self.feet_down_deg > 0.0 && self.feet_down_deg <= 180.0) {
+            return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));
+        }
         Ok(())
+    }
+
+    /// Careless tracked-check settings that still run: a servo the step barely resolves (the PD
+    /// is explicit: `ω_n h` beyond [`WARN_SERVO_PER_STEP`] rad per step loses accuracy, and it
+    /// goes unstable near 2), an attitude estimate older than the fall.
+    pub(crate) fn warnings(&self, fall_time: f64) -> Vec<String> {
+        let mut out = Vec::new();
+        if !self.engine.rapier() {
+            return out;
+        }
+        let per_step = std::f64::consts::TAU * self.servo_hz * self.dt_s;
+        if per_step > WARN_SERVO_PER_STEP {
+            out.push(format!(
+                "robust.servo_hz = {} at robust.dt_s = {} turns the servo by {per_step:.2} rad per step: the explicit PD needs ω_n·dt well below 1 (it is unstable near 2); shorten robust.dt_s",
+                echo(self.servo_hz),
+                echo(self.dt_s)
+            ));
+        }
+        if self.attitude_latency_s >= fall_time {
+            out.push(format!(
+                "robust.attitude_latency_s = {} s is not shorter than the fall ({fall_time:.3} s): the controller never sees the cat move",
+                echo(self.attitude_latency_s)
+            ));
+        }
+        out
     }
 }

@@ -11,11 +11,18 @@
 //! `R_* = Rz(π)`, the half turn about the initial spine; its twist part is `|twist| − 180°`
 //! and its swing part the spine's swing (DESIGN.md §2).
 //!
+//! With `robust.engine = "rapier"` (or `"both"`, side by side) each trial is instead a rapier
+//! run in which a controller tracks the schedule through the actuators, with an attitude sensor
+//! that is late and noisy, and optionally falls onto the ground ([`tracked`]): the same draws
+//! (plus each joint's servo gain factor, drawn after them, so the sizes and spins stay those of
+//! the exact check), the same landing error.
+//!
 //! The trials run in parallel; every number depends on the seed only, not on the thread count.
-//! What is not in it (yet): feedback, motor lag and saturation, sensor latency and noise, and
-//! unequal halves; the check is the open-loop plan's, on the exact model family.
+//! What is not in it (yet): feedback on the attitude (the [`crate::engines::rapier::Controller`]
+//! seam takes one) and unequal halves.
 
 pub mod report;
+pub mod tracked;
 
 use std::f64::consts::PI;
 
@@ -43,6 +50,8 @@ pub struct Draw {
     pub radius: f64,
     /// Release spin, world frame, N·m·s.
     pub angular_momentum_nms: [f64; 3],
+    /// Factors of each joint's servo gains (rapier's tracked trials only).
+    pub gain: [f64; 2],
 }
 
 /// How one trial landed.
@@ -56,23 +65,30 @@ pub struct Trial {
     pub twist_error_deg: f64,
     /// Swing of the spine, degrees.
     pub swing_deg: f64,
-    /// Whether the exact engine met its tolerance.
+    /// Whether the exact engine met its tolerance (rapier's trials: always).
     pub converged: bool,
+    /// What rapier's tracked run measured besides the attitude (absent for the exact engine).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tracked: Option<tracked::TrackFigures>,
 }
 
 /// Trial `k`'s draw around `problem` with `settings`.
 pub fn draw(problem: &Problem, settings: &RobustSettings, k: usize) -> Draw {
     let mut g = SplitMix64::new(settings.seed ^ (k as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
-    let mut factor = |pct: f64| 1.0 + g.uniform(-pct, pct) / 100.0;
-    let (mass, length, radius) = (factor(settings.mass_pct), factor(settings.length_pct), factor(settings.radius_pct));
+    let factor = |g: &mut SplitMix64, pct: f64| 1.0 + g.uniform(-pct, pct) / 100.0;
+    let (mass, length, radius) =
+        (factor(&mut g, settings.mass_pct), factor(&mut g, settings.length_pct), factor(&mut g, settings.radius_pct));
     let l0 = problem.drop.angular_momentum;
     let angular_momentum_nms = std::array::from_fn(|i| l0[i] + settings.spin_sigma_nms * g.normal());
+    // Drawn after the sizes and the spin, so that those stay what they were before the gains.
+    let gain = [factor(&mut g, settings.gain_pct), factor(&mut g, settings.gain_pct)];
     Draw {
         trial: k,
         mass: problem.cat.mass * mass,
         length: problem.cat.length * length,
         radius: problem.cat.radius * radius,
         angular_momentum_nms,
+        gain,
     }
 }
 
@@ -81,14 +97,8 @@ pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> 
     let cat = Cylinder { mass: draw.mass, length: draw.length, radius: draw.radius };
     let spin = Vector3::from(draw.angular_momentum_nms);
     let (flip, _) = released_flip(&cat, traj, &spin, problem.exact.tolerance);
-    let target = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI);
-    Trial {
-        draw,
-        landing_error_deg: (target.inverse() * flip.orientation).angle().to_degrees(),
-        twist_error_deg: flip.twist.abs().to_degrees() - 180.0,
-        swing_deg: flip.swing.to_degrees(),
-        converged: flip.converged,
-    }
+    let (landing_error_deg, twist_error_deg, swing_deg) = landing_figures(&flip.orientation, flip.twist, flip.swing);
+    Trial { draw, landing_error_deg, twist_error_deg, swing_deg, converged: flip.converged, tracked: None }
 }
 
 /// Percentiles of one landing figure, degrees.
@@ -116,7 +126,27 @@ impl Percentiles {
     }
 }
 
-/// The whole check.
+/// Which engine a check's trials ran through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Engine {
+    /// The exact engine, ideal tracking.
+    Exact,
+    /// Rapier, tracked by the controller through the actuators ([`tracked`]).
+    Rapier,
+}
+
+impl Engine {
+    /// In words, for tables.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Engine::Exact => "exact engine, ideal tracking",
+            Engine::Rapier => "rapier, tracked with motors",
+        }
+    }
+}
+
+/// One engine's check.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Robustness {
     /// Problem name.
@@ -125,6 +155,8 @@ pub struct Robustness {
     pub schedule: String,
     /// The settings.
     pub settings: RobustSettings,
+    /// The engine of the trials.
+    pub engine: Engine,
     /// The nominal cat's landing (no draw: the problem's cat and spin).
     pub nominal: Trial,
     /// Landing error percentiles, degrees.
@@ -144,27 +176,49 @@ pub struct Robustness {
     pub trials: Vec<Trial>,
     /// The verdict in words.
     pub verdict: String,
-    /// The command that regenerates the check (written at the top of its report; empty when
-    /// none was given).
-    pub command: String,
+    /// Rapier's tracked trials: tracking, saturation and (with `landing`) touch-down figures.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tracking: Option<tracked::TrackingSummary>,
+    /// Rapier's tracked trials: the poses a filmstrip of the worst trial and the touch-down
+    /// frames are drawn from.
+    #[serde(skip)]
+    pub film: Option<tracked::Film>,
 }
 
 /// Worst trials reported.
 pub const WORST: usize = 5;
 
-/// Runs the check of `traj` (named `schedule`) on `problem` with its `[robust]` settings.
-pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: &str) -> Robustness {
-    let settings = problem.robust;
-    let trials: Vec<Trial> =
-        (0..settings.trials).into_par_iter().map(|k| trial(problem, traj, draw(problem, &settings, k))).collect();
-    let nominal_draw = Draw {
+/// The problem's own cat and spin, gains as set: trial 0's place without a draw.
+pub fn nominal_draw(problem: &Problem) -> Draw {
+    Draw {
         trial: 0,
         mass: problem.cat.mass,
         length: problem.cat.length,
         radius: problem.cat.radius,
         angular_momentum_nms: problem.drop.angular_momentum,
-    };
-    let nominal = trial(problem, traj, nominal_draw);
+        gain: [1.0; 2],
+    }
+}
+
+/// Runs the check of `traj` (named `schedule`) on `problem` with its `[robust]` settings,
+/// through the exact engine (ideal tracking).
+pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: &str) -> Robustness {
+    let settings = problem.robust;
+    let trials: Vec<Trial> =
+        (0..settings.trials).into_par_iter().map(|k| trial(problem, traj, draw(problem, &settings, k))).collect();
+    let nominal = trial(problem, traj, nominal_draw(problem));
+    summarise(problem, schedule, Engine::Exact, nominal, trials)
+}
+
+/// The percentiles, the worst trials and the verdict of one engine's trials.
+pub(crate) fn summarise(
+    problem: &Problem,
+    schedule: &str,
+    engine: Engine,
+    nominal: Trial,
+    trials: Vec<Trial>,
+) -> Robustness {
+    let settings = problem.robust;
     let errors: Vec<f64> = trials.iter().map(|t| t.landing_error_deg).collect();
     let twist: Vec<f64> = trials.iter().map(|t| t.twist_error_deg.abs()).collect();
     let swing: Vec<f64> = trials.iter().map(|t| t.swing_deg).collect();
@@ -187,6 +241,7 @@ pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: 
         problem: problem.name.clone(),
         schedule: schedule.to_string(),
         settings,
+        engine,
         nominal,
         landing_error_deg,
         twist_error_deg: Percentiles::of(&twist),
@@ -196,6 +251,40 @@ pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: 
         worst,
         trials,
         verdict,
-        command: String::new(),
+        tracking: None,
+        film: None,
     }
+}
+
+/// The landing error of A's final attitude `r` with its continued twist and swing (rad):
+/// the angle of `R_*⁻¹ R` to the target `R_* = Rz(π)`, `|twist| − 180°` and the swing, degrees.
+pub(crate) fn landing_figures(r: &UnitQuaternion<f64>, twist: f64, swing: f64) -> (f64, f64, f64) {
+    let target = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), PI);
+    ((target.inverse() * r).angle().to_degrees(), twist.abs().to_degrees() - 180.0, swing.to_degrees())
+}
+
+/// The check as `[robust] engine` asks: the exact engine's, rapier's tracked one, or both.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RobustReport {
+    /// One check per engine run, exact first.
+    pub checks: Vec<Robustness>,
+    /// The command that regenerates the report (empty when none was given).
+    pub command: String,
+}
+
+/// Runs the engines `problem.robust.engine` names on `traj` (named `schedule`).
+pub fn check(
+    problem: &Problem,
+    traj: &(impl Trajectory + Sync),
+    schedule: &str,
+) -> Result<RobustReport, crate::engines::rapier::RapierError> {
+    let engine = problem.robust.engine;
+    let mut checks = Vec::new();
+    if engine.exact() {
+        checks.push(robustness(problem, traj, schedule));
+    }
+    if engine.rapier() {
+        checks.push(tracked::tracked_robustness(problem, traj, schedule)?);
+    }
+    Ok(RobustReport { checks, command: String::new() })
 }

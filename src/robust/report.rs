@@ -1,13 +1,26 @@
-//! The robustness check as a reader gets it: Markdown, one CSV row per trial, and the
-//! distribution of the landing error as a plot, written together into `OUT/<problem>-robust/`.
+//! The robustness check as a reader gets it: Markdown, one CSV row per trial and engine, and the
+//! pictures, written together into `OUT/<problem>-robust/`:
+//! - `robust.png`/`.svg`: the distribution of the landing error (and its twist and swing parts);
+//! - `robust_histogram.png`/`.svg`: the landing error's histogram, every engine run on one axis;
+//! - `robust_worst_filmstrip.png`: the worst tracked trial along its fall (rapier);
+//! - `robust_touchdown_filmstrip.png`: the touch-down frames (rapier with `landing`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::{Percentiles, Robustness};
-use crate::report::plot::{line_plot, LinePlot, PlotError, RefLine, Series};
+use nalgebra::Vector3;
 
+use super::tracked::{Film, TrackingSummary};
+use super::{Engine, Percentiles, RobustReport, Robustness};
+use crate::engines::rapier::Snapshot;
+use crate::model::orientation::swing_twist;
+use crate::problem::Problem;
+use crate::report::plot::{line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Series};
 use crate::report::results_dir::{ResultsDirError, Staging};
+use crate::schedule::Trajectory;
+
+/// Bins of the landing-error histogram.
+pub const HISTOGRAM_BINS: usize = 30;
 
 /// Why the check's files could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -28,102 +41,161 @@ pub enum RobustWriteError {
     Plot(#[from] PlotError),
 }
 
-impl Robustness {
-    /// The report in Markdown: the verdict first, then the percentiles and the worst trials.
+fn percentile_row(out: &mut String, name: &str, p: &Percentiles) {
+    let _ = writeln!(out, "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} |", p.p50, p.p90, p.p95, p.p99, p.max);
+}
+
+const PERCENTILE_HEAD: &str = "| median | 90 % | 95 % | 99 % | max |\n";
+const PERCENTILE_RULE: &str = "|---:|---:|---:|---:|---:|\n";
+
+impl RobustReport {
+    /// The report in Markdown: the verdicts first, then the percentiles side by side, the
+    /// tracking and landing figures, and the worst trials of each engine.
     pub fn to_markdown(&self) -> String {
-        let s = &self.settings;
         let mut out = String::new();
-        let _ = writeln!(out, "# Robustness of `{}` on problem `{}`\n", self.schedule, self.problem);
+        let Some(first) = self.checks.first() else { return out };
+        let s = &first.settings;
+        let _ = writeln!(out, "# Robustness of `{}` on problem `{}`\n", first.schedule, first.problem);
         if !self.command.is_empty() {
             let _ = writeln!(out, "Regenerate with `{}`.\n", self.command);
         }
-        let _ = writeln!(out, "**The open-loop schedule {}.**\n", self.verdict);
+        for c in &self.checks {
+            let _ = writeln!(out, "**{}: the schedule {}.**\n", c.engine.describe(), c.verdict);
+            if let Some(l) = c.tracking.as_ref().and_then(|t| t.landing.as_ref()) {
+                let _ = writeln!(out, "**Landing: the cat {}.**\n", l.verdict);
+            }
+        }
         let _ = writeln!(
             out,
-            "Each of {} trials (seed {}) draws each half's mass ±{} %, length ±{} %, radius ±{} % (uniform, both halves alike) and a release spin with σ = {} N·m·s per world axis, then runs the schedule exactly as planned (ideal tracking, no feedback) through the exact engine. Landing error: the angle between A's final attitude and the half turn about its initial spine.\n",
+            "Each of {} trials (seed {}) draws each half's mass ±{} %, length ±{} %, radius ±{} % (uniform, both halves alike) and a release spin with σ = {} N·m·s per world axis. Landing error: the angle between A's attitude at the end of the schedule and the half turn about its initial spine.\n",
             s.trials, s.seed, s.mass_pct, s.length_pct, s.radius_pct, s.spin_sigma_nms
         );
-        let _ = writeln!(out, "| figure (degrees) | median | 90 % | 95 % | 99 % | max |");
-        let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|");
-        let row = |out: &mut String, name: &str, p: &Percentiles| {
-            let _ =
-                writeln!(out, "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} |", p.p50, p.p90, p.p95, p.p99, p.max);
-        };
-        row(&mut out, "landing error", &self.landing_error_deg);
-        row(&mut out, "twist error, abs(\\|twist\\| − 180°)", &self.twist_error_deg);
-        row(&mut out, "swing", &self.swing_deg);
-        let _ = writeln!(
-            out,
-            "\nThe nominal cat (no draw) lands {:.3}° from the target (twist error {:+.3}°, swing {:.3}°).",
-            self.nominal.landing_error_deg, self.nominal.twist_error_deg, self.nominal.swing_deg
-        );
-        if self.not_converged > 0 {
+        for c in &self.checks {
+            match c.engine {
+                Engine::Exact => {
+                    let _ = writeln!(out, "- *{}*: the joints follow the schedule exactly (no motors, no feedback); the exact engine integrates the attitude.", c.engine.describe());
+                }
+                Engine::Rapier => {
+                    let _ = writeln!(
+                        out,
+                        "- *{}*: rapier (step {:.3e} s), the joints driven by the nominal cat's planned torques plus joint PD ({} Hz, ζ = {}, gains ±{} % per joint) through the actuators (`[actuator]`; none: unbounded); the controller is handed an attitude estimate {} s late with {}° of noise per axis (the PD ignores it).",
+                        c.engine.describe(),
+                        c.tracking.as_ref().map_or(s.dt_s, |t| t.dt_s),
+                        s.servo_hz,
+                        s.servo_damping,
+                        s.gain_pct,
+                        s.attitude_latency_s,
+                        s.attitude_noise_deg
+                    );
+                }
+            }
+        }
+        let _ = write!(out, "\n| figure (degrees) {}", PERCENTILE_HEAD);
+        let _ = write!(out, "|---{}", PERCENTILE_RULE);
+        let both = self.checks.len() > 1;
+        for c in &self.checks {
+            let tag = if both { format!(" ({})", c.engine.describe()) } else { String::new() };
+            percentile_row(&mut out, &format!("landing error{tag}"), &c.landing_error_deg);
+            percentile_row(&mut out, &format!("twist error, abs(\\|twist\\| − 180°){tag}"), &c.twist_error_deg);
+            percentile_row(&mut out, &format!("swing{tag}"), &c.swing_deg);
+        }
+        for c in &self.checks {
+            let n = &c.nominal;
             let _ = writeln!(
                 out,
-                "\n**{} trial(s) did not meet exact.tolerance**: their landing errors are less accurate than stated.",
-                self.not_converged
+                "\nThe nominal cat (no draw), {}: {:.3}° from the target (twist error {:+.3}°, swing {:.3}°).",
+                c.engine.describe(),
+                n.landing_error_deg,
+                n.twist_error_deg,
+                n.swing_deg
             );
+            if c.not_converged > 0 {
+                let _ = writeln!(
+                    out,
+                    "\n**{} trial(s) did not meet exact.tolerance**: their landing errors are less accurate than stated.",
+                    c.not_converged
+                );
+            }
         }
-        let _ = writeln!(out, "\n## The worst trials\n");
-        let _ = writeln!(
-            out,
-            "| trial | mass kg | length m | radius m | L N·m·s | landing error ° | twist error ° | swing ° |"
-        );
-        let _ = writeln!(out, "|---:|---:|---:|---:|---|---:|---:|---:|");
-        for t in &self.worst {
-            let d = &t.draw;
-            let l = d.angular_momentum_nms;
-            let _ = writeln!(
-                out,
-                "| {} | {:.4} | {:.4} | {:.4} | [{:.4}, {:.4}, {:.4}] | {:.3} | {:+.3} | {:.3} |",
-                d.trial,
-                d.mass,
-                d.length,
-                d.radius,
-                l[0],
-                l[1],
-                l[2],
-                t.landing_error_deg,
-                t.twist_error_deg,
-                t.swing_deg
-            );
+        for c in &self.checks {
+            if let Some(t) = &c.tracking {
+                tracking_section(&mut out, t, c);
+            }
+        }
+        for c in &self.checks {
+            worst_section(&mut out, c);
         }
         let _ = writeln!(
             out,
-            "\nNot modelled here: feedback, motor lag and saturation, sensor latency and noise, unequal halves."
+            "\nNot modelled here: unequal halves; feedback on the attitude (the controller seam takes one)."
         );
         out
     }
 
-    /// One CSV row per trial, with a header.
+    /// One CSV row per trial and engine, with a header.
     pub fn to_csv(&self) -> String {
         let mut out = String::from(
-            "trial,mass_kg,length_m,radius_m,lx_nms,ly_nms,lz_nms,landing_error_deg,twist_error_deg,swing_deg,converged\n",
+            "engine,trial,mass_kg,length_m,radius_m,lx_nms,ly_nms,lz_nms,gain1,gain2,landing_error_deg,twist_error_deg,swing_deg,converged,tracking_error1_deg,tracking_error2_deg,peak_torque1_nm,peak_torque2_nm,saturated1,saturated2,touchdown_s,first_part,impact_speed_ms,feet_down_a_deg,feet_down_b_deg,on_its_feet\n",
         );
-        for t in &self.trials {
-            let d = &t.draw;
-            let l = d.angular_momentum_nms;
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{},{},{},{},{},{},{}",
-                d.trial,
-                d.mass,
-                d.length,
-                d.radius,
-                l[0],
-                l[1],
-                l[2],
-                t.landing_error_deg,
-                t.twist_error_deg,
-                t.swing_deg,
-                t.converged
-            );
+        for c in &self.checks {
+            let engine = match c.engine {
+                Engine::Exact => "exact",
+                Engine::Rapier => "rapier",
+            };
+            for t in &c.trials {
+                let d = &t.draw;
+                let l = d.angular_momentum_nms;
+                let _ = write!(
+                    out,
+                    "{engine},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                    d.trial,
+                    d.mass,
+                    d.length,
+                    d.radius,
+                    l[0],
+                    l[1],
+                    l[2],
+                    d.gain[0],
+                    d.gain[1],
+                    t.landing_error_deg,
+                    t.twist_error_deg,
+                    t.swing_deg,
+                    t.converged
+                );
+                match &t.tracked {
+                    Some(f) => {
+                        let _ = write!(
+                            out,
+                            ",{},{},{},{},{},{}",
+                            f.tracking_error_deg[0],
+                            f.tracking_error_deg[1],
+                            f.peak_torque_nm[0],
+                            f.peak_torque_nm[1],
+                            f.saturated[0],
+                            f.saturated[1]
+                        );
+                        match &f.touchdown {
+                            Some(td) => {
+                                let part = serde_json::to_value(td.part).ok();
+                                let part = part.as_ref().and_then(|p| p.as_str()).unwrap_or("");
+                                let _ = writeln!(
+                                    out,
+                                    ",{},{part},{},{},{},{}",
+                                    td.time, td.impact_speed, td.feet_down_deg[0], td.feet_down_deg[1], td.on_its_feet
+                                );
+                            }
+                            None => out.push_str(",,,,,,\n"),
+                        }
+                    }
+                    None => out.push_str(",,,,,,,,,,,,\n"),
+                }
+            }
         }
         out
     }
 
-    /// The distribution of the landing error (and its twist and swing parts): the fraction of
-    /// trials at or below each error, with the tolerance marked.
+    /// The distribution of the landing error (and its twist and swing parts) of every engine:
+    /// the fraction of trials at or below each error, with the tolerance marked.
     pub fn distribution_plot(&self) -> LinePlot {
         let cdf = |values: Vec<f64>| {
             let mut v = values;
@@ -136,36 +208,97 @@ impl Robustness {
             }
             points
         };
-        let series = vec![
-            Series::new("landing error", cdf(self.trials.iter().map(|t| t.landing_error_deg).collect())),
-            Series::new("| |twist| − 180° |", cdf(self.trials.iter().map(|t| t.twist_error_deg.abs()).collect())),
-            Series::new("swing", cdf(self.trials.iter().map(|t| t.swing_deg).collect())),
-        ];
+        let mut series = Vec::new();
+        let both = self.checks.len() > 1;
+        for c in &self.checks {
+            let tag = if both { format!(", {}", c.engine.describe()) } else { String::new() };
+            series.push(Series::new(
+                format!("landing error{tag}"),
+                cdf(c.trials.iter().map(|t| t.landing_error_deg).collect()),
+            ));
+            series.push(Series::new(
+                format!("| |twist| − 180° |{tag}"),
+                cdf(c.trials.iter().map(|t| t.twist_error_deg.abs()).collect()),
+            ));
+            series.push(Series::new(format!("swing{tag}"), cdf(c.trials.iter().map(|t| t.swing_deg).collect())));
+        }
         let mut plot = LinePlot::new(
             "robust",
-            format!(
-                "{}, problem {}: {} trials, open loop",
-                Path::new(&self.schedule)
-                    .file_name()
-                    .map_or(self.schedule.clone(), |n| n.to_string_lossy().into_owned()),
-                self.problem,
-                self.trials.len()
-            ),
+            format!("{}: {}", self.title(), self.engines_in_words()),
             "error (degrees)",
             "fraction of trials at or below",
             series,
         );
-        plot.ref_lines.push(RefLine {
-            y: self.within,
-            label: format!("{:.1} % within {}°", 100.0 * self.within, self.settings.tolerance_deg),
-        });
+        for c in &self.checks {
+            let tag = if both { format!(" ({})", c.engine.describe()) } else { String::new() };
+            plot.ref_lines.push(RefLine {
+                y: c.within,
+                label: format!("{:.1} % within {}°{tag}", 100.0 * c.within, c.settings.tolerance_deg),
+            });
+        }
         plot
     }
 
-    /// Writes `robust.md`, `robust.csv`, `robust.json` and the plot into `out/<problem>-robust/`,
+    /// The landing error's histogram, [`HISTOGRAM_BINS`] bins from 0 to the largest error of any
+    /// engine, each engine's counts as a step outline; the tolerance starts a band.
+    pub fn histogram_plot(&self) -> LinePlot {
+        let top = self.checks.iter().map(|c| c.landing_error_deg.max).fold(0.0, f64::max).max(1e-9);
+        let width = top / HISTOGRAM_BINS as f64;
+        let series = self
+            .checks
+            .iter()
+            .map(|c| {
+                let mut counts = [0usize; HISTOGRAM_BINS];
+                for t in &c.trials {
+                    let bin = ((t.landing_error_deg / width).floor() as usize).min(HISTOGRAM_BINS - 1);
+                    counts[bin] += 1;
+                }
+                let mut points = vec![(0.0, 0.0)];
+                for (i, n) in counts.iter().enumerate() {
+                    points.push((i as f64 * width, *n as f64));
+                    points.push(((i + 1) as f64 * width, *n as f64));
+                }
+                points.push((top, 0.0));
+                Series::new(c.engine.describe(), points)
+            })
+            .collect();
+        let mut plot = LinePlot::new(
+            "robust_histogram",
+            format!("{}: landing error, {} trials", self.title(), self.checks.first().map_or(0, |c| c.trials.len())),
+            "landing error (degrees)",
+            format!("trials per {width:.2}° bin"),
+            series,
+        );
+        if let Some(c) = self.checks.first() {
+            let tol = c.settings.tolerance_deg;
+            if tol < top {
+                plot.bands.push(Band { from: tol, to: top, label: format!("beyond {tol}°") });
+            }
+        }
+        plot
+    }
+
+    fn title(&self) -> String {
+        let Some(c) = self.checks.first() else { return String::new() };
+        let name = Path::new(&c.schedule).file_name().map_or(c.schedule.clone(), |n| n.to_string_lossy().into_owned());
+        format!("{name}, problem {}", c.problem)
+    }
+
+    fn engines_in_words(&self) -> String {
+        let names: Vec<&str> = self.checks.iter().map(|c| c.engine.describe()).collect();
+        format!("{} trials, {}", self.checks.first().map_or(0, |c| c.trials.len()), names.join(" vs "))
+    }
+
+    /// Writes `robust.md`, `robust.csv`, `robust.json` and the plots into `out/<problem>-robust/`,
     /// replacing an earlier check there only when every file is written; returns the folder.
-    pub fn write(&self, out: &Path) -> Result<PathBuf, RobustWriteError> {
-        let staging = Staging::begin(out, &format!("{}-robust", self.problem))?;
+    /// The filmstrips need the problem (the cat's sizes) and the schedule (its phases).
+    pub fn write(
+        &self,
+        out: &Path,
+        problem: &Problem,
+        schedule: &impl Trajectory,
+    ) -> Result<PathBuf, RobustWriteError> {
+        let staging = Staging::begin(out, &format!("{}-robust", problem.name))?;
         let json = serde_json::to_string_pretty(self).unwrap_or_default();
         for (name, text) in [("robust.md", self.to_markdown()), ("robust.csv", self.to_csv()), ("robust.json", json)] {
             let path = staging.dir().join(name);
@@ -173,6 +306,108 @@ impl Robustness {
                 .map_err(|source| RobustWriteError::Io { path: staging.shown(&path), source })?;
         }
         line_plot(staging.dir(), &self.distribution_plot())?;
+        line_plot(staging.dir(), &self.histogram_plot())?;
+        for c in &self.checks {
+            if let Some(film) = &c.film {
+                write_film(staging.dir(), problem, schedule, film)?;
+            }
+        }
         Ok(staging.commit()?)
     }
+}
+
+fn tracking_section(out: &mut String, t: &TrackingSummary, c: &Robustness) {
+    let _ = writeln!(out, "\n## Tracking with motors (rapier)\n");
+    let _ = writeln!(
+        out,
+        "{} steps of {:.3e} s; servo gains k_p = {:.4} N·m/rad, k_d = {:.4} N·m·s/rad (before the trials' factors). {} of {} trials saturated an actuator at least once; the largest torque applied was {:.4} N·m.\n",
+        t.steps,
+        t.dt_s,
+        t.gains.kp[0],
+        t.gains.kd[0],
+        t.saturated_trials,
+        c.trials.len(),
+        t.peak_torque_nm
+    );
+    let _ = write!(out, "| figure {}", PERCENTILE_HEAD);
+    let _ = write!(out, "|---{}", PERCENTILE_RULE);
+    percentile_row(out, "tracking error (larger joint), degrees", &t.tracking_error_deg);
+    if let Some(l) = &t.landing {
+        for (name, p) in [
+            ("touch-down time, s", &l.time_s),
+            ("impact speed, m/s", &l.impact_speed),
+            ("feet-down angle (larger half), degrees", &l.feet_down_deg),
+        ] {
+            if let Some(p) = p {
+                percentile_row(out, name, p);
+            }
+        }
+        let parts: Vec<String> = l.first_part.iter().map(|(p, n)| format!("{} {n}", p.describe())).collect();
+        let _ = writeln!(out, "\nFirst to touch the ground: {}.", parts.join(", "));
+        if l.no_touchdown > 0 {
+            let _ = writeln!(out, "\n**{} trial(s) had not touched down by the end of the run.**", l.no_touchdown);
+        }
+        if let Some(td) = c.nominal.tracked.and_then(|f| f.touchdown) {
+            let _ = writeln!(
+                out,
+                "\nThe nominal cat touches down at {:.4} s with {} ({:.3} m/s), its feet {:.2}° (A) and {:.2}° (B) from straight down: {}.",
+                td.time,
+                td.part.describe(),
+                td.impact_speed,
+                td.feet_down_deg[0],
+                td.feet_down_deg[1],
+                if td.on_its_feet { "on its feet" } else { "not on its feet" }
+            );
+        }
+    }
+}
+
+fn worst_section(out: &mut String, c: &Robustness) {
+    // The servo's gain factors matter to rapier's trials only.
+    let gains = c.engine == Engine::Rapier;
+    let _ = writeln!(out, "\n## The worst trials, {}\n", c.engine.describe());
+    let _ = writeln!(
+        out,
+        "| trial | mass kg | length m | radius m | L N·m·s |{} landing error ° | twist error ° | swing ° |",
+        if gains { " servo gains |" } else { "" }
+    );
+    let _ = writeln!(out, "|---:|---:|---:|---:|---|{}---:|---:|---:|", if gains { "---|" } else { "" });
+    for t in &c.worst {
+        let d = &t.draw;
+        let l = d.angular_momentum_nms;
+        let g = if gains { format!(" [{:.3}, {:.3}] |", d.gain[0], d.gain[1]) } else { String::new() };
+        let _ = writeln!(
+            out,
+            "| {} | {:.4} | {:.4} | {:.4} | [{:.4}, {:.4}, {:.4}] |{g} {:.3} | {:+.3} | {:.3} |",
+            d.trial, d.mass, d.length, d.radius, l[0], l[1], l[2], t.landing_error_deg, t.twist_error_deg, t.swing_deg
+        );
+    }
+}
+
+/// A rapier snapshot as the pictures' pose: centres about the halves' midpoint (the halves
+/// have equal masses; the cross's is left out as the exact engine's poses do).
+fn pose_of(t: f64, snap: &Snapshot) -> CatPose {
+    let mid: Vector3<f64> = 0.5 * (snap.positions[0] + snap.positions[2]);
+    let st = swing_twist(&snap.rotations[0]);
+    let body = |i: usize| BodyPose {
+        centre: snap.positions[i] - mid,
+        rotation: snap.rotations[i].to_rotation_matrix().into_inner(),
+    };
+    CatPose { time: t, phase: None, twist: st.twist, swing: st.swing, a: body(0), b: body(2) }
+}
+
+fn write_film(dir: &Path, problem: &Problem, schedule: &impl Trajectory, film: &Film) -> Result<(), PlotError> {
+    let name = format!("rapier, worst trial {}", film.worst_trial);
+    if !film.worst.is_empty() {
+        let poses: Vec<CatPose> = film.worst.iter().map(|(t, s)| pose_of(*t, s)).collect();
+        let caption = format!("tracked with motors, {} instants", poses.len());
+        pose_filmstrip(&dir.join("robust_worst_filmstrip.png"), problem, &name, schedule, &poses, &caption)?;
+    }
+    if !film.touchdowns.is_empty() {
+        let poses: Vec<CatPose> = film.touchdowns.iter().map(|(_, t, s)| pose_of(*t, s)).collect();
+        let labels: Vec<&str> = film.touchdowns.iter().map(|(l, _, _)| l.as_str()).collect();
+        let caption = format!("touch-down of {}", labels.join(" and "));
+        pose_filmstrip(&dir.join("robust_touchdown_filmstrip.png"), problem, "rapier", schedule, &poses, &caption)?;
+    }
+    Ok(())
 }

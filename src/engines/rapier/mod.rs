@@ -3,7 +3,8 @@
 //!
 //! # Scene
 //!
-//! Zero gravity and no colliders. Falling freely, the centre of mass follows the ballistic
+//! Zero gravity and no colliders (a tracked run that asks for a landing, [`mod@track`] with
+//! [`ground`], adds gravity, colliders and the ground to its own scene only). Falling freely, the centre of mass follows the ballistic
 //! parabola and gravity exerts no torque about it, so the rotation about the centre of mass is
 //! the same as in weightlessness: simulating the falling frame with `g = 0` loses nothing.
 //!
@@ -108,6 +109,13 @@
 //! meets the tolerances of [`crate::problem::settings::RapierSettings`], and ends in a [`Verdict`]
 //! (`verified`, `not verified` with the quantity and the gap, or `inconclusive` with why).
 //!
+//! # Tracked runs
+//!
+//! The verification drives the joints with rapier's motors. A tracked run ([`mod@track`]) instead
+//! leaves the joints free and applies explicit joint torques from a [`Controller`] ([`control`]:
+//! the seam, and feed-forward plus PD), saturated at the actuators' limits, with an attitude
+//! sensor that is late and noisy: the robustness check's trials ([`crate::robust`]).
+//!
 //! # Trajectories
 //!
 //! Every run takes any [`crate::schedule::Trajectory`]: pieces smooth on their closed
@@ -122,6 +130,8 @@
 //! - DESIGN.md §1, §2 and §6.
 
 mod bodies;
+pub mod control;
+pub mod ground;
 mod measure;
 mod pieces;
 mod run;
@@ -129,10 +139,13 @@ pub mod saturation;
 pub mod scene;
 mod spin;
 mod timescale;
+pub mod track;
 mod verify;
 mod verify_text;
 
 pub use bodies::{BodyState, MassModel, Snapshot};
+pub use control::{AttitudeEstimate, Controller, FeedForwardPd, JointReading, PdGains, Plan};
+pub use ground::{Landing, Part, Touchdown};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
     dt_sweep, extrapolate, simulate, simulate_with, swing_vector, Extrapolated, JumpTorque, MomentumDrift, RapierRun,
@@ -144,6 +157,7 @@ pub use spin::{spin_free, SpinRun, SpinTest};
 pub use timescale::{
     time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
+pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use verify::{
     verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
     Verification, ASYMPTOTIC, MIN_RUNS,

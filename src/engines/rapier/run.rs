@@ -163,7 +163,7 @@ pub struct RapierRun {
     pub saturation: Vec<MotorSaturation>,
 }
 
-fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::Error> {
+pub(super) fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::Error> {
     [q.w, q.i, q.j, q.k].serialize(s)
 }
 

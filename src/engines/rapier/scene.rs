@@ -53,7 +53,9 @@ impl MotorGains {
 
 /// The cat in a rapier world, ready to step.
 pub struct CatScene {
-    world: PhysicsWorld,
+    pub(super) world: PhysicsWorld,
+    /// The rigid bodies of A, the cross, B.
+    pub(super) bodies: [RigidBodyHandle; 3],
     /// Link ids of A, the cross, B in the multibody.
     links: [usize; 3],
     joints: [MultibodyJointHandle; 2],
@@ -61,11 +63,11 @@ pub struct CatScene {
     gains: Option<MotorGains>,
 }
 
-fn to_na(v: Vector) -> Vector3<f64> {
+pub(super) fn to_na(v: Vector) -> Vector3<f64> {
     Vector3::new(v.x, v.y, v.z)
 }
 
-fn from_na(v: &Vector3<f64>) -> Vector {
+pub(super) fn from_na(v: &Vector3<f64>) -> Vector {
     Vector::new(v.x, v.y, v.z)
 }
 
@@ -153,7 +155,7 @@ impl CatScene {
             }
         }
 
-        let mut scene = Self { world, links, joints: [h1, h2], masses, gains };
+        let mut scene = Self { world, bodies, links, joints: [h1, h2], masses, gains };
         {
             let (mb, _) = scene.multibody_mut()?;
             // Put the joint coordinates at q0 (they start at zero), then place the bodies.
@@ -282,6 +284,21 @@ impl CatScene {
         v[..3].copy_from_slice(lin.as_slice());
         v[3..6].copy_from_slice(omega.as_slice());
         self.set_velocities(&v)
+    }
+
+    /// Applies joint torques `(τ1, τ2)`, N·m, for the next step as equal and opposite couples:
+    /// `+τ1 a1` on the cross and `−τ1 a1` on A (joint 1 drives {cross, B}), `+τ2 a2` on B and
+    /// `−τ2 a2` on the cross, with `a1` A's `x` and `a2` the cross's `y` at the poses of `now`
+    /// (this scene's current [`CatScene::snapshot`]). They replace the previous step's torques.
+    pub fn apply_joint_torques(&mut self, tau: [f64; 2], now: &Snapshot) -> Result<(), RapierError> {
+        let [a1, a2] = now.joint_axes();
+        let couples = [-tau[0] * a1, tau[0] * a1 - tau[1] * a2, tau[1] * a2];
+        for (handle, couple) in self.bodies.iter().zip(couples) {
+            let body = self.world.bodies.get_mut(*handle).ok_or(RapierError::Missing("a body"))?;
+            body.reset_torques(false);
+            body.add_torque(from_na(&couple), false);
+        }
+        Ok(())
     }
 
     /// Advances one step.

@@ -22,6 +22,7 @@ use super::pose::{cat_poses, BodyPose, CatPose};
 use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, png_written, save_failed, text, GUIDE};
 use super::PlotError;
+use crate::model::legs::{legs, Half, Leg, PAW_RADIUS};
 use crate::problem::Problem;
 use crate::schedule::{Phase, Trajectory};
 
@@ -91,17 +92,52 @@ pub fn flip_animation(
 
     let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));
-    let size = (PANEL_SIZE.0 * FILMSTRIP_PANELS as u32, PANEL_SIZE.1 + STRIP_TITLE);
-    {
-        let root = Raster::new(BitMapBackend::new(&strip, size)).into_drawing_area();
-        let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
-        scene
-            .draw_filmstrip(&root, &panels, &extent)
-            .and_then(|()| root.present().map_err(save_failed))
-            .map_err(write_error(&strip))?;
-    }
-    png_written(&strip).map_err(write_error(&strip))?;
+    let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
+    let caption = format!("the flip at {} instants", panels.len());
+    write_strip(&scene, &strip, &panels, &extent, &caption)?;
     Ok(vec![path.to_path_buf(), strip])
+}
+
+/// Writes a PNG filmstrip of `poses` (one panel each, e.g. from a rapier run rather than the
+/// exact engine) at `path`, titled with the problem's name, `name` and `caption`; one scale fits
+/// every panel. The problem gives the cat's sizes and `schedule` the timeline's phases.
+pub fn pose_filmstrip(
+    path: &Path,
+    problem: &Problem,
+    name: &str,
+    schedule: &impl Trajectory,
+    poses: &[CatPose],
+    caption: &str,
+) -> Result<PathBuf, PlotError> {
+    if poses.is_empty() {
+        return Err(PlotError::BadArgument { path: path.to_path_buf(), reason: "a filmstrip needs a pose".into() });
+    }
+    ensure_fonts()?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        create_dir(dir)?;
+    }
+    let scene = Scene::new(problem, name, schedule);
+    let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
+    write_strip(&scene, path, poses, &extent, caption)?;
+    Ok(path.to_path_buf())
+}
+
+fn write_strip(
+    scene: &Scene,
+    strip: &Path,
+    panels: &[CatPose],
+    extent: &Extent,
+    caption: &str,
+) -> Result<(), PlotError> {
+    let size = (PANEL_SIZE.0 * panels.len() as u32, PANEL_SIZE.1 + STRIP_TITLE);
+    {
+        let root = Raster::new(BitMapBackend::new(strip, size)).into_drawing_area();
+        scene
+            .draw_filmstrip(&root, panels, extent, caption)
+            .and_then(|()| root.present().map_err(save_failed))
+            .map_err(write_error(strip))?;
+    }
+    png_written(strip).map_err(write_error(strip))
 }
 
 /// Turns a backend's message into a [`PlotError::Write`] naming `path`.
@@ -166,6 +202,8 @@ struct Scene {
     camera: Camera,
     half: f64,
     radius: f64,
+    /// The legs of A and of B, each in its half's body frame.
+    legs: [[Leg; 2]; 2],
     title: String,
     /// The timeline's segments: the three phases, or the whole manoeuvre in one.
     segments: Vec<(&'static str, f64)>,
@@ -278,6 +316,7 @@ impl Scene {
             camera: Camera::new(),
             half: 0.5 * problem.cat.length,
             radius: problem.cat.radius,
+            legs: [legs(&problem.cat, Half::A), legs(&problem.cat, Half::B)],
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -288,8 +327,8 @@ impl Scene {
         let cam = &self.camera;
         let (h, r) = (self.half, self.radius);
         let mut out = Vec::new();
-        self.cylinder(&pose.a, A_FILL, A_EDGE, 0.55 * h, &mut out);
-        self.cylinder(&pose.b, B_FILL, B_EDGE, -0.55 * h, &mut out);
+        self.cylinder(&pose.a, A_FILL, A_EDGE, &self.legs[0], &mut out);
+        self.cylinder(&pose.b, B_FILL, B_EDGE, &self.legs[1], &mut out);
         let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
         // The head on A's front end, ears on its back (−y, away from the belly).
         let head = Vector3::new(0.0, 0.0, h + 1.3 * r);
@@ -326,8 +365,8 @@ impl Scene {
         out
     }
 
-    /// One half: silhouette, axis, visible outline, belly stripe and two legs at local `leg_z`.
-    fn cylinder(&self, body: &BodyPose, fill: RGBColor, edge: RGBColor, leg_z: f64, out: &mut Vec<Layered>) {
+    /// One half: silhouette, axis, visible outline, belly stripe and its two legs.
+    fn cylinder(&self, body: &BodyPose, fill: RGBColor, edge: RGBColor, legs: &[Leg; 2], out: &mut Vec<Layered>) {
         let cam = &self.camera;
         let (h, r) = (self.half, self.radius);
         let depth = cam.depth(&body.centre);
@@ -391,11 +430,10 @@ impl Scene {
             );
         }
         let layer = if cam.faces(&belly) { FEATURE } else { BEHIND };
-        for s in [-1.0, 1.0] {
-            let foot = Vector3::new(s * 0.5 * r, 0.87 * r, leg_z);
-            let paw = foot + 0.9 * h * Vector3::new(0.2 * s, 1.0, 0.0).normalize();
-            push(out, layer, Mark::Line { points: line(foot, paw), colour: edge, width: 5.0 });
-            push(out, layer, Mark::Disc { centre: cam.project(&body.point(paw)), radius: 0.45 * r, fill: edge, edge });
+        for leg in legs {
+            push(out, layer, Mark::Line { points: line(leg.hip, leg.paw), colour: edge, width: 5.0 });
+            let centre = cam.project(&body.point(leg.paw));
+            push(out, layer, Mark::Disc { centre, radius: PAW_RADIUS * r, fill: edge, edge });
         }
     }
 
@@ -506,13 +544,17 @@ impl Scene {
         root: &DrawingArea<DB, Shift>,
         poses: &[CatPose],
         extent: &Extent,
+        caption: &str,
     ) -> Result<(), String> {
         root.fill(&WHITE).map_err(failed)?;
         let (head, body) = root.split_vertically(STRIP_TITLE);
-        let title =
-            format!("{}: the flip at {} instants (A front: orange, B rear: blue, belly: red)", self.title, poses.len());
+        let title = format!("{}: {caption} (A front: orange, B rear: blue, belly: red)", self.title);
         let (w, _) = head.dim_in_pixel();
-        head.draw(&Text::new(title, (w as i32 / 2, 20), bold(20.0).pos(Pos::new(HPos::Center, VPos::Center))))
+        // A title wider than the strip (few panels) shrinks to fit rather than being cropped.
+        let width = f64::from(head.estimate_text_size(&title, &bold(20.0)).map_err(failed)?.0);
+        let room = f64::from(w) - 16.0;
+        let size = if width > room { 20.0 * room / width } else { 20.0 };
+        head.draw(&Text::new(title, (w as i32 / 2, 20), bold(size).pos(Pos::new(HPos::Center, VPos::Center))))
             .map_err(failed)?;
         for (panel, pose) in body.split_evenly((1, poses.len().max(1))).iter().zip(poses) {
             self.draw(panel, pose, extent, true)?;
