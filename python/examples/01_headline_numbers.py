@@ -34,7 +34,7 @@ show("calibrated circulation (twist exactly 180°), rad", opt["calibration"]["ci
 show("best classic profile: twist-phase peak, N·m", opt["best_library"][1], ".1f", "37.4")
 twist_peaks = opt["refined_optimum"]["evaluation"]["exact_peak_nm"]["twist"]
 show("exact-dynamics optimum: twist-phase peak, N·m", max(twist_peaks), ".3f", "5.824")
-show("every phase retimed: whole manoeuvre's peak, N·m", opt["whole"]["evaluation"]["exact_peak_nm"]["max"], ".2f", "9.80")
+show("every phase retimed: whole manoeuvre's peak, N·m", opt["all_phases"]["evaluation"]["exact_peak_nm"]["max"], ".2f", "9.80")
 
 # %% A gentler cone-path flip.
 cone = catflip.simulate(catflip.load("problems/cone-calibrated.toml"))
