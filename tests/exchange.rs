@@ -219,6 +219,16 @@ fn the_sidecar_sizes_the_motors_as_the_evaluation_does() {
 }
 
 #[test]
+fn a_schedule_file_of_a_spinning_release_is_refused_naming_the_field() {
+    // Its orientation and torque columns would be the zero-momentum flip's: refused, not written.
+    let mut p = problem();
+    p.drop.angular_momentum = [0.0, 0.0, 0.01];
+    let s = paper_schedule(&p);
+    let e = write_schedule(&p, &s, "paper", &ExportOptions::default()).map(|_| ()).expect_err("refused");
+    assert!(e.to_string().starts_with("drop.angular_momentum = [0, 0, 0.01]: a schedule file"), "{e}");
+}
+
+#[test]
 fn orientation_columns_meet_the_engine_tolerance() {
     // Reference: the exact engine's final orientation at exact.tolerance = 1e-10 rad.
     let p = problem();

@@ -91,7 +91,9 @@ def simulate(
 
     With ``series`` the problem's schedule is sampled too (:class:`Series`: ``steps_per_piece``
     intervals per phase, or the uniform grid ``rate_hz``), the exact engine's torques and
-    orientation on every row.
+    orientation on every row. The series is the zero-momentum flip's, so it is refused (a
+    :class:`CatflipError` naming ``drop.angular_momentum``) for a release with spin: pass
+    ``series=False`` there.
     """
     if schedule is not None:
         return Measurement(_report(_catflip.simulate_schedule(problem, schedule, engine)))

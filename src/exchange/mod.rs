@@ -71,6 +71,9 @@ pub enum ExchangeError {
     /// The sidecar could not be serialised.
     #[error("writing a schedule sidecar: {0}")]
     Json(String),
+    /// The problem cannot be written as a schedule file (a release with spin).
+    #[error(transparent)]
+    Problem(#[from] crate::problem::ProblemError),
 }
 
 /// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and

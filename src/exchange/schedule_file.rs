@@ -164,6 +164,8 @@ pub fn write_trajectory(
     description: &str,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
+    // The orientation and torque columns and the sidecar's figures are the zero-momentum flip's.
+    problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
     let cat = &problem.cat;
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;
