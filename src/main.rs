@@ -94,6 +94,9 @@ enum Command {
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
         #[arg(long)]
         quiet: bool,
+        /// Print how long each stage took (wall clock, s from the start; the stages overlap) to stderr.
+        #[arg(long)]
+        timings: bool,
     },
     /// Run time against error for every engine, and stress tests; written to <out>/bench/.
     Bench {
@@ -264,7 +267,7 @@ fn run() -> anyhow::Result<()> {
                 anyhow::bail!("{}", report.status);
             }
         }
-        Command::Run { problems, overrides, out, rate, quiet } => {
+        Command::Run { problems, overrides, out, rate, quiet, timings } => {
             let export = catflip::exchange::ExportOptions { rate_hz: rate, ..Default::default() };
             export.validate(0.0)?;
             let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
@@ -288,6 +291,9 @@ fn run() -> anyhow::Result<()> {
                 spinner.finish_and_clear();
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
+                if timings {
+                    eprint!("{}", catflip::report::run::timings_table(&outcome.stages, outcome.total_s));
+                }
             }
         }
         Command::Bench { problem, overrides, out, json } => {

@@ -95,8 +95,19 @@ pub fn results_files(
     schedules: &[(String, Schedule)],
     options: &ExportOptions,
 ) -> Result<Vec<(String, String)>, ExchangeError> {
+    let mut out = schedule_files(problem, schedules, options)?;
+    out.extend(model_files(problem).map(|(n, text)| (format!("schedules/{n}"), text)));
+    Ok(out)
+}
+
+/// Each schedule's CSV and sidecar as (path in a results folder, contents), computed in parallel
+/// and listed in the given order (sidecar first): [`results_files`] without the model files.
+pub fn schedule_files(
+    problem: &Problem,
+    schedules: &[(String, Schedule)],
+    options: &ExportOptions,
+) -> Result<Vec<(String, String)>, ExchangeError> {
     use rayon::prelude::*;
-    // Each schedule's file on its own (in parallel), listed in the given order.
     let files = schedules
         .par_iter()
         .map(|(name, schedule)| {
@@ -104,7 +115,5 @@ pub fn results_files(
             Ok([(format!("schedules/{name}.json"), file.sidecar_json()?), (format!("schedules/{name}.csv"), file.csv)])
         })
         .collect::<Result<Vec<_>, ExchangeError>>()?;
-    let mut out: Vec<(String, String)> = files.into_iter().flatten().collect();
-    out.extend(model_files(problem).map(|(n, text)| (format!("schedules/{n}"), text)));
-    Ok(out)
+    Ok(files.into_iter().flatten().collect())
 }

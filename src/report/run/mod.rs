@@ -11,6 +11,7 @@ mod answer;
 mod compute;
 mod figures;
 mod tables;
+mod timings;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -25,11 +26,12 @@ use crate::report::check::ExactValues;
 use crate::report::compare::compare;
 use crate::report::results_dir::Staging;
 use crate::report::simulate::{RapierOutcome, SimulationReport};
-use crate::report::whole::WHOLE;
 use crate::schedule::variant::Variant;
 use crate::schedule::Schedule;
 use compute::{compute, Computed};
 use tables::{summary, verification_csv, verification_markdown};
+use timings::Stopwatch;
+pub use timings::{table as timings_table, StageTime};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -87,6 +89,10 @@ pub struct RunOutcome {
     /// What the command prints: for `run` the answer and one short table (the report's summary
     /// is in `report.md`), for `bench` the reach table.
     pub summary: String,
+    /// How long each stage took (`run --timings`), in order of start; empty for `bench`.
+    pub stages: Vec<StageTime>,
+    /// The whole computation's wall time, s.
+    pub total_s: f64,
 }
 
 struct Writer {
@@ -206,7 +212,11 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
-    atomically(out_root, &r.problem.name, |w| produce(r, command, export, w).map(|s| (s, ()))).map(|(o, ())| o)
+    let clock = Stopwatch::start();
+    let (mut outcome, ()) =
+        atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock).map(|s| (s, ())))?;
+    (outcome.stages, outcome.total_s) = clock.finish();
+    Ok(outcome)
 }
 
 /// Runs `catflip bench` on the resolved problem (rapier at
@@ -239,6 +249,7 @@ fn atomically<T>(
     name: &str,
     body: impl FnOnce(&mut Writer) -> Result<(String, T), RunError>,
 ) -> Result<(RunOutcome, T), RunError> {
+    let start = std::time::Instant::now();
     let staging = Staging::begin(out_root, name)?;
     let mut w = Writer { dir: staging.dir().to_path_buf(), shown: staging.target().to_path_buf(), files: Vec::new() };
     // On an error the staging folder is dropped, and with it the scratch folder: the previous
@@ -248,7 +259,8 @@ fn atomically<T>(
         other => other,
     })?;
     let dir = staging.commit()?;
-    Ok((RunOutcome { dir, files: w.files, summary }, value))
+    let total_s = start.elapsed().as_secs_f64();
+    Ok((RunOutcome { dir, files: w.files, summary, stages: Vec::new(), total_s }, value))
 }
 
 fn produce(
@@ -256,12 +268,14 @@ fn produce(
     command: &str,
     export: &crate::exchange::ExportOptions,
     w: &mut Writer,
+    clock: &Stopwatch,
 ) -> Result<String, RunError> {
     let problem = &r.problem;
     let settings = toml::to_string(problem)?;
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
-    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation } = compute(r, &plots)?;
+    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation, files } =
+        compute(r, &plots, export, clock)?;
     // 1. The audit.
     w.put("audit.md", &audit.to_markdown())?;
     w.json("audit.json", &audit)?;
@@ -289,18 +303,19 @@ fn produce(
     w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(Verified::rapier_json).collect::<Vec<_>>())?;
-    // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files,
-    // the plots and the animation: produced in parallel, recorded in this order.
-    let (files, (figures, animation)) = rayon::join(
-        || schedule_files(r, &verified, &whole, export),
+    // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files
+    // (computed beside the verifications), the plots and the animation: produced in parallel,
+    // recorded in this order.
+    let (figures, animation) = rayon::join(
+        || clock.time("plots", || figures::plots(r, &plots, &verified, &whole)),
         || {
-            rayon::join(
-                || figures::plots(r, &plots, &verified, &whole),
-                || animation.map_or_else(|| figures::fallback_animation(r, &plots, &verified), Ok),
+            animation.map_or_else(
+                || clock.time("animate the fallback", || figures::fallback_animation(r, &plots, &verified)),
+                Ok,
             )
         },
     );
-    for (name, contents) in files? {
+    for (name, contents) in files {
         w.put(&name, &contents)?;
     }
     w.record(figures?);
@@ -318,31 +333,4 @@ fn produce(
     w.put("report.md", &report)?;
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
     Ok(answer::answer(own, &verified, &whole, whole_verification.as_ref(), &w.shown.display().to_string()))
-}
-
-/// The schedule files: the problem's and every optimised schedule's, the whole optimum's, and
-/// the model files, as (path in the results folder, contents).
-fn schedule_files(
-    r: &Resolved,
-    verified: &[Verified],
-    whole: &crate::report::whole::WholeReport,
-    export: &crate::exchange::ExportOptions,
-) -> Result<Vec<(String, String)>, RunError> {
-    let problem = &r.problem;
-    let mut exported = vec![("problem".to_string(), r.schedule.clone())];
-    exported.extend(
-        verified
-            .iter()
-            .filter(|v| v.variant.origin.is_optimised())
-            .map(|v| (v.variant.to_string(), v.schedule.clone())),
-    );
-    let whole_file = || -> Result<Vec<(String, String)>, RunError> {
-        let Some(file) = crate::report::whole::optimum_file(problem, whole, export)? else { return Ok(Vec::new()) };
-        let sidecar = file.sidecar_json()?;
-        Ok(vec![(format!("schedules/{WHOLE}.csv"), file.csv), (format!("schedules/{WHOLE}.json"), sidecar)])
-    };
-    let (files, optimum) = rayon::join(|| crate::exchange::results_files(problem, &exported, export), whole_file);
-    let mut files = files?;
-    files.extend(optimum?);
-    Ok(files)
 }
