@@ -84,8 +84,8 @@ mod tests {
     fn stages_are_sorted_by_start_and_lie_within_the_run() {
         let clock = Stopwatch::start();
         let a = clock.time("first", || 1);
-        let b = clock.time("second", || std::thread::sleep(std::time::Duration::from_millis(2)));
-        assert_eq!((a, b), (1, ()));
+        clock.time("second", || std::thread::sleep(std::time::Duration::from_millis(2)));
+        assert_eq!(a, 1, "the stage's value is returned");
         let (stages, total) = clock.finish();
         let names: Vec<_> = stages.iter().map(|s| s.name.as_str()).collect();
         assert_eq!(names, ["first", "second"]);
