@@ -187,6 +187,31 @@ fn log_tick(v: &f64) -> String {
     }
 }
 
+/// A linear axis's tick label over the range `(lo, hi)`: as many decimals as its tick spacing
+/// needs, so counts read `18`, not `18.0`, and every label of an axis has the same decimals.
+/// Plotters spaces at most ten ticks by `{1, 2, 5} × 10ᵏ`; the smallest such step above a tenth
+/// of the range is never larger than the one it picks, so its decimals are always enough.
+fn linear_tick((lo, hi): (f64, f64)) -> impl Fn(&f64) -> String {
+    let raw = (hi - lo).abs() / 10.0;
+    let decimals = if raw > 0.0 && raw.is_finite() {
+        let k = raw.log10().floor();
+        let mantissa = raw / 10f64.powf(k);
+        let exponent = if mantissa > 5.0 { k + 1.0 } else { k };
+        (-exponent).clamp(0.0, 12.0) as usize
+    } else {
+        1
+    };
+    move |v: &f64| {
+        let shown = format!("{v:.decimals$}");
+        // `-0` where a tick rounds to zero from below.
+        if shown.trim_start_matches('-').chars().all(|c| c == '0' || c == '.') {
+            shown.trim_start_matches('-').to_string()
+        } else {
+            shown
+        }
+    }
+}
+
 /// Text sizes of a legend entry's name and of its note, pixels.
 const LEGEND_TEXT: (f64, f64) = (16.0, 13.0);
 
@@ -234,8 +259,11 @@ impl Figure for Prepared<'_> {
             .y_labels(ticks(y))
             .light_line_style(RGBColor(238, 238, 238))
             .max_light_lines(if log { 0 } else { 1 });
+        let (x_tick, y_tick) = (linear_tick(x), linear_tick(y));
         if log {
             mesh.x_label_formatter(&log_tick).y_label_formatter(&log_tick);
+        } else {
+            mesh.x_label_formatter(&x_tick).y_label_formatter(&y_tick);
         }
         mesh.draw().map_err(failed)?;
 
@@ -320,6 +348,20 @@ mod tests {
     use super::super::raster::Raster;
     use super::super::style::PNG_SIZE;
     use super::*;
+
+    #[test]
+    fn linear_ticks_have_the_decimals_of_their_spacing() {
+        let counts = linear_tick((0.0, 19.0));
+        assert_eq!([counts(&0.0), counts(&18.0)], ["0", "18"]);
+        let rates = linear_tick((-0.5, 9.1));
+        assert_eq!([rates(&0.0), rates(&9.0)], ["0", "9"], "a step of 1 needs no decimals");
+        let torques = linear_tick((-0.33, 0.33));
+        assert_eq!([torques(&-0.3), torques(&0.1), torques(&-1e-17)], ["-0.3", "0.1", "0.0"]);
+        let fine = linear_tick((0.0, 0.2));
+        assert_eq!(fine(&0.02), "0.02", "a step of 0.02 keeps two decimals");
+        let narrow = linear_tick((0.31645, 0.3166));
+        assert_eq!(narrow(&0.3165), "0.31650");
+    }
 
     #[test]
     fn log_ticks_read_as_powers_of_ten() {

@@ -3,7 +3,8 @@
 //! The independent computations run in parallel (rayon): the profile QP and its refinements,
 //! the whole-manoeuvre optimum, the certified retimings and the rapier verification of every
 //! library schedule start together; each optimised schedule is verified, and its schedule file
-//! written, as soon as it exists. Each computation is deterministic and its result lands in a fixed place, so the output does not
+//! written, as soon as it exists; the whole optimum's robustness (the exact engine's Monte Carlo,
+//! [`crate::robust`]) runs beside its verification. Each computation is deterministic and its result lands in a fixed place, so the output does not
 //! depend on the number of threads.
 
 use std::path::{Path, PathBuf};
@@ -20,6 +21,7 @@ use crate::optimize::{optimize, OptimizeReport};
 use crate::report::audit::Audit;
 use crate::report::simulate::{exact_report, rapier_outcome};
 use crate::report::whole::{retime_rows, verify_whole, RetimeRow, WholeReport, WHOLE};
+use crate::robust::{robustness, Robustness};
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::Schedule;
 
@@ -35,6 +37,9 @@ pub(super) struct Computed {
     pub whole_verification: Option<Verification>,
     /// The animation's files, when the whole optimum exists and was animated.
     pub animation: Option<Vec<PathBuf>>,
+    /// The whole optimum's robustness on the exact engine (`[robust]`'s draws, ideal tracking),
+    /// when the optimum exists.
+    pub robustness: Option<Robustness>,
     /// Everything under `schedules/` as (path in the results folder, contents): the problem's
     /// schedule, every optimised one, the model files, the whole optimum's.
     pub files: Vec<(String, String)>,
@@ -44,8 +49,8 @@ pub(super) struct Computed {
 type Files = Vec<(String, String)>;
 
 /// The whole optimum's branch: the report, its verification, its animation's files, its
-/// schedule files.
-type WholeBranch = (WholeReport, Option<Verification>, Option<Vec<PathBuf>>, Files);
+/// robustness, its schedule files.
+type WholeBranch = (WholeReport, Option<Verification>, Option<Vec<PathBuf>>, Option<Robustness>, Files);
 
 /// One schedule to verify: its name, itself, its circulation and its exact evaluation when
 /// one exists already.
@@ -81,14 +86,17 @@ pub(super) fn compute(
             )
         },
     );
-    let ((opt, optimised, optimised_files), (whole, whole_verification, animation, whole_files), mut verified) =
-        (opt?, whole?, library?);
+    let (
+        (opt, optimised, optimised_files),
+        (whole, whole_verification, animation, robustness, whole_files),
+        mut verified,
+    ) = (opt?, whole?, library?);
     verified.extend(optimised);
     let mut files = problem_files?;
     files.extend(optimised_files);
     files.extend(model_files(&r.problem).map(|(n, text)| (format!("schedules/{n}"), text)));
     files.extend(whole_files);
-    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification, animation, files })
+    Ok(Computed { audit, opt, whole, retimed, verified, whole_verification, animation, robustness, files })
 }
 
 /// The profile QP and its refinements, then their verification, and the recommended schedule's:
@@ -123,8 +131,17 @@ fn whole_and_verify(
     clock: &Stopwatch,
 ) -> Result<WholeBranch, RunError> {
     let whole = clock.time("whole optimum", || crate::report::whole::whole(r))?;
-    let (verification, (animation, files)) = rayon::join(
-        || clock.time(format!("verify {WHOLE}"), || verify_whole(r, &whole)),
+    let ((verification, robustness), (animation, files)) = rayon::join(
+        || {
+            rayon::join(
+                || clock.time(format!("verify {WHOLE}"), || verify_whole(r, &whole)),
+                || {
+                    whole.spline().map(|spline| {
+                        clock.time(format!("robustness of {WHOLE}"), || robustness(&r.problem, spline, WHOLE))
+                    })
+                },
+            )
+        },
         || {
             rayon::join(
                 || {
@@ -136,7 +153,7 @@ fn whole_and_verify(
             )
         },
     );
-    Ok((whole, verification?, animation.transpose()?, files?))
+    Ok((whole, verification?, animation.transpose()?, robustness, files?))
 }
 
 /// The whole optimum's CSV and sidecar, when it exists.

@@ -26,6 +26,7 @@ use crate::report::check::ExactValues;
 use crate::report::compare::compare;
 use crate::report::results_dir::Staging;
 use crate::report::simulate::{RapierOutcome, SimulationReport};
+use crate::report::whole::WHOLE;
 use crate::schedule::variant::Variant;
 use crate::schedule::Schedule;
 use compute::{compute, Computed};
@@ -242,6 +243,11 @@ pub fn run_bench(
     })
 }
 
+/// The robustness verdict in one sentence.
+fn robust_line(c: &crate::robust::Robustness) -> String {
+    format!("Robustness ({}): the whole optimum {}.", c.engine.describe(), c.verdict)
+}
+
 /// Writes into a scratch folder beside `final_dir` and moves it into place only on success;
 /// `body` returns what to print and what else it computed.
 fn atomically<T>(
@@ -274,7 +280,7 @@ fn produce(
     let settings = toml::to_string(problem)?;
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
-    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation, files } =
+    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation, robustness, files } =
         compute(r, &plots, export, clock)?;
     // 1. The audit.
     w.put("audit.md", &audit.to_markdown())?;
@@ -303,6 +309,16 @@ fn produce(
     w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
     w.json("simulate_rapier.json", &verified.iter().map(Verified::rapier_json).collect::<Vec<_>>())?;
+    // 3b. The whole optimum's robustness: the exact engine's trials, its tables and plots.
+    let robust = robustness.map(|c| crate::robust::RobustReport { checks: vec![c], command: command.to_string() });
+    if let Some(report) = &robust {
+        w.put("robust.md", &report.to_markdown())?;
+        w.put("robust.csv", &report.to_csv())?;
+        w.json("robust.json", report)?;
+        for plot in [report.histogram_plot(), report.distribution_plot()] {
+            w.record(crate::report::plot::line_plot(&plots, &plot)?);
+        }
+    }
     // 4–5. Schedules for robots and other simulators (CSV + JSON sidecar) and the model files
     // (computed beside the verifications), the plots and the animation: produced in parallel,
     // recorded in this order.
@@ -322,7 +338,14 @@ fn produce(
     w.record(animation?);
     // 6. The report.
     let optimum = crate::report::whole::summary_lines(&whole, whole_verification.as_ref(), &retimed);
-    let summary = summary(r, &table, &opt, &verified, &optimum);
+    let mut summary = summary(r, &table, &opt, &verified, &optimum);
+    if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
+        let _ = writeln!(
+            summary,
+            "\n{} The trials, the worst ones and the plots: [`robust.md`](robust.md). Tracked by motors in rapier, with attitude feedback and landing: `catflip robust` with `--schedule` this folder's `schedules/{WHOLE}.csv` (README, *Robustness*).",
+            robust_line(c)
+        );
+    }
     let mut report =
         crate::report::provenance::header(&format!("catflip results: {}", problem.name), command, &settings);
     report.push_str(&summary);
@@ -332,5 +355,10 @@ fn produce(
     }
     w.put("report.md", &report)?;
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
-    Ok(answer::answer(own, &verified, &whole, whole_verification.as_ref(), &w.shown.display().to_string()))
+    let mut answer =
+        answer::answer(own, &verified, &whole, whole_verification.as_ref(), &w.shown.display().to_string());
+    if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
+        answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));
+    }
+    Ok(answer)
 }
