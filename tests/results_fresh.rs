@@ -300,3 +300,30 @@ fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn run_checks_the_optimums_robustness_as_robust_does_on_its_exported_schedule() {
+    // Issue 21 §2: `run` has a robustness section. Its trials are `catflip robust`'s on the
+    // same schedule: the exported whole optimum, read back, gives the same landing errors to the
+    // file's sampling (the CSV is a dense spline interpolant of the optimum, not the optimum).
+    let outcome = paper_run();
+    let read = |f: &str| std::fs::read_to_string(outcome.dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let json: Value = serde_json::from_str(&read("robust.json")).expect("robust.json is JSON");
+    let check = &json["checks"][0];
+    assert_eq!(check["engine"], "exact", "{check}");
+    let p95 = check["landing_error_deg"]["p95"].as_f64().expect("a 95th percentile");
+    let problem = Problem::load(Path::new("problems/paper.toml"), &[]).expect("loads");
+    let file = catflip::exchange::read_schedule(&outcome.dir.join("schedules/whole-optimum.csv")).expect("reads");
+    let again = catflip::robust::robustness(&problem, &file, "file");
+    assert_relative_eq!(again.landing_error_deg.p95, p95, max_relative = 1e-4);
+    assert_eq!(check["trials"], Value::Null, "the trials are in robust.csv, not the JSON");
+    let report = read("report.md");
+    let verdict = check["verdict"].as_str().expect("a verdict");
+    assert!(report.contains(verdict), "report.md quotes the verdict {verdict:?}");
+    assert!(outcome.summary.lines().nth(1).is_some_and(|l| l.contains(verdict)), "{}", outcome.summary);
+    let csv = read("robust.csv");
+    assert_eq!(csv.lines().count(), 1 + problem.robust.trials, "a header and one row per trial:\n{csv}");
+    for plot in ["plots/robust_histogram.png", "plots/robust.png"] {
+        assert!(outcome.files.iter().any(|f| f == plot), "{plot} not in {:?}", outcome.files);
+    }
+}
