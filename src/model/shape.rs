@@ -1,0 +1,94 @@
+//! Shape coordinates: the joint angles of every joint of a model, and their trajectories.
+//!
+//! A model with joints of `n₁, n₂, …` coordinates ([`crate::model::Joint::dof`]) has the shape
+//! `q = (q_joint1, q_joint2, …)`, `n = Σ nᵢ` numbers (rad), with rates `q̇` (rad/s) and
+//! accelerations `q̈` (rad/s²). A [`ShapeTrajectory`] gives them piece by piece, like a
+//! [`Trajectory`] gives `(q1, q2)`: every two-coordinate [`Trajectory`] (the library schedules,
+//! whose paths and profiles are defined on `(q1, q2)` for every two-coordinate joint, DESIGN.md
+//! §10) is a shape trajectory, and [`TwistHeld`] adds a spherical joint's third coordinate held
+//! at zero.
+
+use crate::schedule::{JointState, Trajectory};
+
+/// Shape coordinates, rates and accelerations at one instant.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct ShapeState {
+    /// `q`, rad.
+    pub q: Vec<f64>,
+    /// `q̇`, rad/s.
+    pub qd: Vec<f64>,
+    /// `q̈`, rad/s².
+    pub qdd: Vec<f64>,
+}
+
+impl ShapeState {
+    /// Number of coordinates.
+    pub fn len(&self) -> usize {
+        self.q.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.q.is_empty()
+    }
+
+    /// The coordinates `range` of this state (one joint's).
+    pub fn slice(&self, range: std::ops::Range<usize>) -> (&[f64], &[f64], &[f64]) {
+        (&self.q[range.clone()], &self.qd[range.clone()], &self.qdd[range])
+    }
+
+    /// The same state with its rates and accelerations scaled by `k` (`k = 0`: held still).
+    pub fn with_rates_scaled(&self, k: f64) -> ShapeState {
+        ShapeState {
+            q: self.q.clone(),
+            qd: self.qd.iter().map(|v| v * k).collect(),
+            qdd: self.qdd.iter().map(|v| v * k * k).collect(),
+        }
+    }
+}
+
+impl From<&JointState> for ShapeState {
+    fn from(s: &JointState) -> ShapeState {
+        ShapeState { q: s.q.to_vec(), qd: s.qd.to_vec(), qdd: s.qdd.to_vec() }
+    }
+}
+
+/// A shape trajectory made of pieces, each smooth on its closed interval (as [`Trajectory`]).
+pub trait ShapeTrajectory {
+    /// Durations of the pieces, s.
+    fn piece_durations(&self) -> Vec<f64>;
+    /// The shape at local time `s` of a piece.
+    fn piece_shape(&self, piece: usize, s: f64) -> ShapeState;
+    /// Local times inside a piece where `q̈` may jump ([`Trajectory::acceleration_jumps`]).
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64>;
+}
+
+impl<T: Trajectory> ShapeTrajectory for T {
+    fn piece_durations(&self) -> Vec<f64> {
+        Trajectory::piece_durations(self)
+    }
+    fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
+        ShapeState::from(&self.piece_state(piece, s))
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        Trajectory::acceleration_jumps(self, piece)
+    }
+}
+
+/// A two-coordinate trajectory driving a spherical joint with its relative twist `q3` held at
+/// zero: `(q1, q2, 0)`.
+#[derive(Clone, Copy, Debug)]
+pub struct TwistHeld<'a, T: Trajectory>(pub &'a T);
+
+impl<T: Trajectory> ShapeTrajectory for TwistHeld<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.0.piece_durations()
+    }
+    fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
+        let st = self.0.piece_state(piece, s);
+        ShapeState { q: vec![st.q[0], st.q[1], 0.0], qd: vec![st.qd[0], st.qd[1], 0.0], qdd: vec![st.qdd[0], st.qdd[1], 0.0] }
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        self.0.acceleration_jumps(piece)
+    }
+}
