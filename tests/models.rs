@@ -13,11 +13,11 @@ mod common;
 use approx::assert_relative_eq;
 use catflip::engines::models::{self, ModelError};
 use catflip::engines::{exact, reduction, torque};
-use catflip::model::shape::{ShapeState, ShapeTrajectory, TwistHeld};
+use catflip::model::shape::{AsSpherical, ShapeState, ShapeTrajectory, TwistHeld};
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
-use catflip::schedule::{JointState, Schedule};
+use catflip::schedule::{JointState, Schedule, Trajectory};
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 
@@ -197,7 +197,10 @@ fn spherical_with_its_twist_held_at_zero_is_the_no_twist_joint_exactly() {
                 assert_eq!(a.map(|v| v.map(f64::to_bits)), b.map(|v| v.map(f64::to_bits)));
                 let (ta, tb) = (models::joint_torques(&no_twist, &two), models::joint_torques(&spherical, &three));
                 let (ta, tb) = (ta.expect("two coordinates"), tb.expect("three coordinates"));
-                assert_eq!(ta.tau[..].iter().map(|x| x.to_bits()).collect::<Vec<_>>(), tb.tau[..2].iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+                assert_eq!(
+                    ta.tau[..].iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    tb.tau[..2].iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+                );
                 assert_eq!(ta.couple.map(f64::to_bits), tb.couple.map(f64::to_bits));
             }
         }
@@ -302,7 +305,11 @@ fn the_no_twist_coefficients_hold_near_the_straight_cat() {
                 let s = p.at(t);
                 joint.relative_rate(&s.q, &s.qd)
             };
-            assert_fd(&format!("{joint} ω̇_rel near straight"), joint.relative_accel(&s.q, &s.qd, &s.qdd), central(rate, t));
+            assert_fd(
+                &format!("{joint} ω̇_rel near straight"),
+                joint.relative_accel(&s.q, &s.qd, &s.qdd),
+                central(rate, t),
+            );
         }
     }
 }
@@ -360,4 +367,76 @@ fn problem_default_is_the_papers_cat() {
     let p = Problem::default();
     let cat = Cat::from(p.cat);
     assert_eq!((cat.joint, cat.has_equal_halves(), cat.dof()), (Joint::Universal, true, 2));
+}
+
+#[test]
+fn the_universal_joint_in_spherical_coordinates_is_the_universal_joint() {
+    // R_AB = Rx(q1) Ry(q2) = exp([v]×) Rz(τ): the spherical joint driven by the universal joint's
+    // swing–twist coordinates is the same motion, so the same rates, torques and flip.
+    let (p, s) = paper();
+    let spherical = Cat::equal(p.cat, Joint::Spherical);
+    let as_spherical = AsSpherical { path: &s, hold_twist: false };
+    for (piece, d) in ShapeTrajectory::piece_durations(&s).into_iter().enumerate() {
+        for f in [0.1, 0.5, 0.9] {
+            let js = s.piece_state(piece, f * d);
+            let three = as_spherical.piece_shape(piece, f * d);
+            let r3 = Joint::Spherical.rotation(&three.q);
+            assert_relative_eq!(r3, Joint::Universal.rotation(&js.q), epsilon = 1e-14);
+            let two = exact::body_rate(&p.cat, js.q, js.qd);
+            let general = models::body_rate(&spherical, &three).expect("three coordinates");
+            assert_relative_eq!(general, two, epsilon = 1e-12 * two.norm().max(1.0));
+            let (g, j) =
+                (models::joint_torques(&spherical, &three).expect("three"), torque::joint_torques(&p.cat, &js));
+            assert_relative_eq!(g.couple, j.couple, epsilon = 1e-11 * j.couple.norm().max(1.0));
+        }
+    }
+    let u = exact::flip(&p.cat, &s, 1e-12);
+    let g = models::flip(&spherical, &as_spherical, 1e-12).expect("three coordinates");
+    assert!((u.twist - g.twist).abs() < 1e-10 && (u.swing - g.swing).abs() < 1e-10, "{u:?} vs {g:?}");
+}
+
+/// The paper's schedule with circulation `π/C` at angle `theta_deg` between the halves.
+fn paper_at(theta_deg: f64) -> (Problem, Schedule) {
+    let mut p = Problem::default();
+    p.manoeuvre.theta_deg = theta_deg;
+    let d = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0");
+    let s = Schedule::new(&p, d);
+    (p, s)
+}
+
+#[test]
+fn the_papers_circulation_turns_the_no_twist_cat_by_exactly_pi() {
+    // Issue 22's target, from an independent derivation: on the paper's cat (m = 1, l = 1,
+    // r = 0.1) at θ = 45° and 100°, with equal halves on the no-twist joint, the joint circle
+    // through π/C turns the cat by −180° to 1e-11°.
+    for theta in [45.0, 100.0] {
+        let (p, s) = paper_at(theta);
+        let f = models::flip(&Cat::equal(p.cat, Joint::NoTwist), &s, 1e-13).expect("two coordinates");
+        assert!(f.converged);
+        let off = f.twist.to_degrees() + 180.0;
+        assert!(off.abs() < 1e-11, "θ = {theta}°: twist {}°, {off:e}° from −180°", f.twist.to_degrees());
+        assert!(f.swing.to_degrees() < 1e-9, "θ = {theta}°: swing {}°", f.swing.to_degrees());
+    }
+}
+
+#[test]
+fn the_papers_circulation_falls_short_through_the_universal_joint() {
+    // Issue 22's target: on the paper's cat at θ = 45°, π/C through the universal joint turns
+    // the cat 3.3 % short of π; the audit says the same, with both turns in its exact column.
+    let (p, s) = paper_at(45.0);
+    let f = exact::flip(&p.cat, &s, 1e-13);
+    let short = catflip::report::audit::models::shortfall_percent(f.twist.to_degrees());
+    assert!((short - 3.3).abs() < 0.05, "{short}% short (twist {}°)", f.twist.to_degrees());
+    let a = catflip::report::audit::audit(&p);
+    let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);
+    assert!((exact("turn_no_twist") + 180.0).abs() < 1e-11, "{}", exact("turn_no_twist"));
+    assert!((exact("turn_universal") - f.twist.to_degrees()).abs() < 1e-9);
+    let why = &a.entry("turn_universal").map(|e| e.explanation.clone()).unwrap_or_default();
+    assert!(why.contains("3.30% short"), "{why}");
+    // A cat for which π/C is undefined (straight) has no turns and says why, without NaN.
+    let mut flat = Problem::default();
+    flat.manoeuvre.theta_deg = 180.0;
+    let straight = catflip::report::audit::audit(&flat);
+    let e = straight.entry("turn_no_twist").expect("the entry exists");
+    assert!(e.exact.is_none() && e.explanation.contains("undefined"), "{e:?}");
 }

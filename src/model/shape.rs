@@ -86,9 +86,62 @@ impl<T: Trajectory> ShapeTrajectory for TwistHeld<'_, T> {
     }
     fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
         let st = self.0.piece_state(piece, s);
-        ShapeState { q: vec![st.q[0], st.q[1], 0.0], qd: vec![st.qd[0], st.qd[1], 0.0], qdd: vec![st.qdd[0], st.qdd[1], 0.0] }
+        ShapeState {
+            q: vec![st.q[0], st.q[1], 0.0],
+            qd: vec![st.qd[0], st.qd[1], 0.0],
+            qdd: vec![st.qdd[0], st.qdd[1], 0.0],
+        }
     }
     fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
         self.0.acceleration_jumps(piece)
+    }
+}
+
+/// A universal-joint trajectory in the spherical joint's coordinates: `R_AB = Rx(q1) Ry(q2)`
+/// split as `exp([v]×) Rz(τ)` (its swing–twist decomposition about `ẑ`,
+/// [`crate::model::orientation::swing_twist`]), `q = (v1, v2, τ)`, with the rates and
+/// accelerations that give the same `ω_rel` and `ω̇_rel`: with `M = [J x̂ | J ŷ | e]`
+/// ([`crate::model::joint::exp_rate`], `e = exp([v]×) ẑ`), `M (v̇1, v̇2, τ̇) = ω_rel` and
+/// `M (v̈1, v̈2, τ̈) = ω̇_rel − J̇ v̇ − τ̇ (J v̇) × e`. `M` is invertible for bends below π
+/// (`det M = sin|v|/|v|`). With `hold_twist` the relative twist is dropped (`τ = 0`): the same
+/// bend path without the universal joint's twist, which separates what each costs.
+#[derive(Clone, Copy, Debug)]
+pub struct AsSpherical<'a, T: Trajectory> {
+    /// The universal-joint trajectory.
+    pub path: &'a T,
+    /// Whether to hold the relative twist at zero.
+    pub hold_twist: bool,
+}
+
+impl<T: Trajectory> ShapeTrajectory for AsSpherical<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.path.piece_durations()
+    }
+    fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
+        use crate::model::joint::{exp_accel, exp_rate, exp_so3};
+        use crate::model::Joint;
+        use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+        let st = self.path.piece_state(piece, s);
+        let r = UnitQuaternion::from_matrix(&Joint::Universal.rotation(&st.q));
+        let tau = crate::model::orientation::swing_twist(&r).twist;
+        let twist = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), tau);
+        let sv = (r * twist.inverse()).scaled_axis();
+        let v = Vector3::new(sv.x, sv.y, 0.0);
+        let e = exp_so3(&v) * Vector3::z();
+        let m = Matrix3::from_columns(&[exp_rate(&v, &Vector3::x()), exp_rate(&v, &Vector3::y()), e]);
+        let solve = |b: Vector3<f64>| m.lu().solve(&b).unwrap_or_else(|| Vector3::repeat(f64::NAN));
+        let rate = solve(Joint::Universal.relative_rate(&st.q, &st.qd));
+        let vd = Vector3::new(rate.x, rate.y, 0.0);
+        let rest = exp_accel(&v, &vd, &Vector3::zeros()) + exp_rate(&v, &vd).cross(&e) * rate.z;
+        let accel = solve(Joint::Universal.relative_accel(&st.q, &st.qd, &st.qdd) - rest);
+        let keep = if self.hold_twist { 0.0 } else { 1.0 };
+        ShapeState {
+            q: vec![v.x, v.y, tau * keep],
+            qd: vec![rate.x, rate.y, rate.z * keep],
+            qdd: vec![accel.x, accel.y, accel.z * keep],
+        }
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        self.path.acceleration_jumps(piece)
     }
 }
