@@ -12,8 +12,9 @@ mod common;
 
 use approx::assert_relative_eq;
 use catflip::engines::models::{self, ModelError};
+use catflip::engines::shape::{AsSpherical, ShapeTrajectory, TwistHeld};
 use catflip::engines::{exact, reduction, torque};
-use catflip::model::shape::{AsSpherical, ShapeState, ShapeTrajectory, TwistHeld};
+use catflip::model::shape::ShapeState;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;

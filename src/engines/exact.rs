@@ -21,6 +21,10 @@
 //! ([`crate::engines::spin`]), with the same segments, doubling and Richardson estimate (divisor
 //! 15). The twist and swing then depend on the timing too, not only on the path.
 //!
+//! The integrator steps a [`RateField`], A's angular velocity piece by piece: the two-cylinder
+//! cat on a [`Trajectory`] here, any model on a shape trajectory in
+//! [`crate::engines::models`], with the same segments, doubling and estimate.
+//!
 //! ## References
 //! - S. Blanes, F. Casas, J. Ros, *Improved high order integrators based on the Magnus
 //!   expansion*, BIT 40 (2000) 434–450;
@@ -429,8 +433,8 @@ pub(crate) fn adaptive(
     adaptive_on(&CylinderField { cat, traj: schedule }, stepper, tolerance, nodes)
 }
 
-/// [`adaptive`] on any [`RateField`]: [`flip`]'s adaptive integration, step doubling and
-/// Richardson estimate, for any model.
+/// The adaptive integration behind [`flip`] (step doubling and Richardson estimate) on any
+/// [`RateField`]: one integrator for every model.
 pub fn adaptive_on(
     field: &impl RateField,
     stepper: Stepper,

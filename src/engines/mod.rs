@@ -6,6 +6,7 @@
 //!   momentum, joint torques), written once for every model;
 //! - [`models`]: the exact engine and joint torques for any cat model (unequal halves, the
 //!   universal, no-twist or spherical joint) on that reduction;
+//! - [`shape`]: shape trajectories of any model (the library schedules among them);
 //! - [`spin`]: the reorientation and torques of a release with spin;
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
@@ -27,6 +28,7 @@ pub mod peaks;
 pub mod rapier;
 pub mod rapier_check;
 pub mod reduction;
+pub mod shape;
 pub mod spin;
 pub mod torque;
 

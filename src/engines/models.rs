@@ -11,13 +11,14 @@
 //!
 //! A trajectory must give the joint's number of coordinates ([`crate::model::Joint::dof`]): a
 //! library schedule (`q1, q2`) drives the universal and no-twist joints, and
-//! [`crate::model::shape::TwistHeld`] a spherical one with its relative twist held at zero.
+//! [`crate::engines::shape::TwistHeld`] a spherical one with its relative twist held at zero.
 
 use nalgebra::Vector3;
 
 use crate::engines::exact::{adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper};
 use crate::engines::reduction::{self, LinkTorques};
-use crate::model::shape::{ShapeState, ShapeTrajectory};
+use crate::engines::shape::ShapeTrajectory;
+use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Joint};
 

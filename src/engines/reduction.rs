@@ -6,7 +6,7 @@
 //! `ω_k = Ω + w_k` and its centre moves at `ṙ_k + Ω × r_k`, so the angular momentum about the
 //! centre of mass, in A's frame, is
 //!
-//! $$ H = I_{lock} Ω + h, \quad I_{lock} = Σ_k \big(I'_k − m_k [r_k]_×^2\big), \quad
+//! $$ H = I_{lock} Ω + h, \quad I_{lock} = Σ_k \big(I'_k − m_k \[r_k\]_×^2\big), \quad
 //!    h = Σ_k \big(I'_k w_k + m_k\, r_k × \dot r_k\big), \quad I'_k = R_k I_k R_k^\top. $$
 //!
 //! Released with total momentum `L` (world frame), `λ = Rᵀ L` in A's frame and
@@ -14,7 +14,7 @@
 //! from `λ̇ = λ × Ω`:
 //!
 //! $$ \dot Ω = I_{lock}^{-1}\big(λ × Ω − \dot I_{lock} Ω − \dot h\big), \quad
-//!    \dot I_{lock} = Σ_k \big([w_k]_× I'_k − I'_k [w_k]_× − m_k([\dot r_k]_×[r_k]_× + [r_k]_×[\dot r_k]_×)\big), $$
+//!    \dot I_{lock} = Σ_k \big(\[w_k\]_× I'_k − I'_k \[w_k\]_× − m_k(\[\dot r_k\]_×\[r_k\]_× + \[r_k\]_×\[\dot r_k\]_×)\big), $$
 //! $$ \dot h = Σ_k \big(\dot I'_k w_k + I'_k \dot w_k + m_k\, r_k × \ddot r_k\big). $$
 //!
 //! Body `k` then has the angular acceleration `α_k = Ω̇ + ẇ_k + Ω × w_k` and its centre the
@@ -126,7 +126,8 @@ pub fn joint_torques(tree: &Tree, shape: &ShapeState, lambda: &Vector3<f64>) -> 
         .map(|(b, k)| {
             let omega_k = w + k.rate;
             let alpha_k = wd + k.rate_dot + w.cross(&k.rate);
-            let a_k = k.acceleration + wd.cross(&k.position) + 2.0 * w.cross(&k.velocity) + w.cross(&w.cross(&k.position));
+            let a_k =
+                k.acceleration + wd.cross(&k.position) + 2.0 * w.cross(&k.velocity) + w.cross(&w.cross(&k.position));
             (k.inertia * alpha_k + omega_k.cross(&(k.inertia * omega_k)), k.position, a_k * b.mass)
         })
         .collect();
@@ -137,10 +138,13 @@ pub fn joint_torques(tree: &Tree, shape: &ShapeState, lambda: &Vector3<f64>) -> 
         .map(|(i, l)| {
             let inside = tree.subtree(i);
             let about = |keep: bool| -> (Vector3<f64>, Vector3<f64>) {
-                per_body.iter().zip(&inside).filter(|(_, s)| **s == keep).fold(
-                    (Vector3::zeros(), Vector3::zeros()),
-                    |(t, f), ((spin, r, ma), _)| (t + spin + (r - l.point).cross(ma), f + ma),
-                )
+                per_body
+                    .iter()
+                    .zip(&inside)
+                    .filter(|(_, s)| **s == keep)
+                    .fold((Vector3::zeros(), Vector3::zeros()), |(t, f), ((spin, r, ma), _)| {
+                        (t + spin + (r - l.point).cross(ma), f + ma)
+                    })
             };
             let (couple, force) = about(true);
             let (rest, _) = about(false);

@@ -37,9 +37,9 @@ use std::f64::consts::TAU;
 use nalgebra::UnitQuaternion;
 
 use super::Entry;
+use crate::engines::shape::AsSpherical;
 use crate::engines::{exact, models};
 use crate::model::orientation::swing_twist;
-use crate::model::shape::AsSpherical;
 use crate::model::{Cat, Joint};
 use crate::problem::manoeuvre::BendPath;
 use crate::problem::Problem;
