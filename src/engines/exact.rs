@@ -21,6 +21,10 @@
 //! ([`crate::engines::spin`]), with the same segments, doubling and Richardson estimate (divisor
 //! 15). The twist and swing then depend on the timing too, not only on the path.
 //!
+//! The integrator steps a [`RateField`], A's angular velocity piece by piece: the two-cylinder
+//! cat on a [`Trajectory`] here, any model on a shape trajectory in
+//! [`crate::engines::models`], with the same segments, doubling and estimate.
+//!
 //! ## References
 //! - S. Blanes, F. Casas, J. Ros, *Improved high order integrators based on the Magnus
 //!   expansion*, BIT 40 (2000) 434–450;
@@ -161,26 +165,71 @@ impl Stepper {
         s: f64,
         h: f64,
     ) -> UnitQuaternion<f64> {
+        self.step_on(&CylinderField { cat, traj: schedule }, piece, r, s, h)
+    }
+
+    /// [`Stepper::step`] on any [`RateField`].
+    pub fn step_on(
+        self,
+        field: &impl RateField,
+        piece: usize,
+        r: &UnitQuaternion<f64>,
+        s: f64,
+        h: f64,
+    ) -> UnitQuaternion<f64> {
         match self {
             Stepper::Magnus => {
                 let c = 15f64.sqrt() / 10.0;
-                let rate = |s: f64| {
-                    let st = schedule.piece_state(piece, s);
-                    body_rate(cat, st.q, st.qd)
-                };
+                let rate = |s: f64| field.body_rate(piece, s);
                 let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));
                 UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma)).quaternion())
             }
-            Stepper::Spinning(spin) => rk4_step(cat, schedule, piece, &spin, r, s, h),
+            Stepper::Spinning(spin) => rk4_on(field, piece, &spin, r, s, h),
         }
+    }
+}
+
+/// A's angular velocity along a trajectory, piece by piece: what the integrator steps. The
+/// two-cylinder cat on a [`Trajectory`] is one such field (the functions of this module); a
+/// general model on a shape trajectory is another ([`crate::engines::models`]).
+pub trait RateField {
+    /// Durations of the pieces, s ([`Trajectory::piece_durations`]).
+    fn piece_durations(&self) -> Vec<f64>;
+    /// Where `q̈` may jump inside a piece ([`Trajectory::acceleration_jumps`]).
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64>;
+    /// `Ω` (A's frame) at zero angular momentum, at local time `s` of `piece`.
+    fn body_rate(&self, piece: usize, s: f64) -> Vector3<f64>;
+    /// `Ω = I_lock⁻¹ (λ − h)` with the total angular momentum `λ` in A's frame.
+    fn body_rate_spinning(&self, piece: usize, s: f64, lambda: &Vector3<f64>) -> Vector3<f64>;
+}
+
+/// The two-cylinder cat on a joint trajectory: [`body_rate`] and [`body_rate_spinning`].
+struct CylinderField<'a, T: Trajectory> {
+    cat: &'a Cylinder,
+    traj: &'a T,
+}
+
+impl<T: Trajectory> RateField for CylinderField<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.traj.piece_durations()
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        self.traj.acceleration_jumps(piece)
+    }
+    fn body_rate(&self, piece: usize, s: f64) -> Vector3<f64> {
+        let st = self.traj.piece_state(piece, s);
+        body_rate(self.cat, st.q, st.qd)
+    }
+    fn body_rate_spinning(&self, piece: usize, s: f64, lambda: &Vector3<f64>) -> Vector3<f64> {
+        let st = self.traj.piece_state(piece, s);
+        body_rate_spinning(self.cat, st.q, st.qd, lambda)
     }
 }
 
 /// `ṙ = ½ r ⊗ (0, Ω)` at local time `s` of `piece`, for the (not necessarily unit) quaternion
 /// `r`, with `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r`.
 fn quaternion_rate(
-    cat: &Cylinder,
-    traj: &impl Trajectory,
+    field: &impl RateField,
     piece: usize,
     spin: &Vector3<f64>,
     r: &Quaternion<f64>,
@@ -188,8 +237,7 @@ fn quaternion_rate(
 ) -> Quaternion<f64> {
     let unit = UnitQuaternion::new_normalize(*r);
     let lambda = unit.inverse_transform_vector(spin);
-    let st = traj.piece_state(piece, s);
-    let omega = body_rate_spinning(cat, st.q, st.qd, &lambda);
+    let omega = field.body_rate_spinning(piece, s, &lambda);
     r * Quaternion::from_parts(0.0, omega) * 0.5
 }
 
@@ -204,8 +252,20 @@ pub fn rk4_step(
     s: f64,
     h: f64,
 ) -> UnitQuaternion<f64> {
+    rk4_on(&CylinderField { cat, traj }, piece, spin, r, s, h)
+}
+
+/// [`rk4_step`] on any [`RateField`].
+pub fn rk4_on(
+    field: &impl RateField,
+    piece: usize,
+    spin: &Vector3<f64>,
+    r: &UnitQuaternion<f64>,
+    s: f64,
+    h: f64,
+) -> UnitQuaternion<f64> {
     let y = *r.quaternion();
-    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(cat, traj, piece, spin, y, s);
+    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(field, piece, spin, y, s);
     let k1 = f(&y, s);
     let k2 = f(&(y + k1 * (0.5 * h)), s + 0.5 * h);
     let k3 = f(&(y + k2 * (0.5 * h)), s + 0.5 * h);
@@ -230,13 +290,23 @@ pub fn integrate_with(
     schedule: &impl Trajectory,
     stepper: Stepper,
     steps: usize,
+    observe: impl FnMut(&OrientationSample),
+) -> (UnitQuaternion<f64>, SwingTwist) {
+    integrate_on(&CylinderField { cat, traj: schedule }, stepper, steps, observe)
+}
+
+/// [`integrate_with`] on any [`RateField`].
+pub fn integrate_on(
+    field: &impl RateField,
+    stepper: Stepper,
+    steps: usize,
     mut observe: impl FnMut(&OrientationSample),
 ) -> (UnitQuaternion<f64>, SwingTwist) {
     let mut state = PieceState::start();
     observe(&OrientationSample { time: 0.0, orientation: state.r, angles: state.angles });
-    for (piece, duration) in schedule.piece_durations().into_iter().enumerate() {
+    for (piece, duration) in field.piece_durations().into_iter().enumerate() {
         let parts = [((0.0, duration), steps)];
-        state = integrate_segments(cat, schedule, stepper, piece, &parts, 1, state, &mut observe);
+        state = integrate_segments(field, stepper, piece, &parts, 1, state, &mut observe);
     }
     (state.r, state.angles)
 }
@@ -261,10 +331,8 @@ impl PieceState {
 
 /// Advances `state` across the local times `span = (a, b)` of one piece with `steps` steps;
 /// `state.time` is the piece's start and stays so.
-#[allow(clippy::too_many_arguments)]
 fn integrate_span(
-    cat: &Cylinder,
-    schedule: &impl Trajectory,
+    field: &impl RateField,
     stepper: Stepper,
     piece: usize,
     (a, b): (f64, f64),
@@ -276,7 +344,7 @@ fn integrate_span(
     let h = (b - a) / steps as f64;
     for k in 0..steps {
         let s = a + k as f64 * h;
-        state.r = stepper.step(cat, schedule, piece, &state.r, s, h);
+        state.r = stepper.step_on(field, piece, &state.r, s, h);
         state.angles = state.tracker.update(&state.r);
         observe(&OrientationSample { time: state.time + s + h, orientation: state.r, angles: state.angles });
     }
@@ -286,9 +354,9 @@ fn integrate_span(
 /// The smooth segments of a piece: the spans between its [`Trajectory::acceleration_jumps`],
 /// each with its share of [`FIRST_STEPS`] steps (at least one), so that every step lies
 /// where the integrand is smooth and the scheme's order (and the Richardson divisor) holds.
-fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f64, f64), usize)> {
+fn segments(field: &impl RateField, piece: usize, duration: f64) -> Vec<((f64, f64), usize)> {
     let mut cuts: Vec<f64> =
-        schedule.acceleration_jumps(piece).into_iter().filter(|s| *s > 0.0 && *s < duration).collect();
+        field.acceleration_jumps(piece).into_iter().filter(|s| *s > 0.0 && *s < duration).collect();
     cuts.sort_by(f64::total_cmp);
     cuts.dedup();
     let bounds: Vec<f64> = std::iter::once(0.0).chain(cuts).chain(std::iter::once(duration)).collect();
@@ -301,10 +369,8 @@ fn segments(schedule: &impl Trajectory, piece: usize, duration: f64) -> Vec<((f6
 /// Advances `state` across one piece, segment by segment (`(span, steps)`, spans covering the
 /// piece from 0), with `multiple` times each segment's step count, calling `observe` after every
 /// step.
-#[allow(clippy::too_many_arguments)]
 fn integrate_segments(
-    cat: &Cylinder,
-    schedule: &impl Trajectory,
+    field: &impl RateField,
     stepper: Stepper,
     piece: usize,
     segments: &[((f64, f64), usize)],
@@ -314,7 +380,7 @@ fn integrate_segments(
 ) -> PieceState {
     let t0 = state.time;
     for &(span, steps) in segments {
-        state = integrate_span(cat, schedule, stepper, piece, span, steps * multiple, state, observe);
+        state = integrate_span(field, stepper, piece, span, steps * multiple, state, observe);
     }
     state.time = t0 + segments.last().map_or(0.0, |s| s.0 .1);
     state
@@ -362,17 +428,28 @@ pub(crate) fn adaptive(
     schedule: &impl Trajectory,
     stepper: Stepper,
     tolerance: f64,
+    nodes: Option<&mut Vec<PieceNodes>>,
+) -> Flip {
+    adaptive_on(&CylinderField { cat, traj: schedule }, stepper, tolerance, nodes)
+}
+
+/// The adaptive integration behind [`flip`] (step doubling and Richardson estimate) on any
+/// [`RateField`]: one integrator for every model.
+pub fn adaptive_on(
+    field: &impl RateField,
+    stepper: Stepper,
+    tolerance: f64,
     mut nodes: Option<&mut Vec<PieceNodes>>,
 ) -> Flip {
-    let durations = schedule.piece_durations();
+    let durations = field.piece_durations();
     let share = tolerance / durations.len().max(1) as f64;
     let mut state = PieceState::start();
     let (mut error_estimate, mut steps_used, mut converged) = (0.0, 0, true);
     for (piece, duration) in durations.into_iter().enumerate() {
-        let parts = segments(schedule, piece, duration);
+        let parts = segments(field, piece, duration);
         let first: usize = parts.iter().map(|p| p.1).sum();
         let mut multiple = 1;
-        let mut coarse = integrate_segments(cat, schedule, stepper, piece, &parts, multiple, state, &mut |_| {});
+        let mut coarse = integrate_segments(field, stepper, piece, &parts, multiple, state, &mut |_| {});
         loop {
             let mut kept = Vec::new();
             let t0 = state.time;
@@ -381,7 +458,7 @@ pub(crate) fn adaptive(
                     kept.push((o.time - t0, o.orientation));
                 }
             };
-            let fine = integrate_segments(cat, schedule, stepper, piece, &parts, 2 * multiple, state, &mut keep);
+            let fine = integrate_segments(field, stepper, piece, &parts, 2 * multiple, state, &mut keep);
             let err = (coarse.r.inverse() * fine.r).angle() / stepper.richardson();
             multiple *= 2;
             let steps = first * multiple;

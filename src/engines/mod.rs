@@ -2,6 +2,11 @@
 //!
 //! - [`exact`]: the momentum-map engine (zero angular momentum, joint path integrated by a
 //!   sixth-order Magnus method) — the ground truth;
+//! - [`reduction`]: the zero-momentum reduction of a tree of rigid bodies (locked inertia, shape
+//!   momentum, joint torques), written once for every model;
+//! - [`models`]: the exact engine and joint torques for any cat model (unequal halves, the
+//!   universal, no-twist or spherical joint) on that reduction;
+//! - [`shape`]: shape trajectories of any model (the library schedules among them);
 //! - [`spin`]: the reorientation and torques of a release with spin;
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
@@ -17,10 +22,13 @@ pub mod calibrate;
 pub mod circulation;
 pub mod evaluate;
 pub mod exact;
+pub mod models;
 pub mod motors;
 pub mod peaks;
 pub mod rapier;
 pub mod rapier_check;
+pub mod reduction;
+pub mod shape;
 pub mod spin;
 pub mod torque;
 

@@ -19,7 +19,7 @@ use crate::schedule::{paper_c, paper_circulation, Phase, Schedule};
 const TWIST_SAMPLES: usize = 4001;
 
 impl Entry {
-    fn new(key: &'static str, section: &'static str, unit: &'static str, quantity: &str) -> Entry {
+    pub(super) fn new(key: &'static str, section: &'static str, unit: &'static str, quantity: &str) -> Entry {
         Entry {
             key,
             section,
@@ -45,9 +45,15 @@ impl Entry {
         self
     }
 
-    fn values(mut self, literal: Option<f64>, corrected: Option<f64>) -> Entry {
+    pub(super) fn values(mut self, literal: Option<f64>, corrected: Option<f64>) -> Entry {
         self.literal = literal.filter(|x| x.is_finite());
         self.corrected = corrected.filter(|x| x.is_finite());
+        self
+    }
+
+    /// The exact engine's value, computed with the entry (the model question's turns).
+    pub(super) fn with_exact(mut self, exact: Option<f64>) -> Entry {
+        self.exact = exact.filter(|x| x.is_finite());
         self
     }
 
@@ -56,7 +62,7 @@ impl Entry {
         self
     }
 
-    fn why(mut self, text: String) -> Entry {
+    pub(super) fn why(mut self, text: String) -> Entry {
         self.explanation = text;
         self.literal_reproduces_published = match (self.published, self.literal) {
             (Some(p), Some(l)) => Some(reproduces(p, self.published_decimals, l)),
@@ -166,6 +172,7 @@ pub(super) fn build(p: &Problem, worked: bool) -> Vec<Entry> {
     let mut v = inertia(&c);
     v.extend(stability(&c));
     v.extend(c_forms(&c));
+    v.extend(super::models::entries(p));
     v.extend(rates(&c));
     v.extend(torques(&c));
     v.extend(one_turn(&c));

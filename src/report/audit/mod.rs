@@ -14,7 +14,9 @@
 //! - `corrected`: the right value: solid-cylinder inertia `m(3r² + l²)/12`, `C` in the code's form
 //!   `C = 1 − I_z'z' sin(θ/2)/I_yy` ([`crate::schedule::paper_c`]), the twist phase
 //!   `T2 = phases[1] · t_fall`, amplitude-corrected torque bounds.
-//! - `exact`: left `None` here; the exact engine fills it with [`Audit::set_exact`].
+//! - `exact`: left `None` here and filled by the exact engine with [`Audit::set_exact`], except
+//!   for the model question ([`models`]: `turn_no_twist`, `turn_universal`), whose entries are the
+//!   exact engine's turns and carry them from the start.
 //!
 //! A literal value *reproduces* a published one when, rounded or truncated to the printed number
 //! of decimals, it equals the printed number (the paper truncates `Δt = 1.42857…` to 1.428 and
@@ -36,6 +38,10 @@
 //! (the paper's equation has `k = 2(α + 1)`), solved both in closed form and by a bracketing
 //! root find ([`crate::numeric::roots::first_root`]).
 //!
+//! The model question ([`models`]): the paper's `π/C` turns the cat by exactly π through Kane
+//! and Scher's no-twist joint, and falls short through the universal joint, whose relative twist
+//! (and, on the joint circle, wandering bend) §5's momentum balance does not count.
+//!
 //! ## JSON
 //! [`Audit`] serialises to one object; `entries` is a **map keyed by the stable snake_case key**,
 //! in the order of the report, each value an [`Entry`] with `published`, `literal`, `corrected`,
@@ -53,6 +59,7 @@
 mod entries;
 pub mod formulas;
 mod markdown;
+pub mod models;
 mod notes;
 pub mod readings;
 

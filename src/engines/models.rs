@@ -1,0 +1,134 @@
+//! The exact engine and the joint torques for any cat model (DESIGN.md §10): unequal halves, the
+//! universal, no-twist or spherical joint.
+//!
+//! The model's two-body [`Tree`] ([`Cat::tree`]) is reduced by [`crate::engines::reduction`]
+//! (`Ω = I_lock⁻¹(λ − h)`, its rate, and Newton–Euler for the joint's couple), and A's orientation
+//! is integrated by the exact engine's own adaptive sixth-order Magnus (or, with spin,
+//! fourth-order Runge–Kutta) integration ([`crate::engines::exact::adaptive_on`]) on the
+//! model's [`RateField`]: one integrator for every model. On the paper's cat (equal halves,
+//! universal joint) this reproduces [`crate::engines::exact::flip`] and
+//! [`crate::engines::torque::joint_torques`] to round-off (tests/models.rs).
+//!
+//! A trajectory must give the joint's number of coordinates ([`crate::model::Joint::dof`]): a
+//! library schedule (`q1, q2`) drives the universal and no-twist joints, and
+//! [`crate::engines::shape::TwistHeld`] a spherical one with its relative twist held at zero.
+
+use nalgebra::Vector3;
+
+use crate::engines::exact::{adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper};
+use crate::engines::reduction::{self, LinkTorques};
+use crate::engines::shape::ShapeTrajectory;
+use crate::model::shape::ShapeState;
+use crate::model::tree::Tree;
+use crate::model::{Cat, Joint};
+
+/// Why a model cannot run a trajectory.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum ModelError {
+    /// The trajectory gives another number of shape coordinates than the joint has.
+    #[error("cat.joint = \"{joint}\" has {expected} joint coordinates, but the trajectory gives {got}")]
+    ShapeMismatch {
+        /// The joint.
+        joint: Joint,
+        /// Its number of coordinates.
+        expected: usize,
+        /// The trajectory's.
+        got: usize,
+    },
+}
+
+/// Whether `shape` has the cat's number of coordinates.
+fn check(cat: &Cat, shape: &ShapeState) -> Result<(), ModelError> {
+    let expected = cat.dof();
+    if shape.len() == expected && shape.qd.len() == expected && shape.qdd.len() == expected {
+        Ok(())
+    } else {
+        Err(ModelError::ShapeMismatch { joint: cat.joint, expected, got: shape.len() })
+    }
+}
+
+/// Whether every piece of `traj` starts with the cat's number of coordinates.
+fn check_trajectory(cat: &Cat, traj: &impl ShapeTrajectory) -> Result<(), ModelError> {
+    (0..traj.piece_durations().len()).try_for_each(|piece| check(cat, &traj.piece_shape(piece, 0.0)))
+}
+
+/// A model on a shape trajectory, as the integrator sees it.
+struct ModelField<'a, T: ShapeTrajectory> {
+    tree: Tree,
+    traj: &'a T,
+}
+
+impl<T: ShapeTrajectory> RateField for ModelField<'_, T> {
+    fn piece_durations(&self) -> Vec<f64> {
+        self.traj.piece_durations()
+    }
+    fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
+        self.traj.acceleration_jumps(piece)
+    }
+    fn body_rate(&self, piece: usize, s: f64) -> Vector3<f64> {
+        reduction::body_rate(&self.tree, &self.traj.piece_shape(piece, s), &Vector3::zeros())
+    }
+    fn body_rate_spinning(&self, piece: usize, s: f64, lambda: &Vector3<f64>) -> Vector3<f64> {
+        reduction::body_rate(&self.tree, &self.traj.piece_shape(piece, s), lambda)
+    }
+}
+
+fn field<'a, T: ShapeTrajectory>(cat: &Cat, traj: &'a T) -> Result<ModelField<'a, T>, ModelError> {
+    check_trajectory(cat, traj)?;
+    Ok(ModelField { tree: cat.tree(), traj })
+}
+
+/// A's angular velocity (A's frame) at zero angular momentum.
+pub fn body_rate(cat: &Cat, shape: &ShapeState) -> Result<Vector3<f64>, ModelError> {
+    check(cat, shape)?;
+    Ok(reduction::body_rate(&cat.tree(), shape, &Vector3::zeros()))
+}
+
+/// The total angular momentum about the centre of mass (A's frame) of the motion at `shape` with
+/// A turning at `omega` ([`reduction::momentum`]).
+pub fn momentum(cat: &Cat, shape: &ShapeState, omega: &Vector3<f64>) -> Result<Vector3<f64>, ModelError> {
+    check(cat, shape)?;
+    Ok(reduction::momentum(&cat.tree(), shape, omega))
+}
+
+/// What the joint transmits to the rear half at zero angular momentum.
+pub fn joint_torques(cat: &Cat, shape: &ShapeState) -> Result<LinkTorques, ModelError> {
+    joint_torques_spinning(cat, shape, &Vector3::zeros())
+}
+
+/// [`joint_torques`] with the total angular momentum `λ = Rᵀ L` in A's frame.
+pub fn joint_torques_spinning(cat: &Cat, shape: &ShapeState, lambda: &Vector3<f64>) -> Result<LinkTorques, ModelError> {
+    check(cat, shape)?;
+    let mut all = reduction::joint_torques(&cat.tree(), shape, lambda);
+    // A cat's tree has exactly one link.
+    Ok(all.swap_remove(0))
+}
+
+/// The final twist and swing of a trajectory at zero angular momentum, to `tolerance` rad
+/// ([`crate::engines::exact::flip`]'s adaptive integration).
+pub fn flip(cat: &Cat, traj: &impl ShapeTrajectory, tolerance: f64) -> Result<Flip, ModelError> {
+    Ok(adaptive_on(&field(cat, traj)?, Stepper::Magnus, tolerance, None))
+}
+
+/// [`flip`] for a release with total angular momentum `spin` (N·m·s, world frame).
+pub fn flip_spinning(
+    cat: &Cat,
+    traj: &impl ShapeTrajectory,
+    spin: &Vector3<f64>,
+    tolerance: f64,
+) -> Result<Flip, ModelError> {
+    Ok(adaptive_on(&field(cat, traj)?, Stepper::for_spin(spin), tolerance, None))
+}
+
+/// The orientation history with `steps` steps per piece ([`crate::engines::exact::history`]).
+pub fn history(
+    cat: &Cat,
+    traj: &impl ShapeTrajectory,
+    stepper: Stepper,
+    steps: usize,
+) -> Result<Vec<OrientationSample>, ModelError> {
+    let f = field(cat, traj)?;
+    let mut out = Vec::with_capacity(3 * steps + 1);
+    integrate_on(&f, stepper, steps, |s| out.push(*s));
+    Ok(out)
+}

@@ -1,0 +1,64 @@
+//! The cat as a model: a front half A and a rear half B, each a solid cylinder of its own mass,
+//! length and radius, and the joint between them (DESIGN.md §10).
+//!
+//! Each half's frame sits at its centre with `z` along its spine, towards the head. The joint
+//! sits on the axes at A's rear end `(0, 0, −l_A/2)` and B's front end `(0, 0, +l_B/2)`, and
+//! turns B relative to A by the [`Joint`]'s `R_AB(q)`. [`Cat::tree`] is the two-body
+//! [`Tree`] the engines reduce; the paper's cat, two equal halves on the universal joint, is
+//! [`Cat::from`] a [`Cylinder`]. SI units.
+//!
+//! ## References
+//! - T. R. Kane and M. P. Scher (1969), for the two-body model and the no-twist joint;
+//! - the paper, §2 (the spherical joint) and §7 (the worked example's halves).
+
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use crate::model::tree::{Body, Link, Tree};
+use crate::model::{Cylinder, Joint};
+
+/// Two halves and a joint.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Cat {
+    /// The front half A (the base).
+    pub front: Cylinder,
+    /// The rear half B.
+    pub rear: Cylinder,
+    /// How B is joined to A.
+    pub joint: Joint,
+}
+
+impl From<Cylinder> for Cat {
+    /// The paper's cat: two equal halves on the universal joint.
+    fn from(half: Cylinder) -> Cat {
+        Cat::equal(half, Joint::Universal)
+    }
+}
+
+impl Cat {
+    /// Two equal halves on `joint`.
+    pub fn equal(half: Cylinder, joint: Joint) -> Cat {
+        Cat { front: half, rear: half, joint }
+    }
+
+    /// Whether the halves are equal (the paper's `C` is defined only then).
+    pub fn has_equal_halves(&self) -> bool {
+        self.front == self.rear
+    }
+
+    /// Number of shape coordinates (the joint's).
+    pub fn dof(&self) -> usize {
+        self.joint.dof()
+    }
+
+    /// The two-body tree: A the base, B hung from A's rear end by the joint at B's front end.
+    pub fn tree(&self) -> Tree {
+        let link = Link {
+            parent: 0,
+            joint: self.joint,
+            at_parent: Vector3::new(0.0, 0.0, -0.5 * self.front.length),
+            at_child: Vector3::new(0.0, 0.0, 0.5 * self.rear.length),
+        };
+        Tree::two(Body::from(&self.front), link, Body::from(&self.rear))
+    }
+}
