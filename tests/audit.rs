@@ -38,7 +38,7 @@ fn some(x: Option<f64>, what: &str) -> f64 {
 }
 
 /// Every key the JSON promises, in report order.
-const KEYS: [&str; 29] = [
+const KEYS: [&str; 31] = [
     "fall_time",
     "twist_duration",
     "i_transverse",
@@ -68,6 +68,8 @@ const KEYS: [&str; 29] = [
     "omega_c_ratio",
     "one_turn_theta",
     "one_turn_theta_paper_equation",
+    "turn_no_twist",
+    "turn_universal",
 ];
 
 #[test]
