@@ -40,6 +40,30 @@ impl RobustEngine {
     }
 }
 
+/// Which controllers drive rapier's tracked trials.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RobustController {
+    /// Feed-forward of the plan plus joint PD: the attitude ignored.
+    OpenLoop,
+    /// Attitude feedback: time-varying LQR with a Kalman filter
+    /// ([`crate::engines::rapier::feedback`]).
+    Feedback,
+    /// Both, on the same trials (same draws, same sensor noise).
+    Both,
+}
+
+impl RobustController {
+    /// Whether the open-loop trials run.
+    pub fn open_loop(self) -> bool {
+        matches!(self, RobustController::OpenLoop | RobustController::Both)
+    }
+    /// Whether the feedback trials run.
+    pub fn feedback(self) -> bool {
+        matches!(self, RobustController::Feedback | RobustController::Both)
+    }
+}
+
 /// Settings of the robustness check: each trial draws a cat around the problem's (each size
 /// scaled by a factor uniform in `[1 − p/100, 1 + p/100]`, both halves alike), a release spin
 /// (each world component normal with standard deviation `spin_sigma_nms`) and, for rapier, each
@@ -92,6 +116,25 @@ pub struct RobustSettings {
     /// down at touch-down, degrees.
     #[serde(skip_serializing_if = "default::feet_down_deg")]
     pub feet_down_deg: f64,
+    /// The controllers of rapier's tracked trials.
+    #[serde(skip_serializing_if = "default::controller")]
+    pub controller: RobustController,
+    /// Rate of the feedback's regulator, Hz.
+    #[serde(skip_serializing_if = "default::feedback_hz")]
+    pub feedback_hz: f64,
+    /// The feedback's attitude error scale (its LQR weight `1/θ²`), degrees.
+    #[serde(skip_serializing_if = "default::feedback_attitude_deg")]
+    pub feedback_attitude_deg: f64,
+    /// The feedback's joint correction scale (its LQR weight; the correction is kept within
+    /// three times it), degrees.
+    #[serde(skip_serializing_if = "default::feedback_joint_deg")]
+    pub feedback_joint_deg: f64,
+    /// The feedback's joint acceleration scale and bound, rad/s².
+    #[serde(skip_serializing_if = "default::feedback_accel")]
+    pub feedback_accel: f64,
+    /// The feedback filter's prior on the unknown release spin, N·m·s per axis.
+    #[serde(skip_serializing_if = "default::feedback_spin_prior_nms")]
+    pub feedback_spin_prior_nms: f64,
 }
 
 impl Default for RobustSettings {
@@ -118,16 +161,25 @@ const DEFAULT: RobustSettings = RobustSettings {
     attitude_noise_deg: 0.5,
     landing: false,
     feet_down_deg: 20.0,
+    controller: RobustController::OpenLoop,
+    feedback_hz: 1000.0,
+    feedback_attitude_deg: 1.0,
+    feedback_joint_deg: 10.0,
+    feedback_accel: 20.0,
+    feedback_spin_prior_nms: 0.01,
 };
 
 /// Whether a tracked-check setting is at its default, and so left out of a problem's echo
 /// (problem files and results written before the tracked check stay as they were, as
 /// `drop.angular_momentum` is left out at zero).
 mod default {
-    use super::{RobustEngine, DEFAULT};
+    use super::{RobustController, RobustEngine, DEFAULT};
 
     pub fn engine(v: &RobustEngine) -> bool {
         *v == DEFAULT.engine
+    }
+    pub fn controller(v: &RobustController) -> bool {
+        *v == DEFAULT.controller
     }
     pub fn landing(v: &bool) -> bool {
         *v == DEFAULT.landing
@@ -139,7 +191,20 @@ mod default {
             }
         )*};
     }
-    same_number!(dt_s, servo_hz, servo_damping, gain_pct, attitude_latency_s, attitude_noise_deg, feet_down_deg);
+    same_number!(
+        dt_s,
+        servo_hz,
+        servo_damping,
+        gain_pct,
+        attitude_latency_s,
+        attitude_noise_deg,
+        feet_down_deg,
+        feedback_hz,
+        feedback_attitude_deg,
+        feedback_joint_deg,
+        feedback_accel,
+        feedback_spin_prior_nms
+    );
 }
 
 impl RobustSettings {
@@ -196,6 +261,45 @@ impl RobustSettings {
         }
         if !(self.feet_down_deg > 0.0 && self.feet_down_deg <= 180.0) {
             return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));
+        }
+        if !(self.feedback_hz.is_finite() && self.feedback_hz > 0.0) {
+            return Err(bad("robust.feedback_hz", echo(self.feedback_hz), "must be a finite number > 0 (Hz)"));
+        }
+        if self.feedback_hz * self.dt_s > 1.0 {
+            return Err(bad(
+                "robust.feedback_hz",
+                echo(self.feedback_hz),
+                &format!("must not exceed the rapier step's rate 1/robust.dt_s = {} Hz", echo(1.0 / self.dt_s)),
+            ));
+        }
+        for (field, v) in [
+            ("robust.feedback_attitude_deg", self.feedback_attitude_deg),
+            ("robust.feedback_joint_deg", self.feedback_joint_deg),
+        ] {
+            if !(v > 0.0 && v <= 90.0) {
+                return Err(bad(field, echo(v), "must lie in (0, 90] degrees"));
+            }
+        }
+        if !(self.feedback_accel.is_finite() && self.feedback_accel > 0.0) {
+            return Err(bad(
+                "robust.feedback_accel",
+                echo(self.feedback_accel),
+                "must be a finite number > 0 (rad/s²)",
+            ));
+        }
+        if !(self.feedback_spin_prior_nms.is_finite() && self.feedback_spin_prior_nms > 0.0) {
+            return Err(bad(
+                "robust.feedback_spin_prior_nms",
+                echo(self.feedback_spin_prior_nms),
+                "must be a finite number > 0 (N·m·s)",
+            ));
+        }
+        if self.controller.feedback() && !self.engine.rapier() {
+            return Err(bad(
+                "robust.controller",
+                "\"feedback\"",
+                "needs rapier's tracked trials: set robust.engine = \"rapier\" or \"both\"",
+            ));
         }
         Ok(())
     }
