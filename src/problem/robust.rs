@@ -13,6 +13,8 @@ pub const MAX_SPREAD_PCT: f64 = 90.0;
 /// Coarsest rapier step of the tracked trials, s: the servo and the schedule's time scales
 /// (tenths of a second) need many steps.
 pub const MAX_DT_S: f64 = 0.01;
+/// Longest rapier step at which the feedback has been measured to land every trial, s.
+pub const FEEDBACK_DT_S: f64 = 3e-4;
 /// Largest `ω_n h` (rad per step) of the tracked trials' servo without a warning.
 pub const WARN_SERVO_PER_STEP: f64 = 0.2;
 
@@ -317,6 +319,12 @@ impl RobustSettings {
             out.push(format!(
                 "robust.servo_hz = {} at robust.dt_s = {} turns the servo by {per_step:.2} rad per step: the explicit PD needs ω_n·dt well below 1 (it is unstable near 2); shorten robust.dt_s",
                 echo(self.servo_hz),
+                echo(self.dt_s)
+            ));
+        }
+        if self.controller.feedback() && self.dt_s > FEEDBACK_DT_S {
+            out.push(format!(
+                "robust.dt_s = {} with robust.controller = feedback: the feedback was measured at steps up to {FEEDBACK_DT_S} s; at 4e-4 s one trial in six of the calibrated cycloidal schedule was lost (112° off); shorten robust.dt_s",
                 echo(self.dt_s)
             ));
         }

@@ -52,8 +52,9 @@
 //!
 //! `u` moves a reference `(δq_r, δq̇_r)` (the double integrator the LQR assumes), which the
 //! joint servo of [`super::FeedForwardPd`] tracks: `τ = τ^{ff} + J u + k_p (q* + δq_r − q) +
-//! k_d (q̇* + δq̇_r − q̇)` with `J = I*/2`. `|u| ≤ a`; the reference keeps `|δq_r| ≤ 3 θ_q` and
-//! `|q* + δq_r| ≤` [`JOINT_LIMIT`] (its rate zeroed at a bound); and it runs at most [`MAX_LAG`]
+//! k_d (q̇* + δq̇_r − q̇)` with `J = I*/2`. `|u| ≤ a`; the reference keeps `|δq_r| ≤ 3 θ_q`, the
+//! joint limit of the correction (the model's joints have none of their own; its rate is zeroed
+//! at the bound), so the corrected motion stays near the plan the linearisation is of; and it runs at most [`MAX_LAG`]
 //! ahead of the joint it drives (anti-windup when the actuators saturate and the joint cannot
 //! follow: the run clamps the torque, the filter sees the joint where it really is).
 //!
@@ -74,9 +75,6 @@ use crate::engines::spin::SpinHistory;
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
-/// Largest joint angle the reference may ask for, rad (80°: well short of the universal joint's
-/// gimbal lock at 90°).
-pub const JOINT_LIMIT: f64 = 80.0 * std::f64::consts::PI / 180.0;
 /// Largest lead of the reference over the joint it drives, rad (anti-windup; 2°).
 pub const MAX_LAG: f64 = 2.0 * std::f64::consts::PI / 180.0;
 /// The time scale that weighs the joint rate against the joint angle, s.
@@ -407,21 +405,18 @@ impl<'a> Feedback<'a> {
     }
 
     /// Advances the reference over one step with `u`, within the bounds (module docs).
-    fn advance_reference(&mut self, k: usize, measured: [f64; 4]) {
+    fn advance_reference(&mut self, measured: [f64; 4]) {
         let h = self.plan.dt;
-        let planned = self.plan.state(k + 1).q;
         let bound = 3.0 * self.fb.settings.joint;
-        for j in 0..2 {
+        for (j, joint) in measured.iter().take(2).enumerate() {
             let (mut q, mut qd) = (self.reference[j], self.reference[2 + j]);
             q += h * qd + 0.5 * h * h * self.u[j];
             qd += h * self.u[j];
-            let lo = (-bound).max(-JOINT_LIMIT - planned[j]);
-            let hi = bound.min(JOINT_LIMIT - planned[j]);
-            let lead = q - measured[j];
-            let lagged = if lead.abs() > MAX_LAG { measured[j] + MAX_LAG.copysign(lead) } else { q };
-            let held = lagged.clamp(lo.min(hi), hi.max(lo));
+            let lead = q - joint;
+            let bounded = lead.abs() > MAX_LAG || q.abs() > bound;
+            let held = if lead.abs() > MAX_LAG { joint + MAX_LAG.copysign(lead) } else { q }.clamp(-bound, bound);
             // At a bound the reference stops there (its rate towards it zeroed).
-            if held != q && (held - q) * qd <= 0.0 {
+            if bounded && (held - q) * qd <= 0.0 {
                 qd = 0.0;
             }
             self.reference[j] = held;
@@ -461,7 +456,7 @@ impl Controller for Feedback<'_> {
                 + self.servo.kd[j] * (target.qd[j] + r[2 + j] - joints.qd[j])
         });
         if k < self.plan.steps() {
-            self.advance_reference(k, measured);
+            self.advance_reference(measured);
         }
         tau
     }
