@@ -13,6 +13,8 @@ pub const MAX_SPREAD_PCT: f64 = 90.0;
 /// Coarsest rapier step of the tracked trials, s: the servo and the schedule's time scales
 /// (tenths of a second) need many steps.
 pub const MAX_DT_S: f64 = 0.01;
+/// Longest rapier step at which the feedback has been measured to land every trial, s.
+pub const FEEDBACK_DT_S: f64 = 3e-4;
 /// Largest `ω_n h` (rad per step) of the tracked trials' servo without a warning.
 pub const WARN_SERVO_PER_STEP: f64 = 0.2;
 
@@ -37,6 +39,30 @@ impl RobustEngine {
     /// Whether rapier's tracked check runs.
     pub fn rapier(self) -> bool {
         matches!(self, RobustEngine::Rapier | RobustEngine::Both)
+    }
+}
+
+/// Which controllers drive rapier's tracked trials.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RobustController {
+    /// Feed-forward of the plan plus joint PD: the attitude ignored.
+    OpenLoop,
+    /// Attitude feedback: time-varying LQR with a Kalman filter
+    /// ([`crate::engines::rapier::feedback`]).
+    Feedback,
+    /// Both, on the same trials (same draws, same sensor noise).
+    Both,
+}
+
+impl RobustController {
+    /// Whether the open-loop trials run.
+    pub fn open_loop(self) -> bool {
+        matches!(self, RobustController::OpenLoop | RobustController::Both)
+    }
+    /// Whether the feedback trials run.
+    pub fn feedback(self) -> bool {
+        matches!(self, RobustController::Feedback | RobustController::Both)
     }
 }
 
@@ -92,6 +118,25 @@ pub struct RobustSettings {
     /// down at touch-down, degrees.
     #[serde(skip_serializing_if = "default::feet_down_deg")]
     pub feet_down_deg: f64,
+    /// The controllers of rapier's tracked trials.
+    #[serde(skip_serializing_if = "default::controller")]
+    pub controller: RobustController,
+    /// Rate of the feedback's regulator, Hz.
+    #[serde(skip_serializing_if = "default::feedback_hz")]
+    pub feedback_hz: f64,
+    /// The feedback's attitude error scale (its LQR weight `1/θ²`), degrees.
+    #[serde(skip_serializing_if = "default::feedback_attitude_deg")]
+    pub feedback_attitude_deg: f64,
+    /// The feedback's joint correction scale (its LQR weight; the correction is kept within
+    /// three times it), degrees.
+    #[serde(skip_serializing_if = "default::feedback_joint_deg")]
+    pub feedback_joint_deg: f64,
+    /// The feedback's joint acceleration scale and bound, rad/s².
+    #[serde(skip_serializing_if = "default::feedback_accel")]
+    pub feedback_accel: f64,
+    /// The feedback filter's prior on the unknown release spin, N·m·s per axis.
+    #[serde(skip_serializing_if = "default::feedback_spin_prior_nms")]
+    pub feedback_spin_prior_nms: f64,
 }
 
 impl Default for RobustSettings {
@@ -118,16 +163,25 @@ const DEFAULT: RobustSettings = RobustSettings {
     attitude_noise_deg: 0.5,
     landing: false,
     feet_down_deg: 20.0,
+    controller: RobustController::OpenLoop,
+    feedback_hz: 1000.0,
+    feedback_attitude_deg: 1.0,
+    feedback_joint_deg: 10.0,
+    feedback_accel: 20.0,
+    feedback_spin_prior_nms: 0.01,
 };
 
 /// Whether a tracked-check setting is at its default, and so left out of a problem's echo
 /// (problem files and results written before the tracked check stay as they were, as
 /// `drop.angular_momentum` is left out at zero).
 mod default {
-    use super::{RobustEngine, DEFAULT};
+    use super::{RobustController, RobustEngine, DEFAULT};
 
     pub fn engine(v: &RobustEngine) -> bool {
         *v == DEFAULT.engine
+    }
+    pub fn controller(v: &RobustController) -> bool {
+        *v == DEFAULT.controller
     }
     pub fn landing(v: &bool) -> bool {
         *v == DEFAULT.landing
@@ -139,7 +193,20 @@ mod default {
             }
         )*};
     }
-    same_number!(dt_s, servo_hz, servo_damping, gain_pct, attitude_latency_s, attitude_noise_deg, feet_down_deg);
+    same_number!(
+        dt_s,
+        servo_hz,
+        servo_damping,
+        gain_pct,
+        attitude_latency_s,
+        attitude_noise_deg,
+        feet_down_deg,
+        feedback_hz,
+        feedback_attitude_deg,
+        feedback_joint_deg,
+        feedback_accel,
+        feedback_spin_prior_nms
+    );
 }
 
 impl RobustSettings {
@@ -197,6 +264,45 @@ impl RobustSettings {
         if !(self.feet_down_deg > 0.0 && self.feet_down_deg <= 180.0) {
             return Err(bad("robust.feet_down_deg", echo(self.feet_down_deg), "must lie in (0, 180] degrees"));
         }
+        if !(self.feedback_hz.is_finite() && self.feedback_hz > 0.0) {
+            return Err(bad("robust.feedback_hz", echo(self.feedback_hz), "must be a finite number > 0 (Hz)"));
+        }
+        if self.feedback_hz * self.dt_s > 1.0 {
+            return Err(bad(
+                "robust.feedback_hz",
+                echo(self.feedback_hz),
+                &format!("must not exceed the rapier step's rate 1/robust.dt_s = {} Hz", echo(1.0 / self.dt_s)),
+            ));
+        }
+        for (field, v) in [
+            ("robust.feedback_attitude_deg", self.feedback_attitude_deg),
+            ("robust.feedback_joint_deg", self.feedback_joint_deg),
+        ] {
+            if !(v > 0.0 && v <= 90.0) {
+                return Err(bad(field, echo(v), "must lie in (0, 90] degrees"));
+            }
+        }
+        if !(self.feedback_accel.is_finite() && self.feedback_accel > 0.0) {
+            return Err(bad(
+                "robust.feedback_accel",
+                echo(self.feedback_accel),
+                "must be a finite number > 0 (rad/s²)",
+            ));
+        }
+        if !(self.feedback_spin_prior_nms.is_finite() && self.feedback_spin_prior_nms > 0.0) {
+            return Err(bad(
+                "robust.feedback_spin_prior_nms",
+                echo(self.feedback_spin_prior_nms),
+                "must be a finite number > 0 (N·m·s)",
+            ));
+        }
+        if self.controller.feedback() && !self.engine.rapier() {
+            return Err(bad(
+                "robust.controller",
+                "\"feedback\"",
+                "needs rapier's tracked trials: set robust.engine = \"rapier\" or \"both\"",
+            ));
+        }
         Ok(())
     }
 
@@ -213,6 +319,12 @@ impl RobustSettings {
             out.push(format!(
                 "robust.servo_hz = {} at robust.dt_s = {} turns the servo by {per_step:.2} rad per step: the explicit PD needs ω_n·dt well below 1 (it is unstable near 2); shorten robust.dt_s",
                 echo(self.servo_hz),
+                echo(self.dt_s)
+            ));
+        }
+        if self.controller.feedback() && self.dt_s > FEEDBACK_DT_S {
+            out.push(format!(
+                "robust.dt_s = {} with robust.controller = feedback: the feedback was measured at steps up to {FEEDBACK_DT_S} s; at 4e-4 s one trial in six of the calibrated cycloidal schedule was lost (112° off); shorten robust.dt_s",
                 echo(self.dt_s)
             ));
         }

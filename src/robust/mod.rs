@@ -18,8 +18,10 @@
 //! the exact check), the same landing error.
 //!
 //! The trials run in parallel; every number depends on the seed only, not on the thread count.
-//! What is not in it (yet): feedback on the attitude (the [`crate::engines::rapier::Controller`]
-//! seam takes one) and unequal halves.
+//! With `robust.controller = "feedback"` (or `"both"`) the tracked trials are run (again, on
+//! the same draws and sensor noise) with feedback on the attitude
+//! ([`crate::engines::rapier::feedback`]: time-varying LQR with a Kalman filter), reported as
+//! its own engine beside the open loop. What is not in it (yet): unequal halves.
 
 pub mod report;
 pub mod tracked;
@@ -134,6 +136,9 @@ pub enum Engine {
     Exact,
     /// Rapier, tracked by the controller through the actuators ([`tracked`]).
     Rapier,
+    /// Rapier, the plan corrected by feedback on the attitude
+    /// ([`crate::engines::rapier::feedback`]).
+    RapierFeedback,
 }
 
 impl Engine {
@@ -142,6 +147,16 @@ impl Engine {
         match self {
             Engine::Exact => "exact engine, ideal tracking",
             Engine::Rapier => "rapier, tracked with motors",
+            Engine::RapierFeedback => "rapier, attitude feedback",
+        }
+    }
+
+    /// Its name in the CSV.
+    pub fn key(self) -> &'static str {
+        match self {
+            Engine::Exact => "exact",
+            Engine::Rapier => "rapier",
+            Engine::RapierFeedback => "rapier-feedback",
         }
     }
 }
@@ -284,7 +299,7 @@ pub fn check(
         checks.push(robustness(problem, traj, schedule));
     }
     if engine.rapier() {
-        checks.push(tracked::tracked_robustness(problem, traj, schedule)?);
+        checks.extend(tracked::tracked_robustness(problem, traj, schedule)?);
     }
     Ok(RobustReport { checks, command: String::new() })
 }

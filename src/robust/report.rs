@@ -88,6 +88,18 @@ impl RobustReport {
                         s.attitude_noise_deg
                     );
                 }
+                Engine::RapierFeedback => {
+                    let _ = writeln!(
+                        out,
+                        "- *{}*: the same trials (same draws, same sensor noise), the plan corrected by time-varying LQR on the linearised reduced dynamics at {} Hz (attitude scale {}°, joint correction scale {}°, joint acceleration ≤ {} rad/s²), fed by a Kalman filter that estimates the attitude error and the unknown spin from the late, noisy sensor (prior σ = {} N·m·s) and carries it over the latency.",
+                        c.engine.describe(),
+                        s.feedback_hz,
+                        s.feedback_attitude_deg,
+                        s.feedback_joint_deg,
+                        s.feedback_accel,
+                        s.feedback_spin_prior_nms
+                    );
+                }
             }
         }
         let _ = write!(out, "\n| figure (degrees) {}", PERCENTILE_HEAD);
@@ -125,9 +137,11 @@ impl RobustReport {
         for c in &self.checks {
             worst_section(&mut out, c);
         }
+        let feedback = self.checks.iter().any(|c| c.engine == Engine::RapierFeedback);
         let _ = writeln!(
             out,
-            "\nNot modelled here: unequal halves; feedback on the attitude (the controller seam takes one)."
+            "\nNot modelled here: unequal halves{}.",
+            if feedback { "" } else { "; feedback on the attitude (the controller seam takes one)" }
         );
         out
     }
@@ -138,10 +152,7 @@ impl RobustReport {
             "engine,trial,mass_kg,length_m,radius_m,lx_nms,ly_nms,lz_nms,gain1,gain2,landing_error_deg,twist_error_deg,swing_deg,converged,tracking_error1_deg,tracking_error2_deg,peak_torque1_nm,peak_torque2_nm,saturated1,saturated2,touchdown_s,first_part,impact_speed_ms,feet_down_a_deg,feet_down_b_deg,on_its_feet\n",
         );
         for c in &self.checks {
-            let engine = match c.engine {
-                Engine::Exact => "exact",
-                Engine::Rapier => "rapier",
-            };
+            let engine = c.engine.key();
             for t in &c.trials {
                 let d = &t.draw;
                 let l = d.angular_momentum_nms;
@@ -309,7 +320,7 @@ impl RobustReport {
         line_plot(staging.dir(), &self.histogram_plot())?;
         for c in &self.checks {
             if let Some(film) = &c.film {
-                write_film(staging.dir(), problem, schedule, film)?;
+                write_film(staging.dir(), problem, schedule, film, c.engine)?;
             }
         }
         Ok(staging.commit()?)
@@ -317,7 +328,8 @@ impl RobustReport {
 }
 
 fn tracking_section(out: &mut String, t: &TrackingSummary, c: &Robustness) {
-    let _ = writeln!(out, "\n## Tracking with motors (rapier)\n");
+    let feedback = c.engine == Engine::RapierFeedback;
+    let _ = writeln!(out, "\n## Tracking with {} (rapier)\n", if feedback { "attitude feedback" } else { "motors" });
     let _ = writeln!(
         out,
         "{} steps of {:.3e} s; servo gains k_p = {:.4} N·m/rad, k_d = {:.4} N·m·s/rad (before the trials' factors). {} of {} trials saturated an actuator at least once; the largest torque applied was {:.4} N·m.\n",
@@ -329,9 +341,19 @@ fn tracking_section(out: &mut String, t: &TrackingSummary, c: &Robustness) {
         c.trials.len(),
         t.peak_torque_nm
     );
+    if let Some(f) = &t.feedback {
+        let _ = writeln!(
+            out,
+            "The regulator steps every {:.3e} s; its largest gain entry is {:.4e} (bounded to the end of the fall). The tracking error below is from the plan, the correction included.\n",
+            f.control_dt_s, f.largest_gain
+        );
+    }
     let _ = write!(out, "| figure {}", PERCENTILE_HEAD);
     let _ = write!(out, "|---{}", PERCENTILE_RULE);
     percentile_row(out, "tracking error (larger joint), degrees", &t.tracking_error_deg);
+    if let Some(f) = &t.feedback {
+        percentile_row(out, "feedback's joint correction (larger joint), degrees", &f.correction_deg);
+    }
     if let Some(l) = &t.landing {
         for (name, p) in [
             ("touch-down time, s", &l.time_s),
@@ -364,7 +386,7 @@ fn tracking_section(out: &mut String, t: &TrackingSummary, c: &Robustness) {
 
 fn worst_section(out: &mut String, c: &Robustness) {
     // The servo's gain factors matter to rapier's trials only.
-    let gains = c.engine == Engine::Rapier;
+    let gains = c.engine != Engine::Exact;
     let _ = writeln!(out, "\n## The worst trials, {}\n", c.engine.describe());
     let _ = writeln!(
         out,
@@ -396,18 +418,32 @@ fn pose_of(t: f64, snap: &Snapshot) -> CatPose {
     CatPose { time: t, phase: None, twist: st.twist, swing: st.swing, a: body(0), b: body(2) }
 }
 
-fn write_film(dir: &Path, problem: &Problem, schedule: &impl Trajectory, film: &Film) -> Result<(), PlotError> {
-    let name = format!("rapier, worst trial {}", film.worst_trial);
+/// The filmstrips of one tracked check: `robust_worst_filmstrip.png` and
+/// `robust_touchdown_filmstrip.png` for the open loop, `robust_feedback_…` for the feedback.
+fn write_film(
+    dir: &Path,
+    problem: &Problem,
+    schedule: &impl Trajectory,
+    film: &Film,
+    engine: Engine,
+) -> Result<(), PlotError> {
+    let (prefix, engine_name, how) = match engine {
+        Engine::RapierFeedback => ("robust_feedback", "rapier, feedback", "attitude feedback"),
+        _ => ("robust", "rapier", "tracked with motors"),
+    };
+    let name = format!("{engine_name}, worst trial {}", film.worst_trial);
     if !film.worst.is_empty() {
         let poses: Vec<CatPose> = film.worst.iter().map(|(t, s)| pose_of(*t, s)).collect();
-        let caption = format!("tracked with motors, {} instants", poses.len());
-        pose_filmstrip(&dir.join("robust_worst_filmstrip.png"), problem, &name, schedule, &poses, &caption)?;
+        let caption = format!("{how}, {} instants", poses.len());
+        let path = dir.join(format!("{prefix}_worst_filmstrip.png"));
+        pose_filmstrip(&path, problem, &name, schedule, &poses, &caption)?;
     }
     if !film.touchdowns.is_empty() {
         let poses: Vec<CatPose> = film.touchdowns.iter().map(|(_, t, s)| pose_of(*t, s)).collect();
         let labels: Vec<&str> = film.touchdowns.iter().map(|(l, _, _)| l.as_str()).collect();
-        let caption = format!("touch-down of {}", labels.join(" and "));
-        pose_filmstrip(&dir.join("robust_touchdown_filmstrip.png"), problem, "rapier", schedule, &poses, &caption)?;
+        let caption = format!("touch-down of {}, {how}", labels.join(" and "));
+        let path = dir.join(format!("{prefix}_touchdown_filmstrip.png"));
+        pose_filmstrip(&path, problem, engine_name, schedule, &poses, &caption)?;
     }
     Ok(())
 }

@@ -24,8 +24,8 @@ use serde::Serialize;
 
 use super::{draw, landing_figures, nominal_draw, summarise, Draw, Engine, Percentiles, Robustness, Trial};
 use crate::engines::rapier::{
-    track, AttitudeSensor, FeedForwardPd, Landing, Part, PdGains, Plan, RapierError, RapierOptions, Snapshot,
-    Touchdown, TrackOptions, TrackedRun, MAX_STEPS,
+    track, AttitudeSensor, FeedForwardPd, Feedback, FeedbackPlan, FeedbackSettings, Landing, Part, PdGains, Plan,
+    RapierError, RapierOptions, Snapshot, Touchdown, TrackOptions, TrackedRun, MAX_STEPS,
 };
 use crate::model::Cylinder;
 use crate::problem::Problem;
@@ -46,6 +46,9 @@ pub struct TrackFigures {
     /// The touch-down (with `robust.landing`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub touchdown: Option<Touchdown>,
+    /// The feedback's largest joint correction `|δq_r|` per joint, degrees (feedback trials).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub correction_deg: Option<[f64; 2]>,
 }
 
 /// The landings of the tracked trials.
@@ -85,6 +88,22 @@ pub struct TrackingSummary {
     /// The landings, with `robust.landing`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub landing: Option<LandingSummary>,
+    /// The feedback's regulator (feedback trials).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feedback: Option<FeedbackSummary>,
+}
+
+/// The feedback's regulator and what it did over the trials.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FeedbackSummary {
+    /// Its settings (the filter's noise is the sensor's).
+    pub settings: FeedbackSettings,
+    /// The regulator's step, s.
+    pub control_dt_s: f64,
+    /// The largest entry of any gain `K_i` (bounded to the end of the fall).
+    pub largest_gain: f64,
+    /// Percentiles of the larger joint's largest correction, degrees.
+    pub correction_deg: Percentiles,
 }
 
 /// Poses for the pictures: the worst trial along its fall, and touch-downs.
@@ -98,11 +117,14 @@ pub struct Film {
     pub touchdowns: Vec<(String, f64, Snapshot)>,
 }
 
-/// Everything a tracked trial shares: the plan, the servo, the run's options.
+/// Everything a tracked trial shares: the plan, the servo, the run's options, and the
+/// feedback's regulator when one is asked for.
 struct Setup {
     plan: Plan,
     gains: PdGains,
     options: TrackOptions,
+    nominal: Cylinder,
+    feedback: Option<FeedbackPlan>,
 }
 
 impl Setup {
@@ -131,24 +153,51 @@ impl Setup {
             landing,
             keep_poses_at: Vec::new(),
         };
-        Ok(Setup { plan, gains: PdGains::servo(&problem.cat, s.servo_hz, s.servo_damping), options })
+        let feedback = s.controller.feedback().then(|| {
+            let settings = FeedbackSettings {
+                rate_hz: s.feedback_hz,
+                attitude: s.feedback_attitude_deg.to_radians(),
+                joint: s.feedback_joint_deg.to_radians(),
+                accel: s.feedback_accel,
+                spin_prior: s.feedback_spin_prior_nms,
+                sensor_noise: s.attitude_noise_deg.to_radians(),
+            };
+            FeedbackPlan::new(&problem.cat, traj, &problem.drop.spin(), problem.exact.tolerance, &plan, settings)
+        });
+        let gains = PdGains::servo(&problem.cat, s.servo_hz, s.servo_damping);
+        Ok(Setup { plan, gains, options, nominal: problem.cat, feedback })
     }
 
-    /// Runs one draw (its sensor noise seeded by `noise_seed`), keeping poses at `keep`.
-    fn run(&self, d: &Draw, noise_seed: u64, keep: Vec<f64>) -> Result<(Trial, TrackedRun), RapierError> {
+    /// Runs one draw (its sensor noise seeded by `noise_seed`) under the open loop or the
+    /// feedback, keeping poses at `keep`.
+    fn run(
+        &self,
+        d: &Draw,
+        noise_seed: u64,
+        keep: Vec<f64>,
+        feedback: bool,
+    ) -> Result<(Trial, TrackedRun), RapierError> {
         let cat = Cylinder { mass: d.mass, length: d.length, radius: d.radius };
         let mut options = self.options.clone();
         options.spin = Vector3::from(d.angular_momentum_nms);
         options.sensor.seed = noise_seed;
         options.keep_poses_at = keep;
-        let mut controller = FeedForwardPd::new(&self.plan, self.gains.scaled(d.gain));
-        let run = track(&cat, &self.plan, &mut controller, &options)?;
+        let servo = self.gains.scaled(d.gain);
+        let (run, correction_deg) = match self.feedback.as_ref().filter(|_| feedback) {
+            Some(fb) => {
+                let mut controller = Feedback::new(&self.plan, fb, servo, &self.nominal);
+                let run = track(&cat, &self.plan, &mut controller, &options)?;
+                (run, Some(controller.log().largest_correction.map(f64::to_degrees)))
+            }
+            None => (track(&cat, &self.plan, &mut FeedForwardPd::new(&self.plan, servo), &options)?, None),
+        };
         let (landing_error_deg, twist_error_deg, swing_deg) = landing_figures(&run.orientation, run.twist, run.swing);
         let figures = TrackFigures {
             tracking_error_deg: run.tracking_error.map(f64::to_degrees),
             peak_torque_nm: run.peak_torque,
             saturated: run.saturated,
             touchdown: run.touchdown,
+            correction_deg,
         };
         let trial =
             Trial { draw: *d, landing_error_deg, twist_error_deg, swing_deg, converged: true, tracked: Some(figures) };
@@ -162,20 +211,43 @@ fn noise_seed(seed: u64, k: Option<usize>) -> u64 {
     (seed ^ 0xA076_1D64_78BD_642F).wrapping_add(k.wrapping_mul(0xE703_7ED1_A0B4_28DB))
 }
 
-/// The check of `traj` (named `schedule`) on `problem` through rapier's tracked runs.
+/// The checks of `traj` (named `schedule`) on `problem` through rapier's tracked runs, one per
+/// controller `robust.controller` names (open loop first), on the same draws and sensor noise.
 pub fn tracked_robustness(
     problem: &Problem,
     traj: &(impl Trajectory + Sync),
     schedule: &str,
+) -> Result<Vec<Robustness>, RapierError> {
+    let setup = Setup::new(problem, traj)?;
+    let c = problem.robust.controller;
+    let mut checks = Vec::new();
+    for feedback in [false, true] {
+        if (feedback && c.feedback()) || (!feedback && c.open_loop()) {
+            checks.push(controlled(problem, traj, schedule, &setup, feedback)?);
+        }
+    }
+    Ok(checks)
+}
+
+fn controlled(
+    problem: &Problem,
+    traj: &(impl Trajectory + Sync),
+    schedule: &str,
+    setup: &Setup,
+    feedback: bool,
 ) -> Result<Robustness, RapierError> {
     let settings = problem.robust;
-    let setup = Setup::new(problem, traj)?;
     let trials = (0..settings.trials)
         .into_par_iter()
-        .map(|k| setup.run(&draw(problem, &settings, k), noise_seed(settings.seed, Some(k)), Vec::new()).map(|r| r.0))
+        .map(|k| {
+            let d = draw(problem, &settings, k);
+            setup.run(&d, noise_seed(settings.seed, Some(k)), Vec::new(), feedback).map(|r| r.0)
+        })
         .collect::<Result<Vec<Trial>, RapierError>>()?;
-    let (nominal, nominal_run) = setup.run(&nominal_draw(problem), noise_seed(settings.seed, None), Vec::new())?;
-    let mut check = summarise(problem, schedule, Engine::Rapier, nominal, trials);
+    let (nominal, nominal_run) =
+        setup.run(&nominal_draw(problem), noise_seed(settings.seed, None), Vec::new(), feedback)?;
+    let engine = if feedback { Engine::RapierFeedback } else { Engine::Rapier };
+    let mut check = summarise(problem, schedule, engine, nominal, trials);
 
     let figures: Vec<TrackFigures> = check.trials.iter().filter_map(|t| t.tracked).collect();
     let worst_tracking: Vec<f64> =
@@ -189,6 +261,14 @@ pub fn tracked_robustness(
         saturated_trials: figures.iter().filter(|f| f.saturated.iter().any(|s| *s > 0.0)).count(),
         peak_torque_nm: figures.iter().map(|f| f.peak_torque_nm[0].max(f.peak_torque_nm[1])).fold(0.0, f64::max),
         landing,
+        feedback: setup.feedback.as_ref().filter(|_| feedback).map(|fb| FeedbackSummary {
+            settings: fb.settings,
+            control_dt_s: fb.linearisation.dt,
+            largest_gain: fb.largest_gain(),
+            correction_deg: Percentiles::of(
+                &figures.iter().filter_map(|f| f.correction_deg).map(|c| c[0].max(c[1])).collect::<Vec<f64>>(),
+            ),
+        }),
     });
 
     // The worst trial again, keeping its poses.
@@ -196,7 +276,7 @@ pub fn tracked_robustness(
         let k = w.draw.trial;
         let duration = traj.total_duration();
         let at = (0..FILM_PANELS).map(|i| duration * i as f64 / (FILM_PANELS - 1) as f64).collect();
-        let (_, run) = setup.run(&w.draw, noise_seed(settings.seed, Some(k)), at)?;
+        let (_, run) = setup.run(&w.draw, noise_seed(settings.seed, Some(k)), at, feedback)?;
         let mut touchdowns = Vec::new();
         let mut worst = run.poses.clone();
         if let Some(td) = run.touchdown {

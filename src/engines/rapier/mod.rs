@@ -131,6 +131,7 @@
 
 mod bodies;
 pub mod control;
+pub mod feedback;
 pub mod ground;
 mod measure;
 mod pieces;
@@ -145,6 +146,7 @@ mod verify_text;
 
 pub use bodies::{BodyState, MassModel, Snapshot};
 pub use control::{AttitudeEstimate, Controller, FeedForwardPd, JointReading, PdGains, Plan};
+pub use feedback::{lqr_gains, Feedback, FeedbackLog, FeedbackPlan, FeedbackSettings, Linearisation};
 pub use ground::{Landing, Part, Touchdown};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{

@@ -1,0 +1,71 @@
+//! Criterion benches of the attitude feedback ([`catflip::engines::rapier::feedback`]) on the
+//! paper's schedule at the tracked check's step (100 µs) and regulator rate (1 kHz): the LQR
+//! gains re-solved from the middle of the fall and from the release (the backward Riccati
+//! sweep, issue 21 §3's "warm re-plan ≤ 10 ms"), the linearisation along the plan it starts
+//! from, and one tracked trial with feedback against one open loop.
+//!
+//! Run with `cargo bench --bench feedback`.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::Duration;
+
+use catflip::engines::rapier::{
+    lqr_gains, track, AttitudeSensor, FeedForwardPd, Feedback, FeedbackPlan, FeedbackSettings, Linearisation, PdGains,
+    Plan, RapierOptions, TrackOptions,
+};
+use catflip::model::motor::Motors;
+use catflip::schedule::Trajectory;
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use nalgebra::Vector3;
+
+use common::paper;
+
+fn feedback(c: &mut Criterion) {
+    let (p, s) = paper();
+    let n = (s.total_duration() / 1e-4).ceil() as usize;
+    let plan = Plan::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, n);
+    let settings = FeedbackSettings {
+        rate_hz: 1000.0,
+        attitude: 1f64.to_radians(),
+        joint: 10f64.to_radians(),
+        accel: 20.0,
+        spin_prior: 0.01,
+        sensor_noise: 0.5f64.to_radians(),
+    };
+    let fb = FeedbackPlan::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, &plan, settings);
+    let nodes = fb.linearisation.nodes.len();
+    let mut g = c.benchmark_group("feedback/gains");
+    g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    for (name, from) in [("from mid-fall", nodes / 2), ("from release", 0)] {
+        g.bench_with_input(BenchmarkId::from_parameter(name), &from, |b, from| {
+            b.iter(|| lqr_gains(&fb.linearisation, &settings, *from))
+        });
+    }
+    g.bench_function("linearisation", |b| {
+        b.iter(|| Linearisation::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, &plan, 1000.0))
+    });
+    g.finish();
+
+    let options = TrackOptions {
+        cross_mass_fraction: p.rapier.cross_mass_fraction,
+        pgs_iterations: RapierOptions::default().pgs_iterations,
+        motors: Motors::ideal(),
+        spin: Vector3::new(0.004, -0.003, 0.008),
+        sensor: AttitudeSensor { latency: 0.01, noise: 0.5f64.to_radians(), seed: 1 },
+        landing: None,
+        keep_poses_at: Vec::new(),
+    };
+    let servo = PdGains::servo(&p.cat, 10.0, 1.0);
+    let mut g = c.benchmark_group("feedback/trial");
+    g.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(5));
+    g.bench_function("open loop", |b| b.iter(|| track(&p.cat, &plan, &mut FeedForwardPd::new(&plan, servo), &options)));
+    g.bench_function("feedback", |b| {
+        b.iter(|| track(&p.cat, &plan, &mut Feedback::new(&plan, &fb, servo, &p.cat), &options))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, feedback);
+criterion_main!(benches);
