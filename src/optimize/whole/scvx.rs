@@ -190,7 +190,13 @@ impl ScvxProblem<'_> {
 
     /// The final orientation and its Jacobian by the model of the release ([`final_orientation`]
     /// at zero momentum, [`spin_pass`] with spin).
-    fn orientation(&self, spline: &BSpline, layout: &Layout, steps: usize, target: &UnitQuaternion<f64>) -> FinalOrientation {
+    fn orientation(
+        &self,
+        spline: &BSpline,
+        layout: &Layout,
+        steps: usize,
+        target: &UnitQuaternion<f64>,
+    ) -> FinalOrientation {
         if self.spins() {
             spin_pass(self.cat, spline, layout, steps, target, &self.spin, &[]).orientation
         } else {

@@ -310,12 +310,5 @@ fn torque_sample(
         }
         g
     });
-    TorqueSample {
-        time,
-        weight,
-        tau: tau.map(|t| t.re),
-        gradient,
-        rate: [st.qd[0].re, st.qd[1].re],
-        rate_gradient,
-    }
+    TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient, rate: [st.qd[0].re, st.qd[1].re], rate_gradient }
 }

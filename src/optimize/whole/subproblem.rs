@@ -27,8 +27,8 @@ use nalgebra::{DMatrix, Vector3};
 
 use super::limits::{LimitRow, ROW_FLOOR};
 use super::sensitivity::{BendSample, TorqueSample};
-use super::spin::Lift;
 use super::settings::Objective;
+use super::spin::Lift;
 use crate::optimize::qp::assembly::Assembly;
 use crate::optimize::qp::{active_sides, QpError, QpSettings, QpStatus};
 
@@ -239,7 +239,10 @@ impl Subproblem<'_> {
             for r in self.limit_rows() {
                 let span = self.reach(&r.gradient);
                 if r.constant + span >= b {
-                    asm.at_most(r.gradient.iter().map(|&(v, c)| (at(v), c)).chain([(limit_elastic, -1.0)]), b - r.constant);
+                    asm.at_most(
+                        r.gradient.iter().map(|&(v, c)| (at(v), c)).chain([(limit_elastic, -1.0)]),
+                        b - r.constant,
+                    );
                 }
             }
         }
