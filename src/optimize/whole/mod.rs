@@ -60,6 +60,20 @@
 //! tightened while the dense re-measurement ([`measure`]) finds a limit exceeded between them.
 //! Starts are built within the joint limit and the bend limit ([`starts`]).
 //!
+//! ## Release with spin (DESIGN.md §9)
+//! With total angular momentum `L ≠ 0` ([`optimize_whole_spinning`]) A's body rate
+//! `Ω = I_lock⁻¹(Rᵀ L − h)` depends on `R`: the loop's model is then [`spin`]'s (the exact
+//! engine's Runge–Kutta step on the quaternion, differentiated span by span, the attitude at the
+//! span starts kept as lifted unknowns of the subproblem so that the torque rows, which depend
+//! on every earlier control point through `R(t_k)`, stay sparse). The target is still
+//! `R(T) = R_z(π)`; the ±π directions are no longer mirror images, so the starts (one per
+//! direction by default) are calibrated under the spin, the mirrored ones under the mirrored
+//! spin ([`starts::start_schedule_spinning`]), and every result is re-measured by
+//! [`crate::engines::exact::flip_spinning`] with the spinning torques
+//! ([`measure::measure_spinning`]). The energy's curvature estimate ([`curvature`]) is left out
+//! with spin (it needs dense gradients). Motor limits and `min-time` are refused with spin
+//! ([`spin_supported`]). `L = 0` takes the zero-momentum code unchanged.
+//!
 //! ## References
 //! - D. Malyuta et al., *Convex optimization for trajectory generation*, IEEE Control Systems
 //!   Magazine 42 (2022) 40–113 (arXiv:2106.09125);

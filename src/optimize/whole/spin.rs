@@ -136,6 +136,10 @@ fn tangent(y: &Q<D>, d: usize) -> Vector3<f64> {
     Vector3::new(2.0 * p[1], 2.0 * p[2], 2.0 * p[3])
 }
 
+/// One span's transition `η_{s+1} = Φ_s η_s + B_s δ`: `Φ_s` and the columns of `B_s` as
+/// `(variable, column)`.
+pub type Transition = (Matrix3<f64>, Vec<(usize, Vector3<f64>)>);
+
 /// The lifted attitude perturbations `η_1 … η_{S−1}` at the starts of spans `1 … S−1` and their
 /// transitions (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -143,7 +147,7 @@ pub struct Lift {
     /// The control-point variables; lifted unknowns are numbered from here.
     pub offset: usize,
     /// Per span `s`: `Φ_s` and the columns of `B_s` as `(variable, column)`.
-    pub transitions: Vec<(Matrix3<f64>, Vec<(usize, Vector3<f64>)>)>,
+    pub transitions: Vec<Transition>,
 }
 
 impl Lift {
