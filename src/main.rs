@@ -257,7 +257,6 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Optimize { common, whole: true, quiet } => {
             let problem = load(&common, None)?;
-            problem.require_no_spin("optimize --whole")?;
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;

@@ -215,6 +215,7 @@ fn energy_without_orientation_constraint_is_the_straight_cat_at_rest() {
         motors: &Motors::ideal(),
         target: None,
         qp: QpSettings::default(),
+        spin: nalgebra::Vector3::zeros(),
     };
     let s = optimize_start(&problem, &start, FLIP).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(s.status, WholeStatus::Converged, "{}", s.reason);

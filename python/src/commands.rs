@@ -135,7 +135,11 @@ pub fn optimize_whole(
 ) -> PyResult<WithFile> {
     let inner = problem.inner.clone();
     run(py, move || {
-        inner.problem.require_no_spin("optimize --whole")?;
+        // With spin the optimum is planned; its schedule file is refused (naming
+        // drop.angular_momentum) before the solve, as `catflip run` refuses it.
+        if series {
+            inner.problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
+        }
         let r = inner.resolved()?;
         let report = catflip::report::whole::whole(&r)?;
         let file = match series {

@@ -83,12 +83,20 @@ def test_wrong_shape_is_refused():
     assert "shape (n, 2)" in refused(lambda: catflip.import_schedule([0, 1], [0, 1]))
 
 
-@pytest.mark.parametrize("args, call", [(["optimize"], catflip.optimize), (["optimize", "--whole"], catflip.optimize_whole)])
+@pytest.mark.parametrize("args, call", [(["optimize"], catflip.optimize)])
 def test_spin_refused_by_optimize(cli, args, call):
     spin = "drop.angular_momentum=[0.0, 0.0, 0.01]"
     problem = catflip.load(PAPER, [spin])
     message = same_as_cli(cli, [args[0], PAPER, "--set", spin, *args[1:]], lambda: call(problem))
     assert "spin" in message
+
+
+def test_spin_whole_optimum_series_refused():
+    # `optimize --whole` plans a release with spin; its schedule file (the series) is refused,
+    # before the solve, as `catflip run` refuses it.
+    problem = catflip.load(PAPER, ["drop.angular_momentum=[0.0, 0.0, 0.01]"])
+    message = refused(lambda: catflip.optimize_whole(problem))
+    assert "drop.angular_momentum" in message and "schedule file" in message
 
 
 def test_unknown_engine():

@@ -16,9 +16,10 @@ use crate::engines::circulation::Resolved;
 use crate::engines::motors::LimitUse;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{verify_with, RapierError, RapierOptions, Reference, Verification};
-use crate::engines::torque::joint_torques;
+use crate::engines::spin::SpinHistory;
+use crate::engines::torque::TorqueSource;
 use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
-use crate::optimize::whole::{optimize_whole, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
+use crate::optimize::whole::{optimize_whole_spinning, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
 use crate::report::check::{verification_row, ExactValues};
 use crate::report::compare::CompareLine;
 use crate::schedule::{Schedule, Trajectory};
@@ -69,6 +70,14 @@ pub struct WholeReport {
     pub motors: Option<String>,
     /// Every start's outcome, the best one included.
     pub outcome: WholeOutcome,
+    /// The release's total angular momentum `drop.angular_momentum`, N·m·s, world frame (left
+    /// out at zero): every number above is then that of the spinning motion.
+    #[serde(skip_serializing_if = "is_zero3")]
+    pub angular_momentum_nms: [f64; 3],
+}
+
+fn is_zero3(l: &[f64; 3]) -> bool {
+    l.iter().all(|x| *x == 0.0)
 }
 
 impl WholeReport {
@@ -87,8 +96,15 @@ impl WholeReport {
 pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
     let p = &r.problem;
     let settings = &p.optimize.whole;
-    let outcome =
-        optimize_whole(&p.cat, p.drop.fall_time(), &p.manoeuvre, settings, &p.actuator.motors(), p.exact.tolerance)?;
+    let outcome = optimize_whole_spinning(
+        &p.cat,
+        p.drop.fall_time(),
+        &p.manoeuvre,
+        settings,
+        &p.actuator.motors(),
+        p.exact.tolerance,
+        &p.drop.spin(),
+    )?;
     let best = outcome.best();
     let status = match best {
         Some(b) => b.status.to_string(),
@@ -124,6 +140,7 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
             .unwrap_or_default(),
         motors: best.map(|b| b.motors.verdict()),
         outcome,
+        angular_momentum_nms: p.drop.angular_momentum,
     })
 }
 
@@ -134,10 +151,15 @@ fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
     let total = spline.total_duration();
     let to_schedule = r.schedule.duration() / total;
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
+    let cat = &r.problem.cat;
+    let spin = r.problem.drop.spin();
+    let history = r.problem.drop.spins().then(|| SpinHistory::new(cat, spline, &spin, r.problem.exact.tolerance).1);
+    let source = history.as_ref().map_or(TorqueSource::zero_momentum(cat), |h| TorqueSource::spinning(cat, h));
     let mut w = [[0.0f64; 2]; 3];
     for k in 0..=n {
         let t = total * k as f64 / n as f64;
-        let tau = joint_torques(&r.problem.cat, &spline.state_at(t)).tau;
+        let (piece, s) = spline.locate_piece(t);
+        let tau = source.at(spline, piece, s, &spline.piece_state(piece, s)).tau;
         let window = &mut w[r.schedule.locate(t * to_schedule).0.index()];
         for (m, x) in window.iter_mut().zip(tau) {
             *m = m.max(x.abs());
@@ -156,6 +178,14 @@ impl WholeReport {
             s,
             "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n"
         );
+        if !is_zero3(&self.angular_momentum_nms) {
+            let l = self.angular_momentum_nms;
+            let _ = writeln!(
+                s,
+                "Released with spin: total angular momentum L = [{}, {}, {}] N·m·s (world frame). The model, the flip and every torque below are those of the spinning motion (exact engine with spin, fourth-order Runge–Kutta); the ±π turning directions are not equivalent, so the starts turn both ways.\n",
+                l[0], l[1], l[2]
+            );
+        }
         match self.best() {
             Some(b) => {
                 let p = self.peak_torque_nm.unwrap_or(PhasePeaks {

@@ -26,6 +26,8 @@ pub trait Real:
     fn cst(x: f64) -> Self;
     /// Sine and cosine.
     fn sin_cos(self) -> (Self, Self);
+    /// Square root (of a positive value).
+    fn sqrt(self) -> Self;
     /// The value without derivatives.
     fn value(self) -> f64;
 }
@@ -36,6 +38,9 @@ impl Real for f64 {
     }
     fn sin_cos(self) -> (Self, Self) {
         f64::sin_cos(self)
+    }
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
     }
     fn value(self) -> f64 {
         self
@@ -126,6 +131,10 @@ impl<const N: usize> Real for Dual<N> {
     fn sin_cos(self) -> (Self, Self) {
         let (s, c) = self.re.sin_cos();
         (self.map(s, c), self.map(c, -s))
+    }
+    fn sqrt(self) -> Self {
+        let r = self.re.sqrt();
+        self.map(r, 0.5 / r)
     }
     fn value(self) -> f64 {
         self.re

@@ -77,8 +77,31 @@ pub fn body_rate<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2]) -> V3<T> {
     scale_by(-1.0, solve3(h.locked(e, p), rhs))
 }
 
+/// A's angular velocity `Ω = I_lock⁻¹(λ − h)` (A's frame) when the total angular momentum in A's
+/// frame is `λ = Rᵀ L` ([`crate::engines::exact::body_rate_spinning`]).
+pub fn body_rate_spinning<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], lambda: V3<T>) -> V3<T> {
+    let h = Halves::of(cat);
+    let (e, w_rel, _, _) = joint_kinematics(q, qd);
+    let p = [e[0] * -h.half, e[1] * -h.half, (e[2] + 1.0) * -h.half];
+    let pd = scale_by(-h.half, cross(w_rel, e));
+    let rhs = add(h.inertia_b(e, w_rel), scale_by(h.reduced_mass, cross(p, pd)));
+    solve3(h.locked(e, p), sub(lambda, rhs))
+}
+
 /// Motor torques `(τ1, τ2)`, N·m, of the zero-momentum motion through `(q, q̇, q̈)`.
 pub fn motor_torques<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], qdd: [T; 2]) -> [T; 2] {
+    motor_torques_with(cat, q, qd, qdd, None)
+}
+
+/// Motor torques `(τ1, τ2)`, N·m, through `(q, q̇, q̈)` when the total angular momentum in A's
+/// frame is `λ = Rᵀ L`: `Ω = I_lock⁻¹(λ − h)` and, with `λ̇ = λ × Ω`,
+/// `Ω̇ = I_lock⁻¹(λ × Ω − İ_lock Ω − ḣ)` ([`crate::engines::torque::kinematics_spinning`]).
+pub fn motor_torques_spinning<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: V3<T>) -> [T; 2] {
+    motor_torques_with(cat, q, qd, qdd, Some(lambda))
+}
+
+/// [`motor_torques`] (`lambda` none: zero momentum) or [`motor_torques_spinning`].
+fn motor_torques_with<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: Option<V3<T>>) -> [T; 2] {
     let h = Halves::of(cat);
     let (e, w_rel, s1, c1) = joint_kinematics(q, qd);
     let a2 = [T::cst(0.0), c1, s1];
@@ -91,13 +114,20 @@ pub fn motor_torques<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], qdd: [T; 2]
     let (pd, pdd) = (scale_by(-h.half, e_dot), scale_by(-h.half, e_ddot));
     let mu = h.reduced_mass;
     let locked = h.locked(e, p);
-    let omega = scale_by(-1.0, solve3(locked, add(h.inertia_b(e, w_rel), scale_by(mu, cross(p, pd)))));
+    let shape = add(h.inertia_b(e, w_rel), scale_by(mu, cross(p, pd)));
+    let omega = match lambda {
+        None => scale_by(-1.0, solve3(locked, shape)),
+        Some(l) => solve3(locked, sub(l, shape)),
+    };
     // (d/dt R I_B Rᵀ) v = ω_rel × (I_B v) − I_B (ω_rel × v).
     let ib_dot = |v: V3<T>| sub(cross(w_rel, h.inertia_b(e, v)), h.inertia_b(e, cross(w_rel, v)));
     // Ṁ Ω = İ_B Ω − μ (ṗ × (p × Ω) + p × (ṗ × Ω)).
     let m_dot_omega = sub(ib_dot(omega), scale_by(mu, add(cross(pd, cross(p, omega)), cross(p, cross(pd, omega)))));
     let k_dot = add(add(ib_dot(w_rel), h.inertia_b(e, w_rel_dot)), scale_by(mu, cross(p, pdd)));
-    let omega_dot = scale_by(-1.0, solve3(locked, add(m_dot_omega, k_dot)));
+    let omega_dot = match lambda {
+        None => scale_by(-1.0, solve3(locked, add(m_dot_omega, k_dot))),
+        Some(l) => solve3(locked, sub(cross(l, omega), add(m_dot_omega, k_dot))),
+    };
     let a_b = scale_by(
         0.5,
         add(add(pdd, cross(omega_dot, p)), add(scale_by(2.0, cross(omega, pd)), cross(omega, cross(omega, p)))),

@@ -9,9 +9,12 @@ use std::f64::consts::{PI, TAU};
 use serde::Serialize;
 
 use super::spline::BSpline;
+use nalgebra::Vector3;
+
 use crate::engines::exact::{flip, Flip};
-use crate::engines::motors::{motor_demand, MotorDemand};
-use crate::engines::torque::{joint_torques, peak_torques, piece_samples};
+use crate::engines::motors::{motor_demand_from, MotorDemand};
+use crate::engines::spin::SpinHistory;
+use crate::engines::torque::{peak_torques_from, piece_samples, TorqueSource};
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
@@ -104,8 +107,31 @@ pub fn chatter(times: &[f64], tau: &[[f64; 2]], duration: f64) -> Chatter {
 
 /// Measures `spline` driven by `motors` (flip to `tolerance` rad).
 pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64) -> Measurement {
-    let flip = flip(cat, spline, tolerance);
-    let peaks = peak_torques(cat, spline, PEAK_SAMPLES_PER_SPAN);
+    measure_spinning(cat, spline, motors, tolerance, &Vector3::zeros())
+}
+
+/// [`measure`] for a release with total angular momentum `spin` (N·m·s, world frame): the flip by
+/// [`crate::engines::exact::flip_spinning`], every torque at the orientation of that motion
+/// ([`TorqueSource::spinning`]); zero `spin` is [`measure`].
+pub fn measure_spinning(
+    cat: &Cylinder,
+    spline: &BSpline,
+    motors: &Motors,
+    tolerance: f64,
+    spin: &Vector3<f64>,
+) -> Measurement {
+    let (flip, history) = if spin.norm_squared() > 0.0 {
+        let (f, h) = SpinHistory::new(cat, spline, spin, tolerance);
+        (f, Some(h))
+    } else {
+        (flip(cat, spline, tolerance), None)
+    };
+    let source = match &history {
+        Some(h) => TorqueSource::spinning(cat, h),
+        None => TorqueSource::zero_momentum(cat),
+    };
+    let torque = |piece: usize, s: f64| source.at(spline, piece, s, &spline.piece_state(piece, s)).tau;
+    let peaks = peak_torques_from(&source, spline, &vec![PEAK_SAMPLES_PER_SPAN; spline.piece_durations().len()]);
     let (peak, peak_time) = peaks.per_piece.iter().flatten().map(|p| (p.value, p.time)).fold((0.0, 0.0), |best, p| {
         if p.0 > best.0 {
             p
@@ -123,7 +149,7 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64
         for part in 0..4 {
             for &(x, w) in &rule {
                 let s = h * (part as f64 + 0.5 * (1.0 + x));
-                let tau = joint_torques(cat, &spline.piece_state(piece, s)).tau;
+                let tau = torque(piece, s);
                 energy += 0.5 * h * w * (tau[0] * tau[0] + tau[1] * tau[1]);
             }
         }
@@ -153,12 +179,13 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64
         for k in 0..CHATTER_SAMPLES {
             let s = d * k as f64 / CHATTER_SAMPLES as f64;
             times.push(offset + s);
-            torques.push(joint_torques(cat, &spline.piece_state(piece, s)).tau);
+            torques.push(torque(piece, s));
         }
         offset += d;
     }
     times.push(spline.duration());
-    torques.push(joint_torques(cat, &spline.state(spline.duration())).tau);
+    let last = spline.piece_durations().len() - 1;
+    torques.push(source.at(spline, last, spline.piece_durations()[last], &spline.state(spline.duration())).tau);
     Measurement {
         chatter: chatter(&times, &torques, spline.duration()),
         twist_error: (flip.twist.abs() - PI).abs(),
@@ -168,7 +195,7 @@ pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64
         energy,
         max_bend,
         bend_turns: turned / TAU,
-        motors: motor_demand(cat, spline, &piece_samples(spline, PEAK_SAMPLES_PER_SPAN), motors),
+        motors: motor_demand_from(&source, spline, &piece_samples(spline, PEAK_SAMPLES_PER_SPAN), motors),
     }
 }
 

@@ -60,6 +60,20 @@
 //! tightened while the dense re-measurement ([`measure`]) finds a limit exceeded between them.
 //! Starts are built within the joint limit and the bend limit ([`starts`]).
 //!
+//! ## Release with spin (DESIGN.md §9)
+//! With total angular momentum `L ≠ 0` ([`optimize_whole_spinning`]) A's body rate
+//! `Ω = I_lock⁻¹(Rᵀ L − h)` depends on `R`: the loop's model is then [`spin`]'s (the exact
+//! engine's Runge–Kutta step on the quaternion, differentiated span by span, the attitude at the
+//! span starts kept as lifted unknowns of the subproblem so that the torque rows, which depend
+//! on every earlier control point through `R(t_k)`, stay sparse). The target is still
+//! `R(T) = R_z(π)`; the ±π directions are no longer mirror images, so the starts (one per
+//! direction by default) are calibrated under the spin, the mirrored ones under the mirrored
+//! spin ([`starts::start_schedule_spinning`]), and every result is re-measured by
+//! [`crate::engines::exact::flip_spinning`] with the spinning torques
+//! ([`measure::measure_spinning`]). The energy's curvature estimate ([`curvature`]) is left out
+//! with spin (it needs dense gradients). Motor limits and `min-time` are refused with spin
+//! ([`spin_supported`]). `L = 0` takes the zero-momentum code unchanged.
+//!
 //! ## References
 //! - D. Malyuta et al., *Convex optimization for trajectory generation*, IEEE Control Systems
 //!   Magazine 42 (2022) 40–113 (arXiv:2106.09125);
@@ -76,6 +90,7 @@ pub mod scvx;
 pub mod sensitivity;
 pub mod settings;
 pub mod solution;
+pub mod spin;
 pub mod spline;
 pub mod starts;
 pub mod subproblem;
@@ -90,9 +105,11 @@ pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
 pub use spline::BSpline;
-pub use starts::{build_start, NamedStart};
+pub use starts::{build_start, build_start_spinning, NamedStart};
 
 use crate::engines::motors::RATIO_TOLERANCE;
+use crate::engines::spin::SpinHistory;
+use crate::engines::torque::TorqueSource;
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
@@ -130,11 +147,33 @@ pub fn optimize_whole(
     motors: &Motors,
     tolerance: f64,
 ) -> Result<WholeOutcome, WholeError> {
+    optimize_whole_spinning(cat, duration, manoeuvre, settings, motors, tolerance, &Vector3::zeros())
+}
+
+/// [`optimize_whole`] for a cat released with total angular momentum `spin` (N·m·s, world frame;
+/// DESIGN.md §9): the target is still `R(T) = R_z(π)`, the model is [`spin`]'s, the starts are
+/// calibrated under the spin ([`build_start_spinning`]) and every result is re-measured by
+/// [`crate::engines::exact::flip_spinning`] with the torques of that motion. Zero `spin` is
+/// [`optimize_whole`]. Motor limits (and so `min-time`) are refused with spin ([`spin_supported`]).
+#[allow(clippy::too_many_arguments)]
+pub fn optimize_whole_spinning(
+    cat: &Cylinder,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    settings: &WholeSettings,
+    motors: &Motors,
+    tolerance: f64,
+    spin: &Vector3<f64>,
+) -> Result<WholeOutcome, WholeError> {
     settings.validate()?;
     settings::positive_input("drop duration", duration)?;
     settings::needs_limits(settings.objective, motors)?;
-    let built: Vec<_> =
-        settings.starts.par_iter().map(|&kind| (kind, build_start(cat, duration, manoeuvre, kind, settings))).collect();
+    spin_supported(settings, motors, spin)?;
+    let built: Vec<_> = settings
+        .starts
+        .par_iter()
+        .map(|&kind| (kind, build_start_spinning(cat, duration, manoeuvre, kind, settings, spin)))
+        .collect();
     let mut starts = Vec::new();
     let mut skipped = Vec::new();
     for (kind, start) in built {
@@ -143,9 +182,35 @@ pub fn optimize_whole(
             Err(reason) => skipped.push(SkippedStart { start: kind.name().to_string(), reason }),
         }
     }
-    let mut outcome = optimize_from(cat, &starts, settings, motors, tolerance)?;
+    let mut outcome = optimize_from_spinning(cat, &starts, settings, motors, tolerance, spin)?;
     outcome.skipped = skipped;
     Ok(outcome)
+}
+
+/// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
+/// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
+/// limits' feasibility stage is that least fall time; at a fixed fall the limits would need the
+/// spinning torques' rows, which are not built.
+pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if spin.norm_squared() == 0.0 {
+        return Ok(());
+    }
+    let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
+    if settings.objective == Objective::MinTime {
+        return Err(WholeError::BadFieldValue {
+            field: "drop.angular_momentum",
+            value,
+            reason: "optimize.whole.objective = \"min-time\" assumes a release without spin (slowing a path changes a spinning cat's flip): use \"peak\" or \"energy\", or set drop.angular_momentum to [0, 0, 0]".into(),
+        });
+    }
+    if !motors.is_ideal() {
+        return Err(WholeError::BadFieldValue {
+            field: "drop.angular_momentum",
+            value,
+            reason: "the whole optimiser does not take [actuator] limits (torque_limit_nm, speed_limit_rad_s, stall_torque_nm, free_speed_rad_s, power_limit_w) with a release with spin: remove them, or set drop.angular_momentum to [0, 0, 0]".into(),
+        });
+    }
+    Ok(())
 }
 
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
@@ -157,10 +222,24 @@ pub fn optimize_from(
     motors: &Motors,
     tolerance: f64,
 ) -> Result<WholeOutcome, WholeError> {
+    optimize_from_spinning(cat, starts, settings, motors, tolerance, &Vector3::zeros())
+}
+
+/// [`optimize_from`] for a release with total angular momentum `spin` ([`optimize_whole_spinning`]).
+pub fn optimize_from_spinning(
+    cat: &Cylinder,
+    starts: &[NamedStart],
+    settings: &WholeSettings,
+    motors: &Motors,
+    tolerance: f64,
+    spin: &Vector3<f64>,
+) -> Result<WholeOutcome, WholeError> {
     settings.validate()?;
     settings::positive_input("tolerance", tolerance)?;
     settings::needs_limits(settings.objective, motors)?;
-    let problem = ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default() };
+    spin_supported(settings, motors, spin)?;
+    let problem =
+        ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
@@ -271,7 +350,8 @@ pub fn refine_solution(
     let constrained = !problem.motors.is_ideal() && s.objective != Objective::MinTime;
     let mut bound = 1.0 - LIMIT_MARGIN;
     let mut run = Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance };
-    let measurement = measure::measure(problem.cat, &best.spline, problem.motors, run.flip_tolerance());
+    let measurement =
+        measure::measure_spinning(problem.cat, &best.spline, problem.motors, run.flip_tolerance(), &problem.spin);
     let mut end = FinalStage {
         status: best.status,
         reason: best.reason.clone(),
@@ -282,7 +362,12 @@ pub fn refine_solution(
     let mut notes = Vec::new();
     let mut kept = false;
     for _ in 0..s.switch_refinements {
-        let spans = refine::switching_spans(problem.cat, &end.spline);
+        let spans = if problem.spins() {
+            let (_, history) = SpinHistory::new(problem.cat, &end.spline, &problem.spin, run.flip_tolerance());
+            refine::switching_spans_from(&TorqueSource::spinning(problem.cat, &history), &end.spline)
+        } else {
+            refine::switching_spans(problem.cat, &end.spline)
+        };
         let finer = refine::refined(&end.spline, &spans);
         if spans.is_empty() || finer.control_points() > WholeSettings::MAX_CONTROL_POINTS {
             break;
@@ -381,7 +466,7 @@ impl Run {
         let (spline, m) = match (p.settings.objective, m.motors.stretch) {
             (Objective::MinTime, Some(k)) if k.value > 0.0 => {
                 let slowed = spline.stretched(k.value);
-                let m = measure::measure(p.cat, &slowed, p.motors, self.flip_tolerance());
+                let m = measure::measure_spinning(p.cat, &slowed, p.motors, self.flip_tolerance(), &p.spin);
                 (slowed, m)
             }
             _ => (spline, m),
@@ -445,7 +530,7 @@ impl Run {
         let flip_tolerance = self.flip_tolerance();
         if p.target.is_some() {
             loop {
-                let f = crate::engines::exact::flip(p.cat, &spline, flip_tolerance);
+                let f = crate::engines::exact::flip_spinning(p.cat, &spline, &p.spin, flip_tolerance);
                 let good = ((f.twist.abs() - PI).abs() <= 0.1 * self.tolerance && f.swing <= 0.1 * self.tolerance)
                     || self.steps >= 1024;
                 if good {
@@ -464,7 +549,7 @@ impl Run {
                 *c = c.clamp(-limit, limit);
             }
         }
-        let m = measure::measure(p.cat, &spline, p.motors, flip_tolerance);
+        let m = measure::measure_spinning(p.cat, &spline, p.motors, flip_tolerance, &p.spin);
         Ok((end.status, end.reason, spline, m))
     }
 

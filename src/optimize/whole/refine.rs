@@ -15,7 +15,7 @@
 //! when it stopped at its budget, which the start's reason says).
 
 use super::spline::BSpline;
-use crate::engines::torque::joint_torques;
+use crate::engines::torque::TorqueSource;
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
@@ -46,13 +46,21 @@ const SAMPLES: usize = 8;
 
 /// The spans across which a torque switches (module docs), in order.
 pub fn switching_spans(cat: &Cylinder, spline: &BSpline) -> Vec<usize> {
+    switching_spans_from(&TorqueSource::zero_momentum(cat), spline)
+}
+
+/// [`switching_spans`] with the torques of `source` (a release with spin).
+pub fn switching_spans_from(source: &TorqueSource, spline: &BSpline) -> Vec<usize> {
     let durations = spline.piece_durations();
     let torques: Vec<Vec<[f64; 2]>> = durations
         .iter()
         .enumerate()
         .map(|(span, &d)| {
             (0..=SAMPLES)
-                .map(|k| joint_torques(cat, &spline.piece_state(span, d * k as f64 / SAMPLES as f64)).tau)
+                .map(|k| {
+                    let s = d * k as f64 / SAMPLES as f64;
+                    source.at(spline, span, s, &spline.piece_state(span, s)).tau
+                })
                 .collect()
         })
         .collect();

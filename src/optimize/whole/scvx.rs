@@ -31,7 +31,7 @@
 //!   Magazine 42 (2022) 40–113 (arXiv:2106.09125), §4 (SCvx);
 //! - J. Nocedal, S. J. Wright, *Numerical Optimization* (2nd ed., 2006), ch. 4 and §15.5.
 
-use nalgebra::{Matrix3, UnitQuaternion};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use super::curvature::{Curvature, Point};
 use super::limits::{largest, limit_rows, LimitRow, RowForm};
@@ -41,6 +41,7 @@ use super::sensitivity::{
 };
 use super::settings::{Objective, WholeError, WholeSettings};
 use super::solution::{IterationLog, WholeStatus};
+use super::spin::{spin_pass, Lift};
 use super::spline::BSpline;
 use super::subproblem::{Subproblem, BEND_PENALTY, LIMIT_PENALTY};
 use crate::model::motor::Motors;
@@ -77,6 +78,9 @@ pub struct ScvxProblem<'a> {
     pub target: Option<UnitQuaternion<f64>>,
     /// Clarabel's settings for every subproblem.
     pub qp: QpSettings,
+    /// Total angular momentum at release, world frame, N·m·s (zero: the Magnus model of
+    /// [`super::sensitivity`]; otherwise the lifted spinning model of [`super::spin`]).
+    pub spin: Vector3<f64>,
 }
 
 /// An iterate and everything evaluated at it.
@@ -99,6 +103,8 @@ pub(crate) struct Iterate {
     limits: Vec<LimitRow>,
     /// The largest `k²` or `ρ` of `limits`.
     pub(crate) limit_max: f64,
+    /// With spin, the lifted attitude unknowns that the samples' gradients refer to.
+    lift: Option<Lift>,
 }
 
 impl Iterate {
@@ -129,7 +135,13 @@ impl ScvxProblem<'_> {
             Objective::Peak | Objective::MinTime => uniform.clone(),
             Objective::Energy => gauss_grid(&spline, 2),
         };
-        let samples = torque_samples(self.cat, &spline, &layout, &grid);
+        let (samples, spun, lift) = if self.spins() {
+            let target = self.target.unwrap_or_else(UnitQuaternion::identity);
+            let pass = spin_pass(self.cat, &spline, &layout, steps, &target, &self.spin, &grid);
+            (pass.samples, self.target.map(|_| pass.orientation), Some(pass.lift))
+        } else {
+            (torque_samples(self.cat, &spline, &layout, &grid), None, None)
+        };
         let limits = match objective {
             _ if self.motors.is_ideal() => Vec::new(),
             Objective::MinTime => limit_rows(&samples, self.motors, RowForm::Stretch),
@@ -141,7 +153,10 @@ impl ScvxProblem<'_> {
         let limit_max = largest(&limits);
         let bend =
             if self.settings.min_angle_deg.is_some() { bend_samples(&spline, &layout, &uniform) } else { Vec::new() };
-        let orientation = self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t));
+        let orientation = match spun {
+            Some(o) => Some(o),
+            None => self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t)),
+        };
         let peak = samples.iter().flat_map(|s| s.tau.map(f64::abs)).fold(0.0, f64::max);
         let value = match objective {
             Objective::Peak => peak,
@@ -164,6 +179,28 @@ impl ScvxProblem<'_> {
             bend_violation,
             limits,
             limit_max,
+            lift,
+        }
+    }
+
+    /// Whether the cat is released with spin.
+    pub(crate) fn spins(&self) -> bool {
+        self.spin.norm_squared() > 0.0
+    }
+
+    /// The final orientation and its Jacobian by the model of the release ([`final_orientation`]
+    /// at zero momentum, [`spin_pass`] with spin).
+    fn orientation(
+        &self,
+        spline: &BSpline,
+        layout: &Layout,
+        steps: usize,
+        target: &UnitQuaternion<f64>,
+    ) -> FinalOrientation {
+        if self.spins() {
+            spin_pass(self.cat, spline, layout, steps, target, &self.spin, &[]).orientation
+        } else {
+            final_orientation(self.cat, spline, layout, steps, target)
         }
     }
 
@@ -218,6 +255,7 @@ impl ScvxProblem<'_> {
                 limits: &it.limits,
                 limit_bound: bound,
                 curvature: curvature.matrix(),
+                lift: it.lift.as_ref(),
             };
             let step = sub.solve(&self.qp)?;
             let merit = |x: &Iterate| {
@@ -317,7 +355,8 @@ impl ScvxProblem<'_> {
                 radius = (2.0 * radius).min(max_radius);
             }
             if ratio >= 0.1 {
-                if objective == Objective::Energy {
+                // The curvature estimate needs dense gradients; with spin they are lifted.
+                if objective == Objective::Energy && it.lift.is_none() {
                     if let (Some(from), Some(to)) = (it.orientation.as_ref(), trial.orientation.as_ref()) {
                         curvature.update(
                             Point { values: &it.values, samples: &it.samples, jacobian: &from.jacobian },
@@ -339,7 +378,7 @@ impl ScvxProblem<'_> {
     pub(crate) fn polish(&self, spline: BSpline, steps: usize, most: usize) -> (BSpline, usize) {
         let Some(target) = self.target else { return (spline, 0) };
         let layout = self.layout();
-        let mut best = (final_orientation(self.cat, &spline, &layout, steps, &target), spline);
+        let mut best = (self.orientation(&spline, &layout, steps, &target), spline);
         for k in 0..most {
             let (o, spline) = &best;
             if o.error.amax() <= 1e-13 {
@@ -351,7 +390,7 @@ impl ScvxProblem<'_> {
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
             let next = layout.moved(spline, &step);
-            let at = final_orientation(self.cat, &next, &layout, steps, &target);
+            let at = self.orientation(&next, &layout, steps, &target);
             if at.error.norm() >= o.error.norm() {
                 return (best.1, k);
             }

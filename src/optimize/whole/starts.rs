@@ -14,7 +14,9 @@
 
 use super::settings::{StartKind, WholeSettings};
 use super::spline::BSpline;
-use crate::engines::calibrate::calibrate;
+use nalgebra::Vector3;
+
+use crate::engines::calibrate::calibrate_spinning;
 use crate::model::Cylinder;
 use crate::numeric::roots::RootStatus;
 use crate::problem::manoeuvre::{BendPath, Manoeuvre, ProfileKind, CONE_GIMBAL_MARGIN_DEG};
@@ -49,6 +51,24 @@ pub fn start_schedule(
     kind: StartKind,
     min_angle_deg: Option<f64>,
     joint_limit_deg: Option<f64>,
+) -> Result<Schedule, String> {
+    start_schedule_spinning(cat, duration, manoeuvre, kind, min_angle_deg, joint_limit_deg, &Vector3::zeros())
+}
+
+/// [`start_schedule`] calibrated for a release with total angular momentum `spin` (world frame,
+/// N·m·s; [`calibrate_spinning`]). A mirrored start is the mirror image of this schedule, so its
+/// circulation is calibrated under the mirrored spin `(L_x, −L_y, −L_z)` (angular momentum is a
+/// pseudovector: the reflection `x → −x` maps `L` to `−diag(−1, 1, 1) L`), and the start itself
+/// turns by ±π under `spin`.
+#[allow(clippy::too_many_arguments)]
+pub fn start_schedule_spinning(
+    cat: &Cylinder,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    kind: StartKind,
+    min_angle_deg: Option<f64>,
+    joint_limit_deg: Option<f64>,
+    spin: &Vector3<f64>,
 ) -> Result<Schedule, String> {
     let (path, profile) = match kind {
         StartKind::Paper | StartKind::PaperMirrored => (BendPath::JointCircle, manoeuvre.profile),
@@ -88,8 +108,14 @@ pub fn start_schedule(
         bend_profile: Profile::harmonic(),
         unbend_profile: Profile::harmonic(),
     };
-    let cal = calibrate(cat, &schedule, 1e-9);
+    let spin = if mirrored(kind) { Vector3::new(spin.x, -spin.y, -spin.z) } else { *spin };
+    let cal = calibrate_spinning(cat, &schedule, &spin, 1e-9);
     Ok(if cal.status == RootStatus::Converged { schedule.with_circulation(cal.circulation) } else { schedule })
+}
+
+/// Whether `kind` is a mirror image (`q2 → −q2`).
+fn mirrored(kind: StartKind) -> bool {
+    matches!(kind, StartKind::PaperMirrored | StartKind::ConeMirrored)
 }
 
 /// The start `kind` on the spline of `settings`.
@@ -100,8 +126,28 @@ pub fn build_start(
     kind: StartKind,
     settings: &WholeSettings,
 ) -> Result<NamedStart, String> {
-    let schedule = start_schedule(cat, duration, manoeuvre, kind, settings.min_angle_deg, settings.joint_limit_deg)?;
-    let sign = if matches!(kind, StartKind::PaperMirrored | StartKind::ConeMirrored) { -1.0 } else { 1.0 };
+    build_start_spinning(cat, duration, manoeuvre, kind, settings, &Vector3::zeros())
+}
+
+/// [`build_start`] for a release with total angular momentum `spin` ([`start_schedule_spinning`]).
+pub fn build_start_spinning(
+    cat: &Cylinder,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    kind: StartKind,
+    settings: &WholeSettings,
+    spin: &Vector3<f64>,
+) -> Result<NamedStart, String> {
+    let schedule = start_schedule_spinning(
+        cat,
+        duration,
+        manoeuvre,
+        kind,
+        settings.min_angle_deg,
+        settings.joint_limit_deg,
+        spin,
+    )?;
+    let sign = if mirrored(kind) { -1.0 } else { 1.0 };
     let mut spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
         let q = schedule.state(t.min(duration)).q;
         [q[0], sign * q[1]]
@@ -114,7 +160,7 @@ pub fn build_start(
         }
     }
     // The orientation error log(R_zᵀ(π) R) is singular at a half-turn from the target.
-    let f = crate::engines::exact::flip(cat, &spline, 1e-6);
+    let f = crate::engines::exact::flip_spinning(cat, &spline, spin, 1e-6);
     if f.swing > 0.5 * std::f64::consts::PI {
         return Err(format!("the fitted start lands with swing {:.1}°, too far from a flip", f.swing.to_degrees()));
     }

@@ -28,6 +28,7 @@ use nalgebra::{DMatrix, Vector3};
 use super::limits::{LimitRow, ROW_FLOOR};
 use super::sensitivity::{BendSample, TorqueSample};
 use super::settings::Objective;
+use super::spin::Lift;
 use crate::optimize::qp::assembly::Assembly;
 use crate::optimize::qp::{active_sides, QpError, QpSettings, QpStatus};
 
@@ -78,6 +79,9 @@ pub struct Subproblem<'a> {
     /// For the energy: the estimate `B` of the curvature Gauss–Newton leaves out
     /// ([`super::curvature`]), N²·m²·s per rad²; the model gains `½ δᵀBδ / J_u`.
     pub curvature: Option<&'a DMatrix<f64>>,
+    /// With spin, the lifted attitude unknowns ([`super::spin`]): gradient entries from
+    /// `values.len()` on are theirs, tied to `δ` by the transitions' equality rows.
+    pub lift: Option<&'a Lift>,
 }
 
 /// The subproblem's answer.
@@ -94,29 +98,32 @@ pub struct Step {
 impl Subproblem<'_> {
     /// The model `L(δ)` of the merit function (module docs), evaluated directly.
     pub fn model(&self, step: &[f64]) -> f64 {
+        let extended = self.lift.map(|l| l.extend(step));
+        let full = extended.as_deref().unwrap_or(step);
+        let lin_full = |t: f64, g: &[(usize, f64)]| t + g.iter().map(|&(v, c)| c * full[v]).sum::<f64>();
         let lin = |t: f64, g: &[(usize, f64)]| t + g.iter().map(|&(v, c)| c * step[v]).sum::<f64>();
         let objective = match self.objective {
             Objective::Peak => {
                 self.samples
                     .iter()
-                    .flat_map(|s| [0, 1].map(|j| lin(s.tau[j], &s.gradient[j]).abs()))
+                    .flat_map(|s| [0, 1].map(|j| lin_full(s.tau[j], &s.gradient[j]).abs()))
                     .fold(0.0, f64::max)
                     / self.scale
             }
             Objective::Energy => {
                 self.samples
                     .iter()
-                    .map(|s| s.weight * (0..2).map(|j| lin(s.tau[j], &s.gradient[j]).powi(2)).sum::<f64>())
+                    .map(|s| s.weight * (0..2).map(|j| lin_full(s.tau[j], &s.gradient[j]).powi(2)).sum::<f64>())
                     .sum::<f64>()
                     / self.scale
             }
             Objective::MinTime => {
-                self.limit_rows().map(|r| lin(r.constant, &r.gradient)).fold(0.0, f64::max) / self.scale
+                self.limit_rows().map(|r| lin_full(r.constant, &r.gradient)).fold(0.0, f64::max) / self.scale
             }
         };
         let limits = self
             .constraint_bound()
-            .map_or(0.0, |b| self.limit_rows().map(|r| lin(r.constant, &r.gradient) - b).fold(0.0, f64::max));
+            .map_or(0.0, |b| self.limit_rows().map(|r| lin_full(r.constant, &r.gradient) - b).fold(0.0, f64::max));
         let bend = self.bend.map_or(0.0, |(samples, floor)| {
             samples.iter().map(|b| floor - lin(b.cos_bend, &b.gradient)).fold(0.0, f64::max)
         });
@@ -136,7 +143,12 @@ impl Subproblem<'_> {
     }
 
     /// The most a row with `gradient` can move within the trust box.
+    /// A lifted unknown has no box of its own: a row with one can reach anything (and is kept).
     fn reach(&self, gradient: &[(usize, f64)]) -> f64 {
+        let n = self.trust_scales.len();
+        if gradient.iter().any(|&(v, _)| v >= n) {
+            return f64::INFINITY;
+        }
         self.trust_radius * gradient.iter().map(|&(v, c)| c.abs() * self.trust_scales[v]).sum::<f64>()
     }
 
@@ -164,8 +176,17 @@ impl Subproblem<'_> {
         let soft = self.orientation.filter(|_| !self.hard);
         let elastic = slack + if soft.is_some() { 3 } else { 0 };
         let limit_elastic = elastic + usize::from(self.bend.is_some());
-        let total = limit_elastic + usize::from(self.constraint_bound().is_some());
+        let lifted = limit_elastic + usize::from(self.constraint_bound().is_some());
+        let total = lifted + self.lift.map_or(0, Lift::unknowns);
+        // Lifted unknowns (gradient entries from n on) sit after every other variable.
+        let at = |v: usize| if v < n { v } else { lifted + v - n };
+        let mapped = |g: &[(usize, f64)]| -> Vec<(usize, f64)> { g.iter().map(|&(v, c)| (at(v), c)).collect() };
         let mut asm = Assembly::new(total);
+        if let Some(lift) = self.lift {
+            for row in lift.rows() {
+                asm.equal(mapped(&row), 0.0);
+            }
+        }
         let unit = 1.0 / self.scale;
         match self.objective {
             Objective::Peak => {
@@ -175,16 +196,17 @@ impl Subproblem<'_> {
                     self.samples.iter().flat_map(|s| (0..2).map(|j| (&s.gradient[j][..], s.tau[j]))).collect();
                 let spans: Vec<(f64, f64)> = rows.iter().map(|(g, tau)| (*tau, self.reach(g))).collect();
                 for ((g, tau), sides) in rows.iter().zip(active_sides(&spans)) {
-                    asm.sides_at_most(g.iter().map(|&(v, c)| (v, c * unit)), tau * unit, sides, bound);
+                    asm.sides_at_most(g.iter().map(|&(v, c)| (at(v), c * unit)), tau * unit, sides, bound);
                 }
             }
             Objective::Energy => {
-                let mut linear = vec![0.0; n];
+                let mut linear = vec![0.0; if self.lift.is_some() { total } else { n }];
                 for s in self.samples {
                     for j in 0..2 {
                         let w = s.weight * unit;
-                        asm.square_cost(&s.gradient[j], w);
-                        for &(v, g) in &s.gradient[j] {
+                        let g = mapped(&s.gradient[j]);
+                        asm.square_cost(&g, w);
+                        for &(v, g) in &g {
                             linear[v] += 2.0 * w * s.tau[j] * g;
                         }
                     }
@@ -204,7 +226,7 @@ impl Subproblem<'_> {
                 let floor = rows.iter().zip(&spans).map(|(r, s)| r.constant - s).fold(f64::NEG_INFINITY, f64::max);
                 for (r, span) in rows.iter().zip(&spans) {
                     if r.constant + span >= floor {
-                        let g = r.gradient.iter().map(|&(v, c)| (v, c * unit));
+                        let g = r.gradient.iter().map(|&(v, c)| (at(v), c * unit));
                         asm.sides_at_most(g, r.constant * unit, [true, false], bound);
                     }
                 }
@@ -217,7 +239,10 @@ impl Subproblem<'_> {
             for r in self.limit_rows() {
                 let span = self.reach(&r.gradient);
                 if r.constant + span >= b {
-                    asm.at_most(r.gradient.iter().copied().chain([(limit_elastic, -1.0)]), b - r.constant);
+                    asm.at_most(
+                        r.gradient.iter().map(|&(v, c)| (at(v), c)).chain([(limit_elastic, -1.0)]),
+                        b - r.constant,
+                    );
                 }
             }
         }
