@@ -29,7 +29,7 @@ from collections import defaultdict
 # the math with no physics in it; `problem` reads a `model::Cylinder`; `exchange` (files in and
 # out) sits below the engines and above the presentation (`report`), which `sweep` uses; the
 # `prelude` only re-exports, and nothing in the library imports it.
-STAGES = ["numeric", "model", "problem", "schedule", "engines", "optimize", "exchange", "report", "sweep", "robust", "prelude"]
+STAGES = ["numeric", "model", "problem", "schedule", "engines", "optimize", "exchange", "robust", "report", "sweep", "prelude"]
 
 # Known upward imports not yet removed, each with the reason and who removes it. The list only
 # shrinks: an entry that no longer occurs is an error too, so it is deleted with its fix.

@@ -6,6 +6,7 @@
 //! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`crate::exchange`]: schedules as CSV with URDF/MJCF;
+//! - [`robust`]: the robustness check's Markdown, CSV, plots and filmstrips;
 //! - [`provenance`]: the header every generated report starts with.
 
 pub mod audit;
@@ -16,6 +17,7 @@ pub mod optimize;
 pub mod plot;
 pub mod provenance;
 pub mod results_dir;
+pub mod robust;
 pub mod run;
 pub mod simulate;
 pub mod whole;

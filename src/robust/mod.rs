@@ -21,9 +21,9 @@
 //! With `robust.controller = "feedback"` (or `"both"`) the tracked trials are run (again, on
 //! the same draws and sensor noise) with feedback on the attitude
 //! ([`crate::engines::rapier::feedback`]: time-varying LQR with a Kalman filter), reported as
-//! its own engine beside the open loop. What is not in it (yet): unequal halves.
+//! its own engine beside the open loop. What is not in it (yet): unequal halves. Its Markdown, CSV
+//! and plots are [`crate::report::robust`]'s.
 
-pub mod report;
 pub mod tracked;
 
 use std::f64::consts::PI;

@@ -10,13 +10,13 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 
-use super::tracked::{Film, TrackingSummary};
-use super::{Engine, Percentiles, RobustReport, Robustness};
 use crate::engines::rapier::Snapshot;
 use crate::model::orientation::swing_twist;
 use crate::problem::Problem;
 use crate::report::plot::{line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Series};
 use crate::report::results_dir::{ResultsDirError, Staging};
+use crate::robust::tracked::{Film, TrackingSummary};
+use crate::robust::{Engine, Percentiles, RobustReport, Robustness};
 use crate::schedule::Trajectory;
 
 /// Bins of the landing-error histogram.
