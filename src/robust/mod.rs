@@ -283,7 +283,9 @@ pub(crate) fn landing_figures(r: &UnitQuaternion<f64>, twist: f64, swing: f64) -
 pub struct RobustReport {
     /// One check per engine run, exact first.
     pub checks: Vec<Robustness>,
-    /// The command that regenerates the report (empty when none was given).
+    /// The command that regenerates the report (empty when none was given, and then left out
+    /// of the JSON).
+    #[serde(skip_serializing_if = "String::is_empty")]
     pub command: String,
 }
 

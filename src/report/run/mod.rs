@@ -314,7 +314,9 @@ fn produce(
     if let Some(report) = &robust {
         w.put("robust.md", &report.to_markdown())?;
         w.put("robust.csv", &report.to_csv())?;
-        w.json("robust.json", report)?;
+        // The JSON holds results only: the command that made them is in the Markdown (and in
+        // report.md), as in every other JSON file of a run.
+        w.json("robust.json", &crate::robust::RobustReport { command: String::new(), ..report.clone() })?;
         for plot in [report.histogram_plot(), report.distribution_plot()] {
             w.record(crate::report::plot::line_plot(&plots, &plot)?);
         }
