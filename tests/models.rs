@@ -363,14 +363,6 @@ proptest! {
 }
 
 #[test]
-fn problem_default_is_the_papers_cat() {
-    // The core's default model is the one every existing command runs.
-    let p = Problem::default();
-    let cat = Cat::from(p.cat);
-    assert_eq!((cat.joint, cat.has_equal_halves(), cat.dof()), (Joint::Universal, true, 2));
-}
-
-#[test]
 fn the_universal_joint_in_spherical_coordinates_is_the_universal_joint() {
     // R_AB = Rx(q1) Ry(q2) = exp([v]×) Rz(τ): the spherical joint driven by the universal joint's
     // swing–twist coordinates is the same motion, so the same rates, torques and flip.

@@ -39,6 +39,9 @@ pub enum RobustWriteError {
     /// The plot.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// The check could not be written as JSON.
+    #[error("cannot write the robustness check as JSON: {0}")]
+    Json(serde_json::Error),
 }
 
 fn percentile_row(out: &mut String, name: &str, p: &Percentiles) {
@@ -310,7 +313,7 @@ impl RobustReport {
         schedule: &impl Trajectory,
     ) -> Result<PathBuf, RobustWriteError> {
         let staging = Staging::begin(out, &format!("{}-robust", problem.name))?;
-        let json = serde_json::to_string_pretty(self).unwrap_or_default();
+        let json = serde_json::to_string_pretty(self).map_err(RobustWriteError::Json)?;
         for (name, text) in [("robust.md", self.to_markdown()), ("robust.csv", self.to_csv()), ("robust.json", json)] {
             let path = staging.dir().join(name);
             std::fs::write(&path, text)

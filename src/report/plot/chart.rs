@@ -189,10 +189,11 @@ fn log_tick(v: &f64) -> String {
 
 /// A linear axis's tick label over the range `(lo, hi)`: as many decimals as its tick spacing
 /// needs, so counts read `18`, not `18.0`, and every label of an axis has the same decimals.
-/// Plotters spaces at most ten ticks by `{1, 2, 5} × 10ᵏ`; the smallest such step above a tenth
-/// of the range is never larger than the one it picks, so its decimals are always enough.
+/// Plotters spaces at most ten ticks by `{1, 2, 5} × 10ᵏ`, counting only the multiples of the
+/// step inside the range, so its step can be as small as an eleventh of the range; the smallest
+/// such step above that is never larger than the one it picks, so its decimals are always enough.
 fn linear_tick((lo, hi): (f64, f64)) -> impl Fn(&f64) -> String {
-    let raw = (hi - lo).abs() / 10.0;
+    let raw = (hi - lo).abs() / 11.0;
     let decimals = if raw > 0.0 && raw.is_finite() {
         let k = raw.log10().floor();
         let mantissa = raw / 10f64.powf(k);
@@ -357,6 +358,8 @@ mod tests {
         assert_eq!([rates(&0.0), rates(&9.0)], ["0", "9"], "a step of 1 needs no decimals");
         let torques = linear_tick((-0.33, 0.33));
         assert_eq!([torques(&-0.3), torques(&0.1), torques(&-1e-17)], ["-0.3", "0.1", "0.0"]);
+        let offset = linear_tick((0.01, 5.49));
+        assert_eq!(offset(&1.5), "1.5", "ten ticks 0.5 apart fit inside (0.01, 5.49)");
         let fine = linear_tick((0.0, 0.2));
         assert_eq!(fine(&0.02), "0.02", "a step of 0.02 keeps two decimals");
         let narrow = linear_tick((0.31645, 0.3166));

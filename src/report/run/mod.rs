@@ -347,6 +347,12 @@ fn produce(
             "\n{} The trials, the worst ones and the plots: [`robust.md`](robust.md). Tracked by motors in rapier, with attitude feedback and landing: `catflip robust` with `--schedule` this folder's `schedules/{WHOLE}.csv` (README, *Robustness*).",
             robust_line(c)
         );
+        if problem.robust.engine.rapier() {
+            let _ = writeln!(
+                summary,
+                "\n`run` checks the exact engine only; this problem's `robust.engine` (rapier, its controller and landing) is `catflip robust`'s."
+            );
+        }
     }
     let mut report =
         crate::report::provenance::header(&format!("catflip results: {}", problem.name), command, &settings);
