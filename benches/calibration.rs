@@ -23,7 +23,7 @@ fn calibration(c: &mut Criterion) {
     g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for tol in [1e-4, 1e-7, 1e-10] {
         g.bench_with_input(BenchmarkId::from_parameter(format!("{tol:e}")), &tol, |b, &tol| {
-            b.iter(|| calibrate(&p.cat, &s, tol))
+            b.iter(|| calibrate(&p.cat.half(), &s, tol))
         });
     }
     g.finish();
@@ -32,7 +32,7 @@ fn calibration(c: &mut Criterion) {
     for turns in [1.0, 4.0, 10.0] {
         let start = s.with_circulation(turns * s.circulation);
         g.bench_with_input(BenchmarkId::from_parameter(format!("{:.1} rad", start.circulation)), &start, |b, st| {
-            b.iter(|| calibrate(&p.cat, st, 1e-10))
+            b.iter(|| calibrate(&p.cat.half(), st, 1e-10))
         });
     }
     g.finish();
@@ -42,7 +42,7 @@ fn calibration(c: &mut Criterion) {
         let sch = s.with_circulation(d);
         let n = piece_samples(&sch, p.exact.torque_samples);
         g.bench_with_input(BenchmarkId::from_parameter(format!("{d:.1} rad")), &(sch, n), |b, (sch, n)| {
-            b.iter(|| peak_torques_on(&p.cat, sch, n))
+            b.iter(|| peak_torques_on(&p.cat.half(), sch, n))
         });
     }
     g.finish();

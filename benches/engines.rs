@@ -23,7 +23,7 @@ fn exact(c: &mut Criterion) {
     g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for tol in [1e-6, 1e-9, 1e-12] {
         g.bench_with_input(BenchmarkId::from_parameter(format!("{tol:e}")), &tol, |b, &tol| {
-            b.iter(|| flip(&p.cat, &s, tol))
+            b.iter(|| flip(&p.cat.half(), &s, tol))
         });
     }
     g.finish();
@@ -31,7 +31,7 @@ fn exact(c: &mut Criterion) {
     g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for steps in [16usize, 128, 1024] {
         g.bench_with_input(BenchmarkId::from_parameter(steps), &steps, |b, &n| {
-            b.iter(|| integrate(&p.cat, &s, n, |_| {}))
+            b.iter(|| integrate(&p.cat.half(), &s, n, |_| {}))
         });
     }
     g.finish();
@@ -39,7 +39,7 @@ fn exact(c: &mut Criterion) {
     g.sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(2));
     for samples in [100usize, 400, 1600] {
         g.bench_with_input(BenchmarkId::from_parameter(samples), &samples, |b, &n| {
-            b.iter(|| peak_torques(&p.cat, &s, n))
+            b.iter(|| peak_torques(&p.cat.half(), &s, n))
         });
     }
     g.finish();

@@ -25,7 +25,7 @@ use common::paper;
 fn feedback(c: &mut Criterion) {
     let (p, s) = paper();
     let n = (s.total_duration() / 1e-4).ceil() as usize;
-    let plan = Plan::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, n);
+    let plan = Plan::new(&p.cat.half(), &s, &Vector3::zeros(), p.exact.tolerance, n);
     let settings = FeedbackSettings {
         rate_hz: 1000.0,
         attitude: 1f64.to_radians(),
@@ -34,7 +34,7 @@ fn feedback(c: &mut Criterion) {
         spin_prior: 0.01,
         sensor_noise: 0.5f64.to_radians(),
     };
-    let fb = FeedbackPlan::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, &plan, settings);
+    let fb = FeedbackPlan::new(&p.cat.half(), &s, &Vector3::zeros(), p.exact.tolerance, &plan, settings);
     let nodes = fb.linearisation.nodes.len();
     let mut g = c.benchmark_group("feedback/gains");
     g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
@@ -44,7 +44,7 @@ fn feedback(c: &mut Criterion) {
         });
     }
     g.bench_function("linearisation", |b| {
-        b.iter(|| Linearisation::new(&p.cat, &s, &Vector3::zeros(), p.exact.tolerance, &plan, 1000.0))
+        b.iter(|| Linearisation::new(&p.cat.half(), &s, &Vector3::zeros(), p.exact.tolerance, &plan, 1000.0))
     });
     g.finish();
 
@@ -57,12 +57,14 @@ fn feedback(c: &mut Criterion) {
         landing: None,
         keep_poses_at: Vec::new(),
     };
-    let servo = PdGains::servo(&p.cat, 10.0, 1.0);
+    let servo = PdGains::servo(&p.cat.half(), 10.0, 1.0);
     let mut g = c.benchmark_group("feedback/trial");
     g.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(5));
-    g.bench_function("open loop", |b| b.iter(|| track(&p.cat, &plan, &mut FeedForwardPd::new(&plan, servo), &options)));
+    g.bench_function("open loop", |b| {
+        b.iter(|| track(&p.cat.half(), &plan, &mut FeedForwardPd::new(&plan, servo), &options))
+    });
     g.bench_function("feedback", |b| {
-        b.iter(|| track(&p.cat, &plan, &mut Feedback::new(&plan, &fb, servo, &p.cat), &options))
+        b.iter(|| track(&p.cat.half(), &plan, &mut Feedback::new(&plan, &fb, servo, &p.cat.half()), &options))
     });
     g.finish();
 }

@@ -23,7 +23,7 @@ fn rapier(c: &mut Criterion) {
     for rate in [500.0, 1000.0, 2000.0] {
         let settings = p.rapier.with_dt(1.0 / rate);
         g.bench_with_input(BenchmarkId::from_parameter(format!("{rate} Hz")), &settings, |b, st| {
-            b.iter(|| simulate(&p.cat, &s, st))
+            b.iter(|| simulate(&p.cat.half(), &s, st))
         });
     }
     g.finish();
@@ -36,8 +36,14 @@ fn rapier(c: &mut Criterion) {
     g.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
     g.bench_function(BenchmarkId::from_parameter("1000 Hz"), |b| {
         b.iter(|| {
-            let mut scene =
-                CatScene::new(&p.cat, p.rapier.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), [0.0; 2])?;
+            let mut scene = CatScene::new(
+                &p.cat.half(),
+                p.rapier.cross_mass_fraction,
+                dt,
+                opts.pgs_iterations,
+                Some(gains),
+                [0.0; 2],
+            )?;
             for k in 1..=n {
                 let st = s.state(k as f64 * dt);
                 scene.set_targets([st.q[0] - dt * st.qd[0], st.q[1] - dt * st.qd[1]], st.qd)?;

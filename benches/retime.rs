@@ -31,7 +31,7 @@ fn whole_schedule(c: &mut Criterion) {
             let settings = RetimeSettings { intervals: n, split, ..RetimeSettings::default() };
             group.bench_with_input(BenchmarkId::from_parameter(n), &settings, |b, settings| {
                 b.iter(|| {
-                    let r = retime_schedule(&p.cat, black_box(&s), *settings).expect("valid problem");
+                    let r = retime_schedule(&p.cat.half(), black_box(&s), *settings).expect("valid problem");
                     assert!(r.solution.status.is_solved(), "{}", r.solution.status);
                     r.solution.peak
                 })

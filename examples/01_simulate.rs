@@ -13,13 +13,8 @@ fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "problems/paper.toml".to_string());
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
-    let e = Evaluation::new(
-        &problem.cat,
-        &resolved.schedule,
-        &problem.drop.spin(),
-        &problem.actuator.motors(),
-        &problem.exact,
-    );
+    // Any cat model the problem file describes (`[cat] joint`, `[cat.front]`, `[cat.rear]`).
+    let e = resolved.evaluate(&resolved.schedule)?;
     println!("{}: circulation {:.6} rad ({})", problem.name, resolved.circulation.radians, resolved.circulation.source);
     println!(
         "exact engine: twist {:+.4}°, swing {:.4}°, peak torque {:.4} N·m (integration converged: {})",

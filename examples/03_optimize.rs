@@ -13,7 +13,7 @@ fn main() -> anyhow::Result<()> {
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
     let own = Evaluation::new(
-        &problem.cat,
+        &problem.cat.half(),
         &resolved.schedule,
         &problem.drop.spin(),
         &problem.actuator.motors(),
@@ -21,12 +21,12 @@ fn main() -> anyhow::Result<()> {
     );
     println!("the problem's schedule: peak torque {:.4} N·m", own.peaks.max);
 
-    let retimed = retime_schedule(&problem.cat, &resolved.schedule, RetimeSettings::default())?;
+    let retimed = retime_schedule(&problem.cat.half(), &resolved.schedule, RetimeSettings::default())?;
     let s = &retimed.solution;
     println!("retimed along its path: {}, peak {:.4} N·m, certified bound {:.4} N·m", s.status, s.peak, s.lower_bound);
 
     let whole = optimize_whole(
-        &problem.cat,
+        &problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &problem.optimize.whole,

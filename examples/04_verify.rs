@@ -13,14 +13,14 @@ fn main() -> anyhow::Result<()> {
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
     let e = Evaluation::new(
-        &problem.cat,
+        &problem.cat.half(),
         &resolved.schedule,
         &problem.drop.spin(),
         &problem.actuator.motors(),
         &problem.exact,
     );
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
-    let v = verify(&problem.cat, &resolved.schedule, &problem.rapier, &reference)?;
+    let v = verify(&problem.cat.half(), &resolved.schedule, &problem.rapier, &reference)?;
     let steps: Vec<String> = v.dt_sequence.iter().map(|dt| format!("{dt:.2e}")).collect();
     println!("rapier at dt = {} s: {}", steps.join(", "), v.verdict);
     Ok(())

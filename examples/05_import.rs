@@ -19,7 +19,7 @@ fn main() -> anyhow::Result<()> {
     let report = catflip::exchange::evaluate(&problem, &imported)?;
     std::fs::remove_file(&csv)?;
     let e = Evaluation::new(
-        &problem.cat,
+        &problem.cat.half(),
         &resolved.schedule,
         &problem.drop.spin(),
         &problem.actuator.motors(),

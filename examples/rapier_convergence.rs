@@ -44,7 +44,7 @@ fn main() -> anyhow::Result<()> {
         None => [60.0, 125.0, 250.0, 500.0, 1e3, 2e3, 4e3, 8e3, 16e3, 32e3].iter().map(|r| 1.0 / r).collect(),
     };
     let schedule = Resolved::new(&p)?.with_library(kind);
-    let exact = flip(&p.cat, &schedule, 1e-12);
+    let exact = flip(&p.cat.half(), &schedule, 1e-12);
     let reference = FinalAngles::new(&exact.orientation, exact.twist);
     println!(
         "{profile}: exact twist {:.9} rad, swing {:.4e} rad, swing vector ({:.4e}, {:.4e})",
@@ -54,7 +54,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut prev: Option<(f64, FinalAngles, f64)> = None;
     for dt in dts {
-        let run = simulate_with(&p.cat, &schedule, &settings.with_dt(dt), &opts)?;
+        let run = simulate_with(&p.cat.half(), &schedule, &settings.with_dt(dt), &opts)?;
         let now = FinalAngles::of_run(&run);
         let (ex, ex_angle) = match prev {
             Some((dt0, before, swing0)) => {

@@ -14,7 +14,7 @@ use catflip::schedule::{paper_circulation, Schedule};
 
 fn main() -> anyhow::Result<()> {
     let problem = Problem::load(Path::new("problems/paper.toml"), &[])?;
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let tol = problem.exact.tolerance;
     let paper = paper_circulation(cat, problem.manoeuvre.theta())?;
     let base = Schedule::new(&problem, paper);

@@ -379,7 +379,7 @@ fn exact_column_holds_the_exact_engine_numbers() {
     assert!((exact("tau_unbend") - pk.unbend[0].max(pk.unbend[1])).abs() < 1e-12);
     // The calibrated circulation turns the cat by π (to the engine's tolerance).
     let s = catflip::schedule::Schedule::new(&p, exact("circulation"));
-    let f = catflip::engines::exact::flip(&p.cat, &s, 1e-11);
+    let f = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-11);
     assert!((f.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", f.twist);
 }
 

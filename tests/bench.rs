@@ -23,7 +23,7 @@ fn outcomes(c: &Curve) -> Vec<Outcome> {
 #[test]
 fn retiming_gap_to_the_converged_bound_falls_at_first_order() {
     let r = paper_resolved();
-    let (curve, note) = optimizers::retime_curve(&r.problem.cat, &r.schedule, &[25, 400], [400, 800]);
+    let (curve, note) = optimizers::retime_curve(&r.problem.cat.half(), &r.schedule, &[25, 400], [400, 800]);
     let o = outcomes(&curve);
     println!("retime: {o:?}\n{}", note.note);
     assert!(note.note.contains("P_∞"), "the note gives the converged bound: {}", note.note);
@@ -74,7 +74,7 @@ fn refused_cases_and_missing_numbers_print_no_nan() {
     assert!(odd.points[2].outcome.is_none(), "a NaN error fails the point");
     let report = BenchReport {
         machine: "test".into(),
-        curves: vec![odd, optimizers::qp_curve(&p.cat, &r.schedule, &[10, 20])],
+        curves: vec![odd, optimizers::qp_curve(&p.cat.half(), &r.schedule, &[10, 20])],
         notes: Vec::new(),
         evaluation: Timing::measure(|| {}),
         stress,

@@ -13,7 +13,13 @@ use nalgebra::Vector3;
 
 /// The problem's circulation, resolved as every command resolves it.
 fn resolve(p: &Problem) -> Result<ResolvedCirculation, CirculationError> {
-    resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), &p.drop.spin(), p.exact.tolerance)
+    resolve_circulation(
+        &catflip::engines::models::TwoMotorCat::paper(p.cat.half()),
+        &p.manoeuvre,
+        p.drop.fall_time(),
+        &p.drop.spin(),
+        p.exact.tolerance,
+    )
 }
 
 fn schedule(theta: f64, path: BendPath, d: f64) -> Schedule {
@@ -96,7 +102,7 @@ fn the_paper_cat_on_the_cone_ends_near_upright() {
     let text = std::fs::read_to_string("problems/paper.toml").expect("the paper's problem file");
     let p = Problem::from_toml(&text, "paper.toml", &["manoeuvre.bend_path=cone".into()]).expect("loads");
     let d = resolve(&p).expect("the paper's circulation").radians;
-    let f = catflip::engines::exact::flip(&p.cat, &Schedule::new(&p, d), p.exact.tolerance);
+    let f = catflip::engines::exact::flip(&p.cat.half(), &Schedule::new(&p, d), p.exact.tolerance);
     assert!(f.converged);
     assert!(f.swing.to_degrees() < 90.0, "swing {}°", f.swing.to_degrees());
 }
@@ -142,7 +148,7 @@ fn the_calibration_passes_over_a_jump_to_the_root_on_the_other_side() {
         Err(e) => panic!("no calibrated circulation: {e}"),
     };
     let cal = c.calibration.expect("a calibration was run");
-    let twist = |d: f64| catflip::engines::exact::flip(&p.cat, &Schedule::new(&p, d), 1e-12).twist;
+    let twist = |d: f64| catflip::engines::exact::flip(&p.cat.half(), &Schedule::new(&p, d), 1e-12).twist;
     let (mut lo, mut hi) = (2.9, 3.1);
     assert!(twist(lo) + PI > 0.0 && twist(hi) + PI < 0.0, "the reference bracket");
     for _ in 0..50 {

@@ -36,7 +36,7 @@ fn rigid_cat_does_not_turn() {
     // A straight cat (θ = 180°) never bends, so it never turns.
     let mut p = Problem::default();
     p.manoeuvre.theta_deg = 180.0;
-    let f = flip(&p.cat, &Schedule::new(&p, 3.0), 1e-12);
+    let f = flip(&p.cat.half(), &Schedule::new(&p, 3.0), 1e-12);
     assert!(f.twist.abs() < 1e-15 && f.swing.abs() < 1e-15, "straight cat turned: {f:?}");
 }
 
@@ -44,15 +44,15 @@ fn rigid_cat_does_not_turn() {
 fn planar_bend_gives_no_twist() {
     // q2 ≡ 0 (no circulation): Ω stays along x̂, so A only swings about x̂.
     let (p, s) = paper();
-    let f = flip(&p.cat, &s.with_circulation(0.0), 1e-12);
+    let f = flip(&p.cat.half(), &s.with_circulation(0.0), 1e-12);
     assert!(f.twist.abs() < 1e-14, "planar bend twisted by {} rad", f.twist);
 }
 
 #[test]
 fn schedule_and_its_time_reverse_cancel() {
     for (p, s) in [paper(), cone_cycloidal()] {
-        let (fwd, _) = integrate(&p.cat, &s, 512, |_| {});
-        let (back, _) = integrate(&p.cat, &Reversed(&s), 512, |_| {});
+        let (fwd, _) = integrate(&p.cat.half(), &s, 512, |_| {});
+        let (back, _) = integrate(&p.cat.half(), &Reversed(&s), 512, |_| {});
         let total = fwd * back;
         assert!(total.angle() < 1e-11, "forward then backward leaves a rotation of {} rad", total.angle());
         assert!(fwd.angle() > 0.1, "the test needs a schedule that turns the cat");
@@ -64,9 +64,9 @@ fn reorientation_depends_on_the_path_not_its_timing() {
     // The same joint path traversed with another profile (same circulation) ends in the same
     // orientation: Ω = A(q) q̇ is linear in q̇.
     for (p, s) in [paper(), cone_cycloidal()] {
-        let a = flip(&p.cat, &s, 1e-12);
+        let a = flip(&p.cat.half(), &s, 1e-12);
         for kind in [ProfileKind::Poly345, ProfileKind::BangBang, ProfileKind::ModifiedSine] {
-            let b = flip(&p.cat, &s.with_profile(Profile::library(kind)), 1e-12);
+            let b = flip(&p.cat.half(), &s.with_profile(Profile::library(kind)), 1e-12);
             assert_relative_eq!(a.twist, b.twist, epsilon = 1e-10);
             assert_relative_eq!(a.swing, b.swing, epsilon = 1e-10);
         }
@@ -82,9 +82,9 @@ fn a_piecewise_linear_rate_flips_like_a_smooth_one_and_meets_its_tolerance() {
     let (p, s) = paper();
     let nodes: Vec<f64> = (0..41).map(|k| (PI * k as f64 / 40.0).sin().powi(2) + 0.3 * (k % 3) as f64).collect();
     let kinked = s.with_profile(Profile::from_rate_nodes("kinked", &nodes).expect("valid nodes"));
-    let smooth = flip(&p.cat, &s.with_profile(Profile::library(ProfileKind::Cycloidal)), 1e-13);
+    let smooth = flip(&p.cat.half(), &s.with_profile(Profile::library(ProfileKind::Cycloidal)), 1e-13);
     for tol in [1e-8, 1e-11] {
-        let f = flip(&p.cat, &kinked, tol);
+        let f = flip(&p.cat.half(), &kinked, tol);
         assert!(f.converged, "tolerance {tol:e} not met: {f:?}");
         let err = (f.orientation.inverse() * smooth.orientation).angle();
         assert!(err <= tol, "tolerance {tol:e}: {err:.2e} rad from the smooth timing's orientation");
@@ -97,8 +97,8 @@ fn magnus_converges_at_sixth_order() {
     // The paper's cat and bend (β = 135°) with a smooth profile; error = angle of R_n⁻¹ R_ref.
     let (p, s) = paper();
     let s = s.with_profile(Profile::library(ProfileKind::Cycloidal));
-    let reference = integrate(&p.cat, &s, 8192, |_| {}).0;
-    let err = |n| (integrate(&p.cat, &s, n, |_| {}).0.inverse() * reference).angle();
+    let reference = integrate(&p.cat.half(), &s, 8192, |_| {}).0;
+    let err = |n| (integrate(&p.cat.half(), &s, n, |_| {}).0.inverse() * reference).angle();
     let (e1, e2) = (err(64), err(128));
     let order = (e1 / e2).log2();
     assert!((5.7..6.3).contains(&order), "observed order {order:.2} (errors {e1:.2e}, {e2:.2e}), expected 6");
@@ -107,9 +107,9 @@ fn magnus_converges_at_sixth_order() {
 #[test]
 fn flip_meets_its_tolerance() {
     let (p, s) = paper();
-    let reference = integrate(&p.cat, &s, 8192, |_| {}).1;
+    let reference = integrate(&p.cat.half(), &s, 8192, |_| {}).1;
     for tol in [1e-6, 1e-9, 1e-11] {
-        let f = flip(&p.cat, &s, tol);
+        let f = flip(&p.cat.half(), &s, tol);
         assert!(f.converged);
         let err = (f.twist - reference.twist).abs().max((f.swing - reference.swing).abs());
         assert!(err <= tol, "tolerance {tol:e}: actual error {err:.2e}");
@@ -120,7 +120,7 @@ fn flip_meets_its_tolerance() {
 fn paper_schedule_is_not_assumed_to_flip() {
     // Whatever it turns out to be, the engine must report it; the paper claims π.
     let (p, s) = paper();
-    let f = flip(&p.cat, &s, 1e-10);
+    let f = flip(&p.cat.half(), &s, 1e-10);
     assert!(f.twist.abs() > 2.0 && f.twist.abs() < 4.0, "twist {} rad is not near a half turn", f.twist);
     assert!((f.twist.abs() - PI).abs() > 1e-3, "the paper's schedule would flip exactly: check the engine");
 }
@@ -128,11 +128,11 @@ fn paper_schedule_is_not_assumed_to_flip() {
 #[test]
 fn momentum_is_zero_along_the_motion() {
     let (p, s) = paper();
-    let scale = p.cat.end_transverse();
+    let scale = p.cat.half().end_transverse();
     for k in 0..=200 {
         let st = s.state(s.duration() * k as f64 / 200.0);
-        let w = body_rate(&p.cat, st.q, st.qd);
-        let h = momentum(&p.cat, &st, &w).norm();
+        let w = body_rate(&p.cat.half(), st.q, st.qd);
+        let h = momentum(&p.cat.half(), &st, &w).norm();
         let reference = scale * st.qd[0].hypot(st.qd[1]).max(1.0);
         assert!(h <= 1e-13 * reference, "|H| = {h:e} at sample {k} (reference {reference:e})");
     }
@@ -143,10 +143,10 @@ fn omega_dot_matches_finite_differences() {
     let (p, s) = cone_cycloidal();
     let h = 1e-5;
     for t in [0.1, 0.5, 0.9, 1.2] {
-        let k = kinematics(&p.cat, &s.state(t));
+        let k = kinematics(&p.cat.half(), &s.state(t));
         let w = |t: f64| {
             let st = s.state(t);
-            body_rate(&p.cat, st.q, st.qd)
+            body_rate(&p.cat.half(), st.q, st.qd)
         };
         let fd = (w(t + h) - w(t - h)) / (2.0 * h);
         // Central differences: error O(h²) ≈ 1e-10 times the third derivative.
@@ -160,14 +160,14 @@ fn torques_agree_from_both_sides_and_balance_power() {
     let h = 1e-5;
     for t in [0.1, 0.3, 0.7, 1.0, 1.3] {
         let st = s.state(t);
-        let jt = joint_torques(&p.cat, &st);
+        let jt = joint_torques(&p.cat.half(), &st);
         for j in 0..2 {
             assert_relative_eq!(jt.tau[j], jt.from_a[j], epsilon = 1e-11, max_relative = 1e-11);
         }
         // Power balance: τ·q̇ = dE/dt.
         let e = |t: f64| {
             let st = s.state(t);
-            kinetic_energy(&p.cat, st.q, st.qd)
+            kinetic_energy(&p.cat.half(), st.q, st.qd)
         };
         let de = (e(t + h) - e(t - h)) / (2.0 * h);
         let power = jt.tau[0] * st.qd[0] + jt.tau[1] * st.qd[1];
@@ -256,14 +256,14 @@ fn paper_schedule_matches_an_independent_derivation() {
     // Tolerances: the reference's own spread between rtol 1e-12 and 1e-13 (≈ 1e-9°) plus its
     // printed digits.
     let (p, s) = paper();
-    let f = flip(&p.cat, &s, 1e-12);
+    let f = flip(&p.cat.half(), &s, 1e-12);
     assert!((f.twist.to_degrees() - -174.067345149).abs() < 5e-9, "{}", f.twist.to_degrees());
     assert!((f.swing.to_degrees() - 0.590135830).abs() < 5e-9, "{}", f.swing.to_degrees());
     let (q, c) = cone_cycloidal();
-    let g = flip(&q.cat, &c, 1e-12);
+    let g = flip(&q.cat.half(), &c, 1e-12);
     assert!((g.twist.to_degrees() - -124.532695369).abs() < 5e-9, "{}", g.twist.to_degrees());
     assert!((g.swing.to_degrees() - 0.033937668).abs() < 5e-9, "{}", g.swing.to_degrees());
-    let cal = catflip::engines::calibrate::calibrate(&p.cat, &s, 1e-12);
+    let cal = catflip::engines::calibrate::calibrate(&p.cat.half(), &s, 1e-12);
     assert!((cal.circulation - 3.336554621121).abs() < 5e-11, "{}", cal.circulation);
 }
 
@@ -271,8 +271,8 @@ fn paper_schedule_matches_an_independent_derivation() {
 fn an_unmet_tolerance_is_reported_not_hidden() {
     // Round-off bounds the orientation error near 1e-15 rad: 1e-17 cannot be met.
     let (p, s) = paper();
-    let f = flip(&p.cat, &s, 1e-17);
+    let f = flip(&p.cat.half(), &s, 1e-17);
     assert!(!f.converged, "claimed convergence to 1e-17 with estimate {:e}", f.error_estimate);
-    let cal = catflip::engines::calibrate::calibrate(&p.cat, &s, 1e-17);
+    let cal = catflip::engines::calibrate::calibrate(&p.cat.half(), &s, 1e-17);
     assert_ne!(cal.status, catflip::numeric::roots::RootStatus::Converged, "{cal:?}");
 }

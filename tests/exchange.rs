@@ -15,11 +15,11 @@ use catflip::schedule::{paper_circulation, Schedule, Trajectory};
 
 /// A cat unlike the default, so that no number matches by accident.
 fn problem() -> Problem {
-    Problem { cat: Cylinder { mass: 1.3, length: 0.7, radius: 0.11 }, ..Default::default() }
+    Problem { cat: Cylinder { mass: 1.3, length: 0.7, radius: 0.11 }.into(), ..Default::default() }
 }
 
 fn paper_schedule(p: &Problem) -> Schedule {
-    Schedule::new(p, paper_circulation(&p.cat, p.manoeuvre.theta()).expect("the paper's circulation exists"))
+    Schedule::new(p, paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect("the paper's circulation exists"))
 }
 
 fn numbers(text: &str) -> Vec<f64> {
@@ -48,7 +48,7 @@ fn urdf_has_the_true_mass_properties_and_joint_frames() {
     let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
     let links: Vec<_> = doc.descendants().filter(|n| n.has_tag_name("link")).collect();
     assert_eq!(links.iter().map(|l| l.attribute("name").unwrap_or("")).collect::<Vec<_>>(), ["A", "cross", "B"]);
-    let (t, a) = (p.cat.transverse(), p.cat.axial());
+    let (t, a) = (p.cat.half().transverse(), p.cat.half().axial());
     let cross_m = p.rapier.cross_mass_fraction * p.cat.mass;
     let cross_i = 0.4 * cross_m * p.cat.radius.powi(2);
     let expected = [(p.cat.mass, [t, t, a]), (cross_m, [cross_i; 3]), (p.cat.mass, [t, t, a])];
@@ -90,7 +90,7 @@ fn urdf_has_the_true_mass_properties_and_joint_frames() {
         x += r * vec3(&attr(*joint, "origin", "xyz"));
         r *= rotation(vec3(&attr(*joint, "axis", "xyz")), q);
     }
-    let cfg = p.cat.configuration(Q);
+    let cfg = p.cat.half().configuration(Q);
     assert_relative_eq!(r, cfg.rotation, epsilon = 1e-15);
     // B's centre of mass, and the joint point in A, against the model.
     assert_relative_eq!(x + r * com[2], cfg.offset, epsilon = 1e-15);
@@ -111,7 +111,7 @@ fn mjcf_has_the_true_mass_properties_and_joint_frames() {
         b.children().find(|n| n.has_tag_name(tag))
     }
     assert!(child(bodies[0], "freejoint").is_some(), "A is the floating base");
-    let (t, a) = (p.cat.transverse(), p.cat.axial());
+    let (t, a) = (p.cat.half().transverse(), p.cat.half().axial());
     let cross_m = p.rapier.cross_mass_fraction * p.cat.mass;
     let cross_i = 0.4 * cross_m * p.cat.radius.powi(2);
     let expected = [(p.cat.mass, [t, t, a]), (cross_m, [cross_i; 3]), (p.cat.mass, [t, t, a])];
@@ -140,7 +140,7 @@ fn mjcf_has_the_true_mass_properties_and_joint_frames() {
         joint_point = x + r * rj * pos;
         r *= rj;
     }
-    let cfg = p.cat.configuration(Q);
+    let cfg = p.cat.half().configuration(Q);
     assert_relative_eq!(r, cfg.rotation, epsilon = 1e-15);
     assert_relative_eq!(x, cfg.offset, epsilon = 1e-15);
     assert_relative_eq!(joint_point, Vector3::new(0.0, 0.0, -0.5 * p.cat.length), epsilon = 1e-15);
@@ -178,7 +178,7 @@ fn uniform_grid_marks_boundaries_and_states_the_jump() {
     }
     // One jump (the paper's cosine ends at 2ω0), its impulse as the torque module computes it,
     // in the sidecar and on the unbend's start row.
-    let expected = velocity_jumps(&p.cat, &s, 1e-9);
+    let expected = velocity_jumps(&p.cat.half(), &s, 1e-9);
     assert_eq!((sidecar.jumps.len(), expected.len()), (1, 1));
     let start = rows.iter().find(|r| r[1] == "unbend" && r[2] == "start").expect("a start row");
     for j in 0..2 {
@@ -187,7 +187,7 @@ fn uniform_grid_marks_boundaries_and_states_the_jump() {
         assert_relative_eq!(col, expected[0].impulse[j], max_relative = 1e-15);
     }
     assert!(sidecar.conventions.quaternion.contains("(w, x, y, z)"));
-    assert_relative_eq!(sidecar.model.half_inertia_kg_m2[0], p.cat.transverse(), max_relative = 1e-15);
+    assert_relative_eq!(sidecar.model.half_inertia_kg_m2[0], p.cat.half().transverse(), max_relative = 1e-15);
     assert_eq!(sidecar.pieces.len(), 3);
 }
 
@@ -197,7 +197,7 @@ fn the_sidecar_sizes_the_motors_as_the_evaluation_does() {
     // measured on the file's trajectory; with a torque limit below the peak it says so.
     let mut p = problem();
     let s = paper_schedule(&p);
-    let e = catflip::prelude::Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = catflip::prelude::Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let (_, _, sidecar) = paper_file_at_1khz(&p);
     let m = &sidecar.motors;
     assert!(m.within_motors && m.demand.limits.is_empty(), "ideal motors: {}", m.verdict);
@@ -233,7 +233,7 @@ fn orientation_columns_meet_the_engine_tolerance() {
     // Reference: the exact engine's final orientation at exact.tolerance = 1e-10 rad.
     let p = problem();
     let (s, csv, sidecar) = paper_file_at_1khz(&p);
-    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
     let last = rows(&csv).pop().expect("rows");
     let v: Vec<f64> = last[13..19].iter().map(|x| x.parse().expect("a number")).collect();
     let q = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(v[0], v[1], v[2], v[3]));
@@ -254,8 +254,8 @@ fn round_trip_at_1khz_keeps_twist_swing_and_peak_torque() {
     assert_eq!(imported.interpolation, Interpolation::QuinticHermite);
     assert_eq!(imported.pieces.iter().map(|x| x.name.as_str()).collect::<Vec<_>>(), ["bend", "twist", "unbend"]);
     let report = evaluate(&p, &imported).expect("evaluates");
-    let f = flip(&p.cat, &s, p.exact.tolerance);
-    let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
+    let peaks = peak_torques(&p.cat.half(), &s, p.exact.torque_samples);
     let (dt, ds) = (report.figures.twist_deg.to_radians() - f.twist, report.figures.swing_deg.to_radians() - f.swing);
     eprintln!(
         "round trip at 1 kHz: twist {dt:.2e} rad, swing {ds:.2e} rad, peak {:.2e} relative",
@@ -283,13 +283,13 @@ fn round_trip_with_angles_only_uses_the_spline() {
     let imported = parse_schedule(&slim, "slim.csv").expect("reads back");
     assert_eq!(imported.interpolation, Interpolation::NotAKnotSpline);
     let report = evaluate(&p, &imported).expect("evaluates");
-    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
     let (dt, ds) = (report.figures.twist_deg.to_radians() - f.twist, report.figures.swing_deg.to_radians() - f.swing);
     eprintln!("spline round trip at 1 kHz: twist {dt:.2e} rad, swing {ds:.2e} rad");
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     assert!(dt.abs() < 1e-6 && ds.abs() < 1e-6, "twist {dt:.2e} rad, swing {ds:.2e} rad");
     // The paper's one jump is found; the spline's O(h³) end rates make no others.
-    let expected = velocity_jumps(&p.cat, &s, 1e-9);
+    let expected = velocity_jumps(&p.cat.half(), &s, 1e-9);
     assert_eq!(report.velocity_jumps.len(), 1);
     for j in 0..2 {
         let got = report.velocity_jumps[0].impulse[j];
@@ -378,7 +378,7 @@ fn simulate_cli_evaluates_a_schedule_file() {
         .expect("the binary runs");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
-    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
     assert_relative_eq!(v["twist_deg"].as_f64().unwrap_or(f64::NAN), f.twist.to_degrees(), epsilon = 1e-7);
     assert_eq!(v["interpolation"], "quintic-hermite");
     let _ = std::fs::remove_dir_all(&dir);
@@ -405,7 +405,7 @@ fn simulate_cli_verifies_a_schedule_file_in_rapier() {
     // The reference is the exact engine on the imported trajectory, which is the schedule's
     // (the round trip keeps the twist to 1e-9 rad); rapier → 0 agrees with it within the
     // verification's stated tolerance.
-    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
     let twist = v["verification"]["quantities"].as_array().and_then(|q| q.iter().find(|c| c["quantity"] == "twist"));
     let twist = twist.expect("the twist's convergence");
     let number = |x: &serde_json::Value| x.as_f64().expect("a number");
@@ -488,11 +488,11 @@ fn acceleration_jumps_inside_a_phase_become_boundaries_and_keep_the_peak_torque(
     assert!(file.sidecar.jumps.is_empty(), "the rates are continuous at the cuts: {:?}", file.sidecar.jumps);
     let imported = parse_schedule(&file.csv, "nodes.csv").expect("reads back");
     let report = evaluate(&p, &imported).expect("evaluates");
-    let peaks = peak_torques(&p.cat, &s, p.exact.torque_samples);
+    let peaks = peak_torques(&p.cat.half(), &s, p.exact.torque_samples);
     eprintln!("q̈-jump round trip: peak {:.2e} relative", report.peak_torque_nm.max / peaks.max - 1.0);
     assert_relative_eq!(report.peak_torque_nm.max, peaks.max, max_relative = 1e-9);
     assert_eq!(report.peak_torque_nm.pieces.len(), 3, "cut pieces are merged back into phases");
-    let f = flip(&p.cat, &s, p.exact.tolerance);
+    let f = flip(&p.cat.half(), &s, p.exact.tolerance);
     assert_relative_eq!(report.figures.twist_deg.to_radians(), f.twist, epsilon = 1e-9);
 }
 
@@ -749,7 +749,7 @@ fn the_peak_is_sampled_at_every_row() {
         for row in &piece.rows {
             let s = row.t - piece.file_start;
             for st in [imported.piece_state(k, s), imported.piece_state_before(k, s)] {
-                let tau = joint_torques(&p.cat, &st).tau;
+                let tau = joint_torques(&p.cat.half(), &st).tau;
                 rows_max = [rows_max[0].max(tau[0].abs()), rows_max[1].max(tau[1].abs())];
             }
         }
@@ -759,7 +759,7 @@ fn the_peak_is_sampled_at_every_row() {
     assert!(r.peak_torque_nm.max >= best, "peak {} below a row's {best}", r.peak_torque_nm.max);
     // And no lower than a dense sampling of the same interpolant (16 points per row interval).
     let dense: Vec<usize> = imported.pieces.iter().map(|x| 16 * x.rows.len()).collect();
-    let reference = peak_torques_on(&p.cat, &imported, &dense).max;
+    let reference = peak_torques_on(&p.cat.half(), &imported, &dense).max;
     assert!(r.peak_torque_nm.max >= reference * (1.0 - 1e-12), "peak {} below {reference}", r.peak_torque_nm.max);
 }
 

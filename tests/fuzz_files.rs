@@ -285,7 +285,7 @@ fn cheap_problem() -> Problem {
 /// Hostile edits of the paper's schedule at 100 Hz through `parse_schedule` and `evaluate`.
 fn schedule_surface(cases: usize) -> Tally {
     let p = cheap_problem();
-    let c = paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap_or_else(|e| panic!("{e}"));
+    let c = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).unwrap_or_else(|e| panic!("{e}"));
     let s = Schedule::new(&p, c);
     let csv = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(100.0), ..Default::default() })
         .unwrap_or_else(|e| panic!("the schedule writes: {e}"))

@@ -198,7 +198,8 @@ fn a_sweep_base_problem_error_is_said_once() {
 fn paper_csv_retimed(retime: impl Fn(&str) -> String) -> String {
     use catflip::exchange::{write_schedule, ExportOptions};
     let p = Problem::default();
-    let c = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect("the paper's circulation exists");
+    let c = catflip::schedule::paper_circulation(&p.cat.half(), p.manoeuvre.theta())
+        .expect("the paper's circulation exists");
     let s = catflip::schedule::Schedule::new(&p, c);
     let csv = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
         .expect("writes")

@@ -121,7 +121,7 @@ fn universal_equal_halves_reproduce_the_exact_flip() {
     q.manoeuvre.bend_path = BendPath::Cone;
     q.manoeuvre.profile = ProfileKind::Cycloidal;
     let cone = Schedule::new(&q, 2.5);
-    for (cat, sched) in [(p.cat, s), (q.cat, cone)] {
+    for (cat, sched) in [(p.cat.half(), s), (q.cat.half(), cone)] {
         let two = exact::flip(&cat, &sched, 1e-11);
         let general = models::flip(&Cat::from(cat), &sched, 1e-11).expect("two coordinates");
         assert!((general.twist - two.twist).abs() < 1e-12, "twist {} vs {}", general.twist, two.twist);
@@ -186,7 +186,7 @@ fn a_rigid_cat_does_not_turn() {
 #[test]
 fn spherical_with_its_twist_held_at_zero_is_the_no_twist_joint_exactly() {
     let (p, s) = paper();
-    for half in [p.cat, unequal(Joint::NoTwist).rear] {
+    for half in [p.cat.half(), unequal(Joint::NoTwist).rear] {
         let no_twist = Cat::equal(half, Joint::NoTwist);
         let spherical = Cat::equal(half, Joint::Spherical);
         let held = TwistHeld(&s);
@@ -367,7 +367,7 @@ fn the_universal_joint_in_spherical_coordinates_is_the_universal_joint() {
     // R_AB = Rx(q1) Ry(q2) = exp([v]×) Rz(τ): the spherical joint driven by the universal joint's
     // swing–twist coordinates is the same motion, so the same rates, torques and flip.
     let (p, s) = paper();
-    let spherical = Cat::equal(p.cat, Joint::Spherical);
+    let spherical = Cat::equal(p.cat.half(), Joint::Spherical);
     let as_spherical = AsSpherical { path: &s, hold_twist: false };
     for (piece, d) in ShapeTrajectory::piece_durations(&s).into_iter().enumerate() {
         for f in [0.1, 0.5, 0.9] {
@@ -375,15 +375,15 @@ fn the_universal_joint_in_spherical_coordinates_is_the_universal_joint() {
             let three = as_spherical.piece_shape(piece, f * d);
             let r3 = Joint::Spherical.rotation(&three.q);
             assert_relative_eq!(r3, Joint::Universal.rotation(&js.q), epsilon = 1e-14);
-            let two = exact::body_rate(&p.cat, js.q, js.qd);
+            let two = exact::body_rate(&p.cat.half(), js.q, js.qd);
             let general = models::body_rate(&spherical, &three).expect("three coordinates");
             assert_relative_eq!(general, two, epsilon = 1e-12 * two.norm().max(1.0));
             let (g, j) =
-                (models::joint_torques(&spherical, &three).expect("three"), torque::joint_torques(&p.cat, &js));
+                (models::joint_torques(&spherical, &three).expect("three"), torque::joint_torques(&p.cat.half(), &js));
             assert_relative_eq!(g.couple, j.couple, epsilon = 1e-11 * j.couple.norm().max(1.0));
         }
     }
-    let u = exact::flip(&p.cat, &s, 1e-12);
+    let u = exact::flip(&p.cat.half(), &s, 1e-12);
     let g = models::flip(&spherical, &as_spherical, 1e-12).expect("three coordinates");
     assert!((u.twist - g.twist).abs() < 1e-10 && (u.swing - g.swing).abs() < 1e-10, "{u:?} vs {g:?}");
 }
@@ -392,7 +392,7 @@ fn the_universal_joint_in_spherical_coordinates_is_the_universal_joint() {
 fn paper_at(theta_deg: f64) -> (Problem, Schedule) {
     let mut p = Problem::default();
     p.manoeuvre.theta_deg = theta_deg;
-    let d = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0");
+    let d = catflip::schedule::paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect("C > 0");
     let s = Schedule::new(&p, d);
     (p, s)
 }
@@ -404,7 +404,7 @@ fn the_papers_circulation_turns_the_no_twist_cat_by_exactly_pi() {
     // through π/C turns the cat by −180° to 1e-11°.
     for theta in [45.0, 100.0] {
         let (p, s) = paper_at(theta);
-        let f = models::flip(&Cat::equal(p.cat, Joint::NoTwist), &s, 1e-13).expect("two coordinates");
+        let f = models::flip(&Cat::equal(p.cat.half(), Joint::NoTwist), &s, 1e-13).expect("two coordinates");
         assert!(f.converged);
         let off = f.twist.to_degrees() + 180.0;
         assert!(off.abs() < 1e-11, "θ = {theta}°: twist {}°, {off:e}° from −180°", f.twist.to_degrees());
@@ -417,7 +417,7 @@ fn the_papers_circulation_falls_short_through_the_universal_joint() {
     // Issue 22's target: on the paper's cat at θ = 45°, π/C through the universal joint turns
     // the cat 3.3 % short of π; the audit says the same, with both turns in its exact column.
     let (p, s) = paper_at(45.0);
-    let f = exact::flip(&p.cat, &s, 1e-13);
+    let f = exact::flip(&p.cat.half(), &s, 1e-13);
     let short = catflip::report::audit::models::shortfall_percent(f.twist.to_degrees());
     assert!((short - 3.3).abs() < 0.05, "{short}% short (twist {}°)", f.twist.to_degrees());
     let a = catflip::report::audit::audit(&p);

@@ -19,8 +19,8 @@ fn paper(overrides: &[&str]) -> Problem {
 fn high_circulation_peak_within_its_stated_bound_of_a_dense_reference() {
     let p = paper(&["manoeuvre.circulation=28"]);
     let r = Resolved::new(&p).expect("a given circulation resolves");
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
-    let reference = peak_torques(&p.cat, &r.schedule, 40_000);
+    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let reference = peak_torques(&p.cat.half(), &r.schedule, 40_000);
     let twist = Phase::Twist.index();
     // The twist phase turns the bend direction by at least 28 rad: 64 per radian, more than
     // the floor of 400.
@@ -47,8 +47,8 @@ fn paper_schedule_keeps_its_floor_and_its_peak() {
     let p = paper(&[]);
     let r = Resolved::new(&p).expect("the paper's circulation resolves");
     let n = piece_samples(&r.schedule, p.exact.torque_samples);
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
-    let reference = peak_torques(&p.cat, &r.schedule, 40_000);
+    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let reference = peak_torques(&p.cat.half(), &r.schedule, 40_000);
     assert!(n.iter().all(|&k| k >= 400), "{n:?}");
     assert_relative_eq!(e.peaks.max, reference.max, max_relative = 1e-9);
 }
@@ -72,9 +72,9 @@ fn a_piecewise_linear_rate_peaks_at_its_one_sided_node_values_too() {
     let one_sided = jumps
         .iter()
         .flat_map(|&s| [schedule.piece_state_before(twist, s), schedule.piece_state(twist, s)])
-        .map(|st| joint_torques(&r.problem.cat, &st).tau)
+        .map(|st| joint_torques(&r.problem.cat.half(), &st).tau)
         .fold([0.0f64; 2], |m, t| [m[0].max(t[0].abs()), m[1].max(t[1].abs())]);
-    let peaks = peak_torques(&r.problem.cat, &schedule, 4).per_piece[twist];
+    let peaks = peak_torques(&r.problem.cat.half(), &schedule, 4).per_piece[twist];
     for j in 0..2 {
         assert!(
             peaks[j].value >= one_sided[j] * (1.0 - 1e-12),

@@ -205,7 +205,7 @@ fn poses_keep_the_centre_of_mass_and_the_joint_together() {
     let (problem, schedule) = paper();
     let total = schedule.duration();
     let times: Vec<f64> = (0..=20).map(|k| total * k as f64 / 20.0).collect();
-    let poses = cat_poses(&problem.cat, &schedule, &times);
+    let poses = cat_poses(&problem.cat.half(), &schedule, &times);
     let half = 0.5 * problem.cat.length;
     for p in &poses {
         let com = 0.5 * (p.a.centre + p.b.centre);

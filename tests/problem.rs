@@ -171,7 +171,7 @@ fn circulations_that_cannot_turn_the_cat_are_refused() {
 fn paper_circulation_of_a_nearly_straight_cat_is_refused() {
     // C → 0 as θ → 180°, so π/C grows without bound.
     let p = Problem::from_toml(PAPER, "t", &["manoeuvre.theta_deg=179.99999".into()]).expect("loads");
-    let e = catflip::schedule::paper_circulation(&p.cat, p.manoeuvre.theta()).expect_err("too large");
+    let e = catflip::schedule::paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect_err("too large");
     assert!(e.to_string().contains("exceeds the 1000 rad"), "{e}");
 }
 

@@ -11,7 +11,7 @@ use catflip::problem::Problem;
 fn paper_qp() -> ProfileQp {
     let p = Problem::default();
     let t2 = 0.6 * p.drop.fall_time();
-    ProfileQp::new(&p.optimize, t2, 3.2249860792499017, p.cat.end_transverse())
+    ProfileQp::new(&p.optimize, t2, 3.2249860792499017, p.cat.half().end_transverse())
 }
 
 fn message(qp: ProfileQp) -> String {

@@ -133,8 +133,8 @@ fn planar_bend_has_no_twist() {
 fn twist_and_swing_converge_to_the_exact_engine() {
     let (p, paper) = paper();
     for (name, s) in [("paper", paper.clone()), ("cycloidal", cycloidal(&paper)), ("cone", cone(&paper))] {
-        let exact = catflip::engines::exact::flip(&p.cat, &s, 1e-10);
-        let runs: Vec<RapierRun> = [1e-3, 5e-4, 2.5e-4].iter().map(|&dt| run(&p.cat, &s, dt)).collect();
+        let exact = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-10);
+        let runs: Vec<RapierRun> = [1e-3, 5e-4, 2.5e-4].iter().map(|&dt| run(&p.cat.half(), &s, dt)).collect();
         let errors: Vec<f64> = runs.iter().map(|r| (r.twist - exact.twist).abs()).collect();
         let dts: Vec<f64> = runs.iter().map(|r| r.dt).collect();
         let order = observed_orders(&dts, &errors)[1];
@@ -167,7 +167,7 @@ fn twist_and_swing_converge_to_the_exact_engine() {
 #[test]
 fn motors_track_the_schedule() {
     let (p, paper) = paper();
-    let r = run(&p.cat, &paper, 1e-3);
+    let r = run(&p.cat.half(), &paper, 1e-3);
     // The stiff servo (ω_n dt = 20) holds the schedule to ~1e-5 rad; the paper's velocity jump
     // costs joint 2 a few 1e-4 rad for a few steps (measured 2.8e-4).
     for (i, e) in r.tracking_error.iter().enumerate() {
@@ -189,8 +189,8 @@ fn peak_torques_match_the_exact_engine() {
     for (name, s, dt) in
         [("cycloidal", cycloidal(&paper), 1e-3), ("paper", paper.clone(), 1e-3), ("cone", cone(&paper), 5e-4)]
     {
-        let exact = catflip::engines::torque::peak_torques(&p.cat, &s, 400);
-        let r = run(&p.cat, &s, dt);
+        let exact = catflip::engines::torque::peak_torques(&p.cat.half(), &s, 400);
+        let r = run(&p.cat.half(), &s, dt);
         // Overall peak: measured 0.03 % (cycloidal), 0.45 % (paper) at 1 ms, 2.4 % (cone) at
         // 0.5 ms (4.6 % at 1 ms: the cone's unbend torque feels the momentum drift most).
         let rel = (r.peak_torque.max - exact.max).abs() / exact.max;
@@ -223,17 +223,17 @@ fn peak_torques_match_the_exact_engine() {
 fn torque_history_follows_the_exact_torques() {
     let (p, paper) = paper();
     let s = cycloidal(&paper);
-    let exact_max = catflip::engines::torque::peak_torques(&p.cat, &s, 400).max;
+    let exact_max = catflip::engines::torque::peak_torques(&p.cat.half(), &s, 400).max;
     let boundaries = [s.phase_start(Phase::Twist), s.phase_start(Phase::Unbend)];
     let worst = |dt: f64| {
         let opts = RapierOptions { history: usize::MAX, ..Default::default() };
-        let r = simulate_with(&p.cat, &s, &RapierSettings::default().with_dt(dt), &opts).unwrap();
+        let r = simulate_with(&p.cat.half(), &s, &RapierSettings::default().with_dt(dt), &opts).unwrap();
         let mut worst = (0.0f64, 0.0);
         for sample in &r.torque_history {
             if boundaries.iter().any(|b| (sample.t - b).abs() < 5.0 * r.dt) {
                 continue; // a jump of q̈: the stencil and the servo smear it over a few steps
             }
-            let ex = catflip::engines::torque::joint_torques(&p.cat, &s.state(sample.t)).tau;
+            let ex = catflip::engines::torque::joint_torques(&p.cat.half(), &s.state(sample.t)).tau;
             for (sim, ex) in sample.tau.iter().zip(ex) {
                 let d = (sim - ex).abs();
                 if d > worst.0 {
@@ -260,9 +260,9 @@ fn torque_history_follows_the_exact_torques() {
 #[test]
 fn paper_velocity_jump_is_an_impulse() {
     let (p, paper) = paper();
-    let exact = catflip::engines::torque::velocity_jumps(&p.cat, &paper, 1e-9);
+    let exact = catflip::engines::torque::velocity_jumps(&p.cat.half(), &paper, 1e-9);
     assert_eq!(exact.len(), 1, "the paper's cosine profile has one rate jump, at the start of unbending");
-    let runs = [run(&p.cat, &paper, 1e-3), run(&p.cat, &paper, 5e-4)];
+    let runs = [run(&p.cat.half(), &paper, 1e-3), run(&p.cat.half(), &paper, 5e-4)];
     for r in &runs {
         assert_eq!(r.jumps.len(), 1);
         assert_relative_eq!(r.jumps[0].time, paper.phase_start(Phase::Unbend), max_relative = 1e-12);
@@ -299,9 +299,9 @@ fn bench_error_is_first_order_and_extrapolates() {
     // Measured: raw 6.46e-2 → 3.23e-2, extrapolated 6.88e-4 (cycloidal); raw 6.13e-2 → 3.03e-2,
     // extrapolated 6.07e-4 (paper).
     for (name, s) in [("cycloidal", cycloidal(&paper)), ("paper", paper.clone())] {
-        let exact = catflip::engines::exact::flip(&p.cat, &s, 1e-12);
+        let exact = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-12);
         let reference = FinalAngles::new(&exact.orientation, exact.twist);
-        let (a, b) = (run(&p.cat, &s, 2.5e-4), run(&p.cat, &s, 1.25e-4));
+        let (a, b) = (run(&p.cat.half(), &s, 2.5e-4), run(&p.cat.half(), &s, 1.25e-4));
         let (fa, fb) = (FinalAngles::of_run(&a), FinalAngles::of_run(&b));
         let (ea, eb) = (fa.error(&reference), fb.error(&reference));
         let ratio = ea / eb;
@@ -319,7 +319,7 @@ fn bench_error_is_first_order_and_extrapolates() {
 fn momentum_drift_is_first_order() {
     let (p, paper) = paper();
     let s = cycloidal(&paper);
-    let (a, b) = (run(&p.cat, &s, 1e-3), run(&p.cat, &s, 5e-4));
+    let (a, b) = (run(&p.cat.half(), &s, 1e-3), run(&p.cat.half(), &s, 5e-4));
     // The schedule starts at rest with zero momentum; rapier's integrator leaks some: measured
     // 1.56 % of I*·max|q̇| at 1 ms, 0.82 % at 0.5 ms.
     assert!(
@@ -363,7 +363,7 @@ fn torque_free_spin_conserves_angular_momentum() {
 fn dt_sweep_lands_on_the_end_of_the_schedule() {
     let (p, paper) = paper();
     let dts = [1.0 / 60.0, 1.0 / 250.0];
-    let runs = dt_sweep(&p.cat, &paper, &RapierSettings::default(), &dts).unwrap();
+    let runs = dt_sweep(&p.cat.half(), &paper, &RapierSettings::default(), &dts).unwrap();
     for (r, dt) in runs.iter().zip(dts) {
         assert_eq!(r.steps, (paper.duration() / dt).ceil() as usize);
         assert!(r.dt <= dt, "dt used {} above the requested {dt}", r.dt);
@@ -382,17 +382,17 @@ fn dt_sweep_lands_on_the_end_of_the_schedule() {
 #[test]
 fn bad_settings_get_specific_errors() {
     let (p, paper) = paper();
-    let with = |dt: f64| simulate(&p.cat, &paper, &RapierSettings::default().with_dt(dt));
+    let with = |dt: f64| simulate(&p.cat.half(), &paper, &RapierSettings::default().with_dt(dt));
     assert!(matches!(with(0.0), Err(RapierError::Settings(_))), "dt = 0");
     assert!(matches!(with(f64::NAN), Err(RapierError::Settings(_))), "dt = NaN");
     assert!(matches!(with(1e-12), Err(RapierError::TooManySteps { .. })), "dt = 1e-12");
     let bad_cross = RapierSettings { cross_mass_fraction: 0.5, ..Default::default() };
-    assert!(matches!(simulate(&p.cat, &paper, &bad_cross), Err(RapierError::Settings(_))));
+    assert!(matches!(simulate(&p.cat.half(), &paper, &bad_cross), Err(RapierError::Settings(_))));
     let opts = RapierOptions { bandwidth_per_step: f64::NAN, ..Default::default() };
-    let r = simulate_with(&p.cat, &paper, &RapierSettings::default(), &opts);
+    let r = simulate_with(&p.cat.half(), &paper, &RapierSettings::default(), &opts);
     assert!(matches!(r, Err(RapierError::BadOption { field: "bandwidth_per_step", .. })));
     let empty = Schedule { durations: [0.0; 3], ..paper.clone() };
-    assert!(matches!(simulate(&p.cat, &empty, &RapierSettings::default()), Err(RapierError::BadDuration(_))));
+    assert!(matches!(simulate(&p.cat.half(), &empty, &RapierSettings::default()), Err(RapierError::BadDuration(_))));
 }
 
 /// The dt sweep of the report: twist, swing and peak torque against the exact engine, and the
@@ -404,8 +404,8 @@ fn dt_sweep_table() {
     let dts =
         [1.0 / 60.0, 1.0 / 120.0, 1.0 / 250.0, 1.0 / 500.0, 1.0 / 1000.0, 1.0 / 2000.0, 1.0 / 4000.0, 1.0 / 8000.0];
     for (name, s) in [("paper", paper.clone()), ("cycloidal", cycloidal(&paper)), ("cone", cone(&paper))] {
-        let exact = catflip::engines::exact::flip(&p.cat, &s, 1e-10);
-        let peaks = catflip::engines::torque::peak_torques(&p.cat, &s, 400);
+        let exact = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-10);
+        let peaks = catflip::engines::torque::peak_torques(&p.cat.half(), &s, 400);
         println!(
             "\n{name}: exact twist {:.4}°, swing {:.4}°, peak torque {:.4} N·m",
             deg(exact.twist),
@@ -414,7 +414,7 @@ fn dt_sweep_table() {
         );
         println!("| dt (s) | steps | twist (°) | Δtwist (°) | swing (°) | Δswing (°) | peak τ (N·m) | Δpeak (%) | max|H−H0|/ref | tracking (rad) | jump spike (N·m) |");
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
-        let runs = dt_sweep(&p.cat, &s, &RapierSettings::default(), &dts).unwrap();
+        let runs = dt_sweep(&p.cat.half(), &s, &RapierSettings::default(), &dts).unwrap();
         for r in &runs {
             println!(
                 "| {:.3e} | {} | {:.3} | {:+.3} | {:.3} | {:+.3} | {:.3} | {:+.3} | {:.2e} | {:.1e} | {} |",
@@ -463,7 +463,7 @@ fn a_step_too_coarse_for_the_phases_is_refused() {
     // could be taken away from the phase boundaries.
     let (p, s) = paper();
     let settings = p.rapier.with_dt(0.1);
-    let e = catflip::engines::rapier::simulate(&p.cat, &s, &settings).expect_err("too coarse");
+    let e = catflip::engines::rapier::simulate(&p.cat.half(), &s, &settings).expect_err("too coarse");
     assert!(matches!(e, catflip::engines::rapier::RapierError::TooCoarse { .. }), "{e}");
 }
 
@@ -476,10 +476,10 @@ fn motor_bounds_clip_only_when_reached() {
     use catflip::model::motor::{Motor, Motors};
     let (p, s) = paper();
     let settings = RapierSettings::default().with_dt(2e-4);
-    let ideal = simulate(&p.cat, &s, &settings).unwrap();
+    let ideal = simulate(&p.cat.half(), &s, &settings).unwrap();
     let bounded = |limit: f64| {
         let m = Motor { torque: Some(limit), ..Motor::default() };
-        simulate_with(&p.cat, &s, &settings, &RapierOptions::within(Motors { joints: [m, m] })).unwrap()
+        simulate_with(&p.cat.half(), &s, &settings, &RapierOptions::within(Motors { joints: [m, m] })).unwrap()
     };
     let far = bounded(1e6);
     assert_eq!(far.orientation, ideal.orientation);

@@ -51,14 +51,14 @@ proptest! {
         let total = s.duration();
         let (phase, local) = s.locate(t * total);
         let st = s.phase_state(phase, local);
-        let a = joint_torques(&p.cat, &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
-        let b = joint_torques(&p.cat, &st).tau;
+        let a = joint_torques(&p.cat.half(), &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
+        let b = joint_torques(&p.cat.half(), &st).tau;
         let timed = JointState {
             q: st.q,
             qd: st.qd.map(|v| v * sd),
             qdd: [0, 1].map(|j| st.qd[j] * sdd + st.qdd[j] * sd * sd),
         };
-        let tau = joint_torques(&p.cat, &timed).tau;
+        let tau = joint_torques(&p.cat.half(), &timed).tau;
         for j in 0..2 {
             let scale = 1.0 + a[j].abs() * sdd.abs() + b[j].abs() * sd * sd;
             prop_assert!((tau[j] - (a[j] * sdd + b[j] * sd * sd)).abs() <= 1e-12 * scale,
@@ -101,7 +101,7 @@ fn constant_inertia_is_bang_bang() {
 #[test]
 fn single_joint_matches_its_one_dimensional_optimum() {
     let p = Problem::default();
-    let cat: Cylinder = p.cat;
+    let cat: Cylinder = p.cat.half();
     let (d, duration): (f64, f64) = (2.0, 0.6);
     let m = |q: f64| reduced_mass_matrix(&cat, [q, 0.0])[(0, 0)];
     let half = (0.5 * d).sqrt();
@@ -147,7 +147,7 @@ fn single_joint_matches_its_one_dimensional_optimum() {
 fn certificate_and_reconstruction_agree() {
     let (p, s) = paper();
     for split in [Split::Kept, Split::Free] {
-        let r = retime(&p.cat, &s, s.duration(), settings(50, split)).expect("valid");
+        let r = retime(&p.cat.half(), &s, s.duration(), settings(50, split)).expect("valid");
         let sol = &r.solution;
         assert!(sol.status.is_solved(), "{}", sol.status);
         assert!(sol.lower_bound <= sol.peak, "bound {} above peak {}", sol.lower_bound, sol.peak);
@@ -164,10 +164,10 @@ fn certificate_and_reconstruction_agree() {
             for k in (0..t.accel.len()).step_by(7) {
                 // just after node k: s̈ = u_k, ṡ² = x_k
                 let time = t.times[k] + 1e-9 * (t.times[k + 1] - t.times[k]);
-                let tau = joint_torques(&p.cat, &traj.piece_state(piece, time)).tau;
+                let tau = joint_torques(&p.cat.half(), &traj.piece_state(piece, time)).tau;
                 let path = s.piece_state(piece, t.grid[k]);
-                let a = joint_torques(&p.cat, &JointState { q: path.q, qd: [0.0; 2], qdd: path.qd }).tau;
-                let b = joint_torques(&p.cat, &path).tau;
+                let a = joint_torques(&p.cat.half(), &JointState { q: path.q, qd: [0.0; 2], qdd: path.qd }).tau;
+                let b = joint_torques(&p.cat.half(), &path).tau;
                 for j in 0..2 {
                     let promised = a[j] * t.accel[k] + b[j] * t.speed_squared[k];
                     assert!(
@@ -186,11 +186,11 @@ fn certificate_and_reconstruction_agree() {
 #[test]
 fn flip_is_unchanged_and_the_gap_shrinks() {
     let (p, s) = paper();
-    let original = flip(&p.cat, &s, 1e-12);
+    let original = flip(&p.cat.half(), &s, 1e-12);
     let mut gaps = Vec::new();
     for n in [50, 100, 200] {
-        let r = retime(&p.cat, &s, s.duration(), settings(n, Split::Kept)).expect("valid");
-        let m = r.remeasure(&p.cat, 16 * n, 1e-12).expect("solved");
+        let r = retime(&p.cat.half(), &s, s.duration(), settings(n, Split::Kept)).expect("valid");
+        let m = r.remeasure(&p.cat.half(), 16 * n, 1e-12).expect("solved");
         for (what, a, b) in [("twist", m.flip.twist, original.twist), ("swing", m.flip.swing, original.swing)] {
             assert!((a - b).abs().to_degrees() <= 1e-7, "N = {n}: {what} {}° vs {}°", a.to_degrees(), b.to_degrees());
         }
@@ -207,11 +207,11 @@ fn flip_is_unchanged_and_the_gap_shrinks() {
 #[test]
 fn paper_schedule_beats_the_sequential_lp() {
     let (p, s) = paper();
-    let calibrated = s.with_circulation(calibrate(&p.cat, &s, 1e-10).circulation);
+    let calibrated = s.with_circulation(calibrate(&p.cat.half(), &s, 1e-10).circulation);
     for (path, lp) in [(&s, 9.8022), (&calibrated, 14.837)] {
         for (split, below) in [(Split::Kept, lp), (Split::Free, 7.8)] {
-            let r = retime(&p.cat, path, path.duration(), settings(200, split)).expect("valid");
-            let m = r.remeasure(&p.cat, 3200, 1e-10).expect("solved");
+            let r = retime(&p.cat.half(), path, path.duration(), settings(200, split)).expect("valid");
+            let m = r.remeasure(&p.cat.half(), 3200, 1e-10).expect("solved");
             assert!(m.peaks.max < below, "{split:?}: exact peak {} N·m, LP {lp} N·m", m.peaks.max);
         }
     }
@@ -221,8 +221,9 @@ fn paper_schedule_beats_the_sequential_lp() {
 fn a_rate_limit_below_the_mean_rate_is_infeasible() {
     let (p, s) = paper();
     // ṡ ≤ 0.9 cannot cover the path (its mean rate is 1) in the original duration
-    let r = retime(&p.cat, &s, s.duration(), RetimeSettings { rate_limit: Some(0.9), ..settings(40, Split::Free) })
-        .expect("valid input");
+    let r =
+        retime(&p.cat.half(), &s, s.duration(), RetimeSettings { rate_limit: Some(0.9), ..settings(40, Split::Free) })
+            .expect("valid input");
     assert_eq!(r.solution.status, RetimeStatus::Infeasible);
     assert!(r.solution.status.to_string().contains("infeasible"));
     assert!(r.trajectory.is_none() && r.solution.peak.is_nan());
@@ -236,12 +237,12 @@ fn bad_input_names_the_field() {
         other => panic!("unexpected {other}"),
     };
     for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let e = retime(&p.cat, &s, t, RetimeSettings::default()).expect_err("rejected");
+        let e = retime(&p.cat.half(), &s, t, RetimeSettings::default()).expect_err("rejected");
         assert_eq!(field(e), "duration", "T = {t}");
     }
-    let e = retime(&p.cat, &s, 1.0, settings(1, Split::Kept)).expect_err("rejected");
+    let e = retime(&p.cat.half(), &s, 1.0, settings(1, Split::Kept)).expect_err("rejected");
     assert_eq!(field(e), "intervals");
-    let e = retime(&p.cat, &s, 1.0, RetimeSettings { rate_limit: Some(f64::NAN), ..RetimeSettings::default() })
+    let e = retime(&p.cat.half(), &s, 1.0, RetimeSettings { rate_limit: Some(f64::NAN), ..RetimeSettings::default() })
         .expect_err("rejected");
     assert_eq!(field(e), "rate_limit");
     let node = PathNode { a: [1.0, 0.0], b: [f64::NAN, 0.0], tangent: [1.0, 0.0] };
@@ -272,7 +273,7 @@ fn a_straight_join_keeps_the_rates_continuous() {
             self.0.piece_state(0, s + 0.5 * self.0.length * piece as f64)
         }
     }
-    let cat = Problem::default().cat;
+    let cat = Problem::default().cat.half();
     let line = SingleJoint { d: 2.0, length: 1.0 };
     let whole = retime(&cat, &line, 0.6, settings(200, Split::Free)).expect("valid");
     let cut = retime(&cat, &Halves(line), 0.6, settings(100, Split::Free)).expect("valid");
@@ -320,12 +321,12 @@ fn the_schedule_retiming_is_well_posed_whatever_the_solver_tolerance() {
     // Parametrised by the phases' progress variables (retime_schedule), both agree to the
     // tolerance.
     let p = Problem::default();
-    let s = Schedule::new(&p, paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0"));
+    let s = Schedule::new(&p, paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect("C > 0"));
     for split in [Split::Kept, Split::Free] {
         let bound = |tolerance: f64| {
             let mut settings = settings(200, split);
             settings.solver.tolerance = tolerance;
-            let r = retime_schedule(&p.cat, &s, settings).expect("valid");
+            let r = retime_schedule(&p.cat.half(), &s, settings).expect("valid");
             assert!(r.solution.status.is_solved(), "{split:?} at {tolerance:e}: {}", r.solution.status);
             r.solution.lower_bound
         };
@@ -346,11 +347,11 @@ fn the_phase_path_is_the_schedules_path() {
     cone.manoeuvre.theta_deg = 80.0;
     cone.manoeuvre.bend_path = BendPath::Cone;
     for (p, circulation) in
-        [(&paper, paper_circulation(&paper.cat, paper.manoeuvre.theta()).expect("C > 0")), (&cone, 3.0)]
+        [(&paper, paper_circulation(&paper.cat.half(), paper.manoeuvre.theta()).expect("C > 0")), (&cone, 3.0)]
     {
         let s = Schedule::new(p, circulation);
         let path = PhasePath { schedule: s.clone() };
-        let (a, b) = (flip(&p.cat, &s, 1e-11), flip(&p.cat, &path, 1e-11));
+        let (a, b) = (flip(&p.cat.half(), &s, 1e-11), flip(&p.cat.half(), &path, 1e-11));
         assert!((a.orientation.inverse() * b.orientation).angle() < 1e-10, "{a:?} vs {b:?}");
         let lengths = path.piece_durations();
         for (k, phase) in Phase::ALL.into_iter().enumerate() {

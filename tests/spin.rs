@@ -28,7 +28,7 @@ impl Trajectory for Held {
 }
 
 fn paper_schedule(p: &Problem) -> Schedule {
-    let d = paper_circulation(&p.cat, p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
+    let d = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect("C > 0 for the paper's cat");
     Schedule::new(p, d)
 }
 
@@ -105,13 +105,13 @@ fn a_vanishing_spin_reproduces_the_zero_momentum_engine() {
     // integrators of the same motion (the spin's own effect is ~1e-13 rad).
     let p = Problem::default();
     let s = paper_schedule(&p);
-    let magnus = flip(&p.cat, &s, 1e-11);
-    let rk = flip_spinning(&p.cat, &s, &Vector3::new(1e-15, -1e-15, 1e-15), 1e-11);
+    let magnus = flip(&p.cat.half(), &s, 1e-11);
+    let rk = flip_spinning(&p.cat.half(), &s, &Vector3::new(1e-15, -1e-15, 1e-15), 1e-11);
     assert!(rk.converged && magnus.converged);
     let gap = (magnus.orientation.inverse() * rk.orientation).angle();
     assert!(gap < 1e-10, "Runge–Kutta and Magnus differ by {gap:.3e} rad");
     // And L = 0 through the spinning entry point is the Magnus engine itself.
-    let zero = flip_spinning(&p.cat, &s, &Vector3::zeros(), 1e-11);
+    let zero = flip_spinning(&p.cat.half(), &s, &Vector3::zeros(), 1e-11);
     assert_eq!(zero.steps_per_phase, magnus.steps_per_phase);
     assert!((zero.twist - magnus.twist).abs() <= 0.0, "L = 0 must take the Magnus path");
 }
@@ -121,13 +121,13 @@ fn the_spin_is_conserved_in_the_world_frame_along_the_paper_schedule() {
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.01, 0.02, -0.03];
     let s = paper_schedule(&p);
-    let e = Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     assert!(e.flip.converged);
     assert!(e.momentum_max < 1e-12, "|R H − L| relative {:.3e}", e.momentum_max);
     // Action = reaction holds only when Ω̇ is the true rate of the spinning motion.
     assert!(e.action_reaction_gap < 1e-9 * e.peaks.max, "action–reaction gap {:.3e} N·m", e.action_reaction_gap);
     // The spin changes the flip: the paper's schedule turns the cat differently.
-    let still = flip(&p.cat, &s, p.exact.tolerance);
+    let still = flip(&p.cat.half(), &s, p.exact.tolerance);
     assert!((e.flip.twist - still.twist).abs() > 1e-3, "the spin left the twist unchanged");
 }
 
@@ -139,23 +139,23 @@ fn the_spinning_body_acceleration_is_the_derivative_of_the_body_rate() {
     p.drop.angular_momentum = [0.05, -0.02, 0.01];
     let s = paper_schedule(&p);
     let spin = p.drop.spin();
-    let (_, history) = SpinHistory::new(&p.cat, &s, &spin, 1e-12);
+    let (_, history) = SpinHistory::new(&p.cat.half(), &s, &spin, 1e-12);
     let rate = |t: f64| {
         let st = s.piece_state(1, t);
-        body_rate_spinning(&p.cat, st.q, st.qd, &history.body_momentum(&p.cat, &s, 1, t))
+        body_rate_spinning(&p.cat.half(), st.q, st.qd, &history.body_momentum(&p.cat.half(), &s, 1, t))
     };
     for t in [0.05, 0.3, 0.61, 0.8] {
         let st = s.piece_state(1, t);
-        let lambda = history.body_momentum(&p.cat, &s, 1, t);
-        let k = kinematics_spinning(&p.cat, &st, &lambda);
+        let lambda = history.body_momentum(&p.cat.half(), &s, 1, t);
+        let k = kinematics_spinning(&p.cat.half(), &st, &lambda);
         let h = 1e-5;
         let fd = (rate(t + h) - rate(t - h)) / (2.0 * h);
         let gap = (k.omega_dot - fd).norm();
         assert!(gap < 1e-6 * k.omega_dot.norm().max(1.0), "t = {t}: Ω̇ {} against {fd}, gap {gap:.3e}", k.omega_dot);
         // |λ| = |L|: the history's attitude is a rotation, and H = λ in A's frame.
         assert!((lambda.norm() - spin.norm()).abs() < 1e-15);
-        assert!((momentum(&p.cat, &st, &k.omega) - lambda).norm() < 1e-14);
-        let tau = joint_torques_spinning(&p.cat, &st, &lambda);
+        assert!((momentum(&p.cat.half(), &st, &k.omega) - lambda).norm() < 1e-14);
+        let tau = joint_torques_spinning(&p.cat.half(), &st, &lambda);
         let gap = (tau.tau[0] - tau.from_a[0]).abs().max((tau.tau[1] - tau.from_a[1]).abs());
         assert!(gap < 1e-9, "t = {t}: action–reaction gap {gap:.3e} N·m");
     }
@@ -194,13 +194,14 @@ fn rapier_started_with_the_spin_verifies_the_spinning_flip() {
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.01, 0.02, -0.03];
     let s = paper_schedule(&p);
-    let e = Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
-    let v = verify_with(&p.cat, &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
+    let v =
+        verify_with(&p.cat.half(), &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
     // Without the spin, rapier lands elsewhere: the same reference is then not verified.
     let still = RapierOptions::within(p.actuator.motors());
-    let v = verify_with(&p.cat, &s, &p.rapier, &reference, &still).expect("a valid scene");
+    let v = verify_with(&p.cat.half(), &s, &p.rapier, &reference, &still).expect("a valid scene");
     assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
 }
 
@@ -225,7 +226,7 @@ fn the_spinning_paper_schedule_matches_an_independent_derivation() {
     let s = paper_schedule(&p);
     for (l, twist, swing) in REFERENCE_FLIPS {
         p.drop.angular_momentum = l;
-        let f = flip_spinning(&p.cat, &s, &p.drop.spin(), p.exact.tolerance);
+        let f = flip_spinning(&p.cat.half(), &s, &p.drop.spin(), p.exact.tolerance);
         let (dt, ds) = (f.twist.to_degrees() - twist, f.swing.to_degrees() - swing);
         assert!(f.converged, "L = {l:?}: not converged");
         // Target of issue 21: the engine within 1e-6° of the independent values.
@@ -251,7 +252,7 @@ fn the_spinning_torques_match_an_independent_derivation() {
     let s = paper_schedule(&p);
     for (l, peaks) in REFERENCE_PEAKS {
         p.drop.angular_momentum = l;
-        let e = Evaluation::new(&p.cat, &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+        let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
         let got = [e.peaks.bend, e.peaks.twist, e.peaks.unbend];
         for (phase, (g, r)) in got.iter().zip(peaks).enumerate() {
             for j in 0..2 {
@@ -272,7 +273,7 @@ fn an_imported_schedule_is_measured_with_the_spin() {
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.0, 0.0, 0.01];
     let report = catflip::exchange::evaluate(&p, &imported).expect("evaluates");
-    let e = Evaluation::new(&p.cat, &paper_schedule(&p), &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat.half(), &paper_schedule(&p), &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let gap = (report.figures.twist_deg - e.twist_deg()).abs();
     assert!(gap < 1e-6, "imported twist {}° against {}°", report.figures.twist_deg, e.twist_deg());
     assert!((report.peak_torque_nm.max - e.peaks.max).abs() < 1e-6 * e.peaks.max);

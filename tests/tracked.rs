@@ -55,7 +55,7 @@ fn twist_error(r: &TrackedRun) -> f64 {
 #[test]
 fn exact_feed_forward_on_the_nominal_cat_tracks_the_plan_to_first_order() {
     let (p, s) = problem();
-    let cat = p.cat;
+    let cat = p.cat.half();
     let exact = flip(&cat, &s, 1e-10);
     assert!((exact.twist.abs().to_degrees() - 180.0).abs() < 1e-6, "the calibrated schedule turns by π");
     let (coarse, fine) =
@@ -79,10 +79,10 @@ fn exact_feed_forward_on_the_nominal_cat_tracks_the_plan_to_first_order() {
 #[test]
 fn pd_holds_a_heavier_cat_on_the_plan_that_feed_forward_alone_loses() {
     let (p, s) = problem();
-    let heavy = Cylinder { mass: 1.1 * p.cat.mass, ..p.cat };
-    let ff = run(&heavy, &p.cat, &s, 2e-4, 0.0, Motors::ideal());
-    let soft = run(&heavy, &p.cat, &s, 2e-4, 2.0, Motors::ideal());
-    let stiff = run(&heavy, &p.cat, &s, 2e-4, 10.0, Motors::ideal());
+    let heavy = Cylinder { mass: 1.1 * p.cat.mass, ..p.cat.half() };
+    let ff = run(&heavy, &p.cat.half(), &s, 2e-4, 0.0, Motors::ideal());
+    let soft = run(&heavy, &p.cat.half(), &s, 2e-4, 2.0, Motors::ideal());
+    let stiff = run(&heavy, &p.cat.half(), &s, 2e-4, 10.0, Motors::ideal());
     let worst = |r: &TrackedRun| r.tracking_error[0].max(r.tracking_error[1]).to_degrees();
     // Measured at 100 µs (the test runs at 200 µs): feed-forward alone drifts by over a thousand degrees (the 10 % heavier
     // cat gets 10 % too little torque and nothing pulls it back), PD at 2 Hz keeps it within
@@ -96,10 +96,10 @@ fn pd_holds_a_heavier_cat_on_the_plan_that_feed_forward_alone_loses() {
 #[test]
 fn small_torque_limits_saturate_and_cost_landing_accuracy() {
     let (p, s) = problem();
-    let free = run(&p.cat, &p.cat, &s, 1e-4, 10.0, Motors::ideal());
+    let free = run(&p.cat.half(), &p.cat.half(), &s, 1e-4, 10.0, Motors::ideal());
     let limit = 0.5 * free.peak_torque[0].max(free.peak_torque[1]);
     let m = Motor { torque: Some(limit), ..Motor::default() };
-    let capped = run(&p.cat, &p.cat, &s, 1e-4, 10.0, Motors { joints: [m, m] });
+    let capped = run(&p.cat.half(), &p.cat.half(), &s, 1e-4, 10.0, Motors { joints: [m, m] });
     assert!(capped.saturated.iter().all(|f| *f > 0.0), "{:?}", capped.saturated);
     assert!(capped.peak_torque.iter().all(|t| *t <= limit), "{:?} > {limit}", capped.peak_torque);
     // Measured: 1.50° short of the half turn against 0.38° beyond it without the limit.
@@ -126,11 +126,12 @@ impl Controller for Recording<'_> {
 
 fn estimates(latency: f64, noise: f64) -> Vec<(f64, AttitudeEstimate)> {
     let (p, s) = problem();
-    let plan = Plan::new(&p.cat, &s, &Vector3::zeros(), 1e-10, steps(&s, 2e-4));
-    let mut c = Recording { inner: FeedForwardPd::new(&plan, PdGains::servo(&p.cat, 10.0, 1.0)), seen: Vec::new() };
+    let plan = Plan::new(&p.cat.half(), &s, &Vector3::zeros(), 1e-10, steps(&s, 2e-4));
+    let mut c =
+        Recording { inner: FeedForwardPd::new(&plan, PdGains::servo(&p.cat.half(), 10.0, 1.0)), seen: Vec::new() };
     let mut o = options(Motors::ideal());
     o.sensor = AttitudeSensor { latency, noise, seed: 3 };
-    track(&p.cat, &plan, &mut c, &o).expect("the run");
+    track(&p.cat.half(), &plan, &mut c, &o).expect("the run");
     c.seen
 }
 
@@ -169,14 +170,14 @@ fn feedback_settings(noise: f64) -> FeedbackSettings {
 /// `(open loop, feedback, the feedback's largest correction in degrees)`.
 fn open_and_closed(cat: &Cylinder, spin: Vector3<f64>, noise: f64, dt: f64) -> (TrackedRun, TrackedRun, f64) {
     let (p, s) = problem();
-    let plan = Plan::new(&p.cat, &s, &Vector3::zeros(), 1e-10, steps(&s, dt));
-    let fb = FeedbackPlan::new(&p.cat, &s, &Vector3::zeros(), 1e-10, &plan, feedback_settings(noise));
-    let servo = PdGains::servo(&p.cat, 10.0, 1.0);
+    let plan = Plan::new(&p.cat.half(), &s, &Vector3::zeros(), 1e-10, steps(&s, dt));
+    let fb = FeedbackPlan::new(&p.cat.half(), &s, &Vector3::zeros(), 1e-10, &plan, feedback_settings(noise));
+    let servo = PdGains::servo(&p.cat.half(), 10.0, 1.0);
     let mut o = options(Motors::ideal());
     o.spin = spin;
     o.sensor.noise = noise;
     let open = track(cat, &plan, &mut FeedForwardPd::new(&plan, servo), &o).expect("open loop");
-    let mut c = Feedback::new(&plan, &fb, servo, &p.cat);
+    let mut c = Feedback::new(&plan, &fb, servo, &p.cat.half());
     let closed = track(cat, &plan, &mut c, &o).expect("feedback");
     let correction = c.log().largest_correction.map(f64::to_degrees);
     (open, closed, correction[0].max(correction[1]))
@@ -185,7 +186,7 @@ fn open_and_closed(cat: &Cylinder, spin: Vector3<f64>, noise: f64, dt: f64) -> (
 #[test]
 fn feedback_on_the_nominal_cat_lands_as_the_plan_does() {
     let (p, _) = problem();
-    let (open, closed, correction) = open_and_closed(&p.cat, Vector3::zeros(), 0.0, 2e-4);
+    let (open, closed, correction) = open_and_closed(&p.cat.half(), Vector3::zeros(), 0.0, 2e-4);
     // Nothing to correct but rapier's own first-order bias (0.76° of twist at 200 µs, the
     // test above, a momentum leak the filter takes for spin): the feedback bends the joints by
     // a few degrees (measured 2.67°) and lands closer to the half turn than the open loop
@@ -206,7 +207,7 @@ fn feedback_on_the_nominal_cat_lands_as_the_plan_does() {
 #[test]
 fn feedback_undoes_a_spinning_release_that_the_open_loop_cannot() {
     let (p, _) = problem();
-    let light = Cylinder { mass: 0.92 * p.cat.mass, ..p.cat };
+    let light = Cylinder { mass: 0.92 * p.cat.mass, ..p.cat.half() };
     let spin = Vector3::new(0.004, -0.003, 0.008);
     let (open, closed, correction) = open_and_closed(&light, spin, 0.5f64.to_radians(), 2e-4);
     // The spin about the spine alone turns the straight cat at L_z/(m r²) ≈ 0.87 rad/s: the
@@ -220,9 +221,9 @@ fn feedback_undoes_a_spinning_release_that_the_open_loop_cannot() {
 #[test]
 fn the_gains_stay_bounded_as_the_cat_straightens() {
     let (p, s) = problem();
-    let plan = Plan::new(&p.cat, &s, &Vector3::zeros(), 1e-10, steps(&s, 2e-4));
+    let plan = Plan::new(&p.cat.half(), &s, &Vector3::zeros(), 1e-10, steps(&s, 2e-4));
     let settings = feedback_settings(0.0);
-    let fb = FeedbackPlan::new(&p.cat, &s, &Vector3::zeros(), 1e-10, &plan, settings);
+    let fb = FeedbackPlan::new(&p.cat.half(), &s, &Vector3::zeros(), 1e-10, &plan, settings);
     assert!(fb.gains.iter().all(|k| k.iter().all(|x| x.is_finite())));
     let n = fb.gains.len();
     let attitude_gain = |k: usize| fb.gains[k].columns(0, 3).amax();

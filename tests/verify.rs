@@ -56,7 +56,7 @@ fn the_paper_schedule_and_a_rest_to_rest_profile_are_verified() {
     let (p, paper) = paper();
     let cycloidal = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
     for (name, s) in [("paper-cosine", &paper), ("cycloidal", &cycloidal)] {
-        let v = check(&p.cat, s, &p.rapier);
+        let v = check(&p.cat.half(), s, &p.rapier);
         assert_verified(name, &v);
         assert_eq!(v.first_step, StepSource::Auto);
         // The first step comes from the schedule's time scales: under 1.2 ms on the paper
@@ -71,9 +71,9 @@ fn the_paper_schedule_and_a_rest_to_rest_profile_are_verified() {
 fn a_wrong_reference_is_not_verified_and_the_twist_named() {
     let (p, paper) = paper();
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
-    let mut r = reference(&p.cat, &s);
+    let mut r = reference(&p.cat.half(), &s);
     r.twist += 5f64.to_radians();
-    let v = verify(&p.cat, &s, &p.rapier, &r).unwrap();
+    let v = verify(&p.cat.half(), &s, &p.rapier, &r).unwrap();
     assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
     let Verdict::NotVerified { quantity, gap, .. } = v.verdict else { unreachable!() };
     assert_eq!(quantity, Quantity::Twist);
@@ -89,7 +89,7 @@ fn a_budget_too_small_is_inconclusive() {
     // The paper's first run takes 3325 steps (first step 0.43 ms, set by the body rate) and the
     // second 6650: a budget of 4000 allows one.
     let settings = RapierSettings { step_budget: 4000, ..p.rapier };
-    let v = check(&p.cat, &paper, &settings);
+    let v = check(&p.cat.half(), &paper, &settings);
     assert_eq!(v.status, Status::Inconclusive);
     assert!(matches!(v.verdict, Verdict::TooFewRuns { runs: 1, .. }), "{:?}", v.verdict);
     let text = v.verdict.to_string();
@@ -100,18 +100,18 @@ fn a_budget_too_small_is_inconclusive() {
     // Three runs from a step twice as coarse (0.86 ms: 1663 + 3326 + 6652 steps) that do not
     // converge far enough, the fourth over the budget: rapier's own error is named.
     let coarse = RapierSettings { step_budget: 12_000, ..p.rapier.with_dt(8.59e-4) };
-    let v = check(&p.cat, &paper, &coarse);
+    let v = check(&p.cat.half(), &paper, &coarse);
     assert!(matches!(v.verdict, Verdict::NotConverged { .. }), "{}", v.to_text());
     assert!(v.verdict.to_string().starts_with("inconclusive: rapier's own"), "{}", v.verdict);
     // A step that would need more steps than a run allows: no run at all, and why.
-    let v = check(&p.cat, &paper, &p.rapier.with_dt(1e-9));
+    let v = check(&p.cat.half(), &paper, &p.rapier.with_dt(1e-9));
     assert!(matches!(v.verdict, Verdict::TooFewRuns { runs: 0, .. }), "{:?}", v.verdict);
     assert!(v.verdict.to_string().contains("a run may take"), "{}", v.verdict);
     // Bad settings are an error naming the field, not a verdict.
-    let e = verify(&p.cat, &paper, &p.rapier.with_dt(f64::NAN), &reference(&p.cat, &paper)).unwrap_err();
+    let e = verify(&p.cat.half(), &paper, &p.rapier.with_dt(f64::NAN), &reference(&p.cat.half(), &paper)).unwrap_err();
     assert!(e.to_string().contains("rapier.dt"), "{e}");
     // A wall-clock budget too small for a second run.
-    let v = check(&p.cat, &paper, &RapierSettings { time_budget_s: Some(1e-9), ..p.rapier });
+    let v = check(&p.cat.half(), &paper, &RapierSettings { time_budget_s: Some(1e-9), ..p.rapier });
     assert!(v.verdict.to_string().contains("time budget"), "{}", v.verdict);
 }
 
@@ -120,7 +120,7 @@ fn a_non_finite_reference_is_inconclusive() {
     let (p, paper) = paper();
     let r = Reference { twist: f64::NAN, swing: 0.0, peak_torque: 1.0 };
     let settings = RapierSettings { step_budget: 1, ..p.rapier };
-    let v = verify(&p.cat, &paper, &settings, &r).unwrap();
+    let v = verify(&p.cat.half(), &paper, &settings, &r).unwrap();
     assert_eq!(v.verdict, Verdict::BadReference);
 }
 
@@ -129,9 +129,9 @@ fn a_very_long_cat_gets_a_verdict_not_a_wrong_number() {
     // Issue 9: `cat.length = 1000` diverged at the old default step. Rapier diverges at every
     // step tried (measured down to 2.6e-5 s) or does not converge: an honest inconclusive.
     let p = Problem::from_toml("[cat]\nlength = 1000.0\n", "test", &[]).unwrap();
-    let circulation = paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap();
+    let circulation = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).unwrap();
     let s = Schedule::new(&p, circulation);
-    let v = check(&p.cat, &s, &p.rapier);
+    let v = check(&p.cat.half(), &s, &p.rapier);
     assert_ne!(v.status, Status::NotVerified, "{}", v.verdict);
     if v.status == Status::Inconclusive {
         assert!(v.verdict.to_string().starts_with("inconclusive: "), "{}", v.verdict);
@@ -143,7 +143,7 @@ fn a_very_long_cat_gets_a_verdict_not_a_wrong_number() {
     assert!(v.steps_taken <= p.rapier.step_budget, "{} steps", v.steps_taken);
     // Through the report: a rapier number comes with its verdict, or there is none.
     let r = Resolved::new(&p).unwrap();
-    let exact = exact_report(&r, &s, r.circulation, None);
+    let exact = exact_report(&r, &s, r.circulation, None).expect("the paper's cat runs every schedule");
     match rapier_report(&r, &s, &exact) {
         Ok(r) => assert!(r.figures.check.verdict.is_some() && r.figures.check.verification.is_some()),
         Err(e) => assert!(e.to_string().contains("inconclusive"), "{e}"),
@@ -158,7 +158,7 @@ fn a_short_fast_manoeuvre_gets_its_own_step() {
     let p = Problem::from_toml(text, "test", &[]).unwrap();
     assert!(matches!(p.manoeuvre.circulation, Circulation::Angle(_)));
     let s = Schedule::new(&p, 30.0);
-    let v = check(&p.cat, &s, &p.rapier);
+    let v = check(&p.cat.half(), &s, &p.rapier);
     assert!(v.dt_sequence.first().is_some_and(|d| *d < 1e-4), "first step {:?}", v.dt_sequence.first());
     assert_ne!(v.status, Status::NotVerified, "{}\n{}", v.verdict, v.to_text());
     if v.status == Status::Verified {
@@ -184,8 +184,8 @@ fn any_trajectory_runs_with_peaks_per_piece() {
     let (p, paper) = paper();
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
     let settings = p.rapier.with_dt(1e-3);
-    let whole = catflip::engines::rapier::simulate(&p.cat, &s, &settings).unwrap();
-    let split = catflip::engines::rapier::simulate(&p.cat, &Halves(&s), &settings).unwrap();
+    let whole = catflip::engines::rapier::simulate(&p.cat.half(), &s, &settings).unwrap();
+    let split = catflip::engines::rapier::simulate(&p.cat.half(), &Halves(&s), &settings).unwrap();
     assert_eq!(whole.peak_torque.per_piece.len(), 3);
     assert_eq!(split.peak_torque.per_piece.len(), 6);
     assert!(split.peak_torque.phase(catflip::schedule::Phase::Twist).is_none());
@@ -201,7 +201,7 @@ fn any_trajectory_runs_with_peaks_per_piece() {
             assert!(halves <= full + 1e-12, "{}: τ{} halves {halves} > phase {full}", phase.name(), j + 1);
         }
     }
-    let v = check(&p.cat, &Halves(&s), &p.rapier);
+    let v = check(&p.cat.half(), &Halves(&s), &p.rapier);
     assert_verified("halves", &v);
 }
 
@@ -234,12 +234,12 @@ fn the_time_step_setting_reads_auto_or_seconds() {
 fn a_fixed_first_step_is_kept_and_halved() {
     let (p, paper) = paper();
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
-    let v = check(&p.cat, &s, &p.rapier.with_dt(5e-4));
+    let v = check(&p.cat.half(), &s, &p.rapier.with_dt(5e-4));
     assert_eq!(v.first_step, StepSource::Fixed);
     approx::assert_relative_eq!(v.dt_sequence[0], s.duration() / (s.duration() / 5e-4).ceil(), max_relative = 1e-9);
     assert_verified("fixed", &v);
     // A first step too coarse for the phases is refused, recorded, and halved.
-    let coarse = check(&p.cat, &s, &p.rapier.with_dt(0.05));
+    let coarse = check(&p.cat.half(), &s, &p.rapier.with_dt(0.05));
     assert!(!coarse.failures.is_empty(), "{}", coarse.to_text());
     assert!(coarse.failures[0].reason.contains("shortest phase"), "{}", coarse.failures[0].reason);
     assert!(coarse.status == Status::Verified || coarse.status == Status::Inconclusive, "{}", coarse.verdict);
@@ -249,7 +249,7 @@ fn a_fixed_first_step_is_kept_and_halved() {
 fn the_cone_path_is_verified() {
     let (p, paper) = paper();
     let s = Schedule { path: BendPath::Cone, ..paper.with_profile(Profile::library(ProfileKind::Cycloidal)) };
-    assert_verified("cone", &check(&p.cat, &s, &p.rapier));
+    assert_verified("cone", &check(&p.cat.half(), &s, &p.rapier));
 }
 
 /// xorshift64*: a seeded generator, so the 30 problems are the same on every run.
@@ -297,7 +297,7 @@ fn random_problems() {
         let Ok(p) = Problem::from_toml(&text, "random", &[]) else { continue };
         let Ok(r) = Resolved::new(&p) else { continue };
         let s = r.schedule.clone();
-        let exact = exact_report(&r, &s, r.circulation, None);
+        let exact = exact_report(&r, &s, r.circulation, None).expect("the paper's cat runs every schedule");
         done += 1;
         let (verdict, seq, est, steps, time, first) = match rapier_report(&r, &s, &exact) {
             Ok(r) => {
@@ -332,9 +332,9 @@ fn paper_profiles() {
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for kind in ProfileKind::ALL {
         let s = paper.with_profile(Profile::library(kind));
-        let cal = catflip::engines::calibrate::calibrate(&p.cat, &s, p.exact.tolerance);
+        let cal = catflip::engines::calibrate::calibrate(&p.cat.half(), &s, p.exact.tolerance);
         for (label, s) in [("paper", s.clone()), ("calibrated", s.with_circulation(cal.circulation))] {
-            let v = check(&p.cat, &s, &p.rapier);
+            let v = check(&p.cat.half(), &s, &p.rapier);
             let gaps = v
                 .quantities
                 .iter()
@@ -369,13 +369,14 @@ fn a_retimed_path_with_acceleration_jumps_verifies_on_peak_torque() {
     use catflip::sweep::optimum::retime_settings;
     let overrides = ["cat.radius=0.05".to_string(), "drop.height=10.0".to_string()];
     let p = Problem::from_toml("", "test", &overrides).unwrap();
-    let base = Schedule::new(&p, paper_circulation(&p.cat, p.manoeuvre.theta()).unwrap());
-    let circulation = catflip::engines::calibrate::calibrate(&p.cat, &base, 1e-10).circulation;
+    let base = Schedule::new(&p, paper_circulation(&p.cat.half(), p.manoeuvre.theta()).unwrap());
+    let circulation = catflip::engines::calibrate::calibrate(&p.cat.half(), &base, 1e-10).circulation;
     let s = Schedule::new(&p, circulation);
-    let traj = retime(&p.cat, &s, s.duration(), retime_settings()).unwrap().trajectory.unwrap();
-    let f = catflip::engines::exact::flip(&p.cat, &s, 1e-10);
-    let peak = catflip::engines::torque::peak_torques(&p.cat, &traj, 400).max;
-    let v = verify(&p.cat, &traj, &p.rapier, &Reference { twist: f.twist, swing: f.swing, peak_torque: peak }).unwrap();
+    let traj = retime(&p.cat.half(), &s, s.duration(), retime_settings()).unwrap().trajectory.unwrap();
+    let f = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-10);
+    let peak = catflip::engines::torque::peak_torques(&p.cat.half(), &traj, 400).max;
+    let v = verify(&p.cat.half(), &traj, &p.rapier, &Reference { twist: f.twist, swing: f.swing, peak_torque: peak })
+        .unwrap();
     assert_eq!(v.status, Status::Verified, "{}", v.verdict);
     let finest = v.finest.as_ref().unwrap();
     assert!(finest.acceleration_jumps > 0, "no acceleration jump was kept out of the peaks");
@@ -397,7 +398,7 @@ fn paper_with(overrides: &[&str]) -> Resolved {
 #[test]
 fn the_paper_schedule_beyond_its_motors_saturates_and_is_not_verified() {
     let r = paper_with(&["actuator.torque_limit_nm=1.0"]);
-    let exact = exact_report(&r, &r.schedule, r.circulation, None);
+    let exact = exact_report(&r, &r.schedule, r.circulation, None).expect("the paper's cat runs every schedule");
     let report = rapier_report(&r, &r.schedule, &exact).unwrap_or_else(|e| panic!("{e}"));
     let v = report.figures.check.verification.as_ref().unwrap();
     assert_eq!(v.status, Status::NotVerified, "{}", v.to_text());

@@ -24,7 +24,7 @@ fn table_has_every_profile_and_the_paper_model_peaks() {
         // Model peak I*·C_a·D/T² (paper §8 with the correct I*).
         assert_relative_eq!(
             r.model_peak_nm,
-            p.cat.end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2),
+            p.cat.half().end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2),
             max_relative = 1e-12
         );
         // Path invariance: twist and swing do not depend on the profile.
@@ -54,7 +54,7 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     let t2 = 0.6 * p.drop.fall_time();
     assert_relative_eq!(
         r.qp.peak_torque.expect("solved"),
-        4.0 * r.circulation.radians * p.cat.end_transverse() / (t2 * t2),
+        4.0 * r.circulation.radians * p.cat.half().end_transverse() / (t2 * t2),
         max_relative = 1e-7
     );
     let refined = r.refined_optimum.as_ref().expect("refinement ran");

@@ -243,8 +243,10 @@ pub fn simulate_schedule(
 /// The model files of the problem's cat, `[(file name, contents)]`: `model.urdf` and `model.xml`
 /// (MJCF), as `catflip run` writes them beside the schedules.
 #[pyfunction]
-pub fn model_files(problem: &Problem) -> Vec<(String, String)> {
-    catflip::exchange::model_files(&problem.inner.problem).into()
+pub fn model_files(problem: &Problem) -> PyResult<Vec<(String, String)>> {
+    let p = &problem.inner.problem;
+    p.require_paper_cat("the URDF/MJCF export").map_err(refuse)?;
+    Ok(catflip::exchange::model_files(p).into())
 }
 
 /// `catflip sweep SWEEP.toml`: the tidy table (the `sweep.csv` text) of every case; with `out`,

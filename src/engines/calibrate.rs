@@ -12,7 +12,8 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::engines::exact::flip_spinning;
+use crate::engines::exact::{flip_spinning, Flip};
+use crate::engines::models::{ModelError, TwoMotorCat};
 use crate::model::Cylinder;
 use crate::numeric::roots::{brent, Brackets, RootStatus};
 use crate::schedule::Schedule;
@@ -43,9 +44,32 @@ pub fn calibrate(cat: &Cylinder, schedule: &Schedule, tolerance: f64) -> Calibra
 /// [`calibrate`] for a release with total angular momentum `spin` (N·m·s, world frame;
 /// [`crate::engines::exact::flip_spinning`]).
 pub fn calibrate_spinning(cat: &Cylinder, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
+    calibrate_by(|s, inner| flip_spinning(cat, s, spin, inner), schedule, tolerance)
+}
+
+/// [`calibrate_spinning`] for any two-motor model: the paper's cat by the two-cylinder engine
+/// (the same numbers), any other at zero momentum through the general core
+/// ([`TwoMotorCat::flip`]); a spinning release of another model is refused.
+pub fn calibrate_model(
+    cat: &TwoMotorCat,
+    schedule: &Schedule,
+    spin: &Vector3<f64>,
+    tolerance: f64,
+) -> Result<Calibration, ModelError> {
+    if let Some(half) = cat.cat().paper() {
+        return Ok(calibrate_spinning(half, schedule, spin, tolerance));
+    }
+    if spin.norm_squared() > 0.0 {
+        return Err(ModelError::Spinning { joint: cat.cat().joint });
+    }
+    Ok(calibrate_by(|s, inner| cat.flip(s, inner), schedule, tolerance))
+}
+
+/// The calibration with `flip(schedule, tolerance)` the engine's final orientation.
+fn calibrate_by(flip: impl Fn(&Schedule, f64) -> Flip, schedule: &Schedule, tolerance: f64) -> Calibration {
     let inner = 0.1 * tolerance;
     let d0 = schedule.circulation;
-    let flip = |s: &Schedule| flip_spinning(cat, s, spin, inner);
+    let flip = |s: &Schedule| flip(s, inner);
     let first = flip(schedule).twist;
     let target = if first < 0.0 { -PI } else { PI };
     let mut evaluations = 1;

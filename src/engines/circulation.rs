@@ -18,8 +18,9 @@ use std::fmt;
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::engines::calibrate::{calibrate_spinning, Calibration};
+use crate::engines::calibrate::{calibrate_model, Calibration};
 use crate::engines::evaluate::Evaluation;
+use crate::engines::models::{ModelError, TwoMotorCat};
 use crate::model::Cylinder;
 use crate::numeric::roots::RootStatus;
 use crate::problem::{Circulation, Manoeuvre, Problem, ProfileKind};
@@ -33,13 +34,22 @@ pub enum CirculationError {
     #[error(transparent)]
     Schedule(#[from] ScheduleError),
     /// Calibration found no circulation that turns the cat by π.
-    #[error("manoeuvre.circulation = \"calibrated\": no circulation near the paper's {near:.6} rad turns this cat by π (the search ended: {status})")]
+    #[error("manoeuvre.circulation = \"calibrated\": no circulation near {near:.6} rad (the paper's π/C, of the mean half when the halves differ) turns this cat by π (the search ended: {status})")]
     Calibration {
         /// Where the search started, rad.
         near: f64,
         /// How it ended.
         status: RootStatus,
     },
+    /// The paper's `C` is defined for equal halves only.
+    #[error("manoeuvre.circulation = \"paper\": the paper's C (and π/C) is defined for two equal halves only, and {field} makes them differ; give the circulation in radians or set it to \"calibrated\"")]
+    PaperUndefined {
+        /// The problem field that makes the halves differ.
+        field: String,
+    },
+    /// The cat cannot run the problem's schedule.
+    #[error(transparent)]
+    Model(#[from] ModelError),
 }
 
 /// Where a circulation came from.
@@ -89,14 +99,20 @@ impl ResolvedCirculation {
 
 /// Resolves manoeuvre `m`'s circulation for `cat` over a fall of `fall_time` s (running the
 /// calibration to `tolerance` rad of twist if asked, for a release with angular momentum `spin`).
+/// The paper's `π/C` needs equal halves; the calibration of unequal halves starts from the `π/C`
+/// of their mean half ([`Cat::mean_half`]).
 pub fn resolve_circulation(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     m: &Manoeuvre,
     fall_time: f64,
     spin: &Vector3<f64>,
     tolerance: f64,
 ) -> Result<ResolvedCirculation, CirculationError> {
-    let paper = || paper_circulation(cat, m.theta());
+    let model = cat.cat();
+    let paper = || paper_circulation(&model.mean_half(), m.theta());
+    if m.circulation == Circulation::Paper && !model.has_equal_halves() {
+        return Err(CirculationError::PaperUndefined { field: "cat.front or cat.rear".into() });
+    }
     Ok(match m.circulation {
         Circulation::Paper => {
             ResolvedCirculation { radians: paper()?, source: CirculationSource::Paper, calibration: None }
@@ -106,7 +122,7 @@ pub fn resolve_circulation(
         }
         Circulation::Calibrated => {
             let near = paper()?;
-            let cal = calibrate_spinning(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance);
+            let cal = calibrate_model(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance)?;
             ResolvedCirculation::from_calibration(&cal)
                 .ok_or(CirculationError::Calibration { near, status: cal.status })?
         }
@@ -129,6 +145,8 @@ pub struct Resolved {
     pub schedule: Schedule,
     /// The resolved circulation.
     pub circulation: ResolvedCirculation,
+    model: TwoMotorCat,
+    half: Cylinder,
     calibration: OnceLock<Calibration>,
     library: OnceLock<Vec<(ProfileKind, Schedule, Evaluation)>>,
 }
@@ -139,14 +157,31 @@ impl Resolved {
     pub fn new(problem: &Problem) -> Result<Resolved, CirculationError> {
         let fall_time = problem.drop.fall_time();
         let spin = problem.drop.spin();
-        let circulation =
-            resolve_circulation(&problem.cat, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)?;
+        let model = TwoMotorCat::new(problem.cat.model())?;
+        if spin.norm_squared() > 0.0 && model.cat().paper().is_none() {
+            return Err(ModelError::Spinning { joint: model.cat().joint }.into());
+        }
+        let circulation = resolve_circulation(&model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)
+            .map_err(|e| match e {
+                CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
+                    field: problem.cat.departure().map_or_else(|| "cat.front".into(), |(f, _)| f),
+                },
+                other => other,
+            })?;
         let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
         let calibration = OnceLock::new();
         if let Some(c) = circulation.calibration {
             let _ = calibration.set(c);
         }
-        Ok(Resolved { problem: problem.clone(), schedule, circulation, calibration, library: OnceLock::new() })
+        Ok(Resolved {
+            problem: problem.clone(),
+            schedule,
+            circulation,
+            model,
+            half: problem.cat.half(),
+            calibration,
+            library: OnceLock::new(),
+        })
     }
 
     /// What is not an error but should be said: a calibrated circulation that turns the cat by
@@ -162,9 +197,31 @@ impl Resolved {
         )]
     }
 
-    /// The cat.
+    /// The half of the paper's cat (`[cat]`'s shorthand). Only for a computation that models
+    /// the paper's cat, after [`Resolved::require_paper_cat`]; any other reads [`Resolved::model`].
     pub fn cat(&self) -> &Cylinder {
-        &self.problem.cat
+        &self.half
+    }
+
+    /// The cat model the exact engine runs (the paper's cat through the two-cylinder engine).
+    pub fn model(&self) -> &TwoMotorCat {
+        &self.model
+    }
+
+    /// Refuses a cat other than the paper's for `what` ([`Problem::require_paper_cat`]).
+    pub fn require_paper_cat(&self, what: &str) -> Result<(), crate::problem::ProblemError> {
+        self.problem.require_paper_cat(what)
+    }
+
+    /// The exact evaluation of `schedule` on the problem's cat, release and motors.
+    pub fn evaluate(&self, schedule: &Schedule) -> Result<Evaluation, ModelError> {
+        Evaluation::of_model(
+            &self.model,
+            schedule,
+            &self.problem.drop.spin(),
+            &self.problem.actuator.motors(),
+            &self.problem.exact,
+        )
     }
 
     /// The calibration of the problem's joint path, started from its circulation: the one
@@ -172,7 +229,17 @@ impl Resolved {
     /// it failed; [`Resolved::calibrated`] is the circulation only when it converged.
     pub fn calibration(&self) -> &Calibration {
         self.calibration.get_or_init(|| {
-            calibrate_spinning(self.cat(), &self.schedule, &self.problem.drop.spin(), self.problem.exact.tolerance)
+            let spin = self.problem.drop.spin();
+            let cal = calibrate_model(&self.model, &self.schedule, &spin, self.problem.exact.tolerance);
+            // `Resolved::new` refused what the model cannot run (a spinning release of another
+            // model); were it asked for, it is a calibration that found nothing.
+            cal.unwrap_or(Calibration {
+                circulation: self.schedule.circulation,
+                twist: f64::NAN,
+                swing: f64::NAN,
+                evaluations: 0,
+                status: RootStatus::NoBracket,
+            })
         })
     }
 
@@ -192,16 +259,12 @@ impl Resolved {
         self.library.get_or_init(|| {
             ProfileKind::ALL
                 .par_iter()
-                .map(|&k| {
+                .filter_map(|&k| {
                     let s = self.with_library(k);
-                    let e = Evaluation::new(
-                        self.cat(),
-                        &s,
-                        &self.problem.drop.spin(),
-                        &self.problem.actuator.motors(),
-                        &self.problem.exact,
-                    );
-                    (k, s, e)
+                    // Cannot fail: `Resolved::new` ran the model's calibration checks, and
+                    // `Problem::validate` refuses a spinning release of another model.
+                    let e = self.evaluate(&s).ok()?;
+                    Some((k, s, e))
                 })
                 .collect()
         })

@@ -29,16 +29,19 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::engines::exact::{body_rate, body_rate_spinning, flip, momentum, Flip};
+use crate::engines::models::{ModelError, TwoMotorCat};
 use crate::engines::motors::{motor_demand_from, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::spin::SpinHistory;
-use crate::engines::torque::{peak_torques_from, piece_samples, velocity_jumps, TorqueSource, VelocityJump};
+use crate::engines::torque::{
+    peak_torques_from, piece_samples, velocity_jumps, velocity_jumps_with, TorqueSource, VelocityJump,
+};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
 use crate::schedule::variant::Origin;
-use crate::schedule::{Phase, Schedule, Trajectory};
+use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// The exact engine's numbers on one schedule.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -94,6 +97,45 @@ impl Evaluation {
         }
     }
 
+    /// [`Evaluation::new`] for any two-motor model `cat`: the paper's cat through
+    /// [`Evaluation::new`] (the two-cylinder engine, its numbers to the last digit), any other
+    /// model through the general core ([`TwoMotorCat`]) at zero angular momentum; a spinning
+    /// release of another model is refused ([`ModelError::Spinning`]).
+    pub fn of_model(
+        cat: &TwoMotorCat,
+        schedule: &Schedule,
+        spin: &Vector3<f64>,
+        motors: &Motors,
+        settings: &ExactSettings,
+    ) -> Result<Evaluation, ModelError> {
+        if let Some(half) = cat.cat().paper() {
+            return Ok(Evaluation::new(half, schedule, spin, motors, settings));
+        }
+        if spin.norm_squared() > 0.0 {
+            return Err(ModelError::Spinning { joint: cat.cat().joint });
+        }
+        let start = Instant::now();
+        let samples = piece_samples(schedule, settings.torque_samples);
+        let flip = cat.flip(schedule, settings.tolerance);
+        let source = TorqueSource::model(cat);
+        let peaks = peak_torques_from(&source, schedule, &samples);
+        let motors = motor_demand_from(&source, schedule, &samples, motors);
+        let jumps = velocity_jumps_with(|q| cat.reduced_mass_matrix(q), schedule, JUMP_TOLERANCE);
+        let reference = cat.cat().rear.end_transverse();
+        let momentum_max =
+            momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, schedule, settings.torque_samples);
+        Ok(Evaluation {
+            flip,
+            peaks: PhasePeaks::from_peaks(&peaks),
+            action_reaction_gap: peaks.action_reaction_gap,
+            peak_accuracy: peaks.accuracy,
+            motors,
+            jumps,
+            momentum_max,
+            run_time_s: start.elapsed().as_secs_f64(),
+        })
+    }
+
     /// Signed twist, degrees.
     pub fn twist_deg(&self) -> f64 {
         self.flip.twist.to_degrees()
@@ -113,16 +155,27 @@ impl Evaluation {
 /// Largest `|H|` of the zero-momentum motion on `samples + 1` points per phase, relative to
 /// `I* · max|q̇|` (absolute when the cat never moves).
 pub fn momentum_max(cat: &Cylinder, schedule: &impl Trajectory, samples: usize) -> f64 {
+    momentum_max_by(|st| momentum(cat, st, &body_rate(cat, st.q, st.qd)), cat.end_transverse(), schedule, samples)
+}
+
+/// Largest `|H(st)|` on `samples + 1` points per phase of `schedule`, relative to
+/// `inertia · max|q̇|` (absolute when the cat never moves): [`momentum_max`] for any model's
+/// momentum `h`.
+pub fn momentum_max_by(
+    h: impl Fn(&JointState) -> Vector3<f64>,
+    inertia: f64,
+    schedule: &impl Trajectory,
+    samples: usize,
+) -> f64 {
     let (mut h_max, mut qd_max) = (0.0f64, 0.0f64);
     for (piece, dur) in schedule.piece_durations().into_iter().enumerate() {
         for k in 0..=samples {
             let st = schedule.piece_state(piece, dur * k as f64 / samples as f64);
-            let w = body_rate(cat, st.q, st.qd);
-            h_max = h_max.max(momentum(cat, &st, &w).norm());
+            h_max = h_max.max(h(&st).norm());
             qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
         }
     }
-    let reference = cat.end_transverse() * qd_max;
+    let reference = inertia * qd_max;
     if reference > 0.0 {
         h_max / reference
     } else {

@@ -27,6 +27,7 @@ use nalgebra::{Matrix2, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::engines::exact::{joint2_axis, relative_rate, solve_spd};
+use crate::engines::models::TwoMotorCat;
 use crate::engines::spin::SpinHistory;
 use crate::model::{skew, Cylinder};
 use crate::numeric::roots::golden_max;
@@ -128,35 +129,44 @@ pub fn joint_torques_spinning(cat: &Cylinder, s: &JointState, lambda: &Vector3<f
     torques_of(cat, s, &kinematics_spinning(cat, s, lambda))
 }
 
-/// Where the joint torques along a trajectory come from: the zero-momentum motion, or a release
-/// with spin whose orientations a [`SpinHistory`] holds.
+/// Where the joint torques along a trajectory come from: the paper's cat at zero momentum or
+/// released with spin (whose orientations a [`SpinHistory`] holds), or another two-coordinate
+/// model at zero momentum ([`crate::engines::models`]).
 #[derive(Clone, Copy, Debug)]
 pub struct TorqueSource<'a> {
-    cat: &'a Cylinder,
-    spin: Option<&'a SpinHistory>,
+    body: Body<'a>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Body<'a> {
+    Paper { cat: &'a Cylinder, spin: Option<&'a SpinHistory> },
+    Model(&'a TwoMotorCat),
 }
 
 impl<'a> TorqueSource<'a> {
     /// Zero angular momentum ([`joint_torques`]).
     pub fn zero_momentum(cat: &'a Cylinder) -> Self {
-        Self { cat, spin: None }
+        Self { body: Body::Paper { cat, spin: None } }
     }
 
     /// A release with spin ([`joint_torques_spinning`] at the history's orientation).
     pub fn spinning(cat: &'a Cylinder, history: &'a SpinHistory) -> Self {
-        Self { cat, spin: Some(history) }
+        Self { body: Body::Paper { cat, spin: Some(history) } }
     }
 
-    /// The cat.
-    pub fn cat(&self) -> &'a Cylinder {
-        self.cat
+    /// A two-coordinate model at zero angular momentum ([`crate::engines::models::joint_torques`]).
+    pub fn model(cat: &'a TwoMotorCat) -> Self {
+        Self { body: Body::Model(cat) }
     }
 
     /// The torques at local time `s` of `piece`, where the joints are in `state`.
     pub fn at(&self, traj: &impl Trajectory, piece: usize, s: f64, state: &JointState) -> JointTorques {
-        match self.spin {
-            None => joint_torques(self.cat, state),
-            Some(h) => joint_torques_spinning(self.cat, state, &h.body_momentum(self.cat, traj, piece, s)),
+        match self.body {
+            Body::Paper { cat, spin: None } => joint_torques(cat, state),
+            Body::Paper { cat, spin: Some(h) } => {
+                joint_torques_spinning(cat, state, &h.body_momentum(cat, traj, piece, s))
+            }
+            Body::Model(cat) => cat.joint_torques(state),
         }
     }
 }
@@ -194,10 +204,15 @@ pub fn kinetic_energy(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> f64 {
 
 /// The reduced (zero-momentum) mass matrix `M(q)` with `E = ½ q̇ᵀ M q̇`, by polarisation.
 pub fn reduced_mass_matrix(cat: &Cylinder, q: [f64; 2]) -> Matrix2<f64> {
-    let e1 = kinetic_energy(cat, q, [1.0, 0.0]);
-    let e2 = kinetic_energy(cat, q, [0.0, 1.0]);
-    let e12 = kinetic_energy(cat, q, [1.0, 1.0]);
-    let off = e12 - e1 - e2;
+    polarised_mass_matrix(|qd| kinetic_energy(cat, q, qd))
+}
+
+/// The mass matrix `M` of a quadratic kinetic energy `E(q̇) = ½ q̇ᵀ M q̇` from three of its
+/// values: `M₁₁ = 2E(1,0)`, `M₂₂ = 2E(0,1)`, `M₁₂ = E(1,1) − E(1,0) − E(0,1)`.
+pub fn polarised_mass_matrix(energy: impl Fn([f64; 2]) -> f64) -> Matrix2<f64> {
+    let e1 = energy([1.0, 0.0]);
+    let e2 = energy([0.0, 1.0]);
+    let off = energy([1.0, 1.0]) - e1 - e2;
     Matrix2::new(2.0 * e1, off, off, 2.0 * e2)
 }
 
@@ -447,12 +462,21 @@ pub struct VelocityJump {
 
 /// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses.
 pub fn velocity_jumps(cat: &Cylinder, schedule: &Schedule, tol: f64) -> Vec<VelocityJump> {
+    velocity_jumps_with(|q| reduced_mass_matrix(cat, q), schedule, tol)
+}
+
+/// [`velocity_jumps`] with the reduced mass matrix `mass(q)` of any two-coordinate model.
+pub fn velocity_jumps_with(
+    mass: impl Fn([f64; 2]) -> Matrix2<f64>,
+    schedule: &Schedule,
+    tol: f64,
+) -> Vec<VelocityJump> {
     schedule
         .rate_jumps(tol)
         .into_iter()
         .map(|j| {
             let q = schedule.state(j.time).q;
-            let m = reduced_mass_matrix(cat, q);
+            let m = mass(q);
             let dq = nalgebra::Vector2::new(j.after_rates[0] - j.before[0], j.after_rates[1] - j.before[1]);
             let imp = m * dq;
             VelocityJump {

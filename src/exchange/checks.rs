@@ -59,7 +59,7 @@ pub fn check(problem: &Problem, schedule: &ImportedSchedule) -> Result<Vec<Strin
     degrees(schedule, &mut warnings);
     ends(problem, schedule, &mut warnings);
     consistency(schedule, &mut warnings);
-    if !problem.cat.is_long_enough() {
+    if !problem.cat.half().is_long_enough() {
         warnings.push(format!(
             "cat.length = {} < √3 · cat.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
             problem.cat.length,
@@ -158,7 +158,7 @@ fn ends(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
                 "line {line}: whether the schedule {verb} at rest could not be checked: its piece has too few rows (fewer than 7) to estimate the spline's rate there; give q̇ or more rows"
             ));
         } else if speed > (JUMP_TOLERANCE * speed.max(1.0)).max(uncertainty) {
-            let m = reduced_mass_matrix(&problem.cat, q) * nalgebra::Vector2::new(state.qd[0], state.qd[1]);
+            let m = reduced_mass_matrix(&problem.cat.half(), q) * nalgebra::Vector2::new(state.qd[0], state.qd[1]);
             warnings.push(format!(
                 "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat is {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
                 state.qd[0], state.qd[1], m[0], m[1]
@@ -264,8 +264,9 @@ pub fn sampling(problem: &Problem, s: &ImportedSchedule, peaks: &[[f64; 2]]) -> 
         );
     };
     // The coarser copy's peaks are measured as the file's are (with the release spin, if any).
-    let (_, history) = released_flip(&problem.cat, &coarse, &problem.drop.spin(), problem.exact.tolerance);
-    let source = torque_source(&problem.cat, history.as_ref());
+    let cat = problem.cat.half();
+    let (_, history) = released_flip(&cat, &coarse, &problem.drop.spin(), problem.exact.tolerance);
+    let source = torque_source(&cat, history.as_ref());
     let coarse_peaks = peak_torques_from(&source, &coarse, &peak_samples(&coarse, problem.exact.torque_samples));
     let divisor = match s.interpolation {
         Interpolation::QuinticHermite => 15.0,

@@ -120,8 +120,9 @@ pub struct ImportReport {
 /// The exact engine's report on an imported schedule, with the checks' warnings; refused when the
 /// file cannot be evaluated with this problem or a number cannot be computed.
 pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<ImportReport, ImportError> {
+    problem.require_paper_cat("simulate --schedule (an imported schedule)")?;
     let mut warnings = check(problem, schedule)?;
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let start = Instant::now();
     let (f, history) = released_flip(cat, schedule, &problem.drop.spin(), problem.exact.tolerance);
     let source = torque_source(cat, history.as_ref());
@@ -187,9 +188,10 @@ pub fn evaluate_rapier(
     schedule: &ImportedSchedule,
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
+    problem.require_paper_cat("simulate --schedule --engine rapier")?;
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome =
-        rapier_check(&problem.cat, schedule, &problem.rapier, &reference, &RapierOptions::for_problem(problem))?;
+        rapier_check(&problem.cat.half(), schedule, &problem.rapier, &reference, &RapierOptions::for_problem(problem))?;
     Ok(outcome.map(|finest| ImportReport {
         engine: Engine::Rapier,
         peak_torque_nm: ImportedPeaks {

@@ -45,6 +45,9 @@ use crate::schedule::{JointState, Trajectory};
 /// Why a schedule file could not be read.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ImportError {
+    /// The problem asks for what this computation does not model (the problem's message).
+    #[error("{0}")]
+    Problem(String),
     /// The file could not be read.
     #[error("cannot read schedule file {path}: {message}")]
     Io {
@@ -228,6 +231,13 @@ pub enum ImportError {
         /// Its last line.
         last_line: u64,
     },
+}
+
+/// The problem's refusal, in its words.
+impl From<crate::problem::ProblemError> for ImportError {
+    fn from(e: crate::problem::ProblemError) -> Self {
+        ImportError::Problem(e.to_string())
+    }
 }
 
 /// The interpolation scheme of an imported schedule.

@@ -79,7 +79,7 @@ pub enum ExchangeError {
 /// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and
 /// [`MJCF_FILE`], with the cross of the rapier scene and the falling frame's zero gravity.
 pub fn model_files(problem: &Problem) -> [(String, String); 2] {
-    let links = Links::new(&problem.cat, problem.rapier.cross_mass_fraction);
+    let links = Links::new(&problem.cat.half(), problem.rapier.cross_mass_fraction);
     let name = format!("catflip-{}", problem.name);
     [
         (URDF_FILE.to_string(), urdf(&links, &name)),

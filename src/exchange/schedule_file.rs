@@ -140,6 +140,7 @@ pub fn write_schedule(
     name: &str,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
+    problem.require_paper_cat("a schedule file (its orientation and torque columns)")?;
     let refined = CutTrajectory::new(schedule, &acceleration_cuts(schedule));
     let names: Vec<String> =
         (0..refined.piece_durations().len()).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
@@ -166,7 +167,7 @@ pub fn write_trajectory(
 ) -> Result<ScheduleFile, ExchangeError> {
     // The orientation and torque columns and the sidecar's figures are the zero-momentum flip's.
     problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;
     let piece_name = |k: usize| piece_names.get(k).cloned().unwrap_or_else(|| format!("piece-{}", k + 1));
@@ -266,7 +267,7 @@ pub fn write_trajectory(
 /// reports sample peaks.
 fn motor_sizing(problem: &Problem, traj: &impl Trajectory) -> MotorSizing {
     let samples = piece_samples(traj, problem.exact.torque_samples);
-    let peaks = peak_torques_on(&problem.cat, traj, &samples);
+    let peaks = peak_torques_on(&problem.cat.half(), traj, &samples);
     let largest = |j: usize| {
         peaks
             .per_piece
@@ -274,7 +275,7 @@ fn motor_sizing(problem: &Problem, traj: &impl Trajectory) -> MotorSizing {
             .map(|p| p[j])
             .fold(Peak { value: 0.0, time: 0.0 }, |a, b| if b.value > a.value { b } else { a })
     };
-    let demand = motor_demand(&problem.cat, traj, &samples, &problem.actuator.motors());
+    let demand = motor_demand(&problem.cat.half(), traj, &samples, &problem.actuator.motors());
     MotorSizing {
         peak_torque_nm: [largest(0), largest(1)],
         within_motors: demand.within(),

@@ -46,6 +46,34 @@ impl Cat {
         self.front == self.rear
     }
 
+    /// The half of the paper's cat, when this is it: equal halves on the universal joint (the
+    /// two-cylinder engine's model, [`crate::engines::exact`]).
+    pub fn paper(&self) -> Option<&Cylinder> {
+        (self.joint == Joint::Universal && self.has_equal_halves()).then_some(&self.front)
+    }
+
+    /// The half whose mass, length and radius are the means of the two halves' (the paper's `C`
+    /// of this half is only a starting point when the halves differ).
+    pub fn mean_half(&self) -> Cylinder {
+        let (a, b) = (self.front, self.rear);
+        Cylinder {
+            mass: 0.5 * (a.mass + b.mass),
+            length: 0.5 * (a.length + b.length),
+            radius: 0.5 * (a.radius + b.radius),
+        }
+    }
+
+    /// The model in words: its joint and its halves (`m kg, l m long, r m radius`).
+    pub fn describe(&self) -> String {
+        let half = |c: &Cylinder| format!("{} kg, {} m long, radius {} m", c.mass, c.length, c.radius);
+        let halves = if self.has_equal_halves() {
+            format!("two equal halves of {}", half(&self.front))
+        } else {
+            format!("front half {}, rear half {}", half(&self.front), half(&self.rear))
+        };
+        format!("{} joint, {halves}", self.joint.name())
+    }
+
     /// Number of shape coordinates (the joint's).
     pub fn dof(&self) -> usize {
         self.joint.dof()

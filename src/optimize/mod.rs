@@ -33,6 +33,9 @@ use refine::{rate_nodes, refine, with_phase_profile, Refinement};
 /// Why optimisation could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum OptimizeError {
+    /// The problem asks for what this computation does not model.
+    #[error(transparent)]
+    Problem(#[from] crate::problem::ProblemError),
     /// A QP's data was refused.
     #[error(transparent)]
     Qp(#[from] QpError),
@@ -100,20 +103,22 @@ pub struct OptimizeReport {
 
 /// Runs the profile QP and the exact refinement on a resolved problem.
 pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
+    r.require_paper_cat("optimize (the profile QP and the refinements)")?;
     let problem = &r.problem;
     let base = &r.schedule;
     let t2 = base.durations[Phase::Twist.index()];
-    let qp_data = ProfileQp::new(&problem.optimize, t2, r.circulation.radians, problem.cat.end_transverse());
+    let qp_data = ProfileQp::new(&problem.optimize, t2, r.circulation.radians, problem.cat.half().end_transverse());
     let qp = qp_data.solve()?.solved()?;
     let calibrated = r.calibrated();
     // A schedule on the problem's circulation, evaluated there and with the calibrated one.
     let evaluate = |s: Schedule, origin: Origin, rates: Vec<f64>| {
-        let exact = Evaluation::new(&problem.cat, &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact);
+        let exact =
+            Evaluation::new(&problem.cat.half(), &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact);
         let at_calibrated =
-            calibrated.map(|c| flip(&problem.cat, &s.with_circulation(c.radians), problem.exact.tolerance));
+            calibrated.map(|c| flip(&problem.cat.half(), &s.with_circulation(c.radians), problem.exact.tolerance));
         Optimum {
             variant: Variant::new(origin),
-            evaluation: CompareRow::new(&problem.name, &problem.cat, &s, origin, &exact),
+            evaluation: CompareRow::new(&problem.name, &problem.cat.half(), &s, origin, &exact),
             calibrated_twist_deg: at_calibrated.map(|f| f.twist.to_degrees()),
             calibrated_swing_deg: at_calibrated.map(|f| f.swing.to_degrees()),
             rates,
@@ -123,7 +128,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
     };
     let qp_optimum = qp.to_profile().map(|p| evaluate(base.with_profile(p), Origin::Qp, qp.rates.clone()));
     let refinement = if qp.status.is_solved() {
-        Some(refine(&problem.cat, &problem.exact, &problem.optimize, base, Phase::Twist, &qp.rates)?)
+        Some(refine(&problem.cat.half(), &problem.exact, &problem.optimize, base, Phase::Twist, &qp.rates)?)
     } else {
         None
     };
@@ -146,7 +151,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
                 s.durations[phase.index()],
                 problem.optimize.nodes,
             );
-            refine(&problem.cat, &problem.exact, &problem.optimize, &s, phase, &start)
+            refine(&problem.cat.half(), &problem.exact, &problem.optimize, &s, phase, &start)
         };
         let (bend, unbend) = rayon::join(|| refine_phase(Phase::Bend), || refine_phase(Phase::Unbend));
         let (bend, unbend) = (bend?, unbend?);

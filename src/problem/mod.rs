@@ -6,6 +6,7 @@
 //! validates, so that a problem that loads is one every engine can run.
 
 pub mod actuator;
+pub mod cat;
 pub mod error;
 pub mod limits;
 pub mod manoeuvre;
@@ -19,14 +20,14 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::model::Cylinder;
 use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
 use limits::in_range;
 
 pub use actuator::{Actuator, PerJoint};
+pub use cat::{CatSection, HalfSection};
 pub use error::ProblemError;
-pub(crate) use error::{bad, not_positive, positive};
+pub(crate) use error::{bad, not_positive};
 pub use manoeuvre::{BendPath, Circulation, Manoeuvre, ProfileKind};
 
 /// The drop: how long the cat has to turn over, and the spin it is released with.
@@ -73,7 +74,7 @@ impl Drop {
     /// How far the release spin alone turns the straight cat during the fall, rigidly, in turns:
     /// `|I⁻¹ L| T / 2π`, with `I = diag(I_t, I_t, I_a)` the straight cat's inertia about its
     /// centre of mass (a symmetric top turns at the constant rate `|I⁻¹ L|` about its centre).
-    pub fn spin_turns(&self, cat: &Cylinder) -> f64 {
+    pub fn spin_turns(&self, cat: &crate::model::Cylinder) -> f64 {
         let (transverse, axial) = (2.0 * cat.end_transverse(), 2.0 * cat.axial());
         let l = self.angular_momentum;
         let rate = (l[0] / transverse).hypot(l[1] / transverse).hypot(l[2] / axial);
@@ -94,8 +95,8 @@ pub const WARN_SPIN_TURNS: f64 = 2.0;
 pub struct Problem {
     /// Name of the problem; results go to `results/<name>/`.
     pub name: String,
-    /// One half of the cat (both halves are identical).
-    pub cat: Cylinder,
+    /// The cat: its halves (equal by default) and their joint.
+    pub cat: CatSection,
     /// The drop.
     pub drop: Drop,
     /// The manoeuvre: bend, twist, unbend.
@@ -116,7 +117,7 @@ impl Default for Problem {
     fn default() -> Self {
         Self {
             name: "paper".to_string(),
-            cat: Cylinder::default(),
+            cat: CatSection::default(),
             drop: Drop::default(),
             manoeuvre: Manoeuvre::default(),
             actuator: Actuator::default(),
@@ -185,25 +186,7 @@ impl Problem {
                 "must be non-empty and use only letters, digits, '-' and '_' (it names a results folder)",
             ));
         }
-        in_range("cat.mass", self.cat.mass, limits::MASS)?;
-        in_range("cat.length", self.cat.length, limits::LENGTH)?;
-        positive("cat.radius", self.cat.radius)?;
-        let ratio = limits::RADIUS_OVER_LENGTH;
-        // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
-        let r_over_l = self.cat.radius / self.cat.length;
-        if !(ratio.min * (1.0 - 1e-12)..=ratio.max * (1.0 + 1e-12)).contains(&r_over_l) {
-            return Err(bad(
-                "cat.radius",
-                echo(self.cat.radius),
-                &format!(
-                    "must lie in [{}, {}] m, {} times cat.length = {} m",
-                    echo(ratio.min * self.cat.length),
-                    echo(ratio.max * self.cat.length),
-                    ratio,
-                    echo(self.cat.length)
-                ),
-            ));
-        }
+        self.cat.validate()?;
         in_range("drop.height", self.drop.height, limits::HEIGHT)?;
         in_range("drop.gravity", self.drop.gravity, limits::GRAVITY)?;
         let fall = self.drop.fall_time();
@@ -220,6 +203,13 @@ impl Problem {
             ));
         }
         self.validate_spin()?;
+        if let (true, Some((field, value))) = (self.drop.spins(), self.cat.departure()) {
+            return Err(bad(
+                &field,
+                value,
+                "a release with spin (drop.angular_momentum) is modelled for the paper's cat only (equal halves on the universal joint) so far: release this cat without spin",
+            ));
+        }
         self.manoeuvre.validate()?;
         self.actuator.validate()?;
         self.exact.validate()?;
@@ -242,7 +232,7 @@ impl Problem {
                 "must be a finite number (N·m·s)",
             ));
         }
-        let turns = self.drop.spin_turns(&self.cat);
+        let turns = self.drop.spin_turns(&self.cat.half());
         if turns > MAX_SPIN_TURNS {
             return Err(bad(
                 "drop.angular_momentum",
@@ -272,21 +262,38 @@ impl Problem {
         ))
     }
 
+    /// Refuses a cat other than the paper's (equal halves on the universal joint) for a
+    /// computation that models the paper's cat only (`what` names it in the message), naming the
+    /// field that departs from it.
+    pub fn require_paper_cat(&self, what: &str) -> Result<(), ProblemError> {
+        let Some((field, value)) = self.cat.departure() else { return Ok(()) };
+        Err(bad(
+            &field,
+            value,
+            &format!("{what} models the paper's cat only (equal halves on the universal joint) so far; `simulate` with the exact engine and `compare` run this cat (its circulation given or calibrated)"),
+        ))
+    }
+
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
-        let turns = self.drop.spin_turns(&self.cat);
+        let turns = self.drop.spin_turns(&self.cat.half());
         if turns > WARN_SPIN_TURNS {
             out.push(format!(
                 "drop.angular_momentum turns the straight cat {} turns during the fall: a cat released by hand turns a fraction of a turn (is it in N·m·s, kg·m²/s?)",
                 num(turns)
             ));
         }
-        if !self.cat.is_long_enough() {
+        let halves = if self.cat.front() == self.cat.rear() {
+            vec![("cat", self.cat.front())]
+        } else {
+            vec![("cat.front", self.cat.front()), ("cat.rear", self.cat.rear())]
+        };
+        for (name, half) in halves.into_iter().filter(|(_, h)| !h.is_long_enough()) {
             out.push(format!(
-                "cat.length = {} < √3 · cat.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
-                self.cat.length,
-                3f64.sqrt() * self.cat.radius
+                "{name}.length = {} < √3 · {name}.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
+                half.length,
+                3f64.sqrt() * half.radius
             ));
         }
         if self.manoeuvre.theta_deg < 90.0 {
@@ -303,14 +310,15 @@ impl Problem {
 /// A parse error in the user's words: serde's type names replaced by the file's section names and
 /// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
 fn user_message(e: &toml::de::Error) -> String {
-    const NAMES: [(&str, &str); 15] = [
+    const NAMES: [(&str, &str); 16] = [
         (
             "data did not match any variant of untagged enum PerJoint",
             "expected a number (both joints) or a pair [joint 1, joint 2]",
         ),
         ("struct Actuator", "the [actuator] section"),
         ("struct Problem", "a problem file"),
-        ("struct Cylinder", "the [cat] section"),
+        ("struct CatSection", "the [cat] section"),
+        ("struct HalfSection", "the [cat.front] or [cat.rear] section"),
         ("struct Drop", "the [drop] section"),
         ("struct Manoeuvre", "the [manoeuvre] section"),
         ("struct ExactSettings", "the [exact] section"),

@@ -22,8 +22,12 @@ pub struct CompareTable {
     pub problem: String,
     /// The circulation every row uses.
     pub circulation: ResolvedCirculation,
-    /// `I*` used by the paper's model, kg·m².
+    /// `I*` used by the paper's model, kg·m²: the rear half's (the half the motors turn; both halves' on the paper's cat).
     pub model_inertia: f64,
+    /// The cat when it is not the paper's (its joint and halves, in words; the paper's `I*` is
+    /// then the rear half's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
     /// The release spin every row is measured with, world frame, N·m·s (zero: none).
     pub angular_momentum_nms: [f64; 3],
     /// The rows, the paper's cosine first.
@@ -34,13 +38,17 @@ pub struct CompareTable {
 /// `extra` adds more rows (e.g. the optimisers' profiles, already evaluated).
 pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
     let p = &r.problem;
-    let mut rows: Vec<CompareRow> =
-        r.library().iter().map(|(k, s, e)| CompareRow::new(&p.name, &p.cat, s, Origin::Library(*k), e)).collect();
+    let mut rows: Vec<CompareRow> = r
+        .library()
+        .iter()
+        .map(|(k, s, e)| CompareRow::new(&p.name, &r.model().cat().rear, s, Origin::Library(*k), e))
+        .collect();
     rows.extend_from_slice(extra);
     CompareTable {
         problem: p.name.clone(),
         circulation: r.circulation,
-        model_inertia: p.cat.end_transverse(),
+        model_inertia: r.model().cat().rear.end_transverse(),
+        model: r.model().cat().paper().is_none().then(|| r.model().cat().describe()),
         angular_momentum_nms: p.drop.angular_momentum,
         rows,
     }
@@ -176,6 +184,9 @@ impl CompareTable {
             "Peak torques of problem `{}` (circulation {:.6} rad, {}; paper's model with I* = {:.6} kg·m²). Exact peaks are |τ| per joint (τ1, τ2) in N·m.\n",
             self.problem, self.circulation.radians, self.circulation.source, self.model_inertia
         );
+        if let Some(m) = &self.model {
+            let _ = writeln!(s, "The cat: {m}; the paper's model uses the rear half's I*.\n");
+        }
         if self.angular_momentum_nms.iter().any(|l| l.abs() > 0.0) {
             let l = self.angular_momentum_nms;
             let _ = writeln!(

@@ -14,6 +14,7 @@ use serde::Serialize;
 use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
+use crate::engines::models::ModelError;
 use crate::engines::motors::{LimitUse, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{RapierError, RapierOptions};
@@ -37,6 +38,9 @@ pub struct SimulationReport {
     pub profile: String,
     /// The bend path.
     pub bend_path: BendPath,
+    /// The cat when it is not the paper's (its joint and halves, in words).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
     /// The release spin: total angular momentum about the centre of mass, world frame, N·m·s
     /// (`drop.angular_momentum`; zero for a release without spin).
     pub angular_momentum_nms: [f64; 3],
@@ -59,8 +63,12 @@ pub struct SimulationReport {
 }
 
 /// `catflip simulate`: the problem's schedule through `engine`.
+/// The exact engine runs every cat model; rapier the paper's cat only.
 pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, RapierError> {
-    let exact = exact_report(r, &r.schedule, r.circulation, None);
+    if engine == Engine::Rapier {
+        r.require_paper_cat("simulate --engine rapier (its scene)")?;
+    }
+    let exact = exact_report(r, &r.schedule, r.circulation, None)?;
     match engine {
         Engine::Exact => Ok(exact),
         Engine::Rapier => rapier_report(r, &r.schedule, &exact),
@@ -68,32 +76,27 @@ pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, Rapier
 }
 
 /// The exact engine's report on `schedule` with circulation `circ`, from its evaluation when
-/// one was made already (else it is made now).
+/// one was made already (else it is made now, [`Resolved::evaluate`]).
 pub fn exact_report(
     r: &Resolved,
     schedule: &Schedule,
     circ: ResolvedCirculation,
     evaluation: Option<&Evaluation>,
-) -> SimulationReport {
+) -> Result<SimulationReport, ModelError> {
     let made;
     let e = match evaluation {
         Some(e) => e,
         None => {
-            made = Evaluation::new(
-                r.cat(),
-                schedule,
-                &r.problem.drop.spin(),
-                &r.problem.actuator.motors(),
-                &r.problem.exact,
-            );
+            made = r.evaluate(schedule)?;
             &made
         }
     };
-    SimulationReport {
+    Ok(SimulationReport {
         problem: r.problem.name.clone(),
         engine: Engine::Exact,
         profile: schedule.profile.name().to_string(),
         bend_path: schedule.path,
+        model: r.model().cat().paper().is_none().then(|| r.model().cat().describe()),
         angular_momentum_nms: r.problem.drop.angular_momentum,
         circulation_rad: circ.radians,
         circulation_source: circ.source,
@@ -102,7 +105,7 @@ pub fn exact_report(
         velocity_jumps: e.jumps.clone(),
         motors: MotorReport::new(&e.motors),
         figures: EngineFigures::exact(&e.flip, e.momentum_max, e.action_reaction_gap, e.run_time_s),
-    }
+    })
 }
 
 /// The rapier engine's report on `schedule`, verified against the exact engine's report `exact`
@@ -154,6 +157,9 @@ impl SimulationReport {
             "{} engine — problem {}, profile {}, path {}",
             self.engine, self.problem, self.profile, self.bend_path
         );
+        if let Some(m) = &self.model {
+            let _ = writeln!(s, "  cat              {m}");
+        }
         let spins = self.angular_momentum_nms.iter().any(|l| l.abs() > 0.0);
         if spins {
             let l = self.angular_momentum_nms;

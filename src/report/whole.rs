@@ -94,10 +94,11 @@ impl WholeReport {
 
 /// Runs the whole-manoeuvre optimisation on a resolved problem (`[optimize.whole]`).
 pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
+    r.require_paper_cat("optimize --whole (the whole-manoeuvre optimiser)")?;
     let p = &r.problem;
     let settings = &p.optimize.whole;
     let outcome = optimize_whole_spinning(
-        &p.cat,
+        &p.cat.half(),
         p.drop.fall_time(),
         &p.manoeuvre,
         settings,
@@ -151,7 +152,7 @@ fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
     let total = spline.total_duration();
     let to_schedule = r.schedule.duration() / total;
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
-    let cat = &r.problem.cat;
+    let cat = &r.problem.cat.half();
     let spin = r.problem.drop.spin();
     let history = r.problem.drop.spins().then(|| SpinHistory::new(cat, spline, &spin, r.problem.exact.tolerance).1);
     let source = history.as_ref().map_or(TorqueSource::zero_momentum(cat), |h| TorqueSource::spinning(cat, h));
@@ -369,13 +370,16 @@ pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeR
                 swing_deg: None,
                 solve_time_s: 0.0,
             };
-            match retime_schedule(&p.cat, schedule, settings) {
+            match retime_schedule(&p.cat.half(), schedule, settings) {
                 Err(e) => row(format!("refused: {e}")),
                 Ok(t) => {
                     let sol = &t.solution;
                     let solved = sol.status.is_solved();
-                    let again =
-                        if solved { t.remeasure(&p.cat, 4 * settings.intervals, p.exact.tolerance) } else { None };
+                    let again = if solved {
+                        t.remeasure(&p.cat.half(), 4 * settings.intervals, p.exact.tolerance)
+                    } else {
+                        None
+                    };
                     RetimeRow {
                         status: sol.status.to_string(),
                         peak_nm: solved.then_some(sol.peak),

@@ -295,6 +295,7 @@ pub fn check(
     traj: &(impl Trajectory + Sync),
     schedule: &str,
 ) -> Result<RobustReport, crate::engines::rapier::RapierError> {
+    problem.require_paper_cat("robust (its draws and its rapier scene)")?;
     let engine = problem.robust.engine;
     let mut checks = Vec::new();
     if engine.exact() {

@@ -138,7 +138,7 @@ impl Setup {
         if steps > MAX_STEPS as f64 {
             return Err(RapierError::TooManySteps { dt: s.dt_s, duration, steps, max: MAX_STEPS });
         }
-        let plan = Plan::new(&problem.cat, traj, &problem.drop.spin(), problem.exact.tolerance, steps as usize);
+        let plan = Plan::new(&problem.cat.half(), traj, &problem.drop.spin(), problem.exact.tolerance, steps as usize);
         let landing = s.landing.then_some(Landing {
             height: problem.drop.height,
             gravity: problem.drop.gravity,
@@ -162,10 +162,10 @@ impl Setup {
                 spin_prior: s.feedback_spin_prior_nms,
                 sensor_noise: s.attitude_noise_deg.to_radians(),
             };
-            FeedbackPlan::new(&problem.cat, traj, &problem.drop.spin(), problem.exact.tolerance, &plan, settings)
+            FeedbackPlan::new(&problem.cat.half(), traj, &problem.drop.spin(), problem.exact.tolerance, &plan, settings)
         });
-        let gains = PdGains::servo(&problem.cat, s.servo_hz, s.servo_damping);
-        Ok(Setup { plan, gains, options, nominal: problem.cat, feedback })
+        let gains = PdGains::servo(&problem.cat.half(), s.servo_hz, s.servo_damping);
+        Ok(Setup { plan, gains, options, nominal: problem.cat.half(), feedback })
     }
 
     /// Runs one draw (its sensor noise seeded by `noise_seed`) under the open loop or the

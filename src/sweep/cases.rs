@@ -25,7 +25,7 @@ impl Case {
     /// The case's problem, or the one-line reason the problem file refuses it.
     pub fn problem(&self, sweep: &Sweep) -> Result<Problem, String> {
         Problem::from_toml(&sweep.base_text, &sweep.base_origin, &self.overrides)
-            .and_then(|p| p.require_no_spin("a sweep").map(|()| p))
+            .and_then(|p| p.require_no_spin("a sweep").and_then(|()| p.require_paper_cat("a sweep")).map(|()| p))
             .map_err(|e| super::spec::one_line(&e.to_string()))
     }
 }

@@ -33,6 +33,7 @@ use serde::Serialize;
 use crate::engines::circulation::{resolve_circulation, CirculationError};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::flip;
+use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::Reference;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
@@ -114,7 +115,7 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
         Circulation::Angle(a) => Some(a),
         _ => None,
     };
-    let paper = paper_circulation(&problem.cat, problem.manoeuvre.theta());
+    let paper = paper_circulation(&problem.cat.half(), problem.manoeuvre.theta());
     let paper_rad = paper.as_ref().ok().copied();
     let paper: Resolution = paper.map(|d| (d, None)).map_err(|e| (Status::Refused, e.to_string()));
     let calibrated = (compute.calibrated || compute.retiming).then(|| calibrate(problem));
@@ -163,7 +164,13 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
 fn calibrate(problem: &Problem) -> Resolution {
     let mut p = problem.clone();
     p.manoeuvre.circulation = Circulation::Calibrated;
-    match resolve_circulation(&p.cat, &p.manoeuvre, p.drop.fall_time(), &p.drop.spin(), p.exact.tolerance) {
+    match resolve_circulation(
+        &TwoMotorCat::paper(p.cat.half()),
+        &p.manoeuvre,
+        p.drop.fall_time(),
+        &p.drop.spin(),
+        p.exact.tolerance,
+    ) {
         Ok(c) => Ok((c.radians, c.calibration.map(|x| x.evaluations))),
         Err(e @ CirculationError::Calibration { .. }) => Err((Status::Failed, e.to_string())),
         Err(e) => Err((Status::Refused, e.to_string())),
@@ -174,7 +181,7 @@ fn calibrate(problem: &Problem) -> Resolution {
 /// checks the peak) the shared [`Evaluation`] (flip, peaks and motor demand, as `simulate`
 /// measures them), else the flip alone.
 fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulation: &Resolution) -> Measured {
-    let (cat, tol) = (&problem.cat, problem.exact.tolerance);
+    let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
     let (radians, evaluations) = match circulation {
         Ok(x) => *x,
         Err((status, reason)) => {

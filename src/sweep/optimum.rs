@@ -39,7 +39,7 @@ pub fn retime_settings() -> RetimeSettings {
 
 /// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path.
 pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
-    let (cat, tol) = (&problem.cat, problem.exact.tolerance);
+    let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
     let labels = |solver: String| Labels { retimed_from: from.to_string(), solver_status: solver, ..Labels::default() };
     let failed = |status, reason: &str, solver: String| {
         Measured::alone(Row::without("retimed", "exact", status, reason, labels(solver)))
@@ -83,7 +83,7 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
 /// The `whole` row: the whole-manoeuvre optimum of the case.
 pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome = optimize_whole(
-        &problem.cat,
+        &problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &problem.optimize.whole,

@@ -292,7 +292,9 @@ impl Sweep {
     /// so a manifest cannot name a folder outside `--out` or expand beyond [`MAX_CASES`].
     pub fn validate(&self) -> Result<(), SpecError> {
         check_name(&self.name)?;
-        Problem::from_toml(&self.base_text, &self.base_origin, &[])?.require_no_spin("a sweep")?;
+        let base = Problem::from_toml(&self.base_text, &self.base_origin, &[])?;
+        base.require_no_spin("a sweep")?;
+        base.require_paper_cat("a sweep")?;
         let known = known_fields();
         let mut seen = BTreeSet::new();
         for (i, axis) in self.axes.iter().enumerate() {

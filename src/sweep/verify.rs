@@ -72,5 +72,5 @@ fn run(
     settings: &RapierSettings,
     reference: &Reference,
 ) -> Result<Verification, RapierError> {
-    verify_with(&problem.cat, traj, settings, reference, &RapierOptions::for_problem(problem))
+    verify_with(&problem.cat.half(), traj, settings, reference, &RapierOptions::for_problem(problem))
 }

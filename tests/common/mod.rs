@@ -14,7 +14,8 @@ use catflip::schedule::{paper_circulation, Schedule};
 /// circulation `π/C` (DESIGN.md §3).
 pub fn paper() -> (Problem, Schedule) {
     let problem = Problem::default();
-    let circulation = paper_circulation(&problem.cat, problem.manoeuvre.theta()).expect("C > 0 for the paper's cat");
+    let circulation =
+        paper_circulation(&problem.cat.half(), problem.manoeuvre.theta()).expect("C > 0 for the paper's cat");
     let schedule = Schedule::new(&problem, circulation);
     (problem, schedule)
 }

@@ -185,6 +185,9 @@ pub enum RapierError {
     /// The settings are out of range.
     #[error(transparent)]
     Settings(#[from] ProblemError),
+    /// The cat model cannot run the schedule.
+    #[error(transparent)]
+    Model(#[from] crate::engines::models::ModelError),
     /// An option of the run is out of range.
     #[error("{field} = {value}: {reason}")]
     BadOption {

@@ -127,7 +127,7 @@ struct Ctx<'a> {
 
 impl<'a> Ctx<'a> {
     fn new(p: &'a Problem, worked: bool) -> Ctx<'a> {
-        let cat = &p.cat;
+        let cat = &p.cat.half();
         let theta = p.manoeuvre.theta();
         let t_fall = p.drop.fall_time();
         let t = p.manoeuvre.phases.map(|f| f * t_fall);
@@ -239,7 +239,7 @@ fn inertia(c: &Ctx) -> Vec<Entry> {
 }
 
 fn stability(c: &Ctx) -> Vec<Entry> {
-    let cat = &c.p.cat;
+    let cat = &c.p.cat.half();
     let whole = whole_cat_moments(c.it, c.ia, cat.mass, cat.length, c.theta);
     let shift = whole.xx - c.it;
     let parallel = format!(

@@ -76,9 +76,19 @@ pub const ALPHA_ONE_TURN: f64 = 0.5;
 /// Why an audit could not be amended.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum AuditError {
+    /// The problem asks for what this computation does not model (the problem's message).
+    #[error("{0}")]
+    Problem(String),
     /// No entry has this key.
     #[error("the audit has no entry `{0}`")]
     UnknownKey(String),
+}
+
+/// The problem's refusal, in its words.
+impl From<crate::problem::ProblemError> for AuditError {
+    fn from(e: crate::problem::ProblemError) -> Self {
+        AuditError::Problem(e.to_string())
+    }
 }
 
 /// One alternative reading of a formula that was tried, with its value.
@@ -219,6 +229,7 @@ pub(crate) fn reproduces(published: f64, decimals: Option<u32>, literal: f64) ->
 /// problem's own schedule per phase (largest of the two joints) and the calibrated circulation
 /// (left empty when the calibration failed).
 pub fn audit_with_exact(r: &Resolved) -> Result<Audit, AuditError> {
+    r.require_paper_cat("the audit of the paper's numbers")?;
     let mut a = audit(&r.problem);
     let mut values = Vec::new();
     if let Some(e) = r.own() {

@@ -75,7 +75,7 @@ pub struct ModelTurns {
 /// The turns for problem `p` (its cat on equal halves, its fall and manoeuvre, the path forced
 /// to the paper's joint circle or cone); `None` when `π/C` is undefined for this cat.
 pub fn turns(p: &Problem) -> Option<ModelTurns> {
-    let circulation = paper_circulation(&p.cat, p.manoeuvre.theta()).ok()?;
+    let circulation = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).ok()?;
     let on = |path: BendPath| {
         let mut m = p.manoeuvre.clone();
         m.bend_path = path;
@@ -83,7 +83,7 @@ pub fn turns(p: &Problem) -> Option<ModelTurns> {
     };
     let (circle, cone) = (on(BendPath::JointCircle), on(BendPath::Cone));
     let deg = |f: exact::Flip| f.converged.then(|| f.twist.to_degrees());
-    let no_twist = models::flip(&Cat::equal(p.cat, Joint::NoTwist), &circle, TOLERANCE).ok().and_then(deg);
+    let no_twist = models::flip(&Cat::equal(p.cat.half(), Joint::NoTwist), &circle, TOLERANCE).ok().and_then(deg);
     let beta = p.manoeuvre.bend();
     let (mut twist, mut bend) = (0.0f64, (f64::INFINITY, 0.0f64));
     for k in 0..CIRCLE_SAMPLES {
@@ -96,15 +96,15 @@ pub fn turns(p: &Problem) -> Option<ModelTurns> {
     Some(ModelTurns {
         circulation,
         no_twist_deg: no_twist,
-        universal_deg: deg(exact::flip(&p.cat, &circle, TOLERANCE)),
+        universal_deg: deg(exact::flip(&p.cat.half(), &circle, TOLERANCE)),
         bend_path_only_deg: models::flip(
-            &Cat::equal(p.cat, Joint::Spherical),
+            &Cat::equal(p.cat.half(), Joint::Spherical),
             &AsSpherical { path: &circle, hold_twist: true },
             TOLERANCE,
         )
         .ok()
         .and_then(deg),
-        universal_cone_deg: deg(exact::flip(&p.cat, &cone, TOLERANCE)),
+        universal_cone_deg: deg(exact::flip(&p.cat.half(), &cone, TOLERANCE)),
         universal_relative_twist_deg: twist.to_degrees(),
         universal_bend_deg: (bend.0.to_degrees(), bend.1.to_degrees()),
     })

@@ -221,7 +221,7 @@ pub struct ReadingSearch {
 
 /// The ingredients of one inertia source: `(I_y'y', I_yy, I*)`, kg·m².
 fn inertias(source: Inertias, p: &Problem) -> (f64, f64, f64) {
-    let cat = &p.cat;
+    let cat = &p.cat.half();
     let theta = p.manoeuvre.theta();
     match source {
         Inertias::Printed => (PRINTED_TRANSVERSE, PRINTED_I_YY, PRINTED_I_STAR),
@@ -262,7 +262,7 @@ fn reading(choices: Choices, p: &Problem) -> Option<OmegaReading> {
         Span::Twist => TWIST_SHARE * fall,
         Span::TwistPrinted => TWIST_SHARE * PRINTED_FALL,
     };
-    let c = 1.0 - f64::from(choices.factor) * p.cat.axial() * sine / moment;
+    let c = 1.0 - f64::from(choices.factor) * p.cat.half().axial() * sine / moment;
     let omega = PI / (t * c);
     let tau = i_star * omega * PI / t;
     (c > 0.0 && omega.is_finite() && tau.is_finite()).then(|| OmegaReading {

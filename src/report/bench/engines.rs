@@ -73,7 +73,7 @@ pub const REFERENCE_STEPS: usize = 8192;
 
 /// The exact engine's fixed-step curve (steps per phase `2^1…2^11`).
 pub fn exact_fixed(problem: &Problem, schedule: &Schedule) -> Curve {
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let (reference, ref_angles) = integrate(cat, schedule, REFERENCE_STEPS, |_| {});
     let steps: Vec<f64> = (1..=11).map(|k| f64::from(1u32 << k)).collect();
     Curve::sweep("exact-magnus6", "steps per phase", "orientation error (rad)", &steps, |n| {
@@ -86,7 +86,7 @@ pub fn exact_fixed(problem: &Problem, schedule: &Schedule) -> Curve {
 
 /// The exact engine's adaptive curve (tolerances 1e-2…1e-13 rad).
 pub fn exact_adaptive(problem: &Problem, schedule: &Schedule) -> Curve {
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let (reference, ref_angles) = integrate(cat, schedule, REFERENCE_STEPS, |_| {});
     let tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13];
     Curve::sweep("exact-adaptive", "tolerance (rad)", "orientation error (rad)", &tolerances, |tol| {
@@ -153,7 +153,7 @@ pub fn rapier_curves(problem: &Problem, smooth: &Schedule, dts: &[f64]) -> Vec<C
 
 /// The raw and extrapolated curves of one schedule, named `name` and `name-extrapolated`.
 fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) -> Vec<Curve> {
-    let cat = &problem.cat;
+    let cat = &problem.cat.half();
     let exact = Evaluation::new(
         cat,
         schedule,
@@ -198,7 +198,7 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
 pub fn evaluation_timing(problem: &Problem, schedule: &Schedule) -> Timing {
     Timing::measure(|| {
         std::hint::black_box(Evaluation::new(
-            &problem.cat,
+            &problem.cat.half(),
             schedule,
             &problem.drop.spin(),
             &problem.actuator.motors(),

@@ -41,6 +41,9 @@ use stress::StressCase;
 /// Why the benchmark could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
+    /// The problem asks for what this computation does not model.
+    #[error(transparent)]
+    Problem(#[from] crate::problem::ProblemError),
     /// The base problem could not be written as TOML for the stress cases' overrides.
     #[error("cannot write the bench problem as TOML for the stress cases")]
     Toml(#[from] toml::ser::Error),
@@ -97,15 +100,16 @@ pub const RAPIER_STEPS: [f64; 10] = [
 /// calibration, a cycloidal profile (rest-to-rest) for rapier, rapier time steps `dts` (s,
 /// halving).
 pub fn bench(r: &Resolved, dts: &[f64]) -> Result<BenchReport, BenchError> {
+    r.require_paper_cat("bench")?;
     let p = &r.problem;
     let smooth = r.with_library(ProfileKind::Cycloidal);
     let mut curves = vec![engines::exact_fixed(p, &r.schedule), engines::exact_adaptive(p, &r.schedule)];
     curves.extend(engines::rapier_curves(p, &smooth, dts));
     let nodes: Vec<usize> = (0..10).map(|k| 10usize << k).collect();
-    curves.push(optimizers::qp_curve(&p.cat, &r.schedule, &nodes));
+    curves.push(optimizers::qp_curve(&p.cat.half(), &r.schedule, &nodes));
     let tolerances = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11];
-    curves.push(optimizers::calibration_curve(&p.cat, &r.schedule, &tolerances));
-    let (retime, retime_note) = optimizers::retime_curve(&p.cat, &r.schedule, &RETIME_GRIDS, [800, 1600]);
+    curves.push(optimizers::calibration_curve(&p.cat.half(), &r.schedule, &tolerances));
+    let (retime, retime_note) = optimizers::retime_curve(&p.cat.half(), &r.schedule, &RETIME_GRIDS, [800, 1600]);
     let (whole, whole_note) = optimizers::whole_curve(p, &WHOLE_CONTROL_POINTS, WHOLE_REFERENCE_POINTS);
     curves.extend([retime, whole]);
     let base = toml::to_string(p)?;

@@ -179,7 +179,7 @@ fn whole_settings(settings: &WholeSettings, control_points: usize) -> WholeSetti
 fn whole_at(problem: &Problem, control_points: usize) -> Result<WholeOutcome, String> {
     let settings = whole_settings(&problem.optimize.whole, control_points);
     optimize_whole(
-        &problem.cat,
+        &problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &settings,
@@ -213,7 +213,7 @@ pub fn whole_curve(problem: &Problem, control_points: &[usize], reference_points
             let reference = reference.clone().map_err(|why| format!("no reference: {why}"))?;
             let peak = whole_peak(outcome)?;
             let best = outcome.best().ok_or("no best start")?;
-            let landed = flip(&problem.cat, &best.spline, problem.exact.tolerance);
+            let landed = flip(&problem.cat.half(), &best.spline, problem.exact.tolerance);
             let violation = (flipped().inverse() * landed.orientation).angle();
             Ok(Outcome { error: (peak - reference).abs() / reference, secondary: Some(violation) })
         },

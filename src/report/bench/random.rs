@@ -137,7 +137,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
         }
     };
     let p = &r.problem;
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let heavy = match load(Some(format!("cat.mass={:e}", 10.0 * p.cat.mass))) {
         Ok(h) => h,
         Err(why) => {
@@ -145,7 +145,8 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
             return out;
         }
     };
-    let e10 = Evaluation::new(&heavy.cat, &r.schedule, &heavy.drop.spin(), &heavy.actuator.motors(), &heavy.exact);
+    let e10 =
+        Evaluation::new(&heavy.cat.half(), &r.schedule, &heavy.drop.spin(), &heavy.actuator.motors(), &heavy.exact);
     let (momentum, action_reaction) = (e.momentum_max, e.action_reaction_gap / e.peaks.max);
     let mass_twist = (e10.flip.twist - e.flip.twist).abs();
     let mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();
@@ -190,7 +191,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
 /// The QP's relative gap to its closed form at `nodes` on the twist phase of `r`, or why it has
 /// none.
 fn qp_gap(r: &Resolved, nodes: usize) -> Result<f64, String> {
-    let qp = super::optimizers::twist_qp(&r.problem.cat, &r.schedule, nodes);
+    let qp = super::optimizers::twist_qp(&r.problem.cat.half(), &r.schedule, nodes);
     let exact = qp.closed_form_peak().ok_or("no closed form")?;
     let s = qp.solve().map_err(|e| e.to_string())?;
     let peak = s.peak_torque.filter(|_| s.status.is_solved()).ok_or_else(|| format!("Clarabel ended {}", s.status))?;

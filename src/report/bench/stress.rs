@@ -88,7 +88,7 @@ pub fn stress(base: &Problem) -> Result<Vec<StressCase>, BenchError> {
 
 fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<StressCase, CirculationError> {
     let r = Resolved::new(p)?;
-    let e = Evaluation::new(&p.cat, &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     Ok(StressCase {
         case: case.to_string(),
         overrides,

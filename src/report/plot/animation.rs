@@ -70,7 +70,7 @@ pub fn flip_animation(
         create_dir(dir)?;
     }
     let scene = Scene::new(problem, name, schedule);
-    let poses = cat_poses(&problem.cat, schedule, &spaced(total, frames));
+    let poses = cat_poses(&problem.cat.half(), schedule, &spaced(total, frames));
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
@@ -92,7 +92,7 @@ pub fn flip_animation(
 
     let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));
-    let panels = cat_poses(&problem.cat, schedule, &spaced(total, FILMSTRIP_PANELS));
+    let panels = cat_poses(&problem.cat.half(), schedule, &spaced(total, FILMSTRIP_PANELS));
     let caption = format!("the flip at {} instants", panels.len());
     write_strip(&scene, &strip, &panels, &extent, &caption)?;
     Ok(vec![path.to_path_buf(), strip])
@@ -316,7 +316,7 @@ impl Scene {
             camera: Camera::new(),
             half: 0.5 * problem.cat.length,
             radius: problem.cat.radius,
-            legs: [legs(&problem.cat, Half::A), legs(&problem.cat, Half::B)],
+            legs: [legs(&problem.cat.half(), Half::A), legs(&problem.cat.half(), Half::B)],
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }

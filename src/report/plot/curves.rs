@@ -65,7 +65,7 @@ pub fn torques_plot(
     schedules: &[(String, &dyn Trajectory)],
 ) -> Result<Vec<PathBuf>, PlotError> {
     let sampled: Vec<(&str, TorqueCurve)> =
-        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&problem.cat, *s))).collect();
+        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&problem.cat.half(), *s))).collect();
     let bands = schedules.first().map(|(_, s)| phase_bands(*s)).unwrap_or_default();
     let axes = ["1", "2"].iter().zip(["τ₁", "τ₂"]).zip(["about A's x axis", "about the cross's y axis"]);
     let mut files = Vec::new();
@@ -140,7 +140,7 @@ pub fn flip_plot(
     if steps == 0 {
         return Err(PlotError::BadArgument { path: dir.join("flip"), reason: "steps must be at least 1".into() });
     }
-    let samples = fall_history(&problem.cat, schedule, steps);
+    let samples = fall_history(&problem.cat.half(), schedule, steps);
     let twist: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.twist.to_degrees())).collect();
     let swing: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.swing.to_degrees())).collect();
     let end = |c: &[(f64, f64)]| c.last().map_or(f64::NAN, |p| p.1);
@@ -197,7 +197,7 @@ pub fn trajectory_torques_plot(
     name: &str,
     trajectory: &dyn Trajectory,
 ) -> Result<Vec<PathBuf>, PlotError> {
-    let curve = torque_curve(&problem.cat, trajectory);
+    let curve = torque_curve(&problem.cat.half(), trajectory);
     let series = ["τ₁ (joint 1, about A's x)", "τ₂ (joint 2, about the cross's y)"]
         .iter()
         .enumerate()

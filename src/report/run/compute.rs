@@ -15,7 +15,7 @@ use super::timings::Stopwatch;
 use super::{figures, RunError, Verified};
 use crate::engines::circulation::{Resolved, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
-use crate::engines::rapier::Verification;
+use crate::engines::rapier::{RapierError, Verification};
 use crate::exchange::{model_files, schedule_files, ExportOptions};
 use crate::optimize::{optimize, OptimizeReport};
 use crate::report::audit::Audit;
@@ -183,7 +183,7 @@ fn verify_all(r: &Resolved, runs: Vec<Run>, clock: &Stopwatch) -> Result<Vec<Ver
     runs.into_par_iter()
         .map(|(variant, schedule, circ, evaluation)| {
             clock.time(format!("verify {variant}"), || {
-                let exact = exact_report(r, &schedule, circ, evaluation);
+                let exact = exact_report(r, &schedule, circ, evaluation).map_err(RapierError::from)?;
                 let rapier = rapier_outcome(r, &schedule, &exact)?;
                 Ok(Verified { variant, schedule, exact, rapier })
             })

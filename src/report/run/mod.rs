@@ -48,6 +48,9 @@ pub enum RunError {
     /// The problem's circulation could not be resolved.
     #[error(transparent)]
     Circulation(#[from] CirculationError),
+    /// The problem asks for what `run` does not model.
+    #[error(transparent)]
+    Problem(#[from] crate::problem::ProblemError),
     /// The rapier engine failed.
     #[error(transparent)]
     Rapier(#[from] RapierError),
@@ -213,6 +216,7 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
+    r.require_paper_cat("run (its optimisers, rapier verifications and exports)")?;
     let clock = Stopwatch::start();
     let (mut outcome, ()) =
         atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock).map(|s| (s, ())))?;

@@ -1,0 +1,205 @@
+//! The problem file's `[cat]` section: the cat's halves and their joint (DESIGN.md §8, §10).
+//!
+//! `[cat]`'s `mass`, `length` and `radius` (kg, m, m) are the shorthand for two equal halves, the
+//! paper's cat. `[cat.front]` and `[cat.rear]` give a half of its own: each field a half leaves
+//! out is the shorthand's, so `[cat.rear] mass = 1.5` makes only the rear half heavier. `joint`
+//! is `"universal"` (the paper's `R_AB = Rx(q1) Ry(q2)`, the default), `"no-twist"` (Kane and
+//! Scher's `R_AB = exp([q1, q2, 0]×)`) or `"spherical"` (three coordinates, the relative twist
+//! the third; refused until a schedule drives it: the library schedules give two coordinates).
+//!
+//! The model the engines run is [`CatSection::model`]. The paper's cat (equal halves on the
+//! universal joint) runs every command; any other model runs the exact engine's commands
+//! (`simulate`, the calibration, `compare`), and every other command refuses it by name
+//! ([`crate::problem::Problem::require_paper_cat`]).
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::{Cat, Cylinder, Joint};
+use crate::numeric::numfmt::echo;
+use crate::problem::error::{bad, positive, ProblemError};
+use crate::problem::limits::{self, in_range};
+
+/// The `[cat]` section.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CatSection {
+    /// Mass of a half, kg (both halves unless `[cat.front]`/`[cat.rear]` say otherwise).
+    pub mass: f64,
+    /// Length of a half, m.
+    pub length: f64,
+    /// Radius of a half, m.
+    pub radius: f64,
+    /// How the rear half is joined to the front half.
+    #[serde(skip_serializing_if = "is_universal")]
+    pub joint: Joint,
+    /// The front half A, where it differs from the shorthand.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub front: Option<HalfSection>,
+    /// The rear half B, where it differs from the shorthand.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rear: Option<HalfSection>,
+}
+
+fn is_universal(j: &Joint) -> bool {
+    *j == Joint::Universal
+}
+
+/// `[cat.front]` or `[cat.rear]`: a half's own numbers, each defaulting to `[cat]`'s.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HalfSection {
+    /// Mass, kg.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Length, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+    /// Radius, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+}
+
+impl Default for CatSection {
+    fn default() -> Self {
+        CatSection::from(Cylinder::default())
+    }
+}
+
+impl From<Cylinder> for CatSection {
+    /// The paper's cat with halves `half`.
+    fn from(half: Cylinder) -> Self {
+        CatSection {
+            mass: half.mass,
+            length: half.length,
+            radius: half.radius,
+            joint: Joint::Universal,
+            front: None,
+            rear: None,
+        }
+    }
+}
+
+impl CatSection {
+    /// The shorthand's half: both halves of the paper's cat. A command that models the paper's
+    /// cat only uses it after [`crate::problem::Problem::require_paper_cat`].
+    pub fn half(&self) -> Cylinder {
+        Cylinder { mass: self.mass, length: self.length, radius: self.radius }
+    }
+
+    /// The front half A.
+    pub fn front(&self) -> Cylinder {
+        self.resolve(self.front)
+    }
+
+    /// The rear half B.
+    pub fn rear(&self) -> Cylinder {
+        self.resolve(self.rear)
+    }
+
+    fn resolve(&self, own: Option<HalfSection>) -> Cylinder {
+        let own = own.unwrap_or_default();
+        Cylinder {
+            mass: own.mass.unwrap_or(self.mass),
+            length: own.length.unwrap_or(self.length),
+            radius: own.radius.unwrap_or(self.radius),
+        }
+    }
+
+    /// The model the engines run.
+    pub fn model(&self) -> Cat {
+        Cat { front: self.front(), rear: self.rear(), joint: self.joint }
+    }
+
+    /// Whether this is the paper's cat: equal halves on the universal joint.
+    pub fn is_paper(&self) -> bool {
+        self.model().paper().is_some()
+    }
+
+    /// The field a reader should look at for what makes this cat not the paper's, with its value.
+    pub fn departure(&self) -> Option<(String, String)> {
+        if self.joint != Joint::Universal {
+            return Some(("cat.joint".into(), format!("\"{}\"", self.joint.name())));
+        }
+        let (front, rear) = (self.front(), self.rear());
+        if front == rear {
+            return None;
+        }
+        // Name the first number that differs, on the half the user wrote.
+        let written = if self.rear.is_some() { "cat.rear" } else { "cat.front" };
+        let half = if self.rear.is_some() { rear } else { front };
+        let (key, value) = if front.mass != rear.mass {
+            ("mass", half.mass)
+        } else if front.length != rear.length {
+            ("length", half.length)
+        } else {
+            ("radius", half.radius)
+        };
+        Some((format!("{written}.{key}"), echo(value)))
+    }
+
+    /// Checks each half's numbers and the joint, naming the field as the user wrote it.
+    pub fn validate(&self) -> Result<(), ProblemError> {
+        validate_half("cat", &self.half())?;
+        for (name, own, half) in [("cat.front", self.front, self.front()), ("cat.rear", self.rear, self.rear())] {
+            if own.is_some() {
+                validate_half(name, &half)?;
+            }
+        }
+        if self.joint == Joint::Spherical {
+            return Err(bad(
+                "cat.joint",
+                "\"spherical\"",
+                "the spherical joint's third coordinate (the relative twist) has no schedule yet: the library schedules drive two coordinates. Its twist held at zero is exactly \"no-twist\"",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One half's mass, length and radius, fields named `{prefix}.mass` and so on.
+fn validate_half(prefix: &str, c: &Cylinder) -> Result<(), ProblemError> {
+    in_range(&format!("{prefix}.mass"), c.mass, limits::MASS)?;
+    in_range(&format!("{prefix}.length"), c.length, limits::LENGTH)?;
+    positive(&format!("{prefix}.radius"), c.radius)?;
+    let ratio = limits::RADIUS_OVER_LENGTH;
+    // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
+    let r_over_l = c.radius / c.length;
+    if !(ratio.min * (1.0 - 1e-12)..=ratio.max * (1.0 + 1e-12)).contains(&r_over_l) {
+        return Err(bad(
+            &format!("{prefix}.radius"),
+            echo(c.radius),
+            &format!(
+                "must lie in [{}, {}] m, {} times {prefix}.length = {} m",
+                echo(ratio.min * c.length),
+                echo(ratio.max * c.length),
+                ratio,
+                echo(c.length)
+            ),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_half_takes_the_shorthand_for_what_it_leaves_out() {
+        let s = CatSection { rear: Some(HalfSection { mass: Some(1.5), ..Default::default() }), ..Default::default() };
+        assert_eq!(s.front(), Cylinder::default());
+        assert_eq!(s.rear(), Cylinder { mass: 1.5, ..Cylinder::default() });
+        assert!(!s.is_paper());
+        assert_eq!(s.departure(), Some(("cat.rear.mass".to_string(), "1.5".to_string())));
+    }
+
+    #[test]
+    fn equal_halves_on_the_universal_joint_are_the_papers_cat() {
+        let same = HalfSection { length: Some(1.0), ..Default::default() };
+        let s = CatSection { front: Some(same), rear: Some(same), ..Default::default() };
+        assert!(s.is_paper());
+        assert_eq!(s.departure(), None);
+        let k = CatSection { joint: Joint::NoTwist, ..Default::default() };
+        assert_eq!(k.departure(), Some(("cat.joint".to_string(), "\"no-twist\"".to_string())));
+    }
+}
