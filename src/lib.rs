@@ -28,7 +28,7 @@
 //! "#;
 //! let problem = Problem::from_toml(toml, "example.toml", &[]).expect("a valid problem");
 //! let resolved = Resolved::new(&problem).expect("the paper's circulation exists for this cat");
-//! let e = Evaluation::new(&problem.cat, &resolved.schedule, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact);
+//! let e = resolved.evaluate(&resolved.schedule).expect("the cat runs the library schedules");
 //! println!("twist {:+.6}°, swing {:.6}°, peak torque {:.4} N·m", e.twist_deg(), e.swing_deg(), e.peaks.max);
 //! // The paper's circulation π/C turns the default cat by about 174°, not 180° (DESIGN.md §3).
 //! assert!((e.twist_deg().abs() - 174.07).abs() < 0.01);

@@ -92,7 +92,7 @@ fn bad_phases_are_refused() {
 fn unknown_keys_and_profiles_are_refused() {
     assert_eq!(
         error_of(PAPER, &["cat.colour=3"]),
-        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius` in `cat`"
+        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius`, `joint`, `front`, `rear` in `cat`"
     );
     let e = error_of(PAPER, &["manoeuvre.profile=wobble"]);
     assert!(

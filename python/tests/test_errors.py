@@ -1,6 +1,8 @@
 """Each class of bad input the CLI refuses is a ``catflip.CatflipError`` (a ``ValueError``) with
 the CLI's message, word for word (its ``error: …`` line without the prefix); never a crash."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -124,3 +126,19 @@ def test_still_usable_after_a_refusal():
     problem = catflip.load(PAPER)
     refused(lambda: catflip.load(PAPER, ["cat.mass=0"]))
     assert catflip.simulate(problem, series=False).report["engine"] == "exact"
+
+
+@pytest.mark.parametrize(
+    "args, call",
+    [
+        (["optimize", "problems/kane-scher.toml"], lambda p: catflip.optimize(p)),
+        (["simulate", "problems/kane-scher.toml", "--engine", "rapier"], lambda p: catflip.simulate(p, "rapier")),
+    ],
+)
+def test_a_paper_only_computation_refuses_another_cat_naming_the_joint(cli, args, call):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", catflip.CatflipWarning)
+        problem = catflip.load(PROBLEMS / "kane-scher.toml")
+    message = same_as_cli(cli, args, lambda: call(problem))
+    assert message.startswith('cat.joint = "no-twist"')
+    assert refused(lambda: catflip.model_files(problem)).startswith('cat.joint = "no-twist"')

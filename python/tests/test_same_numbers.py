@@ -79,3 +79,14 @@ def test_imported_arrays_are_the_clis_schedule_file(tmp_path, cli_json):
         cli = cli_json("simulate", "problems/paper.toml", "--set", "manoeuvre.profile=cycloidal", "--schedule", str(file), "--engine", engine)
         same(catflip.simulate(problem, engine, schedule=schedule).report, cli)
         same(catflip.simulate(problem, engine, schedule=catflip.read_schedule(file)).report, cli)
+
+
+@pytest.mark.parametrize("name", ["kane-scher", "unequal-halves"])
+def test_other_cat_models_give_the_clis_numbers(name, cli_json):
+    """The exact engine's simulate and compare on Kane and Scher's cat and on unequal halves."""
+    path = f"problems/{name}.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", catflip.CatflipWarning)
+        problem = catflip.load(PROBLEMS / f"{name}.toml")
+    same(catflip.simulate(problem, series=False).report, cli_json("simulate", path))
+    same(catflip.compare(problem), cli_json("compare", path))

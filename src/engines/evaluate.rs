@@ -20,6 +20,11 @@
 //! Released with spin (`[drop] angular_momentum`), the flip, the torques and the motor demand are
 //! those of the spinning motion ([`crate::engines::spin`]).
 //!
+//! Any two-motor cat model (`[cat] joint`, unequal halves) is measured the same way by
+//! [`Evaluation::of_model`]: the general core ([`crate::engines::models::TwoMotorCat`]) gives the
+//! flip, the torques, the reduced mass matrix of the jumps and the momentum (relative to the rear
+//! half's `I*`); the paper's cat goes through the two-cylinder engine, its numbers unchanged.
+//!
 //! [`CompareRow`] is the same evaluation as a row of the peak-torque table, with the peak
 //! torque of the paper's model `I* · max|ω̇| = I* C_a |D| / T²` beside it.
 
@@ -77,24 +82,11 @@ impl Evaluation {
         settings: &ExactSettings,
     ) -> Evaluation {
         let start = Instant::now();
-        let samples = piece_samples(schedule, settings.torque_samples);
         let (flip, history) = released_flip(cat, schedule, spin, settings.tolerance);
-        let source = torque_source(cat, history.as_ref());
-        let peaks = peak_torques_from(&source, schedule, &samples);
-        let motors = motor_demand_from(&source, schedule, &samples, motors);
         let jumps = velocity_jumps(cat, schedule, JUMP_TOLERANCE);
         let momentum_max = momentum_check(cat, schedule, history.as_ref(), settings.torque_samples);
-        let run_time_s = start.elapsed().as_secs_f64();
-        Evaluation {
-            flip,
-            peaks: PhasePeaks::from_peaks(&peaks),
-            action_reaction_gap: peaks.action_reaction_gap,
-            peak_accuracy: peaks.accuracy,
-            motors,
-            jumps,
-            momentum_max,
-            run_time_s,
-        }
+        let source = torque_source(cat, history.as_ref());
+        Evaluation::measured((flip, jumps, momentum_max), &source, schedule, motors, settings, start)
     }
 
     /// [`Evaluation::new`] for any two-motor model `cat`: the paper's cat through
@@ -115,16 +107,29 @@ impl Evaluation {
             return Err(ModelError::Spinning { joint: cat.cat().joint });
         }
         let start = Instant::now();
-        let samples = piece_samples(schedule, settings.torque_samples);
         let flip = cat.flip(schedule, settings.tolerance);
-        let source = TorqueSource::model(cat);
-        let peaks = peak_torques_from(&source, schedule, &samples);
-        let motors = motor_demand_from(&source, schedule, &samples, motors);
         let jumps = velocity_jumps_with(|q| cat.reduced_mass_matrix(q), schedule, JUMP_TOLERANCE);
         let reference = cat.cat().rear.end_transverse();
         let momentum_max =
             momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, schedule, settings.torque_samples);
-        Ok(Evaluation {
+        let source = TorqueSource::model(cat);
+        Ok(Evaluation::measured((flip, jumps, momentum_max), &source, schedule, motors, settings, start))
+    }
+
+    /// The evaluation with the engine's `(flip, jumps, momentum_max)`: the peaks and the motor
+    /// demand sampled from `source`, the run time since `start`.
+    fn measured(
+        (flip, jumps, momentum_max): (Flip, Vec<VelocityJump>, f64),
+        source: &TorqueSource,
+        schedule: &Schedule,
+        motors: &Motors,
+        settings: &ExactSettings,
+        start: Instant,
+    ) -> Evaluation {
+        let samples = piece_samples(schedule, settings.torque_samples);
+        let peaks = peak_torques_from(source, schedule, &samples);
+        let motors = motor_demand_from(source, schedule, &samples, motors);
+        Evaluation {
             flip,
             peaks: PhasePeaks::from_peaks(&peaks),
             action_reaction_gap: peaks.action_reaction_gap,
@@ -133,7 +138,7 @@ impl Evaluation {
             jumps,
             momentum_max,
             run_time_s: start.elapsed().as_secs_f64(),
-        })
+        }
     }
 
     /// Signed twist, degrees.

@@ -127,9 +127,10 @@ impl CatSection {
         // Name the first number that differs, on the half the user wrote.
         let written = if self.rear.is_some() { "cat.rear" } else { "cat.front" };
         let half = if self.rear.is_some() { rear } else { front };
-        let (key, value) = if front.mass != rear.mass {
+        let differ = |a: f64, b: f64| a.to_bits() != b.to_bits();
+        let (key, value) = if differ(front.mass, rear.mass) {
             ("mass", half.mass)
-        } else if front.length != rear.length {
+        } else if differ(front.length, rear.length) {
             ("length", half.length)
         } else {
             ("radius", half.radius)
