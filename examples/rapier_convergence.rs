@@ -12,9 +12,9 @@
 use std::path::Path;
 
 use anyhow::Context;
-use catflip::engines::circulation::Resolved;
 use catflip::engines::exact::flip;
 use catflip::engines::rapier::{simulate_with, RapierOptions};
+use catflip::engines::resolved::Resolved;
 use catflip::problem::{Problem, ProfileKind};
 use catflip::report::bench::engines::FinalAngles;
 

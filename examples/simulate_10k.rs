@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::engines::Engine;
 use catflip::problem::Problem;
 use catflip::report::simulate::simulate;

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::engines::Engine;
 use catflip::problem::Problem;
 

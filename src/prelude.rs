@@ -6,17 +6,18 @@
 //!
 //! Nothing is defined here; each item keeps its home module, where its docs are.
 
-pub use crate::engines::circulation::Resolved;
 pub use crate::engines::evaluate::Evaluation;
 pub use crate::engines::exact::{flip, Flip};
+pub use crate::engines::models::TwoMotorCat;
 pub use crate::engines::peaks::PhasePeaks;
 pub use crate::engines::rapier::{verify, Reference, Verification};
+pub use crate::engines::resolved::Resolved;
 pub use crate::engines::Engine;
 pub use crate::exchange::{read_schedule, write_schedule, ExportOptions, ImportedSchedule};
 pub use crate::model::motor::Motors;
-pub use crate::model::Cylinder;
+pub use crate::model::{Cat, Cylinder, Joint};
 pub use crate::optimize::retime::{retime_schedule, RetimeSettings, Retiming};
 pub use crate::optimize::whole::{optimize_whole, WholeOutcome, WholeSettings};
 pub use crate::optimize::{optimize, OptimizeReport};
-pub use crate::problem::{Problem, ProblemError};
+pub use crate::problem::{CatSection, Problem, ProblemError};
 pub use crate::schedule::{paper_circulation, JointState, Schedule, Trajectory};

@@ -369,7 +369,7 @@ fn exact_column_holds_the_exact_engine_numbers() {
     // The exact engine's peaks of the paper's schedule, and the calibrated circulation, go into
     // the audit's `exact` column; each is checked against a direct call of the engine.
     let p = catflip::problem::Problem::default();
-    let resolve = || catflip::engines::circulation::Resolved::new(&p).expect("the paper's schedule resolves");
+    let resolve = || catflip::engines::resolved::Resolved::new(&p).expect("the paper's schedule resolves");
     let a = catflip::report::audit::audit_with_exact(&resolve()).expect("every key is the audit's own");
     let r = catflip::report::simulate::simulate(&resolve(), catflip::engines::Engine::Exact).expect("runs");
     let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);

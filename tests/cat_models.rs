@@ -13,8 +13,9 @@
 
 use std::path::Path;
 
-use catflip::engines::circulation::{CirculationError, Resolved};
+use catflip::engines::circulation::CirculationError;
 use catflip::engines::models::TwoMotorCat;
+use catflip::engines::resolved::Resolved;
 use catflip::engines::torque;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::problem::{Circulation, HalfSection, Problem};

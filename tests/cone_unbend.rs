@@ -165,12 +165,12 @@ fn the_calibration_passes_over_a_jump_to_the_root_on_the_other_side() {
     // The flip turns the cat by π with the spine swung by 114°: it is said that it does not land.
     let swing = cal.swing.to_degrees();
     assert!((113.0..115.0).contains(&swing), "swing {swing}°");
-    let r = catflip::engines::circulation::Resolved::new(&p).expect("resolves");
+    let r = catflip::engines::resolved::Resolved::new(&p).expect("resolves");
     let w = r.warnings();
     assert!(w.len() == 1 && w[0].contains("113.9°") && w[0].contains("does not land on its feet"), "{w:?}");
     // The paper's own calibrated flip (swing 1.3°) is not warned of.
     let mut paper = Problem::default();
     paper.manoeuvre.circulation = Circulation::Calibrated;
-    let r = catflip::engines::circulation::Resolved::new(&paper).expect("resolves");
+    let r = catflip::engines::resolved::Resolved::new(&paper).expect("resolves");
     assert!(r.warnings().is_empty(), "{:?}", r.warnings());
 }

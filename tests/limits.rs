@@ -2,7 +2,7 @@
 //! engine's answer is finite, outside it the problem is refused with the field and the range.
 #![deny(clippy::float_cmp)]
 
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::engines::Engine;
 use catflip::problem::Problem;
 use catflip::report::simulate::simulate;

@@ -72,7 +72,7 @@ fn a_straight_cat_optimises_without_internal_names() {
     let mut p = Problem::default();
     p.manoeuvre.theta_deg = 180.0;
     p.manoeuvre.circulation = catflip::problem::Circulation::Angle(1.0);
-    let resolved = catflip::engines::circulation::Resolved::new(&p).expect("a given circulation resolves");
+    let resolved = catflip::engines::resolved::Resolved::new(&p).expect("a given circulation resolves");
     if let Err(e) = catflip::optimize::optimize(&resolved) {
         assert!(!e.to_string().contains('_'), "internal name in {e}");
     }

@@ -2,8 +2,8 @@
 //! time scale, `catflip::engines::torque::piece_samples`) against a 40000-sample reference.
 
 use approx::assert_relative_eq;
-use catflip::engines::circulation::Resolved;
 use catflip::engines::evaluate::Evaluation;
+use catflip::engines::resolved::Resolved;
 use catflip::engines::torque::{peak_torques, piece_samples};
 use catflip::problem::Problem;
 use catflip::schedule::Phase;

@@ -85,7 +85,7 @@ fn statuses_read_as_words_not_variant_names() {
 fn optimize_refuses_an_infeasible_jerk_limit() {
     let mut p = Problem::default();
     p.optimize.jerk_limit = Some(85.0);
-    let resolved = catflip::engines::circulation::Resolved::new(&p).expect("the paper's circulation");
+    let resolved = catflip::engines::resolved::Resolved::new(&p).expect("the paper's circulation");
     let e = catflip::optimize::optimize(&resolved).expect_err("no profile meets the limit");
     assert!(e.to_string().starts_with("infeasible: the jerk limit 85 rad/s³ is below the 163.877 rad/s³"), "{e}");
 }

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use approx::assert_relative_eq;
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::problem::Problem;
 use catflip::report::run::RunOutcome;
 use serde_json::Value;

@@ -2,7 +2,7 @@
 //! landing error's meaning.
 #![deny(clippy::float_cmp)]
 
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::problem::Problem;
 use catflip::robust::{check, draw, robustness, Engine, Percentiles};
 

@@ -310,13 +310,13 @@ fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
     let row = |s: &str| outcome.rows.iter().find(|r| r.schedule == s).and_then(|r| r.numbers).expect("an ok row");
     let (paper, calibrated) = (row("paper"), row("calibrated"));
     let sim_paper = catflip::report::simulate::simulate(
-        &catflip::engines::circulation::Resolved::new(&problem).expect("resolves"),
+        &catflip::engines::resolved::Resolved::new(&problem).expect("resolves"),
         catflip::engines::Engine::Exact,
     )
     .expect("simulates");
     problem.manoeuvre.circulation = catflip::problem::Circulation::Calibrated;
     let sim_cal = catflip::report::simulate::simulate(
-        &catflip::engines::circulation::Resolved::new(&problem).expect("resolves"),
+        &catflip::engines::resolved::Resolved::new(&problem).expect("resolves"),
         catflip::engines::Engine::Exact,
     )
     .expect("simulates");
@@ -769,7 +769,7 @@ fn a_sweep_removes_what_killed_sweeps_left_behind() {
 /// The report `catflip optimize --whole` gives for a case's problem.
 fn optimize_whole_report(s: &Sweep, index: usize) -> catflip::report::whole::WholeReport {
     let problem = case(s, index).problem(s).expect("the case loads");
-    let resolved = catflip::engines::circulation::Resolved::new(&problem).expect("resolves");
+    let resolved = catflip::engines::resolved::Resolved::new(&problem).expect("resolves");
     catflip::report::whole::whole(&resolved).expect("the optimiser runs")
 }
 

@@ -2,12 +2,12 @@
 //! controller drives the joints with explicit torques through the actuators.
 #![deny(clippy::float_cmp)]
 
-use catflip::engines::circulation::Resolved;
 use catflip::engines::exact::flip;
 use catflip::engines::rapier::{
     lqr_gains, simulate_with, track, AttitudeEstimate, AttitudeSensor, Controller, FeedForwardPd, Feedback,
     FeedbackPlan, FeedbackSettings, JointReading, PdGains, Plan, RapierOptions, TrackOptions, TrackedRun,
 };
+use catflip::engines::resolved::Resolved;
 use catflip::model::motor::{Motor, Motors};
 use catflip::model::Cylinder;
 use catflip::problem::Problem;

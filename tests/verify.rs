@@ -9,8 +9,8 @@
 
 mod common;
 
-use catflip::engines::circulation::Resolved;
 use catflip::engines::rapier::{verify, Quantity, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC};
+use catflip::engines::resolved::Resolved;
 use catflip::model::Cylinder;
 use catflip::problem::manoeuvre::{BendPath, Circulation, ProfileKind};
 use catflip::problem::settings::{RapierSettings, TimeStep};

@@ -2,7 +2,7 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::optimize::optimize;
 use catflip::problem::manoeuvre::ProfileKind;
 use catflip::problem::Problem;

@@ -1,11 +1,12 @@
 //! `catflip.Problem`: a problem loaded, overridden and validated by the library
 //! (`catflip::problem::Problem::load` / `from_toml`), resolved once on first use
-//! (`catflip::engines::circulation::Resolved`, where every command starts) and kept resolved.
+//! (`catflip::engines::resolved::Resolved`, where every command starts) and kept resolved.
 
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
-use catflip::engines::circulation::{CirculationError, Resolved};
+use catflip::engines::circulation::CirculationError;
+use catflip::engines::resolved::Resolved;
 use pyo3::prelude::*;
 
 use crate::refuse;

@@ -15,8 +15,10 @@
 //! - [`motors`]: what a trajectory asks of its motors (peak speed, power, usage of each limit);
 //! - [`peaks`]: the peak torques per phase and joint, one type for both engines;
 //! - [`evaluate`]: one exact [`evaluate::Evaluation`] of a schedule, used by every command;
-//! - [`circulation`]: the circulation resolved once, and [`circulation::Resolved`], the problem
-//!   resolved around it.
+//! - [`circulation`]: the circulation resolved once;
+//! - [`resolved`]: [`resolved::Resolved`], the problem resolved around it, where every command
+//!   starts;
+//! - [`models`], [`reduction`], [`shape`]: the exact engine on any cat model (a tree of bodies).
 
 pub mod calibrate;
 pub mod circulation;
@@ -28,6 +30,7 @@ pub mod peaks;
 pub mod rapier;
 pub mod rapier_check;
 pub mod reduction;
+pub mod resolved;
 pub mod shape;
 pub mod spin;
 pub mod torque;

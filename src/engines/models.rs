@@ -16,9 +16,8 @@
 use nalgebra::{Matrix2, Vector3};
 
 use crate::engines::exact::{adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper};
-use crate::engines::reduction::{self, LinkTorques};
+use crate::engines::reduction::{self, polarised_mass_matrix, LinkTorques};
 use crate::engines::shape::ShapeTrajectory;
-use crate::engines::torque::{polarised_mass_matrix, JointTorques};
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Cylinder, Joint};
@@ -182,18 +181,13 @@ impl TwoMotorCat {
         reduction::momentum(&self.tree, &ShapeState::from(st), omega)
     }
 
-    /// The joint's torques on the rear half at zero angular momentum through `st`, as the
-    /// two-cylinder engine's [`JointTorques`]: the motor torques `τ` on the joint's motor axes
-    /// ([`Joint::motor_axes`]), the same from A's side, and the couple and force on B.
-    pub fn joint_torques(&self, st: &JointState) -> JointTorques {
+    /// What the joint transmits to the rear half at zero angular momentum through `st`: the motor
+    /// torques on the joint's motor axes ([`Joint::motor_axes`]), the same from A's side, the
+    /// couple and the force.
+    pub fn joint_torques(&self, st: &JointState) -> LinkTorques {
         let mut all = reduction::joint_torques(&self.tree, &ShapeState::from(st), &Vector3::zeros());
-        let t = all.swap_remove(0);
-        JointTorques {
-            tau: [t.tau[0], t.tau[1]],
-            from_a: [t.from_base_side[0], t.from_base_side[1]],
-            couple: t.couple,
-            force: t.force,
-        }
+        // A cat's tree has exactly one link.
+        all.swap_remove(0)
     }
 
     /// The kinetic energy about the centre of mass of the zero-momentum motion `(q, q̇)`, J:

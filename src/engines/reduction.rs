@@ -34,7 +34,7 @@
 //! - R. Montgomery, *Gauge theory of the falling cat* (1993), the mechanical connection;
 //! - R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), ch. 2 and 9 (floating bases).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector3};
 
 use crate::engines::exact::solve_spd;
 use crate::model::shape::ShapeState;
@@ -156,4 +156,13 @@ pub fn joint_torques(tree: &Tree, shape: &ShapeState, lambda: &Vector3<f64>) -> 
             }
         })
         .collect()
+}
+
+/// The mass matrix `M` of a quadratic kinetic energy `E(q̇) = ½ q̇ᵀ M q̇` from three of its
+/// values: `M₁₁ = 2E(1,0)`, `M₂₂ = 2E(0,1)`, `M₁₂ = E(1,1) − E(1,0) − E(0,1)`.
+pub fn polarised_mass_matrix(energy: impl Fn([f64; 2]) -> f64) -> Matrix2<f64> {
+    let e1 = energy([1.0, 0.0]);
+    let e2 = energy([0.0, 1.0]);
+    let off = energy([1.0, 1.0]) - e1 - e2;
+    Matrix2::new(2.0 * e1, off, off, 2.0 * e2)
 }

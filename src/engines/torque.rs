@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::engines::exact::{joint2_axis, relative_rate, solve_spd};
 use crate::engines::models::TwoMotorCat;
+use crate::engines::reduction;
 use crate::engines::spin::SpinHistory;
 use crate::model::{skew, Cylinder};
 use crate::numeric::roots::golden_max;
@@ -166,7 +167,15 @@ impl<'a> TorqueSource<'a> {
             Body::Paper { cat, spin: Some(h) } => {
                 joint_torques_spinning(cat, state, &h.body_momentum(cat, traj, piece, s))
             }
-            Body::Model(cat) => cat.joint_torques(state),
+            Body::Model(cat) => {
+                let t = cat.joint_torques(state);
+                JointTorques {
+                    tau: [t.tau[0], t.tau[1]],
+                    from_a: [t.from_base_side[0], t.from_base_side[1]],
+                    couple: t.couple,
+                    force: t.force,
+                }
+            }
         }
     }
 }
@@ -204,16 +213,7 @@ pub fn kinetic_energy(cat: &Cylinder, q: [f64; 2], qd: [f64; 2]) -> f64 {
 
 /// The reduced (zero-momentum) mass matrix `M(q)` with `E = ½ q̇ᵀ M q̇`, by polarisation.
 pub fn reduced_mass_matrix(cat: &Cylinder, q: [f64; 2]) -> Matrix2<f64> {
-    polarised_mass_matrix(|qd| kinetic_energy(cat, q, qd))
-}
-
-/// The mass matrix `M` of a quadratic kinetic energy `E(q̇) = ½ q̇ᵀ M q̇` from three of its
-/// values: `M₁₁ = 2E(1,0)`, `M₂₂ = 2E(0,1)`, `M₁₂ = E(1,1) − E(1,0) − E(0,1)`.
-pub fn polarised_mass_matrix(energy: impl Fn([f64; 2]) -> f64) -> Matrix2<f64> {
-    let e1 = energy([1.0, 0.0]);
-    let e2 = energy([0.0, 1.0]);
-    let off = energy([1.0, 1.0]) - e1 - e2;
-    Matrix2::new(2.0 * e1, off, off, 2.0 * e2)
+    reduction::polarised_mass_matrix(|qd| kinetic_energy(cat, q, qd))
 }
 
 /// The peak `|τ_i|` of one joint in one phase and when it occurs.

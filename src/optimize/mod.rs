@@ -21,9 +21,10 @@ pub mod whole;
 use serde::Serialize;
 
 use crate::engines::calibrate::Calibration;
-use crate::engines::circulation::{Resolved, ResolvedCirculation};
+use crate::engines::circulation::ResolvedCirculation;
 use crate::engines::evaluate::{CompareRow, Evaluation};
 use crate::engines::exact::flip;
+use crate::engines::resolved::Resolved;
 use crate::schedule::profile::Profile;
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::{Phase, Schedule};

@@ -9,10 +9,11 @@
 
 use serde::Serialize;
 
-use crate::engines::circulation::{Resolved, ResolvedCirculation};
+use crate::engines::circulation::ResolvedCirculation;
 pub use crate::engines::evaluate::CompareRow;
 use crate::engines::motors::MotorDemand;
 use crate::engines::peaks::PhasePeaks;
+use crate::engines::resolved::Resolved;
 use crate::schedule::variant::Origin;
 
 /// The table with its shared settings.

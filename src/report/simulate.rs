@@ -12,12 +12,13 @@
 use serde::Serialize;
 
 use crate::engines::calibrate::Calibration;
-use crate::engines::circulation::{CirculationSource, Resolved, ResolvedCirculation};
+use crate::engines::circulation::{CirculationSource, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::models::ModelError;
 use crate::engines::motors::{LimitUse, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{RapierError, RapierOptions};
+use crate::engines::resolved::Resolved;
 use crate::engines::torque::VelocityJump;
 use crate::engines::Engine;
 use crate::problem::BendPath;

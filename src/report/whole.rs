@@ -12,10 +12,10 @@ use std::fmt::Write as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::engines::circulation::Resolved;
 use crate::engines::motors::LimitUse;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{verify_with, RapierError, RapierOptions, Reference, Verification};
+use crate::engines::resolved::Resolved;
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::TorqueSource;
 use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};

@@ -6,7 +6,7 @@
 
 #![allow(dead_code)]
 
-use catflip::engines::circulation::Resolved;
+use catflip::engines::resolved::Resolved;
 use catflip::problem::Problem;
 use catflip::schedule::{paper_circulation, Schedule};
 

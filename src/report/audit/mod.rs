@@ -66,7 +66,7 @@ pub mod readings;
 use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
-use crate::engines::circulation::Resolved;
+use crate::engines::resolved::Resolved;
 use crate::problem::Problem;
 use crate::schedule::Phase;
 

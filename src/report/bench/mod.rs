@@ -32,7 +32,7 @@ pub mod table;
 
 use serde::Serialize;
 
-use crate::engines::circulation::Resolved;
+use crate::engines::resolved::Resolved;
 use crate::problem::ProfileKind;
 use curve::{Curve, CurveNote, Timing};
 use random::{RandomResult, Tally, Verdict};

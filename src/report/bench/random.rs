@@ -24,8 +24,8 @@
 
 use serde::Serialize;
 
-use crate::engines::circulation::Resolved;
 use crate::engines::evaluate::Evaluation;
+use crate::engines::resolved::Resolved;
 use crate::problem::{Problem, ProfileKind};
 
 /// Largest relative angular momentum residual accepted.

@@ -6,8 +6,9 @@
 
 use serde::Serialize;
 
-use crate::engines::circulation::{CirculationError, Resolved};
+use crate::engines::circulation::CirculationError;
 use crate::engines::evaluate::Evaluation;
+use crate::engines::resolved::Resolved;
 use crate::problem::Problem;
 use crate::report::bench::BenchError;
 

@@ -13,9 +13,10 @@ use rayon::prelude::*;
 
 use super::timings::Stopwatch;
 use super::{figures, RunError, Verified};
-use crate::engines::circulation::{Resolved, ResolvedCirculation};
+use crate::engines::circulation::ResolvedCirculation;
 use crate::engines::evaluate::Evaluation;
 use crate::engines::rapier::{RapierError, Verification};
+use crate::engines::resolved::Resolved;
 use crate::exchange::{model_files, schedule_files, ExportOptions};
 use crate::optimize::{optimize, OptimizeReport};
 use crate::report::audit::Audit;

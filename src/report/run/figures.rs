@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::Verified;
-use crate::engines::circulation::Resolved;
+use crate::engines::resolved::Resolved;
 use crate::problem::ProfileKind;
 use crate::report::plot::PlotError;
 use crate::report::whole::{WholeReport, WHOLE};

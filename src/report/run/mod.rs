@@ -16,8 +16,9 @@ mod timings;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::engines::circulation::{CirculationError, Resolved};
+use crate::engines::circulation::CirculationError;
 use crate::engines::rapier::{RapierError, Status, Verification};
+use crate::engines::resolved::Resolved;
 use crate::engines::Engine;
 use crate::optimize::OptimizeError;
 use crate::report::audit::AuditError;

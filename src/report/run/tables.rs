@@ -3,9 +3,9 @@
 use std::fmt::Write as _;
 
 use super::Verified;
-use crate::engines::circulation::Resolved;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Verification;
+use crate::engines::resolved::Resolved;
 use crate::engines::Engine;
 use crate::optimize::OptimizeReport;
 use crate::problem::Problem;

@@ -1,0 +1,187 @@
+//! The problem resolved once: what every command starts from.
+//!
+//! [`Resolved`] holds the problem as loaded, its schedule with the resolved circulation
+//! ([`crate::engines::circulation`]), the cat model the exact engine runs
+//! ([`TwoMotorCat`]; the paper's cat through the two-cylinder engine), and, computed once on first
+//! use, the calibration of its joint path and the exact evaluation of every library profile.
+
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
+use crate::engines::calibrate::{calibrate_model, Calibration};
+use crate::engines::circulation::{resolve_circulation, CirculationError, ResolvedCirculation};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::models::{ModelError, TwoMotorCat};
+use crate::model::Cylinder;
+use crate::numeric::roots::RootStatus;
+use crate::problem::{Problem, ProfileKind};
+use crate::schedule::profile::Profile;
+use crate::schedule::Schedule;
+
+/// The swing of the spine, degrees, above which a calibrated circulation is warned: it turns the
+/// cat by π about its spine, but the spine ends nearer across its start than along it, so the cat
+/// does not land on its feet (the paper's flip ends with the swing near zero; a circulation alone
+/// cannot set both angles).
+pub const LANDING_SWING_DEG: f64 = 45.0;
+
+/// A problem resolved once: its schedule and circulation, its calibration and its library
+/// profiles' evaluations, handed to every command.
+#[derive(Clone, Debug)]
+pub struct Resolved {
+    /// The problem as loaded.
+    pub problem: Problem,
+    /// The problem's own schedule with [`Resolved::circulation`].
+    pub schedule: Schedule,
+    /// The resolved circulation.
+    pub circulation: ResolvedCirculation,
+    model: TwoMotorCat,
+    half: Cylinder,
+    calibration: OnceLock<Calibration>,
+    library: OnceLock<Vec<(ProfileKind, Schedule, Evaluation)>>,
+}
+
+impl Resolved {
+    /// Resolves `problem`'s circulation (one calibration when it asks for one) and builds its
+    /// schedule.
+    pub fn new(problem: &Problem) -> Result<Resolved, CirculationError> {
+        let fall_time = problem.drop.fall_time();
+        let spin = problem.drop.spin();
+        let model = TwoMotorCat::new(problem.cat.model())?;
+        if spin.norm_squared() > 0.0 && model.cat().paper().is_none() {
+            return Err(ModelError::Spinning { joint: model.cat().joint }.into());
+        }
+        let circulation = resolve_circulation(&model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)
+            .map_err(|e| match e {
+                CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
+                    field: problem.cat.departure().map_or_else(|| "cat.front".into(), |(f, _)| f),
+                },
+                other => other,
+            })?;
+        let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
+        let calibration = OnceLock::new();
+        if let Some(c) = circulation.calibration {
+            let _ = calibration.set(c);
+        }
+        Ok(Resolved {
+            problem: problem.clone(),
+            schedule,
+            circulation,
+            model,
+            half: problem.cat.half(),
+            calibration,
+            library: OnceLock::new(),
+        })
+    }
+
+    /// What is not an error but should be said: a calibrated circulation that turns the cat by
+    /// π with its spine swung by more than [`LANDING_SWING_DEG`].
+    pub fn warnings(&self) -> Vec<String> {
+        let Some(c) = self.circulation.calibration.filter(|c| c.swing.to_degrees().abs() > LANDING_SWING_DEG) else {
+            return Vec::new();
+        };
+        vec![format!(
+            "manoeuvre.circulation = \"calibrated\": {:.6} rad turns this cat by π, but its spine ends swung by {:.1}° (more than {LANDING_SWING_DEG}°), so it does not land on its feet (one circulation sets the twist, not the swing; `catflip optimize --whole` flips it with the swing held at 0)",
+            c.circulation,
+            c.swing.to_degrees()
+        )]
+    }
+
+    /// The half of the paper's cat (`[cat]`'s shorthand). Only for a computation that models
+    /// the paper's cat, after [`Resolved::require_paper_cat`]; any other reads [`Resolved::model`].
+    pub fn cat(&self) -> &Cylinder {
+        &self.half
+    }
+
+    /// The cat model the exact engine runs (the paper's cat through the two-cylinder engine).
+    pub fn model(&self) -> &TwoMotorCat {
+        &self.model
+    }
+
+    /// Refuses a cat other than the paper's for `what` ([`Problem::require_paper_cat`]).
+    pub fn require_paper_cat(&self, what: &str) -> Result<(), crate::problem::ProblemError> {
+        self.problem.require_paper_cat(what)
+    }
+
+    /// The exact evaluation of `schedule` on the problem's cat, release and motors.
+    pub fn evaluate(&self, schedule: &Schedule) -> Result<Evaluation, ModelError> {
+        Evaluation::of_model(
+            &self.model,
+            schedule,
+            &self.problem.drop.spin(),
+            &self.problem.actuator.motors(),
+            &self.problem.exact,
+        )
+    }
+
+    /// The calibration of the problem's joint path, started from its circulation: the one
+    /// [`Resolved::new`] made for a calibrated problem, else made now (once). Its status may say
+    /// it failed; [`Resolved::calibrated`] is the circulation only when it converged.
+    pub fn calibration(&self) -> &Calibration {
+        self.calibration.get_or_init(|| {
+            let spin = self.problem.drop.spin();
+            let cal = calibrate_model(&self.model, &self.schedule, &spin, self.problem.exact.tolerance);
+            // `Resolved::new` refused what the model cannot run (a spinning release of another
+            // model); were it asked for, it is a calibration that found nothing.
+            cal.unwrap_or(Calibration {
+                circulation: self.schedule.circulation,
+                twist: f64::NAN,
+                swing: f64::NAN,
+                evaluations: 0,
+                status: RootStatus::NoBracket,
+            })
+        })
+    }
+
+    /// The calibrated circulation, when the calibration converged.
+    pub fn calibrated(&self) -> Option<ResolvedCirculation> {
+        ResolvedCirculation::from_calibration(self.calibration())
+    }
+
+    /// The problem's schedule with the library profile `kind` in the twist phase.
+    pub fn with_library(&self, kind: ProfileKind) -> Schedule {
+        self.schedule.with_profile(Profile::library(kind))
+    }
+
+    /// Every library profile's schedule on the problem's path and circulation, evaluated by the
+    /// exact engine (once), the paper's cosine first.
+    pub fn library(&self) -> &[(ProfileKind, Schedule, Evaluation)] {
+        self.library.get_or_init(|| {
+            ProfileKind::ALL
+                .par_iter()
+                .filter_map(|&k| {
+                    let s = self.with_library(k);
+                    // Cannot fail: `Resolved::new` ran the model's calibration checks, and
+                    // `Problem::validate` refuses a spinning release of another model.
+                    let e = self.evaluate(&s).ok()?;
+                    Some((k, s, e))
+                })
+                .collect()
+        })
+    }
+
+    /// The exact evaluation of the problem's own schedule (the library entry of its profile;
+    /// `None` only if the library lacked that profile).
+    pub fn own(&self) -> Option<&Evaluation> {
+        let kind = self.problem.manoeuvre.profile;
+        self.library().iter().find(|(k, _, _)| *k == kind).map(|(_, _, e)| e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engines::circulation::CirculationSource;
+    use crate::problem::Circulation;
+
+    #[test]
+    fn a_calibrated_problem_is_resolved_with_one_converged_calibration() {
+        let mut p = Problem::default();
+        p.manoeuvre.circulation = Circulation::Calibrated;
+        let r = Resolved::new(&p).expect("the default cat calibrates");
+        assert_eq!(r.circulation.source, CirculationSource::Calibrated);
+        // The calibration asked for later is the one made while resolving, not a second one.
+        assert_eq!(Some(*r.calibration()), r.circulation.calibration);
+        assert_eq!(r.schedule.circulation.to_bits(), r.circulation.radians.to_bits());
+    }
+}
