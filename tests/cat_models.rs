@@ -146,13 +146,141 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
 }
 
 #[test]
-fn a_spherical_joint_and_a_spinning_model_are_refused_naming_the_field() {
+fn a_spherical_joint_and_a_bad_half_are_refused_naming_the_field() {
     let spherical = Problem::from_toml("[cat]\njoint = \"spherical\"\n", "t.toml", &[]).expect_err("refused");
     assert!(spherical.to_string().starts_with("cat.joint = \"spherical\""), "{spherical}");
-    let spinning =
-        Problem::from_toml("[cat]\njoint = \"no-twist\"\n[drop]\nangular_momentum = [0.0, 0.0, 0.01]\n", "t.toml", &[])
-            .expect_err("refused");
-    assert!(spinning.to_string().starts_with("cat.joint"), "{spinning}");
     let bad_half = Problem::from_toml("[cat.front]\nradius = 2.0\n", "t.toml", &[]).expect_err("refused");
     assert!(bad_half.to_string().starts_with("cat.front.radius = 2"), "{bad_half}");
+}
+
+/// One case of `tests/reference/models.py` (an independent engine, tests/reference/README.md):
+/// its overrides of a preset, circulation (rad), twist and swing (degrees), the refined per-phase
+/// peaks `[bend, twist, unbend]` of `[τ1, τ2]` (N·m) and, for the paper's cosine, the jump
+/// impulse on the motor axes (N·m·s).
+struct Reference {
+    preset: &'static str,
+    set: &'static [&'static str],
+    circulation: f64,
+    twist_deg: f64,
+    swing_deg: f64,
+    peaks: [[f64; 2]; 3],
+    impulse: Option<[f64; 2]>,
+}
+
+const REFERENCES: [Reference; 5] = [
+    Reference {
+        preset: "kane-scher",
+        set: &[],
+        circulation: 3.2249860792499017,
+        twist_deg: -180.00000000000009,
+        swing_deg: 4.769893426572098e-13,
+        peaks: [
+            [21.309832557834994, 0.0],
+            [0.024894603629312284, 0.025301288589962362],
+            [21.235776265490905, 1.7750408572699696],
+        ],
+        impulse: Some([-0.0012853110488041353, 0.015376873017980863]),
+    },
+    Reference {
+        preset: "kane-scher",
+        set: &["manoeuvre.theta_deg=100", "manoeuvre.profile=\"cycloidal\""],
+        circulation: 3.489687449600588,
+        twist_deg: -180.00000000000026,
+        swing_deg: 1.7102291640198353e-12,
+        peaks: [
+            [7.9817375858486574, 0.0],
+            [0.11477878650557619, 0.1645543912748263],
+            [7.503027269798176, 2.7226304703382107],
+        ],
+        impulse: None,
+    },
+    Reference {
+        preset: "unequal-halves",
+        set: &[],
+        circulation: 3.4133287981694256,
+        twist_deg: -179.99999999999994,
+        swing_deg: 0.22431550180837473,
+        peaks: [
+            [15.341516666099409, 0.0],
+            [52.95270112953324, 35.00013662630962],
+            [8.135090115716809, 3.041443430501498],
+        ],
+        impulse: Some([-0.795926507777937, 0.6072200546048835]),
+    },
+    Reference {
+        preset: "unequal-halves",
+        set: &["manoeuvre.bend_path=\"cone\"", "manoeuvre.profile=\"cycloidal\""],
+        circulation: 2.0603887580444002,
+        twist_deg: -180.00000000000009,
+        swing_deg: 16.139551656010727,
+        peaks: [
+            [15.341516666099409, 0.0],
+            [0.26722831514076245, 0.15915760733122628],
+            [10.9009556845488, 7.447985505206018],
+        ],
+        impulse: None,
+    },
+    Reference {
+        preset: "unequal-halves",
+        set: &["cat.joint=\"no-twist\""],
+        circulation: 3.302427774231209,
+        twist_deg: -180.0,
+        swing_deg: 4.2849363389556006,
+        peaks: [
+            [15.341516666099405, 0.0],
+            [0.04841104320751258, 0.050623623232477724],
+            [15.143517352304572, 2.4568304411693136],
+        ],
+        impulse: Some([-0.004926310410544994, 0.030365004411708585]),
+    },
+];
+
+#[test]
+fn the_models_match_an_independent_derivation() {
+    for c in &REFERENCES {
+        let p = load(c.preset, c.set);
+        let r = Resolved::new(&p).expect("resolves");
+        let e = r.evaluate(&r.schedule).expect("two coordinates");
+        let case = format!("{} {:?}", c.preset, c.set);
+        // The targets: circulation 1e-6 rad, twist and swing 1e-6°, peaks 1e-3 relative.
+        assert!(
+            (r.schedule.circulation - c.circulation).abs() < 1e-6,
+            "{case}: circulation {}",
+            r.schedule.circulation
+        );
+        assert!((e.twist_deg() - c.twist_deg).abs() < 1e-6, "{case}: twist {}°", e.twist_deg());
+        assert!((e.swing_deg() - c.swing_deg).abs() < 1e-6, "{case}: swing {}°", e.swing_deg());
+        for (phase, (ours, theirs)) in [e.peaks.bend, e.peaks.twist, e.peaks.unbend].iter().zip(&c.peaks).enumerate() {
+            for j in 0..2 {
+                let tol = 1e-3 * theirs[j].max(1e-3 * e.peaks.max);
+                assert!(
+                    (ours[j] - theirs[j]).abs() < tol,
+                    "{case}: phase {phase}, τ{}: {} vs {}",
+                    j + 1,
+                    ours[j],
+                    theirs[j]
+                );
+            }
+        }
+        match (c.impulse, e.jumps.first()) {
+            (Some(theirs), Some(jump)) => {
+                for (ours, theirs) in jump.impulse.iter().zip(theirs) {
+                    assert!(
+                        (ours - theirs).abs() < 1e-6 * theirs.abs().max(1e-3),
+                        "{case}: impulse {ours} vs {theirs}"
+                    );
+                }
+            }
+            (None, None) => {}
+            (expected, got) => panic!("{case}: a jump expected {expected:?}, got {got:?}"),
+        }
+    }
+}
+
+#[test]
+fn the_cone_on_the_no_twist_joint_is_refused_naming_the_path() {
+    let overrides = ["manoeuvre.bend_path=\"cone\"".to_string()];
+    let e = Problem::load(Path::new("problems/kane-scher.toml"), &overrides).expect_err("refused");
+    assert!(e.to_string().starts_with("manoeuvre.bend_path = \"cone\""), "{e}");
+    assert!(e.to_string().contains("joint-circle"), "{e}");
 }

@@ -8,23 +8,11 @@ use catflip::engines::rapier::{
 use catflip::model::legs::{legs, Half, PAW_RADIUS};
 use catflip::model::motor::Motors;
 use catflip::model::Cylinder;
-use catflip::schedule::{JointState, Trajectory};
+
 use nalgebra::Vector3;
 
-/// A cat held straight for `duration` s.
-struct Straight {
-    duration: f64,
-}
-
-impl Trajectory for Straight {
-    fn piece_durations(&self) -> Vec<f64> {
-        vec![self.duration]
-    }
-
-    fn piece_state(&self, _piece: usize, _s: f64) -> JointState {
-        JointState::default()
-    }
-}
+mod common;
+use common::Held;
 
 const HEIGHT: f64 = 10.0;
 const G: f64 = 9.8;
@@ -32,7 +20,7 @@ const DT: f64 = 1e-4;
 
 fn fall(cat: &Cylinder, spin: Vector3<f64>) -> TrackedRun {
     let duration = (2.0 * HEIGHT / G).sqrt();
-    let traj = Straight { duration };
+    let traj = Held { q: [0.0, 0.0], duration };
     let plan = Plan::new(cat, &traj, &spin, 1e-10, (duration / DT).ceil() as usize);
     let mut controller = FeedForwardPd::new(&plan, PdGains::servo(cat, 10.0, 1.0));
     let options = TrackOptions {

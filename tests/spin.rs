@@ -8,24 +8,11 @@ use catflip::engines::spin::SpinHistory;
 use catflip::engines::torque::{joint_torques_spinning, kinematics_spinning};
 use catflip::model::Cylinder;
 use catflip::problem::Problem;
-use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
+use catflip::schedule::{paper_circulation, Schedule, Trajectory};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// A cat held at joint angles `q` for `duration` s: a rigid body.
-struct Held {
-    q: [f64; 2],
-    duration: f64,
-}
-
-impl Trajectory for Held {
-    fn piece_durations(&self) -> Vec<f64> {
-        vec![self.duration]
-    }
-
-    fn piece_state(&self, _piece: usize, _s: f64) -> JointState {
-        JointState { q: self.q, ..JointState::default() }
-    }
-}
+mod common;
+use common::Held;
 
 fn paper_schedule(p: &Problem) -> Schedule {
     let d = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).expect("C > 0 for the paper's cat");

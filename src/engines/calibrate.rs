@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::engines::exact::{flip_spinning, Flip};
-use crate::engines::models::{ModelError, TwoMotorCat};
+use crate::engines::models::TwoMotorCat;
 use crate::model::Cylinder;
 use crate::numeric::roots::{brent, Brackets, RootStatus};
 use crate::schedule::Schedule;
@@ -48,21 +48,12 @@ pub fn calibrate_spinning(cat: &Cylinder, schedule: &Schedule, spin: &Vector3<f6
 }
 
 /// [`calibrate_spinning`] for any two-motor model: the paper's cat by the two-cylinder engine
-/// (the same numbers), any other at zero momentum through the general core
-/// ([`TwoMotorCat::flip`]); a spinning release of another model is refused.
-pub fn calibrate_model(
-    cat: &TwoMotorCat,
-    schedule: &Schedule,
-    spin: &Vector3<f64>,
-    tolerance: f64,
-) -> Result<Calibration, ModelError> {
+/// (the same numbers), any other through the general core ([`TwoMotorCat::flip_released`]).
+pub fn calibrate_model(cat: &TwoMotorCat, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
     if let Some(half) = cat.cat().paper() {
-        return Ok(calibrate_spinning(half, schedule, spin, tolerance));
+        return calibrate_spinning(half, schedule, spin, tolerance);
     }
-    if spin.norm_squared() > 0.0 {
-        return Err(ModelError::Spinning { joint: cat.cat().joint });
-    }
-    Ok(calibrate_by(|s, inner| cat.flip(s, inner), schedule, tolerance))
+    calibrate_by(|s, inner| cat.flip_released(s, spin, inner), schedule, tolerance)
 }
 
 /// The calibration with `flip(schedule, tolerance)` the engine's final orientation.

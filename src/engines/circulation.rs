@@ -115,7 +115,7 @@ pub fn resolve_circulation(
         }
         Circulation::Calibrated => {
             let near = paper()?;
-            let cal = calibrate_model(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance)?;
+            let cal = calibrate_model(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance);
             ResolvedCirculation::from_calibration(&cal)
                 .ok_or(CirculationError::Calibration { near, status: cal.status })?
         }

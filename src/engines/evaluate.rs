@@ -91,8 +91,8 @@ impl Evaluation {
 
     /// [`Evaluation::new`] for any two-motor model `cat`: the paper's cat through
     /// [`Evaluation::new`] (the two-cylinder engine, its numbers to the last digit), any other
-    /// model through the general core ([`TwoMotorCat`]) at zero angular momentum; a spinning
-    /// release of another model is refused ([`ModelError::Spinning`]).
+    /// model through the general core ([`TwoMotorCat`]), at zero angular momentum or released
+    /// with `spin`.
     pub fn of_model(
         cat: &TwoMotorCat,
         schedule: &Schedule,
@@ -103,15 +103,23 @@ impl Evaluation {
         if let Some(half) = cat.cat().paper() {
             return Ok(Evaluation::new(half, schedule, spin, motors, settings));
         }
-        if spin.norm_squared() > 0.0 {
-            return Err(ModelError::Spinning { joint: cat.cat().joint });
-        }
         let start = Instant::now();
-        let flip = cat.flip(schedule, settings.tolerance);
-        let jumps = velocity_jumps_with(|q| cat.reduced_mass_matrix(q), schedule, JUMP_TOLERANCE);
+        let jumps = velocity_jumps_with(|q, dq| cat.motor_impulse(q, dq), schedule, JUMP_TOLERANCE);
         let reference = cat.cat().rear.end_transverse();
-        let momentum_max =
-            momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, schedule, settings.torque_samples);
+        let samples = settings.torque_samples;
+        if spin.norm_squared() > 0.0 {
+            let (flip, history) = cat.flip_spinning(schedule, spin, settings.tolerance);
+            let field = cat.field(schedule);
+            let world = |piece: usize, s: f64, st: &JointState| {
+                let r = history.orientation_on(&field, piece, s);
+                r * cat.momentum(st, &cat.body_rate_spinning(st, &r.inverse_transform_vector(spin)))
+            };
+            let momentum_error = momentum_error_by(world, spin, reference, schedule, samples);
+            let source = TorqueSource::model_spinning(cat, &history);
+            return Ok(Evaluation::measured((flip, jumps, momentum_error), &source, schedule, motors, settings, start));
+        }
+        let flip = cat.flip(schedule, settings.tolerance);
+        let momentum_max = momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, schedule, samples);
         let source = TorqueSource::model(cat);
         Ok(Evaluation::measured((flip, jumps, momentum_max), &source, schedule, motors, settings, start))
     }
@@ -232,19 +240,35 @@ pub fn momentum_error_spinning(
     history: &SpinHistory,
     samples: usize,
 ) -> f64 {
+    let world = |piece: usize, s: f64, st: &JointState| {
+        let r = history.orientation(cat, schedule, piece, s);
+        let lambda = r.inverse_transform_vector(&history.spin);
+        let w = body_rate_spinning(cat, st.q, st.qd, &lambda);
+        r * momentum(cat, st, &w)
+    };
+    momentum_error_by(world, &history.spin, cat.end_transverse(), schedule, samples)
+}
+
+/// Largest `|world(piece, s, q) − L|` on `samples + 1` points per phase, relative to
+/// `max(inertia · max|q̇|, |L|)`, with `world` the motion's momentum in the world frame: the "L
+/// constant" check of any model.
+fn momentum_error_by(
+    world: impl Fn(usize, f64, &JointState) -> Vector3<f64>,
+    spin: &Vector3<f64>,
+    inertia: f64,
+    schedule: &impl Trajectory,
+    samples: usize,
+) -> f64 {
     let (mut err, mut qd_max) = (0.0f64, 0.0f64);
     for (piece, dur) in schedule.piece_durations().into_iter().enumerate() {
         for k in 0..=samples {
             let s = dur * k as f64 / samples as f64;
             let st = schedule.piece_state(piece, s);
-            let r = history.orientation(cat, schedule, piece, s);
-            let lambda = r.inverse_transform_vector(&history.spin);
-            let w = body_rate_spinning(cat, st.q, st.qd, &lambda);
-            err = err.max((r * momentum(cat, &st, &w) - history.spin).norm());
+            err = err.max((world(piece, s, &st) - spin).norm());
             qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
         }
     }
-    err / (cat.end_transverse() * qd_max).max(history.spin.norm())
+    err / (inertia * qd_max).max(spin.norm())
 }
 
 /// One row of the peak-torque table: an evaluation with the schedule's profile data.

@@ -204,9 +204,9 @@ pub trait RateField {
 }
 
 /// The two-cylinder cat on a joint trajectory: [`body_rate`] and [`body_rate_spinning`].
-struct CylinderField<'a, T: Trajectory> {
-    cat: &'a Cylinder,
-    traj: &'a T,
+pub(crate) struct CylinderField<'a, T: Trajectory> {
+    pub(crate) cat: &'a Cylinder,
+    pub(crate) traj: &'a T,
 }
 
 impl<T: Trajectory> RateField for CylinderField<'_, T> {

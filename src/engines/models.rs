@@ -18,6 +18,7 @@ use nalgebra::{Matrix2, Vector3};
 use crate::engines::exact::{adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper};
 use crate::engines::reduction::{self, polarised_mass_matrix, LinkTorques};
 use crate::engines::shape::ShapeTrajectory;
+use crate::engines::spin::SpinHistory;
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Cylinder, Joint};
@@ -35,13 +36,6 @@ pub enum ModelError {
         expected: usize,
         /// The trajectory's.
         got: usize,
-    },
-    /// A release with spin of a model other than the paper's cat, whose spinning torques are not
-    /// built yet.
-    #[error("cat.joint = \"{joint}\" or unequal halves: a release with spin is modelled for the paper's cat only (equal halves on the universal joint) so far")]
-    Spinning {
-        /// The joint.
-        joint: Joint,
     },
 }
 
@@ -61,8 +55,8 @@ fn check_trajectory(cat: &Cat, traj: &impl ShapeTrajectory) -> Result<(), ModelE
 }
 
 /// A model on a shape trajectory, as the integrator sees it.
-struct ModelField<'a, T: ShapeTrajectory> {
-    tree: Tree,
+pub struct ModelField<'a, T: ShapeTrajectory> {
+    tree: &'a Tree,
     traj: &'a T,
 }
 
@@ -74,16 +68,17 @@ impl<T: ShapeTrajectory> RateField for ModelField<'_, T> {
         self.traj.acceleration_jumps(piece)
     }
     fn body_rate(&self, piece: usize, s: f64) -> Vector3<f64> {
-        reduction::body_rate(&self.tree, &self.traj.piece_shape(piece, s), &Vector3::zeros())
+        reduction::body_rate(self.tree, &self.traj.piece_shape(piece, s), &Vector3::zeros())
     }
     fn body_rate_spinning(&self, piece: usize, s: f64, lambda: &Vector3<f64>) -> Vector3<f64> {
-        reduction::body_rate(&self.tree, &self.traj.piece_shape(piece, s), lambda)
+        reduction::body_rate(self.tree, &self.traj.piece_shape(piece, s), lambda)
     }
 }
 
-fn field<'a, T: ShapeTrajectory>(cat: &Cat, traj: &'a T) -> Result<ModelField<'a, T>, ModelError> {
+/// `cat`'s tree, checked against `traj`'s number of coordinates.
+fn checked_tree(cat: &Cat, traj: &impl ShapeTrajectory) -> Result<Tree, ModelError> {
     check_trajectory(cat, traj)?;
-    Ok(ModelField { tree: cat.tree(), traj })
+    Ok(cat.tree())
 }
 
 /// A's angular velocity (A's frame) at zero angular momentum.
@@ -115,7 +110,8 @@ pub fn joint_torques_spinning(cat: &Cat, shape: &ShapeState, lambda: &Vector3<f6
 /// The final twist and swing of a trajectory at zero angular momentum, to `tolerance` rad
 /// ([`crate::engines::exact::flip`]'s adaptive integration).
 pub fn flip(cat: &Cat, traj: &impl ShapeTrajectory, tolerance: f64) -> Result<Flip, ModelError> {
-    Ok(adaptive_on(&field(cat, traj)?, Stepper::Magnus, tolerance, None))
+    let tree = checked_tree(cat, traj)?;
+    Ok(adaptive_on(&ModelField { tree: &tree, traj }, Stepper::Magnus, tolerance, None))
 }
 
 /// [`flip`] for a release with total angular momentum `spin` (N·m·s, world frame).
@@ -125,7 +121,8 @@ pub fn flip_spinning(
     spin: &Vector3<f64>,
     tolerance: f64,
 ) -> Result<Flip, ModelError> {
-    Ok(adaptive_on(&field(cat, traj)?, Stepper::for_spin(spin), tolerance, None))
+    let tree = checked_tree(cat, traj)?;
+    Ok(adaptive_on(&ModelField { tree: &tree, traj }, Stepper::for_spin(spin), tolerance, None))
 }
 
 /// The orientation history with `steps` steps per piece ([`crate::engines::exact::history`]).
@@ -135,9 +132,9 @@ pub fn history(
     stepper: Stepper,
     steps: usize,
 ) -> Result<Vec<OrientationSample>, ModelError> {
-    let f = field(cat, traj)?;
+    let tree = checked_tree(cat, traj)?;
     let mut out = Vec::with_capacity(3 * steps + 1);
-    integrate_on(&f, stepper, steps, |s| out.push(*s));
+    integrate_on(&ModelField { tree: &tree, traj }, stepper, steps, |s| out.push(*s));
     Ok(out)
 }
 
@@ -170,9 +167,20 @@ impl TwoMotorCat {
         &self.cat
     }
 
+    /// The model on `traj`, as the integrator and a [`SpinHistory`] see it.
+    pub fn field<'a, T: Trajectory>(&'a self, traj: &'a T) -> ModelField<'a, T> {
+        ModelField { tree: &self.tree, traj }
+    }
+
     /// A's angular velocity (A's frame) at zero angular momentum through `st`.
     pub fn body_rate(&self, st: &JointState) -> Vector3<f64> {
-        reduction::body_rate(&self.tree, &ShapeState::from(st), &Vector3::zeros())
+        self.body_rate_spinning(st, &Vector3::zeros())
+    }
+
+    /// A's angular velocity `Ω = I_lock⁻¹ (λ − h)` through `st` with the total angular momentum
+    /// `λ` in A's frame.
+    pub fn body_rate_spinning(&self, st: &JointState, lambda: &Vector3<f64>) -> Vector3<f64> {
+        reduction::body_rate(&self.tree, &ShapeState::from(st), lambda)
     }
 
     /// The total angular momentum about the centre of mass (A's frame) of the motion through
@@ -185,9 +193,23 @@ impl TwoMotorCat {
     /// torques on the joint's motor axes ([`Joint::motor_axes`]), the same from A's side, the
     /// couple and the force.
     pub fn joint_torques(&self, st: &JointState) -> LinkTorques {
-        let mut all = reduction::joint_torques(&self.tree, &ShapeState::from(st), &Vector3::zeros());
+        self.joint_torques_spinning(st, &Vector3::zeros())
+    }
+
+    /// [`TwoMotorCat::joint_torques`] with the total angular momentum `λ = Rᵀ L` in A's frame.
+    pub fn joint_torques_spinning(&self, st: &JointState, lambda: &Vector3<f64>) -> LinkTorques {
+        let mut all = reduction::joint_torques(&self.tree, &ShapeState::from(st), lambda);
         // A cat's tree has exactly one link.
         all.swap_remove(0)
+    }
+
+    /// The impulse the motors deliver when the joint rates jump by `dq` at `q` (zero angular
+    /// momentum): the joint's couple at `q̇ = 0` with `q̈ = dq` projected on the motor axes. Over
+    /// an instant only the couple's terms linear in the velocity change count, and at `q̇ = 0` its
+    /// acceleration terms are exactly those (the base's `ΔΩ = −I_lock⁻¹ Δh` as `Ω̇ = −I_lock⁻¹ ḣ`).
+    pub fn motor_impulse(&self, q: [f64; 2], dq: [f64; 2]) -> [f64; 2] {
+        let t = self.joint_torques(&JointState { q, qd: [0.0; 2], qdd: dq });
+        [t.tau[0], t.tau[1]]
     }
 
     /// The kinetic energy about the centre of mass of the zero-momentum motion `(q, q̇)`, J:
@@ -217,6 +239,18 @@ impl TwoMotorCat {
     /// The final twist and swing of `traj` at zero angular momentum, to `tolerance` rad
     /// ([`flip`]).
     pub fn flip(&self, traj: &impl Trajectory, tolerance: f64) -> Flip {
-        adaptive_on(&ModelField { tree: self.tree.clone(), traj }, Stepper::Magnus, tolerance, None)
+        self.flip_released(traj, &Vector3::zeros(), tolerance)
+    }
+
+    /// [`TwoMotorCat::flip`] for a release with total angular momentum `spin` (N·m·s, world
+    /// frame; zero: the Magnus engine), without the orientation history.
+    pub fn flip_released(&self, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> Flip {
+        adaptive_on(&self.field(traj), Stepper::for_spin(spin), tolerance, None)
+    }
+
+    /// The flip of `traj` released with total angular momentum `spin` (N·m·s, world frame), with
+    /// the orientations its torques need ([`SpinHistory::new_on`]).
+    pub fn flip_spinning(&self, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
+        SpinHistory::new_on(&self.field(traj), spin, tolerance)
     }
 }

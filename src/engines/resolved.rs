@@ -14,7 +14,6 @@ use crate::engines::circulation::{resolve_circulation, CirculationError, Resolve
 use crate::engines::evaluate::Evaluation;
 use crate::engines::models::{ModelError, TwoMotorCat};
 use crate::model::Cylinder;
-use crate::numeric::roots::RootStatus;
 use crate::problem::{Problem, ProfileKind};
 use crate::schedule::profile::Profile;
 use crate::schedule::Schedule;
@@ -48,9 +47,6 @@ impl Resolved {
         let fall_time = problem.drop.fall_time();
         let spin = problem.drop.spin();
         let model = TwoMotorCat::new(problem.cat.model())?;
-        if spin.norm_squared() > 0.0 && model.cat().paper().is_none() {
-            return Err(ModelError::Spinning { joint: model.cat().joint }.into());
-        }
         let circulation = resolve_circulation(&model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)
             .map_err(|e| match e {
                 CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
@@ -120,16 +116,7 @@ impl Resolved {
     pub fn calibration(&self) -> &Calibration {
         self.calibration.get_or_init(|| {
             let spin = self.problem.drop.spin();
-            let cal = calibrate_model(&self.model, &self.schedule, &spin, self.problem.exact.tolerance);
-            // `Resolved::new` refused what the model cannot run (a spinning release of another
-            // model); were it asked for, it is a calibration that found nothing.
-            cal.unwrap_or(Calibration {
-                circulation: self.schedule.circulation,
-                twist: f64::NAN,
-                swing: f64::NAN,
-                evaluations: 0,
-                status: RootStatus::NoBracket,
-            })
+            calibrate_model(&self.model, &self.schedule, &spin, self.problem.exact.tolerance)
         })
     }
 

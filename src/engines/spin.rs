@@ -29,7 +29,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::engines::exact::{adaptive, rk4_step, Flip, PieceNodes, Stepper};
+use crate::engines::exact::{adaptive, adaptive_on, rk4_on, CylinderField, Flip, PieceNodes, RateField, Stepper};
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
@@ -52,8 +52,21 @@ impl SpinHistory {
         (flip, SpinHistory { spin: *spin, nodes })
     }
 
+    /// [`SpinHistory::new`] on any [`RateField`] (another cat model's,
+    /// [`crate::engines::models::TwoMotorCat::flip_spinning`]).
+    pub fn new_on(field: &impl RateField, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
+        let mut nodes = Vec::new();
+        let flip = adaptive_on(field, Stepper::Spinning(*spin), tolerance, Some(&mut nodes));
+        (flip, SpinHistory { spin: *spin, nodes })
+    }
+
     /// A's orientation at local time `s` of `piece`.
     pub fn orientation(&self, cat: &Cylinder, traj: &impl Trajectory, piece: usize, s: f64) -> UnitQuaternion<f64> {
+        self.orientation_on(&CylinderField { cat, traj }, piece, s)
+    }
+
+    /// [`SpinHistory::orientation`] on the [`RateField`] the history was integrated on.
+    pub fn orientation_on(&self, field: &impl RateField, piece: usize, s: f64) -> UnitQuaternion<f64> {
         let Some(nodes) = self.nodes.get(piece).filter(|n| !n.is_empty()) else {
             return UnitQuaternion::identity();
         };
@@ -61,7 +74,7 @@ impl SpinHistory {
         let (t, r) = nodes[k];
         let h = s - t;
         if h > 0.0 {
-            rk4_step(cat, traj, piece, &self.spin, &r, t, h)
+            rk4_on(field, piece, &self.spin, &r, t, h)
         } else {
             r
         }
@@ -69,6 +82,11 @@ impl SpinHistory {
 
     /// The total angular momentum in A's frame, `λ = Rᵀ L`, at local time `s` of `piece`.
     pub fn body_momentum(&self, cat: &Cylinder, traj: &impl Trajectory, piece: usize, s: f64) -> Vector3<f64> {
-        self.orientation(cat, traj, piece, s).inverse_transform_vector(&self.spin)
+        self.body_momentum_on(&CylinderField { cat, traj }, piece, s)
+    }
+
+    /// [`SpinHistory::body_momentum`] on the [`RateField`] the history was integrated on.
+    pub fn body_momentum_on(&self, field: &impl RateField, piece: usize, s: f64) -> Vector3<f64> {
+        self.orientation_on(field, piece, s).inverse_transform_vector(&self.spin)
     }
 }

@@ -132,7 +132,7 @@ pub fn joint_torques_spinning(cat: &Cylinder, s: &JointState, lambda: &Vector3<f
 
 /// Where the joint torques along a trajectory come from: the paper's cat at zero momentum or
 /// released with spin (whose orientations a [`SpinHistory`] holds), or another two-coordinate
-/// model at zero momentum ([`crate::engines::models`]).
+/// model ([`crate::engines::models`]), likewise.
 #[derive(Clone, Copy, Debug)]
 pub struct TorqueSource<'a> {
     body: Body<'a>,
@@ -141,7 +141,7 @@ pub struct TorqueSource<'a> {
 #[derive(Clone, Copy, Debug)]
 enum Body<'a> {
     Paper { cat: &'a Cylinder, spin: Option<&'a SpinHistory> },
-    Model(&'a TwoMotorCat),
+    Model { cat: &'a TwoMotorCat, spin: Option<&'a SpinHistory> },
 }
 
 impl<'a> TorqueSource<'a> {
@@ -155,9 +155,15 @@ impl<'a> TorqueSource<'a> {
         Self { body: Body::Paper { cat, spin: Some(history) } }
     }
 
-    /// A two-coordinate model at zero angular momentum ([`crate::engines::models::joint_torques`]).
+    /// A two-coordinate model at zero angular momentum ([`TwoMotorCat::joint_torques`]).
     pub fn model(cat: &'a TwoMotorCat) -> Self {
-        Self { body: Body::Model(cat) }
+        Self { body: Body::Model { cat, spin: None } }
+    }
+
+    /// A two-coordinate model released with spin ([`TwoMotorCat::joint_torques_spinning`] at the
+    /// orientation of `history`, integrated on the model by [`TwoMotorCat::flip_spinning`]).
+    pub fn model_spinning(cat: &'a TwoMotorCat, history: &'a SpinHistory) -> Self {
+        Self { body: Body::Model { cat, spin: Some(history) } }
     }
 
     /// The torques at local time `s` of `piece`, where the joints are in `state`.
@@ -167,8 +173,11 @@ impl<'a> TorqueSource<'a> {
             Body::Paper { cat, spin: Some(h) } => {
                 joint_torques_spinning(cat, state, &h.body_momentum(cat, traj, piece, s))
             }
-            Body::Model(cat) => {
-                let t = cat.joint_torques(state);
+            Body::Model { cat, spin } => {
+                let t = match spin {
+                    None => cat.joint_torques(state),
+                    Some(h) => cat.joint_torques_spinning(state, &h.body_momentum_on(&cat.field(traj), piece, s)),
+                };
                 JointTorques {
                     tau: [t.tau[0], t.tau[1]],
                     from_a: [t.from_base_side[0], t.from_base_side[1]],
@@ -456,18 +465,32 @@ pub struct VelocityJump {
     pub rates_before: [f64; 2],
     /// Joint rates after, rad/s.
     pub rates_after: [f64; 2],
-    /// Generalised impulse `M(q) Δq̇` the joint must deliver, N·m·s.
+    /// The impulse the motors must deliver, N·m·s: the impulsive couple the joint transmits,
+    /// projected on the motor axes as the torques are (on the universal joint this is the
+    /// generalised impulse `M(q) Δq̇`).
     pub impulse: [f64; 2],
 }
 
-/// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses.
+/// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses `M(q) Δq̇`
+/// (on the universal joint, whose motor axes are its joint axes, the motors' impulse).
 pub fn velocity_jumps(cat: &Cylinder, schedule: &Schedule, tol: f64) -> Vec<VelocityJump> {
-    velocity_jumps_with(|q| reduced_mass_matrix(cat, q), schedule, tol)
+    velocity_jumps_with(
+        |q, dq| {
+            let imp = reduced_mass_matrix(cat, q) * nalgebra::Vector2::new(dq[0], dq[1]);
+            [imp[0], imp[1]]
+        },
+        schedule,
+        tol,
+    )
 }
 
-/// [`velocity_jumps`] with the reduced mass matrix `mass(q)` of any two-coordinate model.
+/// [`velocity_jumps`] with the motors' impulse `impulse(q, Δq̇)` of any two-coordinate model:
+/// the joint's couple at `q̇ = 0` with `q̈ = Δq̇`, projected on the motor axes (over an instant
+/// only the terms linear in the velocity change contribute, and at `q̇ = 0` those are exactly
+/// the couple's acceleration terms;
+/// ([`crate::engines::models::TwoMotorCat::motor_impulse`]).
 pub fn velocity_jumps_with(
-    mass: impl Fn([f64; 2]) -> Matrix2<f64>,
+    impulse: impl Fn([f64; 2], [f64; 2]) -> [f64; 2],
     schedule: &Schedule,
     tol: f64,
 ) -> Vec<VelocityJump> {
@@ -476,15 +499,13 @@ pub fn velocity_jumps_with(
         .into_iter()
         .map(|j| {
             let q = schedule.state(j.time).q;
-            let m = mass(q);
-            let dq = nalgebra::Vector2::new(j.after_rates[0] - j.before[0], j.after_rates[1] - j.before[1]);
-            let imp = m * dq;
+            let dq = [j.after_rates[0] - j.before[0], j.after_rates[1] - j.before[1]];
             VelocityJump {
                 time: j.time,
                 after_phase: j.after,
                 rates_before: j.before,
                 rates_after: j.after_rates,
-                impulse: [imp[0], imp[1]],
+                impulse: impulse(q, dq),
             }
         })
         .collect()

@@ -74,6 +74,16 @@ impl Cat {
         format!("{} joint, {halves}", self.joint.name())
     }
 
+    /// The straight cat's principal moments of inertia about its centre of mass,
+    /// `(transverse, axial)`, kg·m²: each half's own plus the reduced mass at the distance
+    /// `(l_A + l_B)/2` between their centres (the parallel-axis theorem).
+    pub fn straight_inertia(&self) -> (f64, f64) {
+        let (a, b) = (self.front, self.rear);
+        let reduced = a.mass * b.mass / (a.mass + b.mass);
+        let apart = 0.5 * (a.length + b.length);
+        (a.transverse() + b.transverse() + reduced * apart * apart, a.axial() + b.axial())
+    }
+
     /// Number of shape coordinates (the joint's).
     pub fn dof(&self) -> usize {
         self.joint.dof()

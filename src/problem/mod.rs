@@ -20,6 +20,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::model::Joint;
 use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
 use limits::in_range;
@@ -73,9 +74,10 @@ impl Drop {
 
     /// How far the release spin alone turns the straight cat during the fall, rigidly, in turns:
     /// `|I⁻¹ L| T / 2π`, with `I = diag(I_t, I_t, I_a)` the straight cat's inertia about its
-    /// centre of mass (a symmetric top turns at the constant rate `|I⁻¹ L|` about its centre).
-    pub fn spin_turns(&self, cat: &crate::model::Cylinder) -> f64 {
-        let (transverse, axial) = (2.0 * cat.end_transverse(), 2.0 * cat.axial());
+    /// centre of mass ([`crate::model::Cat::straight_inertia`]; a symmetric top turns at the
+    /// constant rate `|I⁻¹ L|` about its centre).
+    pub fn spin_turns(&self, cat: &crate::model::Cat) -> f64 {
+        let (transverse, axial) = cat.straight_inertia();
         let l = self.angular_momentum;
         let rate = (l[0] / transverse).hypot(l[1] / transverse).hypot(l[2] / axial);
         rate * self.fall_time() / std::f64::consts::TAU
@@ -203,14 +205,14 @@ impl Problem {
             ));
         }
         self.validate_spin()?;
-        if let (true, Some((field, value))) = (self.drop.spins(), self.cat.departure()) {
+        self.manoeuvre.validate()?;
+        if self.cat.joint == Joint::NoTwist && self.manoeuvre.bend_path == BendPath::Cone {
             return Err(bad(
-                &field,
-                value,
-                "a release with spin (drop.angular_momentum) is modelled for the paper's cat only (equal halves on the universal joint) so far: release this cat without spin",
+                "manoeuvre.bend_path",
+                "\"cone\"",
+                "the cone's joint angles are the universal joint's; on cat.joint = \"no-twist\" the joint circle is the cone (it keeps the bend |q| exactly): set bend_path = \"joint-circle\"",
             ));
         }
-        self.manoeuvre.validate()?;
         self.actuator.validate()?;
         self.exact.validate()?;
         self.rapier.validate()?;
@@ -232,7 +234,7 @@ impl Problem {
                 "must be a finite number (N·m·s)",
             ));
         }
-        let turns = self.drop.spin_turns(&self.cat.half());
+        let turns = self.drop.spin_turns(&self.cat.model());
         if turns > MAX_SPIN_TURNS {
             return Err(bad(
                 "drop.angular_momentum",
@@ -277,7 +279,7 @@ impl Problem {
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
-        let turns = self.drop.spin_turns(&self.cat.half());
+        let turns = self.drop.spin_turns(&self.cat.model());
         if turns > WARN_SPIN_TURNS {
             out.push(format!(
                 "drop.angular_momentum turns the straight cat {} turns during the fall: a cat released by hand turns a fraction of a turn (is it in N·m·s, kg·m²/s?)",

@@ -15,7 +15,7 @@ use crate::model::orientation::swing_twist;
 use crate::problem::Problem;
 use crate::report::plot::{line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Series};
 use crate::report::results_dir::{ResultsDirError, Staging};
-use crate::robust::tracked::{Film, TrackingSummary};
+use crate::robust::tracked::{FeedbackSummary, Film, TrackingSummary};
 use crate::robust::{Engine, Percentiles, RobustReport, Robustness};
 use crate::schedule::Trajectory;
 
@@ -94,9 +94,9 @@ impl RobustReport {
                 Engine::RapierFeedback => {
                     let _ = writeln!(
                         out,
-                        "- *{}*: the same trials (same draws, same sensor noise), the plan corrected by time-varying LQR on the linearised reduced dynamics at {} Hz (attitude scale {}°, joint correction scale {}°, joint acceleration ≤ {} rad/s²), fed by a Kalman filter that estimates the attitude error and the unknown spin from the late, noisy sensor (prior σ = {} N·m·s) and carries it over the latency.",
+                        "- *{}*: the same trials (same draws, same sensor noise), the plan corrected by time-varying LQR on the linearised reduced dynamics at {} (attitude scale {}°, joint correction scale {}°, joint acceleration ≤ {} rad/s²), fed by a Kalman filter that estimates the attitude error and the unknown spin from the late, noisy sensor (prior σ = {} N·m·s) and carries it over the latency.",
                         c.engine.describe(),
-                        s.feedback_hz,
+                        control_rate(s.feedback_hz, c.tracking.as_ref().and_then(|t| t.feedback.as_ref())),
                         s.feedback_attitude_deg,
                         s.feedback_joint_deg,
                         s.feedback_accel,
@@ -449,4 +449,15 @@ fn write_film(
         pose_filmstrip(&path, problem, engine_name, schedule, &poses, &caption)?;
     }
     Ok(())
+}
+
+/// The regulator's rate as it ran: the setting, or the whole number of run steps it was rounded
+/// to when that differs from the setting by more than 0.1 %.
+fn control_rate(setting_hz: f64, feedback: Option<&FeedbackSummary>) -> String {
+    match feedback.map(|f| 1.0 / f.control_dt_s) {
+        Some(ran) if (ran - setting_hz).abs() > 1e-3 * setting_hz => {
+            format!("{ran:.1} Hz (`feedback_hz` = {setting_hz} rounded to a whole number of the run's steps)")
+        }
+        _ => format!("{setting_hz} Hz"),
+    }
 }

@@ -8,7 +8,7 @@
 
 use catflip::engines::resolved::Resolved;
 use catflip::problem::Problem;
-use catflip::schedule::{paper_circulation, Schedule};
+use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 
 /// The paper's problem (every field at its default) and its schedule with the paper's
 /// circulation `π/C` (DESIGN.md §3).
@@ -23,4 +23,20 @@ pub fn paper() -> (Problem, Schedule) {
 /// The paper's problem resolved (its schedule and circulation), as every command starts.
 pub fn paper_resolved() -> Resolved {
     Resolved::new(&Problem::default()).unwrap_or_else(|e| panic!("the paper's problem resolves: {e}"))
+}
+
+/// A cat held at joint angles `q` for `duration` s: a rigid body (`q = 0`: held straight).
+pub struct Held {
+    pub q: [f64; 2],
+    pub duration: f64,
+}
+
+impl Trajectory for Held {
+    fn piece_durations(&self) -> Vec<f64> {
+        vec![self.duration]
+    }
+
+    fn piece_state(&self, _piece: usize, _s: f64) -> JointState {
+        JointState { q: self.q, ..JointState::default() }
+    }
 }
