@@ -137,7 +137,7 @@ fn a_refused_case_carries_its_reason_and_never_a_nan() {
         "[[axis]]\nfield = \"manoeuvre.bend_path\"\nvalues = [\"cone\"]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [90.0, 200.0, 135.0]\n[compute]\nrapier = true",
     ));
     let records = evaluate(&s, 0..s.case_count(), false);
-    let exact: Vec<_> = records.iter().filter(|r| r.engine == "exact").collect();
+    let exact: Vec<_> = records.iter().filter(|r| r.engine.name() == "exact").collect();
     assert_eq!(exact.len(), 6, "paper and calibrated rows of three cases");
     for r in &exact[..4] {
         assert_eq!(r.status, Status::Refused, "case {}", r.case);
@@ -149,7 +149,7 @@ fn a_refused_case_carries_its_reason_and_never_a_nan() {
     assert!(exact[4..].iter().all(|r| r.status == Status::Ok && r.numbers.is_some()));
     // Rapier checks each exact row: a refused case's rapier rows carry the case's reason, the
     // computed case's are verified or say what they found.
-    let rapier: Vec<_> = records.iter().filter(|r| r.engine == "rapier").collect();
+    let rapier: Vec<_> = records.iter().filter(|r| r.engine.name() == "rapier").collect();
     assert_eq!(rapier.len(), 6);
     for r in &rapier[..4] {
         assert_eq!(r.status, Status::Refused);
@@ -307,7 +307,8 @@ fn a_case_gives_the_numbers_simulate_gives_for_its_problem() {
     let mut problem = catflip::problem::Problem::default();
     problem.manoeuvre.profile = catflip::problem::ProfileKind::Cycloidal;
     let outcome = catflip::sweep::evaluate_case(&problem, &catflip::sweep::Compute::default());
-    let row = |s: &str| outcome.rows.iter().find(|r| r.schedule == s).and_then(|r| r.numbers).expect("an ok row");
+    let row =
+        |s: &str| outcome.rows.iter().find(|r| r.schedule.name() == s).and_then(|r| r.numbers).expect("an ok row");
     let (paper, calibrated) = (row("paper"), row("calibrated"));
     let sim_paper = catflip::report::simulate::simulate(
         &catflip::engines::resolved::Resolved::new(&problem).expect("resolves"),
@@ -344,7 +345,7 @@ fn a_given_circulation_adds_its_own_row() {
             .replace("name = \"tiny\"", "name = \"tiny\"\n[base.manoeuvre]\ncirculation = 3.3"),
     );
     let records = evaluate(&s, 0..1, false);
-    let schedules: Vec<&str> = records.iter().map(|r| r.schedule.as_str()).collect();
+    let schedules: Vec<&str> = records.iter().map(|r| r.schedule.name()).collect();
     assert_eq!(schedules, ["paper", "calibrated", "given"]);
     let given = records[2].numbers.expect("computed");
     assert_eq!(given.circulation_rad.map(f64::to_bits), Some(3.3f64.to_bits()));
@@ -364,7 +365,7 @@ fn optimised() -> Sweep {
 fn row<'a>(records: &'a [Record], case: usize, schedule: &str, engine: &str) -> &'a Record {
     records
         .iter()
-        .find(|r| r.case == case && r.schedule == schedule && r.engine == engine)
+        .find(|r| r.case == case && r.schedule.name() == schedule && r.engine.name() == engine)
         .unwrap_or_else(|| panic!("no {schedule}/{engine} row for case {case}"))
 }
 
@@ -373,7 +374,7 @@ fn retiming_whole_optimum_and_rapier_give_numbers_or_a_stated_status() {
     let s = optimised();
     let records = evaluate(&s, 0..s.case_count(), false);
     let order: Vec<(&str, &str)> =
-        records.iter().filter(|r| r.case == 0).map(|r| (r.schedule.as_str(), r.engine.as_str())).collect();
+        records.iter().filter(|r| r.case == 0).map(|r| (r.schedule.name(), r.engine.name())).collect();
     let want = ["paper", "calibrated", "retimed", "whole"];
     let expected: Vec<(&str, &str)> =
         want.iter().map(|&x| (x, "exact")).chain(want.iter().map(|&x| (x, "rapier"))).collect();
@@ -389,7 +390,7 @@ fn retiming_whole_optimum_and_rapier_give_numbers_or_a_stated_status() {
     for case in 0..2 {
         let calibrated = row(&records, case, "calibrated", "exact").numbers.expect("calibrated numbers");
         let retimed = row(&records, case, "retimed", "exact");
-        assert_eq!(retimed.labels.retimed_from, "calibrated");
+        assert_eq!(retimed.labels.retimed_from, Some(catflip::sweep::row::SweepSchedule::Calibrated));
         assert_eq!(retimed.labels.solver_status, "solved");
         let n = retimed.numbers.expect("the retiming solves");
         let rt = n.retiming.expect("the retiming's numbers");
@@ -467,7 +468,7 @@ fn compute_whole_control_points_is_refused_naming_the_problem_field() {
         with_base("[[axis]]\nfield = \"optimize.whole.control_points\"\nvalues = [3]\n[compute]\nwhole = true")
     ));
     let r = &evaluate(&s, 0..1, false)[2];
-    assert_eq!((r.schedule.as_str(), r.status), ("whole", Status::Refused));
+    assert_eq!((r.schedule.name(), r.status), ("whole", Status::Refused));
     assert!(r.reason.contains("optimize.whole.control_points = 3"), "{}", r.reason);
 }
 
@@ -483,7 +484,7 @@ fn a_verification_without_a_usable_run_counts_as_inconclusive() {
     run(&s, &options).expect("the sweep runs");
     let records =
         from_csv(&s, &std::fs::read_to_string(root.join("t/sweep.csv")).expect("CSV"), "test").expect("reads");
-    let rapier: Vec<&Record> = records.iter().filter(|r| r.engine == "rapier").collect();
+    let rapier: Vec<&Record> = records.iter().filter(|r| r.engine.name() == "rapier").collect();
     assert!(!rapier.is_empty());
     for r in &rapier {
         assert_eq!(r.status, Status::Failed, "{r:?}");

@@ -61,6 +61,11 @@ impl Engine {
             Engine::Rapier => "rapier",
         }
     }
+
+    /// The engine of a name written by [`Engine::name`].
+    pub fn parse(s: &str) -> Option<Engine> {
+        [Engine::Exact, Engine::Rapier].into_iter().find(|e| e.name() == s)
+    }
 }
 
 impl fmt::Display for Engine {

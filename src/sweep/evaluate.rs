@@ -35,11 +35,12 @@ use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::flip;
 use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::Reference;
+use crate::engines::Engine;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
 use crate::schedule::{paper_circulation, Schedule};
 
-use super::row::{Labels, Measured, MotorNumbers, Numbers, Row, Status, Subject};
+use super::row::{Labels, Measured, MotorNumbers, Numbers, Row, Status, Subject, SweepSchedule};
 use super::spec::{Compute, Sweep};
 
 /// What a case gives: its rows and the case-level numbers.
@@ -74,7 +75,7 @@ impl CaseOutcome {
 
 /// The (schedule, engine) pairs of case `index`'s rows, in order: those [`evaluate_case`] gives
 /// the case's problem, or [`CaseOutcome::refused`] when the problem file refuses it.
-pub fn row_keys(sweep: &Sweep, index: usize) -> Vec<(&'static str, &'static str)> {
+pub fn row_keys(sweep: &Sweep, index: usize) -> Vec<(SweepSchedule, Engine)> {
     let given = super::cases::case(sweep, index)
         .problem(sweep)
         .is_ok_and(|p| matches!(p.manoeuvre.circulation, Circulation::Angle(_)));
@@ -82,26 +83,26 @@ pub fn row_keys(sweep: &Sweep, index: usize) -> Vec<(&'static str, &'static str)
 }
 
 /// The (schedule, engine) pairs `compute` asks for, in row order.
-fn asked_schedules(compute: &Compute, given: bool) -> Vec<(&'static str, &'static str)> {
+fn asked_schedules(compute: &Compute, given: bool) -> Vec<(SweepSchedule, Engine)> {
     let mut out = Vec::new();
     if compute.paper_flip {
-        out.push(("paper", "exact"));
+        out.push((SweepSchedule::Paper, Engine::Exact));
     }
     if compute.calibrated {
-        out.push(("calibrated", "exact"));
+        out.push((SweepSchedule::Calibrated, Engine::Exact));
     }
     if given {
-        out.push(("given", "exact"));
+        out.push((SweepSchedule::Given, Engine::Exact));
     }
     if compute.retiming {
-        out.push(("retimed", "exact"));
+        out.push((SweepSchedule::Retimed, Engine::Exact));
     }
     if compute.whole {
-        out.push(("whole", "exact"));
+        out.push((SweepSchedule::Whole, Engine::Exact));
     }
     if compute.rapier {
-        let verified: Vec<_> = out.iter().filter(|(_, e)| *e == "exact").map(|(s, _)| *s).collect();
-        out.extend(verified.into_iter().map(|s| (s, "rapier")));
+        let verified: Vec<_> = out.iter().filter(|(_, e)| *e == Engine::Exact).map(|(s, _)| *s).collect();
+        out.extend(verified.into_iter().map(|s| (s, Engine::Rapier)));
     }
     out
 }
@@ -122,19 +123,19 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
     let calibrated_rad = calibrated.as_ref().and_then(|c| c.as_ref().ok()).map(|c| c.0);
     let mut measured = Vec::new();
     for (schedule, engine) in asked_schedules(compute, given.is_some()) {
-        if engine != "exact" {
+        if engine != Engine::Exact {
             continue;
         }
         let m = match schedule {
-            "paper" => schedule_row(problem, compute, schedule, &paper),
-            "calibrated" => match &calibrated {
+            SweepSchedule::Paper => schedule_row(problem, compute, schedule, &paper),
+            SweepSchedule::Calibrated => match &calibrated {
                 Some(c) => schedule_row(problem, compute, schedule, c),
                 None => schedule_row(problem, compute, schedule, &calibrate(problem)),
             },
-            "retimed" => match calibrated.as_ref() {
-                Some(Ok((d, _))) => super::optimum::retimed(problem, "calibrated", *d),
+            SweepSchedule::Retimed => match calibrated.as_ref() {
+                Some(Ok((d, _))) => super::optimum::retimed(problem, SweepSchedule::Calibrated, *d),
                 _ => match &paper {
-                    Ok((d, _)) => super::optimum::retimed(problem, "paper", *d),
+                    Ok((d, _)) => super::optimum::retimed(problem, SweepSchedule::Paper, *d),
                     Err((status, reason)) => Measured::alone(Row::without(
                         schedule,
                         engine,
@@ -144,8 +145,8 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
                     )),
                 },
             },
-            "whole" => super::optimum::whole(problem),
-            _ => {
+            SweepSchedule::Whole => super::optimum::whole(problem),
+            SweepSchedule::Given => {
                 let g =
                     given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string()));
                 schedule_row(problem, compute, schedule, &g)
@@ -180,12 +181,12 @@ fn calibrate(problem: &Problem) -> Resolution {
 /// The exact row of the library schedule with `circulation`: with `peaks` (or `rapier`, which
 /// checks the peak) the shared [`Evaluation`] (flip, peaks and motor demand, as `simulate`
 /// measures them), else the flip alone.
-fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulation: &Resolution) -> Measured {
+fn schedule_row(problem: &Problem, compute: &Compute, schedule: SweepSchedule, circulation: &Resolution) -> Measured {
     let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
     let (radians, evaluations) = match circulation {
         Ok(x) => *x,
         Err((status, reason)) => {
-            return Measured::alone(Row::without(schedule, "exact", *status, reason, Labels::default()))
+            return Measured::alone(Row::without(schedule, Engine::Exact, *status, reason, Labels::default()))
         }
     };
     let s = Schedule::new(problem, radians);
@@ -200,7 +201,7 @@ fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulatio
             "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
             f.error_estimate
         );
-        return Measured::alone(Row::without(schedule, "exact", Status::Failed, &reason, Labels::default()));
+        return Measured::alone(Row::without(schedule, Engine::Exact, Status::Failed, &reason, Labels::default()));
     }
     let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
     numbers.calibration_evaluations = evaluations;
@@ -211,7 +212,7 @@ fn schedule_row(problem: &Problem, compute: &Compute, schedule: &str, circulatio
             numbers.motors = Some(MotorNumbers::new(&e.motors));
         }
     }
-    let row = Row::with(schedule, "exact", numbers, Labels::default());
+    let row = Row::with(schedule, Engine::Exact, numbers, Labels::default());
     let subject = match (&row.status, evaluation) {
         (Status::Ok, Some(e)) => {
             Some((Subject::Schedule(s), Reference { twist: f.twist, swing: f.swing, peak_torque: e.peaks.max }))

@@ -6,8 +6,10 @@
 
 use super::cases::cell;
 use super::heatmap::short;
+use super::row::SweepSchedule;
 use super::spec::Sweep;
 use super::table::Record;
+use crate::engines::Engine;
 
 /// Which axes play which part.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -73,7 +75,7 @@ fn labels(sweep: &Sweep, axis: Option<usize>) -> (Vec<String>, Vec<f64>) {
 pub fn grids(
     sweep: &Sweep,
     records: &[Record],
-    schedule: &str,
+    schedule: SweepSchedule,
     quantity: impl Fn(&Record) -> Option<f64>,
 ) -> Vec<Grid> {
     let lay = layout(sweep);
@@ -81,7 +83,7 @@ pub fn grids(
     let (col_labels, _) = labels(sweep, lay.cols);
     let mut keys: Vec<Vec<usize>> = Vec::new();
     let mut out: Vec<Grid> = Vec::new();
-    for r in records.iter().filter(|r| r.schedule == schedule && r.engine == "exact") {
+    for r in records.iter().filter(|r| r.schedule == schedule && r.engine == Engine::Exact) {
         let key: Vec<usize> = lay.groups.iter().map(|&g| r.picks[g]).collect();
         let g = match keys.iter().position(|k| *k == key) {
             Some(g) => g,
@@ -115,10 +117,10 @@ pub fn grids(
 }
 
 /// The schedule whose torques the summary ranks by: the calibrated one when computed.
-pub fn primary_schedule(sweep: &Sweep) -> &'static str {
+pub fn primary_schedule(sweep: &Sweep) -> SweepSchedule {
     if sweep.compute.calibrated {
-        "calibrated"
+        SweepSchedule::Calibrated
     } else {
-        "paper"
+        SweepSchedule::Paper
     }
 }

@@ -25,12 +25,15 @@ use crate::engines::motors::motor_demand;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Reference;
 use crate::engines::torque::piece_samples;
+use crate::engines::Engine;
 use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, Retiming, Split};
 use crate::optimize::whole::{optimize_whole, WholeError, WholeOutcome};
 use crate::problem::Problem;
 use crate::schedule::Schedule;
 
-use super::row::{Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, Subject, WholeNumbers};
+use super::row::{
+    Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, Subject, SweepSchedule, WholeNumbers,
+};
 
 /// The retiming settings of a sweep: the defaults with the phase durations free.
 pub fn retime_settings() -> RetimeSettings {
@@ -38,11 +41,11 @@ pub fn retime_settings() -> RetimeSettings {
 }
 
 /// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path.
-pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
+pub(crate) fn retimed(problem: &Problem, from: SweepSchedule, radians: f64) -> Measured {
     let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
-    let labels = |solver: String| Labels { retimed_from: from.to_string(), solver_status: solver, ..Labels::default() };
+    let labels = |solver: String| Labels { retimed_from: Some(from), solver_status: solver, ..Labels::default() };
     let failed = |status, reason: &str, solver: String| {
-        Measured::alone(Row::without("retimed", "exact", status, reason, labels(solver)))
+        Measured::alone(Row::without(SweepSchedule::Retimed, Engine::Exact, status, reason, labels(solver)))
     };
     let s = Schedule::new(problem, radians);
     let r: Retiming<PhasePath> = match retime_schedule(cat, &s, retime_settings()) {
@@ -74,7 +77,7 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
     numbers.motors = Some(MotorNumbers::new(&motor_demand(cat, &traj, &samples, &problem.actuator.motors())));
     numbers.retiming =
         Some(RetimeNumbers { lower_bound_nm: sol.lower_bound, program_peak_nm: sol.peak, gap_nm: sol.gap });
-    let row = Row::with("retimed", "exact", numbers, labels(solver));
+    let row = Row::with(SweepSchedule::Retimed, Engine::Exact, numbers, labels(solver));
     let reference = Reference { twist: f.twist, swing: f.swing, peak_torque: m.peaks.max };
     let subject = (row.status == Status::Ok).then_some((Subject::Retimed(traj), reference));
     Measured { row, subject }
@@ -93,10 +96,22 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome: WholeOutcome = match outcome {
         Ok(o) => o,
         Err(e @ WholeError::BadFieldValue { .. }) => {
-            return Measured::alone(Row::without("whole", "exact", Status::Refused, &e.to_string(), Labels::default()))
+            return Measured::alone(Row::without(
+                SweepSchedule::Whole,
+                Engine::Exact,
+                Status::Refused,
+                &e.to_string(),
+                Labels::default(),
+            ))
         }
         Err(e) => {
-            return Measured::alone(Row::without("whole", "exact", Status::Failed, &e.to_string(), Labels::default()))
+            return Measured::alone(Row::without(
+                SweepSchedule::Whole,
+                Engine::Exact,
+                Status::Failed,
+                &e.to_string(),
+                Labels::default(),
+            ))
         }
     };
     let solver: Vec<String> = outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.status)).collect();
@@ -106,7 +121,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
         why.extend(outcome.skipped.iter().map(|s| format!("{} skipped: {}", s.start, s.reason)));
         let reason = format!("no start converged to a flip ({})", why.join("; "));
         let labels = Labels { solver_status: solver.join("; "), ..Labels::default() };
-        return Measured::alone(Row::without("whole", "exact", Status::Failed, &reason, labels));
+        return Measured::alone(Row::without(SweepSchedule::Whole, Engine::Exact, Status::Failed, &reason, labels));
     };
     let labels = Labels { solver_status: solver.join("; "), whole_start: best.start.clone(), ..Labels::default() };
     let mut numbers = Numbers::flip(None, best.twist, best.swing, Some(best.flip_error_estimate));
@@ -119,7 +134,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
         drop_height_m: 0.5 * problem.drop.gravity * t * t,
     });
     numbers.motors = Some(MotorNumbers::new(&best.motors));
-    let row = Row::with("whole", "exact", numbers, labels);
+    let row = Row::with(SweepSchedule::Whole, Engine::Exact, numbers, labels);
     let reference = Reference { twist: best.twist, swing: best.swing, peak_torque: best.peak_torque_nm };
     let subject = (row.status == Status::Ok).then(|| (Subject::Whole(best.spline.clone()), reference));
     Measured { row, subject }

@@ -8,6 +8,7 @@ use crate::report::plot::{line_plot, LinePlot, PlotError, Series};
 
 use super::grid::{grids, layout, primary_schedule, Grid};
 use super::heatmap::{heat_map, HeatMap};
+use super::row::SweepSchedule;
 use super::spec::Sweep;
 use super::table::Record;
 
@@ -34,7 +35,7 @@ pub struct Quantity {
     /// What it is, with its unit.
     pub label: String,
     /// The schedule whose rows carry it.
-    pub schedule: &'static str,
+    pub schedule: SweepSchedule,
     /// Its value on a row.
     pub value: fn(&Record) -> Option<f64>,
 }
@@ -47,7 +48,7 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         q.push(Quantity {
             stem: "pi-over-c-error",
             label: "π/C error (calibrated − π/C)/(π/C), %".into(),
-            schedule: "calibrated",
+            schedule: SweepSchedule::Calibrated,
             value: |r| r.circulation_rel_error().map(|e| 100.0 * e),
         });
     }
@@ -55,7 +56,7 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         q.push(Quantity {
             stem: "paper-flip-error",
             label: "flip error of π/C, |twist| − 180°, degrees".into(),
-            schedule: "paper",
+            schedule: SweepSchedule::Paper,
             value: |r| r.numbers.map(|n| n.flip_error_deg),
         });
     }
@@ -72,7 +73,7 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         q.push(Quantity {
             stem: "retimed-peak",
             label: "peak torque of the certified retiming (exact), N·m".into(),
-            schedule: "retimed",
+            schedule: SweepSchedule::Retimed,
             value: Record::peak_max,
         });
     }
@@ -80,7 +81,7 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         q.push(Quantity {
             stem: "drop-height",
             label: "least drop height g·T²/2 within the motors (whole optimum, min-time), m".into(),
-            schedule: "whole",
+            schedule: SweepSchedule::Whole,
             value: |r| r.numbers.and_then(|n| n.whole).map(|w| w.drop_height_m),
         });
     }
@@ -88,7 +89,7 @@ pub fn quantities(sweep: &Sweep) -> Vec<Quantity> {
         q.push(Quantity {
             stem: "whole-peak",
             label: "peak torque of the whole-manoeuvre optimum, N·m".into(),
-            schedule: "whole",
+            schedule: SweepSchedule::Whole,
             value: Record::peak_max,
         });
     }

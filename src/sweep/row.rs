@@ -9,6 +9,7 @@ use serde::Serialize;
 use crate::engines::motors::{MotorDemand, RATIO_TOLERANCE};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Reference;
+use crate::engines::Engine;
 use crate::model::motor::Limit;
 use crate::optimize::retime::{PhasePath, RetimedTrajectory};
 use crate::optimize::whole::BSpline;
@@ -46,6 +47,60 @@ impl Status {
     pub fn parse(s: &str) -> Option<Status> {
         [Status::Ok, Status::Refused, Status::Failed, Status::Skipped].into_iter().find(|x| x.name() == s)
     }
+}
+
+/// The schedule a row measures (the CSV's `schedule`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SweepSchedule {
+    /// The library schedule with the paper's circulation `π/C`.
+    Paper,
+    /// The library schedule with the calibrated circulation.
+    Calibrated,
+    /// The library schedule with the circulation the problem gives.
+    Given,
+    /// The certified convex retiming of the calibrated (or the paper's) schedule.
+    Retimed,
+    /// The whole-manoeuvre optimum.
+    Whole,
+}
+
+impl SweepSchedule {
+    /// Every schedule, in row order.
+    pub const ALL: [SweepSchedule; 5] = [
+        SweepSchedule::Paper,
+        SweepSchedule::Calibrated,
+        SweepSchedule::Given,
+        SweepSchedule::Retimed,
+        SweepSchedule::Whole,
+    ];
+
+    /// The kebab-case name written in the CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepSchedule::Paper => "paper",
+            SweepSchedule::Calibrated => "calibrated",
+            SweepSchedule::Given => "given",
+            SweepSchedule::Retimed => "retimed",
+            SweepSchedule::Whole => "whole",
+        }
+    }
+
+    /// The schedule of a name written by [`SweepSchedule::name`].
+    pub fn parse(s: &str) -> Option<SweepSchedule> {
+        SweepSchedule::ALL.into_iter().find(|x| x.name() == s)
+    }
+}
+
+impl std::fmt::Display for SweepSchedule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Writes an optional schedule as its name, or an empty string (the CSV's cell).
+fn name_or_empty<S: serde::Serializer>(s: &Option<SweepSchedule>, out: S) -> Result<S::Ok, S::Error> {
+    out.serialize_str(s.map_or("", SweepSchedule::name))
 }
 
 /// The convex retiming's own numbers (schedule `retimed`).
@@ -228,8 +283,10 @@ impl Numbers {
 /// status, so a failed optimisation still says how its solver ended.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Labels {
-    /// The schedule a `retimed` row retimes: `calibrated`, or `paper` when the calibration failed.
-    pub retimed_from: String,
+    /// The schedule a `retimed` row retimes: `calibrated`, or `paper` when the calibration failed
+    /// (written as its name, empty for other rows).
+    #[serde(serialize_with = "name_or_empty")]
+    pub retimed_from: Option<SweepSchedule>,
     /// How the optimiser ended: the retiming's [`crate::optimize::retime::RetimeStatus`], the
     /// whole optimum's [`crate::optimize::whole::WholeStatus`] per start.
     pub solver_status: String,
@@ -242,10 +299,10 @@ pub struct Labels {
 /// One row: a schedule of a case through an engine.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Row {
-    /// `paper`, `calibrated`, `given`, `retimed` or `whole`.
-    pub schedule: String,
-    /// `exact` or `rapier`.
-    pub engine: String,
+    /// The schedule.
+    pub schedule: SweepSchedule,
+    /// The engine.
+    pub engine: Engine,
     /// How it ended.
     pub status: Status,
     /// Why, when not `ok` (one line).
@@ -258,28 +315,14 @@ pub struct Row {
 
 impl Row {
     /// A row without numbers.
-    pub fn without(schedule: &str, engine: &str, status: Status, reason: &str, labels: Labels) -> Row {
-        Row {
-            schedule: schedule.to_string(),
-            engine: engine.to_string(),
-            status,
-            reason: one_line(reason),
-            labels,
-            numbers: None,
-        }
+    pub fn without(schedule: SweepSchedule, engine: Engine, status: Status, reason: &str, labels: Labels) -> Row {
+        Row { schedule, engine, status, reason: one_line(reason), labels, numbers: None }
     }
 
     /// An `ok` row, or a `failed` one when a number is not finite.
-    pub fn with(schedule: &str, engine: &str, numbers: Numbers, labels: Labels) -> Row {
+    pub fn with(schedule: SweepSchedule, engine: Engine, numbers: Numbers, labels: Labels) -> Row {
         if numbers.all_finite() {
-            Row {
-                schedule: schedule.to_string(),
-                engine: engine.to_string(),
-                status: Status::Ok,
-                reason: String::new(),
-                labels,
-                numbers: Some(numbers),
-            }
+            Row { schedule, engine, status: Status::Ok, reason: String::new(), labels, numbers: Some(numbers) }
         } else {
             Row::without(schedule, engine, Status::Failed, "the engine returned a non-finite number", labels)
         }

@@ -6,27 +6,29 @@ use std::fmt::Write as _;
 
 use super::cases::cell;
 use super::heatmap::short;
+use super::row::SweepSchedule;
 use super::spec::Sweep;
 use super::table::Record;
+use crate::engines::Engine;
 
 /// At most this many rows in one table, and grids per quantity.
 pub const MAX_ROWS: usize = 60;
 
 /// The schedules compared, in row order, with the peak a row shows for them.
-fn schedules(sweep: &Sweep) -> Vec<&'static str> {
+fn schedules(sweep: &Sweep) -> Vec<SweepSchedule> {
     let c = &sweep.compute;
     let mut s = Vec::new();
     if c.peaks && c.paper_flip {
-        s.push("paper");
+        s.push(SweepSchedule::Paper);
     }
     if c.peaks && c.calibrated {
-        s.push("calibrated");
+        s.push(SweepSchedule::Calibrated);
     }
     if c.retiming {
-        s.push("retimed");
+        s.push(SweepSchedule::Retimed);
     }
     if c.whole {
-        s.push("whole");
+        s.push(SweepSchedule::Whole);
     }
     s
 }
@@ -48,14 +50,14 @@ pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
     }
     for n in &names {
         let _ = write!(head, " {n} |");
-        if *n == "retimed" {
+        if *n == SweepSchedule::Retimed {
             head.push_str(" bound |");
         }
     }
     let _ = writeln!(s, "{head} lowest |");
     let extra = names.len() + usize::from(c.retiming);
     let _ = writeln!(s, "|---:|{}{}---|", "---|".repeat(sweep.axes.len()), "---:|".repeat(extra));
-    let exact: Vec<&Record> = records.iter().filter(|r| r.engine == "exact").collect();
+    let exact: Vec<&Record> = records.iter().filter(|r| r.engine == Engine::Exact).collect();
     let mut cases: Vec<usize> = exact.iter().map(|r| r.case).collect();
     cases.dedup();
     for &k in cases.iter().take(MAX_ROWS) {
@@ -65,23 +67,23 @@ pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
         for (a, &p) in sweep.axes.iter().zip(&first.picks) {
             let _ = write!(line, " {} |", cell(&a.values[p]));
         }
-        let mut lowest: Option<(&str, f64)> = None;
+        let mut lowest: Option<(SweepSchedule, f64)> = None;
         for n in &names {
             let r = rows.iter().find(|r| r.schedule == *n);
             let peak = r.and_then(|r| r.peak_max()).filter(|p| p.is_finite());
-            let mark = if r.is_some_and(|r| r.labels.retimed_from == "paper") { "*" } else { "" };
+            let mark = if r.is_some_and(|r| r.labels.retimed_from == Some(SweepSchedule::Paper)) { "*" } else { "" };
             let _ = write!(line, " {}{mark} |", peak.map_or_else(|| "—".to_string(), short));
-            if *n == "retimed" {
+            if *n == SweepSchedule::Retimed {
                 let bound = r.and_then(|r| r.numbers).and_then(|x| x.retiming).map(|x| x.lower_bound_nm);
                 let _ = write!(line, " {} |", bound.map_or_else(|| "—".to_string(), short));
             }
             if let Some(p) = peak {
                 if lowest.is_none_or(|(_, b)| p < b) {
-                    lowest = Some((n, p));
+                    lowest = Some((*n, p));
                 }
             }
         }
-        let _ = writeln!(s, "{line} {} |", lowest.map_or("—", |(n, _)| n));
+        let _ = writeln!(s, "{line} {} |", lowest.map_or("—", |(n, _)| n.name()));
     }
     if cases.len() > MAX_ROWS {
         let _ = writeln!(s, "\n({} more cases in `sweep.csv`.)", cases.len() - MAX_ROWS);
@@ -99,14 +101,14 @@ pub fn verdicts(s: &mut String, sweep: &Sweep, records: &[Record]) {
         s,
         "## Rapier's verdicts\n\nRows of each schedule by rapier's verdict against the exact engine (twist, swing, peak torque within the `[rapier]` tolerances; `rapier.step_budget` bounds the steps, no wall-clock budget); `no verdict` counts rapier rows that rapier could not judge at all (no exact result to verify, or rapier could not run; see their reasons); a verification without a usable run is `inconclusive` (its row is `failed`: it has no numbers).\n\n| schedule | verified | not verified | inconclusive | no verdict |\n|---|---:|---:|---:|---:|"
     );
-    let mut order: Vec<&str> = Vec::new();
-    for r in records.iter().filter(|r| r.engine == "rapier") {
-        if !order.contains(&r.schedule.as_str()) {
-            order.push(&r.schedule);
+    let mut order: Vec<SweepSchedule> = Vec::new();
+    for r in records.iter().filter(|r| r.engine == Engine::Rapier) {
+        if !order.contains(&r.schedule) {
+            order.push(r.schedule);
         }
     }
     for name in order {
-        let rows: Vec<&Record> = records.iter().filter(|r| r.engine == "rapier" && r.schedule == name).collect();
+        let rows: Vec<&Record> = records.iter().filter(|r| r.engine == Engine::Rapier && r.schedule == name).collect();
         // A verification that made no usable run has a verdict (inconclusive) but no numbers: it
         // counts by its verdict, as in `catflip run`.
         let word = |w: &str| rows.iter().filter(|r| r.labels.rapier_verdict.starts_with(w)).count();

@@ -10,10 +10,12 @@ use super::cases::cell;
 use super::grid::{grids, primary_schedule, Grid};
 use super::heatmap::short;
 use super::plots::{min_time, quantities, PlotInfo};
+use super::row::SweepSchedule;
 use super::schedules::MAX_ROWS;
 use super::spec::Sweep;
 use super::table::Record;
 use super::Status;
+use crate::engines::Engine;
 
 /// At most this many grids per quantity.
 pub const MAX_GRIDS: usize = 6;
@@ -100,12 +102,12 @@ fn overview(s: &mut String, sweep: &Sweep, records: &[Record]) {
 }
 
 fn not_computed(s: &mut String, records: &[Record]) {
-    let mut reasons: Vec<(Status, &str, &str, usize, usize)> = Vec::new();
+    let mut reasons: Vec<(Status, &str, SweepSchedule, usize, usize)> = Vec::new();
     for r in records.iter().filter(|r| r.status != Status::Ok) {
-        let key = (r.status, r.reason.as_str(), r.schedule.as_str());
+        let key = (r.status, r.reason.as_str(), r.schedule);
         match reasons.iter_mut().find(|x| (x.0, x.1, x.2) == key) {
             Some(x) => x.4 += 1,
-            None => reasons.push((r.status, r.reason.as_str(), r.schedule.as_str(), r.case, 1)),
+            None => reasons.push((r.status, r.reason.as_str(), r.schedule, r.case, 1)),
         }
     }
     if reasons.is_empty() {
@@ -146,7 +148,7 @@ fn best_choice(s: &mut String, sweep: &Sweep, records: &[Record], axis: usize) {
     let schedule = primary_schedule(sweep);
     let others: Vec<usize> = (0..sweep.axes.len()).filter(|&i| i != axis).collect();
     let mut groups: Vec<Ranked> = Vec::new();
-    for r in records.iter().filter(|r| r.schedule == schedule && r.engine == "exact") {
+    for r in records.iter().filter(|r| r.schedule == schedule && r.engine == Engine::Exact) {
         let key: Vec<usize> = others.iter().map(|&i| r.picks[i]).collect();
         let g = match groups.iter().position(|g| g.key == key) {
             Some(g) => g,
@@ -218,7 +220,8 @@ fn drop_heights(s: &mut String, sweep: &Sweep, records: &[Record]) {
         "{head} drop height (m) | fall (s) | binding limit | ratio | peak speed (rad/s) | peak power (W) |"
     );
     let _ = writeln!(s, "|---:|{}---:|---:|---|---:|---:|---:|", "---|".repeat(sweep.axes.len()));
-    let rows: Vec<&Record> = records.iter().filter(|r| r.schedule == "whole" && r.engine == "exact").collect();
+    let rows: Vec<&Record> =
+        records.iter().filter(|r| r.schedule == SweepSchedule::Whole && r.engine == Engine::Exact).collect();
     for r in rows.iter().take(MAX_ROWS) {
         let mut line = format!("| {} |", r.case);
         for (a, &p) in sweep.axes.iter().zip(&r.picks) {

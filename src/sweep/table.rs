@@ -26,10 +26,13 @@
 //! bits.
 
 use crate::engines::peaks::PhasePeaks;
+use crate::engines::Engine;
 
 use super::cases::{case, cell};
 use super::evaluate::CaseOutcome;
-use super::row::{Labels, MotorNumbers, Numbers, RapierNumbers, RetimeNumbers, Status, WholeNumbers, WorstLimit};
+use super::row::{
+    Labels, MotorNumbers, Numbers, RapierNumbers, RetimeNumbers, Status, SweepSchedule, WholeNumbers, WorstLimit,
+};
 use super::spec::Sweep;
 
 /// Why a table could not be written or read.
@@ -52,10 +55,10 @@ pub struct Record {
     pub case: usize,
     /// Per axis, the index of its value.
     pub picks: Vec<usize>,
-    /// `paper`, `calibrated`, `given`, `retimed`, `whole`.
-    pub schedule: String,
-    /// `exact` or `rapier`.
-    pub engine: String,
+    /// The schedule.
+    pub schedule: SweepSchedule,
+    /// The engine.
+    pub engine: Engine,
     /// How the row ended.
     pub status: Status,
     /// Why, when not `ok`.
@@ -93,8 +96,8 @@ pub fn records(sweep: &Sweep, index: usize, outcome: &CaseOutcome) -> Vec<Record
         .map(|r| Record {
             case: index,
             picks: picks.clone(),
-            schedule: r.schedule.clone(),
-            engine: r.engine.clone(),
+            schedule: r.schedule,
+            engine: r.engine,
             status: r.status,
             reason: r.reason.clone(),
             warnings: outcome.warnings.clone(),
@@ -174,7 +177,13 @@ fn count(x: Option<usize>) -> String {
 fn fields(sweep: &Sweep, r: &Record) -> Vec<String> {
     let mut f = vec![r.case.to_string()];
     f.extend(sweep.axes.iter().zip(&r.picks).map(|(a, &k)| cell(&a.values[k])));
-    f.extend([r.schedule.clone(), r.engine.clone(), r.status.name().to_string(), r.reason.clone(), r.warnings.clone()]);
+    f.extend([
+        r.schedule.name().to_string(),
+        r.engine.name().to_string(),
+        r.status.name().to_string(),
+        r.reason.clone(),
+        r.warnings.clone(),
+    ]);
     let n = r.numbers.as_ref();
     let p = n.and_then(|n| n.peaks);
     let (rt, wh, ra) = (n.and_then(|n| n.retiming), n.and_then(|n| n.whole), n.and_then(|n| n.rapier));
@@ -213,7 +222,7 @@ fn fields(sweep: &Sweep, r: &Record) -> Vec<String> {
     f.push(worst.map_or_else(String::new, |w| w.within().to_string()));
     f.push(count(n.and_then(|n| n.calibration_evaluations)));
     let l = &r.labels;
-    f.extend([l.retimed_from.clone(), l.solver_status.clone()]);
+    f.extend([l.retimed_from.map_or_else(String::new, |s| s.name().to_string()), l.solver_status.clone()]);
     f.extend([rt.map(|x| x.lower_bound_nm), rt.map(|x| x.program_peak_nm), rt.map(|x| x.gap_nm)].map(num));
     f.push(l.whole_start.clone());
     f.extend(
@@ -373,13 +382,16 @@ pub fn from_csv_lines(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<(u6
         let record = Record {
             case: index,
             picks: case(sweep, index).picks,
-            schedule: text("schedule"),
-            engine: text("engine"),
+            schedule: SweepSchedule::parse(at("schedule")).ok_or_else(|| bad("schedule"))?,
+            engine: Engine::parse(at("engine")).ok_or_else(|| bad("engine"))?,
             status,
             reason: text("reason"),
             warnings: text("warnings"),
             labels: Labels {
-                retimed_from: text("retimed_from"),
+                retimed_from: match at("retimed_from") {
+                    "" => None,
+                    name => Some(SweepSchedule::parse(name).ok_or_else(|| bad("retimed_from"))?),
+                },
                 solver_status: text("solver_status"),
                 whole_start: text("whole_start"),
                 rapier_verdict: text("rapier_verdict"),

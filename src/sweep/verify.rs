@@ -15,6 +15,7 @@
 //! as in `catflip run`; an exact row without a result gives a `skipped` rapier row.
 
 use crate::engines::rapier::{verify_with, Quantity, RapierError, RapierOptions, Reference, Verification};
+use crate::engines::Engine;
 use crate::problem::settings::RapierSettings;
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
@@ -28,10 +29,10 @@ pub fn rapier_settings(problem: &Problem) -> RapierSettings {
 
 /// The rapier row of one exact row.
 pub(crate) fn rapier_row(problem: &Problem, exact: &Measured) -> Row {
-    let schedule = exact.row.schedule.as_str();
+    let schedule = exact.row.schedule;
     let Some((subject, reference)) = &exact.subject else {
         let reason = format!("no exact result to verify (the exact row is {})", exact.row.status.name());
-        return Row::without(schedule, "rapier", Status::Skipped, &reason, Labels::default());
+        return Row::without(schedule, Engine::Rapier, Status::Skipped, &reason, Labels::default());
     };
     let settings = rapier_settings(problem);
     let result = match subject {
@@ -43,13 +44,13 @@ pub(crate) fn rapier_row(problem: &Problem, exact: &Measured) -> Row {
         Ok(v) => v,
         Err(e) => {
             let reason = format!("rapier could not run: {e}");
-            return Row::without(schedule, "rapier", Status::Failed, &reason, Labels::default());
+            return Row::without(schedule, Engine::Rapier, Status::Failed, &reason, Labels::default());
         }
     };
     let verdict = v.verdict.to_string();
     let labels = Labels { rapier_verdict: super::spec::one_line(&verdict), ..Labels::default() };
     let Some(finest) = &v.finest else {
-        return Row::without(schedule, "rapier", Status::Failed, &verdict, labels);
+        return Row::without(schedule, Engine::Rapier, Status::Failed, &verdict, labels);
     };
     let value = |q| v.quantity(q).and_then(|c| c.value);
     let mut numbers =
@@ -63,7 +64,7 @@ pub(crate) fn rapier_row(problem: &Problem, exact: &Measured) -> Row {
         steps: v.steps_taken,
         finest_dt_s: finest.dt,
     });
-    Row::with(schedule, "rapier", numbers, labels)
+    Row::with(schedule, Engine::Rapier, numbers, labels)
 }
 
 fn run(
