@@ -60,7 +60,7 @@ fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
         assert!(tracked.film.as_ref().is_some_and(|f| !f.worst.is_empty() && f.touchdowns.len() == 2));
     }
     // The feedback beats the open loop on these six trials (measured at 200 µs: 95th
-    // percentile 1.65° against 9.41°; the spin of σ = 0.005 N·m·s is the open loop's error).
+    // percentile 2.07° against 9.41°; the spin of σ = 0.005 N·m·s is the open loop's error).
     let (open, closed) = (&report.checks[1], &report.checks[2]);
     assert!(
         closed.landing_error_deg.p95 < 0.25 * open.landing_error_deg.p95,

@@ -134,7 +134,8 @@ pub struct RobustSettings {
     /// The feedback's joint acceleration scale and bound, rad/s².
     #[serde(skip_serializing_if = "default::feedback_accel")]
     pub feedback_accel: f64,
-    /// The feedback filter's prior on the unknown release spin, N·m·s per axis.
+    /// The feedback filter's prior on the unknown release spin, N·m·s per axis: a tuning of the
+    /// filter (how readily it attributes an attitude drift to spin), not the spin's spread.
     #[serde(skip_serializing_if = "default::feedback_spin_prior_nms")]
     pub feedback_spin_prior_nms: f64,
 }
@@ -168,7 +169,7 @@ const DEFAULT: RobustSettings = RobustSettings {
     feedback_attitude_deg: 1.0,
     feedback_joint_deg: 10.0,
     feedback_accel: 20.0,
-    feedback_spin_prior_nms: 0.01,
+    feedback_spin_prior_nms: 0.001,
 };
 
 /// Whether a tracked-check setting is at its default, and so left out of a problem's echo
