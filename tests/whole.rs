@@ -9,8 +9,8 @@ use catflip::optimize::whole::measure::chatter;
 use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
 use catflip::optimize::whole::{
-    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeSettings,
-    WholeStatus,
+    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeCat,
+    WholeSettings, WholeStatus,
 };
 use catflip::problem::Manoeuvre;
 use std::f64::consts::PI;
@@ -31,7 +31,7 @@ fn orientation_jacobian_matches_central_differences() {
     let layout = Layout { control_points: 12, fixed: settings.fixed() };
     let spline = paper_start(&settings);
     let target = flipped();
-    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
     let base = at(&spline);
     // Central differences of e with step 1e-6 rad: truncation ~1e-12·e''', round-off
     // ~1e-16/1e-6 per component; 1e-7 absolute on O(1) derivatives.
@@ -57,20 +57,24 @@ fn derivatives_hold_on_knots_refined_where_torques_switch() {
     let spline = refined(&paper_start(&settings), &[3, 6]);
     let layout = Layout { control_points: spline.control_points(), fixed: settings.fixed() };
     let target = flipped();
-    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
     let base = at(&spline);
     let grid = gauss_grid(&spline, 1);
-    let torques = torque_samples(&PAPER, &spline, &layout, &grid);
+    let torques = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
     // Steps and tolerances as in the two tests on uniform knots below and above.
     let h = 1e-6;
     for v in 0..layout.variables() {
         let mut step = vec![0.0; layout.variables()];
         step[v] = h;
-        let (plus, tp) =
-            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        let (plus, tp) = (
+            layout.moved(&spline, &step),
+            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
+        );
         step[v] = -h;
-        let (minus, tm) =
-            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        let (minus, tm) = (
+            layout.moved(&spline, &step),
+            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
+        );
         let (ep, em) = (at(&plus).error, at(&minus).error);
         for i in 0..3 {
             assert_relative_eq!(base.jacobian[(i, v)], (ep[i] - em[i]) / (2.0 * h), epsilon = 1e-7);
@@ -91,14 +95,14 @@ fn torque_gradients_match_central_differences() {
     let layout = Layout { control_points: 12, fixed: settings.fixed() };
     let spline = paper_start(&settings);
     let grid = gauss_grid(&spline, 1);
-    let base = torque_samples(&PAPER, &spline, &layout, &grid);
+    let base = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
     let h = 1e-6;
     for v in 0..layout.variables() {
         let mut step = vec![0.0; layout.variables()];
         step[v] = h;
-        let plus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        let plus = torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid);
         step[v] = -h;
-        let minus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        let minus = torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid);
         for k in 0..grid.len() {
             for j in 0..2 {
                 let g: f64 = base[k].gradient[j].iter().filter(|e| e.0 == v).map(|e| e.1).sum();
@@ -209,8 +213,9 @@ fn energy_without_orientation_constraint_is_the_straight_cat_at_rest() {
     };
     let start =
         build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Cone, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let cat = WholeCat::from(PAPER);
     let problem = ScvxProblem {
-        cat: &PAPER,
+        cat: &cat,
         settings: &settings,
         motors: &Motors::ideal(),
         target: None,

@@ -8,8 +8,8 @@ use catflip::model::Cylinder;
 use catflip::optimize::whole::sensitivity::{gauss_grid, uniform_grid, Layout};
 use catflip::optimize::whole::spin::spin_pass;
 use catflip::optimize::whole::{
-    build_start_spinning, flipped, optimize_whole_spinning, StartKind, WholeError, WholeOutcome, WholeSettings,
-    WholeStatus,
+    build_start_spinning, flipped, optimize_whole_spinning, StartKind, WholeCat, WholeError, WholeOutcome,
+    WholeSettings, WholeStatus,
 };
 use catflip::problem::Manoeuvre;
 use nalgebra::Vector3;
@@ -35,7 +35,7 @@ fn spinning_derivatives_match_central_differences() {
     for grid in [uniform_grid(&start.spline, 4), gauss_grid(&start.spline, 2)] {
         let at = |k: f64| {
             let step: Vec<f64> = direction.iter().map(|d| k * d).collect();
-            spin_pass(&PAPER, &layout.moved(&start.spline, &step), &layout, 8, &flipped(), &spin, &grid)
+            spin_pass(&WholeCat::from(PAPER), &layout.moved(&start.spline, &step), &layout, 8, &flipped(), &spin, &grid)
         };
         let base = at(0.0);
         let (plus, minus) = (at(1e-6), at(-1e-6));

@@ -80,11 +80,13 @@
 //! - C. de Boor, *A Practical Guide to Splines* (2001);
 //! - R. Montgomery, *Gauge theory of the falling cat* (1993).
 
+pub mod cat;
 pub mod curvature;
 pub mod dual;
 pub mod dynamics;
 pub mod limits;
 pub mod measure;
+pub mod model_dynamics;
 pub mod refine;
 pub mod scvx;
 pub mod sensitivity;
@@ -101,6 +103,7 @@ use std::time::Instant;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
+pub use cat::WholeCat;
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
@@ -108,10 +111,7 @@ pub use spline::BSpline;
 pub use starts::{build_start, build_start_spinning, NamedStart};
 
 use crate::engines::motors::RATIO_TOLERANCE;
-use crate::engines::spin::SpinHistory;
-use crate::engines::torque::TorqueSource;
 use crate::model::motor::Motors;
-use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
 
@@ -140,7 +140,7 @@ pub fn flipped() -> UnitQuaternion<f64> {
 /// result's duration is the least fall time within the motors (`duration` only scales the
 /// starts).
 pub fn optimize_whole(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     settings: &WholeSettings,
@@ -157,7 +157,7 @@ pub fn optimize_whole(
 /// [`optimize_whole`]. Motor limits (and so `min-time`) are refused with spin ([`spin_supported`]).
 #[allow(clippy::too_many_arguments)]
 pub fn optimize_whole_spinning(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     settings: &WholeSettings,
@@ -169,6 +169,7 @@ pub fn optimize_whole_spinning(
     settings::positive_input("drop duration", duration)?;
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
+    let cat = &cat.into();
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -216,7 +217,7 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     starts: &[NamedStart],
     settings: &WholeSettings,
     motors: &Motors,
@@ -227,7 +228,7 @@ pub fn optimize_from(
 
 /// [`optimize_from`] for a release with total angular momentum `spin` ([`optimize_whole_spinning`]).
 pub fn optimize_from_spinning(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     starts: &[NamedStart],
     settings: &WholeSettings,
     motors: &Motors,
@@ -238,6 +239,7 @@ pub fn optimize_from_spinning(
     settings::positive_input("tolerance", tolerance)?;
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
+    let cat = &cat.into();
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
@@ -363,8 +365,8 @@ pub fn refine_solution(
     let mut kept = false;
     for _ in 0..s.switch_refinements {
         let spans = if problem.spins() {
-            let (_, history) = SpinHistory::new(problem.cat, &end.spline, &problem.spin, run.flip_tolerance());
-            refine::switching_spans_from(&TorqueSource::spinning(problem.cat, &history), &end.spline)
+            let (_, history) = problem.cat.spin_history(&end.spline, &problem.spin, run.flip_tolerance());
+            refine::switching_spans_from(&problem.cat.torque_source(Some(&history)), &end.spline)
         } else {
             refine::switching_spans(problem.cat, &end.spline)
         };
@@ -530,7 +532,7 @@ impl Run {
         let flip_tolerance = self.flip_tolerance();
         if p.target.is_some() {
             loop {
-                let f = crate::engines::exact::flip_spinning(p.cat, &spline, &p.spin, flip_tolerance);
+                let f = p.cat.flip_spinning(&spline, &p.spin, flip_tolerance);
                 let good = ((f.twist.abs() - PI).abs() <= 0.1 * self.tolerance && f.swing <= 0.1 * self.tolerance)
                     || self.steps >= 1024;
                 if good {

@@ -33,6 +33,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+use super::cat::WholeCat;
 use super::curvature::{Curvature, Point};
 use super::limits::{largest, limit_rows, LimitRow, RowForm};
 use super::sensitivity::{
@@ -45,7 +46,6 @@ use super::spin::{spin_pass, Lift};
 use super::spline::BSpline;
 use super::subproblem::{Subproblem, BEND_PENALTY, LIMIT_PENALTY};
 use crate::model::motor::Motors;
-use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 
 /// `|e|₁` below which the loop counts an iterate as flipping (the Newton phase finishes the job).
@@ -68,8 +68,8 @@ const MIN_RADIUS: f64 = 1e-10;
 /// One whole-manoeuvre problem: the cat, the settings and the target orientation.
 #[derive(Clone, Debug)]
 pub struct ScvxProblem<'a> {
-    /// One half of the cat.
-    pub cat: &'a Cylinder,
+    /// The cat (the paper's, or another two-motor model).
+    pub cat: &'a WholeCat,
     /// The settings.
     pub settings: &'a WholeSettings,
     /// The joint motors (ideal: no limit rows).
@@ -151,8 +151,11 @@ impl ScvxProblem<'_> {
             }
         };
         let limit_max = largest(&limits);
-        let bend =
-            if self.settings.min_angle_deg.is_some() { bend_samples(&spline, &layout, &uniform) } else { Vec::new() };
+        let bend = if self.settings.min_angle_deg.is_some() {
+            bend_samples(self.cat, &spline, &layout, &uniform)
+        } else {
+            Vec::new()
+        };
         let orientation = match spun {
             Some(o) => Some(o),
             None => self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t)),
