@@ -27,7 +27,7 @@ const FALL: f64 = 1.428_571_428_571_428_6;
 fn spinning_derivatives_match_central_differences() {
     let spin = Vector3::new(0.02, -0.03, 0.05);
     let settings = WholeSettings { control_points: 16, coarse_control_points: None, ..WholeSettings::default() };
-    let start = build_start_spinning(&PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, &settings, &spin)
+    let start = build_start_spinning(PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, &settings, &spin)
         .unwrap_or_else(|e| panic!("{e}"));
     let layout = Layout { control_points: settings.control_points, fixed: settings.fixed() };
     let n = layout.variables();
@@ -67,7 +67,7 @@ const REFERENCE_WITH_SPIN_NM: f64 = 0.2307801;
 /// The default optimisation of the paper's cat released with `SPIN_Z`.
 fn spinning_optimum() -> WholeOutcome {
     optimize_whole_spinning(
-        &PAPER,
+        PAPER,
         FALL,
         &Manoeuvre::default(),
         &WholeSettings::default(),
@@ -127,7 +127,7 @@ fn motor_limits_with_spin_are_refused_naming_the_fields() {
     let limited = Motor { torque: Some(1.0), ..Motor::default() };
     let motors = Motors { joints: [limited, limited] };
     let e = optimize_whole_spinning(
-        &PAPER,
+        PAPER,
         FALL,
         &Manoeuvre::default(),
         &WholeSettings::default(),

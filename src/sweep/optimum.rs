@@ -83,7 +83,7 @@ pub(crate) fn retimed(problem: &Problem, from: &str, radians: f64) -> Measured {
 /// The `whole` row: the whole-manoeuvre optimum of the case.
 pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome = optimize_whole(
-        &problem.cat.half(),
+        problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &problem.optimize.whole,

@@ -389,7 +389,7 @@ impl ScvxProblem<'_> {
             }
             let j = &o.jacobian;
             let jjt: Matrix3<f64> = Matrix3::from_fn(|a, b| j.row(a).dot(&j.row(b)));
-            let Some(y) = jjt.try_inverse().map(|inv| inv * o.error) else { return (best.1, k) };
+            let Some(y) = newton_multipliers(&jjt, &o.error) else { return (best.1, k) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
             let next = layout.moved(spline, &step);
@@ -401,4 +401,33 @@ impl ScvxProblem<'_> {
         }
         (best.1, most)
     }
+}
+
+/// The ratio of the smallest to the largest eigenvalue of `JJᵀ` below which the Newton step
+/// leaves out the directions the controls cannot reach: singular values of `J` below `10⁻⁶` of
+/// the largest (on the no-twist joint with equal halves the swing's rows are round-off, ~10⁻¹²,
+/// since the symmetric cat cannot swing its spine, and their inverse made every step useless).
+const RANK_RATIO: f64 = 1e-12;
+
+/// `y = (JJᵀ)⁻¹ e` of the minimum-norm Newton step `δ = −Jᵀ y`: the inverse when `JJᵀ` is well
+/// conditioned (the paper's cat: the same numbers as ever), else the pseudo-inverse on the
+/// eigenvectors whose eigenvalues are at least [`RANK_RATIO`] of the largest.
+fn newton_multipliers(jjt: &Matrix3<f64>, error: &Vector3<f64>) -> Option<Vector3<f64>> {
+    let eigen = jjt.symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    let smallest = eigen.eigenvalues.iter().fold(f64::INFINITY, |m, x| m.min(x.abs()));
+    if smallest > RANK_RATIO * largest {
+        return jjt.try_inverse().map(|inv| inv * error);
+    }
+    if largest <= 0.0 {
+        return None;
+    }
+    let mut y = Vector3::zeros();
+    for (i, l) in eigen.eigenvalues.iter().enumerate() {
+        if *l > RANK_RATIO * largest {
+            let v = eigen.eigenvectors.column(i);
+            y += v * (v.dot(error) / l);
+        }
+    }
+    Some(y)
 }

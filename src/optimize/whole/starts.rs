@@ -125,7 +125,7 @@ pub fn build_start(
     kind: StartKind,
     settings: &WholeSettings,
 ) -> Result<NamedStart, String> {
-    build_start_spinning(&cat.into(), duration, manoeuvre, kind, settings, &Vector3::zeros())
+    build_start_spinning(cat.into(), duration, manoeuvre, kind, settings, &Vector3::zeros())
 }
 
 /// [`build_start`] for a release with total angular momentum `spin` ([`start_schedule_spinning`]).
