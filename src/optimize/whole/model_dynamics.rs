@@ -258,17 +258,17 @@ pub fn body_rate_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], lambda: V3<
 
 /// The motor torques `(τ1, τ2)`, N·m, through `(q, q̇, q̈)` at zero momentum.
 pub fn motor_torques<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2]) -> [T; 2] {
-    torques(cat, q, qd, qdd, None)
+    torques(cat, [q, qd, qdd], None)
 }
 
 /// The motor torques `(τ1, τ2)`, N·m, with the total momentum `λ = Rᵀ L` in A's frame
 /// (`λ̇ = λ × Ω`).
 pub fn motor_torques_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: V3<T>) -> [T; 2] {
-    torques(cat, q, qd, qdd, Some(lambda))
+    torques(cat, [q, qd, qdd], Some(lambda))
 }
 
 /// Newton–Euler on B about the joint point (module docs).
-fn torques<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: Option<V3<T>>) -> [T; 2] {
+fn torques<T: Real>(cat: &Cat, [q, qd, qdd]: [[T; 2]; 3], lambda: Option<V3<T>>) -> [T; 2] {
     let m = MassProperties::of(cat);
     let (b, locked) = base(&m, joint_motion(cat.joint, q, qd, Some(qdd)), lambda);
     let (j, p, pd, w) = (b.joint, b.offset, b.offset_rate, b.omega);
@@ -298,7 +298,6 @@ mod tests {
     use crate::optimize::whole::dual::Dual;
     use crate::optimize::whole::dynamics;
     use crate::schedule::JointState;
-    use approx::assert_relative_eq;
     use nalgebra::Vector3;
 
     const FRONT: Cylinder = Cylinder { mass: 0.8, length: 0.8, radius: 0.1 };
@@ -369,44 +368,41 @@ mod tests {
 
     #[test]
     fn series_and_closed_forms_meet_at_the_switch() {
-        let (below, above) = (ExpSeries::at(SERIES_BELOW * (1.0 - 1e-15)), ExpSeries::at(SERIES_BELOW));
-        for (x, y) in [
-            (below.sinc, above.sinc),
-            (below.a, above.a),
-            (below.b, above.b),
-            (below.a_s, above.a_s),
-            (below.b_s, above.b_s),
-        ] {
-            assert_relative_eq!(x, y, max_relative = 1e-13);
-        }
+        let all = |k: ExpSeries<f64>| [k.sinc, k.a, k.b, k.a_s, k.b_s];
+        let below = all(ExpSeries::at(SERIES_BELOW * (1.0 - 1e-15)));
+        let above = all(ExpSeries::at(SERIES_BELOW));
+        close(&below, &above, 0.0, "the coefficients either side of the switch");
     }
 
     #[test]
     fn dual_derivatives_match_central_differences() {
         // As dynamics.rs's test: step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute.
+        // The outputs `(τ1, τ2, Ω)` of the inputs `(q, q̇, q̈)`, at any `Real`.
+        fn outputs<T: Real>(cat: &Cat, x: [T; 6]) -> [T; 5] {
+            let tau = motor_torques_spinning(cat, [x[0], x[1]], [x[2], x[3]], [x[4], x[5]], LAMBDA.map(T::cst));
+            let w = body_rate(cat, [x[0], x[1]], [x[2], x[3]]);
+            [tau[0], tau[1], w[0], w[1], w[2]]
+        }
         let step = 1e-6;
         for cat in cats() {
             for (q, qd, qdd) in POINTS {
                 let x = [q[0], q[1], qd[0], qd[1], qdd[0], qdd[1]];
-                let d: [Dual<6>; 6] = std::array::from_fn(|k| Dual::input(x[k], k));
-                let l = LAMBDA.map(Dual::cst);
-                let tau = motor_torques_spinning(&cat, [d[0], d[1]], [d[2], d[3]], [d[4], d[5]], l);
-                let w = body_rate(&cat, [d[0], d[1]], [d[2], d[3]]);
+                let dual = outputs(&cat, std::array::from_fn::<Dual<6>, 6, _>(|k| Dual::input(x[k], k)));
                 for k in 0..6 {
-                    let at = |sign: f64| {
+                    let shifted = |sign: f64| {
                         let mut y = x;
                         y[k] += sign * step;
-                        (
-                            motor_torques_spinning(&cat, [y[0], y[1]], [y[2], y[3]], [y[4], y[5]], LAMBDA),
-                            body_rate(&cat, [y[0], y[1]], [y[2], y[3]]),
-                        )
+                        outputs(&cat, y)
                     };
-                    let ((tp, wp), (tm, wm)) = (at(1.0), at(-1.0));
-                    for j in 0..2 {
-                        assert_relative_eq!(tau[j].eps[k], (tp[j] - tm[j]) / (2.0 * step), epsilon = 1e-7);
-                    }
-                    for i in 0..3 {
-                        assert_relative_eq!(w[i].eps[k], (wp[i] - wm[i]) / (2.0 * step), epsilon = 1e-7);
+                    let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                    for (o, d) in dual.iter().enumerate() {
+                        let fd = (plus[o] - minus[o]) / (2.0 * step);
+                        assert!(
+                            (d.eps[k] - fd).abs() <= 1e-7,
+                            "{}: output {o}, input {k}: {} against {fd}",
+                            cat.joint,
+                            d.eps[k]
+                        );
                     }
                 }
             }
