@@ -97,6 +97,13 @@ fn the_paper_cat_through_the_seam_is_the_committed_optimum_to_the_last_bit() {
 }
 
 #[test]
+fn a_release_with_spin_on_another_cat_is_refused_naming_the_field_and_the_joint() {
+    let r = resolved("kane-scher.toml", &["drop.angular_momentum=[0,0,0.01]"]);
+    let e = whole(&r).map(|_| ()).unwrap_err().to_string();
+    assert!(e.starts_with("drop.angular_momentum = [0, 0, 0.01]") && e.contains("no-twist joint"), "{e}");
+}
+
+#[test]
 fn a_spherical_joint_is_refused_naming_the_field() {
     let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
     let e = WholeCat::new(Cat::equal(half, Joint::Spherical)).map(|_| ()).unwrap_err();

@@ -3,7 +3,8 @@
 //!
 //! Every number here is re-measured by the exact engine on the final trajectory, never taken from
 //! a linearisation: the optimum's twist and swing from [`crate::engines::exact::flip`], its peak
-//! from [`crate::engines::torque::peak_torques`]. The optimum has no phases of its own (it bends
+//! from [`crate::engines::torque::peak_torques`] (on a cat other than the paper's, the general
+//! core's, [`crate::optimize::whole::WholeCat`]). The optimum has no phases of its own (it bends
 //! and circulates at once), so its peaks are also given over the time windows of the problem's
 //! phases, for the peak-torque table; `max` is the peak over the whole fall.
 

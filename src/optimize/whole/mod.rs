@@ -14,8 +14,16 @@
 //! Twist `±π` with zero swing is the same rotation `R_z(π)`: the constraint is three equations on
 //! `e = log(R_z(π)ᵀ R(T))`, and which of `±π` (or `±3π`) the path realises is read off the twist
 //! tracker of the final [`crate::engines::exact::flip`], which re-measures every result. The bend
-//! `β` is the angle between the spine axes, `cos β = cos q1 cos q2`; `min_angle_deg` bounds the
+//! `β` is the angle between the spine axes, `cos β = cos q1 cos q2` on the universal joint and
+//! `cos |q|` on the no-twist joint ([`WholeCat::bend_cosine`]); `min_angle_deg` bounds the
 //! angle between the halves, `π − β`, from below on every torque sample.
+//!
+//! ## Cat models (DESIGN.md §10)
+//! The cat is a [`WholeCat`]: the paper's (equal halves on the universal joint) through
+//! [`dynamics`] and the two-cylinder engine, unchanged to the last bit, or any other two-motor
+//! model (unequal halves, the no-twist joint) through [`model_dynamics`] and the general core
+//! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
+//! A release with spin is planned for the paper's cat only so far ([`spin_on_paper_cat`]).
 //!
 //! ## Why cubic B-splines
 //! The torques need `q̈`; a cubic's `q̈` is continuous and piecewise linear, so the torque is
@@ -170,6 +178,7 @@ pub fn optimize_whole_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
+    spin_on_paper_cat(cat, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -214,6 +223,23 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
     Ok(())
 }
 
+/// Refuses a release with spin on a cat other than the paper's: the spinning model goes through
+/// the same seam, but on Kane and Scher's symmetric cat (whose swing the controls cannot reach)
+/// its subproblems end primal infeasible, and no other model is tested with spin yet.
+pub fn spin_on_paper_cat(cat: &WholeCat, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if spin.norm_squared() == 0.0 || matches!(cat, WholeCat::Paper(_)) {
+        return Ok(());
+    }
+    Err(WholeError::BadFieldValue {
+        field: "drop.angular_momentum",
+        value: format!("[{}, {}, {}]", spin.x, spin.y, spin.z),
+        reason: format!(
+            "the whole optimiser plans a release with spin for the paper's cat only (equal halves on the universal joint) so far; this cat ({}) is optimised without spin: set drop.angular_momentum to [0, 0, 0]",
+            cat.describe()
+        ),
+    })
+}
+
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
@@ -240,6 +266,7 @@ pub fn optimize_from_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
+    spin_on_paper_cat(cat, spin)?;
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
