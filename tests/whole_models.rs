@@ -17,7 +17,7 @@ use catflip::model::motor::Motors;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::whole::{optimize_whole, StartKind, WholeCat, WholeSettings, WholeStatus};
 use catflip::problem::{Manoeuvre, Problem};
-use catflip::report::whole::whole;
+use catflip::report::whole::{optimum_file, whole};
 
 /// The flip's tolerance: `| |twist| − π |` and the swing, rad.
 const FLIP: f64 = 1e-8;
@@ -49,6 +49,9 @@ fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) 
     assert!((peak - best.peak_torque_nm).abs() <= 1e-9 * peak, "{file}: peak {peak} against {}", best.peak_torque_nm);
     let library = r.library().iter().map(|(_, _, e)| e.peaks.max).fold(f64::INFINITY, f64::min);
     assert!(peak < library, "{file} {sets:?}: the optimum's peak {peak} N·m is not below the library's best {library}");
+    // Its schedule file is the paper's cat's only so far (its orientation and torque columns).
+    let file = optimum_file(&r.problem, &report, &Default::default()).map(|_| ()).unwrap_err().to_string();
+    assert!(file.starts_with("cat."), "{file}");
 }
 
 #[test]
