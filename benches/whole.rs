@@ -24,7 +24,7 @@ fn solve(problem: &Problem, settings: &WholeSettings) -> f64 {
 /// [`solve`] with `motors`; returns the peak torque and the fall time's sum (both are results).
 fn solve_with(problem: &Problem, settings: &WholeSettings, motors: &Motors) -> f64 {
     let outcome =
-        optimize_whole(&problem.cat.half(), problem.drop.fall_time(), &problem.manoeuvre, settings, motors, 1e-8)
+        optimize_whole(problem.cat.half(), problem.drop.fall_time(), &problem.manoeuvre, settings, motors, 1e-8)
             .expect("valid settings");
     let best = outcome.best().expect("a converged flip");
     best.peak_torque_nm + best.fall_time_s

@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
     println!("retimed along its path: {}, peak {:.4} N·m, certified bound {:.4} N·m", s.status, s.peak, s.lower_bound);
 
     let whole = optimize_whole(
-        &problem.cat.half(),
+        problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &problem.optimize.whole,

@@ -30,7 +30,7 @@ fn main() -> anyhow::Result<()> {
     }
     let clock = std::time::Instant::now();
     let outcome = optimize_whole(
-        &problem.cat.half(),
+        problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &settings,

@@ -131,7 +131,6 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         let r = Resolved::new(&p).expect("resolves");
         let named = |what: &str, m: String| assert!(m.starts_with(field), "{name}, {what}: {m}");
         named("optimize", catflip::optimize::optimize(&r).expect_err("refused").to_string());
-        named("whole", catflip::report::whole::whole(&r).expect_err("refused").to_string());
         named("audit", catflip::report::audit::audit_with_exact(&r).expect_err("refused").to_string());
         named("robust", catflip::robust::check(&p, &r.schedule, "s").expect_err("refused").to_string());
         named("run", catflip::report::run::run(&r, "test", &out).expect_err("refused").to_string());
@@ -139,7 +138,7 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         named("rapier", rapier.expect_err("refused").to_string());
         let file = catflip::exchange::write_schedule(&p, &r.schedule, "s", &Default::default());
         named("schedule file", file.expect_err("refused").to_string());
-        // The exact engine runs it.
+        // The exact engine runs it (and the whole optimiser: tests/whole_models.rs).
         assert!(catflip::report::simulate::simulate(&r, catflip::engines::Engine::Exact).is_ok());
     }
     assert!(!out.exists(), "a refused run wrote nothing");

@@ -26,7 +26,7 @@ fn settings(objective: Objective) -> WholeSettings {
 }
 
 fn solve(objective: Objective, m: &Motors) -> WholeOutcome {
-    optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings(objective), m, FLIP).unwrap_or_else(|e| panic!("{e}"))
+    optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings(objective), m, FLIP).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The least peak torque at the paper's fall with ideal motors, solved once for the tests that

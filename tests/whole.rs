@@ -9,8 +9,8 @@ use catflip::optimize::whole::measure::chatter;
 use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
 use catflip::optimize::whole::{
-    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeSettings,
-    WholeStatus,
+    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeCat,
+    WholeSettings, WholeStatus,
 };
 use catflip::problem::Manoeuvre;
 use std::f64::consts::PI;
@@ -20,7 +20,7 @@ const PAPER: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
 const FALL: f64 = 1.428_571_428_571_428_5;
 
 fn paper_start(settings: &WholeSettings) -> BSpline {
-    build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, settings)
+    build_start(PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, settings)
         .map(|s| s.spline)
         .unwrap_or_else(|e| panic!("{e}"))
 }
@@ -31,7 +31,7 @@ fn orientation_jacobian_matches_central_differences() {
     let layout = Layout { control_points: 12, fixed: settings.fixed() };
     let spline = paper_start(&settings);
     let target = flipped();
-    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
     let base = at(&spline);
     // Central differences of e with step 1e-6 rad: truncation ~1e-12·e''', round-off
     // ~1e-16/1e-6 per component; 1e-7 absolute on O(1) derivatives.
@@ -57,20 +57,24 @@ fn derivatives_hold_on_knots_refined_where_torques_switch() {
     let spline = refined(&paper_start(&settings), &[3, 6]);
     let layout = Layout { control_points: spline.control_points(), fixed: settings.fixed() };
     let target = flipped();
-    let at = |s: &BSpline| final_orientation(&PAPER, s, &layout, 8, &target);
+    let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
     let base = at(&spline);
     let grid = gauss_grid(&spline, 1);
-    let torques = torque_samples(&PAPER, &spline, &layout, &grid);
+    let torques = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
     // Steps and tolerances as in the two tests on uniform knots below and above.
     let h = 1e-6;
     for v in 0..layout.variables() {
         let mut step = vec![0.0; layout.variables()];
         step[v] = h;
-        let (plus, tp) =
-            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        let (plus, tp) = (
+            layout.moved(&spline, &step),
+            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
+        );
         step[v] = -h;
-        let (minus, tm) =
-            (layout.moved(&spline, &step), torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid));
+        let (minus, tm) = (
+            layout.moved(&spline, &step),
+            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
+        );
         let (ep, em) = (at(&plus).error, at(&minus).error);
         for i in 0..3 {
             assert_relative_eq!(base.jacobian[(i, v)], (ep[i] - em[i]) / (2.0 * h), epsilon = 1e-7);
@@ -91,14 +95,14 @@ fn torque_gradients_match_central_differences() {
     let layout = Layout { control_points: 12, fixed: settings.fixed() };
     let spline = paper_start(&settings);
     let grid = gauss_grid(&spline, 1);
-    let base = torque_samples(&PAPER, &spline, &layout, &grid);
+    let base = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
     let h = 1e-6;
     for v in 0..layout.variables() {
         let mut step = vec![0.0; layout.variables()];
         step[v] = h;
-        let plus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        let plus = torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid);
         step[v] = -h;
-        let minus = torque_samples(&PAPER, &layout.moved(&spline, &step), &layout, &grid);
+        let minus = torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid);
         for k in 0..grid.len() {
             for j in 0..2 {
                 let g: f64 = base[k].gradient[j].iter().filter(|e| e.0 == v).map(|e| e.1).sum();
@@ -123,7 +127,7 @@ const FLIP: f64 = 1e-8;
 #[test]
 fn paper_peak_optimum_flips_and_beats_the_target() {
     let settings = WholeSettings { starts: vec![StartKind::Paper], ..WholeSettings::default() };
-    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
     assert_eq!(best.status, WholeStatus::Converged);
@@ -156,7 +160,7 @@ fn paper_energy_optimum_matches_the_collocation() {
     // Issue 13: ∫τ·τ dt = 0.217 N²·m²·s from the IPOPT collocation; within 1 %.
     let settings =
         WholeSettings { objective: Objective::Energy, starts: vec![StartKind::Cone], ..WholeSettings::default() };
-    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("no start converged: {:?}", outcome.solutions[0].reason));
     assert!(best.flips(FLIP));
@@ -170,7 +174,7 @@ fn fat_cat_energy_converges_from_both_starts() {
     // missed the orientation constraint's curvature (optimize::whole::curvature).
     let cat = Cylinder { radius: 0.25, ..PAPER };
     let settings = WholeSettings { objective: Objective::Energy, ..WholeSettings::default() };
-    let outcome = optimize_whole(&cat, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(cat, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(outcome.solutions.len(), 2);
     for s in &outcome.solutions {
@@ -190,7 +194,7 @@ fn mirrored_starts_reach_mirrored_optima() {
         switch_refinements: 0,
         ..WholeSettings::default()
     };
-    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let [a, b] = [&outcome.solutions[0], &outcome.solutions[1]];
     assert!(a.flips(FLIP) && b.flips(FLIP));
@@ -208,9 +212,10 @@ fn energy_without_orientation_constraint_is_the_straight_cat_at_rest() {
         ..WholeSettings::default()
     };
     let start =
-        build_start(&PAPER, FALL, &Manoeuvre::default(), StartKind::Cone, &settings).unwrap_or_else(|e| panic!("{e}"));
+        build_start(PAPER, FALL, &Manoeuvre::default(), StartKind::Cone, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let cat = WholeCat::from(PAPER);
     let problem = ScvxProblem {
-        cat: &PAPER,
+        cat: &cat,
         settings: &settings,
         motors: &Motors::ideal(),
         target: None,
@@ -230,7 +235,7 @@ fn other_cats_and_fall_times_flip() {
     let settings = WholeSettings { control_points: 40, starts: vec![StartKind::Paper], ..WholeSettings::default() };
     for (radius, fall) in [(0.05, FALL), (0.3, FALL), (0.1, 0.5), (0.1, 3.0)] {
         let cat = Cylinder { radius, ..PAPER };
-        let outcome = optimize_whole(&cat, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        let outcome = optimize_whole(cat, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
             .unwrap_or_else(|e| panic!("{e}"));
         let best =
             outcome.best().unwrap_or_else(|| panic!("r = {radius}, T = {fall}: {}", outcome.solutions[0].reason));
@@ -244,7 +249,7 @@ fn other_cats_and_fall_times_flip() {
 fn bad_settings_name_the_field() {
     let settings = WholeSettings { control_points: 3, ..WholeSettings::default() };
     let err =
-        optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP).map(|_| ()).unwrap_err();
+        optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP).map(|_| ()).unwrap_err();
     assert!(err.to_string().starts_with("optimize.whole.control_points = 3"), "{err}");
     let settings = WholeSettings { min_angle_deg: Some(200.0), ..WholeSettings::default() };
     let err = settings.validate().unwrap_err();
@@ -261,13 +266,13 @@ fn bend_limit_holds_on_the_optimum() {
         starts: vec![StartKind::Cone],
         ..WholeSettings::default()
     };
-    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.solutions[0].reason));
     assert!(best.flips(FLIP));
     assert!(best.max_bend_deg <= 40.0 + catflip::optimize::whole::BEND_SLACK_DEG, "bend {}°", best.max_bend_deg);
     let free = WholeSettings { min_angle_deg: None, ..settings };
-    let unconstrained = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &free, &Motors::ideal(), FLIP)
+    let unconstrained = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &free, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let free_peak = unconstrained.best().map_or(f64::NAN, |b| b.peak_torque_nm);
     assert!(best.peak_torque_nm > free_peak, "{} ≤ {free_peak}", best.peak_torque_nm);
@@ -280,7 +285,7 @@ fn optimum_scales_with_the_fall_time() {
     // start is built from phase fractions, so the optimiser must find the scaled optimum.
     let settings = WholeSettings { control_points: 30, starts: vec![StartKind::Paper], ..WholeSettings::default() };
     let solve = |fall: f64| {
-        let outcome = optimize_whole(&PAPER, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        let outcome = optimize_whole(PAPER, fall, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
             .unwrap_or_else(|e| panic!("{e}"));
         outcome.best().cloned().unwrap_or_else(|| panic!("T = {fall}: {}", outcome.solutions[0].reason))
     };
@@ -298,7 +303,7 @@ fn optimum_scales_with_the_fall_time() {
 fn a_joint_limit_shapes_the_starts_and_is_solved() {
     let limit = 30.0;
     let settings = WholeSettings { joint_limit_deg: Some(limit), ..WholeSettings::default() };
-    let outcome = optimize_whole(&PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let b = outcome
         .best()

@@ -8,8 +8,8 @@ use catflip::model::Cylinder;
 use catflip::optimize::whole::sensitivity::{gauss_grid, uniform_grid, Layout};
 use catflip::optimize::whole::spin::spin_pass;
 use catflip::optimize::whole::{
-    build_start_spinning, flipped, optimize_whole_spinning, StartKind, WholeError, WholeOutcome, WholeSettings,
-    WholeStatus,
+    build_start_spinning, flipped, optimize_whole_spinning, StartKind, WholeCat, WholeError, WholeOutcome,
+    WholeSettings, WholeStatus,
 };
 use catflip::problem::Manoeuvre;
 use nalgebra::Vector3;
@@ -27,7 +27,7 @@ const FALL: f64 = 1.428_571_428_571_428_6;
 fn spinning_derivatives_match_central_differences() {
     let spin = Vector3::new(0.02, -0.03, 0.05);
     let settings = WholeSettings { control_points: 16, coarse_control_points: None, ..WholeSettings::default() };
-    let start = build_start_spinning(&PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, &settings, &spin)
+    let start = build_start_spinning(PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, &settings, &spin)
         .unwrap_or_else(|e| panic!("{e}"));
     let layout = Layout { control_points: settings.control_points, fixed: settings.fixed() };
     let n = layout.variables();
@@ -35,7 +35,7 @@ fn spinning_derivatives_match_central_differences() {
     for grid in [uniform_grid(&start.spline, 4), gauss_grid(&start.spline, 2)] {
         let at = |k: f64| {
             let step: Vec<f64> = direction.iter().map(|d| k * d).collect();
-            spin_pass(&PAPER, &layout.moved(&start.spline, &step), &layout, 8, &flipped(), &spin, &grid)
+            spin_pass(&WholeCat::from(PAPER), &layout.moved(&start.spline, &step), &layout, 8, &flipped(), &spin, &grid)
         };
         let base = at(0.0);
         let (plus, minus) = (at(1e-6), at(-1e-6));
@@ -67,7 +67,7 @@ const REFERENCE_WITH_SPIN_NM: f64 = 0.2307801;
 /// The default optimisation of the paper's cat released with `SPIN_Z`.
 fn spinning_optimum() -> WholeOutcome {
     optimize_whole_spinning(
-        &PAPER,
+        PAPER,
         FALL,
         &Manoeuvre::default(),
         &WholeSettings::default(),
@@ -127,7 +127,7 @@ fn motor_limits_with_spin_are_refused_naming_the_fields() {
     let limited = Motor { torque: Some(1.0), ..Motor::default() };
     let motors = Motors { joints: [limited, limited] };
     let e = optimize_whole_spinning(
-        &PAPER,
+        PAPER,
         FALL,
         &Manoeuvre::default(),
         &WholeSettings::default(),

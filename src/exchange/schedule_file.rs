@@ -167,6 +167,7 @@ pub fn write_trajectory(
 ) -> Result<ScheduleFile, ExchangeError> {
     // The orientation and torque columns and the sidecar's figures are the zero-momentum flip's.
     problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
+    problem.require_paper_cat("a schedule file (its orientation and torque columns)")?;
     let cat = &problem.cat.half();
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;

@@ -3,7 +3,8 @@
 //!
 //! Every number here is re-measured by the exact engine on the final trajectory, never taken from
 //! a linearisation: the optimum's twist and swing from [`crate::engines::exact::flip`], its peak
-//! from [`crate::engines::torque::peak_torques`]. The optimum has no phases of its own (it bends
+//! from [`crate::engines::torque::peak_torques`] (on a cat other than the paper's, the general
+//! core's, [`crate::optimize::whole::WholeCat`]). The optimum has no phases of its own (it bends
 //! and circulates at once), so its peaks are also given over the time windows of the problem's
 //! phases, for the peak-torque table; `max` is the peak over the whole fall.
 
@@ -16,10 +17,10 @@ use crate::engines::motors::LimitUse;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::{verify_with, RapierError, RapierOptions, Reference, Verification};
 use crate::engines::resolved::Resolved;
-use crate::engines::spin::SpinHistory;
-use crate::engines::torque::TorqueSource;
 use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
-use crate::optimize::whole::{optimize_whole_spinning, BSpline, Objective, WholeError, WholeOutcome, WholeSolution};
+use crate::optimize::whole::{
+    optimize_whole_spinning, BSpline, Objective, WholeCat, WholeError, WholeOutcome, WholeSolution,
+};
 use crate::report::check::{verification_row, ExactValues};
 use crate::report::compare::CompareLine;
 use crate::schedule::{Schedule, Trajectory};
@@ -36,6 +37,8 @@ pub const ACTIVE_RATIO: f64 = 1e-3;
 pub struct WholeReport {
     /// Problem name.
     pub problem: String,
+    /// The cat optimised, in words ([`crate::model::Cat::describe`]).
+    pub cat: String,
     /// What was minimised.
     pub objective: Objective,
     /// How the best start ended (`converged`), or why there is no optimum.
@@ -92,13 +95,14 @@ impl WholeReport {
     }
 }
 
-/// Runs the whole-manoeuvre optimisation on a resolved problem (`[optimize.whole]`).
+/// Runs the whole-manoeuvre optimisation on a resolved problem (`[optimize.whole]`), on its cat
+/// model ([`WholeCat`]: the paper's cat through the two-cylinder engine).
 pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
-    r.require_paper_cat("optimize --whole (the whole-manoeuvre optimiser)")?;
     let p = &r.problem;
     let settings = &p.optimize.whole;
+    let cat = WholeCat::from(r.model());
     let outcome = optimize_whole_spinning(
-        &p.cat.half(),
+        &cat,
         p.drop.fall_time(),
         &p.manoeuvre,
         settings,
@@ -119,10 +123,11 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
             outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect::<Vec<_>>().join("; ")
         ),
     };
-    let peaks = best.map(|b| window_peaks(r, &b.spline, b.peak_torque_nm));
+    let peaks = best.map(|b| window_peaks(r, &cat, &b.spline, b.peak_torque_nm));
     let fall = best.map(|b| b.fall_time_s);
     Ok(WholeReport {
         problem: p.name.clone(),
+        cat: cat.describe(),
         objective: settings.objective,
         status,
         twist_deg: best.map(|b| b.twist.to_degrees()),
@@ -148,14 +153,13 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
 /// The optimum's peaks over the time windows of the problem's phases (as fractions of its own
 /// duration, which `min-time` makes shorter than the problem's fall); `max` is `peak`, the
 /// refined whole-fall peak (at least every window's sampled peak).
-fn window_peaks(r: &Resolved, spline: &BSpline, peak: f64) -> PhasePeaks {
+fn window_peaks(r: &Resolved, cat: &WholeCat, spline: &BSpline, peak: f64) -> PhasePeaks {
     let total = spline.total_duration();
     let to_schedule = r.schedule.duration() / total;
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
-    let cat = &r.problem.cat.half();
     let spin = r.problem.drop.spin();
-    let history = r.problem.drop.spins().then(|| SpinHistory::new(cat, spline, &spin, r.problem.exact.tolerance).1);
-    let source = history.as_ref().map_or(TorqueSource::zero_momentum(cat), |h| TorqueSource::spinning(cat, h));
+    let history = r.problem.drop.spins().then(|| cat.spin_history(spline, &spin, r.problem.exact.tolerance).1);
+    let source = cat.torque_source(history.as_ref());
     let mut w = [[0.0f64; 2]; 3];
     for k in 0..=n {
         let t = total * k as f64 / n as f64;
@@ -175,6 +179,7 @@ impl WholeReport {
     pub fn to_markdown(&self) -> String {
         let mut s = String::new();
         let _ = writeln!(s, "## Whole-manoeuvre optimum (`{}`, objective {})\n", self.problem, self.objective.name());
+        let _ = writeln!(s, "The cat: {}.\n", self.cat);
         let _ = writeln!(
             s,
             "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n"

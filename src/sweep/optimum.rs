@@ -86,7 +86,7 @@ pub(crate) fn retimed(problem: &Problem, from: SweepSchedule, radians: f64) -> M
 /// The `whole` row: the whole-manoeuvre optimum of the case.
 pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome = optimize_whole(
-        &problem.cat.half(),
+        problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &problem.optimize.whole,

@@ -1,6 +1,8 @@
 //! The final measurement of a trajectory by the reference engines, never by the optimiser's
 //! model: flip by [`crate::engines::exact::flip`], peak by [`crate::engines::torque::peak_torques`], energy by
-//! Gauss–Legendre quadrature of [`crate::engines::torque::joint_torques`], the bend's shape, and
+//! Gauss–Legendre quadrature of [`crate::engines::torque::joint_torques`] (for a cat other than the
+//! paper's, the general core's [`crate::engines::models::TwoMotorCat::flip`] and
+//! [`crate::engines::models::TwoMotorCat::joint_torques`], [`WholeCat`]), the bend's shape, and
 //! what it asks of the motors by [`crate::engines::motors::motor_demand`], and how cleanly the
 //! torques switch ([`Chatter`]).
 
@@ -8,15 +10,14 @@ use std::f64::consts::{PI, TAU};
 
 use serde::Serialize;
 
+use super::cat::WholeCat;
 use super::spline::BSpline;
 use nalgebra::Vector3;
 
-use crate::engines::exact::{flip, Flip};
+use crate::engines::exact::Flip;
 use crate::engines::motors::{motor_demand_from, MotorDemand};
-use crate::engines::spin::SpinHistory;
-use crate::engines::torque::{peak_torques_from, piece_samples, TorqueSource};
+use crate::engines::torque::{peak_torques_from, piece_samples};
 use crate::model::motor::Motors;
-use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
 /// Samples per knot span of the peak search (each peak then refined by golden section).
@@ -106,30 +107,27 @@ pub fn chatter(times: &[f64], tau: &[[f64; 2]], duration: f64) -> Chatter {
 }
 
 /// Measures `spline` driven by `motors` (flip to `tolerance` rad).
-pub fn measure(cat: &Cylinder, spline: &BSpline, motors: &Motors, tolerance: f64) -> Measurement {
+pub fn measure(cat: &WholeCat, spline: &BSpline, motors: &Motors, tolerance: f64) -> Measurement {
     measure_spinning(cat, spline, motors, tolerance, &Vector3::zeros())
 }
 
 /// [`measure`] for a release with total angular momentum `spin` (N·m·s, world frame): the flip by
 /// [`crate::engines::exact::flip_spinning`], every torque at the orientation of that motion
-/// ([`TorqueSource::spinning`]); zero `spin` is [`measure`].
+/// ([`WholeCat::torque_source`]); zero `spin` is [`measure`].
 pub fn measure_spinning(
-    cat: &Cylinder,
+    cat: &WholeCat,
     spline: &BSpline,
     motors: &Motors,
     tolerance: f64,
     spin: &Vector3<f64>,
 ) -> Measurement {
     let (flip, history) = if spin.norm_squared() > 0.0 {
-        let (f, h) = SpinHistory::new(cat, spline, spin, tolerance);
+        let (f, h) = cat.spin_history(spline, spin, tolerance);
         (f, Some(h))
     } else {
-        (flip(cat, spline, tolerance), None)
+        (cat.flip(spline, tolerance), None)
     };
-    let source = match &history {
-        Some(h) => TorqueSource::spinning(cat, h),
-        None => TorqueSource::zero_momentum(cat),
-    };
+    let source = cat.torque_source(history.as_ref());
     let torque = |piece: usize, s: f64| source.at(spline, piece, s, &spline.piece_state(piece, s)).tau;
     let peaks = peak_torques_from(&source, spline, &vec![PEAK_SAMPLES_PER_SPAN; spline.piece_durations().len()]);
     let (peak, peak_time) = peaks.per_piece.iter().flatten().map(|p| (p.value, p.time)).fold((0.0, 0.0), |best, p| {
@@ -157,10 +155,7 @@ pub fn measure_spinning(
     let (mut max_bend, mut turned, mut last): (f64, f64, Option<f64>) = (0.0, 0.0, None);
     let n = 64 * spline.spans();
     for k in 0..=n {
-        let q = spline.state(spline.duration() * k as f64 / n as f64).q;
-        let (s1, c1) = q[0].sin_cos();
-        let (s2, c2) = q[1].sin_cos();
-        let axis = [s2, -s1 * c2, c1 * c2];
+        let axis = cat.spine(spline.state(spline.duration() * k as f64 / n as f64).q);
         let bend = axis[2].clamp(-1.0, 1.0).acos();
         max_bend = max_bend.max(bend);
         if bend > 1f64.to_radians() {

@@ -14,8 +14,16 @@
 //! Twist `±π` with zero swing is the same rotation `R_z(π)`: the constraint is three equations on
 //! `e = log(R_z(π)ᵀ R(T))`, and which of `±π` (or `±3π`) the path realises is read off the twist
 //! tracker of the final [`crate::engines::exact::flip`], which re-measures every result. The bend
-//! `β` is the angle between the spine axes, `cos β = cos q1 cos q2`; `min_angle_deg` bounds the
+//! `β` is the angle between the spine axes, `cos β = cos q1 cos q2` on the universal joint and
+//! `cos |q|` on the no-twist joint ([`WholeCat::bend_cosine`]); `min_angle_deg` bounds the
 //! angle between the halves, `π − β`, from below on every torque sample.
+//!
+//! ## Cat models (DESIGN.md §10)
+//! The cat is a [`WholeCat`]: the paper's (equal halves on the universal joint) through
+//! [`dynamics`] and the two-cylinder engine, unchanged to the last bit, or any other two-motor
+//! model (unequal halves, the no-twist joint) through [`model_dynamics`] and the general core
+//! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
+//! A release with spin is planned for the paper's cat only so far ([`spin_on_paper_cat`]).
 //!
 //! ## Why cubic B-splines
 //! The torques need `q̈`; a cubic's `q̈` is continuous and piecewise linear, so the torque is
@@ -80,11 +88,13 @@
 //! - C. de Boor, *A Practical Guide to Splines* (2001);
 //! - R. Montgomery, *Gauge theory of the falling cat* (1993).
 
+pub mod cat;
 pub mod curvature;
 pub mod dual;
 pub mod dynamics;
 pub mod limits;
 pub mod measure;
+pub mod model_dynamics;
 pub mod refine;
 pub mod scvx;
 pub mod sensitivity;
@@ -101,6 +111,7 @@ use std::time::Instant;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
+pub use cat::WholeCat;
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
@@ -108,10 +119,7 @@ pub use spline::BSpline;
 pub use starts::{build_start, build_start_spinning, NamedStart};
 
 use crate::engines::motors::RATIO_TOLERANCE;
-use crate::engines::spin::SpinHistory;
-use crate::engines::torque::TorqueSource;
 use crate::model::motor::Motors;
-use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
 
@@ -140,7 +148,7 @@ pub fn flipped() -> UnitQuaternion<f64> {
 /// result's duration is the least fall time within the motors (`duration` only scales the
 /// starts).
 pub fn optimize_whole(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     settings: &WholeSettings,
@@ -157,7 +165,7 @@ pub fn optimize_whole(
 /// [`optimize_whole`]. Motor limits (and so `min-time`) are refused with spin ([`spin_supported`]).
 #[allow(clippy::too_many_arguments)]
 pub fn optimize_whole_spinning(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     settings: &WholeSettings,
@@ -169,6 +177,8 @@ pub fn optimize_whole_spinning(
     settings::positive_input("drop duration", duration)?;
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
+    let cat = &cat.into();
+    spin_on_paper_cat(cat, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -213,10 +223,27 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
     Ok(())
 }
 
+/// Refuses a release with spin on a cat other than the paper's: the spinning model goes through
+/// the same seam, but on Kane and Scher's symmetric cat (whose swing the controls cannot reach)
+/// its subproblems end primal infeasible, and no other model is tested with spin yet.
+pub fn spin_on_paper_cat(cat: &WholeCat, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if spin.norm_squared() == 0.0 || matches!(cat, WholeCat::Paper(_)) {
+        return Ok(());
+    }
+    Err(WholeError::BadFieldValue {
+        field: "drop.angular_momentum",
+        value: format!("[{}, {}, {}]", spin.x, spin.y, spin.z),
+        reason: format!(
+            "the whole optimiser plans a release with spin for the paper's cat only (equal halves on the universal joint) so far; this cat ({}) is optimised without spin: set drop.angular_momentum to [0, 0, 0]",
+            cat.describe()
+        ),
+    })
+}
+
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     starts: &[NamedStart],
     settings: &WholeSettings,
     motors: &Motors,
@@ -227,7 +254,7 @@ pub fn optimize_from(
 
 /// [`optimize_from`] for a release with total angular momentum `spin` ([`optimize_whole_spinning`]).
 pub fn optimize_from_spinning(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     starts: &[NamedStart],
     settings: &WholeSettings,
     motors: &Motors,
@@ -238,6 +265,8 @@ pub fn optimize_from_spinning(
     settings::positive_input("tolerance", tolerance)?;
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
+    let cat = &cat.into();
+    spin_on_paper_cat(cat, spin)?;
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
@@ -363,8 +392,8 @@ pub fn refine_solution(
     let mut kept = false;
     for _ in 0..s.switch_refinements {
         let spans = if problem.spins() {
-            let (_, history) = SpinHistory::new(problem.cat, &end.spline, &problem.spin, run.flip_tolerance());
-            refine::switching_spans_from(&TorqueSource::spinning(problem.cat, &history), &end.spline)
+            let (_, history) = problem.cat.spin_history(&end.spline, &problem.spin, run.flip_tolerance());
+            refine::switching_spans_from(&problem.cat.torque_source(Some(&history)), &end.spline)
         } else {
             refine::switching_spans(problem.cat, &end.spline)
         };
@@ -530,7 +559,7 @@ impl Run {
         let flip_tolerance = self.flip_tolerance();
         if p.target.is_some() {
             loop {
-                let f = crate::engines::exact::flip_spinning(p.cat, &spline, &p.spin, flip_tolerance);
+                let f = p.cat.flip_spinning(&spline, &p.spin, flip_tolerance);
                 let good = ((f.twist.abs() - PI).abs() <= 0.1 * self.tolerance && f.swing <= 0.1 * self.tolerance)
                     || self.steps >= 1024;
                 if good {

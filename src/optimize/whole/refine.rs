@@ -14,9 +14,9 @@
 //! when it is lower than the converged optimum it refines and flips within the limits (also
 //! when it stopped at its budget, which the start's reason says).
 
+use super::cat::WholeCat;
 use super::spline::BSpline;
 use crate::engines::torque::TorqueSource;
-use crate::model::Cylinder;
 use crate::schedule::Trajectory;
 
 /// The swing of a torque across one span, as a fraction of the peak, that marks a switch.
@@ -45,8 +45,8 @@ pub const BUDGET: usize = 25;
 const SAMPLES: usize = 8;
 
 /// The spans across which a torque switches (module docs), in order.
-pub fn switching_spans(cat: &Cylinder, spline: &BSpline) -> Vec<usize> {
-    switching_spans_from(&TorqueSource::zero_momentum(cat), spline)
+pub fn switching_spans(cat: &WholeCat, spline: &BSpline) -> Vec<usize> {
+    switching_spans_from(&cat.torque_source(None), spline)
 }
 
 /// [`switching_spans`] with the torques of `source` (a release with spin).

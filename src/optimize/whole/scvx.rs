@@ -33,6 +33,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+use super::cat::WholeCat;
 use super::curvature::{Curvature, Point};
 use super::limits::{largest, limit_rows, LimitRow, RowForm};
 use super::sensitivity::{
@@ -45,7 +46,6 @@ use super::spin::{spin_pass, Lift};
 use super::spline::BSpline;
 use super::subproblem::{Subproblem, BEND_PENALTY, LIMIT_PENALTY};
 use crate::model::motor::Motors;
-use crate::model::Cylinder;
 use crate::optimize::qp::QpSettings;
 
 /// `|e|₁` below which the loop counts an iterate as flipping (the Newton phase finishes the job).
@@ -68,8 +68,8 @@ const MIN_RADIUS: f64 = 1e-10;
 /// One whole-manoeuvre problem: the cat, the settings and the target orientation.
 #[derive(Clone, Debug)]
 pub struct ScvxProblem<'a> {
-    /// One half of the cat.
-    pub cat: &'a Cylinder,
+    /// The cat (the paper's, or another two-motor model).
+    pub cat: &'a WholeCat,
     /// The settings.
     pub settings: &'a WholeSettings,
     /// The joint motors (ideal: no limit rows).
@@ -151,8 +151,11 @@ impl ScvxProblem<'_> {
             }
         };
         let limit_max = largest(&limits);
-        let bend =
-            if self.settings.min_angle_deg.is_some() { bend_samples(&spline, &layout, &uniform) } else { Vec::new() };
+        let bend = if self.settings.min_angle_deg.is_some() {
+            bend_samples(self.cat, &spline, &layout, &uniform)
+        } else {
+            Vec::new()
+        };
         let orientation = match spun {
             Some(o) => Some(o),
             None => self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t)),
@@ -386,7 +389,7 @@ impl ScvxProblem<'_> {
             }
             let j = &o.jacobian;
             let jjt: Matrix3<f64> = Matrix3::from_fn(|a, b| j.row(a).dot(&j.row(b)));
-            let Some(y) = jjt.try_inverse().map(|inv| inv * o.error) else { return (best.1, k) };
+            let Some(y) = newton_multipliers(&jjt, &o.error) else { return (best.1, k) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
             let next = layout.moved(spline, &step);
@@ -398,4 +401,33 @@ impl ScvxProblem<'_> {
         }
         (best.1, most)
     }
+}
+
+/// The ratio of the smallest to the largest eigenvalue of `JJᵀ` below which the Newton step
+/// leaves out the directions the controls cannot reach: singular values of `J` below `10⁻⁶` of
+/// the largest (on the no-twist joint with equal halves the swing's rows are round-off, ~10⁻¹²,
+/// since the symmetric cat cannot swing its spine, and their inverse made every step useless).
+const RANK_RATIO: f64 = 1e-12;
+
+/// `y = (JJᵀ)⁻¹ e` of the minimum-norm Newton step `δ = −Jᵀ y`: the inverse when `JJᵀ` is well
+/// conditioned (the paper's cat: the same numbers as ever), else the pseudo-inverse on the
+/// eigenvectors whose eigenvalues are at least [`RANK_RATIO`] of the largest.
+fn newton_multipliers(jjt: &Matrix3<f64>, error: &Vector3<f64>) -> Option<Vector3<f64>> {
+    let eigen = jjt.symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    let smallest = eigen.eigenvalues.iter().fold(f64::INFINITY, |m, x| m.min(x.abs()));
+    if smallest > RANK_RATIO * largest {
+        return jjt.try_inverse().map(|inv| inv * error);
+    }
+    if largest <= 0.0 {
+        return None;
+    }
+    let mut y = Vector3::zeros();
+    for (i, l) in eigen.eigenvalues.iter().enumerate() {
+        if *l > RANK_RATIO * largest {
+            let v = eigen.eigenvectors.column(i);
+            y += v * (v.dot(error) / l);
+        }
+    }
+    Some(y)
 }

@@ -12,14 +12,14 @@
 //!
 //! the discrete form of `η̇ = R δΩ`. With `Ω = A(q) q̇` (linear in `q̇`),
 //! `δΩ = Σ_j (∂Ω/∂q_j δq_j + ∂Ω/∂q̇_j δq̇_j)` and `δq_j = Σ_i N_i δc_{j,i}`. The partials of `Ω`
-//! come from dual numbers through [`body_rate`], those of `σ` through [`magnus6`]: this is the
+//! come from dual numbers through [`WholeCat::body_rate`], those of `σ` through [`magnus6`]: this is the
 //! exact derivative of the integrator's own final orientation, not of a second discretisation.
 //! The error `e = log(R_*ᵀ R(T))` of the target `R_*` then moves by
 //! `δe = J_l⁻¹(e) R_*ᵀ η` (`log(exp([a]×) exp([e]×)) = e + J_l(e)⁻¹ a + O(a²)`,
 //! `J_l⁻¹(φ) = 𝟙 − ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ))[φ]×²`).
 //!
 //! ## Torques
-//! `τ(q, q̇, q̈)` from [`motor_torques`] at `Dual<6>` seeded on `(q, q̇, q̈)`, chained through
+//! `τ(q, q̇, q̈)` from [`WholeCat::motor_torques`] at `Dual<6>` seeded on `(q, q̇, q̈)`, chained through
 //! `N_i, N'_i, N''_i`.
 //!
 //! ## References
@@ -29,10 +29,11 @@
 
 use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
 
+use super::cat::WholeCat;
 use super::dual::Dual;
-use super::dynamics::{body_rate, magnus6, motor_torques};
+use super::dynamics::magnus6;
 use super::spline::{BSpline, Basis};
-use crate::model::{skew, Cylinder};
+use crate::model::skew;
 
 /// Which control points are free: the first and last `fixed` of each joint are held at zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,7 +152,7 @@ pub fn left_jacobian_inverse(phi: &Vector3<f64>) -> Matrix3<f64> {
 /// on narrower ones, [`BSpline::by_width`]), as
 /// [`crate::engines::exact::integrate`] does, and its exact derivative (module docs).
 pub fn final_orientation(
-    cat: &Cylinder,
+    cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     steps: usize,
@@ -174,7 +175,7 @@ pub fn final_orientation(
                 let st = spline.state_from(&basis);
                 let d: [Dual<4>; 4] =
                     std::array::from_fn(|k| Dual::input([st.q[0], st.q[1], st.qd[0], st.qd[1]][k], k));
-                (basis, body_rate(cat, [d[0], d[1]], [d[2], d[3]]))
+                (basis, cat.body_rate([d[0], d[1]], [d[2], d[3]]))
             });
             let w: [[Dual<9>; 3]; 3] =
                 std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].re, 3 * k + i)));
@@ -222,7 +223,7 @@ pub struct TorqueSample {
     pub rate_gradient: [Vec<(usize, f64)>; 2],
 }
 
-/// The cosine of the bend, `e_z = cos q1 cos q2` (B's axis on A's), with its gradient.
+/// The cosine of the bend, `e_z` (B's axis on A's; [`WholeCat::bend_cosine`]), with its gradient.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BendSample {
     /// `cos β`.
@@ -262,14 +263,14 @@ pub fn gauss_grid(spline: &BSpline, parts: usize) -> Vec<GridPoint> {
 }
 
 /// Torques and their gradients on a grid.
-pub fn torque_samples(cat: &Cylinder, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
+pub fn torque_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
     grid.iter()
         .map(|&(span, time, weight)| {
             let basis = spline.basis(span, time);
             let st = spline.state_from(&basis);
             let x = [st.q[0], st.q[1], st.qd[0], st.qd[1], st.qdd[0], st.qdd[1]];
             let d: [Dual<6>; 6] = std::array::from_fn(|k| Dual::input(x[k], k));
-            let tau = motor_torques(cat, [d[0], d[1]], [d[2], d[3]], [d[4], d[5]]);
+            let tau = cat.motor_torques([d[0], d[1]], [d[2], d[3]], [d[4], d[5]]);
             let gradient = tau.map(|t| {
                 let mut g = Vec::with_capacity(2 * basis.values[0].len());
                 let e = t.eps;
@@ -287,16 +288,14 @@ pub fn torque_samples(cat: &Cylinder, spline: &BSpline, layout: &Layout, grid: &
 }
 
 /// The bend's cosine and its gradient on a grid.
-pub fn bend_samples(spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<BendSample> {
+pub fn bend_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<BendSample> {
     grid.iter()
         .map(|&(span, time, _)| {
             let basis = spline.basis(span, time);
-            let q = spline.state_from(&basis).q;
-            let (s1, c1) = q[0].sin_cos();
-            let (s2, c2) = q[1].sin_cos();
+            let (cos_bend, dq) = cat.bend_cosine(spline.state_from(&basis).q);
             let mut gradient = Vec::new();
-            layout.chain(&basis, [-s1 * c2, -c1 * s2], [0.0; 2], [0.0; 2], &mut gradient);
-            BendSample { cos_bend: c1 * c2, gradient }
+            layout.chain(&basis, dq, [0.0; 2], [0.0; 2], &mut gradient);
+            BendSample { cos_bend, gradient }
         })
         .collect()
 }

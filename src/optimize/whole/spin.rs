@@ -25,7 +25,7 @@
 //! ## Torques
 //! A torque sample at `t_k` in span `s` needs `λ_k = R(t_k)ᵀ L`: one Runge–Kutta step from the
 //! node before `t_k` (as [`crate::engines::spin::SpinHistory`] does), at `Dual<11>` too; then
-//! `τ(q, q̇, q̈, λ)` ([`super::dynamics::motor_torques_spinning`]) at `Dual<11>` gives
+//! `τ(q, q̇, q̈, λ)` ([`WholeCat::motor_torques_spinning`]) at `Dual<11>` gives
 //! `∂τ_k/∂η_s` and `∂τ_k/∂c_s`. Eliminating the `η` would make every torque row dense in all
 //! earlier control points (a lower-triangular block: 940 rows × 232 columns on the default
 //! spline, whose KKT factorisation is dense). Kept as variables ([`Lift`]), `η_1 … η_{S−1}` are
@@ -42,11 +42,10 @@
 
 use nalgebra::{DMatrix, Matrix3, Quaternion, UnitQuaternion, Vector3};
 
+use super::cat::WholeCat;
 use super::dual::{add, cross, dot, scale, scale_by, sub, Dual, Real, V3};
-use super::dynamics::{body_rate_spinning, motor_torques_spinning};
 use super::sensitivity::{left_jacobian_inverse, FinalOrientation, GridPoint, Layout, TorqueSample};
 use super::spline::{BSpline, Basis};
-use crate::model::Cylinder;
 
 /// Directions of the span's dual numbers: `η_s` (3) and the span's 4 control points per joint.
 const DIRS: usize = 11;
@@ -108,16 +107,16 @@ fn local_state(spline: &BSpline, basis: &Basis) -> LocalState {
 }
 
 /// `ṙ = ½ r ⊗ (0, Ω)` with `Ω` at the normalised `r`.
-fn rate(cat: &Cylinder, spin: &Vector3<f64>, st: &LocalState, y: Q<D>) -> Q<D> {
+fn rate(cat: &WholeCat, spin: &Vector3<f64>, st: &LocalState, y: Q<D>) -> Q<D> {
     let lambda = inverse_rotate(normalised(y), spin);
-    let w = body_rate_spinning(cat, st.q, st.qd, lambda);
+    let w = cat.body_rate_spinning(st.q, st.qd, lambda);
     let r = qmul(y, [D::cst(0.0), w[0], w[1], w[2]]);
     r.map(|x| x * 0.5)
 }
 
 /// One classical Runge–Kutta step `h` ([`crate::engines::exact::rk4_step`]) from `y` at `t` in
 /// span `span`, normalised.
-fn step(cat: &Cylinder, spline: &BSpline, spin: &Vector3<f64>, span: usize, y: Q<D>, t: f64, h: f64) -> Q<D> {
+fn step(cat: &WholeCat, spline: &BSpline, spin: &Vector3<f64>, span: usize, y: Q<D>, t: f64, h: f64) -> Q<D> {
     let at = |t: f64| local_state(spline, &spline.basis(span, t));
     let (a, b, c) = (at(t), at(t + 0.5 * h), at(t + h));
     let k1 = rate(cat, spin, &a, y);
@@ -206,7 +205,7 @@ pub struct SpinPass {
 /// on the widest span) with its exact derivative, and the torques on `grid` (points in span and
 /// time order) with theirs (module docs).
 pub fn spin_pass(
-    cat: &Cylinder,
+    cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     steps: usize,
@@ -276,7 +275,7 @@ pub fn spin_pass(
 /// The torque sample at `time` of `span` with A's orientation `at` there.
 #[allow(clippy::too_many_arguments)]
 fn torque_sample(
-    cat: &Cylinder,
+    cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     lift: &Lift,
@@ -290,7 +289,7 @@ fn torque_sample(
     let basis = spline.basis(span, time);
     let st = local_state(spline, &basis);
     let lambda = inverse_rotate(at, spin);
-    let tau = motor_torques_spinning(cat, st.q, st.qd, st.qdd, lambda);
+    let tau = cat.motor_torques_spinning(st.q, st.qd, st.qdd, lambda);
     let gradient = tau.map(|t| {
         let mut g: Vec<(usize, f64)> = (0..3).filter_map(|i| lift.variable(span, i).map(|v| (v, t.eps[i]))).collect();
         for j in 0..2 {

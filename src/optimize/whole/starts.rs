@@ -16,12 +16,11 @@ use super::settings::{StartKind, WholeSettings};
 use super::spline::BSpline;
 use nalgebra::Vector3;
 
-use crate::engines::calibrate::calibrate_spinning;
-use crate::model::Cylinder;
+use super::cat::WholeCat;
 use crate::numeric::roots::RootStatus;
 use crate::problem::manoeuvre::{BendPath, Manoeuvre, ProfileKind, CONE_GIMBAL_MARGIN_DEG};
 use crate::schedule::profile::Profile;
-use crate::schedule::{paper_circulation, Schedule};
+use crate::schedule::Schedule;
 
 /// The largest bend of the cone start, degrees.
 pub const CONE_START_BEND_DEG: f64 = 60.0;
@@ -45,24 +44,24 @@ pub struct NamedStart {
 /// The schedule a start is fitted to, with the circulation calibrated (the paper's `π/C` when the
 /// calibration does not converge: a start only needs to be near a flip).
 pub fn start_schedule(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     kind: StartKind,
     min_angle_deg: Option<f64>,
     joint_limit_deg: Option<f64>,
 ) -> Result<Schedule, String> {
-    start_schedule_spinning(cat, duration, manoeuvre, kind, min_angle_deg, joint_limit_deg, &Vector3::zeros())
+    start_schedule_spinning(&cat.into(), duration, manoeuvre, kind, min_angle_deg, joint_limit_deg, &Vector3::zeros())
 }
 
 /// [`start_schedule`] calibrated for a release with total angular momentum `spin` (world frame,
-/// N·m·s; [`calibrate_spinning`]). A mirrored start is the mirror image of this schedule, so its
+/// N·m·s; [`WholeCat::calibrate`]). A mirrored start is the mirror image of this schedule, so its
 /// circulation is calibrated under the mirrored spin `(L_x, −L_y, −L_z)` (angular momentum is a
 /// pseudovector: the reflection `x → −x` maps `L` to `−diag(−1, 1, 1) L`), and the start itself
 /// turns by ±π under `spin`.
 #[allow(clippy::too_many_arguments)]
 pub fn start_schedule_spinning(
-    cat: &Cylinder,
+    cat: &WholeCat,
     duration: f64,
     manoeuvre: &Manoeuvre,
     kind: StartKind,
@@ -98,7 +97,7 @@ pub fn start_schedule_spinning(
     if path == BendPath::Cone && (manoeuvre.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
         return Err(format!("the cone path meets gimbal lock within {CONE_GIMBAL_MARGIN_DEG}° of a 90° bend"));
     }
-    let circulation = paper_circulation(cat, manoeuvre.theta()).map_err(|e| e.to_string())?;
+    let circulation = cat.paper_circulation(manoeuvre.theta()).map_err(|e| e.to_string())?;
     let schedule = Schedule {
         durations: manoeuvre.phases.map(|f| f * duration),
         bend: manoeuvre.bend(),
@@ -109,7 +108,7 @@ pub fn start_schedule_spinning(
         unbend_profile: Profile::harmonic(),
     };
     let spin = if mirrored(kind) { Vector3::new(spin.x, -spin.y, -spin.z) } else { *spin };
-    let cal = calibrate_spinning(cat, &schedule, &spin, 1e-9);
+    let cal = cat.calibrate(&schedule, &spin, 1e-9);
     Ok(if cal.status == RootStatus::Converged { schedule.with_circulation(cal.circulation) } else { schedule })
 }
 
@@ -120,24 +119,25 @@ fn mirrored(kind: StartKind) -> bool {
 
 /// The start `kind` on the spline of `settings`.
 pub fn build_start(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     kind: StartKind,
     settings: &WholeSettings,
 ) -> Result<NamedStart, String> {
-    build_start_spinning(cat, duration, manoeuvre, kind, settings, &Vector3::zeros())
+    build_start_spinning(cat.into(), duration, manoeuvre, kind, settings, &Vector3::zeros())
 }
 
 /// [`build_start`] for a release with total angular momentum `spin` ([`start_schedule_spinning`]).
 pub fn build_start_spinning(
-    cat: &Cylinder,
+    cat: impl Into<WholeCat>,
     duration: f64,
     manoeuvre: &Manoeuvre,
     kind: StartKind,
     settings: &WholeSettings,
     spin: &Vector3<f64>,
 ) -> Result<NamedStart, String> {
+    let cat = &cat.into();
     let schedule = start_schedule_spinning(
         cat,
         duration,
@@ -160,7 +160,7 @@ pub fn build_start_spinning(
         }
     }
     // The orientation error log(R_zᵀ(π) R) is singular at a half-turn from the target.
-    let f = crate::engines::exact::flip_spinning(cat, &spline, spin, 1e-6);
+    let f = cat.flip_spinning(&spline, spin, 1e-6);
     if f.swing > 0.5 * std::f64::consts::PI {
         return Err(format!("the fitted start lands with swing {:.1}°, too far from a flip", f.swing.to_degrees()));
     }

@@ -179,7 +179,7 @@ fn whole_settings(settings: &WholeSettings, control_points: usize) -> WholeSetti
 fn whole_at(problem: &Problem, control_points: usize) -> Result<WholeOutcome, String> {
     let settings = whole_settings(&problem.optimize.whole, control_points);
     optimize_whole(
-        &problem.cat.half(),
+        problem.cat.half(),
         problem.drop.fall_time(),
         &problem.manoeuvre,
         &settings,

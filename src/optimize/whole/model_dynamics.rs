@@ -1,0 +1,411 @@
+//! The dynamics of any two-motor cat ([`Cat`]: unequal halves, the universal or the no-twist
+//! joint) written once over a [`Real`], so that the optimiser gets values at `f64` and exact
+//! derivatives at [`Dual`](super::dual::Dual) for every model, as [`super::dynamics`] gives them
+//! for the paper's cat.
+//!
+//! ## Joint kinematics
+//! Only the joint differs between the models. With B's spine `e(q) = R_AB ẑ` (A's frame),
+//! `ė = ω_rel × e` and `ë = ω̇_rel × e + ω_rel × ė`:
+//!
+//! - **universal**, `R_AB = Rx(q1) Ry(q2)`: `e = (sin q2, −sin q1 cos q2, cos q1 cos q2)`,
+//!   `ω_rel = q̇1 x̂ + q̇2 a₂`, `a₂ = Rx(q1) ŷ`, `ω̇_rel = q̈1 x̂ + q̈2 a₂ + q̇1 q̇2 x̂ × a₂`; motors
+//!   on `x̂` and `a₂`;
+//! - **no-twist**, `R_AB = exp([v]×)`, `v = (q1, q2, 0)`, `s = θ² = |v|²`:
+//!   `e = (σ q2, −σ q1, 1 − a s)`, `ω_rel = J_l(v) v̇ = v̇ + a v × v̇ + b v × (v × v̇)`,
+//!   `ω̇_rel = J_l(v) v̈ + ȧ v × v̇ + ḃ v × (v × v̇) + b v̇ × (v × v̇)` with `ȧ = 2 a_s (v·v̇)`,
+//!   `ḃ = 2 b_s (v·v̇)`; motors on A's `x̂` and `ŷ`. The coefficients are functions of `s`:
+//!   `σ = sin θ/θ`, `a = (1 − cos θ)/θ²`, `b = (θ − sin θ)/θ³`, `a_s = da/ds = (σ − 2a)/(2s)`,
+//!   `b_s = db/ds = (a − 3b)/(2s)`; below `s = 1` they are their Taylor series in `s`
+//!   ([`ExpSeries`]), so that dual numbers stay finite at the straight cat `q = 0`.
+//!
+//! ## Mass properties and Newton–Euler
+//! B's centre from A's is `p = −(l_A/2) ẑ − (l_B/2) e`, the reduced mass `μ = m_A m_B/M`,
+//! `R I_B Rᵀ v = I_tB v + (I_aB − I_tB)(e·v) e` (B axisymmetric) and
+//!
+//! $$ I_{lock} = I_A + R I_B R^\top + μ(|p|^2 𝟙 − p p^\top), \quad h = R I_B R^\top ω_{rel} + μ\, p × \dot p, $$
+//!
+//! `Ω = I_lock⁻¹(λ − h)` (`λ = Rᵀ L`, zero without spin) and
+//! `Ω̇ = I_lock⁻¹(λ × Ω − İ_lock Ω − ḣ)` ([`crate::engines::reduction`]'s equations for two bodies).
+//! B's centre sits at `(m_A/M) p` from the centre of mass, so its acceleration is
+//! `a_B = (m_A/M)(p̈ + Ω̇ × p + 2 Ω × ṗ + Ω × (Ω × p))`, and the couple the joint transmits to B
+//! about the joint point is `T = I'_B α_B + ω_B × I'_B ω_B − (l_B/2) e × m_B a_B`
+//! (`ω_B = Ω + ω_rel`, `α_B = Ω̇ + ω̇_rel + Ω × ω_rel`), projected on the motor axes.
+//!
+//! Tests check at `f64` against [`crate::engines::models::TwoMotorCat`] (the general core), on
+//! the paper's cat against [`super::dynamics`], and at dual numbers against central differences.
+//! All vectors in A's frame, SI units.
+//!
+//! ## References
+//! - T. R. Kane and M. P. Scher (1969), the no-twist joint;
+//! - J. Solà, J. Deray, D. Atchuthan, *A micro Lie theory for state estimation in robotics*
+//!   (arXiv:1812.01537, 2018), the left Jacobian of SO(3).
+
+use super::dual::{add, cross, dot, scale, scale_by, solve3, sub, Real, V3};
+use crate::model::{Cat, Joint};
+
+/// Below this `θ² = |q|²` the no-twist coefficients come from their Taylor series.
+const SERIES_BELOW: f64 = 1.0;
+
+/// Terms of each series: the last is below `1/27! < 1e-28` at `θ² < 1`.
+const SERIES_TERMS: usize = 12;
+
+/// The no-twist joint's coefficients at `s = θ²`: `σ`, `a`, `b`, `a_s`, `b_s` (module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct ExpSeries<T> {
+    /// `sin θ/θ`.
+    pub sinc: T,
+    /// `(1 − cos θ)/θ²`.
+    pub a: T,
+    /// `(θ − sin θ)/θ³`.
+    pub b: T,
+    /// `da/ds`.
+    pub a_s: T,
+    /// `db/ds`.
+    pub b_s: T,
+}
+
+/// `Σ_k (−s)^k / f(k)` by Horner's rule.
+fn alternating<T: Real>(s: T, f: impl Fn(f64) -> f64) -> T {
+    (0..SERIES_TERMS).rev().fold(T::cst(0.0), |acc, k| acc * -s + 1.0 / f(k as f64))
+}
+
+/// `n!` of a whole number given as a float.
+fn fact(n: f64) -> f64 {
+    (1..=n as u32).map(f64::from).product()
+}
+
+impl<T: Real> ExpSeries<T> {
+    /// The coefficients at `s = θ² ≥ 0`.
+    pub fn at(s: T) -> Self {
+        if s.value() < SERIES_BELOW {
+            // σ = Σ (−s)^k/(2k+1)!, a = Σ (−s)^k/(2k+2)!, b = Σ (−s)^k/(2k+3)!;
+            // a_s = −Σ (k+1)(−s)^k/(2k+4)!, b_s = −Σ (k+1)(−s)^k/(2k+5)!.
+            Self {
+                sinc: alternating(s, |k| fact(2.0 * k + 1.0)),
+                a: alternating(s, |k| fact(2.0 * k + 2.0)),
+                b: alternating(s, |k| fact(2.0 * k + 3.0)),
+                a_s: -alternating(s, |k| fact(2.0 * k + 4.0) / (k + 1.0)),
+                b_s: -alternating(s, |k| fact(2.0 * k + 5.0) / (k + 1.0)),
+            }
+        } else {
+            let theta = s.sqrt();
+            let (sn, cs) = theta.sin_cos();
+            let sinc = sn / theta;
+            let a = (-cs + 1.0) / s;
+            let b = (theta - sn) / (s * theta);
+            let twice = s * 2.0;
+            Self { sinc, a, b, a_s: (sinc - a * 2.0) / twice, b_s: (a - b * 3.0) / twice }
+        }
+    }
+}
+
+/// The joint's motion at one instant (A's frame).
+#[derive(Clone, Copy, Debug)]
+pub struct JointMotion<T> {
+    /// B's spine `e = R_AB ẑ`.
+    pub spine: V3<T>,
+    /// `ω_rel`.
+    pub rate: V3<T>,
+    /// `ω̇_rel` (zero when no accelerations were given).
+    pub accel: V3<T>,
+    /// The two motor axes.
+    pub axes: [V3<T>; 2],
+}
+
+/// B's spine `e(q) = R_AB ẑ` on `joint` (a two-motor joint; the spherical joint's twist held at
+/// zero is the no-twist joint).
+pub fn spine<T: Real>(joint: Joint, q: [T; 2]) -> V3<T> {
+    match joint {
+        Joint::Universal => {
+            let (s1, c1) = q[0].sin_cos();
+            let (s2, c2) = q[1].sin_cos();
+            [s2, -(s1 * c2), c1 * c2]
+        }
+        Joint::NoTwist | Joint::Spherical => {
+            let s = q[0] * q[0] + q[1] * q[1];
+            let k = ExpSeries::at(s);
+            [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * s) + 1.0]
+        }
+    }
+}
+
+/// The joint's motion through `(q, q̇)` and, when given, `q̈` (module docs).
+pub fn joint_motion<T: Real>(joint: Joint, q: [T; 2], qd: [T; 2], qdd: Option<[T; 2]>) -> JointMotion<T> {
+    let (zero, one) = (T::cst(0.0), T::cst(1.0));
+    let x = [one, zero, zero];
+    match joint {
+        Joint::Universal => {
+            let (s1, c1) = q[0].sin_cos();
+            let a2 = [zero, c1, s1];
+            let rate = add(scale(qd[0], x), scale(qd[1], a2));
+            let accel = qdd.map_or([zero; 3], |dd| {
+                add(add(scale(dd[0], x), scale(dd[1], a2)), scale(qd[0] * qd[1], [zero, -s1, c1]))
+            });
+            JointMotion { spine: spine(joint, q), rate, accel, axes: [x, a2] }
+        }
+        Joint::NoTwist | Joint::Spherical => {
+            let (v, vd) = ([q[0], q[1], zero], [qd[0], qd[1], zero]);
+            let k = ExpSeries::at(dot(v, v));
+            // J_l(v) u = u + a v × u + b v × (v × u).
+            let jl = |u: V3<T>| {
+                let c = cross(v, u);
+                add(add(u, scale(k.a, c)), scale(k.b, cross(v, c)))
+            };
+            let c = cross(v, vd);
+            let accel = qdd.map_or([zero; 3], |dd| {
+                let along = dot(v, vd) * 2.0;
+                let d = add(scale(along * k.a_s, c), scale(along * k.b_s, cross(v, c)));
+                add(add(jl([dd[0], dd[1], zero]), d), scale(k.b, cross(vd, c)))
+            });
+            let spine = [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * dot(v, v)) + 1.0];
+            JointMotion { spine, rate: jl(vd), accel, axes: [x, [zero, one, zero]] }
+        }
+    }
+}
+
+/// The mass properties the dynamics need, from a [`Cat`].
+struct MassProperties {
+    /// `l_A/2`, `l_B/2`, m.
+    front_half: f64,
+    rear_half: f64,
+    /// A's transverse and axial moments, kg·m².
+    front_moments: [f64; 2],
+    /// B's transverse moment and axial minus transverse, kg·m².
+    rear_transverse: f64,
+    rear_excess: f64,
+    /// `μ = m_A m_B/M`, kg.
+    reduced: f64,
+    /// `m_A/M`.
+    front_share: f64,
+    /// `m_B`, kg.
+    rear_mass: f64,
+}
+
+impl MassProperties {
+    fn of(cat: &Cat) -> Self {
+        let (a, b) = (cat.front, cat.rear);
+        let total = a.mass + b.mass;
+        Self {
+            front_half: 0.5 * a.length,
+            rear_half: 0.5 * b.length,
+            front_moments: [a.transverse(), a.axial()],
+            rear_transverse: b.transverse(),
+            rear_excess: b.axial() - b.transverse(),
+            reduced: a.mass * b.mass / total,
+            front_share: a.mass / total,
+            rear_mass: b.mass,
+        }
+    }
+
+    /// `R I_B Rᵀ v` for B's spine `e`.
+    fn rear<T: Real>(&self, e: V3<T>, v: V3<T>) -> V3<T> {
+        add(scale_by(self.rear_transverse, v), scale(dot(e, v) * self.rear_excess, e))
+    }
+
+    /// B's centre from A's, `p = −(l_A/2) ẑ − (l_B/2) e`.
+    fn offset<T: Real>(&self, e: V3<T>) -> V3<T> {
+        let p = scale_by(-self.rear_half, e);
+        [p[0], p[1], p[2] + -self.front_half]
+    }
+
+    /// The rows of `I_lock` at spine `e` and offset `p`.
+    fn locked<T: Real>(&self, e: V3<T>, p: V3<T>) -> [V3<T>; 3] {
+        let [t, z] = self.front_moments;
+        let front = [t, t, z];
+        let pp = dot(p, p) * self.reduced;
+        std::array::from_fn(|i| {
+            let mut unit = [T::cst(0.0); 3];
+            unit[i] = T::cst(1.0);
+            // Column i of I_lock applied to the unit vector: I_A eᵢ + R I_B Rᵀ eᵢ + μ(|p|² eᵢ − p pᵢ).
+            let inertia = add(scale_by(front[i], unit), self.rear(e, unit));
+            add(inertia, sub(scale(pp, unit), scale(p[i] * self.reduced, p)))
+        })
+    }
+}
+
+/// What the base does along the motion: `Ω`, and `Ω̇` when accelerations were given.
+struct BaseMotion<T> {
+    joint: JointMotion<T>,
+    offset: V3<T>,
+    offset_rate: V3<T>,
+    omega: V3<T>,
+}
+
+/// `Ω = I_lock⁻¹(λ − h)` with the joint's motion (module docs).
+fn base<T: Real>(m: &MassProperties, joint: JointMotion<T>, lambda: Option<V3<T>>) -> (BaseMotion<T>, [V3<T>; 3]) {
+    let e = joint.spine;
+    let offset = m.offset(e);
+    let offset_rate = scale_by(-m.rear_half, cross(joint.rate, e));
+    let locked = m.locked(e, offset);
+    let h = add(m.rear(e, joint.rate), scale_by(m.reduced, cross(offset, offset_rate)));
+    let rhs = lambda.map_or_else(|| scale_by(-1.0, h), |l| sub(l, h));
+    let omega = solve3(locked, rhs);
+    (BaseMotion { joint, offset, offset_rate, omega }, locked)
+}
+
+/// A's angular velocity (A's frame) through `(q, q̇)` at zero momentum.
+pub fn body_rate<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2]) -> V3<T> {
+    let m = MassProperties::of(cat);
+    base(&m, joint_motion(cat.joint, q, qd, None), None).0.omega
+}
+
+/// A's angular velocity `Ω = I_lock⁻¹(λ − h)` (A's frame) with the total momentum `λ = Rᵀ L` in
+/// A's frame.
+pub fn body_rate_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], lambda: V3<T>) -> V3<T> {
+    let m = MassProperties::of(cat);
+    base(&m, joint_motion(cat.joint, q, qd, None), Some(lambda)).0.omega
+}
+
+/// The motor torques `(τ1, τ2)`, N·m, through `(q, q̇, q̈)` at zero momentum.
+pub fn motor_torques<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2]) -> [T; 2] {
+    torques(cat, [q, qd, qdd], None)
+}
+
+/// The motor torques `(τ1, τ2)`, N·m, with the total momentum `λ = Rᵀ L` in A's frame
+/// (`λ̇ = λ × Ω`).
+pub fn motor_torques_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: V3<T>) -> [T; 2] {
+    torques(cat, [q, qd, qdd], Some(lambda))
+}
+
+/// Newton–Euler on B about the joint point (module docs).
+fn torques<T: Real>(cat: &Cat, [q, qd, qdd]: [[T; 2]; 3], lambda: Option<V3<T>>) -> [T; 2] {
+    let m = MassProperties::of(cat);
+    let (b, locked) = base(&m, joint_motion(cat.joint, q, qd, Some(qdd)), lambda);
+    let (j, p, pd, w) = (b.joint, b.offset, b.offset_rate, b.omega);
+    let e = j.spine;
+    let e_rate = cross(j.rate, e);
+    let pdd = scale_by(-m.rear_half, add(cross(j.accel, e), cross(j.rate, e_rate)));
+    // d/dt (R I_B Rᵀ) v = ω_rel × (R I_B Rᵀ v) − R I_B Rᵀ (ω_rel × v).
+    let rear_rate = |v: V3<T>| sub(cross(j.rate, m.rear(e, v)), m.rear(e, cross(j.rate, v)));
+    let locked_rate_omega = sub(rear_rate(w), scale_by(m.reduced, add(cross(pd, cross(p, w)), cross(p, cross(pd, w)))));
+    let h_rate = add(add(rear_rate(j.rate), m.rear(e, j.accel)), scale_by(m.reduced, cross(p, pdd)));
+    let spin_term = lambda.map_or([T::cst(0.0); 3], |l| cross(l, w));
+    let w_dot = solve3(locked, sub(spin_term, add(locked_rate_omega, h_rate)));
+    let relative = add(add(pdd, cross(w_dot, p)), add(scale_by(2.0, cross(w, pd)), cross(w, cross(w, p))));
+    let force = scale_by(m.rear_mass * m.front_share, relative);
+    let w_b = add(w, j.rate);
+    let alpha_b = add(add(w_dot, j.accel), cross(w, j.rate));
+    let spin_rate = add(m.rear(e, alpha_b), cross(w_b, m.rear(e, w_b)));
+    let couple = sub(spin_rate, cross(scale_by(m.rear_half, e), force));
+    [dot(couple, j.axes[0]), dot(couple, j.axes[1])]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engines::models::TwoMotorCat;
+    use crate::model::Cylinder;
+    use crate::optimize::whole::dual::Dual;
+    use crate::optimize::whole::dynamics;
+    use crate::schedule::JointState;
+    use nalgebra::Vector3;
+
+    const FRONT: Cylinder = Cylinder { mass: 0.8, length: 0.8, radius: 0.1 };
+    const REAR: Cylinder = Cylinder { mass: 1.2, length: 1.1, radius: 0.13 };
+    /// States at the straight cat, small bends (the series), and large ones (the closed forms).
+    const POINTS: [([f64; 2], [f64; 2], [f64; 2]); 5] = [
+        ([0.0, 0.0], [1.1, -0.4], [-2.0, 3.0]),
+        ([1e-3, -2e-3], [0.7, 0.9], [1.5, -0.5]),
+        ([0.3, -0.7], [1.1, 0.4], [-2.0, 3.0]),
+        ([2.2, 0.9], [-0.6, 1.7], [0.5, -1.5]),
+        ([-1.0, 1.3], [0.2, -2.4], [4.0, 0.7]),
+    ];
+    const LAMBDA: [f64; 3] = [0.03, -0.02, 0.05];
+
+    fn cats() -> [Cat; 2] {
+        [Joint::Universal, Joint::NoTwist].map(|joint| Cat { front: FRONT, rear: REAR, joint })
+    }
+
+    /// `|a − b| ≤ 1e-12 max(|b|, scale)` componentwise, `scale` the size of the quantity.
+    fn close(a: &[f64], b: &[f64], scale: f64, what: &str) {
+        for (x, y) in a.iter().zip(b) {
+            assert!((x - y).abs() <= 1e-12 * y.abs().max(scale), "{what}: {a:?} against {b:?}");
+        }
+    }
+
+    #[test]
+    fn agrees_with_the_general_core_on_unequal_halves_and_both_joints() {
+        let lambda = Vector3::from(LAMBDA);
+        for cat in cats() {
+            let core = TwoMotorCat::new(cat).unwrap_or_else(|e| panic!("{e}"));
+            for (q, qd, qdd) in POINTS {
+                let st = JointState { q, qd, qdd };
+                let w = core.body_rate(&st);
+                close(&body_rate(&cat, q, qd), w.as_slice(), w.norm(), "Ω");
+                let w = core.body_rate_spinning(&st, &lambda);
+                close(&body_rate_spinning(&cat, q, qd, LAMBDA), w.as_slice(), w.norm(), "Ω with λ");
+                let t = core.joint_torques(&st).tau;
+                let size = t[0].abs().max(t[1].abs());
+                close(&motor_torques(&cat, q, qd, qdd), &t, size, "τ");
+                let t = core.joint_torques_spinning(&st, &lambda).tau;
+                let size = t[0].abs().max(t[1].abs());
+                close(&motor_torques_spinning(&cat, q, qd, qdd, LAMBDA), &t, size, "τ with λ");
+            }
+        }
+    }
+
+    #[test]
+    fn agrees_with_the_paper_dynamics_on_the_paper_cat() {
+        let cat = Cat::from(FRONT);
+        for (q, qd, qdd) in POINTS {
+            let w = dynamics::body_rate(&FRONT, q, qd);
+            let scale = Vector3::from(w).norm();
+            close(&body_rate(&cat, q, qd), &w, scale, "Ω");
+            let t = dynamics::motor_torques_spinning(&FRONT, q, qd, qdd, LAMBDA);
+            close(&motor_torques_spinning(&cat, q, qd, qdd, LAMBDA), &t, t[0].abs().max(t[1].abs()), "τ");
+        }
+    }
+
+    #[test]
+    fn the_spine_is_the_joint_rotation_of_the_axis() {
+        for cat in cats() {
+            for (q, _, _) in POINTS {
+                let e = cat.joint.rotation(&q) * Vector3::z();
+                close(&spine(cat.joint, q), e.as_slice(), 1.0, "e");
+            }
+        }
+    }
+
+    #[test]
+    fn series_and_closed_forms_meet_at_the_switch() {
+        let all = |k: ExpSeries<f64>| [k.sinc, k.a, k.b, k.a_s, k.b_s];
+        let below = all(ExpSeries::at(SERIES_BELOW * (1.0 - 1e-15)));
+        let above = all(ExpSeries::at(SERIES_BELOW));
+        close(&below, &above, 0.0, "the coefficients either side of the switch");
+    }
+
+    #[test]
+    fn dual_derivatives_match_central_differences() {
+        // As dynamics.rs's test: step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute.
+        // The outputs `(τ1, τ2, Ω)` of the inputs `(q, q̇, q̈)`, at any `Real`.
+        fn outputs<T: Real>(cat: &Cat, x: [T; 6]) -> [T; 5] {
+            let tau = motor_torques_spinning(cat, [x[0], x[1]], [x[2], x[3]], [x[4], x[5]], LAMBDA.map(T::cst));
+            let w = body_rate(cat, [x[0], x[1]], [x[2], x[3]]);
+            [tau[0], tau[1], w[0], w[1], w[2]]
+        }
+        let step = 1e-6;
+        for cat in cats() {
+            for (q, qd, qdd) in POINTS {
+                let x = [q[0], q[1], qd[0], qd[1], qdd[0], qdd[1]];
+                let dual = outputs(&cat, std::array::from_fn::<Dual<6>, 6, _>(|k| Dual::input(x[k], k)));
+                for k in 0..6 {
+                    let shifted = |sign: f64| {
+                        let mut y = x;
+                        y[k] += sign * step;
+                        outputs(&cat, y)
+                    };
+                    let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                    for (o, d) in dual.iter().enumerate() {
+                        let fd = (plus[o] - minus[o]) / (2.0 * step);
+                        assert!(
+                            (d.eps[k] - fd).abs() <= 1e-7,
+                            "{}: output {o}, input {k}: {} against {fd}",
+                            cat.joint,
+                            d.eps[k]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
