@@ -133,7 +133,7 @@ pub enum Stepper {
     Magnus,
     /// A release with total angular momentum `L` (world frame): `Ω = I_lock⁻¹ (Rᵀ L − h)`
     /// depends on `R` too, and the classical fourth-order Runge–Kutta step on the unit
-    /// quaternion ([`rk4_step`]) integrates it.
+    /// quaternion ([`rk4_on`]) integrates it.
     Spinning(Vector3<f64>),
 }
 
@@ -241,21 +241,9 @@ fn quaternion_rate(
     r * Quaternion::from_parts(0.0, omega) * 0.5
 }
 
-/// One classical Runge–Kutta step `h` of A's orientation from `r` at local time `s` of `piece`,
-/// released with total angular momentum `spin` (world frame), normalised at the end.
-pub fn rk4_step(
-    cat: &Cylinder,
-    traj: &impl Trajectory,
-    piece: usize,
-    spin: &Vector3<f64>,
-    r: &UnitQuaternion<f64>,
-    s: f64,
-    h: f64,
-) -> UnitQuaternion<f64> {
-    rk4_on(&CylinderField { cat, traj }, piece, spin, r, s, h)
-}
-
-/// [`rk4_step`] on any [`RateField`].
+/// One classical Runge–Kutta step `h` of A's orientation from `r` at local time `s` of `piece`
+/// of any [`RateField`], released with total angular momentum `spin` (world frame), normalised
+/// at the end.
 pub fn rk4_on(
     field: &impl RateField,
     piece: usize,

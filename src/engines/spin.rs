@@ -8,7 +8,7 @@
 //!
 //! with `h = R_AB I_B R_ABᵀ ω_rel + μ p × ṗ` the momentum of the joint motion at zero base rate
 //! (the bracket of [`crate::engines::exact`]). `Ω` now depends on `R`, so A's orientation obeys
-//! the nonlinear `Ṙ = R [Ω(t, R)]×`. [`crate::engines::exact::rk4_step`] integrates it by the classical fourth-order
+//! the nonlinear `Ṙ = R [Ω(t, R)]×`. [`crate::engines::exact::rk4_on`] integrates it by the classical fourth-order
 //! Runge–Kutta method on the quaternion `ṙ = ½ r ⊗ (0, Ω)`, normalised after each step (the
 //! normalisation changes the result by the step's own error, so the order stays four).
 //!

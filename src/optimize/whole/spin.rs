@@ -6,7 +6,7 @@
 //! `Ω = I_lock(q)⁻¹(Rᵀ L − h(q, q̇))` ([`crate::engines::spin`]): it depends on `R`, so the
 //! zero-momentum Magnus product and its sensitivity ([`super::sensitivity`]) no longer apply.
 //! The loop integrates `ṙ = ½ r ⊗ (0, Ω(t, r))` on the unit quaternion with the exact engine's
-//! classical Runge–Kutta step ([`crate::engines::exact::rk4_step`]: `Ω` at the normalised stage
+//! classical Runge–Kutta step ([`crate::engines::exact::rk4_on`]: `Ω` at the normalised stage
 //! quaternion, the result normalised), `steps` steps on the widest knot span and proportionally
 //! fewer on narrower ones, never across a knot. The step is written once over [`Real`], so at
 //! [`Dual`] it returns the exact derivative of this discrete map, not of a second discretisation.
@@ -114,7 +114,7 @@ fn rate(cat: &WholeCat, spin: &Vector3<f64>, st: &LocalState, y: Q<D>) -> Q<D> {
     r.map(|x| x * 0.5)
 }
 
-/// One classical Runge–Kutta step `h` ([`crate::engines::exact::rk4_step`]) from `y` at `t` in
+/// One classical Runge–Kutta step `h` ([`crate::engines::exact::rk4_on`]) from `y` at `t` in
 /// span `span`, normalised.
 fn step(cat: &WholeCat, spline: &BSpline, spin: &Vector3<f64>, span: usize, y: Q<D>, t: f64, h: f64) -> Q<D> {
     let at = |t: f64| local_state(spline, &spline.basis(span, t));
@@ -201,7 +201,7 @@ pub struct SpinPass {
     pub lift: Lift,
 }
 
-/// Integrates A's orientation released with `spin` ([`crate::engines::exact::rk4_step`], `steps`
+/// Integrates A's orientation released with `spin` ([`crate::engines::exact::rk4_on`], `steps`
 /// on the widest span) with its exact derivative, and the torques on `grid` (points in span and
 /// time order) with theirs (module docs).
 pub fn spin_pass(
