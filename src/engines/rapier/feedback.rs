@@ -128,8 +128,6 @@ pub struct FeedbackSettings {
 /// The plan linearised at one control node `t_i` (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node {
-    /// The nominal attitude `R*(t_i)`.
-    pub attitude: UnitQuaternion<f64>,
     /// `∂ė/∂e = −[Ω*]× + I_lock⁻¹ [λ*]×`.
     pub a: Matrix3<f64>,
     /// `∂Ω/∂q`.
@@ -151,8 +149,8 @@ pub struct Linearisation {
     pub duration: f64,
     /// The nodes `t_i = min(i Δ, T)`, `i = 0 … N`.
     pub nodes: Vec<Node>,
-    /// The nominal attitude `R*(t_k)` at every run step `k` (the filter compares each reading
-    /// with the plan at the reading's own instant, not at the control node before it).
+    /// The nominal attitude `R*(t_k)` at every run step `k` (the control nodes' among them; the
+    /// filter compares each reading with the plan at the reading's own instant).
     pub attitudes: Vec<UnitQuaternion<f64>>,
 }
 
@@ -223,7 +221,7 @@ fn node(cat: &Cylinder, q: [f64; 2], qd: [f64; 2], attitude: UnitQuaternion<f64>
     }
     let a = -omega.cross_matrix() + inv * lambda.cross_matrix();
     let g = inv * attitude.to_rotation_matrix().matrix().transpose();
-    Node { attitude, a, bq, bqd, g }
+    Node { a, bq, bqd, g }
 }
 
 /// The discrete model over `Δ` at `node`: `x⁺ = F x + Γ u`.
