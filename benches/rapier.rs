@@ -11,7 +11,9 @@ mod common;
 
 use std::time::Duration;
 
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{simulate, CatScene, MotorGains, RapierOptions};
+use catflip::model::Cat;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 
 use common::paper;
@@ -23,7 +25,7 @@ fn rapier(c: &mut Criterion) {
     for rate in [500.0, 1000.0, 2000.0] {
         let settings = p.rapier.with_dt(1.0 / rate);
         g.bench_with_input(BenchmarkId::from_parameter(format!("{rate} Hz")), &settings, |b, st| {
-            b.iter(|| simulate(&p.cat.half(), &s, st))
+            b.iter(|| simulate(&TwoMotorCat::paper(p.cat.half()), &s, st))
         });
     }
     g.finish();
@@ -37,7 +39,7 @@ fn rapier(c: &mut Criterion) {
     g.bench_function(BenchmarkId::from_parameter("1000 Hz"), |b| {
         b.iter(|| {
             let mut scene = CatScene::new(
-                &p.cat.half(),
+                &Cat::from(p.cat.half()),
                 p.rapier.cross_mass_fraction,
                 dt,
                 opts.pgs_iterations,

@@ -1,5 +1,5 @@
 //! Step 4: check the exact engine with an independent one. rapier3d-f64 simulates the two
-//! cylinders and the joint as a multibody driven by motors, at a sequence of time steps, and
+//! cylinders (equal or unequal halves) and the universal joint as a multibody driven by motors, at a sequence of time steps, and
 //! judges twist, swing and peak torque against the exact engine's (DESIGN.md §6).
 //!
 //! `cargo run --release --example 04_verify [PROBLEM.toml]`. Next: `05_import`.
@@ -12,15 +12,10 @@ fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "problems/paper.toml".to_string());
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
-    let e = Evaluation::new(
-        &problem.cat.half(),
-        &resolved.schedule,
-        &problem.drop.spin(),
-        &problem.actuator.motors(),
-        &problem.exact,
-    );
+    // The exact engine's numbers on the problem's cat (equal or unequal halves), then rapier's.
+    let e = resolved.evaluate(&resolved.schedule)?;
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
-    let v = verify(&problem.cat.half(), &resolved.schedule, &problem.rapier, &reference)?;
+    let v = verify(resolved.model(), &resolved.schedule, &problem.rapier, &reference)?;
     let steps: Vec<String> = v.dt_sequence.iter().map(|dt| format!("{dt:.2e}")).collect();
     println!("rapier at dt = {} s: {}", steps.join(", "), v.verdict);
     Ok(())

@@ -13,6 +13,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use catflip::engines::exact::flip;
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{simulate_with, RapierOptions};
 use catflip::engines::resolved::Resolved;
 use catflip::problem::{Problem, ProfileKind};
@@ -54,7 +55,7 @@ fn main() -> anyhow::Result<()> {
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
     let mut prev: Option<(f64, FinalAngles, f64)> = None;
     for dt in dts {
-        let run = simulate_with(&p.cat.half(), &schedule, &settings.with_dt(dt), &opts)?;
+        let run = simulate_with(&TwoMotorCat::paper(p.cat.half()), &schedule, &settings.with_dt(dt), &opts)?;
         let now = FinalAngles::of_run(&run);
         let (ex, ex_angle) = match prev {
             Some((dt0, before, swing0)) => {

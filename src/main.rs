@@ -73,6 +73,9 @@ enum Command {
         /// Optimise both joint paths over the whole fall (twist π, swing 0 as constraints).
         #[arg(long)]
         whole: bool,
+        /// With --whole: also verify the optimum in rapier (its verdict against the exact engine).
+        #[arg(long, requires = "whole")]
+        verify: bool,
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
         #[arg(long)]
         quiet: bool,
@@ -246,7 +249,7 @@ fn run() -> anyhow::Result<()> {
                 emit(common.json, &report, || report.to_text())?;
             }
         }
-        Command::Optimize { common, whole: false, quiet } => {
+        Command::Optimize { common, whole: false, quiet, .. } => {
             let problem = load(&common, None)?;
             problem.require_no_spin("optimize (the profile QP and the refinements)")?;
             let r = resolve(&problem, common.json)?;
@@ -255,15 +258,27 @@ fn run() -> anyhow::Result<()> {
             spinner.finish_and_clear();
             emit(common.json, &report, || report.to_markdown())?;
         }
-        Command::Optimize { common, whole: true, quiet } => {
+        Command::Optimize { common, whole: true, verify, quiet } => {
             let problem = load(&common, None)?;
+            if verify {
+                problem.require_universal_joint("optimize --whole --verify (rapier's scene)")?;
+            }
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;
             spinner.finish_and_clear();
-            emit(common.json, &report, || report.to_markdown())?;
-            if report.best().is_none() {
-                anyhow::bail!("{}", report.status);
+            let found = report.best().is_some();
+            let status = report.status.clone();
+            if verify && found {
+                let spinner = progress(quiet || common.json, "optimize --whole --verify: rapier".into());
+                let check = catflip::report::whole_check::WholeCheck::new(&r, report)?;
+                spinner.finish_and_clear();
+                emit(common.json, &check, || check.to_markdown())?;
+            } else {
+                emit(common.json, &report, || report.to_markdown())?;
+            }
+            if !found {
+                anyhow::bail!("{status}");
             }
         }
         Command::Run { problems, overrides, out, rate, quiet, timings } => {

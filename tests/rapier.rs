@@ -15,11 +15,12 @@ mod common;
 use approx::assert_relative_eq;
 use nalgebra::{UnitQuaternion, Vector3};
 
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{
     dt_sweep, extrapolate, observed_orders, simulate, simulate_with, spin_free, CatScene, MotorGains, RapierError,
     RapierOptions, RapierRun, SpinTest,
 };
-use catflip::model::{joint_rotation, Cylinder};
+use catflip::model::{joint_rotation, Cat, Cylinder};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::settings::RapierSettings;
 use catflip::report::bench::engines::FinalAngles;
@@ -37,7 +38,7 @@ fn cone(s: &Schedule) -> Schedule {
 }
 
 fn run(cat: &Cylinder, s: &Schedule, dt: f64) -> RapierRun {
-    simulate(cat, s, &RapierSettings::default().with_dt(dt)).unwrap()
+    simulate(&TwoMotorCat::paper(*cat), s, &RapierSettings::default().with_dt(dt)).unwrap()
 }
 
 fn deg(x: f64) -> f64 {
@@ -48,7 +49,7 @@ fn deg(x: f64) -> f64 {
 fn scene_follows_the_joint_convention() {
     let cat = Cylinder::default();
     // DESIGN.md §1: at q = (0.3, 0), B's axis is Rx(0.3) ẑ in A's frame.
-    let scene = CatScene::new(&cat, 1e-6, 1e-3, 8, None, [0.3, 0.0]).unwrap();
+    let scene = CatScene::new(&Cat::from(cat), 1e-6, 1e-3, 8, None, [0.3, 0.0]).unwrap();
     let s = scene.snapshot().unwrap();
     let axis_b = s.rotations[0].inverse() * (s.rotations[2] * Vector3::z());
     let expected = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.3) * Vector3::z();
@@ -57,7 +58,7 @@ fn scene_follows_the_joint_convention() {
     // In general R_A⁻¹ R_B = Rx(q1) Ry(q2), the joint point is shared, and rapier's joint
     // coordinates agree with the bodies' relative rotations.
     let q = [0.3, -0.5];
-    let scene = CatScene::new(&cat, 1e-6, 1e-3, 8, None, q).unwrap();
+    let scene = CatScene::new(&Cat::from(cat), 1e-6, 1e-3, 8, None, q).unwrap();
     let s = scene.snapshot().unwrap();
     let rel = (s.rotations[0].inverse() * s.rotations[2]).to_rotation_matrix().into_inner();
     assert_relative_eq!(rel, joint_rotation(q), epsilon = 1e-12);
@@ -76,7 +77,7 @@ fn a_moving_start_gets_zero_momentum() {
     // A schedule that does not start at rest gets the base motion that cancels the joints'
     // momentum (linear and angular), so the cat still falls without spin.
     let cat = Cylinder::default();
-    let mut scene = CatScene::new(&cat, 1e-6, 1e-3, 8, None, [0.8, 0.3]).unwrap();
+    let mut scene = CatScene::new(&Cat::from(cat), 1e-6, 1e-3, 8, None, [0.8, 0.3]).unwrap();
     scene.start_at_zero_momentum([2.0, -1.5]).unwrap();
     let s = scene.snapshot().unwrap();
     let bodies = s.bodies(scene.masses());
@@ -93,7 +94,7 @@ fn held_cat_does_not_turn() {
     let cat = Cylinder::default();
     let dt = 1e-3;
     let q = [0.7, -0.4];
-    let mut scene = CatScene::new(&cat, 1e-6, dt, 8, Some(MotorGains::new(20.0 / dt, 1.0)), q).unwrap();
+    let mut scene = CatScene::new(&Cat::from(cat), 1e-6, dt, 8, Some(MotorGains::new(20.0 / dt, 1.0)), q).unwrap();
     for _ in 0..500 {
         scene.set_targets(q, [0.0; 2]).unwrap();
         scene.step();
@@ -111,7 +112,8 @@ fn planar_bend_has_no_twist() {
     let cat = Cylinder::default();
     let (dt, steps) = (1e-3, 500);
     let period = steps as f64 * dt;
-    let mut scene = CatScene::new(&cat, 1e-6, dt, 8, Some(MotorGains::new(20.0 / dt, 1.0)), [0.0; 2]).unwrap();
+    let mut scene =
+        CatScene::new(&Cat::from(cat), 1e-6, dt, 8, Some(MotorGains::new(20.0 / dt, 1.0)), [0.0; 2]).unwrap();
     let mut max_tilt: f64 = 0.0;
     for k in 1..=steps {
         let w = std::f64::consts::TAU / period;
@@ -227,7 +229,8 @@ fn torque_history_follows_the_exact_torques() {
     let boundaries = [s.phase_start(Phase::Twist), s.phase_start(Phase::Unbend)];
     let worst = |dt: f64| {
         let opts = RapierOptions { history: usize::MAX, ..Default::default() };
-        let r = simulate_with(&p.cat.half(), &s, &RapierSettings::default().with_dt(dt), &opts).unwrap();
+        let r = simulate_with(&TwoMotorCat::paper(p.cat.half()), &s, &RapierSettings::default().with_dt(dt), &opts)
+            .unwrap();
         let mut worst = (0.0f64, 0.0);
         for sample in &r.torque_history {
             if boundaries.iter().any(|b| (sample.t - b).abs() < 5.0 * r.dt) {
@@ -363,7 +366,7 @@ fn torque_free_spin_conserves_angular_momentum() {
 fn dt_sweep_lands_on_the_end_of_the_schedule() {
     let (p, paper) = paper();
     let dts = [1.0 / 60.0, 1.0 / 250.0];
-    let runs = dt_sweep(&p.cat.half(), &paper, &RapierSettings::default(), &dts).unwrap();
+    let runs = dt_sweep(&TwoMotorCat::paper(p.cat.half()), &paper, &RapierSettings::default(), &dts).unwrap();
     for (r, dt) in runs.iter().zip(dts) {
         assert_eq!(r.steps, (paper.duration() / dt).ceil() as usize);
         assert!(r.dt <= dt, "dt used {} above the requested {dt}", r.dt);
@@ -382,17 +385,20 @@ fn dt_sweep_lands_on_the_end_of_the_schedule() {
 #[test]
 fn bad_settings_get_specific_errors() {
     let (p, paper) = paper();
-    let with = |dt: f64| simulate(&p.cat.half(), &paper, &RapierSettings::default().with_dt(dt));
+    let with = |dt: f64| simulate(&TwoMotorCat::paper(p.cat.half()), &paper, &RapierSettings::default().with_dt(dt));
     assert!(matches!(with(0.0), Err(RapierError::Settings(_))), "dt = 0");
     assert!(matches!(with(f64::NAN), Err(RapierError::Settings(_))), "dt = NaN");
     assert!(matches!(with(1e-12), Err(RapierError::TooManySteps { .. })), "dt = 1e-12");
     let bad_cross = RapierSettings { cross_mass_fraction: 0.5, ..Default::default() };
-    assert!(matches!(simulate(&p.cat.half(), &paper, &bad_cross), Err(RapierError::Settings(_))));
+    assert!(matches!(simulate(&TwoMotorCat::paper(p.cat.half()), &paper, &bad_cross), Err(RapierError::Settings(_))));
     let opts = RapierOptions { bandwidth_per_step: f64::NAN, ..Default::default() };
-    let r = simulate_with(&p.cat.half(), &paper, &RapierSettings::default(), &opts);
+    let r = simulate_with(&TwoMotorCat::paper(p.cat.half()), &paper, &RapierSettings::default(), &opts);
     assert!(matches!(r, Err(RapierError::BadOption { field: "bandwidth_per_step", .. })));
     let empty = Schedule { durations: [0.0; 3], ..paper.clone() };
-    assert!(matches!(simulate(&p.cat.half(), &empty, &RapierSettings::default()), Err(RapierError::BadDuration(_))));
+    assert!(matches!(
+        simulate(&TwoMotorCat::paper(p.cat.half()), &empty, &RapierSettings::default()),
+        Err(RapierError::BadDuration(_))
+    ));
 }
 
 /// The dt sweep of the report: twist, swing and peak torque against the exact engine, and the
@@ -414,7 +420,7 @@ fn dt_sweep_table() {
         );
         println!("| dt (s) | steps | twist (°) | Δtwist (°) | swing (°) | Δswing (°) | peak τ (N·m) | Δpeak (%) | max|H−H0|/ref | tracking (rad) | jump spike (N·m) |");
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
-        let runs = dt_sweep(&p.cat.half(), &s, &RapierSettings::default(), &dts).unwrap();
+        let runs = dt_sweep(&TwoMotorCat::paper(p.cat.half()), &s, &RapierSettings::default(), &dts).unwrap();
         for r in &runs {
             println!(
                 "| {:.3e} | {} | {:.3} | {:+.3} | {:.3} | {:+.3} | {:.3} | {:+.3} | {:.2e} | {:.1e} | {} |",
@@ -463,7 +469,8 @@ fn a_step_too_coarse_for_the_phases_is_refused() {
     // could be taken away from the phase boundaries.
     let (p, s) = paper();
     let settings = p.rapier.with_dt(0.1);
-    let e = catflip::engines::rapier::simulate(&p.cat.half(), &s, &settings).expect_err("too coarse");
+    let e =
+        catflip::engines::rapier::simulate(&TwoMotorCat::paper(p.cat.half()), &s, &settings).expect_err("too coarse");
     assert!(matches!(e, catflip::engines::rapier::RapierError::TooCoarse { .. }), "{e}");
 }
 
@@ -476,10 +483,16 @@ fn motor_bounds_clip_only_when_reached() {
     use catflip::model::motor::{Motor, Motors};
     let (p, s) = paper();
     let settings = RapierSettings::default().with_dt(2e-4);
-    let ideal = simulate(&p.cat.half(), &s, &settings).unwrap();
+    let ideal = simulate(&TwoMotorCat::paper(p.cat.half()), &s, &settings).unwrap();
     let bounded = |limit: f64| {
         let m = Motor { torque: Some(limit), ..Motor::default() };
-        simulate_with(&p.cat.half(), &s, &settings, &RapierOptions::within(Motors { joints: [m, m] })).unwrap()
+        simulate_with(
+            &TwoMotorCat::paper(p.cat.half()),
+            &s,
+            &settings,
+            &RapierOptions::within(Motors { joints: [m, m] }),
+        )
+        .unwrap()
     };
     let far = bounded(1e6);
     assert_eq!(far.orientation, ideal.orientation);

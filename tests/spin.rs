@@ -4,6 +4,7 @@
 
 use catflip::engines::evaluate::Evaluation;
 use catflip::engines::exact::{body_rate_spinning, flip, flip_spinning, momentum};
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::spin::SpinHistory;
 use catflip::engines::torque::{joint_torques_spinning, kinematics_spinning};
 use catflip::model::Cylinder;
@@ -183,12 +184,12 @@ fn rapier_started_with_the_spin_verifies_the_spinning_flip() {
     let s = paper_schedule(&p);
     let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
-    let v =
-        verify_with(&p.cat.half(), &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
+    let cat = TwoMotorCat::paper(p.cat.half());
+    let v = verify_with(&cat, &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
     // Without the spin, rapier lands elsewhere: the same reference is then not verified.
     let still = RapierOptions::within(p.actuator.motors());
-    let v = verify_with(&p.cat.half(), &s, &p.rapier, &reference, &still).expect("a valid scene");
+    let v = verify_with(&cat, &s, &p.rapier, &reference, &still).expect("a valid scene");
     assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
 }
 

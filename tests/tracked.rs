@@ -3,6 +3,7 @@
 #![deny(clippy::float_cmp)]
 
 use catflip::engines::exact::flip;
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{
     lqr_gains, simulate_with, track, AttitudeEstimate, AttitudeSensor, Controller, FeedForwardPd, Feedback,
     FeedbackPlan, FeedbackSettings, JointReading, PdGains, Plan, RapierOptions, TrackOptions, TrackedRun,
@@ -70,7 +71,8 @@ fn exact_feed_forward_on_the_nominal_cat_tracks_the_plan_to_first_order() {
     // The servo follows the plan to a hundredth of a degree; rapier's own motors (the
     // verification at the same step) turn the cat no closer to the exact engine.
     assert!(fine.tracking_error.iter().all(|e| e.to_degrees() < 0.03), "{:?}", fine.tracking_error);
-    let v = simulate_with(&cat, &s, &p.rapier.with_dt(1e-4), &RapierOptions::default()).expect("verification");
+    let v = simulate_with(&TwoMotorCat::paper(cat), &s, &p.rapier.with_dt(1e-4), &RapierOptions::default())
+        .expect("verification");
     let verification = v.twist.abs().to_degrees() - 180.0;
     assert!(ef.abs() <= verification.abs(), "tracked {ef}°, verification {verification}° at 100 µs");
     assert!(fine.saturated.iter().all(|f| *f <= 0.0), "ideal motors never saturate");

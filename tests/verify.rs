@@ -9,6 +9,7 @@
 
 mod common;
 
+use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{verify, Quantity, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC};
 use catflip::engines::resolved::Resolved;
 use catflip::model::Cylinder;
@@ -31,7 +32,7 @@ fn reference(cat: &Cylinder, traj: &impl Trajectory) -> Reference {
 }
 
 fn check(cat: &Cylinder, traj: &impl Trajectory, settings: &RapierSettings) -> Verification {
-    verify(cat, traj, settings, &reference(cat, traj)).unwrap()
+    verify(&TwoMotorCat::paper(*cat), traj, settings, &reference(cat, traj)).unwrap()
 }
 
 /// What every verified verification must show: a halving sequence of at least three steps,
@@ -73,7 +74,7 @@ fn a_wrong_reference_is_not_verified_and_the_twist_named() {
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
     let mut r = reference(&p.cat.half(), &s);
     r.twist += 5f64.to_radians();
-    let v = verify(&p.cat.half(), &s, &p.rapier, &r).unwrap();
+    let v = verify(&TwoMotorCat::paper(p.cat.half()), &s, &p.rapier, &r).unwrap();
     assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
     let Verdict::NotVerified { quantity, gap, .. } = v.verdict else { unreachable!() };
     assert_eq!(quantity, Quantity::Twist);
@@ -108,7 +109,13 @@ fn a_budget_too_small_is_inconclusive() {
     assert!(matches!(v.verdict, Verdict::TooFewRuns { runs: 0, .. }), "{:?}", v.verdict);
     assert!(v.verdict.to_string().contains("a run may take"), "{}", v.verdict);
     // Bad settings are an error naming the field, not a verdict.
-    let e = verify(&p.cat.half(), &paper, &p.rapier.with_dt(f64::NAN), &reference(&p.cat.half(), &paper)).unwrap_err();
+    let e = verify(
+        &TwoMotorCat::paper(p.cat.half()),
+        &paper,
+        &p.rapier.with_dt(f64::NAN),
+        &reference(&p.cat.half(), &paper),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("rapier.dt"), "{e}");
     // A wall-clock budget too small for a second run.
     let v = check(&p.cat.half(), &paper, &RapierSettings { time_budget_s: Some(1e-9), ..p.rapier });
@@ -120,7 +127,7 @@ fn a_non_finite_reference_is_inconclusive() {
     let (p, paper) = paper();
     let r = Reference { twist: f64::NAN, swing: 0.0, peak_torque: 1.0 };
     let settings = RapierSettings { step_budget: 1, ..p.rapier };
-    let v = verify(&p.cat.half(), &paper, &settings, &r).unwrap();
+    let v = verify(&TwoMotorCat::paper(p.cat.half()), &paper, &settings, &r).unwrap();
     assert_eq!(v.verdict, Verdict::BadReference);
 }
 
@@ -184,8 +191,8 @@ fn any_trajectory_runs_with_peaks_per_piece() {
     let (p, paper) = paper();
     let s = paper.with_profile(Profile::library(ProfileKind::Cycloidal));
     let settings = p.rapier.with_dt(1e-3);
-    let whole = catflip::engines::rapier::simulate(&p.cat.half(), &s, &settings).unwrap();
-    let split = catflip::engines::rapier::simulate(&p.cat.half(), &Halves(&s), &settings).unwrap();
+    let whole = catflip::engines::rapier::simulate(&TwoMotorCat::paper(p.cat.half()), &s, &settings).unwrap();
+    let split = catflip::engines::rapier::simulate(&TwoMotorCat::paper(p.cat.half()), &Halves(&s), &settings).unwrap();
     assert_eq!(whole.peak_torque.per_piece.len(), 3);
     assert_eq!(split.peak_torque.per_piece.len(), 6);
     assert!(split.peak_torque.phase(catflip::schedule::Phase::Twist).is_none());
@@ -375,8 +382,13 @@ fn a_retimed_path_with_acceleration_jumps_verifies_on_peak_torque() {
     let traj = retime(&p.cat.half(), &s, s.duration(), retime_settings()).unwrap().trajectory.unwrap();
     let f = catflip::engines::exact::flip(&p.cat.half(), &s, 1e-10);
     let peak = catflip::engines::torque::peak_torques(&p.cat.half(), &traj, 400).max;
-    let v = verify(&p.cat.half(), &traj, &p.rapier, &Reference { twist: f.twist, swing: f.swing, peak_torque: peak })
-        .unwrap();
+    let v = verify(
+        &TwoMotorCat::paper(p.cat.half()),
+        &traj,
+        &p.rapier,
+        &Reference { twist: f.twist, swing: f.swing, peak_torque: peak },
+    )
+    .unwrap();
     assert_eq!(v.status, Status::Verified, "{}", v.verdict);
     let finest = v.finest.as_ref().unwrap();
     assert!(finest.acceleration_jumps > 0, "no acceleration jump was kept out of the peaks");

@@ -11,13 +11,15 @@ use std::f64::consts::PI;
 use std::path::Path;
 
 use catflip::engines::models::TwoMotorCat;
+use catflip::engines::rapier::Status;
 use catflip::engines::resolved::Resolved;
 use catflip::engines::torque::{peak_torques_from, piece_samples, TorqueSource};
 use catflip::model::motor::Motors;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::whole::{optimize_whole, StartKind, WholeCat, WholeSettings, WholeStatus};
 use catflip::problem::{Manoeuvre, Problem};
-use catflip::report::whole::{optimum_file, whole};
+use catflip::report::whole::{optimum_file, whole, WholeReport};
+use catflip::report::whole_check::WholeCheck;
 
 /// The flip's tolerance: `| |twist| − π |` and the swing, rad.
 const FLIP: f64 = 1e-8;
@@ -31,7 +33,7 @@ fn resolved(file: &str, sets: &[&str]) -> Resolved {
 
 /// The whole optimum of the problem flips exactly on the general core and peaks below every
 /// library schedule of the problem.
-fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) {
+fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) -> (Resolved, WholeReport) {
     let r = resolved(file, sets);
     assert_eq!(r.model().cat().joint, joint, "{file} {sets:?}");
     assert!(r.model().cat().paper().is_none(), "{file} {sets:?} is the paper's cat");
@@ -49,19 +51,43 @@ fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) 
     assert!((peak - best.peak_torque_nm).abs() <= 1e-9 * peak, "{file}: peak {peak} against {}", best.peak_torque_nm);
     let library = r.library().iter().map(|(_, _, e)| e.peaks.max).fold(f64::INFINITY, f64::min);
     assert!(peak < library, "{file} {sets:?}: the optimum's peak {peak} N·m is not below the library's best {library}");
-    // Its schedule file is the paper's cat's only so far (its orientation and torque columns).
-    let file = optimum_file(&r.problem, &report, &Default::default()).map(|_| ()).unwrap_err().to_string();
-    assert!(file.starts_with("cat."), "{file}");
+    // Its schedule file: the universal joint's (its URDF/MJCF), with the model's last twist.
+    let file = optimum_file(&r.problem, &report, &Default::default());
+    match joint {
+        Joint::Universal => {
+            let file = file.unwrap_or_else(|e| panic!("{e}")).unwrap_or_else(|| panic!("no file"));
+            let last = file.sidecar.orientation.final_twist_deg;
+            assert!(
+                (last.abs() - 180.0).abs() <= 1e-6,
+                "{file_name}: the file's twist {last}°",
+                file_name = r.problem.name
+            );
+        }
+        _ => {
+            let e = file.map(|_| ()).unwrap_err().to_string();
+            assert!(e.starts_with("cat.joint"), "{e}");
+        }
+    }
+    (r, report)
 }
 
+/// Rapier's scene builds the universal joint only: the verification of this optimum is refused,
+/// naming `cat.joint`.
 #[test]
 fn kane_and_schers_cat_flips_exactly_below_the_library() {
-    optimum_flips_and_beats_the_library("kane-scher.toml", &[], Joint::NoTwist);
+    let (r, report) = optimum_flips_and_beats_the_library("kane-scher.toml", &[], Joint::NoTwist);
+    let e = WholeCheck::new(&r, report).map(|_| ()).unwrap_err().to_string();
+    assert!(e.starts_with("cat.joint = \"no-twist\""), "{e}");
 }
 
+/// The optimum of unequal halves is verified in rapier (the scene of the two halves) against the
+/// exact engine's numbers of the optimum.
 #[test]
-fn unequal_halves_flip_exactly_below_the_library() {
-    optimum_flips_and_beats_the_library("unequal-halves.toml", &[], Joint::Universal);
+fn unequal_halves_flip_exactly_below_the_library_and_rapier_verifies_it() {
+    let (r, report) = optimum_flips_and_beats_the_library("unequal-halves.toml", &[], Joint::Universal);
+    let check = WholeCheck::new(&r, report).unwrap_or_else(|e| panic!("{e}"));
+    let v = check.rapier.unwrap_or_else(|| panic!("no verification"));
+    assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
 }
 
 /// The optimum's peak `peak_torque_nm.max` in the committed `results/paper/whole.json`, N·m.

@@ -245,7 +245,7 @@ pub fn simulate_schedule(
 #[pyfunction]
 pub fn model_files(problem: &Problem) -> PyResult<Vec<(String, String)>> {
     let p = &problem.inner.problem;
-    p.require_paper_cat("the URDF/MJCF export").map_err(refuse)?;
+    p.require_universal_joint("the URDF/MJCF export").map_err(refuse)?;
     Ok(catflip::exchange::model_files(p).into())
 }
 

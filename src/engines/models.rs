@@ -183,6 +183,13 @@ impl TwoMotorCat {
         reduction::body_rate(&self.tree, &ShapeState::from(st), lambda)
     }
 
+    /// A's angular velocity and acceleration `(Ω, Ω̇)` (A's frame) at zero angular momentum
+    /// through `st`.
+    pub fn body_motion(&self, st: &JointState) -> (Vector3<f64>, Vector3<f64>) {
+        let d = reduction::dynamics(&self.tree, &ShapeState::from(st), &Vector3::zeros());
+        (d.omega, d.omega_dot)
+    }
+
     /// The total angular momentum about the centre of mass (A's frame) of the motion through
     /// `st` with A turning at `omega`.
     pub fn momentum(&self, st: &JointState, omega: &Vector3<f64>) -> Vector3<f64> {

@@ -16,10 +16,10 @@
 use serde::Serialize;
 
 use crate::engines::exact::Flip;
+use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{
     JumpTorque, Quantity, RapierError, RapierOptions, RapierRun, Reference, Status, Verification,
 };
-use crate::model::Cylinder;
 use crate::problem::settings::RapierSettings;
 use crate::schedule::Trajectory;
 
@@ -197,7 +197,7 @@ impl<T> RapierOutcome<T> {
 /// builds the check from the finest run; [`RapierOutcome::NoResult`] when there is none. `Err`
 /// only when the settings or the trajectory are invalid (see [`crate::engines::rapier::verify`]).
 pub fn rapier_check(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     reference: &Reference,

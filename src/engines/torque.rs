@@ -155,6 +155,15 @@ impl<'a> TorqueSource<'a> {
         Self { body: Body::Paper { cat, spin: Some(history) } }
     }
 
+    /// `model` at zero angular momentum: the paper's cat through the two-cylinder engine
+    /// ([`TorqueSource::zero_momentum`]), any other through the general core ([`TorqueSource::model`]).
+    pub fn of(model: &'a TwoMotorCat) -> Self {
+        match model.cat().paper() {
+            Some(half) => Self::zero_momentum(half),
+            None => Self::model(model),
+        }
+    }
+
     /// A two-coordinate model at zero angular momentum ([`TwoMotorCat::joint_torques`]).
     pub fn model(cat: &'a TwoMotorCat) -> Self {
         Self { body: Body::Model { cat, spin: None } }

@@ -22,6 +22,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::engines::evaluate::{momentum_check, released_flip, torque_source};
+use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::rapier_check::{rapier_check, EngineFigures, RapierOutcome};
 use crate::engines::torque::peak_torques_from;
@@ -190,8 +191,13 @@ pub fn evaluate_rapier(
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
     problem.require_paper_cat("simulate --schedule --engine rapier")?;
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome =
-        rapier_check(&problem.cat.half(), schedule, &problem.rapier, &reference, &RapierOptions::for_problem(problem))?;
+    let outcome = rapier_check(
+        &TwoMotorCat::paper(problem.cat.half()),
+        schedule,
+        &problem.rapier,
+        &reference,
+        &RapierOptions::for_problem(problem),
+    )?;
     Ok(outcome.map(|finest| ImportReport {
         engine: Engine::Rapier,
         peak_torque_nm: ImportedPeaks {

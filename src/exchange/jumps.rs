@@ -38,6 +38,16 @@ pub fn rate_jumps(cat: &Cylinder, traj: &impl Trajectory) -> Vec<Jump> {
 /// The rate jumps of `traj` larger than `uncertainty(k)`, the uncertainty (rad/s, Euclidean) of
 /// the rate difference at the boundary after piece `k`.
 pub fn uncertain_rate_jumps(cat: &Cylinder, traj: &impl Trajectory, uncertainty: impl Fn(usize) -> f64) -> Vec<Jump> {
+    rate_jumps_by(|q| reduced_mass_matrix(cat, q), traj, uncertainty)
+}
+
+/// [`uncertain_rate_jumps`] with the reduced mass matrix `mass(q)` of any cat on the universal
+/// joint (whose motor impulse is the generalised impulse `M(q) Δq̇`).
+pub fn rate_jumps_by(
+    mass: impl Fn([f64; 2]) -> nalgebra::Matrix2<f64>,
+    traj: &impl Trajectory,
+    uncertainty: impl Fn(usize) -> f64,
+) -> Vec<Jump> {
     let durations = traj.piece_durations();
     let mut out = Vec::new();
     let mut time = 0.0;
@@ -51,7 +61,7 @@ pub fn uncertain_rate_jumps(cat: &Cylinder, traj: &impl Trajectory, uncertainty:
         if dq[0].hypot(dq[1]) <= (JUMP_TOLERANCE * scale).max(uncertainty(k)) {
             continue;
         }
-        let impulse = reduced_mass_matrix(cat, after.q) * nalgebra::Vector2::new(dq[0], dq[1]);
+        let impulse = mass(after.q) * nalgebra::Vector2::new(dq[0], dq[1]);
         out.push(Jump {
             time_s: time,
             after_piece: k,

@@ -1,28 +1,28 @@
 //! The cat as three links, the numbers both model files ([`mod@crate::exchange::urdf`],
 //! [`mod@crate::exchange::mjcf`]) write: A, the cross of the universal joint, B.
 //!
-//! - **A** and **B**: mass `m`, inertia about the centre of mass
-//!   `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` in the body frame (`z` along the spine,
-//!   towards the head), from [`Cylinder`];
+//! - **A** and **B**: each half's mass `m`, inertia about its centre of mass
+//!   `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` in its body frame (`z` along the spine,
+//!   towards the head), from its own [`Cylinder`] (the halves may differ, DESIGN.md §10);
 //! - **the cross**: the same tiny body the rapier scene uses ([`MassModel`]): mass
-//!   `f · m` with `f = rapier.cross_mass_fraction`, and the inertia `(2/5) f m r²` of a solid sphere
-//!   of the cat's radius with that mass. A real universal joint's cross is massless; simulators
+//!   `f · m̄` with `f = rapier.cross_mass_fraction` and `m̄` the halves' mean mass, and the inertia
+//!   `(2/5) f m̄ r̄²` of a solid sphere of their mean radius with that mass. A real universal joint's cross is massless; simulators
 //!   need a body with positive mass between two revolute joints, and at `f = 10⁻⁶` it changes
 //!   the flip by far less than the engines' tolerances;
-//! - joint 1 about A's `x` at A's `(0, 0, −l/2)`, joint 2 about the cross's `y` at the same point,
-//!   which is B's `(0, 0, +l/2)`: `R_AB = Rx(q1) · Ry(q2)`.
+//! - joint 1 about A's `x` at A's `(0, 0, −l_A/2)`, joint 2 about the cross's `y` at the same
+//!   point, which is B's `(0, 0, +l_B/2)`: `R_AB = Rx(q1) · Ry(q2)` (the universal joint only).
 //!
 //! Numbers are written with Rust's shortest round-trip formatting, so a parser reads back the
 //! very `f64` written.
 
 use crate::engines::rapier::MassModel;
-use crate::model::Cylinder;
+use crate::model::{Cat, Cylinder};
 
 /// Mass properties and geometry of the three links, SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Links {
-    /// The half the model is made of.
-    pub cat: Cylinder,
+    /// The front half A and the rear half B.
+    pub halves: [Cylinder; 2],
     /// Masses of A, the cross and B, kg.
     pub mass: [f64; 3],
     /// Principal moments `(I_x, I_y, I_z)` of A, the cross and B about their centres, kg·m².
@@ -30,15 +30,17 @@ pub struct Links {
 }
 
 impl Links {
-    /// The links of `cat` with a cross of mass `cross_mass_fraction · m` (as in the rapier scene).
-    pub fn new(cat: &Cylinder, cross_mass_fraction: f64) -> Links {
+    /// The links of `cat` (its joint is taken to be the universal one: the caller refuses any
+    /// other) with a cross of mass `cross_mass_fraction · m̄` (as in the rapier scene).
+    pub fn new(cat: &Cat, cross_mass_fraction: f64) -> Links {
         let masses = MassModel::new(cat, cross_mass_fraction);
-        Links { cat: *cat, mass: masses.mass, inertia: masses.inertia }
+        Links { halves: [cat.front, cat.rear], mass: masses.mass, inertia: masses.inertia }
     }
 
-    /// Half a link's length, `l/2`, m: the joint point is `(0, 0, −l/2)` in A, `(0, 0, +l/2)` in B.
-    pub fn half_length(&self) -> f64 {
-        0.5 * self.cat.length
+    /// Half of each half's length, `(l_A/2, l_B/2)`, m: the joint point is `(0, 0, −l_A/2)` in A
+    /// and `(0, 0, +l_B/2)` in B.
+    pub fn half_lengths(&self) -> [f64; 2] {
+        self.halves.map(|h| 0.5 * h.length)
     }
 }
 

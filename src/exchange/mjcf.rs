@@ -5,9 +5,9 @@
 //!
 //! - body `A` (centre of mass, `z` towards the head) with a `freejoint` (the floating base; its
 //!   `qpos` is the position and the unit quaternion `(w, x, y, z)` of A in the world);
-//! - body `cross` at A's `(0, 0, −l/2)`, with hinge `joint1` about `x` through its origin;
-//! - body `B` at the cross's `(0, 0, −l/2)` (B's centre of mass at `q = 0`), with hinge `joint2`
-//!   about `y` through B's `(0, 0, +l/2)`, the joint point. So `R_AB = Rx(q1) · Ry(q2)` and
+//! - body `cross` at A's `(0, 0, −l_A/2)`, with hinge `joint1` about `x` through its origin;
+//! - body `B` at the cross's `(0, 0, −l_B/2)` (B's centre of mass at `q = 0`), with hinge `joint2`
+//!   about `y` through B's `(0, 0, +l_B/2)`, the joint point. So `R_AB = Rx(q1) · Ry(q2)` and
 //!   `qpos[7:9] = (q1, q2)`, `qvel[6:8] = (q̇1, q̇2)`.
 //!
 //! Every body has an explicit `<inertial>` ([`Links`]; `inertiafromgeom="false"`, so the
@@ -45,8 +45,8 @@ impl Default for MjcfOptions {
 
 /// The MJCF text of the cat `links`, model name `name`.
 pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
-    let (r, half) = (links.cat.radius, links.half_length());
-    let size = format!("{} {}", num(r), num(half));
+    let [half_a, half_b] = links.half_lengths();
+    let size = |i: usize| format!("{} {}", num(links.halves[i].radius), num(links.half_lengths()[i]));
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -65,14 +65,14 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
     let _ = writeln!(s, "    <body name=\"A\" pos=\"0 0 0\">");
     let _ = writeln!(s, "      <freejoint name=\"base\"/>");
     inertial(&mut s, links, 0, 6);
-    geom(&mut s, "A", &size, 6);
-    let _ = writeln!(s, "      <body name=\"cross\" pos=\"{}\">", vec3([0.0, 0.0, -half]));
+    geom(&mut s, "A", &size(0), 6);
+    let _ = writeln!(s, "      <body name=\"cross\" pos=\"{}\">", vec3([0.0, 0.0, -half_a]));
     hinge(&mut s, "joint1", [1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 8);
     inertial(&mut s, links, 1, 8);
-    let _ = writeln!(s, "        <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -half]));
-    hinge(&mut s, "joint2", [0.0, 1.0, 0.0], [0.0, 0.0, half], 10);
+    let _ = writeln!(s, "        <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -half_b]));
+    hinge(&mut s, "joint2", [0.0, 1.0, 0.0], [0.0, 0.0, half_b], 10);
     inertial(&mut s, links, 2, 10);
-    geom(&mut s, "B", &size, 10);
+    geom(&mut s, "B", &size(1), 10);
     let _ = writeln!(s, "        </body>");
     let _ = writeln!(s, "      </body>");
     let _ = writeln!(s, "    </body>");

@@ -74,12 +74,17 @@ pub enum ExchangeError {
     /// The problem cannot be written as a schedule file (a release with spin).
     #[error(transparent)]
     Problem(#[from] crate::problem::ProblemError),
+    /// The cat model cannot run the trajectory.
+    #[error(transparent)]
+    Model(#[from] crate::engines::models::ModelError),
 }
 
 /// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and
-/// [`MJCF_FILE`], with the cross of the rapier scene and the falling frame's zero gravity.
+/// [`MJCF_FILE`], with the cross of the rapier scene and the falling frame's zero gravity. The
+/// files build the universal joint (equal or unequal halves); a caller refuses any other
+/// ([`Problem::require_universal_joint`]).
 pub fn model_files(problem: &Problem) -> [(String, String); 2] {
-    let links = Links::new(&problem.cat.half(), problem.rapier.cross_mass_fraction);
+    let links = Links::new(&problem.cat.model(), problem.rapier.cross_mass_fraction);
     let name = format!("catflip-{}", problem.name);
     [
         (URDF_FILE.to_string(), urdf(&links, &name)),

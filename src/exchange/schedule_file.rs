@@ -32,22 +32,22 @@
 //! longer than `T_piece / N`, so every row is at least as accurate as the engine's final answer
 //! (the last row agrees with `flip` to about the tolerance; a test checks it).
 
-use nalgebra::UnitQuaternion;
+use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::engines::exact::{body_rate, flip, magnus6};
-use crate::engines::motors::motor_demand;
-use crate::engines::torque::{joint_torques, peak_torques_on, piece_samples, Peak};
+use crate::engines::models::TwoMotorCat;
+use crate::engines::motors::motor_demand_from;
+use crate::engines::torque::{peak_torques_from, piece_samples, Peak, TorqueSource};
 use crate::exchange::cuts::{acceleration_cuts, CutTrajectory};
-use crate::exchange::jumps::{rate_jumps, Jump};
+use crate::exchange::jumps::{rate_jumps, rate_jumps_by, Jump};
 use crate::exchange::links::{num, Links};
 use crate::exchange::sidecar::{
     Column, Conventions, ModelInfo, MotorSizing, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
 };
 use crate::exchange::ExchangeError;
 use crate::model::orientation::{SwingTwist, TwistTracker};
-use crate::model::Cylinder;
 use crate::problem::Problem;
-use crate::schedule::{Phase, Schedule, Trajectory};
+use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// The columns: name, unit, meaning.
 pub const COLUMNS: [(&str, &str, &str); 19] = [
@@ -140,7 +140,6 @@ pub fn write_schedule(
     name: &str,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
-    problem.require_paper_cat("a schedule file (its orientation and torque columns)")?;
     let refined = CutTrajectory::new(schedule, &acceleration_cuts(schedule));
     let names: Vec<String> =
         (0..refined.piece_durations().len()).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
@@ -167,23 +166,31 @@ pub fn write_trajectory(
 ) -> Result<ScheduleFile, ExchangeError> {
     // The orientation and torque columns and the sidecar's figures are the zero-momentum flip's.
     problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
-    problem.require_paper_cat("a schedule file (its orientation and torque columns)")?;
-    let cat = &problem.cat.half();
+    problem.require_universal_joint("a schedule file (its URDF/MJCF model)")?;
+    // The paper's cat through the two-cylinder engine, any other through the general core.
+    let model = TwoMotorCat::new(problem.cat.model())?;
+    let paper = model.cat().paper().copied();
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;
     let piece_name = |k: usize| piece_names.get(k).cloned().unwrap_or_else(|| format!("piece-{}", k + 1));
     let labels: Vec<String> = (0..durations.len()).map(piece_name).collect();
     let plan = plan_rows(&durations, &labels, options);
-    let engine = flip(cat, traj, problem.exact.tolerance);
+    let tolerance = problem.exact.tolerance;
+    let engine = paper.map_or_else(|| model.flip(traj, tolerance), |cat| flip(&cat, traj, tolerance));
     let max_step = durations.iter().fold(0.0, |m: f64, &d| m.max(d)) / engine.steps_per_phase.max(1) as f64;
-    let attitude = orientations(cat, traj, &plan, &durations, engine.steps_per_phase);
-    let jumps = rate_jumps(cat, traj);
+    let rate = |st: &JointState| paper.map_or_else(|| model.body_rate(st), |cat| body_rate(&cat, st.q, st.qd));
+    let attitude = orientations(rate, traj, &plan, &durations, engine.steps_per_phase);
+    let jumps = match &paper {
+        Some(cat) => rate_jumps(cat, traj),
+        None => rate_jumps_by(|q| model.reduced_mass_matrix(q), traj, |_| 0.0),
+    };
+    let source = TorqueSource::of(&model);
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(COLUMNS.map(|c| c.0)).map_err(csv_error)?;
     let mut pieces: Vec<PieceInfo> = Vec::new();
     for (i, (row, (q, angles))) in plan.iter().zip(&attitude).enumerate() {
         let st = traj.piece_state(row.piece, row.local);
-        let tau = joint_torques(cat, &st).tau;
+        let tau = source.at(traj, row.piece, row.local, &st).tau;
         let impulse = match row.marker {
             Marker::Start => jumps.iter().find(|j| j.after_piece + 1 == row.piece).map(|j| j.impulse_nms),
             _ => None,
@@ -227,7 +234,7 @@ pub fn write_trajectory(
     }
     let bytes = w.into_inner().map_err(|e| ExchangeError::Csv(e.to_string()))?;
     let csv = String::from_utf8(bytes).map_err(|e| ExchangeError::Csv(e.to_string()))?;
-    let links = Links::new(cat, problem.rapier.cross_mass_fraction);
+    let links = Links::new(model.cat(), problem.rapier.cross_mass_fraction);
     let sidecar = Sidecar {
         format: FORMAT.into(),
         csv: format!("{name}.csv"),
@@ -259,16 +266,16 @@ pub fn write_trajectory(
             final_swing_deg: engine.swing.to_degrees(),
         },
         interpolation: interpolation_advice(&jumps),
-        motors: motor_sizing(problem, traj),
+        motors: motor_sizing(problem, &source, traj),
     };
     Ok(ScheduleFile { csv, sidecar })
 }
 
 /// The motor-sizing figures of `traj` on `problem`'s cat and `[actuator]`, sampled as the
 /// reports sample peaks.
-fn motor_sizing(problem: &Problem, traj: &impl Trajectory) -> MotorSizing {
+fn motor_sizing(problem: &Problem, source: &TorqueSource, traj: &impl Trajectory) -> MotorSizing {
     let samples = piece_samples(traj, problem.exact.torque_samples);
-    let peaks = peak_torques_on(&problem.cat.half(), traj, &samples);
+    let peaks = peak_torques_from(source, traj, &samples);
     let largest = |j: usize| {
         peaks
             .per_piece
@@ -276,7 +283,7 @@ fn motor_sizing(problem: &Problem, traj: &impl Trajectory) -> MotorSizing {
             .map(|p| p[j])
             .fold(Peak { value: 0.0, time: 0.0 }, |a, b| if b.value > a.value { b } else { a })
     };
-    let demand = motor_demand(&problem.cat.half(), traj, &samples, &problem.actuator.motors());
+    let demand = motor_demand_from(source, traj, &samples, &problem.actuator.motors());
     MotorSizing {
         peak_torque_nm: [largest(0), largest(1)],
         within_motors: demand.within(),
@@ -367,7 +374,7 @@ fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> V
 
 /// A's orientation at every row: Magnus steps no longer than `T_piece / steps` from row to row.
 fn orientations(
-    cat: &Cylinder,
+    body_rate: impl Fn(&JointState) -> Vector3<f64>,
     traj: &impl Trajectory,
     rows: &[Row],
     durations: &[f64],
@@ -385,10 +392,7 @@ fn orientations(
             let span = row.local - p.local;
             let n = ((span / h_max) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
             let h = span / n as f64;
-            let rate = |s: f64| {
-                let st = traj.piece_state(row.piece, s);
-                body_rate(cat, st.q, st.qd)
-            };
+            let rate = |s: f64| body_rate(&traj.piece_state(row.piece, s));
             for k in 0..n {
                 let s = p.local + k as f64 * h;
                 let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));

@@ -75,15 +75,18 @@ pub struct Source {
 /// The model, as [`Links`] describes it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModelInfo {
-    /// Mass of each half, kg.
+    /// Mass of each half (of the front half A when `rear` is given), kg.
     pub mass_kg: f64,
-    /// Length of each half, m.
+    /// Length of each half (of A when `rear` is given), m.
     pub length_m: f64,
-    /// Radius of each half, m.
+    /// Radius of each half (of A when `rear` is given), m.
     pub radius_m: f64,
-    /// Each half's moments about its centre of mass `(I_x, I_y, I_z)`: `m(3r² + l²)/12` twice,
-    /// then `m r²/2`, kg·m².
+    /// Each half's (A's when `rear` is given) moments about its centre of mass `(I_x, I_y, I_z)`:
+    /// `m(3r² + l²)/12` twice, then `m r²/2`, kg·m².
     pub half_inertia_kg_m2: [f64; 3],
+    /// The rear half B when the halves differ (absent for equal halves).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rear: Option<HalfInfo>,
     /// The joint point in A's body frame, m.
     pub joint_point_in_a_m: [f64; 3],
     /// The joint point in B's body frame, m.
@@ -102,17 +105,37 @@ pub struct ModelInfo {
     pub mjcf: String,
 }
 
+/// One half of a cat whose halves differ.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HalfInfo {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Length, m.
+    pub length_m: f64,
+    /// Radius, m.
+    pub radius_m: f64,
+    /// Moments about its centre of mass `(I_x, I_y, I_z)`, kg·m².
+    pub inertia_kg_m2: [f64; 3],
+}
+
 impl ModelInfo {
     /// The description of `links`, with the model files' names.
     pub fn new(links: &Links, urdf: &str, mjcf: &str) -> ModelInfo {
-        let half = links.half_length();
+        let [front, rear] = links.halves;
+        let [half_a, half_b] = links.half_lengths();
         ModelInfo {
-            mass_kg: links.cat.mass,
-            length_m: links.cat.length,
-            radius_m: links.cat.radius,
+            mass_kg: front.mass,
+            length_m: front.length,
+            radius_m: front.radius,
             half_inertia_kg_m2: links.inertia[0],
-            joint_point_in_a_m: [0.0, 0.0, -half],
-            joint_point_in_b_m: [0.0, 0.0, half],
+            rear: (front != rear).then(|| HalfInfo {
+                mass_kg: rear.mass,
+                length_m: rear.length,
+                radius_m: rear.radius,
+                inertia_kg_m2: links.inertia[2],
+            }),
+            joint_point_in_a_m: [0.0, 0.0, -half_a],
+            joint_point_in_b_m: [0.0, 0.0, half_b],
             joint: "universal: joint 1 turns about A's x, joint 2 about the cross's y (Rx(q1)·ŷ in A's frame); B relative to A is R_AB = Rx(q1)·Ry(q2); q = 0 is the straight cat".into(),
             cross_mass_kg: links.mass[1],
             cross_inertia_kg_m2: links.inertia[1],

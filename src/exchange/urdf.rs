@@ -6,14 +6,14 @@
 //! joint, so:
 //!
 //! - `A`'s frame is A's body frame (centre of mass, `z` towards the head);
-//! - `joint1` sits at `(0, 0, −l/2)` in `A` with axis `(1, 0, 0)`; the cross's frame is there,
+//! - `joint1` sits at `(0, 0, −l_A/2)` in `A` with axis `(1, 0, 0)`; the cross's frame is there,
 //!   turned by `Rx(q1)`;
 //! - `joint2` sits at the cross's origin with axis `(0, 1, 0)`; `B`'s frame is at the joint
 //!   point, turned by `Ry(q2)` from the cross, so with axes of B's body frame and B's centre of
-//!   mass at `(0, 0, −l/2)` in it (its `<inertial>` origin).
+//!   mass at `(0, 0, −l_B/2)` in it (its `<inertial>` origin).
 //!
 //! Every link has an `<inertial>` with its true mass and inertia ([`Links`]); A and B carry a
-//! cylinder `<visual>` (radius `r`, length `l`, at the centre of mass), and no link has a
+//! cylinder `<visual>` (its own radius `r` and length `l`, at the centre of mass), and no link has a
 //! `<collision>`: the scene needs no contacts. Tools that compute inertia from collision
 //! shapes by default (pyBullet) must be told to use the file's (`URDF_USE_INERTIA_FROM_FILE`).
 //!
@@ -26,7 +26,8 @@ use crate::exchange::links::{num, vec3, xml_escape, Links};
 
 /// The URDF text of the cat `links`, robot name `name`.
 pub fn urdf(links: &Links, name: &str) -> String {
-    let (l, r, half) = (links.cat.length, links.cat.radius, links.half_length());
+    let [a, b] = links.halves;
+    let [half_a, half_b] = links.half_lengths();
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
@@ -34,10 +35,10 @@ pub fn urdf(links: &Links, name: &str) -> String {
         "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
     );
     let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
-    link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((l, r)));
+    link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((a.length, a.radius)));
     link(&mut s, links, "cross", 1, [0.0, 0.0, 0.0], None);
-    link(&mut s, links, "B", 2, [0.0, 0.0, -half], Some((l, r)));
-    joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half], [1.0, 0.0, 0.0]);
+    link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+    joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], [1.0, 0.0, 0.0]);
     joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
     let _ = writeln!(s, "</robot>");
     s

@@ -276,6 +276,19 @@ impl Problem {
         ))
     }
 
+    /// Refuses a joint other than the universal one for a computation that builds only it
+    /// (`what` names it in the message), naming `cat.joint`; unequal halves pass.
+    pub fn require_universal_joint(&self, what: &str) -> Result<(), ProblemError> {
+        if self.cat.joint == Joint::Universal {
+            return Ok(());
+        }
+        Err(bad(
+            "cat.joint",
+            format!("\"{}\"", self.cat.joint.name()),
+            &format!("{what} builds the universal joint only (two revolute joints and a cross) so far, on equal or unequal halves; the exact engine runs this joint (`simulate`, `compare`, `optimize --whole`)"),
+        ))
+    }
+
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();

@@ -4,6 +4,7 @@
 //! - [`simulate`], [`compare`], [`optimize`], [`mod@bench`]: the reports of `catflip simulate`,
 //!   `compare`, `optimize` and `bench`;
 //! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
+//! - [`whole`], [`whole_check`]: `catflip optimize --whole` and its rapier verification (`--verify`);
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`crate::exchange`]: schedules as CSV with URDF/MJCF;
 //! - [`robust`]: the robustness check's Markdown, CSV, plots and filmstrips;
@@ -21,3 +22,4 @@ pub mod robust;
 pub mod run;
 pub mod simulate;
 pub mod whole;
+pub mod whole_check;

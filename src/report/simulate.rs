@@ -64,10 +64,11 @@ pub struct SimulationReport {
 }
 
 /// `catflip simulate`: the problem's schedule through `engine`.
-/// The exact engine runs every cat model; rapier the paper's cat only.
+/// The exact engine runs every cat model; rapier every cat on the universal joint (equal or
+/// unequal halves).
 pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, RapierError> {
     if engine == Engine::Rapier {
-        r.require_paper_cat("simulate --engine rapier (its scene)")?;
+        r.problem.require_universal_joint("simulate --engine rapier (its scene)")?;
     }
     let exact = exact_report(r, &r.schedule, r.circulation, None)?;
     match engine {
@@ -121,7 +122,7 @@ pub fn rapier_outcome(
 ) -> Result<RapierOutcome<SimulationReport>, RapierError> {
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome =
-        rapier_check(r.cat(), schedule, &r.problem.rapier, &reference, &RapierOptions::for_problem(&r.problem))?;
+        rapier_check(r.model(), schedule, &r.problem.rapier, &reference, &RapierOptions::for_problem(&r.problem))?;
     Ok(outcome.map(|finest| {
         let peaks = finest.run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
             bend: [0.0; 2],

@@ -433,7 +433,7 @@ pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verific
     let Some(b) = report.best() else { return Ok(None) };
     let reference = Reference { twist: b.twist, swing: b.swing, peak_torque: b.peak_torque_nm };
     let opts = RapierOptions::for_problem(&r.problem);
-    verify_with(r.cat(), &b.spline, &r.problem.rapier, &reference, &opts).map(Some)
+    verify_with(r.model(), &b.spline, &r.problem.rapier, &reference, &opts).map(Some)
 }
 
 /// The optimum's line of the peak-torque table (its Markdown row and its CSV record). The

@@ -14,6 +14,7 @@
 //! verdict as reason and in `rapier_verdict`, and counts as `inconclusive` among the verdicts,
 //! as in `catflip run`; an exact row without a result gives a `skipped` rapier row.
 
+use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{verify_with, Quantity, RapierError, RapierOptions, Reference, Verification};
 use crate::engines::Engine;
 use crate::problem::settings::RapierSettings;
@@ -73,5 +74,11 @@ fn run(
     settings: &RapierSettings,
     reference: &Reference,
 ) -> Result<Verification, RapierError> {
-    verify_with(&problem.cat.half(), traj, settings, reference, &RapierOptions::for_problem(problem))
+    verify_with(
+        &TwoMotorCat::paper(problem.cat.half()),
+        traj,
+        settings,
+        reference,
+        &RapierOptions::for_problem(problem),
+    )
 }

@@ -8,7 +8,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-use crate::model::Cylinder;
+use crate::model::Cat;
 
 /// Number of generalized velocities: the floating root's six, then `q̇1`, `q̇2`.
 pub const NDOFS: usize = 8;
@@ -46,21 +46,27 @@ pub struct MassModel {
     pub mass: [f64; 3],
     /// Principal moments `(I_x, I_y, I_z)` of A, the cross, B, kg·m².
     pub inertia: [[f64; 3]; 3],
-    /// Half length `l/2` of a half, m.
-    pub half_length: f64,
+    /// Half lengths `l_A/2` of the front half and `l_B/2` of the rear half, m: the joint point
+    /// is A's `(0, 0, −l_A/2)` and B's `(0, 0, +l_B/2)`.
+    pub half_lengths: [f64; 2],
 }
 
 impl MassModel {
-    /// The cat's bodies with a cross of mass `fraction · m`; the cross's inertia is that of a
-    /// solid sphere of the cat's radius, `2/5 m_c r²` (tiny, but a valid positive inertia).
-    pub fn new(cat: &Cylinder, fraction: f64) -> Self {
-        let (t, a) = (cat.transverse(), cat.axial());
-        let mc = fraction * cat.mass;
-        let ic = 0.4 * mc * cat.radius * cat.radius;
+    /// The cat's halves with a cross of mass `fraction · m̄` (`m̄` the mean of the halves'
+    /// masses); the cross's inertia is that of a solid sphere of the mean radius `r̄`,
+    /// `2/5 m_c r̄²` (tiny, but a valid positive inertia). Only the halves' sizes enter, not the
+    /// joint: the scene decides which joints it builds. For the paper's cat (equal halves of
+    /// mass `m` and radius `r`) this is `f m` and `2/5 f m r²`.
+    pub fn new(cat: &Cat, fraction: f64) -> Self {
+        let (front, rear) = (cat.front, cat.rear);
+        let mean = cat.mean_half();
+        let mc = fraction * mean.mass;
+        let ic = 0.4 * mc * mean.radius * mean.radius;
+        let principal = |c: &crate::model::Cylinder| [c.transverse(), c.transverse(), c.axial()];
         Self {
-            mass: [cat.mass, mc, cat.mass],
-            inertia: [[t, t, a], [ic, ic, ic], [t, t, a]],
-            half_length: 0.5 * cat.length,
+            mass: [front.mass, mc, rear.mass],
+            inertia: [principal(&front), [ic, ic, ic], principal(&rear)],
+            half_lengths: [0.5 * front.length, 0.5 * rear.length],
         }
     }
 
@@ -79,7 +85,7 @@ impl MassModel {
 impl Snapshot {
     /// The joint point (joint 1 and joint 2 share it), world frame.
     pub fn joint_point(&self, masses: &MassModel) -> Vector3<f64> {
-        self.positions[0] + self.rotations[0] * Vector3::new(0.0, 0.0, -masses.half_length)
+        self.positions[0] + self.rotations[0] * Vector3::new(0.0, 0.0, -masses.half_lengths[0])
     }
 
     /// Joint 1's axis (A's x) and joint 2's axis (the cross's y), world frame.

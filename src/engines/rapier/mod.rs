@@ -10,17 +10,23 @@
 //!
 //! Three dynamic bodies form one rapier multibody (reduced coordinates):
 //! - **A**, the root, floating (six free DoFs), centre at the origin, identity orientation;
-//! - **the cross** of the universal joint, a tiny body (mass `f · m` with
-//!   `f = rapier.cross_mass_fraction`, inertia of a solid sphere of the cat's radius), centre at
+//! - **the cross** of the universal joint, a tiny body (mass `f · m̄` with
+//!   `f = rapier.cross_mass_fraction` and `m̄` the halves' mean mass, inertia of a solid sphere of
+//!   their mean radius), centre at
 //!   the joint point. Rapier's multibody joints with two free angular axes hit a `todo!()`, so the
 //!   universal joint is two revolute joints with this body between them;
 //! - **B**, the rear half.
 //!
-//! Joint 1 is revolute about A's `x` at A's local point `(0, 0, −l/2)` (the cross's origin);
-//! joint 2 is revolute about the cross's `y`, at B's local point `(0, 0, +l/2)`. So
+//! Joint 1 is revolute about A's `x` at A's local point `(0, 0, −l_A/2)` (the cross's origin);
+//! joint 2 is revolute about the cross's `y`, at B's local point `(0, 0, +l_B/2)`. So
 //! `R_AB(q) = Rx(q1) · Ry(q2)` (DESIGN.md §1): at `q = (0.3, 0)` B's axis is `Rx(0.3) ẑ` in A's
 //! frame. Each body's body frame is at its centre of mass with `z` along the spine; mass
-//! properties are set explicitly: `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` for each half.
+//! properties are set explicitly: `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` for each half,
+//! with each half's own `m`, `l`, `r` (DESIGN.md §10: the halves may differ; the paper's cat has
+//! `l_A = l_B = l`). The scene builds the universal joint only: the no-twist and spherical joints
+//! are refused ([`RapierError::UnsupportedJoint`]). The exact engine's side of a verification
+//! (time scales, motor demand, spin history) is the two-cylinder engine for the paper's cat and
+//! the general core ([`crate::engines::models::TwoMotorCat`]) for any other.
 //! Sleeping is off, and rapier's default damping of multibody DoFs (0.1 on every angular DoF,
 //! the floating root's included) is zeroed: it would bleed angular momentum.
 //!
@@ -198,6 +204,9 @@ pub enum RapierError {
         /// Why it is rejected.
         reason: &'static str,
     },
+    /// The scene has no joint of this kind: it builds the universal joint only.
+    #[error("cat.joint = \"{0}\": rapier's scene builds the universal joint only (two revolute joints and a cross) so far; the exact engine runs this joint (`simulate --engine exact`)")]
+    UnsupportedJoint(crate::model::Joint),
     /// Rapier refused to build a joint.
     #[error("rapier refused {0}")]
     JointRejected(&'static str),

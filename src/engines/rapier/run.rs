@@ -1,6 +1,6 @@
 //! One schedule through rapier: the stepping loop and what it measures.
 
-use nalgebra::UnitQuaternion;
+use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
@@ -8,13 +8,13 @@ use super::pieces::Pieces;
 use super::saturation::{available_torque, bounds_torque, MotorSaturation, SaturationTracker};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
+use crate::engines::models::TwoMotorCat;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::torque::{joint_torques, joint_torques_spinning};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::orientation::TwistTracker;
-use crate::model::Cylinder;
 use crate::problem::settings::{RapierSettings, TimeStep};
-use crate::schedule::{Phase, Trajectory};
+use crate::schedule::{JointState, Phase, Trajectory};
 
 /// Torque samples within this many steps of a piece boundary are left out of the per-phase
 /// peaks: two for the stencil, two for the servo to settle after a jump of `q̈` (it shrinks an
@@ -169,13 +169,17 @@ pub(super) fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<
 
 /// Runs a trajectory in rapier with the default [`RapierOptions`], at `settings.dt` (the
 /// automatic choice is [`super::time_scales`]' first step).
-pub fn simulate(cat: &Cylinder, traj: &impl Trajectory, settings: &RapierSettings) -> Result<RapierRun, RapierError> {
+pub fn simulate(
+    cat: &TwoMotorCat,
+    traj: &impl Trajectory,
+    settings: &RapierSettings,
+) -> Result<RapierRun, RapierError> {
     simulate_with(cat, traj, settings, &RapierOptions::default())
 }
 
 /// Runs a trajectory at each step of `dts` (e.g. 1/60 … 1/8000 s) with the default options.
 pub fn dt_sweep(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     dts: &[f64],
@@ -183,9 +187,28 @@ pub fn dt_sweep(
     dts.iter().map(|&dt| simulate(cat, traj, &settings.with_dt(dt))).collect()
 }
 
-/// Runs a trajectory in rapier (module docs: scene, motors, measurements).
+/// The schedule's motor torques at `target`, N·m, at zero angular momentum or with the total
+/// momentum `lambda` in A's frame: the paper's cat through the two-cylinder engine, any other
+/// model through the general core.
+fn planned_torques(cat: &TwoMotorCat, target: &JointState, lambda: Option<&Vector3<f64>>) -> [f64; 2] {
+    match (cat.cat().paper(), lambda) {
+        (Some(half), Some(l)) => joint_torques_spinning(half, target, l).tau,
+        (Some(half), None) => joint_torques(half, target).tau,
+        (None, Some(l)) => two(&cat.joint_torques_spinning(target, l).tau),
+        (None, None) => two(&cat.joint_torques(target).tau),
+    }
+}
+
+/// The two motor torques of a two-motor model's link.
+fn two(tau: &[f64]) -> [f64; 2] {
+    [tau[0], tau[1]]
+}
+
+/// Runs a trajectory in rapier (module docs: scene, motors, measurements) on `cat`: the paper's
+/// cat or any other on the universal joint (unequal halves); another joint is refused
+/// ([`RapierError::UnsupportedJoint`]).
 pub fn simulate_with(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     opts: &RapierOptions,
@@ -219,7 +242,8 @@ pub fn simulate_with(
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);
     let start = pieces.state(0.0);
-    let mut scene = CatScene::new(cat, settings.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), start.q)?;
+    let mut scene =
+        CatScene::new(cat.cat(), settings.cross_mass_fraction, dt, opts.pgs_iterations, Some(gains), start.q)?;
     scene.start_with_momentum(start.qd, &opts.spin)?;
     let masses = *scene.masses();
 
@@ -271,13 +295,12 @@ pub fn simulate_with(
                 let bound = std::array::from_fn(|j| available_torque(&motors.joints[j], rate[j]));
                 scene.set_max_forces(bound)?;
                 // Released with spin, the schedule's torque at rapier's current attitude.
-                let planned = if opts.spin.norm_squared() > 0.0 {
-                    let lambda = scene.snapshot()?.rotations[0].inverse_transform_vector(&opts.spin);
-                    joint_torques_spinning(cat, &target, &lambda)
+                let lambda = if opts.spin.norm_squared() > 0.0 {
+                    Some(scene.snapshot()?.rotations[0].inverse_transform_vector(&opts.spin))
                 } else {
-                    joint_torques(cat, &target)
+                    None
                 };
-                saturation.step(t, bound, planned.tau);
+                saturation.step(t, bound, planned_torques(cat, &target, lambda.as_ref()));
             }
             scene.step();
         }
@@ -318,7 +341,7 @@ pub fn simulate_with(
         last = Some((snap.rotations[0], st, snap.q));
     }
     let (orientation, angles, final_q) = last.ok_or(RapierError::Missing("a final state"))?;
-    let reference = cat.end_transverse() * qd_max;
+    let reference = cat.cat().rear.end_transverse() * qd_max;
 
     Ok(RapierRun {
         dt_requested: requested,

@@ -22,7 +22,7 @@ use rapier3d_f64::pipeline::PhysicsWorld;
 
 use super::bodies::{MassModel, Snapshot, NDOFS};
 use super::RapierError;
-use crate::model::Cylinder;
+use crate::model::{Cat, Joint};
 
 /// Gains of the joint motors, rapier's acceleration-based model.
 ///
@@ -82,17 +82,21 @@ fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
 impl CatScene {
     /// Builds the scene at joint angles `q0`, at rest, with time step `dt` (one solver substep
     /// per step, `pgs_iterations` Gauss–Seidel sweeps of the velocity solver). With `gains`,
-    /// both joints carry motors holding `q0`; without, the joints are free.
+    /// both joints carry motors holding `q0`; without, the joints are free. The halves may
+    /// differ; the joint must be the universal one ([`RapierError::UnsupportedJoint`]).
     pub fn new(
-        cat: &Cylinder,
+        cat: &Cat,
         cross_mass_fraction: f64,
         dt: f64,
         pgs_iterations: usize,
         gains: Option<MotorGains>,
         q0: [f64; 2],
     ) -> Result<Self, RapierError> {
+        if cat.joint != Joint::Universal {
+            return Err(RapierError::UnsupportedJoint(cat.joint));
+        }
         let masses = MassModel::new(cat, cross_mass_fraction);
-        let h = masses.half_length;
+        let [h_a, h_b] = masses.half_lengths;
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::ZERO;
         world.integration_parameters = IntegrationParameters {
@@ -105,8 +109,8 @@ impl CatScene {
         // Initial poses at q0: A at the origin, the cross at the joint point, B beyond it.
         let r_c = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), q0[0]);
         let r_b = r_c * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q0[1]);
-        let joint = Vector3::new(0.0, 0.0, -h);
-        let x_b = joint - r_b * Vector3::new(0.0, 0.0, h);
+        let joint = Vector3::new(0.0, 0.0, -h_a);
+        let x_b = joint - r_b * Vector3::new(0.0, 0.0, h_b);
         let poses = [(Vector3::zeros(), UnitQuaternion::identity()), (joint, r_c), (x_b, r_b)];
         let bodies: [RigidBodyHandle; 3] = std::array::from_fn(|i| {
             let mprops = MassProperties::new(Vector::ZERO, masses.mass[i], Vector::from_array(masses.inertia[i]));
@@ -125,8 +129,8 @@ impl CatScene {
             }
             b.build().into()
         };
-        let j1 = revolute(Vector::X, Vector::new(0.0, 0.0, -h), Vector::ZERO, q0[0]);
-        let j2 = revolute(Vector::Y, Vector::ZERO, Vector::new(0.0, 0.0, h), q0[1]);
+        let j1 = revolute(Vector::X, Vector::new(0.0, 0.0, -h_a), Vector::ZERO, q0[0]);
+        let j2 = revolute(Vector::Y, Vector::ZERO, Vector::new(0.0, 0.0, h_b), q0[1]);
         let h1 = world
             .multibody_joints
             .insert(bodies[0], bodies[1], j1, true)

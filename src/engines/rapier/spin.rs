@@ -9,7 +9,7 @@ use super::bodies::NDOFS;
 use super::measure::{angular_momentum, kinetic_energy};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS};
-use crate::model::Cylinder;
+use crate::model::{Cat, Cylinder};
 use crate::problem::settings::{RapierSettings, TimeStep};
 
 /// A torque-free spin: the cat at joint angles `q`, turning rigidly at `omega`.
@@ -80,7 +80,8 @@ pub fn spin_free(
     let n = (steps_f as usize).max(1);
     let dt = test.duration / n as f64;
     let gains = test.hold_joints.then(|| MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio));
-    let mut scene = CatScene::new(cat, settings.cross_mass_fraction, dt, opts.pgs_iterations, gains, test.q)?;
+    let mut scene =
+        CatScene::new(&Cat::from(*cat), settings.cross_mass_fraction, dt, opts.pgs_iterations, gains, test.q)?;
     let masses = *scene.masses();
 
     // Rigid rotation about the centre of mass: v_A = ω × (x_A − c), joint rates zero.

@@ -32,8 +32,10 @@
 
 use serde::Serialize;
 
-use crate::model::Cylinder;
-use crate::schedule::Trajectory;
+use nalgebra::Vector3;
+
+use crate::engines::models::TwoMotorCat;
+use crate::schedule::{JointState, Trajectory};
 
 /// Sampling intervals per piece when the scales are measured.
 pub const SAMPLES_PER_PIECE: usize = 64;
@@ -91,8 +93,27 @@ pub struct TimeScales {
     pub limited_by: StepLimit,
 }
 
-/// Measures the time scales of `traj` on the exact zero-momentum motion.
-pub fn time_scales(cat: &Cylinder, traj: &impl Trajectory) -> TimeScales {
+/// Measures the time scales of `traj` on the exact zero-momentum motion of `model`: the paper's
+/// cat through the two-cylinder engine, any other model through the general core.
+pub fn time_scales(model: &TwoMotorCat, traj: &impl Trajectory) -> TimeScales {
+    match model.cat().paper() {
+        Some(cat) => scales_of(traj, |st| {
+            let kin = crate::engines::torque::kinematics(cat, st);
+            (kin.omega, kin.omega_dot, crate::engines::torque::joint_torques(cat, st).tau)
+        }),
+        None => scales_of(traj, |st| {
+            let (omega, omega_dot) = model.body_motion(st);
+            let tau = model.joint_torques(st).tau;
+            (omega, omega_dot, [tau[0], tau[1]])
+        }),
+    }
+}
+
+/// The time scales of `traj` from `motion(st) = (Ω, Ω̇, τ)` at each sample.
+fn scales_of(
+    traj: &impl Trajectory,
+    motion: impl Fn(&JointState) -> (Vector3<f64>, Vector3<f64>, [f64; 2]),
+) -> TimeScales {
     let (mut qd_max, mut w_max, mut wd_max, mut tau_max, mut taud_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let durations = traj.piece_durations();
     for (piece, &d) in durations.iter().enumerate().filter(|(_, d)| **d > 0.0) {
@@ -100,11 +121,10 @@ pub fn time_scales(cat: &Cylinder, traj: &impl Trajectory) -> TimeScales {
         let mut prev: Option<[f64; 2]> = None;
         for k in 0..=SAMPLES_PER_PIECE {
             let st = traj.piece_state(piece, k as f64 * h);
-            let kin = crate::engines::torque::kinematics(cat, &st);
-            let tau = crate::engines::torque::joint_torques(cat, &st).tau;
+            let (omega, omega_dot, tau) = motion(&st);
             qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
-            w_max = w_max.max(kin.omega.norm());
-            wd_max = wd_max.max(kin.omega_dot.norm());
+            w_max = w_max.max(omega.norm());
+            wd_max = wd_max.max(omega_dot.norm());
             tau_max = tau_max.max(tau[0].hypot(tau[1]));
             if let Some(p) = prev {
                 taud_max = taud_max.max((tau[0] - p[0]).hypot(tau[1] - p[1]) / h);

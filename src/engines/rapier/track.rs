@@ -39,7 +39,7 @@ use super::scene::CatScene;
 use super::{RapierError, Snapshot};
 use crate::model::motor::Motors;
 use crate::model::orientation::TwistTracker;
-use crate::model::Cylinder;
+use crate::model::{Cat, Cylinder};
 use crate::numeric::random::SplitMix64;
 
 /// Longest a landing run goes on after the schedule's end, as a fraction of its duration.
@@ -112,7 +112,7 @@ pub fn track(
         return Err(RapierError::BadDuration(dt * n as f64));
     }
     let start = plan.state(0);
-    let mut scene = CatScene::new(cat, opts.cross_mass_fraction, dt, opts.pgs_iterations, None, start.q)?;
+    let mut scene = CatScene::new(&Cat::from(*cat), opts.cross_mass_fraction, dt, opts.pgs_iterations, None, start.q)?;
     scene.start_with_momentum(start.qd, &opts.spin)?;
     let ground = opts.landing.as_ref().map(|l| Ground::add(&mut scene, cat, l)).transpose()?;
     let extra = if ground.is_some() { (MAX_EXTRA * n as f64).ceil() as usize } else { 0 };

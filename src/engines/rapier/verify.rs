@@ -70,7 +70,7 @@ use crate::engines::motors::{motor_demand, motor_demand_from, MotorDemand};
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::{piece_samples, TorqueSource};
 
-use crate::model::Cylinder;
+use crate::engines::models::TwoMotorCat;
 use crate::problem::settings::{ExactSettings, RapierSettings, TimeStep};
 use crate::schedule::Trajectory;
 
@@ -419,7 +419,7 @@ impl Verification {
 /// `Err` only when the settings or the trajectory are invalid (or rapier refuses the scene);
 /// every way a run can fail is a verdict.
 pub fn verify(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     reference: &Reference,
@@ -429,7 +429,7 @@ pub fn verify(
 
 /// [`verify`] with rapier options.
 pub fn verify_with(
-    cat: &Cylinder,
+    cat: &TwoMotorCat,
     traj: &impl Trajectory,
     settings: &RapierSettings,
     reference: &Reference,
@@ -450,11 +450,18 @@ pub fn verify_with(
     // The exact engine's view of the motors, sampled as its reports sample peaks.
     let demand = (!opts.motors.is_ideal()).then(|| {
         let samples = piece_samples(traj, ExactSettings::default().torque_samples);
-        if opts.spin.norm_squared() > 0.0 {
-            let (_, history) = SpinHistory::new(cat, traj, &opts.spin, ExactSettings::default().tolerance);
-            motor_demand_from(&TorqueSource::spinning(cat, &history), traj, &samples, &opts.motors)
-        } else {
-            motor_demand(cat, traj, &samples, &opts.motors)
+        let tolerance = ExactSettings::default().tolerance;
+        match (cat.cat().paper(), opts.spin.norm_squared() > 0.0) {
+            (Some(half), true) => {
+                let (_, history) = SpinHistory::new(half, traj, &opts.spin, tolerance);
+                motor_demand_from(&TorqueSource::spinning(half, &history), traj, &samples, &opts.motors)
+            }
+            (Some(half), false) => motor_demand(half, traj, &samples, &opts.motors),
+            (None, true) => {
+                let (_, history) = cat.flip_spinning(traj, &opts.spin, tolerance);
+                motor_demand_from(&TorqueSource::model_spinning(cat, &history), traj, &samples, &opts.motors)
+            }
+            (None, false) => motor_demand_from(&TorqueSource::model(cat), traj, &samples, &opts.motors),
         }
     });
     let (mut runs, mut kept, mut failures) = (Vec::<RunRecord>::new(), Vec::<RapierRun>::new(), Vec::new());

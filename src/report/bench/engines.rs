@@ -60,6 +60,7 @@
 
 use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::{flip, integrate};
+use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{richardson, simulate, swing_vector, RapierRun};
 use crate::problem::settings::ExactSettings;
 use crate::problem::Problem;
@@ -162,7 +163,8 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
         &ExactSettings { tolerance: 1e-12, ..problem.exact },
     );
     let reference = FinalAngles::new(&exact.flip.orientation, exact.flip.twist);
-    let run_at = |dt: f64| simulate(cat, schedule, &problem.rapier.with_dt(dt));
+    let model = TwoMotorCat::paper(*cat);
+    let run_at = |dt: f64| simulate(&model, schedule, &problem.rapier.with_dt(dt));
     let error = "max(|Δtwist|, |Δswing vector|) (rad)";
     let profile = schedule.profile.name();
     let raw = Curve::sweep(name, &format!("time step (s), {profile} profile"), error, dts, |dt| {

@@ -1,0 +1,54 @@
+//! `catflip optimize --whole --verify`: the whole-manoeuvre optimum and rapier's verification of
+//! it, on any cat rapier builds (the universal joint, equal or unequal halves).
+//!
+//! The verification is [`verify_whole`]'s: rapier tracks the optimum's joint trajectory with its
+//! motors, the step is halved until rapier's own error estimate meets `[rapier]`'s tolerances,
+//! and the verdict compares the extrapolated twist, swing and peak torque with the exact engine's
+//! numbers of the optimum ([`crate::engines::rapier::verify`]).
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::engines::rapier::{RapierError, Verification};
+use crate::engines::resolved::Resolved;
+use crate::report::whole::{verification_row_markdown, verify_whole, WholeReport};
+
+/// The optimum with rapier's verification (none when there is no optimum to verify).
+#[derive(Clone, Debug, Serialize)]
+pub struct WholeCheck {
+    /// The optimum, as `optimize --whole` reports it.
+    #[serde(flatten)]
+    pub report: WholeReport,
+    /// Rapier's verification of the optimum.
+    pub rapier: Option<Verification>,
+}
+
+impl WholeCheck {
+    /// Verifies `report`'s optimum in rapier; a joint rapier's scene does not build is refused
+    /// first, naming `cat.joint`.
+    pub fn new(r: &Resolved, report: WholeReport) -> Result<WholeCheck, RapierError> {
+        r.problem.require_universal_joint("optimize --whole --verify (rapier's scene)")?;
+        let rapier = verify_whole(r, &report)?;
+        Ok(WholeCheck { report, rapier })
+    }
+
+    /// The optimum's report followed by the verification's section.
+    pub fn to_markdown(&self) -> String {
+        let mut s = self.report.to_markdown();
+        let _ = writeln!(s, "\n## Rapier verification\n");
+        match &self.rapier {
+            None => {
+                let _ = writeln!(s, "Not run: there is no optimum to verify.");
+            }
+            Some(v) => {
+                let _ = writeln!(s, "rapier3d (f64) tracks the optimum's joint trajectory with its motors; the step is halved until rapier's own error estimate meets the `[rapier]` tolerances, and the extrapolated numbers are compared with the exact engine's.\n");
+                let _ = writeln!(s, "```text\n{}```\n", v.to_text());
+                if let Some(row) = verification_row_markdown(&self.report, v) {
+                    let _ = write!(s, "{}{row}", crate::report::check::VERIFICATION_TABLE_HEADER);
+                }
+            }
+        }
+        s
+    }
+}
