@@ -38,4 +38,6 @@ step "installing mujoco" "$venv/bin/pip" install --quiet --disable-pip-version-c
 for example in python/examples/*.py; do
     step "$example" "$venv/bin/python" "$example"
 done
+# The replay again on unequal halves (each half its own link in the MJCF).
+step "MuJoCo's replay of unequal halves" "$venv/bin/python" python/examples/02_mujoco_replay.py problems/unequal-halves.toml
 PYO3_PYTHON="$venv/bin/python" step "clippy on the binding" cargo clippy -p catflip-python --all-targets -- -D warnings

@@ -93,3 +93,38 @@ fn a_schedule_file_of_the_no_twist_joint_is_refused() {
     let e = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).map(|_| ()).unwrap_err().to_string();
     assert!(e.starts_with("cat.joint = \"no-twist\""), "{e}");
 }
+
+/// The schedule file of unequal halves read back (`simulate --schedule`): the exact engine on the
+/// model measures what the file says (twist, swing, peaks), and rapier verifies it.
+#[test]
+fn a_schedule_file_of_unequal_halves_reads_back_and_is_verified() {
+    let r = resolved("unequal-halves.toml");
+    let file = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let dir = std::env::temp_dir().join(format!("catflip-unequal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let path = dir.join("s.csv");
+    std::fs::write(&path, &file.csv).unwrap_or_else(|e| panic!("{e}"));
+    let imported = catflip::exchange::read_schedule(&path).unwrap_or_else(|e| panic!("{e}"));
+    let exact = catflip::exchange::evaluate(&r.problem, &imported).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        (exact.figures.twist_deg - e.twist_deg()).abs() <= 1e-6,
+        "{} against {}",
+        exact.figures.twist_deg,
+        e.twist_deg()
+    );
+    assert!(
+        (exact.figures.swing_deg - e.swing_deg()).abs() <= 1e-6,
+        "{} against {}",
+        exact.figures.swing_deg,
+        e.swing_deg()
+    );
+    let peak = exact.peak_torque_nm.max;
+    assert!((peak - e.peaks.max).abs() <= 1e-3 * e.peaks.max, "peak {peak} against {}", e.peaks.max);
+    assert_eq!(exact.velocity_jumps.len(), e.jumps.len());
+    assert!(exact.warnings.iter().all(|w| !w.contains("too far apart")), "{:?}", exact.warnings);
+    let rapier = catflip::exchange::evaluate_rapier(&r.problem, &imported, &exact).unwrap_or_else(|e| panic!("{e}"));
+    let report = rapier.into_report().unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.figures.check.verdict, Some(catflip::engines::rapier::Status::Verified));
+}

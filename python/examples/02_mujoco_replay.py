@@ -1,7 +1,10 @@
 """The whole-manoeuvre optimum handed to MuJoCo and replayed (when MuJoCo is installed:
 ``pip install mujoco``; without it the script says so and exits 0).
 
-    python python/examples/02_mujoco_replay.py      # from the repository root
+    python python/examples/02_mujoco_replay.py [PROBLEM.toml]   # from the repository root
+
+The problem defaults to ``problems/paper.toml``; any cat on the universal joint replays
+(``problems/unequal-halves.toml``: each half its own link in the MJCF).
 
 catflip gives the model (MJCF: true inertias, zero gravity, the falling frame) and the optimum's
 time series as numpy arrays; MuJoCo drives its two joint motors with catflip's exact torques plus
@@ -23,7 +26,7 @@ except ImportError:
     sys.exit(0)
 
 warnings.simplefilter("ignore", catflip.CatflipWarning)
-problem = catflip.load("problems/paper.toml")
+problem = catflip.load(sys.argv[1] if len(sys.argv) > 1 else "problems/paper.toml")
 whole = catflip.optimize_whole(problem, rate_hz=1000.0)
 assert whole.solved, whole.report["status"]
 s = whole.series

@@ -138,8 +138,8 @@ impl Resolved {
                 .par_iter()
                 .filter_map(|&k| {
                     let s = self.with_library(k);
-                    // Cannot fail: `Resolved::new` ran the model's calibration checks, and
-                    // `Problem::validate` refuses a spinning release of another model.
+                    // Cannot fail: `Resolved::new` ran the model's calibration checks (with
+                    // the release's spin) on a model of two coordinates.
                     let e = self.evaluate(&s).ok()?;
                     Some((k, s, e))
                 })

@@ -169,6 +169,12 @@ impl<'a> TorqueSource<'a> {
         Self { body: Body::Model { cat, spin: None } }
     }
 
+    /// A two-coordinate model released with spin when `history` is given, else at zero momentum
+    /// ([`TorqueSource::model_spinning`], [`TorqueSource::model`]).
+    pub fn model_released(cat: &'a TwoMotorCat, history: Option<&'a SpinHistory>) -> Self {
+        Self { body: Body::Model { cat, spin: history } }
+    }
+
     /// A two-coordinate model released with spin ([`TwoMotorCat::joint_torques_spinning`] at the
     /// orientation of `history`, integrated on the model by [`TwoMotorCat::flip_spinning`]).
     pub fn model_spinning(cat: &'a TwoMotorCat, history: &'a SpinHistory) -> Self {
@@ -483,14 +489,14 @@ pub struct VelocityJump {
 /// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses `M(q) Δq̇`
 /// (on the universal joint, whose motor axes are its joint axes, the motors' impulse).
 pub fn velocity_jumps(cat: &Cylinder, schedule: &Schedule, tol: f64) -> Vec<VelocityJump> {
-    velocity_jumps_with(
-        |q, dq| {
-            let imp = reduced_mass_matrix(cat, q) * nalgebra::Vector2::new(dq[0], dq[1]);
-            [imp[0], imp[1]]
-        },
-        schedule,
-        tol,
-    )
+    velocity_jumps_with(|q, dq| generalised_impulse(cat, q, dq), schedule, tol)
+}
+
+/// The paper's cat's generalised impulse `M(q) Δq̇`, N·m·s, of a jump `dq` of the joint rates at
+/// `q` (on the universal joint the motors' impulse).
+pub fn generalised_impulse(cat: &Cylinder, q: [f64; 2], dq: [f64; 2]) -> [f64; 2] {
+    let impulse = reduced_mass_matrix(cat, q) * nalgebra::Vector2::new(dq[0], dq[1]);
+    [impulse[0], impulse[1]]
 }
 
 /// [`velocity_jumps`] with the motors' impulse `impulse(q, Δq̇)` of any two-coordinate model:

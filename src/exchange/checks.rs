@@ -32,8 +32,8 @@
 //! - the problem's cat outside the paper's stability argument (`l < √3 r`). The problem's
 //!   manoeuvre is not used, so nothing is said of it.
 
-use crate::engines::evaluate::{released_flip, torque_source};
-use crate::engines::torque::{peak_torques_from, piece_samples, reduced_mass_matrix};
+use crate::engines::models::TwoMotorCat;
+use crate::engines::torque::{generalised_impulse, piece_samples, PeakTorques};
 use crate::engines::JUMP_TOLERANCE;
 use crate::exchange::import::{
     ImportError, ImportedSchedule, Interpolation, Row, TimeRounding, POSITION_JUMP_TOLERANCE, TIME_ROUNDING_WARNED,
@@ -52,12 +52,12 @@ pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 
 /// The refusals and warnings of `schedule` evaluated with `problem` (module docs); the warnings
 /// in the user's words, naming the line or the column.
-pub fn check(problem: &Problem, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
+pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
     let mut warnings = Vec::new();
     duration(problem, schedule, &mut warnings)?;
     time_rounding(schedule, &mut warnings);
     degrees(schedule, &mut warnings);
-    ends(problem, schedule, &mut warnings);
+    ends(model, schedule, &mut warnings);
     consistency(schedule, &mut warnings);
     if !problem.cat.half().is_long_enough() {
         warnings.push(format!(
@@ -134,7 +134,7 @@ fn degrees(s: &ImportedSchedule, warnings: &mut Vec<String>) {
 }
 
 /// Whether a row's state is straight (`q ≈ 0`) and at rest (`q̇ ≈ 0`, within `rate_uncertainty`).
-fn ends(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
+fn ends(model: &TwoMotorCat, s: &ImportedSchedule, warnings: &mut Vec<String>) {
     let durations = s.piece_durations();
     let (Some(first), Some(last)) = (s.pieces.first(), s.pieces.last()) else { return };
     let n = durations.len() - 1;
@@ -158,7 +158,11 @@ fn ends(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
                 "line {line}: whether the schedule {verb} at rest could not be checked: its piece has too few rows (fewer than 7) to estimate the spline's rate there; give q̇ or more rows"
             ));
         } else if speed > (JUMP_TOLERANCE * speed.max(1.0)).max(uncertainty) {
-            let m = reduced_mass_matrix(&problem.cat.half(), q) * nalgebra::Vector2::new(state.qd[0], state.qd[1]);
+            // The impulse from rest: the paper's cat's M(q) q̇, any other model's motor impulse.
+            let m = match model.cat().paper() {
+                Some(cat) => generalised_impulse(cat, q, state.qd),
+                None => model.motor_impulse(q, state.qd),
+            };
             warnings.push(format!(
                 "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat is {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
                 state.qd[0], state.qd[1], m[0], m[1]
@@ -252,22 +256,24 @@ pub fn peak_samples(schedule: &ImportedSchedule, torque_samples: usize) -> Vec<u
 }
 
 /// The estimated relative error of the peak torques `peaks` (per piece and joint, as
-/// [`peak_torques_from`] gives them on `s`) from the rows' spacing (module docs), as a warning
+/// [`crate::engines::torque::peak_torques_from`] gives them on `s`) from the rows' spacing (module docs), as a warning
 /// naming the worst piece's lines when it exceeds [`SAMPLING_TOLERANCE`] (pieces and joints whose
 /// peak is below [`SAMPLING_TOLERANCE`] of the largest are not judged); also when no piece has
 /// rows to spare.
-pub fn sampling(problem: &Problem, s: &ImportedSchedule, peaks: &[[f64; 2]]) -> Option<String> {
+pub fn sampling(
+    s: &ImportedSchedule,
+    peaks: &[[f64; 2]],
+    peaks_of: impl Fn(&ImportedSchedule) -> PeakTorques,
+) -> Option<String> {
     let Some(coarse) = s.every_other_row() else {
         return Some(
             "whether the rows are close enough for the interpolation could not be checked: no piece has rows to spare for a coarser copy"
                 .into(),
         );
     };
-    // The coarser copy's peaks are measured as the file's are (with the release spin, if any).
-    let cat = problem.cat.half();
-    let (_, history) = released_flip(&cat, &coarse, &problem.drop.spin(), problem.exact.tolerance);
-    let source = torque_source(&cat, history.as_ref());
-    let coarse_peaks = peak_torques_from(&source, &coarse, &peak_samples(&coarse, problem.exact.torque_samples));
+    // The coarser copy's peaks are measured as the file's are (`peaks_of`: the same model, with
+    // the release spin, if any).
+    let coarse_peaks = peaks_of(&coarse);
     let divisor = match s.interpolation {
         Interpolation::QuinticHermite => 15.0,
         _ => 3.0,

@@ -21,15 +21,16 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::engines::evaluate::{momentum_check, released_flip, torque_source};
+use crate::engines::evaluate::{momentum_check, released_flip, released_on_model, torque_source};
+use crate::engines::exact::Flip;
 use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::rapier_check::{rapier_check, EngineFigures, RapierOutcome};
-use crate::engines::torque::peak_torques_from;
+use crate::engines::torque::{peak_torques_from, PeakTorques, TorqueSource};
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};
 use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation};
-use crate::exchange::jumps::{uncertain_rate_jumps, Jump};
+use crate::exchange::jumps::{rate_jumps_by, uncertain_rate_jumps, Jump};
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
 
@@ -121,15 +122,17 @@ pub struct ImportReport {
 /// The exact engine's report on an imported schedule, with the checks' warnings; refused when the
 /// file cannot be evaluated with this problem or a number cannot be computed.
 pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<ImportReport, ImportError> {
-    problem.require_paper_cat("simulate --schedule (an imported schedule)")?;
-    let mut warnings = check(problem, schedule)?;
-    let cat = &problem.cat.half();
+    // The paper's cat through the two-cylinder engine, any other two-motor model through the
+    // general core.
+    let model = TwoMotorCat::new(problem.cat.model())?;
+    let mut warnings = check(problem, &model, schedule)?;
+    let uncertainty = |k: usize| schedule.boundary_rate_uncertainty(k);
     let start = Instant::now();
-    let (f, history) = released_flip(cat, schedule, &problem.drop.spin(), problem.exact.tolerance);
-    let source = torque_source(cat, history.as_ref());
-    let peaks = peak_torques_from(&source, schedule, &peak_samples(schedule, problem.exact.torque_samples));
-    let jumps = uncertain_rate_jumps(cat, schedule, |k| schedule.boundary_rate_uncertainty(k));
-    let momentum = momentum_check(cat, schedule, history.as_ref(), problem.exact.torque_samples);
+    let (f, peaks, momentum) = measured(problem, &model, schedule);
+    let jumps = match model.cat().paper() {
+        Some(cat) => uncertain_rate_jumps(cat, schedule, uncertainty),
+        None => rate_jumps_by(|q, dq| model.motor_impulse(q, dq), schedule, uncertainty),
+    };
     let run_time_s = start.elapsed().as_secs_f64();
     let pieces = merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]));
     let not_computable =
@@ -165,7 +168,7 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
         ));
     }
     let per_piece: Vec<[f64; 2]> = peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]).collect();
-    warnings.extend(sampling(problem, schedule, &per_piece));
+    warnings.extend(sampling(schedule, &per_piece, |coarse| measured(problem, &model, coarse).1));
     Ok(ImportReport {
         problem: problem.name.clone(),
         engine: Engine::Exact,
@@ -181,6 +184,26 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
     })
 }
 
+/// An imported trajectory measured on `model` as the problem asks (released with its spin, to its
+/// tolerance): the flip, the torque peaks and the momentum check ([`released_flip`] and
+/// [`momentum_check`] for the paper's cat, [`released_on_model`] for any other).
+fn measured(problem: &Problem, model: &TwoMotorCat, traj: &ImportedSchedule) -> (Flip, PeakTorques, f64) {
+    let (spin, tolerance, samples) = (problem.drop.spin(), problem.exact.tolerance, problem.exact.torque_samples);
+    let at = peak_samples(traj, samples);
+    match model.cat().paper() {
+        Some(cat) => {
+            let (f, history) = released_flip(cat, traj, &spin, tolerance);
+            let peaks = peak_torques_from(&torque_source(cat, history.as_ref()), traj, &at);
+            (f, peaks, momentum_check(cat, traj, history.as_ref(), samples))
+        }
+        None => {
+            let (f, history, momentum) = released_on_model(model, traj, &spin, tolerance, samples);
+            let peaks = peak_torques_from(&TorqueSource::model_released(model, history.as_ref()), traj, &at);
+            (f, peaks, momentum)
+        }
+    }
+}
+
 /// rapier's report on an imported schedule, verified against `exact`, the exact engine's report on
 /// the same schedule ([`evaluate`]); [`RapierOutcome::NoResult`] when the verification made no
 /// usable run.
@@ -189,10 +212,10 @@ pub fn evaluate_rapier(
     schedule: &ImportedSchedule,
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
-    problem.require_paper_cat("simulate --schedule --engine rapier")?;
+    problem.require_universal_joint("simulate --schedule --engine rapier (its scene)")?;
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome = rapier_check(
-        &TwoMotorCat::paper(problem.cat.half()),
+        &TwoMotorCat::new(problem.cat.model())?,
         schedule,
         &problem.rapier,
         &reference,

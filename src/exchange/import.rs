@@ -240,6 +240,13 @@ impl From<crate::problem::ProblemError> for ImportError {
     }
 }
 
+impl From<crate::engines::models::ModelError> for ImportError {
+    /// A cat model that cannot run a two-coordinate schedule (the spherical joint).
+    fn from(e: crate::engines::models::ModelError) -> Self {
+        ImportError::Problem(e.to_string())
+    }
+}
+
 /// The interpolation scheme of an imported schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]

@@ -3,14 +3,14 @@
 //! At the boundary between pieces `k` and `k + 1` the rates may jump from `q̇⁻` (piece `k`'s
 //! end) to `q̇⁺` (piece `k + 1`'s start). The joint then delivers the generalised impulse
 //! `M(q) (q̇⁺ − q̇⁻)`, N·m·s, with `M` the reduced zero-momentum mass matrix
-//! ([`reduced_mass_matrix`]): an impulse, not a torque. A jump smaller than
+//! ([`generalised_impulse`]): an impulse, not a torque. A jump smaller than
 //! [`JUMP_TOLERANCE`] relative to `max(1 rad/s, |q̇⁻|, |q̇⁺|)` is round-off and not reported; nor
 //! is one within the rates' own uncertainty at that boundary (for rates that come from an
 //! interpolant, not from a formula or a file: see [`crate::exchange::import`]).
 
 use serde::{Deserialize, Serialize};
 
-use crate::engines::torque::reduced_mass_matrix;
+use crate::engines::torque::generalised_impulse;
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::Cylinder;
 use crate::schedule::Trajectory;
@@ -26,7 +26,8 @@ pub struct Jump {
     pub rates_before_rad_s: [f64; 2],
     /// Rates just after, rad/s.
     pub rates_after_rad_s: [f64; 2],
-    /// Generalised impulse `M(q) Δq̇` on joints 1 and 2, N·m·s.
+    /// The motors' impulse on joints 1 and 2 (on the universal joint the generalised impulse
+    /// `M(q) Δq̇`), N·m·s.
     pub impulse_nms: [f64; 2],
 }
 
@@ -38,13 +39,14 @@ pub fn rate_jumps(cat: &Cylinder, traj: &impl Trajectory) -> Vec<Jump> {
 /// The rate jumps of `traj` larger than `uncertainty(k)`, the uncertainty (rad/s, Euclidean) of
 /// the rate difference at the boundary after piece `k`.
 pub fn uncertain_rate_jumps(cat: &Cylinder, traj: &impl Trajectory, uncertainty: impl Fn(usize) -> f64) -> Vec<Jump> {
-    rate_jumps_by(|q| reduced_mass_matrix(cat, q), traj, uncertainty)
+    rate_jumps_by(|q, dq| generalised_impulse(cat, q, dq), traj, uncertainty)
 }
 
-/// [`uncertain_rate_jumps`] with the reduced mass matrix `mass(q)` of any cat on the universal
-/// joint (whose motor impulse is the generalised impulse `M(q) Δq̇`).
+/// [`uncertain_rate_jumps`] with the motor impulse `impulse(q, Δq̇)` of any two-motor model
+/// ([`crate::engines::models::TwoMotorCat::motor_impulse`]; on the universal joint the generalised
+/// impulse `M(q) Δq̇`).
 pub fn rate_jumps_by(
-    mass: impl Fn([f64; 2]) -> nalgebra::Matrix2<f64>,
+    impulse: impl Fn([f64; 2], [f64; 2]) -> [f64; 2],
     traj: &impl Trajectory,
     uncertainty: impl Fn(usize) -> f64,
 ) -> Vec<Jump> {
@@ -61,13 +63,13 @@ pub fn rate_jumps_by(
         if dq[0].hypot(dq[1]) <= (JUMP_TOLERANCE * scale).max(uncertainty(k)) {
             continue;
         }
-        let impulse = mass(after.q) * nalgebra::Vector2::new(dq[0], dq[1]);
+        let impulse = impulse(after.q, dq);
         out.push(Jump {
             time_s: time,
             after_piece: k,
             rates_before_rad_s: before.qd,
             rates_after_rad_s: after.qd,
-            impulse_nms: [impulse[0], impulse[1]],
+            impulse_nms: impulse,
         });
     }
     out

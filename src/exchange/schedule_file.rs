@@ -182,7 +182,7 @@ pub fn write_trajectory(
     let attitude = orientations(rate, traj, &plan, &durations, engine.steps_per_phase);
     let jumps = match &paper {
         Some(cat) => rate_jumps(cat, traj),
-        None => rate_jumps_by(|q| model.reduced_mass_matrix(q), traj, |_| 0.0),
+        None => rate_jumps_by(|q, dq| model.motor_impulse(q, dq), traj, |_| 0.0),
     };
     let source = TorqueSource::of(&model);
     let mut w = csv::Writer::from_writer(Vec::new());

@@ -23,7 +23,9 @@
 //! [`dynamics`] and the two-cylinder engine, unchanged to the last bit, or any other two-motor
 //! model (unequal halves, the no-twist joint) through [`model_dynamics`] and the general core
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
-//! A release with spin is planned for the paper's cat only so far ([`spin_on_paper_cat`]).
+//! A release with spin is planned on every model through the same seam (the spinning dynamics
+//! of [`model_dynamics`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
+//! spinning subproblems end primal infeasible and the outcome says there is no optimum.
 //!
 //! ## Why cubic B-splines
 //! The torques need `q̈`; a cubic's `q̈` is continuous and piecewise linear, so the torque is
@@ -178,7 +180,6 @@ pub fn optimize_whole_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    spin_on_paper_cat(cat, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -223,23 +224,6 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
     Ok(())
 }
 
-/// Refuses a release with spin on a cat other than the paper's: the spinning model goes through
-/// the same seam, but on Kane and Scher's symmetric cat (whose swing the controls cannot reach)
-/// its subproblems end primal infeasible, and no other model is tested with spin yet.
-pub fn spin_on_paper_cat(cat: &WholeCat, spin: &Vector3<f64>) -> Result<(), WholeError> {
-    if spin.norm_squared() == 0.0 || matches!(cat, WholeCat::Paper(_)) {
-        return Ok(());
-    }
-    Err(WholeError::BadFieldValue {
-        field: "drop.angular_momentum",
-        value: format!("[{}, {}, {}]", spin.x, spin.y, spin.z),
-        reason: format!(
-            "the whole optimiser plans a release with spin for the paper's cat only (equal halves on the universal joint) so far; this cat ({}) is optimised without spin: set drop.angular_momentum to [0, 0, 0]",
-            cat.describe()
-        ),
-    })
-}
-
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
@@ -266,7 +250,6 @@ pub fn optimize_from_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    spin_on_paper_cat(cat, spin)?;
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
