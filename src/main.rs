@@ -260,9 +260,6 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Optimize { common, whole: true, verify, quiet } => {
             let problem = load(&common, None)?;
-            if verify {
-                problem.require_universal_joint("optimize --whole --verify (rapier's scene)")?;
-            }
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;

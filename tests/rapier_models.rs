@@ -1,6 +1,7 @@
-//! Rapier on cats other than the paper's (issue 22): unequal halves on the universal joint are
-//! built, joined where the model joins them and verified against the general exact engine; a joint
-//! the scene does not build is refused, naming `cat.joint`.
+//! Rapier on cats other than the paper's (issue 22): unequal halves on the universal joint and
+//! Kane and Scher's no-twist joint (a ball joint) are built, joined where the model joins them and
+//! verified against the general exact engine; what the scene does not build is refused, naming
+//! the joint.
 #![deny(clippy::float_cmp)]
 
 use std::path::Path;
@@ -9,8 +10,11 @@ use approx::assert_relative_eq;
 use nalgebra::Vector3;
 
 use catflip::engines::models::TwoMotorCat;
-use catflip::engines::rapier::{verify, CatScene, MassModel, RapierError, Reference, Status};
+use catflip::engines::rapier::{
+    simulate_with, verify, CatScene, MassModel, RapierError, RapierOptions, Reference, Status,
+};
 use catflip::engines::resolved::Resolved;
+use catflip::model::motor::{Motor, Motors};
 use catflip::model::{joint_rotation, Cat, Cylinder, Joint};
 use catflip::problem::Problem;
 
@@ -81,13 +85,58 @@ fn a_library_schedule_on_unequal_halves_is_verified_against_the_general_core() {
     assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
 }
 
-/// The no-twist and spherical joints are not built (yet): refused, naming the joint.
+/// DESIGN.md §10: the no-twist joint turns B by `exp([q1, q2, 0]×)` about the joint point at A's
+/// `(0, 0, −l_A/2)` and B's `(0, 0, +l_B/2)`; the scene reads the same coordinates back.
 #[test]
-fn a_joint_the_scene_does_not_build_is_refused() {
-    for joint in [Joint::NoTwist, Joint::Spherical] {
-        let cat = Cat { joint, ..unequal() };
-        let e = CatScene::new(&cat, 1e-6, 1e-3, 8, None, [0.0; 2]).err().unwrap_or_else(|| panic!("{joint} built"));
-        assert!(matches!(e, RapierError::UnsupportedJoint(j) if j == joint), "{e}");
-        assert!(e.to_string().starts_with(&format!("cat.joint = \"{joint}\"")), "{e}");
+fn the_no_twist_joint_is_a_ball_joint_where_the_model_puts_it() {
+    let cat = Cat { joint: Joint::NoTwist, ..unequal() };
+    let q = [0.3, -0.5];
+    let scene = CatScene::new(&cat, 1e-6, 1e-3, 8, None, q).unwrap_or_else(|e| panic!("{e}"));
+    let s = scene.snapshot().unwrap_or_else(|e| panic!("{e}"));
+    let rel = (s.rotations[0].inverse() * s.rotations[2]).to_rotation_matrix().into_inner();
+    assert_relative_eq!(rel, Joint::NoTwist.rotation(&q), epsilon = 1e-12);
+    let joint_in_a = s.positions[0] + s.rotations[0] * Vector3::new(0.0, 0.0, -0.5 * FRONT.length);
+    let joint_in_b = s.positions[2] + s.rotations[2] * Vector3::new(0.0, 0.0, 0.5 * REAR.length);
+    assert_relative_eq!(joint_in_a, joint_in_b, epsilon = 1e-12);
+    for (read, set) in s.q.iter().zip(q) {
+        assert_relative_eq!(*read, set, epsilon = 1e-12);
     }
+}
+
+/// Kane and Scher's cat (`problems/kane-scher.toml`, the paper's π/C) is verified in rapier's ball
+/// joint against the general exact engine; the paper's universal joint on the same halves and
+/// schedule turns the cat 5.9° less, and that reference is not what rapier's no-twist cat does.
+#[test]
+fn kane_and_schers_cat_is_verified_on_the_ball_joint() {
+    let r = resolved("kane-scher.toml");
+    assert_eq!(r.model().cat().joint, Joint::NoTwist);
+    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
+    let v = verify(r.model(), &r.schedule, &r.problem.rapier, &reference).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
+    let tracking = v.tracking_error_rad.unwrap_or([f64::NAN; 2]);
+    assert!(tracking.iter().all(|t| *t < 1e-4), "tracking error {tracking:?} rad");
+
+    let universal = TwoMotorCat::paper(r.model().cat().front);
+    let u = universal.flip(&r.schedule, 1e-10);
+    let apart = (u.twist - e.flip.twist).abs().to_degrees();
+    assert!(apart > 2.0 * r.problem.rapier.twist_tolerance_deg, "the universal joint turns {apart}° from the model");
+    let wrong = Reference { twist: u.twist, swing: u.swing, peak_torque: e.peaks.max };
+    let v = verify(r.model(), &r.schedule, &r.problem.rapier, &wrong).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v.status, Status::NotVerified, "{}", v.verdict);
+}
+
+/// Motor limits on the ball joint are refused (it drives the relative rotation, not the two motor
+/// axes), and the spherical joint's third motor is not built: each refused, naming the joint.
+#[test]
+fn what_the_ball_joint_cannot_do_is_refused() {
+    let r = resolved("kane-scher.toml");
+    let limited = Motor { torque: Some(1.0), ..Motor::default() };
+    let opts = RapierOptions::within(Motors { joints: [limited, limited] });
+    let e = simulate_with(r.model(), &r.schedule, &r.problem.rapier, &opts).map(|_| ()).unwrap_err();
+    assert!(matches!(e, RapierError::LimitsOnJoint(Joint::NoTwist)), "{e}");
+    let cat = Cat { joint: Joint::Spherical, ..unequal() };
+    let e = CatScene::new(&cat, 1e-6, 1e-3, 8, None, [0.0; 2]).err().unwrap_or_else(|| panic!("built"));
+    assert!(matches!(e, RapierError::UnsupportedJoint(Joint::Spherical)), "{e}");
+    assert!(e.to_string().starts_with("cat.joint = \"spherical\""), "{e}");
 }

@@ -132,7 +132,6 @@ def test_still_usable_after_a_refusal():
     "args, call",
     [
         (["optimize", "problems/kane-scher.toml"], lambda p: catflip.optimize(p)),
-        (["simulate", "problems/kane-scher.toml", "--engine", "rapier"], lambda p: catflip.simulate(p, "rapier")),
     ],
 )
 def test_a_paper_only_computation_refuses_another_cat_naming_the_joint(cli, args, call):
@@ -142,3 +141,13 @@ def test_a_paper_only_computation_refuses_another_cat_naming_the_joint(cli, args
     message = same_as_cli(cli, args, lambda: call(problem))
     assert message.startswith('cat.joint = "no-twist"')
     assert refused(lambda: catflip.model_files(problem)).startswith('cat.joint = "no-twist"')
+
+
+def test_rapier_verifies_the_no_twist_cat_and_its_schedule_file_is_refused():
+    """Rapier builds the no-twist joint (a ball joint); its schedule and model files are the
+    universal joint's only, so they are refused naming the joint."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", catflip.CatflipWarning)
+        problem = catflip.load(PROBLEMS / "kane-scher.toml")
+    assert catflip.verify(problem).report["verdict"] == "verified"
+    assert refused(lambda: catflip.schedule_series(problem)).startswith('cat.joint = "no-twist"')

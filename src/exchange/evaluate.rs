@@ -212,7 +212,6 @@ pub fn evaluate_rapier(
     schedule: &ImportedSchedule,
     exact: &ImportReport,
 ) -> Result<RapierOutcome<ImportReport>, RapierError> {
-    problem.require_universal_joint("simulate --schedule --engine rapier (its scene)")?;
     let reference = exact.figures.reference(exact.peak_torque_nm.max);
     let outcome = rapier_check(
         &TwoMotorCat::new(problem.cat.model())?,

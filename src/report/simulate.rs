@@ -67,9 +67,6 @@ pub struct SimulationReport {
 /// The exact engine runs every cat model; rapier every cat on the universal joint (equal or
 /// unequal halves).
 pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, RapierError> {
-    if engine == Engine::Rapier {
-        r.problem.require_universal_joint("simulate --engine rapier (its scene)")?;
-    }
     let exact = exact_report(r, &r.schedule, r.circulation, None)?;
     match engine {
         Engine::Exact => Ok(exact),

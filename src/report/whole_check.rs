@@ -1,5 +1,6 @@
 //! `catflip optimize --whole --verify`: the whole-manoeuvre optimum and rapier's verification of
-//! it, on any cat rapier builds (the universal joint, equal or unequal halves).
+//! it, on any two-motor cat (the universal joint's two revolutes, the no-twist joint's ball joint;
+//! equal or unequal halves).
 //!
 //! The verification is [`verify_whole`]'s: rapier tracks the optimum's joint trajectory with its
 //! motors, the step is halved until rapier's own error estimate meets `[rapier]`'s tolerances,
@@ -25,10 +26,8 @@ pub struct WholeCheck {
 }
 
 impl WholeCheck {
-    /// Verifies `report`'s optimum in rapier; a joint rapier's scene does not build is refused
-    /// first, naming `cat.joint`.
+    /// Verifies `report`'s optimum in rapier.
     pub fn new(r: &Resolved, report: WholeReport) -> Result<WholeCheck, RapierError> {
-        r.problem.require_universal_joint("optimize --whole --verify (rapier's scene)")?;
         let rapier = verify_whole(r, &report)?;
         Ok(WholeCheck { report, rapier })
     }

@@ -3,15 +3,48 @@
 //!
 //! Shared by the scene that fills them ([`super::scene`]) and the measurements made on them
 //! ([`super::measure`]). World frame, SI units; the generalized velocities are
-//! `v = (v_A, ω_A, q̇1, q̇2)` (A's centre's linear velocity, A's world angular velocity, then
-//! the joint rates).
+//! `v = (v_A, ω_A, …)`: A's centre's linear velocity, A's world angular velocity, then the joint's
+//! rates, which depend on the scene's [`Layout`]: `(q̇1, q̇2)` of the universal joint's two
+//! revolutes, or the relative angular velocity `ω_rel` (A's frame) of the ball joint.
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::model::Cat;
 
-/// Number of generalized velocities: the floating root's six, then `q̇1`, `q̇2`.
-pub const NDOFS: usize = 8;
+/// Most generalized velocities a scene has: the floating root's six, then three of the ball
+/// joint (the universal joint's scene uses the first eight, [`Layout::ndofs`]).
+pub const NDOFS: usize = 9;
+
+/// How the scene joins B to A (module docs of [`crate::engines::rapier`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// The universal joint: revolute about A's `x` to the cross, revolute about the cross's `y`
+    /// to B; generalized joint velocities `(q̇1, q̇2)`.
+    Universal,
+    /// The no-twist joint: a spherical joint from A to the ball, a tiny body welded to B at the
+    /// joint point; generalized joint velocities `ω_rel` in A's frame.
+    Ball,
+}
+
+impl Layout {
+    /// Number of generalized velocities: 8 (universal), 9 (ball).
+    pub fn ndofs(self) -> usize {
+        match self {
+            Layout::Universal => 8,
+            Layout::Ball => 9,
+        }
+    }
+
+    /// The bodies each motor drives (indices into A, the cross or ball, B): on the universal
+    /// joint motor 1 drives {cross, B} and motor 2 drives {B}; on the ball joint both motors are
+    /// projections of the couple on {ball, B}.
+    pub fn driven(self) -> [&'static [usize]; 2] {
+        match self {
+            Layout::Universal => [&[1, 2], &[2]],
+            Layout::Ball => [&[1, 2], &[1, 2]],
+        }
+    }
+}
 
 /// One body's pose and velocity, in the world frame (nalgebra types).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,17 +59,20 @@ pub struct BodyState {
     pub angvel: Vector3<f64>,
 }
 
-/// Poses of A, the cross and B, and the generalized velocities, at one instant.
+/// Poses of A, the cross (or ball) and B, and the generalized velocities, at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Snapshot {
     /// Centres of A, the cross, B, m.
     pub positions: [Vector3<f64>; 3],
     /// Orientations of A, the cross, B.
     pub rotations: [UnitQuaternion<f64>; 3],
-    /// Generalized velocities `(v_A, ω_A, q̇1, q̇2)`.
+    /// Generalized velocities `(v_A, ω_A, joint rates)`; the first [`Layout::ndofs`] are used.
     pub velocities: [f64; NDOFS],
-    /// Joint coordinates `(q1, q2)` as rapier holds them, rad.
+    /// Joint coordinates `(q1, q2)`, rad: rapier's revolute angles (universal), or the rotation
+    /// vector of B relative to A, `log(R_A⁻¹ R_B)`, its `x` and `y` (no-twist).
     pub q: [f64; 2],
+    /// How B is joined to A.
+    pub layout: Layout,
 }
 
 /// Mass and principal inertia (about the body's own axes) of the three bodies.
@@ -88,21 +124,34 @@ impl Snapshot {
         self.positions[0] + self.rotations[0] * Vector3::new(0.0, 0.0, -masses.half_lengths[0])
     }
 
-    /// Joint 1's axis (A's x) and joint 2's axis (the cross's y), world frame.
+    /// The motor axes, world frame: joint 1's (A's x) and joint 2's (the cross's y) on the
+    /// universal joint, A's x and y on the no-twist joint.
     pub fn joint_axes(&self) -> [Vector3<f64>; 2] {
-        [self.rotations[0] * Vector3::x(), self.rotations[1] * Vector3::y()]
+        match self.layout {
+            Layout::Universal => [self.rotations[0] * Vector3::x(), self.rotations[1] * Vector3::y()],
+            Layout::Ball => [self.rotations[0] * Vector3::x(), self.rotations[0] * Vector3::y()],
+        }
     }
 
     /// The bodies' velocities for generalized velocities `v` at this snapshot's poses:
-    /// `ω_C = ω_A + q̇1 a1`, `ω_B = ω_C + q̇2 a2`, `v_C = v_A + ω_A × (P − x_A)`,
-    /// `v_B = v_C + ω_B × (x_B − P)` with `P` the joint point (the cross's centre).
+    /// `ω_C = ω_A + q̇1 a1`, `ω_B = ω_C + q̇2 a2` (universal) or `ω_C = ω_B = ω_A + R_A ω_rel`
+    /// (ball), `v_C = v_A + ω_A × (P − x_A)`, `v_B = v_C + ω_B × (x_B − P)` with `P` the joint
+    /// point (the cross's or the ball's centre).
     pub fn bodies_with(&self, masses: &MassModel, v: &[f64; NDOFS]) -> [BodyState; 3] {
         let p = self.joint_point(masses);
-        let [a1, a2] = self.joint_axes();
         let v_a = Vector3::new(v[0], v[1], v[2]);
         let w_a = Vector3::new(v[3], v[4], v[5]);
-        let w_c = w_a + v[6] * a1;
-        let w_b = w_c + v[7] * a2;
+        let (w_c, w_b) = match self.layout {
+            Layout::Universal => {
+                let [a1, a2] = self.joint_axes();
+                let w_c = w_a + v[6] * a1;
+                (w_c, w_c + v[7] * a2)
+            }
+            Layout::Ball => {
+                let w = w_a + self.rotations[0] * Vector3::new(v[6], v[7], v[8]);
+                (w, w)
+            }
+        };
         let v_c = v_a + w_a.cross(&(p - self.positions[0]));
         let v_b = v_c + w_b.cross(&(self.positions[2] - p));
         let vel = [(v_a, w_a), (v_c, w_c), (v_b, w_b)];

@@ -59,11 +59,11 @@ fn momenta_about(
 }
 
 /// What Newton–Euler needs at one record: momenta of the two driven subsystems about the joint
-/// point, and the point's velocity and the joint axes.
+/// point ([`super::bodies::Layout::driven`]), and the point's velocity and the motor axes.
 #[derive(Clone, Copy, Debug)]
 struct Centred {
     t: f64,
-    /// `H_P` of {cross, B} and of {B}.
+    /// `H_P` of each motor's driven bodies ({cross, B} and {B} on the universal joint).
     h: [Vector3<f64>; 2],
     /// `v_P × p_S` of {cross, B} and of {B}.
     transport: [Vector3<f64>; 2],
@@ -104,7 +104,7 @@ impl TorqueEstimator {
         let v_p = bodies[1].linvel;
         let mut h = [Vector3::zeros(); 2];
         let mut transport = [Vector3::zeros(); 2];
-        for (j, set) in [&[1usize, 2][..], &[2usize][..]].iter().enumerate() {
+        for (j, set) in s_prev.layout.driven().iter().enumerate() {
             let (hj, lin) = momenta_about(masses, &bodies, set, &p);
             h[j] = hj;
             transport[j] = v_p.cross(&lin);

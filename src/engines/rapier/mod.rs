@@ -23,12 +23,26 @@
 //! frame. Each body's body frame is at its centre of mass with `z` along the spine; mass
 //! properties are set explicitly: `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` for each half,
 //! with each half's own `m`, `l`, `r` (DESIGN.md §10: the halves may differ; the paper's cat has
-//! `l_A = l_B = l`). The scene builds the universal joint only: the no-twist and spherical joints
-//! are refused ([`RapierError::UnsupportedJoint`]). The exact engine's side of a verification
+//! `l_A = l_B = l`). The exact engine's side of a verification
 //! (time scales, motor demand, spin history) is the two-cylinder engine for the paper's cat and
 //! the general core ([`crate::engines::models::TwoMotorCat`]) for any other.
 //! Sleeping is off, and rapier's default damping of multibody DoFs (0.1 on every angular DoF,
 //! the floating root's included) is zeroed: it would bleed angular momentum.
+//!
+//! **The no-twist joint** (Kane and Scher's, `R_AB = exp([q1, q2, 0]×)`) is a rapier spherical
+//! multibody joint (three free angular DoFs, which rapier implements; two hit the `todo!()`) from
+//! A's `(0, 0, −l_A/2)` to **the ball**, a tiny body like the cross, welded to B at B's
+//! `(0, 0, +l_B/2)` by a fixed joint ([`Layout::Ball`]). Its generalized velocities are
+//! the relative angular velocity `ω_rel` in A's frame, and rapier turns the joint by
+//! `R_rel ← exp(h ω_rel) R_rel` per step. Its three motors cannot hold a rotation vector (rapier's
+//! angular coordinates there are the integral of `ω_rel`, not an angle), so each step aims them at
+//! `w = log(R(q(t_{k+1})) R_relᵀ)/h`, the relative rate that carries the present rotation onto the
+//! schedule's over the step, with the same gains ([`CatScene::set_plan`]); any drift is taken out
+//! at the next step. The joint's coordinates are read back as the rotation vector of `R_A⁻¹ R_B`,
+//! and its motor torques are the couple on {ball, B} about the joint point projected on A's `x`
+//! and `y` (DESIGN.md §10). The ball joint drives the relative rotation, not the two motor axes,
+//! so motor limits on it are refused ([`RapierError::LimitsOnJoint`]); the spherical joint's third
+//! motor is not built ([`RapierError::UnsupportedJoint`]).
 //!
 //! # Motors
 //!
@@ -150,7 +164,7 @@ pub mod track;
 mod verify;
 mod verify_text;
 
-pub use bodies::{BodyState, MassModel, Snapshot};
+pub use bodies::{BodyState, Layout, MassModel, Snapshot};
 pub use control::{AttitudeEstimate, Controller, FeedForwardPd, JointReading, PdGains, Plan};
 pub use feedback::{lqr_gains, Feedback, FeedbackLog, FeedbackPlan, FeedbackSettings, Linearisation};
 pub use ground::{Landing, Part, Touchdown};
@@ -204,9 +218,13 @@ pub enum RapierError {
         /// Why it is rejected.
         reason: &'static str,
     },
-    /// The scene has no joint of this kind: it builds the universal joint only.
-    #[error("cat.joint = \"{0}\": rapier's scene builds the universal joint only (two revolute joints and a cross) so far; the exact engine runs this joint (`simulate --engine exact`)")]
+    /// The scene has no joint of this kind (or this use of it): it builds the universal and the
+    /// no-twist joints, and only the universal joint's scene takes applied joint torques.
+    #[error("cat.joint = \"{0}\": rapier's scene builds the universal joint (two revolute joints and a cross) and the no-twist joint (a ball joint) for tracked schedules, not this joint or this use of it, so far; the exact engine runs it (`simulate --engine exact`)")]
     UnsupportedJoint(crate::model::Joint),
+    /// Motor limits on a joint whose scene drives the relative rotation, not the motor axes.
+    #[error("[actuator] limits with cat.joint = \"{0}\": rapier's ball joint drives the relative rotation, not the two motor axes, so it cannot bound their torques (so far); the exact engine reports the motor demand (`simulate --engine exact`)")]
+    LimitsOnJoint(crate::model::Joint),
     /// Rapier refused to build a joint.
     #[error("rapier refused {0}")]
     JointRejected(&'static str),

@@ -237,6 +237,9 @@ pub fn simulate_with(
             min: MIN_STEPS_PER_PHASE,
         });
     }
+    if bounds_torque(&opts.motors) && cat.cat().joint != crate::model::Joint::Universal {
+        return Err(RapierError::LimitsOnJoint(cat.cat().joint));
+    }
     let n = (steps_f as usize).max(1);
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
@@ -286,8 +289,7 @@ pub fn simulate_with(
         if k > 0 {
             // Targets from the schedule at the end of the step, the position shifted by −h q̇ so
             // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
-            let pos = [target.q[0] - dt * target.qd[0], target.q[1] - dt * target.qd[1]];
-            scene.set_targets(pos, target.qd)?;
+            scene.set_plan(&target)?;
             if let Some(motors) = &bounded {
                 // Each motor's torque at rapier's joint rate at the start of the step, against
                 // the schedule's own torque at its end.

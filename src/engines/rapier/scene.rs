@@ -13,16 +13,17 @@
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use rapier3d_f64::dynamics::{
-    GenericJoint, IntegrationParameters, JointAxis, MotorModel, MultibodyJointHandle, RevoluteJointBuilder,
-    RigidBodyBuilder, RigidBodyHandle,
+    FixedJointBuilder, GenericJoint, IntegrationParameters, JointAxis, MotorModel, MultibodyJointHandle,
+    RevoluteJointBuilder, RigidBodyBuilder, RigidBodyHandle, SphericalJointBuilder,
 };
 use rapier3d_f64::math::{Pose, Rotation, Vector};
 use rapier3d_f64::parry::mass_properties::MassProperties;
 use rapier3d_f64::pipeline::PhysicsWorld;
 
-use super::bodies::{MassModel, Snapshot, NDOFS};
+use super::bodies::{Layout, MassModel, Snapshot, NDOFS};
 use super::RapierError;
 use crate::model::{Cat, Joint};
+use crate::schedule::JointState;
 
 /// Gains of the joint motors, rapier's acceleration-based model.
 ///
@@ -61,6 +62,7 @@ pub struct CatScene {
     joints: [MultibodyJointHandle; 2],
     masses: MassModel,
     gains: Option<MotorGains>,
+    layout: Layout,
 }
 
 pub(super) fn to_na(v: Vector) -> Vector3<f64> {
@@ -74,6 +76,13 @@ pub(super) fn from_na(v: &Vector3<f64>) -> Vector {
 fn rot_to_na(r: Rotation) -> UnitQuaternion<f64> {
     UnitQuaternion::from_quaternion(Quaternion::new(r.w, r.x, r.y, r.z))
 }
+
+fn rot_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(*m))
+}
+
+/// The ball joint's three motor axes, its angular coordinates in A's frame.
+const BALL_AXES: [JointAxis; 3] = [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ];
 
 fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
     Rotation::from_xyzw(r.i, r.j, r.k, r.w)
@@ -92,9 +101,11 @@ impl CatScene {
         gains: Option<MotorGains>,
         q0: [f64; 2],
     ) -> Result<Self, RapierError> {
-        if cat.joint != Joint::Universal {
-            return Err(RapierError::UnsupportedJoint(cat.joint));
-        }
+        let layout = match cat.joint {
+            Joint::Universal => Layout::Universal,
+            Joint::NoTwist => Layout::Ball,
+            Joint::Spherical => return Err(RapierError::UnsupportedJoint(cat.joint)),
+        };
         let masses = MassModel::new(cat, cross_mass_fraction);
         let [h_a, h_b] = masses.half_lengths;
         let mut world = PhysicsWorld::new();
@@ -106,9 +117,18 @@ impl CatScene {
             ..IntegrationParameters::default()
         };
 
-        // Initial poses at q0: A at the origin, the cross at the joint point, B beyond it.
-        let r_c = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), q0[0]);
-        let r_b = r_c * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q0[1]);
+        // Initial poses at q0: A at the origin, the cross (turned by Rx(q1)) or the ball (turned
+        // with B) at the joint point, B beyond it.
+        let (r_c, r_b) = match layout {
+            Layout::Universal => {
+                let r_c = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), q0[0]);
+                (r_c, r_c * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), q0[1]))
+            }
+            Layout::Ball => {
+                let r_b = rot_from_matrix(&cat.joint.rotation(&q0));
+                (r_b, r_b)
+            }
+        };
         let joint = Vector3::new(0.0, 0.0, -h_a);
         let x_b = joint - r_b * Vector3::new(0.0, 0.0, h_b);
         let poses = [(Vector3::zeros(), UnitQuaternion::identity()), (joint, r_c), (x_b, r_b)];
@@ -122,47 +142,73 @@ impl CatScene {
             world.bodies.insert(body)
         });
 
-        let revolute = |axis: Vector, anchor1: Vector, anchor2: Vector, q: f64| -> GenericJoint {
-            let mut b = RevoluteJointBuilder::new(axis).local_anchor1(anchor1).local_anchor2(anchor2);
-            if let Some(g) = gains {
-                b = b.motor_model(MotorModel::AccelerationBased).motor(q, 0.0, g.stiffness, g.damping);
+        let (j1, j2): (GenericJoint, GenericJoint) = match layout {
+            Layout::Universal => {
+                let revolute = |axis: Vector, anchor1: Vector, anchor2: Vector, q: f64| -> GenericJoint {
+                    let mut b = RevoluteJointBuilder::new(axis).local_anchor1(anchor1).local_anchor2(anchor2);
+                    if let Some(g) = gains {
+                        b = b.motor_model(MotorModel::AccelerationBased).motor(q, 0.0, g.stiffness, g.damping);
+                    }
+                    b.build().into()
+                };
+                (
+                    revolute(Vector::X, Vector::new(0.0, 0.0, -h_a), Vector::ZERO, q0[0]),
+                    revolute(Vector::Y, Vector::ZERO, Vector::new(0.0, 0.0, h_b), q0[1]),
+                )
             }
-            b.build().into()
+            Layout::Ball => {
+                let mut b = SphericalJointBuilder::new().local_anchor1(Vector::new(0.0, 0.0, -h_a));
+                if let Some(g) = gains {
+                    for axis in BALL_AXES {
+                        b = b.motor_model(axis, MotorModel::AccelerationBased).motor(
+                            axis,
+                            0.0,
+                            0.0,
+                            g.stiffness,
+                            g.damping,
+                        );
+                    }
+                }
+                (b.build().into(), FixedJointBuilder::new().local_anchor2(Vector::new(0.0, 0.0, h_b)).build().into())
+            }
         };
-        let j1 = revolute(Vector::X, Vector::new(0.0, 0.0, -h_a), Vector::ZERO, q0[0]);
-        let j2 = revolute(Vector::Y, Vector::ZERO, Vector::new(0.0, 0.0, h_b), q0[1]);
         let h1 = world
             .multibody_joints
             .insert(bodies[0], bodies[1], j1, true)
-            .ok_or(RapierError::JointRejected("joint 1 (A to the cross)"))?;
+            .ok_or(RapierError::JointRejected("joint 1 (A to the cross or ball)"))?;
         let h2 = world
             .multibody_joints
             .insert(bodies[1], bodies[2], j2, true)
-            .ok_or(RapierError::JointRejected("joint 2 (the cross to B)"))?;
+            .ok_or(RapierError::JointRejected("joint 2 (the cross or ball to B)"))?;
 
         // The layout every reader relies on: A is the floating root (DoFs 0..6), then the
-        // cross (DoF 6) and B (DoF 7).
+        // cross (DoF 6) and B (DoF 7), or the ball (DoFs 6..9) and B welded to it.
         let mut links = [0; 3];
         {
             let mb = world.multibody_joints.get(h2).map(|(mb, _)| mb).ok_or(RapierError::Missing("the multibody"))?;
-            if mb.ndofs() != NDOFS {
-                return Err(RapierError::Missing("eight degrees of freedom (a floating root and two revolute joints)"));
+            if mb.ndofs() != layout.ndofs() {
+                return Err(RapierError::Missing("the degrees of freedom of a floating root and the joint"));
             }
+            let ids = match layout {
+                Layout::Universal => [0, 6, 7],
+                Layout::Ball => [0, 6, 9],
+            };
             for (i, handle) in bodies.iter().enumerate() {
                 let id =
                     world.multibody_joints.rigid_body_link(*handle).ok_or(RapierError::Missing("a body's link"))?.id;
                 let link = mb.link(id).ok_or(RapierError::Missing("a link"))?;
-                if link.assembly_id() != [0, 6, 7][i] {
+                if link.assembly_id() != ids[i] {
                     return Err(RapierError::Missing("the expected order of its degrees of freedom"));
                 }
                 links[i] = id;
             }
         }
 
-        let mut scene = Self { world, bodies, links, joints: [h1, h2], masses, gains };
+        let mut scene = Self { world, bodies, links, joints: [h1, h2], masses, gains, layout };
         {
             let (mb, _) = scene.multibody_mut()?;
-            // Put the joint coordinates at q0 (they start at zero), then place the bodies.
+            // Put the joint coordinates at q0 (they start at zero), then place the bodies: the
+            // revolute angles, or the ball's rotation vector (the no-twist joint's is (q1, q2, 0)).
             let mut disp = [0.0; NDOFS];
             disp[6] = q0[0];
             disp[7] = q0[1];
@@ -207,9 +253,49 @@ impl CatScene {
         self.world.integration_parameters.dt
     }
 
-    /// Sets the motors' target positions and velocities (no-op without motors).
+    /// How B is joined to A.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// Aims the motors at the schedule's `target`, the state at the end of the next step (module
+    /// docs of [`crate::engines::rapier`]): on the universal joint each revolute's spring at
+    /// `q − h q̇` with velocity `q̇`; on the ball joint the relative rotation that carries the
+    /// present one onto `R(q)` over the step, `w = log(R(q) R_relᵀ)/h` (A's frame), as the
+    /// velocity of each angular coordinate, its spring at the present coordinate (so that it acts
+    /// on `h (v⁺ − w)`). No-op without motors.
+    pub fn set_plan(&mut self, target: &JointState) -> Result<(), RapierError> {
+        let h = self.dt();
+        match self.layout {
+            Layout::Universal => {
+                let pos = [target.q[0] - h * target.qd[0], target.q[1] - h * target.qd[1]];
+                self.set_targets(pos, target.qd)
+            }
+            Layout::Ball => {
+                let Some(g) = self.gains else { return Ok(()) };
+                let snap = self.snapshot()?;
+                let now = snap.rotations[0].inverse() * snap.rotations[2];
+                let goal = rot_from_matrix(&Joint::NoTwist.rotation(&target.q));
+                let w = (goal * now.inverse()).scaled_axis() / h;
+                let (mb, id) =
+                    self.world.multibody_joints.get_mut(self.joints[0]).ok_or(RapierError::Missing("a joint"))?;
+                let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
+                let coords = link.joint().coords();
+                for (i, axis) in BALL_AXES.into_iter().enumerate() {
+                    link.joint.data.set_motor(axis, coords[3 + i], w[i], g.stiffness, g.damping);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Sets the revolute motors' target positions and velocities (no-op without motors; the
+    /// universal joint's scene).
     pub fn set_targets(&mut self, pos: [f64; 2], vel: [f64; 2]) -> Result<(), RapierError> {
         let Some(g) = self.gains else { return Ok(()) };
+        if self.layout != Layout::Universal {
+            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
+        }
         for i in 0..2 {
             let (mb, id) =
                 self.world.multibody_joints.get_mut(self.joints[i]).ok_or(RapierError::Missing("a joint"))?;
@@ -223,6 +309,9 @@ impl CatScene {
     /// the motor's impulse per step to `max_force · dt` whatever the motor model (see
     /// [`super::saturation`]).
     pub fn set_max_forces(&mut self, bound: [Option<f64>; 2]) -> Result<(), RapierError> {
+        if self.layout != Layout::Universal {
+            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
+        }
         for (i, b) in bound.iter().enumerate() {
             let (mb, id) =
                 self.world.multibody_joints.get_mut(self.joints[i]).ok_or(RapierError::Missing("a joint"))?;
@@ -234,6 +323,9 @@ impl CatScene {
 
     /// The joint rates `(q̇1, q̇2)`, rad/s.
     pub fn joint_rates(&self) -> Result<[f64; 2], RapierError> {
+        if self.layout != Layout::Universal {
+            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
+        }
         let v = self.multibody()?.generalized_velocity();
         match (v.get(6), v.get(7)) {
             (Some(a), Some(b)) => Ok([*a, *b]),
@@ -241,13 +333,14 @@ impl CatScene {
         }
     }
 
-    /// Sets the generalized velocities `(v_A, ω_A, q̇1, q̇2)`.
+    /// Sets the generalized velocities `(v_A, ω_A, joint rates)` (the first [`Layout::ndofs`]).
     pub fn set_velocities(&mut self, v: &[f64; NDOFS]) -> Result<(), RapierError> {
+        let n = self.layout.ndofs();
         let (mb, _) = self.multibody_mut()?;
-        if mb.ndofs() != NDOFS {
-            return Err(RapierError::Missing("a floating root with two joints (wrong DoF count)"));
+        if mb.ndofs() != n {
+            return Err(RapierError::Missing("the degrees of freedom of a floating root and the joint"));
         }
-        mb.generalized_velocity_mut().copy_from_slice(v);
+        mb.generalized_velocity_mut().copy_from_slice(&v[..n]);
         Ok(())
     }
 
@@ -261,10 +354,16 @@ impl CatScene {
     /// [`CatScene::start_at_zero_momentum`] with total angular momentum `spin` about the centre
     /// of mass (world frame, N·m·s) instead of zero: `ω = I_lock⁻¹ (L − H)`.
     pub fn start_with_momentum(&mut self, qd: [f64; 2], spin: &Vector3<f64>) -> Result<(), RapierError> {
+        let now = self.snapshot()?;
         let mut v = [0.0; NDOFS];
-        v[6] = qd[0];
-        v[7] = qd[1];
-        let snap = Snapshot { velocities: v, ..self.snapshot()? };
+        match self.layout {
+            Layout::Universal => {
+                v[6] = qd[0];
+                v[7] = qd[1];
+            }
+            Layout::Ball => v[6..9].copy_from_slice(Joint::NoTwist.relative_rate(&now.q, &qd).as_slice()),
+        }
+        let snap = Snapshot { velocities: v, ..now };
         let bodies = snap.bodies(&self.masses);
         let total = self.masses.total();
         let mut c = Vector3::zeros();
@@ -295,6 +394,9 @@ impl CatScene {
     /// `−τ2 a2` on the cross, with `a1` A's `x` and `a2` the cross's `y` at the poses of `now`
     /// (this scene's current [`CatScene::snapshot`]). They replace the previous step's torques.
     pub fn apply_joint_torques(&mut self, tau: [f64; 2], now: &Snapshot) -> Result<(), RapierError> {
+        if self.layout != Layout::Universal {
+            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
+        }
         let [a1, a2] = now.joint_axes();
         let couples = [-tau[0] * a1, tau[0] * a1 - tau[1] * a2, tau[1] * a2];
         for (handle, couple) in self.bodies.iter().zip(couples) {
@@ -313,8 +415,9 @@ impl CatScene {
     /// The current poses, generalized velocities and joint coordinates.
     pub fn snapshot(&self) -> Result<Snapshot, RapierError> {
         let mb = self.multibody()?;
-        if mb.ndofs() != NDOFS {
-            return Err(RapierError::Missing("a floating root with two joints (wrong DoF count)"));
+        let n = self.layout.ndofs();
+        if mb.ndofs() != n {
+            return Err(RapierError::Missing("the degrees of freedom of a floating root and the joint"));
         }
         let mut positions = [Vector3::zeros(); 3];
         let mut rotations = [UnitQuaternion::identity(); 3];
@@ -324,13 +427,18 @@ impl CatScene {
             let pose = link.local_to_world();
             positions[i] = to_na(pose.translation);
             rotations[i] = rot_to_na(pose.rotation);
-            if i > 0 {
+            if i > 0 && self.layout == Layout::Universal {
                 // A revolute joint's free coordinate is its angular x (the joint axis).
                 q[i - 1] = link.joint().coords()[3];
             }
         }
+        if self.layout == Layout::Ball {
+            // The no-twist joint's coordinates are the rotation vector of B relative to A.
+            let r = (rotations[0].inverse() * rotations[2]).scaled_axis();
+            q = [r.x, r.y];
+        }
         let mut velocities = [0.0; NDOFS];
-        velocities.copy_from_slice(mb.generalized_velocity().as_slice());
-        Ok(Snapshot { positions, rotations, velocities, q })
+        velocities[..n].copy_from_slice(mb.generalized_velocity().as_slice());
+        Ok(Snapshot { positions, rotations, velocities, q, layout: self.layout })
     }
 }
