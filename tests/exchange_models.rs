@@ -8,7 +8,7 @@ use std::path::Path;
 use approx::assert_relative_eq;
 
 use catflip::engines::resolved::Resolved;
-use catflip::exchange::{model_files, write_schedule};
+use catflip::exchange::{model_files, write_schedule, ImportReport, ImportedSchedule};
 use catflip::problem::Problem;
 
 fn resolved(file: &str) -> Resolved {
@@ -22,6 +22,20 @@ fn column(text: &str, name: &str) -> Vec<f64> {
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     let k = header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
     lines.map(|l| l.split(',').nth(k).and_then(|x| x.parse().ok()).unwrap_or(f64::NAN)).collect()
+}
+
+/// The problem's schedule written as a schedule file, read back from a scratch folder named for
+/// `tag`, and evaluated by the exact engine on the problem's model (`simulate --schedule`).
+fn read_back(r: &Resolved, tag: &str) -> (ImportedSchedule, ImportReport) {
+    let file = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let dir = std::env::temp_dir().join(format!("catflip-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let path = dir.join("s.csv");
+    std::fs::write(&path, &file.csv).unwrap_or_else(|e| panic!("{e}"));
+    let imported = catflip::exchange::read_schedule(&path).unwrap_or_else(|e| panic!("{e}"));
+    let report = catflip::exchange::evaluate(&r.problem, &imported).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    (imported, report)
 }
 
 /// The library schedule of `problems/unequal-halves.toml` as a schedule file: the last row's twist
@@ -99,14 +113,7 @@ fn a_schedule_file_of_the_no_twist_joint_is_refused() {
 #[test]
 fn a_schedule_file_of_unequal_halves_reads_back_and_is_verified() {
     let r = resolved("unequal-halves.toml");
-    let file = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
-    let dir = std::env::temp_dir().join(format!("catflip-unequal-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
-    let path = dir.join("s.csv");
-    std::fs::write(&path, &file.csv).unwrap_or_else(|e| panic!("{e}"));
-    let imported = catflip::exchange::read_schedule(&path).unwrap_or_else(|e| panic!("{e}"));
-    let exact = catflip::exchange::evaluate(&r.problem, &imported).unwrap_or_else(|e| panic!("{e}"));
-    let _ = std::fs::remove_dir_all(&dir);
+    let (imported, exact) = read_back(&r, "unequal");
     let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
     assert!(
         (exact.figures.twist_deg - e.twist_deg()).abs() <= 1e-6,
@@ -127,4 +134,20 @@ fn a_schedule_file_of_unequal_halves_reads_back_and_is_verified() {
     let rapier = catflip::exchange::evaluate_rapier(&r.problem, &imported, &exact).unwrap_or_else(|e| panic!("{e}"));
     let report = rapier.into_report().unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.figures.check.verdict, Some(catflip::engines::rapier::Status::Verified));
+}
+
+/// A half shorter than √3 radii is warned about by name when a schedule is read back on unequal
+/// halves (`cat.rear.length`), as the problem file names it, not as the `[cat]` shorthand.
+#[test]
+fn reading_back_warns_of_a_short_half_by_its_name() {
+    let sets = ["cat.rear.length=0.15".to_string()];
+    let problem = Problem::load(Path::new("problems/unequal-halves.toml"), &sets).unwrap_or_else(|e| panic!("{e}"));
+    let r = Resolved::new(&problem).unwrap_or_else(|e| panic!("{e}"));
+    let (_, report) = read_back(&r, "short-half");
+    assert!(
+        report.warnings.iter().any(|w| w.starts_with("cat.rear.length = 0.15 < √3 · cat.rear.radius")),
+        "{:?}",
+        report.warnings
+    );
+    assert!(!report.warnings.iter().any(|w| w.starts_with("cat.length")), "{:?}", report.warnings);
 }

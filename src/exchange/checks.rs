@@ -59,13 +59,7 @@ pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule
     degrees(schedule, &mut warnings);
     ends(model, schedule, &mut warnings);
     consistency(schedule, &mut warnings);
-    if !problem.cat.half().is_long_enough() {
-        warnings.push(format!(
-            "cat.length = {} < √3 · cat.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
-            problem.cat.length,
-            3f64.sqrt() * problem.cat.radius
-        ));
-    }
+    warnings.extend(problem.short_halves());
     Ok(warnings)
 }
 

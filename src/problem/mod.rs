@@ -276,8 +276,9 @@ impl Problem {
         ))
     }
 
-    /// Refuses a joint other than the universal one for a computation that builds only it
-    /// (`what` names it in the message), naming `cat.joint`; unequal halves pass.
+    /// Refuses a joint other than the universal one for a computation that builds only it (the
+    /// schedule files and URDF/MJCF; `what` names it in the message), naming `cat.joint`;
+    /// unequal halves pass.
     pub fn require_universal_joint(&self, what: &str) -> Result<(), ProblemError> {
         if self.cat.joint == Joint::Universal {
             return Ok(());
@@ -285,8 +286,29 @@ impl Problem {
         Err(bad(
             "cat.joint",
             format!("\"{}\"", self.cat.joint.name()),
-            &format!("{what} builds the universal joint only (two revolute joints and a cross) so far, on equal or unequal halves; the exact engine runs this joint (`simulate`, `compare`, `optimize --whole`)"),
+            &format!("{what} builds the universal joint only (two revolute joints and a cross) so far, on equal or unequal halves; the exact engine and rapier run this joint (`simulate`, `simulate --engine rapier`, `compare`, `optimize --whole --verify`)"),
         ))
+    }
+
+    /// A warning for each half shorter than `√3 ×` its radius (the paper's stability argument,
+    /// §3), naming the half as the problem file does (`cat`, or `cat.front` and `cat.rear`).
+    pub fn short_halves(&self) -> Vec<String> {
+        let halves = if self.cat.front() == self.cat.rear() {
+            vec![("cat", self.cat.front())]
+        } else {
+            vec![("cat.front", self.cat.front()), ("cat.rear", self.cat.rear())]
+        };
+        halves
+            .into_iter()
+            .filter(|(_, h)| !h.is_long_enough())
+            .map(|(name, half)| {
+                format!(
+                    "{name}.length = {} < √3 · {name}.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
+                    half.length,
+                    3f64.sqrt() * half.radius
+                )
+            })
+            .collect()
     }
 
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
@@ -299,18 +321,7 @@ impl Problem {
                 num(turns)
             ));
         }
-        let halves = if self.cat.front() == self.cat.rear() {
-            vec![("cat", self.cat.front())]
-        } else {
-            vec![("cat.front", self.cat.front()), ("cat.rear", self.cat.rear())]
-        };
-        for (name, half) in halves.into_iter().filter(|(_, h)| !h.is_long_enough()) {
-            out.push(format!(
-                "{name}.length = {} < √3 · {name}.radius = {:.4}: the paper's stability argument (§3) needs L ≥ √3 R",
-                half.length,
-                3f64.sqrt() * half.radius
-            ));
-        }
+        out.extend(self.short_halves());
         if self.manoeuvre.theta_deg < 90.0 {
             out.push(format!(
                 "manoeuvre.theta_deg = {} < 90: outside the paper's stability range π/2 ≤ θ ≤ π (§3, printed as \"π ≤ θ ≤ π/2\")",
