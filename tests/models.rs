@@ -353,12 +353,21 @@ proptest! {
         let js = JointState { q: [q1, q2], qd: [qd1, qd2], qdd: [qdd1, qdd2] };
         let s = ShapeState::from(&js);
         let cat = Cat::from(half);
+        // Both engines solve with the locked inertia, whose condition number is at most the
+        // straight cat's κ = I_transverse / I_axial (≈ 5e3 for a thin, long cat): two correct
+        // solves agree to a few κ·ε (the bound: 8 κ ε, or the well-conditioned floor, whichever
+        // is larger). A wrong formula differs by O(1). Measured: 0.25 κ ε at the worst case
+        // proptest found (models.proptest-regressions, κ = 4931); 20 000 random cases pass.
+        let (transverse, axial) = cat.straight_inertia();
+        let round_off = 8.0 * (transverse / axial) * f64::EPSILON;
         let two = exact::body_rate(&half, js.q, js.qd);
         let general = models::body_rate(&cat, &s).expect("two coordinates");
-        prop_assert!((general - two).norm() <= 1e-13 * two.norm().max(1.0), "{general} vs {two}");
+        let rate_tol = round_off.max(1e-13);
+        prop_assert!((general - two).norm() <= rate_tol * two.norm().max(1.0), "{general} vs {two}");
         let (g, j) = (models::joint_torques(&cat, &s).expect("two coordinates"), torque::joint_torques(&half, &js));
         let scale = j.couple.norm().max(1.0);
-        prop_assert!((g.couple - j.couple).norm() <= 1e-12 * scale, "{} vs {}", g.couple, j.couple);
+        let couple_tol = round_off.max(1e-12);
+        prop_assert!((g.couple - j.couple).norm() <= couple_tol * scale, "{} vs {}", g.couple, j.couple);
     }
 }
 
