@@ -105,8 +105,8 @@ impl Evaluation {
         }
         let start = Instant::now();
         let jumps = velocity_jumps_with(|q, dq| cat.motor_impulse(q, dq), schedule, JUMP_TOLERANCE);
-        let (flip, history, momentum) =
-            released_on_model(cat, schedule, spin, settings.tolerance, settings.torque_samples);
+        let (flip, history) = released_on_model(cat, schedule, spin, settings.tolerance);
+        let momentum = momentum_on_model(cat, schedule, spin, history.as_ref(), settings.torque_samples);
         let source = TorqueSource::model_released(cat, history.as_ref());
         Ok(Evaluation::measured((flip, jumps, momentum), &source, schedule, motors, settings, start))
     }
@@ -200,32 +200,45 @@ pub fn released_flip(
     }
 }
 
-/// [`released_flip`] and [`momentum_check`] on any two-motor model through the general core:
-/// the flip of `traj` released with `spin` (world frame, N·m·s; zero: the Magnus engine) to
-/// `tolerance`, the orientation history its torques need when spinning, and the momentum check
-/// on `samples + 1` points per piece (`max|H|` relative to `I*·max|q̇|` at zero momentum, else
-/// `max|R H − L|` relative to `max(I*·max|q̇|, |L|)`, `I*` the rear half's end-transverse inertia).
+/// [`released_flip`] on any two-motor model through the general core: the flip of `traj`
+/// released with `spin` (world frame, N·m·s; zero: the Magnus engine) to `tolerance`, with the
+/// orientation history its torques need when spinning.
 pub fn released_on_model(
     cat: &TwoMotorCat,
     traj: &impl Trajectory,
     spin: &Vector3<f64>,
     tolerance: f64,
-    samples: usize,
-) -> (Flip, Option<SpinHistory>, f64) {
-    let reference = cat.cat().rear.end_transverse();
+) -> (Flip, Option<SpinHistory>) {
     if spin.norm_squared() > 0.0 {
         let (flip, history) = cat.flip_spinning(traj, spin, tolerance);
-        let field = cat.field(traj);
-        let world = |piece: usize, s: f64, st: &JointState| {
-            let r = history.orientation_on(&field, piece, s);
-            r * cat.momentum(st, &cat.body_rate_spinning(st, &r.inverse_transform_vector(spin)))
-        };
-        let error = momentum_error_by(world, spin, reference, traj, samples);
-        return (flip, Some(history), error);
+        return (flip, Some(history));
     }
-    let flip = cat.flip(traj, tolerance);
-    let momentum_max = momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, traj, samples);
-    (flip, None, momentum_max)
+    (cat.flip(traj, tolerance), None)
+}
+
+/// [`momentum_check`] on any two-motor model, of the motion [`released_on_model`] found (its
+/// `history` when released with `spin`), on `samples + 1` points per piece: `max|H|` relative to
+/// `I*·max|q̇|` at zero momentum, else `max|R H − L|` relative to `max(I*·max|q̇|, |L|)`, `I*`
+/// the rear half's end-transverse inertia.
+pub fn momentum_on_model(
+    cat: &TwoMotorCat,
+    traj: &impl Trajectory,
+    spin: &Vector3<f64>,
+    history: Option<&SpinHistory>,
+    samples: usize,
+) -> f64 {
+    let reference = cat.cat().rear.end_transverse();
+    match history {
+        Some(history) => {
+            let field = cat.field(traj);
+            let world = |piece: usize, s: f64, st: &JointState| {
+                let r = history.orientation_on(&field, piece, s);
+                r * cat.momentum(st, &cat.body_rate_spinning(st, &r.inverse_transform_vector(spin)))
+            };
+            momentum_error_by(world, spin, reference, traj, samples)
+        }
+        None => momentum_max_by(|st| cat.momentum(st, &cat.body_rate(st)), reference, traj, samples),
+    }
 }
 
 /// The torques of the motion [`released_flip`] found: spinning with its history, else at zero

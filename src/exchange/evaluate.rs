@@ -21,11 +21,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::engines::evaluate::{momentum_check, released_flip, released_on_model, torque_source};
+use crate::engines::evaluate::{momentum_check, momentum_on_model, released_flip, released_on_model, torque_source};
 use crate::engines::exact::Flip;
 use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{RapierError, RapierOptions};
 use crate::engines::rapier_check::{rapier_check, EngineFigures, RapierOutcome};
+use crate::engines::spin::SpinHistory;
 use crate::engines::torque::{peak_torques_from, PeakTorques, TorqueSource};
 use crate::engines::Engine;
 use crate::exchange::checks::{check, peak_samples, sampling};
@@ -128,10 +129,15 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
     let mut warnings = check(problem, &model, schedule)?;
     let uncertainty = |k: usize| schedule.boundary_rate_uncertainty(k);
     let start = Instant::now();
-    let (f, peaks, momentum) = measured(problem, &model, schedule);
+    let (f, peaks, history) = measured(problem, &model, schedule);
     let jumps = match model.cat().paper() {
         Some(cat) => uncertain_rate_jumps(cat, schedule, uncertainty),
         None => rate_jumps_by(|q, dq| model.motor_impulse(q, dq), schedule, uncertainty),
+    };
+    let (spin, samples) = (problem.drop.spin(), problem.exact.torque_samples);
+    let momentum = match model.cat().paper() {
+        Some(cat) => momentum_check(cat, schedule, history.as_ref(), samples),
+        None => momentum_on_model(&model, schedule, &spin, history.as_ref(), samples),
     };
     let run_time_s = start.elapsed().as_secs_f64();
     let pieces = merged(schedule, peaks.per_piece.iter().map(|p| [p[0].value, p[1].value]));
@@ -185,21 +191,25 @@ pub fn evaluate(problem: &Problem, schedule: &ImportedSchedule) -> Result<Import
 }
 
 /// An imported trajectory measured on `model` as the problem asks (released with its spin, to its
-/// tolerance): the flip, the torque peaks and the momentum check ([`released_flip`] and
-/// [`momentum_check`] for the paper's cat, [`released_on_model`] for any other).
-fn measured(problem: &Problem, model: &TwoMotorCat, traj: &ImportedSchedule) -> (Flip, PeakTorques, f64) {
-    let (spin, tolerance, samples) = (problem.drop.spin(), problem.exact.tolerance, problem.exact.torque_samples);
-    let at = peak_samples(traj, samples);
+/// tolerance): the flip, the torque peaks and the orientation history of a spinning release
+/// ([`released_flip`] for the paper's cat, [`released_on_model`] for any other).
+fn measured(
+    problem: &Problem,
+    model: &TwoMotorCat,
+    traj: &ImportedSchedule,
+) -> (Flip, PeakTorques, Option<SpinHistory>) {
+    let (spin, tolerance) = (problem.drop.spin(), problem.exact.tolerance);
+    let at = peak_samples(traj, problem.exact.torque_samples);
     match model.cat().paper() {
         Some(cat) => {
             let (f, history) = released_flip(cat, traj, &spin, tolerance);
             let peaks = peak_torques_from(&torque_source(cat, history.as_ref()), traj, &at);
-            (f, peaks, momentum_check(cat, traj, history.as_ref(), samples))
+            (f, peaks, history)
         }
         None => {
-            let (f, history, momentum) = released_on_model(model, traj, &spin, tolerance, samples);
+            let (f, history) = released_on_model(model, traj, &spin, tolerance);
             let peaks = peak_torques_from(&TorqueSource::model_released(model, history.as_ref()), traj, &at);
-            (f, peaks, momentum)
+            (f, peaks, history)
         }
     }
 }
