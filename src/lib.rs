@@ -43,6 +43,7 @@
 #![warn(missing_docs)]
 #![deny(clippy::float_cmp)]
 
+pub mod compare_models;
 pub mod engines;
 pub mod exchange;
 pub mod model;

@@ -65,6 +65,22 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// The whole-manoeuvre optimum of each cat model (equal or unequal halves, universal or
+    /// no-twist joint) on the problem's cat and fall, side by side: which body flips most cheaply.
+    CompareModels {
+        #[command(flatten)]
+        common: Common,
+        /// Also verify each optimum in rapier (its verdict against the exact engine).
+        #[arg(long)]
+        verify: bool,
+        /// Also write models.{md,csv,json}, the torque plot and a filmstrip per optimum into
+        /// <out>/<name>-models/.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Torque-optimal schedules: the profile QP and the exact-dynamics refinement; with --whole,
     /// the whole-manoeuvre path optimum that flips the cat exactly ([optimize.whole]).
     Optimize {
@@ -368,6 +384,29 @@ fn run() -> anyhow::Result<()> {
                 eprintln!("wrote {}", dir.display());
             }
             emit(common.json, &report, || report.to_markdown())?;
+        }
+        Command::CompareModels { common, verify, out, quiet } => {
+            let problem = load(&common, None)?;
+            let verify_arg = if verify { " --verify" } else { "" };
+            let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
+            let command = regenerate(
+                format!("cargo run --release -- compare-models {}{verify_arg}{out_arg}", common.problem.display()),
+                &common.overrides,
+            );
+            let spinner = progress(quiet || common.json, "compare-models: the whole optimum of each cat model".into());
+            let comparison = catflip::compare_models::compare_models(&problem, verify, &command)?;
+            spinner.finish_and_clear();
+            // Without any optimum there is nothing to compare: the table says why, nothing is
+            // written, and the exit is non-zero.
+            if comparison.cheapest.is_some() {
+                if let Some(dir) = out.as_ref().map(|o| comparison.write(o)).transpose()? {
+                    eprintln!("wrote {}", dir.display());
+                }
+            }
+            emit(common.json, &comparison, || comparison.to_markdown())?;
+            if comparison.cheapest.is_none() {
+                anyhow::bail!("compare-models: no cat model has an optimum that flips the cat (each row says why)");
+            }
         }
         Command::Compare(common) => {
             let r = resolve(&load(&common, None)?, common.json)?;

@@ -184,3 +184,30 @@ fn rapier_verifies_unequal_halves_and_the_no_twist_joint() {
         assert_eq!(v["verdict"], "verified", "{problem}: {}", v["verification"]);
     }
 }
+
+/// `compare-models` with no model able to converge (two iterations): the table says so, nothing
+/// is written, and the command exits non-zero naming why; with enough iterations it exits 0,
+/// writes its folder and its JSON carries one row per model.
+#[test]
+fn compare_models_says_when_no_model_has_an_optimum() {
+    let out = scratch("compare-models");
+    let coarse = ["--set", "optimize.whole.control_points=30", "--set", "optimize.whole.switch_refinements=0"];
+    let dir = out.display().to_string();
+    let mut args = vec!["compare-models", "problems/kane-scher.toml", "--quiet", "--out", &dir];
+    args.extend(["--set", "optimize.whole.max_iterations=2"]);
+    args.extend(coarse);
+    let (code, text, err) = catflip(&args);
+    assert_ne!(code, 0, "{text}");
+    assert!(err.contains("no cat model has an optimum"), "{err}");
+    assert!(text.contains("**no optimum**"), "{text}");
+    assert!(!out.exists(), "nothing is written without an optimum");
+    let mut args = vec!["compare-models", "problems/kane-scher.toml", "--json", "--out", &dir];
+    args.extend(coarse);
+    let (code, json, err) = catflip(&args);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).expect("one JSON object");
+    assert_eq!(v["rows"].as_array().map(Vec::len), Some(2), "{json}");
+    assert!(v["cheapest"].as_str().is_some(), "{json}");
+    assert!(out.join("kane-scher-models").join("models.md").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}

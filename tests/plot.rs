@@ -6,10 +6,13 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
+use catflip::engines::models::TwoMotorCat;
+use catflip::engines::resolved::Resolved;
 use catflip::problem::manoeuvre::ProfileKind;
+use catflip::problem::Problem;
 use catflip::report::plot::{
-    cat_poses, error_vs_time_plot, flip_animation, flip_plot, line_plot, profiles_plot, torques_plot, LinePlot,
-    PlotError, Series, FILMSTRIP_PANELS, PNG_SIZE,
+    cat_poses, error_vs_time_plot, flip_animation, flip_filmstrip, flip_plot, line_plot, profiles_plot, torques_plot,
+    LinePlot, PlotError, Series, FILMSTRIP_PANELS, PNG_SIZE,
 };
 use catflip::schedule::profile::Profile;
 use catflip::schedule::{Schedule, Trajectory};
@@ -205,7 +208,8 @@ fn poses_keep_the_centre_of_mass_and_the_joint_together() {
     let (problem, schedule) = paper();
     let total = schedule.duration();
     let times: Vec<f64> = (0..=20).map(|k| total * k as f64 / 20.0).collect();
-    let poses = cat_poses(&problem.cat.half(), &schedule, &times);
+    let model = TwoMotorCat::new(problem.cat.model()).expect("a two-motor cat");
+    let poses = cat_poses(&model, &schedule, &times);
     let half = 0.5 * problem.cat.length;
     for p in &poses {
         let com = 0.5 * (p.a.centre + p.b.centre);
@@ -230,4 +234,50 @@ fn poses_keep_the_centre_of_mass_and_the_joint_together() {
         last.twist.cos()
     );
     assert!(belly < 0.0, "after the flip the belly should face down, height {belly}");
+}
+
+/// Unequal halves on the no-twist joint: the poses keep the mass-weighted centre of mass at the
+/// origin and the joint's two anchors (A's rear end, B's front end, each at its own half-length)
+/// together, turn B by the model's own `R_AB = exp([q1, q2, 0]×)`, and end at the general core's
+/// final twist (DESIGN.md §10).
+#[test]
+fn poses_of_another_model_are_that_models() {
+    let text = std::fs::read_to_string("problems/unequal-halves.toml").expect("the preset");
+    let problem = Problem::from_toml(&text, "unequal-halves.toml", &["cat.joint=\"no-twist\"".into()]).expect("valid");
+    let r = Resolved::new(&problem).expect("calibrated");
+    let model = r.model();
+    let (front, rear) = (problem.cat.front(), problem.cat.rear());
+    let total = r.schedule.duration();
+    let times: Vec<f64> = (0..=40).map(|k| total * k as f64 / 40.0).collect();
+    let poses = cat_poses(model, &r.schedule, &times);
+    for p in &poses {
+        let com = (front.mass * p.a.centre + rear.mass * p.b.centre) / (front.mass + rear.mass);
+        assert!(com.norm() < 1e-12, "t = {}: centre of mass at {com:?}", p.time);
+        let joint_a = p.a.point(Vector3::new(0.0, 0.0, -0.5 * front.length));
+        let joint_b = p.b.point(Vector3::new(0.0, 0.0, 0.5 * rear.length));
+        assert!((joint_a - joint_b).norm() < 1e-12, "t = {}: anchors apart by {}", p.time, (joint_a - joint_b).norm());
+        let q = r.schedule.state_at(p.time).q;
+        let r_ab = p.a.rotation.transpose() * p.b.rotation;
+        let expected = problem.cat.joint.rotation(&q);
+        assert!((r_ab - expected).norm() < 1e-12, "t = {}: R_AB off by {}", p.time, (r_ab - expected).norm());
+    }
+    // The last pose ends where the general core's adaptive flip does (the history's fixed steps
+    // agree with it to well below the 1e-6 rad asked here).
+    let flip = model.flip(&r.schedule, 1e-12);
+    let last = poses[poses.len() - 1];
+    assert!((last.twist - flip.twist).abs() < 1e-6, "pose twist {} vs flip {}", last.twist, flip.twist);
+    assert!((last.swing - flip.swing).abs() < 1e-6, "pose swing {} vs flip {}", last.swing, flip.swing);
+}
+
+/// The filmstrip alone, of an unequal cat: one PNG of six panels and the title row.
+#[test]
+fn a_filmstrip_of_unequal_halves_is_written() {
+    let text = std::fs::read_to_string("problems/unequal-halves.toml").expect("the preset");
+    let problem = Problem::from_toml(&text, "unequal-halves.toml", &[]).expect("valid");
+    let r = Resolved::new(&problem).expect("calibrated");
+    let dir = temp_dir("unequal_filmstrip");
+    let path = flip_filmstrip(&dir.join("strip.png"), &problem, "calibrated", &r.schedule).expect("filmstrip");
+    let (w, h) = png_size(&path);
+    assert_eq!(w % FILMSTRIP_PANELS as u32, 0, "width {w} is not {FILMSTRIP_PANELS} panels");
+    assert!(h > 300, "height {h}");
 }

@@ -314,7 +314,7 @@ fn run_checks_the_optimums_robustness_as_robust_does_on_its_exported_schedule() 
     let p95 = check["landing_error_deg"]["p95"].as_f64().expect("a 95th percentile");
     let problem = Problem::load(Path::new("problems/paper.toml"), &[]).expect("loads");
     let file = catflip::exchange::read_schedule(&outcome.dir.join("schedules/whole-optimum.csv")).expect("reads");
-    let again = catflip::robust::robustness(&problem, &file, "file");
+    let again = catflip::robust::robustness(&problem, &file, "file").expect("the paper's cat has two motors");
     assert_relative_eq!(again.landing_error_deg.p95, p95, max_relative = 1e-4);
     assert_eq!(check["trials"], Value::Null, "the trials are in robust.csv, not the JSON");
     let report = read("report.md");

@@ -23,7 +23,9 @@ fn the_check_is_the_same_at_one_and_two_threads() {
     let r = Resolved::new(&p).expect("calibrates");
     let at = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
-        pool.install(|| serde_json::to_string(&robustness(&p, &r.schedule, "s")).expect("serialises"))
+        pool.install(|| {
+            serde_json::to_string(&robustness(&p, &r.schedule, "s").expect("two motors")).expect("serialises")
+        })
     };
     let (one, two) = (at(1), at(2));
     assert!(one == two, "the check depends on the thread count");
@@ -79,7 +81,7 @@ fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
 fn without_spread_every_trial_is_the_nominal_cat() {
     let p = problem(&["robust.mass_pct=0", "robust.radius_pct=0", "robust.spin_sigma_nms=0"]);
     let r = Resolved::new(&p).expect("calibrates");
-    let c = robustness(&p, &r.schedule, "s");
+    let c = robustness(&p, &r.schedule, "s").expect("two motors");
     for t in &c.trials {
         assert!((t.landing_error_deg - c.nominal.landing_error_deg).abs() <= 0.0, "trial {}", t.draw.trial);
     }
@@ -94,7 +96,7 @@ fn without_spread_every_trial_is_the_nominal_cat() {
 fn the_spin_spreads_the_landing_and_the_worst_trials_are_the_largest_errors() {
     let p = problem(&["robust.spin_sigma_nms=0.005"]);
     let r = Resolved::new(&p).expect("calibrates");
-    let c = robustness(&p, &r.schedule, "s");
+    let c = robustness(&p, &r.schedule, "s").expect("two motors");
     let largest = c.trials.iter().map(|t| t.landing_error_deg).fold(0.0, f64::max);
     assert!((c.worst[0].landing_error_deg - largest).abs() <= 0.0);
     assert!(c.worst.windows(2).all(|w| w[0].landing_error_deg >= w[1].landing_error_deg));
@@ -162,4 +164,69 @@ fn bad_robust_settings_name_their_field() {
         let err = Problem::from_toml("", "t.toml", &[set.to_string()]).expect_err(set);
         assert!(err.to_string().contains(field), "{set}: {err}");
     }
+}
+
+fn unequal(extra: &[&str]) -> Problem {
+    let mut sets = vec!["robust.trials=40".to_string()];
+    sets.extend(extra.iter().map(|s| s.to_string()));
+    let text = std::fs::read_to_string("problems/unequal-halves.toml").expect("the preset");
+    Problem::from_toml(&text, "unequal-halves.toml", &sets).expect("a valid problem")
+}
+
+/// On unequal halves each half is scaled by the same drawn factors, so the halves keep their
+/// ratios, and the nominal draw is the problem's own cat.
+#[test]
+fn a_draw_scales_both_unequal_halves_alike() {
+    let p = unequal(&[]);
+    let nominal = catflip::robust::drawn_cat(&p, &catflip::robust::nominal_draw(&p));
+    assert_eq!(nominal, p.cat.model(), "the nominal draw is the problem's cat");
+    let d = draw(&p, &p.robust, 7);
+    let cat = catflip::robust::drawn_cat(&p, &d);
+    let (f, r) = (p.cat.front(), p.cat.rear());
+    for (drawn, own) in [(cat.front, f), (cat.rear, r)] {
+        assert!((drawn.mass / own.mass - d.mass / p.cat.mass).abs() < 1e-14, "{drawn:?}");
+        assert!((drawn.length / own.length - d.length / p.cat.length).abs() < 1e-14, "{drawn:?}");
+        assert!((drawn.radius / own.radius - d.radius / p.cat.radius).abs() < 1e-14, "{drawn:?}");
+    }
+    assert_eq!(cat.joint, p.cat.joint);
+}
+
+/// The exact engine's check on unequal halves (general core) and on Kane and Scher's joint: the
+/// calibrated schedule lands the nominal cat exactly (its twist error below 1e-6°, as the
+/// calibration's flip), the check is the same at one and two threads, and spreading the sizes
+/// spreads the landing.
+#[test]
+fn the_exact_check_runs_on_other_cats() {
+    for extra in [&[][..], &["cat.joint=\"no-twist\""][..]] {
+        let p = unequal(extra);
+        let r = Resolved::new(&p).expect("calibrates");
+        let at = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+            pool.install(|| robustness(&p, &r.schedule, "s").expect("two motors"))
+        };
+        let (one, two) = (at(1), at(2));
+        assert_eq!(serde_json::to_string(&one).ok(), serde_json::to_string(&two).ok(), "{extra:?}: thread count");
+        assert!(
+            one.nominal.twist_error_deg.abs() < 1e-6,
+            "{extra:?}: nominal twist error {}",
+            one.nominal.twist_error_deg
+        );
+        let flip = r.model().flip(&r.schedule, p.exact.tolerance);
+        assert!((one.nominal.swing_deg - flip.swing.to_degrees()).abs() < 1e-9, "{extra:?}: nominal swing");
+        assert!(
+            one.landing_error_deg.max > one.nominal.landing_error_deg + 0.1,
+            "{extra:?}: the draws spread the landing"
+        );
+    }
+}
+
+#[test]
+fn rapier_trials_are_refused_on_other_cats_naming_the_engine() {
+    let p = unequal(&["robust.engine=\"both\""]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let e = check(&p, &r.schedule, "s")
+        .err()
+        .map(|e| format!("{e}: {}", std::error::Error::source(&e).map_or(String::new(), |s| s.to_string())));
+    let message = e.expect("refused");
+    assert!(message.contains("robust.engine"), "{message}");
 }

@@ -14,7 +14,8 @@ The nouns (README, "Python"):
 - :func:`load`, :func:`loads`, :func:`from_dict` → :class:`Problem`;
 - :func:`simulate` (exact or rapier) and :func:`verify` → :class:`Measurement`;
 - :func:`compare` → the peak-torque table; :func:`optimize` → :class:`Optimization`;
-  :func:`optimize_whole` → :class:`WholeOptimum`;
+  :func:`optimize_whole` → :class:`WholeOptimum`; :func:`compare_models` → each cat model's
+  whole optimum, side by side;
 - :func:`import_schedule` (numpy arrays), :func:`read_schedule` (a CSV) → :class:`Schedule`,
   which :func:`simulate` takes in place of the problem's own schedule;
 - :func:`export` (URDF, MJCF, schedule CSV), :func:`model_files`;
@@ -49,6 +50,7 @@ __all__ = [
     "WholeOptimum",
     "__version__",
     "compare",
+    "compare_models",
     "export",
     "frame",
     "from_dict",
@@ -117,6 +119,15 @@ def compare(problem: Problem) -> Dict[str, Any]:
     """``catflip compare --json``: every library profile on the problem's path and circulation,
     side by side (``["rows"]``, one record per profile: peak torques, twist, swing, jumps)."""
     return _report(_catflip.compare(problem))
+
+
+def compare_models(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
+    """``catflip compare-models --json``: the whole-manoeuvre optimum of each cat model (the
+    problem's halves, and their mean half when they differ, on the universal and the no-twist
+    joint) on the problem's fall: ``["rows"]``, one record per model (``optimum`` is ``None``
+    and ``status`` says why when a model has none), ``["cheapest"]`` the key of the cheapest
+    model (``None`` without any optimum); with ``verify`` each optimum's rapier verification."""
+    return _report(_catflip.compare_models(problem, verify))
 
 
 def optimize(

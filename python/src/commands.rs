@@ -89,6 +89,19 @@ pub fn compare(py: Python<'_>, problem: &Problem) -> PyResult<Report> {
     })
 }
 
+/// `catflip compare-models PROBLEM [--verify] --json`: the whole optimum of each cat model on the
+/// problem's cat and fall, side by side.
+#[pyfunction]
+#[pyo3(signature = (problem, verify = false))]
+pub fn compare_models(py: Python<'_>, problem: &Problem, verify: bool) -> PyResult<Report> {
+    let inner = problem.inner.clone();
+    run(py, move || {
+        let p = &inner.problem;
+        let comparison = catflip::compare_models::compare_models(p, verify, "")?;
+        Ok((json(&comparison)?, p.warnings()))
+    })
+}
+
 /// `catflip optimize PROBLEM --json`: the profile QP, its exact refinement and the retiming of
 /// every phase; with `series`, each optimum's schedule file `(name, csv, sidecar_json)` as well.
 #[pyfunction]

@@ -55,6 +55,7 @@ fn _catflip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(commands::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(commands::schedule_file, m)?)?;
     m.add_function(wrap_pyfunction!(commands::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::compare_models, m)?)?;
     m.add_function(wrap_pyfunction!(commands::optimize, m)?)?;
     m.add_function(wrap_pyfunction!(commands::optimize_whole, m)?)?;
     m.add_function(wrap_pyfunction!(commands::read_schedule, m)?)?;

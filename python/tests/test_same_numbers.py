@@ -90,3 +90,19 @@ def test_other_cat_models_give_the_clis_numbers(name, cli_json):
         problem = catflip.load(PROBLEMS / f"{name}.toml")
     same(catflip.simulate(problem, series=False).report, cli_json("simulate", path))
     same(catflip.compare(problem), cli_json("compare", path))
+
+
+def test_compare_models_gives_the_clis_numbers(cli_json):
+    """Each model's whole optimum, as ``catflip compare-models --json`` (a coarse spline, so that
+    it solves in a second; the command line is the CLI's own and left out)."""
+    sets = {"optimize.whole.control_points": 40, "optimize.whole.switch_refinements": 0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", catflip.CatflipWarning)
+        problem = catflip.load(PROBLEMS / "kane-scher.toml", sets)
+        python = catflip.compare_models(problem)
+    cli = cli_json("compare-models", "problems/kane-scher.toml", *[a for k, v in sets.items() for a in ("--set", f"{k}={v}")])
+    assert [r["key"] for r in python["rows"]] == ["universal", "no-twist"]
+    assert python["cheapest"] in ("universal", "no-twist")
+    python.pop("command")
+    cli.pop("command")
+    same(python, cli)

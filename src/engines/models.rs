@@ -15,7 +15,9 @@
 
 use nalgebra::{Matrix2, Vector3};
 
-use crate::engines::exact::{adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper};
+use crate::engines::exact::{
+    adaptive_on, integrate_on, Flip, OrientationSample, RateField, Stepper, MIN_HISTORY_PIECE_STEPS,
+};
 use crate::engines::reduction::{self, polarised_mass_matrix, LinkTorques};
 use crate::engines::shape::ShapeTrajectory;
 use crate::engines::spin::SpinHistory;
@@ -259,5 +261,17 @@ impl TwoMotorCat {
     /// the orientations its torques need ([`SpinHistory::new_on`]).
     pub fn flip_spinning(&self, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
         SpinHistory::new_on(&self.field(traj), spin, tolerance)
+    }
+
+    /// A's orientation history along `traj` released with total angular momentum `spin`, with
+    /// about `steps` fixed steps over the whole trajectory, shared equally between its pieces (at
+    /// least [`MIN_HISTORY_PIECE_STEPS`] each), as [`crate::engines::exact::fall_history`] on the
+    /// paper's cat: the samples a picture of the fall is interpolated from.
+    pub fn fall_history(&self, traj: &impl Trajectory, spin: &Vector3<f64>, steps: usize) -> Vec<OrientationSample> {
+        let pieces = traj.piece_durations().len().max(1);
+        let per_piece = steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS);
+        let mut out = Vec::with_capacity(pieces * per_piece + 1);
+        integrate_on(&self.field(traj), Stepper::for_spin(spin), per_piece, |s| out.push(*s));
+        out
     }
 }

@@ -28,6 +28,7 @@
 //! that PID is alive (checked through `/proc/PID` on Linux; elsewhere a PID is taken as alive and
 //! its folders are left alone).
 
+use crate::report::plot::PlotError;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -69,6 +70,33 @@ pub enum ResultsDirError {
         path: PathBuf,
         /// What the OS said.
         source: std::io::Error,
+    },
+}
+
+/// Why a report's files could not be written into its results folder.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// The results folder.
+    #[error(transparent)]
+    Folder(#[from] ResultsDirError),
+    /// A file.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file, as the user will find it.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A plot.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// The report could not be written as JSON.
+    #[error("cannot write {what} as JSON: {source}")]
+    Json {
+        /// What was written, e.g. "the robustness check".
+        what: &'static str,
+        /// The serialiser's error.
+        source: serde_json::Error,
     },
 }
 

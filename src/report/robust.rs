@@ -14,35 +14,13 @@ use crate::engines::rapier::Snapshot;
 use crate::model::orientation::swing_twist;
 use crate::problem::Problem;
 use crate::report::plot::{line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Series};
-use crate::report::results_dir::{ResultsDirError, Staging};
+use crate::report::results_dir::{Staging, WriteError};
 use crate::robust::tracked::{FeedbackSummary, Film, TrackingSummary};
 use crate::robust::{Engine, Percentiles, RobustReport, Robustness};
 use crate::schedule::Trajectory;
 
 /// Bins of the landing-error histogram.
 pub const HISTOGRAM_BINS: usize = 30;
-
-/// Why the check's files could not be written.
-#[derive(Debug, thiserror::Error)]
-pub enum RobustWriteError {
-    /// The results folder.
-    #[error(transparent)]
-    Folder(#[from] ResultsDirError),
-    /// A file.
-    #[error("cannot write {path}: {source}")]
-    Io {
-        /// The file, as the user will find it.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// The plot.
-    #[error(transparent)]
-    Plot(#[from] PlotError),
-    /// The check could not be written as JSON.
-    #[error("cannot write the robustness check as JSON: {0}")]
-    Json(serde_json::Error),
-}
 
 fn percentile_row(out: &mut String, name: &str, p: &Percentiles) {
     let _ = writeln!(out, "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} |", p.p50, p.p90, p.p95, p.p99, p.max);
@@ -306,18 +284,13 @@ impl RobustReport {
     /// Writes `robust.md`, `robust.csv`, `robust.json` and the plots into `out/<problem>-robust/`,
     /// replacing an earlier check there only when every file is written; returns the folder.
     /// The filmstrips need the problem (the cat's sizes) and the schedule (its phases).
-    pub fn write(
-        &self,
-        out: &Path,
-        problem: &Problem,
-        schedule: &impl Trajectory,
-    ) -> Result<PathBuf, RobustWriteError> {
+    pub fn write(&self, out: &Path, problem: &Problem, schedule: &impl Trajectory) -> Result<PathBuf, WriteError> {
         let staging = Staging::begin(out, &format!("{}-robust", problem.name))?;
-        let json = serde_json::to_string_pretty(self).map_err(RobustWriteError::Json)?;
+        let json = serde_json::to_string_pretty(self)
+            .map_err(|source| WriteError::Json { what: "the robustness check", source })?;
         for (name, text) in [("robust.md", self.to_markdown()), ("robust.csv", self.to_csv()), ("robust.json", json)] {
             let path = staging.dir().join(name);
-            std::fs::write(&path, text)
-                .map_err(|source| RobustWriteError::Io { path: staging.shown(&path), source })?;
+            std::fs::write(&path, text).map_err(|source| WriteError::Io { path: staging.shown(&path), source })?;
         }
         line_plot(staging.dir(), &self.distribution_plot())?;
         line_plot(staging.dir(), &self.histogram_plot())?;
@@ -405,6 +378,12 @@ fn worst_section(out: &mut String, c: &Robustness) {
             out,
             "| {} | {:.4} | {:.4} | {:.4} | [{:.4}, {:.4}, {:.4}] |{g} {:.3} | {:+.3} | {:.3} |",
             d.trial, d.mass, d.length, d.radius, l[0], l[1], l[2], t.landing_error_deg, t.twist_error_deg, t.swing_deg
+        );
+    }
+    if c.unequal_halves {
+        let _ = writeln!(
+            out,
+            "\nThe halves differ: mass, length and radius are the `[cat]` shorthand's as drawn; each half's own is scaled by the same factor."
         );
     }
 }

@@ -157,14 +157,8 @@ fn window_peaks(r: &Resolved, cat: &WholeCat, spline: &BSpline, peak: f64) -> Ph
     let total = spline.total_duration();
     let to_schedule = r.schedule.duration() / total;
     let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
-    let spin = r.problem.drop.spin();
-    let history = r.problem.drop.spins().then(|| cat.spin_history(spline, &spin, r.problem.exact.tolerance).1);
-    let source = cat.torque_source(history.as_ref());
     let mut w = [[0.0f64; 2]; 3];
-    for k in 0..=n {
-        let t = total * k as f64 / n as f64;
-        let (piece, s) = spline.locate_piece(t);
-        let tau = source.at(spline, piece, s, &spline.piece_state(piece, s)).tau;
+    for (t, tau) in sampled_torques(r, cat, spline, n) {
         let window = &mut w[r.schedule.locate(t * to_schedule).0.index()];
         for (m, x) in window.iter_mut().zip(tau) {
             *m = m.max(x.abs());
@@ -172,6 +166,23 @@ fn window_peaks(r: &Resolved, cat: &WholeCat, spline: &BSpline, peak: f64) -> Ph
     }
     let sampled = w.iter().flatten().copied().fold(0.0, f64::max);
     PhasePeaks { bend: w[0], twist: w[1], unbend: w[2], max: peak.max(sampled) }
+}
+
+/// The motor torques `(t, [τ₁, τ₂])` of `spline` on `cat` at `n + 1` instants evenly spaced over
+/// it, ends included, released as the problem says (with spin, at the orientations of the
+/// spinning motion).
+fn sampled_torques(r: &Resolved, cat: &WholeCat, spline: &BSpline, n: usize) -> Vec<(f64, [f64; 2])> {
+    let total = spline.total_duration();
+    let spin = r.problem.drop.spin();
+    let history = r.problem.drop.spins().then(|| cat.spin_history(spline, &spin, r.problem.exact.tolerance).1);
+    let source = cat.torque_source(history.as_ref());
+    (0..=n)
+        .map(|k| {
+            let t = total * k as f64 / n as f64;
+            let (piece, s) = spline.locate_piece(t);
+            (t, source.at(spline, piece, s, &spline.piece_state(piece, s)).tau)
+        })
+        .collect()
 }
 
 impl WholeReport {

@@ -2,8 +2,9 @@
 //! open-loop schedule on cats drawn around the problem's, released with random spin.
 //!
 //! Each trial `k` draws, from its own SplitMix64 stream (seed `robust.seed`, stream `k`), the
-//! factors of each half's mass, length and radius (uniform in `1 ± p/100`, both halves alike:
-//! the model's halves are identical) and the release spin `L = L₀ + σ n`, `n` three standard
+//! factors of each half's mass, length and radius (uniform in `1 ± p/100`, both halves alike;
+//! [`Draw`] records the `[cat]` shorthand's values, each half's own scaled by the same factors on
+//! unequal halves, [`drawn_cat`]) and the release spin `L = L₀ + σ n`, `n` three standard
 //! normals (world frame, `L₀ = drop.angular_momentum`). The joints then follow the schedule
 //! exactly (ideal tracking: the motors are the planned ones), and the exact engine
 //! ([`crate::engines::evaluate::released_flip`], spinning when `L ≠ 0`) gives A's attitude `R` at
@@ -21,8 +22,9 @@
 //! With `robust.controller = "feedback"` (or `"both"`) the tracked trials are run (again, on
 //! the same draws and sensor noise) with feedback on the attitude
 //! ([`crate::engines::rapier::feedback`]: time-varying LQR with a Kalman filter), reported as
-//! its own engine beside the open loop. What is not in it (yet): unequal halves. Its Markdown, CSV
-//! and plots are [`crate::report::robust`]'s.
+//! its own engine beside the open loop. The exact engine's check runs on every two-motor cat
+//! (unequal halves, the no-twist joint: the general core); the tracked rapier trials on the
+//! paper's cat only. Its Markdown, CSV and plots are [`crate::report::robust`]'s.
 
 pub mod tracked;
 
@@ -33,7 +35,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::engines::evaluate::released_flip;
-use crate::model::Cylinder;
+use crate::engines::models::{ModelError, TwoMotorCat};
+use crate::model::{Cat, Cylinder};
 use crate::numeric::random::SplitMix64;
 use crate::problem::robust::RobustSettings;
 use crate::problem::Problem;
@@ -44,11 +47,11 @@ use crate::schedule::Trajectory;
 pub struct Draw {
     /// Trial index.
     pub trial: usize,
-    /// Mass of each half, kg.
+    /// Mass of each half, kg (of the `[cat]` shorthand on unequal halves, [`drawn_cat`]).
     pub mass: f64,
-    /// Length of each half, m.
+    /// Length of each half, m (likewise).
     pub length: f64,
-    /// Radius, m.
+    /// Radius, m (likewise).
     pub radius: f64,
     /// Release spin, world frame, N·m·s.
     pub angular_momentum_nms: [f64; 3],
@@ -94,13 +97,35 @@ pub fn draw(problem: &Problem, settings: &RobustSettings, k: usize) -> Draw {
     }
 }
 
-/// Runs `traj` open loop on the cat and spin of `draw`.
-pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> Trial {
-    let cat = Cylinder { mass: draw.mass, length: draw.length, radius: draw.radius };
+/// The cat of `draw` around `problem`'s: on the paper's cat its halves are the drawn `[cat]`;
+/// on any other model each half's mass, length and radius are scaled by the factors the draw
+/// applied to the `[cat]` shorthand (both halves alike), on the problem's joint.
+pub fn drawn_cat(problem: &Problem, draw: &Draw) -> Cat {
+    let drawn = Cylinder { mass: draw.mass, length: draw.length, radius: draw.radius };
+    if problem.cat.is_paper() {
+        return Cat::from(drawn);
+    }
+    let s = &problem.cat;
+    let scaled = |c: Cylinder| Cylinder {
+        mass: c.mass * (draw.mass / s.mass),
+        length: c.length * (draw.length / s.length),
+        radius: c.radius * (draw.radius / s.radius),
+    };
+    Cat { front: scaled(s.front()), rear: scaled(s.rear()), joint: s.joint }
+}
+
+/// Runs `traj` open loop on the cat and spin of `draw` (the paper's cat through the
+/// two-cylinder engine, any other two-motor model through the general core); refused when the
+/// problem's joint has not two motors.
+pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> Result<Trial, ModelError> {
+    let cat = drawn_cat(problem, &draw);
     let spin = Vector3::from(draw.angular_momentum_nms);
-    let (flip, _) = released_flip(&cat, traj, &spin, problem.exact.tolerance);
+    let flip = match cat.paper() {
+        Some(half) => released_flip(half, traj, &spin, problem.exact.tolerance).0,
+        None => TwoMotorCat::new(cat)?.flip_released(traj, &spin, problem.exact.tolerance),
+    };
     let (landing_error_deg, twist_error_deg, swing_deg) = landing_figures(&flip.orientation, flip.twist, flip.swing);
-    Trial { draw, landing_error_deg, twist_error_deg, swing_deg, converged: flip.converged, tracked: None }
+    Ok(Trial { draw, landing_error_deg, twist_error_deg, swing_deg, converged: flip.converged, tracked: None })
 }
 
 /// Percentiles of one landing figure, degrees.
@@ -198,6 +223,9 @@ pub struct Robustness {
     /// frames are drawn from.
     #[serde(skip)]
     pub film: Option<tracked::Film>,
+    /// Whether the problem's halves differ (then a [`Draw`]'s sizes are the `[cat]` shorthand's).
+    #[serde(skip)]
+    pub unequal_halves: bool,
 }
 
 /// Worst trials reported.
@@ -216,13 +244,19 @@ pub fn nominal_draw(problem: &Problem) -> Draw {
 }
 
 /// Runs the check of `traj` (named `schedule`) on `problem` with its `[robust]` settings,
-/// through the exact engine (ideal tracking).
-pub fn robustness(problem: &Problem, traj: &(impl Trajectory + Sync), schedule: &str) -> Robustness {
+/// through the exact engine (ideal tracking), on any two-motor cat.
+pub fn robustness(
+    problem: &Problem,
+    traj: &(impl Trajectory + Sync),
+    schedule: &str,
+) -> Result<Robustness, ModelError> {
     let settings = problem.robust;
-    let trials: Vec<Trial> =
-        (0..settings.trials).into_par_iter().map(|k| trial(problem, traj, draw(problem, &settings, k))).collect();
-    let nominal = trial(problem, traj, nominal_draw(problem));
-    summarise(problem, schedule, Engine::Exact, nominal, trials)
+    let nominal = trial(problem, traj, nominal_draw(problem))?;
+    let trials = (0..settings.trials)
+        .into_par_iter()
+        .map(|k| trial(problem, traj, draw(problem, &settings, k)))
+        .collect::<Result<Vec<Trial>, _>>()?;
+    Ok(summarise(problem, schedule, Engine::Exact, nominal, trials))
 }
 
 /// The percentiles, the worst trials and the verdict of one engine's trials.
@@ -268,6 +302,7 @@ pub(crate) fn summarise(
         verdict,
         tracking: None,
         film: None,
+        unequal_halves: !problem.cat.model().has_equal_halves(),
     }
 }
 
@@ -295,11 +330,15 @@ pub fn check(
     traj: &(impl Trajectory + Sync),
     schedule: &str,
 ) -> Result<RobustReport, crate::engines::rapier::RapierError> {
-    problem.require_paper_cat("robust (its draws and its rapier scene)")?;
     let engine = problem.robust.engine;
+    if engine.rapier() {
+        problem.require_paper_cat(
+            "robust.engine = \"rapier\" or \"both\" (its tracked rapier scene; \"exact\" runs on every two-motor cat)",
+        )?;
+    }
     let mut checks = Vec::new();
     if engine.exact() {
-        checks.push(robustness(problem, traj, schedule));
+        checks.push(robustness(problem, traj, schedule)?);
     }
     if engine.rapier() {
         checks.extend(tracked::tracked_robustness(problem, traj, schedule)?);

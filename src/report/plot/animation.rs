@@ -18,10 +18,11 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rayon::prelude::*;
 
 use super::gif::RgbFrames;
-use super::pose::{cat_poses, BodyPose, CatPose};
+use super::pose::{cat_poses_spinning, BodyPose, CatPose};
 use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, png_written, save_failed, text, GUIDE};
 use super::PlotError;
+use crate::engines::models::TwoMotorCat;
 use crate::model::legs::{legs, Half, Leg, PAW_RADIUS};
 use crate::problem::Problem;
 use crate::schedule::{Phase, Trajectory};
@@ -65,12 +66,14 @@ pub fn flip_animation(
     if !(total.is_finite() && total > 0.0) {
         return Err(bad(format!("the schedule lasts {total} s; it must last a positive, finite time")));
     }
+    let cat = model_of(problem, path)?;
     ensure_fonts()?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
     let scene = Scene::new(problem, name, schedule);
-    let poses = cat_poses(&problem.cat.half(), schedule, &spaced(total, frames));
+    let spin = problem.drop.spin();
+    let poses = cat_poses_spinning(&cat, &spin, schedule, &spaced(total, frames));
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
@@ -92,10 +95,36 @@ pub fn flip_animation(
 
     let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));
-    let panels = cat_poses(&problem.cat.half(), schedule, &spaced(total, FILMSTRIP_PANELS));
+    let panels = cat_poses_spinning(&cat, &spin, schedule, &spaced(total, FILMSTRIP_PANELS));
     let caption = format!("the flip at {} instants", panels.len());
     write_strip(&scene, &strip, &panels, &extent, &caption)?;
     Ok(vec![path.to_path_buf(), strip])
+}
+
+/// Writes only the PNG filmstrip of [`flip_animation`] at `path`: [`FILMSTRIP_PANELS`] instants
+/// of the flip of `schedule` on the problem's cat (its model, joint and release), one scale for
+/// every panel.
+pub fn flip_filmstrip(
+    path: &Path,
+    problem: &Problem,
+    name: &str,
+    schedule: &impl Trajectory,
+) -> Result<PathBuf, PlotError> {
+    let total = schedule.total_duration();
+    if !(total.is_finite() && total > 0.0) {
+        let reason = format!("the schedule lasts {total} s; it must last a positive, finite time");
+        return Err(PlotError::BadArgument { path: path.to_path_buf(), reason });
+    }
+    let cat = model_of(problem, path)?;
+    let poses = cat_poses_spinning(&cat, &problem.drop.spin(), schedule, &spaced(total, FILMSTRIP_PANELS));
+    let caption = format!("the flip at {} instants", poses.len());
+    pose_filmstrip(path, problem, name, schedule, &poses, &caption)
+}
+
+/// The problem's cat as the engines run it, or why a picture of it cannot be drawn.
+fn model_of(problem: &Problem, path: &Path) -> Result<TwoMotorCat, PlotError> {
+    TwoMotorCat::new(problem.cat.model())
+        .map_err(|e| PlotError::BadArgument { path: path.to_path_buf(), reason: e.to_string() })
 }
 
 /// Writes a PNG filmstrip of `poses` (one panel each, e.g. from a rapier run rather than the
@@ -200,8 +229,8 @@ const HEAD: u8 = 4;
 /// What stays the same from frame to frame.
 struct Scene {
     camera: Camera,
-    half: f64,
-    radius: f64,
+    /// Half-length and radius of A and of B, m.
+    sizes: [(f64, f64); 2],
     /// The legs of A and of B, each in its half's body frame.
     legs: [[Leg; 2]; 2],
     title: String,
@@ -312,11 +341,11 @@ fn segments(t: &impl Trajectory) -> Vec<(&'static str, f64)> {
 
 impl Scene {
     fn new(problem: &Problem, name: &str, schedule: &impl Trajectory) -> Scene {
+        let (front, rear) = (problem.cat.front(), problem.cat.rear());
         Scene {
             camera: Camera::new(),
-            half: 0.5 * problem.cat.length,
-            radius: problem.cat.radius,
-            legs: [legs(&problem.cat.half(), Half::A), legs(&problem.cat.half(), Half::B)],
+            sizes: [(0.5 * front.length, front.radius), (0.5 * rear.length, rear.radius)],
+            legs: [legs(&front, Half::A), legs(&rear, Half::B)],
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -325,10 +354,10 @@ impl Scene {
     /// Every mark of one pose, in painting order.
     fn marks(&self, pose: &CatPose) -> Vec<Layered> {
         let cam = &self.camera;
-        let (h, r) = (self.half, self.radius);
+        let [(h, r), (h_b, _)] = self.sizes;
         let mut out = Vec::new();
-        self.cylinder(&pose.a, A_FILL, A_EDGE, &self.legs[0], &mut out);
-        self.cylinder(&pose.b, B_FILL, B_EDGE, &self.legs[1], &mut out);
+        self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &self.legs[0], &mut out);
+        self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &self.legs[1], &mut out);
         let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
         // The head on A's front end, ears on its back (−y, away from the belly).
         let head = Vector3::new(0.0, 0.0, h + 1.3 * r);
@@ -346,8 +375,8 @@ impl Scene {
         });
         // The tail from B's rear end, curling up to its back.
         let tail = (0..=12).map(|k| {
-            let s = 0.7 * h * k as f64 / 12.0;
-            cam.project(&pose.b.point(Vector3::new(0.0, -1.2 * s * s / h, -h - s)))
+            let s = 0.7 * h_b * k as f64 / 12.0;
+            cam.project(&pose.b.point(Vector3::new(0.0, -1.2 * s * s / h_b, -h_b - s)))
         });
         out.push(Layered {
             depth: db,
@@ -366,9 +395,16 @@ impl Scene {
     }
 
     /// One half: silhouette, axis, visible outline, belly stripe and its two legs.
-    fn cylinder(&self, body: &BodyPose, fill: RGBColor, edge: RGBColor, legs: &[Leg; 2], out: &mut Vec<Layered>) {
+    fn cylinder(
+        &self,
+        body: &BodyPose,
+        (h, r): (f64, f64),
+        fill: RGBColor,
+        edge: RGBColor,
+        legs: &[Leg; 2],
+        out: &mut Vec<Layered>,
+    ) {
         let cam = &self.camera;
-        let (h, r) = (self.half, self.radius);
         let depth = cam.depth(&body.centre);
         let push = |out: &mut Vec<Layered>, layer, mark| out.push(Layered { depth, layer, mark });
         let line = |a: Vector3<f64>, b: Vector3<f64>| vec![cam.project(&body.point(a)), cam.project(&body.point(b))];

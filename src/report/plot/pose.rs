@@ -1,15 +1,17 @@
 //! Where the two halves are at given instants: what the animation draws.
 //!
-//! A's world orientation `R_A(t)` comes from the exact engine ([`crate::engines::exact::history`]),
-//! interpolated between its samples; B's is `R_B = R_A · R_AB(q(t))`. The centres are placed so that
-//! the common centre of mass (the midpoint, the halves having equal masses) stays at the origin:
-//! with `p = R_A [(0,0,−l/2) − R_AB (0,0,l/2)]` the vector from A's centre to B's,
-//! `c_A = −p/2` and `c_B = +p/2`. World frame = A's body frame at `t = 0`; metres, radians.
+//! A's world orientation `R_A(t)` comes from the exact engine (on the paper's cat released
+//! without spin [`crate::engines::exact::fall_history`], on any other cat or release the general
+//! core's [`TwoMotorCat::fall_history`]), interpolated between its samples; B's is
+//! `R_B = R_A · R_AB(q(t))` with the model's joint. The centres are placed so that the common
+//! centre of mass stays at the origin: with `p = R_A [(0,0,−l_A/2) − R_AB (0,0,l_B/2)]` the vector
+//! from A's centre to B's, `c_A = −m_B/(m_A+m_B) p` and `c_B = +m_A/(m_A+m_B) p` (`∓p/2` for equal
+//! halves). World frame = A's body frame at `t = 0`; metres, radians.
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::engines::exact::{fall_history, OrientationSample};
-use crate::model::{joint_rotation, Cylinder};
+use crate::engines::models::TwoMotorCat;
 use crate::schedule::{Phase, Trajectory};
 
 /// Magnus steps over the whole fall of the orientation history the poses are interpolated from
@@ -49,25 +51,44 @@ pub struct CatPose {
     pub b: BodyPose,
 }
 
-/// The cat's pose at each of `times` (s, clamped to the manoeuvre).
-pub fn cat_poses(cat: &Cylinder, schedule: &impl Trajectory, times: &[f64]) -> Vec<CatPose> {
-    let samples = fall_history(cat, schedule, HISTORY_STEPS);
+/// The cat's pose at each of `times` (s, clamped to the manoeuvre), released without spin.
+pub fn cat_poses(cat: &TwoMotorCat, schedule: &impl Trajectory, times: &[f64]) -> Vec<CatPose> {
+    cat_poses_spinning(cat, &Vector3::zeros(), schedule, times)
+}
+
+/// [`cat_poses`] for a release with total angular momentum `spin` (N·m·s, world frame).
+pub fn cat_poses_spinning(
+    cat: &TwoMotorCat,
+    spin: &Vector3<f64>,
+    schedule: &impl Trajectory,
+    times: &[f64],
+) -> Vec<CatPose> {
+    let model = cat.cat();
+    let samples = match model.paper() {
+        Some(half) if spin.norm_squared() == 0.0 => fall_history(half, schedule, HISTORY_STEPS),
+        _ => cat.fall_history(schedule, spin, HISTORY_STEPS),
+    };
+    let (front, rear) = (model.front, model.rear);
+    // The shares of A's-centre-to-B's-centre vector from the centre of mass to each centre.
+    let share_a = rear.mass / (front.mass + rear.mass);
+    let share_b = front.mass / (front.mass + rear.mass);
     let total = schedule.total_duration();
     times
         .iter()
         .map(|&t| {
             let t = t.clamp(0.0, total);
             let (orientation, twist, swing) = interpolate(&samples, t);
-            let r_ab = joint_rotation(schedule.state_at(t).q);
+            let r_ab = model.joint.rotation(&schedule.state_at(t).q);
             let r_a = orientation.to_rotation_matrix().into_inner();
-            let p = r_a * cat.offset(&r_ab);
+            let offset = Vector3::new(0.0, 0.0, -0.5 * front.length) - r_ab * Vector3::new(0.0, 0.0, 0.5 * rear.length);
+            let p = r_a * offset;
             CatPose {
                 time: t,
                 phase: schedule.phase_at(t),
                 twist,
                 swing,
-                a: BodyPose { centre: -0.5 * p, rotation: r_a },
-                b: BodyPose { centre: 0.5 * p, rotation: r_a * r_ab },
+                a: BodyPose { centre: -share_a * p, rotation: r_a },
+                b: BodyPose { centre: share_b * p, rotation: r_a * r_ab },
             }
         })
         .collect()

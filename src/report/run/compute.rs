@@ -138,7 +138,9 @@ fn whole_and_verify(
                 || clock.time(format!("verify {WHOLE}"), || verify_whole(r, &whole)),
                 || {
                     whole.spline().map(|spline| {
-                        clock.time(format!("robustness of {WHOLE}"), || robustness(&r.problem, spline, WHOLE))
+                        clock
+                            .time(format!("robustness of {WHOLE}"), || robustness(&r.problem, spline, WHOLE))
+                            .map_err(RapierError::from)
                     })
                 },
             )
@@ -154,7 +156,7 @@ fn whole_and_verify(
             )
         },
     );
-    Ok((whole, verification?, animation.transpose()?, robustness, files?))
+    Ok((whole, verification?, animation.transpose()?, robustness.transpose()?, files?))
 }
 
 /// The whole optimum's CSV and sidecar, when it exists.

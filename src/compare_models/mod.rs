@@ -1,0 +1,218 @@
+//! `catflip compare-models`: the whole-manoeuvre optimum of every cat model on the same cat and
+//! fall, side by side: which body flips most cheaply (issue 22; DESIGN.md §10).
+//!
+//! ## The models
+//! From the problem's cat ([`variants`]): its halves on the universal joint (the paper's
+//! `R_AB = Rx(q1) Ry(q2)`) and on Kane and Scher's no-twist joint (`R_AB = exp([q1, q2, 0]×)`).
+//! When the problem's halves differ, the same two joints also join two equal halves of their
+//! mean half ([`crate::model::Cat::mean_half`]: the means of the masses, lengths and radii, so
+//! the same total mass and length): four models, the first two of equal halves. The spherical
+//! joint needs a third motor no optimiser drives yet and is left out, saying so.
+//!
+//! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
+//! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist
+//! joint, where the joint circle is the cone (it keeps the bend `|q|` exactly).
+//!
+//! ## What each row is
+//! The optimum of [`crate::report::whole::whole`] on that model, every number re-measured by the
+//! model's exact engine (the general core on any cat but the paper's): peak torque, energy
+//! `∫τ·τ dt`, the largest bend and the turns of the bend direction; beside it the problem's own
+//! library schedule on that model ([`crate::engines::resolved::Resolved::evaluate`]), and with
+//! `--verify` rapier's verdict on the optimum ([`crate::report::whole::verify_whole`]). A model
+//! without an optimum says why, and its numbers are absent, never zero.
+//!
+//! ## References
+//! - T. R. Kane and M. P. Scher, *A dynamical explanation of the falling cat phenomenon*,
+//!   Int. J. Solids Structures 5 (1969) 663–670 (the no-twist joint);
+//! - the paper, §2 and §7 (the universal joint's cat and its worked example).
+
+mod report;
+mod run;
+
+pub use run::{compare_models, CompareModelsError};
+
+use serde::Serialize;
+
+use crate::engines::rapier::Verification;
+use crate::model::Joint;
+use crate::optimize::whole::{BSpline, Objective};
+use crate::problem::cat::CatSection;
+use crate::problem::manoeuvre::BendPath;
+use crate::problem::{Problem, ProblemError};
+
+/// One model of the comparison: its key (file names, CSV), its words and its problem (the
+/// problem's fall and settings with this model's cat).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    /// `universal`, `no-twist`, `unequal-universal` or `unequal-no-twist`.
+    pub key: String,
+    /// The model in words, e.g. "equal halves, no-twist joint (Kane and Scher's)".
+    pub label: String,
+    /// The problem with this model's `[cat]` (validated).
+    pub problem: Problem,
+}
+
+/// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
+/// they differ) on the universal and the no-twist joint, then, when the problem's halves differ,
+/// those halves on both joints. Each variant's problem is validated, so a field the new model
+/// refuses is named.
+pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
+    let cat = problem.cat.model();
+    let equal = cat.has_equal_halves();
+    let half = if equal { cat.front } else { cat.mean_half() };
+    let mut halves = vec![(
+        String::new(),
+        if equal { "equal halves" } else { "equal halves (the mean half)" },
+        CatSection::from(half),
+    )];
+    if !equal {
+        halves.push(("unequal-".to_string(), "unequal halves (the problem's)", problem.cat));
+    }
+    let mut out = Vec::new();
+    for (prefix, halves_label, section) in halves {
+        for joint in [Joint::Universal, Joint::NoTwist] {
+            let mut p = problem.clone();
+            p.cat = CatSection { joint, ..section };
+            if joint == Joint::NoTwist && p.manoeuvre.bend_path == BendPath::Cone {
+                p.manoeuvre.bend_path = BendPath::JointCircle;
+            }
+            p.validate()?;
+            let whose = match (joint, prefix.is_empty()) {
+                (Joint::Universal, true) => " (the paper's model)",
+                (Joint::NoTwist, true) => " (Kane and Scher's)",
+                _ => "",
+            };
+            out.push(Variant {
+                key: format!("{prefix}{}", joint.name()),
+                label: format!("{halves_label}, {} joint{whose}", joint.name()),
+                problem: p,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The optimum's numbers on one model, re-measured by its exact engine.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OptimumFigures {
+    /// The start it converged from.
+    pub start: String,
+    /// Trust-region iterations.
+    pub iterations: usize,
+    /// Signed twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Peak motor torque over the fall, N·m.
+    pub peak_torque_nm: f64,
+    /// When it peaks, s.
+    pub peak_time_s: f64,
+    /// `∫ τ·τ dt`, N²·m²·s.
+    pub energy: f64,
+    /// The largest bend (angle between the spine axes), degrees.
+    pub max_bend_deg: f64,
+    /// How far the bend direction turns over the fall, turns.
+    pub bend_turns: f64,
+    /// The fall time, s (with the objective `min-time` the least fall time within the motors).
+    pub fall_time_s: f64,
+}
+
+impl OptimumFigures {
+    /// The value the objective minimised.
+    pub fn objective_value(&self, objective: Objective) -> f64 {
+        match objective {
+            Objective::Peak => self.peak_torque_nm,
+            Objective::Energy => self.energy,
+            Objective::MinTime => self.fall_time_s,
+        }
+    }
+}
+
+/// The problem's own library schedule on one model, by its exact engine.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ScheduleFigures {
+    /// Signed twist, degrees.
+    pub twist_deg: f64,
+    /// Swing, degrees.
+    pub swing_deg: f64,
+    /// Peak motor torque, N·m.
+    pub peak_torque_nm: f64,
+}
+
+/// One model's row.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelRow {
+    /// [`Variant::key`].
+    pub key: String,
+    /// [`Variant::label`].
+    pub label: String,
+    /// The joint.
+    pub joint: Joint,
+    /// The cat in words ([`crate::model::Cat::describe`]).
+    pub cat: String,
+    /// `converged`, or why there is no optimum.
+    pub status: String,
+    /// The optimum, when one flips the cat.
+    pub optimum: Option<OptimumFigures>,
+    /// The problem's library schedule on this model (absent when its circulation cannot be
+    /// resolved on this model; `schedule_note` says why).
+    pub schedule: Option<ScheduleFigures>,
+    /// Why the library schedule has no numbers on this model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub schedule_note: Option<String>,
+    /// Rapier's verification of the optimum (`--verify` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rapier: Option<Verification>,
+    /// Wall-clock seconds of this model's optimisation (and verification).
+    pub seconds: f64,
+    /// The model's problem (for the pictures).
+    #[serde(skip)]
+    pub problem: Problem,
+    /// The optimum's trajectory.
+    #[serde(skip)]
+    pub spline: Option<BSpline>,
+    /// The optimum's bend (angle between the spine axes) over the fall, `(t s, degrees)`,
+    /// sampled densely (for the plot).
+    #[serde(skip)]
+    pub bend: Vec<(f64, f64)>,
+}
+
+impl ModelRow {
+    /// The optimum's peak torque, when there is one.
+    pub fn peak(&self) -> Option<f64> {
+        self.optimum.as_ref().map(|o| o.peak_torque_nm)
+    }
+}
+
+/// The comparison: every model's row on the same fall.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelComparison {
+    /// The problem's name.
+    pub problem: String,
+    /// The command that regenerates it.
+    pub command: String,
+    /// What the optimiser minimised.
+    pub objective: Objective,
+    /// The fall time, s.
+    pub fall_time_s: f64,
+    /// The release's total angular momentum, N·m·s (world frame).
+    pub angular_momentum_nms: [f64; 3],
+    /// Whether rapier verified the optima.
+    pub verified_in_rapier: bool,
+    /// One row per model, in [`variants`]' order.
+    pub rows: Vec<ModelRow>,
+    /// The key of the model whose optimum is cheapest by the objective (none without an optimum).
+    pub cheapest: Option<String>,
+    /// Wall-clock seconds of the whole comparison.
+    pub seconds: f64,
+    /// The problem as TOML, every default filled in (the report's provenance header).
+    #[serde(skip)]
+    pub settings_toml: String,
+}
+
+impl ModelComparison {
+    /// The cheapest model's row.
+    pub fn cheapest_row(&self) -> Option<&ModelRow> {
+        self.cheapest.as_ref().and_then(|k| self.rows.iter().find(|r| &r.key == k))
+    }
+}

@@ -1,0 +1,219 @@
+//! The comparison as a report: the answer first (the cheapest model), then one row per model;
+//! with `--out` also `models.csv`, `models.json`, the optima's bends and one filmstrip per
+//! optimum, written into `<out>/<name>-models/` (the presentation only: [`super::run`] computes
+//! every number; the plots and the results folder are [`crate::report`]'s, as a sweep's are).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::{ModelComparison, ModelRow};
+use crate::optimize::whole::Objective;
+use crate::report::plot::{flip_filmstrip, line_plot, LinePlot, Series};
+use crate::report::results_dir::{Staging, WriteError};
+
+/// An absent number: an empty CSV cell, a dash in a table.
+fn cell(x: Option<f64>) -> String {
+    x.map_or_else(String::new, |v| v.to_string())
+}
+
+fn shown(x: Option<f64>, digits: usize) -> String {
+    x.map_or_else(|| "—".into(), |v| format!("{v:.digits$}"))
+}
+
+impl ModelComparison {
+    /// The comparison as Markdown: the cheapest model, the table, what each column means.
+    pub fn to_markdown(&self) -> String {
+        let mut s = format!("# {}\n\n", self.title());
+        if !self.command.is_empty() {
+            let _ = writeln!(s, "Regenerate with `{}`.\n", self.command);
+        }
+        s + &self.body()
+    }
+
+    fn title(&self) -> String {
+        format!("Cat models compared on problem `{}`", self.problem)
+    }
+
+    /// The report after its title: the answer, the table, the notes.
+    fn body(&self) -> String {
+        let mut s = String::new();
+        let what = match self.objective {
+            Objective::Peak => "peak motor torque",
+            Objective::Energy => "energy ∫τ·τ dt",
+            Objective::MinTime => "fall time within the motors",
+        };
+        match self.cheapest_row() {
+            Some(best) => {
+                let _ = writeln!(s, "**The cheapest flip by {what}: {}**, {}.\n", best.label, self.lead(best));
+            }
+            None => {
+                let _ = writeln!(s, "**No model has an optimum that flips the cat**: each row says why.\n");
+            }
+        }
+        let spin = self.angular_momentum_nms;
+        let release = if spin.iter().all(|x| *x == 0.0) {
+            "released without spin".to_string()
+        } else {
+            format!("released with total angular momentum [{}, {}, {}] N·m·s (world frame)", spin[0], spin[1], spin[2])
+        };
+        let _ = writeln!(
+            s,
+            "Each model's whole-manoeuvre optimum (objective {}, `[optimize.whole]` of the problem) on the same fall of {:.4} s, {release}; every number is re-measured by that model's exact engine. The library schedule is the problem's own (`[manoeuvre]`) on that model.\n",
+            self.objective.name(),
+            self.fall_time_s
+        );
+        let rapier = if self.verified_in_rapier { " rapier |" } else { "" };
+        let _ = writeln!(
+            s,
+            "| model | status | peak N·m | energy N²·m²·s | max bend ° | bend turns | twist ° | swing ° | library schedule: twist °, peak N·m |{rapier} time s |"
+        );
+        let _ = writeln!(
+            s,
+            "|---|---|---:|---:|---:|---:|---:|---:|---:|{}---:|",
+            if rapier.is_empty() { "" } else { "---|" }
+        );
+        for r in &self.rows {
+            let o = r.optimum.as_ref();
+            let schedule = r
+                .schedule
+                .as_ref()
+                .map_or_else(|| "—".to_string(), |f| format!("{:+.4}, {:.4}", f.twist_deg, f.peak_torque_nm));
+            let verdict = if self.verified_in_rapier {
+                format!(" {} |", r.rapier.as_ref().map_or_else(|| "not run".to_string(), |v| v.status.to_string()))
+            } else {
+                String::new()
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {schedule} |{verdict} {:.2} |",
+                r.label,
+                if o.is_some() { r.status.as_str() } else { "**no optimum**" },
+                shown(o.map(|o| o.peak_torque_nm), 6),
+                shown(o.map(|o| o.energy), 6),
+                shown(o.map(|o| o.max_bend_deg), 2),
+                shown(o.map(|o| o.bend_turns), 3),
+                o.map_or_else(|| "—".into(), |o| format!("{:+.6}", o.twist_deg)),
+                o.map_or_else(|| "—".into(), |o| format!("{:.1e}", o.swing_deg)),
+                r.seconds
+            );
+        }
+        let missing: Vec<&ModelRow> = self.rows.iter().filter(|r| r.optimum.is_none()).collect();
+        if !missing.is_empty() {
+            let _ = writeln!(s, "\nWhy a model has no optimum:\n");
+            for r in missing {
+                let _ = writeln!(s, "- {}: {}", r.label, r.status);
+            }
+        }
+        let _ = writeln!(
+            s,
+            "\nThe models run in parallel (their times overlap); the comparison took {:.1} s in all. The spherical joint (a third motor, the relative twist) is not compared: no optimiser drives a third coordinate yet.",
+            self.seconds
+        );
+        let _ = writeln!(s, "\nThe cats:\n");
+        for r in &self.rows {
+            let _ = writeln!(s, "- {}: {}.", r.label, r.cat);
+        }
+        s
+    }
+
+    /// The cheapest row against the others, in words.
+    fn lead(&self, best: &ModelRow) -> String {
+        let Some(o) = &best.optimum else { return String::new() };
+        let value = o.objective_value(self.objective);
+        let mut s = match self.objective {
+            Objective::Peak => format!("peak {:.4} N·m", o.peak_torque_nm),
+            Objective::Energy => format!("energy {:.6} N²·m²·s", o.energy),
+            Objective::MinTime => format!("least fall time {:.4} s", o.fall_time_s),
+        };
+        let others: Vec<String> = self
+            .rows
+            .iter()
+            .filter(|r| r.key != best.key)
+            .filter_map(|r| {
+                r.optimum
+                    .as_ref()
+                    .map(|x| format!("{:.3}× that with {}", x.objective_value(self.objective) / value, r.label))
+            })
+            .collect();
+        if !others.is_empty() {
+            let _ = write!(s, "; {}", others.join("; "));
+        }
+        if let Some(v) = &best.rapier {
+            let _ = write!(s, "; rapier: {}", v.status);
+        }
+        s
+    }
+
+    /// One row per model; absent numbers are empty cells.
+    pub fn to_csv(&self) -> String {
+        let mut out = String::from("problem,model,joint,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
+        for r in &self.rows {
+            let o = r.optimum.as_ref();
+            let f = r.schedule.as_ref();
+            let halves = if r.key.starts_with("unequal-") { "unequal" } else { "equal" };
+            let _ = writeln!(
+                out,
+                "{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                self.problem,
+                r.key,
+                r.joint.name(),
+                if o.is_some() { "converged" } else { "no-optimum" },
+                o.map_or_else(String::new, |o| o.start.clone()),
+                o.map_or_else(String::new, |o| o.iterations.to_string()),
+                cell(o.map(|o| o.peak_torque_nm)),
+                cell(o.map(|o| o.energy)),
+                cell(o.map(|o| o.max_bend_deg)),
+                cell(o.map(|o| o.bend_turns)),
+                cell(o.map(|o| o.twist_deg)),
+                cell(o.map(|o| o.swing_deg)),
+                cell(o.map(|o| o.fall_time_s)),
+                cell(f.map(|f| f.twist_deg)),
+                cell(f.map(|f| f.peak_torque_nm)),
+                r.rapier.as_ref().map_or_else(String::new, |v| v.status.to_string().replace(' ', "-")),
+                r.seconds
+            );
+        }
+        out
+    }
+
+    /// The optima's bends over the fall, one line per model with an optimum.
+    pub fn bend_plot(&self) -> LinePlot {
+        let series = self
+            .rows
+            .iter()
+            .filter(|r| !r.bend.is_empty())
+            .map(|r| Series::new(r.key.clone(), r.bend.clone()))
+            .collect();
+        LinePlot::new(
+            "models_bend",
+            format!("Bend of each cat model's whole optimum, problem \u{201c}{}\u{201d}", self.problem),
+            "time t (s)",
+            "bend: angle between the spine axes (°)",
+            series,
+        )
+    }
+
+    /// Writes `models.md`, `models.csv`, `models.json`, the bend plot and one filmstrip per
+    /// optimum (`<key>_filmstrip.png`) into `<out>/<problem>-models/`, all or nothing.
+    pub fn write(&self, out: &Path) -> Result<PathBuf, WriteError> {
+        let staging = Staging::begin(out, &format!("{}-models", self.problem))?;
+        let json = serde_json::to_string_pretty(self)
+            .map_err(|source| WriteError::Json { what: "the model comparison", source })?;
+        let md = crate::report::provenance::header(&self.title(), &self.command, &self.settings_toml) + &self.body();
+        for (name, text) in [("models.md", md), ("models.csv", self.to_csv()), ("models.json", json)] {
+            let path = staging.dir().join(name);
+            std::fs::write(&path, text).map_err(|source| WriteError::Io { path: staging.shown(&path), source })?;
+        }
+        if self.rows.iter().any(|r| !r.bend.is_empty()) {
+            line_plot(staging.dir(), &self.bend_plot())?;
+        }
+        for r in &self.rows {
+            if let Some(spline) = &r.spline {
+                let path = staging.dir().join(format!("{}_filmstrip.png", r.key));
+                let name = format!("{}, whole optimum", r.label);
+                flip_filmstrip(&path, &r.problem, &name, spline)?;
+            }
+        }
+        Ok(staging.commit()?)
+    }
+}

@@ -1,0 +1,168 @@
+//! `catflip compare-models` (issue 22): the models it compares are the problem's cat on each
+//! joint (and the mean half's when the halves differ); each row's optimum is that model's, as its
+//! own exact engine measures it, and a model without an optimum is said, never a number.
+//!
+//! The comparisons here run on a coarse spline (40 control points, one start, no refinement) so
+//! that four models solve in a few seconds; the optimiser itself is tested in tests/whole*.rs.
+
+use catflip::compare_models::{compare_models, variants, ModelComparison};
+use catflip::engines::models::TwoMotorCat;
+use catflip::model::Joint;
+use catflip::problem::manoeuvre::BendPath;
+use catflip::problem::Problem;
+use catflip::schedule::Trajectory;
+
+fn preset(name: &str, extra: &[&str]) -> Problem {
+    let path = format!("problems/{name}.toml");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let overrides: Vec<String> = extra.iter().map(|s| s.to_string()).collect();
+    Problem::from_toml(&text, &path, &overrides).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+const COARSE: [&str; 3] = [
+    "optimize.whole.control_points=40",
+    "optimize.whole.switch_refinements=0",
+    "optimize.whole.starts=[\"cone-mirrored\"]",
+];
+
+fn coarse(name: &str) -> ModelComparison {
+    compare_models(&preset(name, &COARSE), false, "test").unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+#[test]
+fn equal_halves_are_compared_on_both_joints() {
+    let p = preset("paper", &[]);
+    let v = variants(&p).expect("valid models");
+    let keys: Vec<&str> = v.iter().map(|x| x.key.as_str()).collect();
+    assert_eq!(keys, ["universal", "no-twist"]);
+    for x in &v {
+        let cat = x.problem.cat.model();
+        assert!(cat.has_equal_halves(), "{}: {cat:?}", x.key);
+        assert_eq!(cat.front, p.cat.model().front, "{}: the problem's halves", x.key);
+    }
+    assert_eq!(v[0].problem.cat.joint, Joint::Universal);
+    assert_eq!(v[1].problem.cat.joint, Joint::NoTwist);
+    // Everything but the cat is the problem's.
+    assert_eq!(v[1].problem.drop, p.drop);
+    assert_eq!(v[1].problem.optimize, p.optimize);
+}
+
+#[test]
+fn unequal_halves_are_compared_with_their_mean_half() {
+    let p = preset("unequal-halves", &[]);
+    let v = variants(&p).expect("valid models");
+    let keys: Vec<&str> = v.iter().map(|x| x.key.as_str()).collect();
+    assert_eq!(keys, ["universal", "no-twist", "unequal-universal", "unequal-no-twist"]);
+    let (front, rear) = (p.cat.front(), p.cat.rear());
+    let mean = v[0].problem.cat.model().front;
+    assert!((mean.mass - 0.5 * (front.mass + rear.mass)).abs() < 1e-15, "{mean:?}");
+    assert!((mean.length - 0.5 * (front.length + rear.length)).abs() < 1e-15, "{mean:?}");
+    assert!(v[0].problem.cat.model().has_equal_halves() && v[1].problem.cat.model().has_equal_halves());
+    for x in &v[2..] {
+        let cat = x.problem.cat.model();
+        assert_eq!((cat.front, cat.rear), (front, rear), "{}", x.key);
+    }
+}
+
+#[test]
+fn the_cone_becomes_the_joint_circle_on_the_no_twist_joint() {
+    let p = preset("cone-calibrated", &[]);
+    assert_eq!(p.manoeuvre.bend_path, BendPath::Cone);
+    let v = variants(&p).expect("valid models");
+    assert_eq!(v[0].problem.manoeuvre.bend_path, BendPath::Cone, "the universal joint keeps the cone");
+    assert_eq!(v[1].problem.manoeuvre.bend_path, BendPath::JointCircle);
+}
+
+/// Each row's optimum is re-measured here by its own model's general core, independently of the
+/// optimiser's measurement: its flip (to 1e-9 rad) and its peak (dense samples, 1e-3 relative:
+/// the row's peak is refined between samples, so it may only be higher).
+#[test]
+fn every_row_is_its_own_models_optimum() {
+    let c = coarse("unequal-halves");
+    assert_eq!(c.rows.len(), 4);
+    for r in &c.rows {
+        let (Some(o), Some(spline)) = (&r.optimum, &r.spline) else {
+            panic!("{}: no optimum ({}); the coarse spline converges on every model", r.key, r.status)
+        };
+        let cat = r.problem.cat.model();
+        let model = TwoMotorCat::new(cat).expect("two motors");
+        let flip = model.flip(spline, 1e-11);
+        assert!((flip.twist.abs() - std::f64::consts::PI).abs() < 1e-9, "{}: twist {}", r.key, flip.twist);
+        assert!(flip.swing < 1e-9, "{}: swing {}", r.key, flip.swing);
+        assert!((flip.twist.to_degrees() - o.twist_deg).abs() < 1e-7, "{}: {} vs {}", r.key, flip.twist, o.twist_deg);
+        let n = 20_000;
+        let total = spline.total_duration();
+        let sampled = (0..=n)
+            .map(|k| {
+                let tau = model.joint_torques(&spline.state_at(total * k as f64 / n as f64)).tau;
+                tau[0].abs().max(tau[1].abs())
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            o.peak_torque_nm >= sampled * (1.0 - 1e-9),
+            "{}: row {} below sampled {sampled}",
+            r.key,
+            o.peak_torque_nm
+        );
+        assert!(
+            (o.peak_torque_nm - sampled) / sampled < 1e-3,
+            "{}: row {} vs sampled {sampled}",
+            r.key,
+            o.peak_torque_nm
+        );
+        assert_eq!(r.joint, cat.joint);
+        assert!(r.bend.iter().all(|(_, b)| *b >= 0.0 && *b <= o.max_bend_deg + 0.1), "{}: bend curve", r.key);
+    }
+    // The cheapest is the least peak, and the report leads with it.
+    let least = c.rows.iter().filter_map(|r| r.peak()).fold(f64::INFINITY, f64::min);
+    let best = c.cheapest_row().expect("a cheapest model");
+    assert_eq!(best.peak(), Some(least));
+    let md = c.to_markdown();
+    let lead = md.lines().find(|l| l.starts_with("**")).expect("a lead line");
+    assert!(lead.contains(&best.label), "lead {lead:?} should name {}", best.label);
+    // One CSV row per model, no NaN.
+    let csv = c.to_csv();
+    assert_eq!(csv.lines().count(), 1 + c.rows.len(), "{csv}");
+    assert!(!csv.contains("NaN") && !md.contains("NaN"), "{csv}\n{md}");
+}
+
+/// Models without an optimum are rows that say so: no numbers, no cheapest, and the files still
+/// written whole (the CLI then exits non-zero, tests/cli.rs).
+#[test]
+fn a_model_without_an_optimum_is_said_plainly() {
+    let mut extra = COARSE.to_vec();
+    extra.push("optimize.whole.max_iterations=2");
+    let c = compare_models(&preset("paper", &extra), false, "test").expect("runs");
+    assert!(c.cheapest.is_none(), "{:?}", c.cheapest);
+    for r in &c.rows {
+        assert!(r.optimum.is_none() && r.spline.is_none(), "{}: {}", r.key, r.status);
+        assert!(r.status.starts_with("no optimum"), "{}: {}", r.key, r.status);
+        assert!(r.schedule.is_some(), "{}: the library schedule is still measured", r.key);
+    }
+    let md = c.to_markdown();
+    assert!(md.contains("No model has an optimum"), "{md}");
+    assert!(md.contains("Why a model has no optimum"), "{md}");
+    let csv = c.to_csv();
+    for line in csv.lines().skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells[4], "no-optimum", "{line}");
+        assert!(cells[7].is_empty() && cells[8].is_empty(), "absent numbers are empty cells: {line}");
+    }
+}
+
+#[test]
+fn the_files_and_pictures_are_written_together() {
+    let c = coarse("kane-scher");
+    let out = std::env::temp_dir().join(format!("catflip-compare-models-{}", std::process::id()));
+    let dir = c.write(&out).expect("written");
+    for name in ["models.md", "models.csv", "models.json", "models_bend.png", "models_bend.svg"] {
+        assert!(dir.join(name).is_file(), "{name} missing in {}", dir.display());
+    }
+    for r in &c.rows {
+        assert!(dir.join(format!("{}_filmstrip.png", r.key)).is_file(), "{} filmstrip", r.key);
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("models.json")).expect("json")).expect("parses");
+    assert_eq!(json["rows"].as_array().map(Vec::len), Some(c.rows.len()));
+    let _ = std::fs::remove_dir_all(&out);
+}
