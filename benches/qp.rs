@@ -8,7 +8,9 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use catflip::optimize::qp::{solve_linearised_step, LinearisedStep, ProfileQp, QpSettings, QpStatus, TorqueSample};
+use catflip::optimize::conic::{QpSettings, QpStatus};
+use catflip::optimize::qp::ProfileQp;
+use catflip::optimize::refine::{solve_linearised_step, LinearisedStep, TorqueSample};
 use catflip::problem::settings::Boundary;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 

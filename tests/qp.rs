@@ -1,4 +1,5 @@
-//! The profile QP and the linearised step against closed forms (module docs of `catflip::optimize::qp`).
+//! The profile QP and the refinement's linearised step against closed forms (module docs of
+//! `catflip::optimize::qp` and `catflip::optimize::refine`'s step).
 //!
 //! Every reference value below is exact for the discrete problem unless a test says otherwise;
 //! the tolerances are Clarabel's (gap and feasibility 1e-8 on an order-one problem).
@@ -6,9 +7,9 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
-use catflip::optimize::qp::{
-    solve_linearised_step, LinearisedStep, ProfileQp, ProfileQpSolution, QpError, QpSettings, QpStatus, TorqueSample,
-};
+use catflip::optimize::conic::{ConicError, QpSettings, QpStatus};
+use catflip::optimize::qp::{ProfileQp, ProfileQpSolution, QpError};
+use catflip::optimize::refine::{solve_linearised_step, LinearisedStep, TorqueSample};
 use catflip::problem::settings::{Boundary, OptimizeSettings};
 use proptest::prelude::*;
 
@@ -244,14 +245,14 @@ fn bad_input_names_the_field() {
     ];
     for (problem, name) in cases {
         match problem.solve() {
-            Err(QpError::BadInput { field, .. }) => assert_eq!(field, name),
+            Err(QpError::Conic(ConicError::BadInput { field, .. })) => assert_eq!(field, name),
             other => panic!("{name}: expected BadInput, got {other:?}"),
         }
     }
     let bad_settings = QpSettings { tolerance: 0.0, ..Default::default() };
     assert!(matches!(
         qp(11, Boundary::RestToRest).solve_with(&bad_settings),
-        Err(QpError::BadInput { field: "tolerance", .. })
+        Err(QpError::Conic(ConicError::BadInput { field: "tolerance", .. }))
     ));
 }
 
@@ -403,11 +404,11 @@ fn a_gradient_naming_a_missing_node_is_rejected() {
     let start = cycloidal(11, 1.0);
     let samples = vec![TorqueSample { value: 1.0, gradient: vec![(11, 1.0)] }];
     let err = solve_linearised_step(&step_problem(&start, &samples, 1.0), &QpSettings::default());
-    assert!(matches!(err, Err(QpError::BadInput { field: "samples", .. })), "{err:?}");
+    assert!(matches!(err, Err(ConicError::BadInput { field: "samples", .. })), "{err:?}");
     let err = solve_linearised_step(&step_problem(&start, &[], 1.0), &QpSettings::default());
-    assert!(matches!(err, Err(QpError::BadInput { field: "samples", .. })), "{err:?}");
+    assert!(matches!(err, Err(ConicError::BadInput { field: "samples", .. })), "{err:?}");
     let err = solve_linearised_step(&step_problem(&start[..2], &samples, 1.0), &QpSettings::default());
-    assert!(matches!(err, Err(QpError::BadInput { field: "rates", .. })), "{err:?}");
+    assert!(matches!(err, Err(ConicError::BadInput { field: "rates", .. })), "{err:?}");
 }
 
 /// Samples shaped like the exact refinement's: each depends on its node's rate, its interval's

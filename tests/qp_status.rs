@@ -2,7 +2,8 @@
 //! never as NaN (issue 9, "NaN or no end, exit 0").
 #![deny(clippy::float_cmp)]
 
-use catflip::optimize::qp::{ProfileQp, QpError, QpSettings, QpStatus};
+use catflip::optimize::conic::{QpSettings, QpStatus};
+use catflip::optimize::qp::{ProfileQp, QpError};
 use catflip::problem::settings::Boundary;
 use catflip::problem::Problem;
 

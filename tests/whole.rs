@@ -4,7 +4,7 @@
 use approx::assert_relative_eq;
 use catflip::model::motor::Motors;
 use catflip::model::Cylinder;
-use catflip::optimize::qp::QpSettings;
+use catflip::optimize::conic::QpSettings;
 use catflip::optimize::whole::measure::chatter;
 use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};

@@ -12,7 +12,12 @@
 //! (per phase, per joint), and with the exact twist and swing for the problem's circulation and
 //! for the calibrated one (the calibrated circulation depends on the joint path only, so one
 //! calibration serves every profile).
+//!
+//! Every optimiser here (the profile QP, the refinement's step, the retiming, the whole
+//! manoeuvre) calls Clarabel through one layer, [`conic`]: its settings, its statuses, the sparse
+//! assembly and the solve. That layer imports none of them.
 
+pub mod conic;
 pub mod qp;
 pub mod refine;
 pub mod retime;
@@ -28,6 +33,7 @@ use crate::engines::resolved::Resolved;
 use crate::schedule::profile::Profile;
 use crate::schedule::variant::{Origin, Variant};
 use crate::schedule::{Phase, Schedule};
+use conic::ConicError;
 use qp::{ProfileQp, ProfileQpSolution, QpError};
 use refine::{rate_nodes, refine, with_phase_profile, Refinement};
 
@@ -37,9 +43,12 @@ pub enum OptimizeError {
     /// The problem asks for what this computation does not model.
     #[error(transparent)]
     Problem(#[from] crate::problem::ProblemError),
-    /// A QP's data was refused.
+    /// The profile QP's data was refused, or it has no solution.
     #[error(transparent)]
     Qp(#[from] QpError),
+    /// A refinement step's data was refused.
+    #[error(transparent)]
+    Conic(#[from] ConicError),
 }
 
 /// One optimised profile, evaluated.

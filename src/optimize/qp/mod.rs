@@ -1,6 +1,7 @@
-//! The profile QP: the circulation rate of least peak torque in the paper's model, and the
-//! linearised step of the exact-dynamics refinement (DESIGN.md §5). Both are solved with
-//! Clarabel.
+//! The profile QP: the circulation rate of least peak torque in the paper's model (DESIGN.md §5),
+//! solved with Clarabel through the conic layer ([`crate::optimize::conic`]). The constraints on
+//! the node rates are shared with the linearised step of the exact-dynamics refinement
+//! ([`crate::optimize::refine::solve_linearised_step`]), which imposes them on `ω + δ`.
 //!
 //! ## The profile QP
 //!
@@ -64,46 +65,28 @@
 //! - **Jerk limit, rest-to-rest, continuum limit**: the S-curve whose acceleration ramps at the
 //!   full jerk, `c = \hat J/4 − \sqrt{\hat J²/16 − 2 \hat J}`, feasible for `\hat J ≥ 32`.
 //!
-//! ## The linearised step
-//!
-//! For the exact-dynamics refinement, given node rates `ω`, torque samples `τ_j` with sparse
-//! gradients `g_j = ∂τ_j/∂ω` and a trust radius `Δ`, [`solve_linearised_step`] solves
-//!
-//! $$ \min_{δ, t}\; t \quad\text{s.t.}\quad |τ_j + g_j^{\mathsf T} δ| \le t,\; |δ_k| \le Δ, $$
-//!
-//! with the integral, boundary, rate and jerk constraints above imposed on `ω + δ`. Torques
-//! that depend on the angle `φ = ∫ω` have gradients with a long run of equal trapezoid weights
-//! on every earlier node, `O(N²)` nonzeros in all; such runs are rewritten exactly on the prefix
-//! sums `S_k = \hat h \sum_{m ≤ k} δ_m` (one equality each), which keeps the data `O(N)`.
-//!
 //! ## References
 //! - P. J. Goulart and Y. Chen, *Clarabel: An interior-point solver for conic programs with
 //!   quadratic objectives*, arXiv:2405.12762 (2024);
 //! - the paper, §4 (the circulation), §7 and §8 (the torque bound `τ₂ = I^* \dot ω₂`);
-//! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), ch. 4 and 18
-//!   (trust regions, sequential quadratic programming);
 //! - H. A. Rothbart, *Cam Design Handbook* (2004), for the classic acceleration coefficients.
 //!
 //! [`Profile::from_rate_nodes`]: crate::schedule::profile::Profile::from_rate_nodes
 
-pub(crate) mod assembly;
+mod nodes;
 mod problemdata;
-mod settings;
 mod solution;
-mod step;
 
 use crate::numeric::numfmt::{echo, num};
+use crate::optimize::conic::{ConicError, QpStatus};
 
+pub(crate) use nodes::NodeConstraints;
 pub use problemdata::ProfileQp;
-pub(crate) use settings::solve_clarabel;
-pub use settings::QpSettings;
-pub use solution::{ProfileQpSolution, QpStatus, SolveInfo};
-pub(crate) use step::active_sides;
-pub use step::{solve_linearised_step, LinearisedStep, StepSolution, TorqueSample};
+pub use solution::ProfileQpSolution;
 
-/// Why a QP could not be set up, or why its answer does not exist. How a Clarabel solve ended is
-/// the [`QpStatus`] of the solution; [`ProfileQpSolution::solved`] turns a status other than
-/// solved into [`QpError::NotSolved`] for a caller that needs the profile.
+/// Why the profile QP could not be set up, or why its answer does not exist. How a Clarabel solve
+/// ended is the [`QpStatus`] of the solution; [`ProfileQpSolution::solved`] turns a status other
+/// than solved into [`QpError::NotSolved`] for a caller that needs the profile.
 #[derive(Debug, thiserror::Error)]
 pub enum QpError {
     /// A closed-form bound proves the limits infeasible, before any solve (see
@@ -141,22 +124,9 @@ pub enum QpError {
         /// How Clarabel ended.
         status: QpStatus,
     },
-    /// An input has a value the QP cannot use. The problem's validation keeps every such input
-    /// out of reach of a problem file, so this is a bug to report, and reads as one.
-    #[error(
-        "internal error: the optimiser was handed {field} = {value} ({reason}); please report it with the problem file"
-    )]
-    BadInput {
-        /// The input's name, e.g. `nodes`.
-        field: &'static str,
-        /// The value found.
-        value: String,
-        /// Why it is rejected.
-        reason: String,
-    },
-    /// Clarabel refused the problem data or the settings.
-    #[error("Clarabel could not set up the QP: {0}")]
-    Setup(String),
+    /// An input the QP cannot use, or settings or data Clarabel refused.
+    #[error(transparent)]
+    Conic(#[from] ConicError),
 }
 
 /// A limit of the profile QP, as the problem file names it.
@@ -193,18 +163,3 @@ impl Limit {
 /// limit of `1e20` rad/s ended in NaN). No optimum comes near it: without limits the rate stays
 /// below `2|D|/T` and the steps of the acceleration below `8(N−1)|D|/T³` per node spacing.
 pub const MEANINGFUL_LIMIT_FACTOR: f64 = 1e4;
-
-/// A [`QpError::BadInput`].
-pub(crate) fn bad(field: &'static str, value: impl std::fmt::Display, reason: &str) -> QpError {
-    QpError::BadInput { field, value: value.to_string(), reason: reason.to_string() }
-}
-
-/// Requires a finite, strictly positive value.
-pub(crate) fn positive(field: &'static str, value: f64) -> Result<(), QpError> {
-    crate::problem::not_positive(value).map_or(Ok(()), |reason| Err(bad(field, value, reason)))
-}
-
-/// Requires an absent or finite, strictly positive value.
-pub(crate) fn positive_opt(field: &'static str, value: Option<f64>) -> Result<(), QpError> {
-    value.map_or(Ok(()), |v| positive(field, v))
-}

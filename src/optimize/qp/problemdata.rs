@@ -2,9 +2,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::assembly::{Assembly, Fold, NodeConstraints};
-use super::solution::{max_abs_difference, ProfileQpSolution, QpStatus};
-use super::{bad, positive, positive_opt, Limit, QpError, QpSettings, MEANINGFUL_LIMIT_FACTOR};
+use super::nodes::NodeConstraints;
+use super::solution::{max_abs_difference, ProfileQpSolution};
+use super::{Limit, QpError, MEANINGFUL_LIMIT_FACTOR};
+use crate::optimize::conic::{bad, positive, positive_opt, Assembly, Fold, QpSettings, QpStatus};
 use crate::problem::settings::{Boundary, OptimizeSettings};
 
 /// The profile QP of the module docs: the circulation rate on the twist phase with the least
@@ -66,17 +67,17 @@ impl ProfileQp {
     /// Checks every field; names the first one that is wrong.
     pub fn validate(&self) -> Result<(), QpError> {
         if self.nodes < 3 {
-            return Err(bad("nodes", self.nodes, "must be at least 3"));
+            return Err(bad("nodes", self.nodes, "must be at least 3").into());
         }
         positive("duration", self.duration)?;
         if !self.circulation.is_finite() || self.circulation == 0.0 {
-            return Err(bad("circulation", self.circulation, "must be finite and non-zero"));
+            return Err(bad("circulation", self.circulation, "must be finite and non-zero").into());
         }
         positive("inertia", self.inertia)?;
         positive_opt("rate_limit", self.rate_limit)?;
         positive_opt("jerk_limit", self.jerk_limit)?;
         if !self.smoothness.is_finite() || self.smoothness < 0.0 {
-            return Err(bad("smoothness", self.smoothness, "must be a finite, non-negative weight"));
+            return Err(bad("smoothness", self.smoothness, "must be a finite, non-negative weight").into());
         }
         Ok(())
     }

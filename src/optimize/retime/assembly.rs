@@ -11,8 +11,7 @@ use clarabel::solver::SupportedConeT;
 use super::problemdata::{PathPiece, PathProblem, Scales};
 use super::solution::{RawSolution, RetimeSolution};
 use super::RetimeError;
-use crate::optimize::qp::assembly::Rows;
-use crate::optimize::qp::solve_clarabel;
+use crate::optimize::conic::{solve_clarabel, Rows};
 
 /// Column indices of one piece's variables.
 #[derive(Clone, Copy)]

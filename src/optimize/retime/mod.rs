@@ -96,7 +96,7 @@ pub use settings::{RetimeSettings, Split};
 pub use solution::{PieceTiming, RetimeSolution, RetimeStatus};
 pub use trajectory::{retime, Remeasurement, RetimedTrajectory, Retiming};
 
-use crate::optimize::qp::QpError;
+use crate::optimize::conic::ConicError;
 
 /// Why a retiming could not be set up. How a solve ended (including infeasibility) is not an
 /// error: it is the [`RetimeStatus`] of the solution.
@@ -124,7 +124,7 @@ pub enum RetimeError {
     },
     /// Clarabel refused the data or the settings.
     #[error(transparent)]
-    Solver(#[from] QpError),
+    Solver(#[from] ConicError),
 }
 
 /// A [`RetimeError::BadInput`].

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{positive, RetimeError};
-use crate::optimize::qp::QpSettings;
+use crate::optimize::conic::QpSettings;
 
 /// How the total duration is shared between the pieces of the path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

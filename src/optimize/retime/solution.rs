@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use super::problemdata::{PathNode, PathPiece, PathProblem, Scales};
-use crate::optimize::qp::QpStatus;
+use crate::optimize::conic::QpStatus;
 
 /// How the retiming's solve ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

@@ -122,7 +122,7 @@ pub use starts::{build_start, build_start_spinning, NamedStart};
 
 use crate::engines::motors::RATIO_TOLERANCE;
 use crate::model::motor::Motors;
-use crate::optimize::qp::QpSettings;
+use crate::optimize::conic::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
 
 /// Optimality of the stages that only prepare a start (coarse spline, energy homotopy).

@@ -46,7 +46,7 @@ use super::spin::{spin_pass, Lift};
 use super::spline::BSpline;
 use super::subproblem::{Subproblem, BEND_PENALTY, LIMIT_PENALTY};
 use crate::model::motor::Motors;
-use crate::optimize::qp::QpSettings;
+use crate::optimize::conic::QpSettings;
 
 /// `|e|₁` below which the loop counts an iterate as flipping (the Newton phase finishes the job).
 const LOOP_FEASIBILITY: f64 = 1e-7;

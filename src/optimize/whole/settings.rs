@@ -21,7 +21,7 @@ pub enum WholeError {
     Settings(#[from] crate::problem::ProblemError),
     /// Clarabel refused a subproblem's data.
     #[error(transparent)]
-    Qp(#[from] crate::optimize::qp::QpError),
+    Conic(#[from] crate::optimize::conic::ConicError),
 }
 
 fn bad(field: &'static str, value: impl std::fmt::Display, reason: &str) -> WholeError {

@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::settings::Objective;
 use super::spline::BSpline;
 use crate::engines::motors::MotorDemand;
-use crate::optimize::qp::QpStatus;
+use crate::optimize::conic::QpStatus;
 
 /// How one start's optimisation ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]

@@ -29,8 +29,7 @@ use super::limits::{LimitRow, ROW_FLOOR};
 use super::sensitivity::{BendSample, TorqueSample};
 use super::settings::Objective;
 use super::spin::Lift;
-use crate::optimize::qp::assembly::Assembly;
-use crate::optimize::qp::{active_sides, QpError, QpSettings, QpStatus};
+use crate::optimize::conic::{active_sides, Assembly, ConicError, QpSettings, QpStatus};
 
 /// Weight of the bend limit's elastic variable, relative to the current objective, per unit of
 /// `cos β`. Far above the limit's multiplier (of order one in these units) yet not so far that the
@@ -169,7 +168,7 @@ impl Subproblem<'_> {
     }
 
     /// Assembles and solves the subproblem.
-    pub fn solve(&self, settings: &QpSettings) -> Result<Step, QpError> {
+    pub fn solve(&self, settings: &QpSettings) -> Result<Step, ConicError> {
         let n = self.values.len();
         let bound = n;
         let slack = n + usize::from(matches!(self.objective, Objective::Peak | Objective::MinTime));

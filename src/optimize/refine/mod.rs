@@ -14,7 +14,7 @@
 //!   `φ = φ_i + (3h/8) ω_i + (h/8) ω_{i+1}`, `φ̇ = (ω_i + ω_{i+1})/2`;
 //! - gradients: `∂τ/∂(φ, φ̇, φ̈)` by central differences of the exact torque (exact in `φ̈`,
 //!   in which the torque is affine), chained with those linear maps;
-//! - step: [`crate::optimize::qp::solve_linearised_step`] (Clarabel) with the integral, boundary and limit
+//! - step: [`solve_linearised_step`] (Clarabel) with the integral, boundary and limit
 //!   constraints on `ω + δ`; accepted when the exact twist-phase peak, evaluated densely by
 //!   [`crate::engines::torque::peak_torques`] (not only at the samples), falls by at least a tenth of the
 //!   predicted fall; the radius doubles after good agreement and, after poor, drops to half the
@@ -28,14 +28,18 @@
 //! ## References
 //! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), §4 and §18.
 
+mod step;
+
 use serde::Serialize;
 
 use crate::engines::torque::{joint_torques, piece_peaks, Peak};
 use crate::model::Cylinder;
-use crate::optimize::qp::{solve_linearised_step, LinearisedStep, QpError, QpSettings, QpStatus, TorqueSample};
+use crate::optimize::conic::{ConicError, QpSettings, QpStatus};
 use crate::problem::settings::{ExactSettings, OptimizeSettings};
 use crate::schedule::profile::Profile;
 use crate::schedule::{Phase, Schedule};
+
+pub use step::{solve_linearised_step, LinearisedStep, StepSolution, TorqueSample};
 
 /// How the refinement ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -232,7 +236,7 @@ pub fn refine(
     schedule: &Schedule,
     phase: Phase,
     start: &[f64],
-) -> Result<Refinement, QpError> {
+) -> Result<Refinement, ConicError> {
     let t2 = schedule.durations[phase.index()];
     let distance = schedule.progress_distance(phase);
     // Bend and unbend must start and end at rest; the twist phase takes the user's boundary.

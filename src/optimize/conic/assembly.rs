@@ -1,19 +1,20 @@
-//! Sparse assembly of both QPs in Clarabel's standard form, and the call to Clarabel.
+//! Sparse assembly of a QP in Clarabel's standard form, and its solve.
 //!
 //! Rows are collected as triplets, equalities (the zero cone) apart from inequalities (the
 //! nonnegative cone), and joined once into one `CscMatrix`: `Ax + s = b`, `s ∈ {0}^{m₁} × ℝ₊^{m₂}`.
-//! The constraints on the node rates that both QPs share (integral, boundary, rate, jerk, trust
-//! box) are written here once, on `v = offset + x`.
+//! The profile QP, the refinement's step and the whole manoeuvre's subproblems are built on
+//! [`Assembly`]; the retiming, whose rows include second-order cones, builds its own matrix from
+//! [`Rows`] and calls [`solve_clarabel`] itself.
 
 use std::collections::HashSet;
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::SupportedConeT;
 
-use super::settings::{solve_clarabel, QpSettings};
+use super::error::ConicError;
+use super::settings::QpSettings;
 use super::solution::{QpStatus, SolveInfo};
-use super::QpError;
-use crate::problem::settings::Boundary;
+use super::solve::solve_clarabel;
 
 /// Rows of one cone, as triplets (shared with the retiming's assembly).
 #[derive(Default)]
@@ -176,8 +177,7 @@ impl Assembly {
     }
 
     /// The sides `[+, −]` of [`Assembly::abs_at_most`] that `sides` keeps (the others screened
-    /// out as never binding, [`crate::optimize::qp::active_sides`]): `± (Σ val·x_col + constant)
-    /// ≤ x_bound`.
+    /// out as never binding, [`active_sides`]): `± (Σ val·x_col + constant) ≤ x_bound`.
     pub(crate) fn sides_at_most<I>(&mut self, entries: I, constant: f64, sides: [bool; 2], bound: usize)
     where
         I: Iterator<Item = (usize, f64)> + Clone,
@@ -213,7 +213,7 @@ impl Assembly {
 
     /// Solves with Clarabel; returns the primal iterate and Clarabel's account, whatever the
     /// status.
-    pub(crate) fn solve(self, settings: &QpSettings) -> Result<Solved, QpError> {
+    pub(crate) fn solve(self, settings: &QpSettings) -> Result<Solved, ConicError> {
         let (m_eq, m_ineq) = (self.eq.rhs.len(), self.ineq.rhs.len());
         let Assembly { n, q, p, eq, ineq } = self;
         let p = CscMatrix::new_from_triplets(n, n, p.row, p.col, p.val);
@@ -259,87 +259,15 @@ pub(crate) struct Solved {
     pub(crate) info: SolveInfo,
 }
 
-/// The constraints on normalised node rates `v = offset + x` (the first `nodes` variables `x`)
-/// that both QPs share; see the module docs. Limits are normalised, `None` for none.
-pub(crate) struct NodeConstraints<'a> {
-    pub(crate) nodes: usize,
-    pub(crate) boundary: Boundary,
-    /// `\hat R`.
-    pub(crate) rate_limit: Option<f64>,
-    /// `\hat J`.
-    pub(crate) jerk_limit: Option<f64>,
-    /// Box `|x_k| ≤ trust` on the step.
-    pub(crate) trust: Option<f64>,
-    /// Current rates when `x` is a step; `None` when `x` is the rates themselves.
-    pub(crate) offset: Option<&'a [f64]>,
-    /// Column of `a_0`: with a jerk limit, the `N − 1` variables `a_k = (v_{k+1} − v_k)/ĥ` (the
-    /// acceleration of the new rates) sit at `accel..accel + N − 1`; unused without one.
-    pub(crate) accel: usize,
-}
-
-impl NodeConstraints<'_> {
-    fn offset(&self, k: usize) -> f64 {
-        self.offset.map_or(0.0, |o| o[k])
-    }
-
-    /// How many acceleration variables the rows use: `N − 1` with a jerk limit, else none.
-    pub(crate) fn accel_count(&self) -> usize {
-        if self.jerk_limit.is_some() {
-            self.nodes - 1
-        } else {
-            0
-        }
-    }
-
-    /// Adds the rows to `asm`.
-    pub(crate) fn add_to(&self, asm: &mut Assembly) {
-        let n = self.nodes;
-        let h = 1.0 / (n - 1) as f64;
-        let weight = |k: usize| if k == 0 || k == n - 1 { 0.5 * h } else { h };
-
-        // Trapezoid integral of v is one.
-        let current: f64 = (0..n).map(|k| weight(k) * self.offset(k)).sum();
-        asm.equal((0..n).map(|k| (k, weight(k))), 1.0 - current);
-
-        // Boundary conditions.
-        asm.equal([(0, 1.0)], -self.offset(0));
-        if self.boundary == Boundary::RestToRest {
-            asm.equal([(n - 1, 1.0)], -self.offset(n - 1));
-        }
-
-        // Rate limit and trust box, one pair of rows per node.
-        if self.rate_limit.is_some() || self.trust.is_some() {
-            for k in 0..n {
-                let (mut lower, mut upper) = (f64::NEG_INFINITY, f64::INFINITY);
-                if let Some(r) = self.rate_limit {
-                    lower = -r - self.offset(k);
-                    upper = r - self.offset(k);
-                }
-                if let Some(t) = self.trust {
-                    lower = lower.max(-t);
-                    upper = upper.min(t);
-                }
-                asm.between(&[(k, 1.0)], lower, upper);
-            }
-        }
-
-        // Jerk limit on acceleration variables, as change of acceleration per step ĥ Ĵ, from and
-        // to zero acceleration at the ends. Posed as second differences of v, these rows slowed
-        // Clarabel down badly as N grew (rest-to-rest, Ĵ = 80: 57 iterations at N = 2000, not
-        // solved in 200 at N = 10⁵); on a_k they are two-term differences: 13, 25, 31, 36
-        // iterations at N = 200, 2000, 20000, 10⁵.
-        if let Some(j) = self.jerk_limit {
-            let a = |k: usize| self.accel + k;
-            for k in 0..n - 1 {
-                let current = (self.offset(k + 1) - self.offset(k)) / h;
-                asm.equal([(k + 1, 1.0 / h), (k, -1.0 / h), (a(k), -1.0)], -current);
-            }
-            let step = h * j;
-            asm.between(&[(a(0), 1.0)], -step, step);
-            for k in 1..n - 1 {
-                asm.between(&[(a(k), 1.0), (a(k - 1), -1.0)], -step, step);
-            }
-            asm.between(&[(a(n - 2), 1.0)], -step, step);
-        }
-    }
+/// Screening of the rows `±(τ + gᵀδ) ≤ t` of a minimax step (the refinement's linearised step,
+/// the whole manoeuvre's subproblems): given
+/// each sample's `(τ, r)`, where `r = Σ|g_k| Δ` bounds `|gᵀδ|` within the trust box
+/// `|δ_k| ≤ Δ`, the optimal peak is at least `L = max (|τ| − r)`, and a side whose largest
+/// value (`τ + r` for `+`, `r − τ` for `−`) is below `L` holds at every point with `t ≥ L`,
+/// which the row attaining `L` enforces. The sides `[+, −]` that can be active: leaving the
+/// others out changes neither the feasible set nor the step. Exact, and it makes the late,
+/// small-radius steps cheap.
+pub(crate) fn active_sides(spans: &[(f64, f64)]) -> Vec<[bool; 2]> {
+    let floor = spans.iter().map(|(tau, r)| tau.abs() - r).fold(f64::NEG_INFINITY, f64::max);
+    spans.iter().map(|(tau, r)| [tau + r >= floor, r - tau >= floor]).collect()
 }

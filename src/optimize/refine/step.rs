@@ -1,21 +1,38 @@
-//! The linearised step of the exact-dynamics refinement: one trust-region QP of a sequential
-//! QP on the node rates (module docs, "The linearised step").
+//! The linearised step of the exact-dynamics refinement: one trust-region LP of the sequential
+//! linear programming on the node rates (module docs of the refinement).
 //!
-//! The outer loop (not here) evaluates the exact torques `τ_j` at sample instants and their
-//! gradients with respect to the node rates, calls [`solve_linearised_step`], and accepts or
+//! Given node rates `ω`, torque samples `τ_j` with sparse gradients `g_j = ∂τ_j/∂ω` and a trust
+//! radius `Δ`, [`solve_linearised_step`] solves
+//!
+//! $$ \min_{δ, t}\; t \quad\text{s.t.}\quad |τ_j + g_j^{\mathsf T} δ| \le t,\; |δ_k| \le Δ, $$
+//!
+//! with the integral, boundary, rate and jerk constraints of the profile QP
+//! ([`crate::optimize::qp`]) imposed on `ω + δ`. Torques that depend on the angle `φ = ∫ω` have
+//! gradients with a long run of equal trapezoid weights on every earlier node, `O(N²)` nonzeros
+//! in all; such runs are rewritten exactly on the prefix sums `S_k = \hat h \sum_{m ≤ k} δ_m` (one
+//! equality each), which keeps the data `O(N)`.
+//!
+//! The outer loop ([`super::refine`]) evaluates the exact torques `τ_j` at sample instants and
+//! their gradients with respect to the node rates, calls [`solve_linearised_step`], and accepts or
 //! rejects `ω + δ` by a merit function, growing or shrinking the trust radius.
 //!
 //! Internally `δ = (D/T) \hat δ` (the normalisation of the profile QP) and `t = s_τ \hat t` with
-//! `s_τ = \max_j |τ_j|` (one when all vanish), so that the QP Clarabel sees is of order one;
+//! `s_τ = \max_j |τ_j|` (one when all vanish), so that the LP Clarabel sees is of order one;
 //! runs of equal gradient coefficients go onto prefix sums of `\hat δ` (see [`SampleRow`]).
+//! Rows that cannot bind within the trust box are screened out first
+//! ([`crate::optimize::conic`]'s `active_sides`; exact).
+//!
+//! ## References
+//! - J. Nocedal and S. J. Wright, *Numerical Optimization*, 2nd ed. (2006), ch. 4 and 18
+//!   (trust regions, sequential quadratic programming).
 
 use serde::Serialize;
 
-use super::assembly::{Assembly, NodeConstraints};
-use super::solution::{QpStatus, SolveInfo};
-use super::{bad, positive, positive_opt, QpError, QpSettings};
+use crate::optimize::conic::{
+    active_sides, bad, positive, positive_opt, Assembly, ConicError, QpSettings, QpStatus, SolveInfo,
+};
+use crate::optimize::qp::NodeConstraints;
 use crate::problem::settings::Boundary;
-
 /// One torque sample: its current value and its gradient with respect to the node rates.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TorqueSample {
@@ -47,7 +64,8 @@ pub struct LinearisedStep<'a> {
     pub jerk_limit: Option<f64>,
 }
 
-/// The answer of one linearised step, whatever the status (module docs of `solution`).
+/// The answer of one linearised step, whatever the status (a status short of solved is not an
+/// error; module docs of [`crate::optimize::conic`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StepSolution {
     /// How the solve ended.
@@ -63,7 +81,7 @@ pub struct StepSolution {
 
 impl LinearisedStep<'_> {
     /// Checks every input; names the first one that is wrong.
-    pub fn validate(&self) -> Result<(), QpError> {
+    pub fn validate(&self) -> Result<(), ConicError> {
         let n = self.rates.len();
         if n < 3 {
             return Err(bad("rates", format!("{n} nodes"), "need at least 3 nodes"));
@@ -100,7 +118,7 @@ impl LinearisedStep<'_> {
 /// Solves one linearised step (module docs): the step `δ` within the trust box that minimises
 /// the linear model's peak torque, with the integral, boundary and limits imposed on `ω + δ`.
 /// A solve that ends without a solution is not an error: its status says how it ended.
-pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings) -> Result<StepSolution, QpError> {
+pub fn solve_linearised_step(problem: &LinearisedStep<'_>, settings: &QpSettings) -> Result<StepSolution, ConicError> {
     solve_rows(problem, settings, screened)
 }
 
@@ -109,7 +127,7 @@ fn solve_rows<'s>(
     problem: &LinearisedStep<'s>,
     settings: &QpSettings,
     rows: impl Fn(&'s [TorqueSample], f64) -> Vec<(&'s TorqueSample, [bool; 2])>,
-) -> Result<StepSolution, QpError> {
+) -> Result<StepSolution, ConicError> {
     problem.validate()?;
     let n = problem.rates.len();
     let t = problem.duration;
@@ -172,18 +190,6 @@ fn screened(samples: &[TorqueSample], radius: f64) -> Vec<(&TorqueSample, [bool;
     let spans: Vec<(f64, f64)> =
         samples.iter().map(|s| (s.value, radius * s.gradient.iter().map(|(_, g)| g.abs()).sum::<f64>())).collect();
     samples.iter().zip(active_sides(&spans)).filter(|(_, sides)| sides[0] || sides[1]).collect()
-}
-
-/// Screening of the rows `±(τ + gᵀδ) ≤ t` of a minimax step (module docs of `refine`): given
-/// each sample's `(τ, r)`, where `r = Σ|g_k| Δ` bounds `|gᵀδ|` within the trust box
-/// `|δ_k| ≤ Δ`, the optimal peak is at least `L = max (|τ| − r)`, and a side whose largest
-/// value (`τ + r` for `+`, `r − τ` for `−`) is below `L` holds at every point with `t ≥ L`,
-/// which the row attaining `L` enforces. The sides `[+, −]` that can be active: leaving the
-/// others out changes neither the feasible set nor the step. Exact, and it makes the late,
-/// small-radius steps cheap.
-pub(crate) fn active_sides(spans: &[(f64, f64)]) -> Vec<[bool; 2]> {
-    let floor = spans.iter().map(|(tau, r)| tau.abs() - r).fold(f64::NEG_INFINITY, f64::max);
-    spans.iter().map(|(tau, r)| [tau + r >= floor, r - tau >= floor]).collect()
 }
 
 /// Runs of equal coefficients shorter than this stay as they are.
