@@ -943,18 +943,23 @@ fn edited_motor_cells_are_refused_by_the_merge() {
 
 #[test]
 fn a_min_time_case_without_a_flip_is_failed_with_its_reason_never_a_height() {
-    // One trust-region iteration cannot reach the flip: the row is `failed`, says why, and the
-    // report's drop-height table shows the reason where the height would be.
+    // One trust-region iteration converges nowhere: the row is `failed`, says why (a flip its
+    // last iterate may already be is named in the reason, not given as the least height), and
+    // the report's drop-height table shows the reason where the height would be.
     let s = whole_only("", &format!("{ROBOT}max_iterations = 1\n"));
     let records = evaluate(&s, 0..1, false);
     let r = &records[0];
     assert_eq!(r.status, Status::Failed, "{r:?}");
-    assert!(r.numbers.is_none() && r.reason.contains("no start converged to a flip"), "{}", r.reason);
+    assert!(
+        r.numbers.is_none() && r.reason.starts_with("no optimum: none of the 2 start(s) converged to a flip"),
+        "{}",
+        r.reason
+    );
     let csv = to_csv(&s, &records).expect("CSV");
     for c in ["drop_height_m", "fall_time_s", "peak_speed1_rad_s", "within_motors"] {
         assert_eq!(csv_cell(&csv, 1, c), "", "{c}");
     }
     let md = catflip::sweep::summary::body(&s, &records, &[]);
     let table = md.split("## Least drop height").nth(1).expect("the drop-height table");
-    assert!(table.contains("| — | — | failed: no start converged to a flip"), "{table}");
+    assert!(table.contains("| — | — | failed: no optimum: none of the 2 start(s) converged to a flip"), "{table}");
 }

@@ -318,3 +318,37 @@ fn a_joint_limit_shapes_the_starts_and_is_solved() {
         b.peak_torque_nm
     );
 }
+
+/// A start cut short by the iteration limit on an exact flip is a flip that exists, not an
+/// optimum: the outcome has no best, and its "no optimum" names that start, its status and its
+/// peak as the best flip found (the paper's starts converge in 25–31 iterations; at 15 both end
+/// at the limit, on the orientation constraint, which every trial point is projected onto).
+#[test]
+fn a_flip_cut_short_by_the_iteration_limit_is_named_but_is_not_an_optimum() {
+    let settings = WholeSettings { max_iterations: 15, ..WholeSettings::default() };
+    let outcome = optimize_whole(PAPER, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(outcome.best().is_none(), "a start converged in 15 iterations");
+    let flip = outcome.unconverged_flip(&settings, FLIP).expect("a start ends on a flip");
+    assert_eq!(flip.status, WholeStatus::MaxIterations);
+    // Re-measured here by the exact engine.
+    let f = catflip::engines::exact::flip(&PAPER, &flip.spline, 1e-10);
+    assert!((f.twist.abs() - PI).abs() <= FLIP && f.swing <= FLIP, "twist {} rad, swing {} rad", f.twist, f.swing);
+    // The lowest peak of the starts that flip.
+    for s in outcome.solutions.iter().filter(|s| s.flips(FLIP)) {
+        assert!(
+            flip.peak_torque_nm <= s.peak_torque_nm,
+            "{} {} below {}",
+            s.start,
+            s.peak_torque_nm,
+            flip.peak_torque_nm
+        );
+    }
+    let why = outcome.no_optimum(&settings, FLIP);
+    assert!(why.starts_with("no optimum: none of the 2 start(s) converged to a flip ("), "{why}");
+    let named = format!(
+        "the best flip found, not proved optimal: {} ended (max-iterations) on a flip within 1e-8 rad and the limits at peak {:.6} N·m",
+        flip.start, flip.peak_torque_nm
+    );
+    assert!(why.ends_with(&named), "{why}");
+}

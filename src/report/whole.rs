@@ -113,15 +113,7 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
     let best = outcome.best();
     let status = match best {
         Some(b) => b.status.to_string(),
-        None if outcome.solutions.is_empty() => format!(
-            "no optimum: no start could be built ({})",
-            outcome.skipped.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect::<Vec<_>>().join("; ")
-        ),
-        None => format!(
-            "no optimum: none of the {} start(s) converged to a flip ({})",
-            outcome.solutions.len(),
-            outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect::<Vec<_>>().join("; ")
-        ),
+        None => outcome.no_optimum(settings, p.exact.tolerance),
     };
     let peaks = best.map(|b| window_peaks(r, &cat, &b.spline, b.peak_torque_nm));
     let fall = best.map(|b| b.fall_time_s);

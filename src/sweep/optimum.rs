@@ -116,10 +116,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
     };
     let solver: Vec<String> = outcome.solutions.iter().map(|s| format!("{}: {}", s.start, s.status)).collect();
     let Some(best) = outcome.best() else {
-        let mut why: Vec<String> =
-            outcome.solutions.iter().map(|s| format!("{} {}: {}", s.start, s.status, s.reason)).collect();
-        why.extend(outcome.skipped.iter().map(|s| format!("{} skipped: {}", s.start, s.reason)));
-        let reason = format!("no start converged to a flip ({})", why.join("; "));
+        let reason = outcome.no_optimum(&problem.optimize.whole, problem.exact.tolerance);
         let labels = Labels { solver_status: solver.join("; "), ..Labels::default() };
         return Measured::alone(Row::without(SweepSchedule::Whole, Engine::Exact, Status::Failed, &reason, labels));
     };

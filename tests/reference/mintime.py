@@ -108,8 +108,9 @@ def qexp(v):
     return ca.vertcat(c, s * v)
 
 
-def build_step():
-    """Interval map: exact piecewise-cubic joint path, midpoint values, quaternion step."""
+def interval_map(om, tau):
+    """Interval map of A's rate `om(q, qd)` and the torques `tau(q, qd, qdd)`: exact
+    piecewise-cubic joint path, midpoint values, quaternion step."""
     q0, qd0, a0, q1, qd1, a1 = [ca.SX.sym(n, 2) for n in ('q0', 'qd0', 'a0', 'q1', 'qd1', 'a1')]
     u0, u1 = ca.SX.sym('u0', 4), ca.SX.sym('u1', 4)
     h = ca.SX.sym('h')
@@ -120,11 +121,14 @@ def build_step():
     qm = q0 + qd0 * h / 2 + a0 * h**2 / 8 + (a1 - a0) * h**2 / 48
     qdm = qd0 + a0 * h / 2 + (a1 - a0) * h / 8
     am = (a0 + a1) / 2
-    Om = F_OM(qm, qdm)
-    ru = u1 - qmul(u0, qexp(h * Om))
-    taum = F_TAU(qm, qdm, am)
+    ru = u1 - qmul(u0, qexp(h * om(qm, qdm)))
     return ca.Function('step', [q0, qd0, a0, q1, qd1, a1, u0, u1, h],
-                       [ca.vertcat(rq, rqd, ru), taum, qdm])
+                       [ca.vertcat(rq, rqd, ru), tau(qm, qdm, am), qdm])
+
+
+def build_step():
+    """The paper cat's interval map."""
+    return interval_map(F_OM, F_TAU)
 
 
 F_STEP = build_step()
@@ -151,12 +155,15 @@ def twist_swing(quat):
     return np.degrees(twist), np.degrees(swing)
 
 
-def reintegrate(T, tk, Q, QD, A):
-    """Orientation by solve_ivp (DOP853, rtol 1e-10) driven by the interpolated q(t).
+def reintegrate(T, tk, Q, QD, A, om=None):
+    """Orientation by solve_ivp (DOP853, rtol 1e-10) driven by the interpolated q(t), with A's
+    rate om(q, qd) (the paper cat's by default).
     Restarted on every block of intervals so the piecewise-cubic kinks do not stall it."""
+    om = F_OM if om is None else om
+
     def rhs(t, u):
         q, qd, _ = path_eval(t, tk, Q, QD, A)
-        Om = np.array(F_OM(q[:, 0], qd[:, 0])).ravel()
+        Om = np.array(om(q[:, 0], qd[:, 0])).ravel()
         w, x, y, z = u
         ox, oy, oz = Om
         return 0.5 * np.array([-x*ox - y*oy - z*oz, w*ox + y*oz - z*oy,

@@ -255,15 +255,11 @@ pub fn optimize_from_spinning(
     // The starts are independent: solved in parallel, reported in the order given.
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
-    let value = |s: &WholeSolution| match settings.objective {
-        Objective::Peak => s.peak_torque_nm,
-        Objective::Energy => s.energy,
-        Objective::MinTime => s.fall_time_s,
-    };
-    let mut solutions = solutions;
+    let value = |i: usize| solutions[i].value(settings.objective);
     let best = (0..solutions.len())
         .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
-        .min_by(|&a, &b| value(&solutions[a]).total_cmp(&value(&solutions[b])));
+        .min_by(|&a, &b| value(a).total_cmp(&value(b)));
+    let mut solutions = solutions;
     if let Some(b) = best.filter(|_| settings.objective != Objective::Energy && settings.switch_refinements > 0) {
         let refined = refine_solution(&problem, &solutions[b], tolerance)?;
         // A refinement that ended outside the tolerances leaves the best as it was.

@@ -5,7 +5,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-use super::settings::Objective;
+use super::settings::{Objective, WholeSettings};
 use super::spline::BSpline;
 use crate::engines::motors::MotorDemand;
 use crate::optimize::conic::QpStatus;
@@ -110,6 +110,24 @@ impl WholeSolution {
     pub fn flips(&self, tolerance: f64) -> bool {
         self.twist_error <= tolerance && self.swing <= tolerance
     }
+
+    /// Its value of `objective`: the peak torque (N·m), the energy (N²·m²·s) or the fall time (s).
+    pub fn value(&self, objective: Objective) -> f64 {
+        match objective {
+            Objective::Peak => self.peak_torque_nm,
+            Objective::Energy => self.energy,
+            Objective::MinTime => self.fall_time_s,
+        }
+    }
+}
+
+/// `objective`'s value with its name and unit, as a sentence fragment: "peak 0.464684 N·m".
+fn valued(objective: Objective, value: f64) -> String {
+    match objective {
+        Objective::Peak => format!("peak {value:.6} N·m"),
+        Objective::Energy => format!("energy {value:.6} N²·m²·s"),
+        Objective::MinTime => format!("fall time {value:.6} s"),
+    }
 }
 
 /// A start that could not be built.
@@ -137,5 +155,50 @@ impl WholeOutcome {
     /// The best solution, if any start converged to a flip.
     pub fn best(&self) -> Option<&WholeSolution> {
         self.best.map(|i| &self.solutions[i])
+    }
+
+    /// The lowest objective among the starts that did not converge but whose last iterate is
+    /// feasible: it flips the cat within `tolerance`, within the motors' limits and within the
+    /// bend limit of `settings` (each re-measured by the exact engine, as every start's is). A
+    /// schedule that exists, its value an upper bound on the optimum, though not proved a local
+    /// optimum. None when some start converged.
+    pub fn unconverged_flip(&self, settings: &WholeSettings, tolerance: f64) -> Option<&WholeSolution> {
+        if self.best.is_some() {
+            return None;
+        }
+        let most_bend = settings.min_angle_deg.map_or(f64::INFINITY, |a| 180.0 - a);
+        let objective = settings.objective;
+        self.solutions
+            .iter()
+            .filter(|s| s.status != WholeStatus::Converged && s.flips(tolerance))
+            .filter(|s| s.motors.within() && s.max_bend_deg <= most_bend)
+            .min_by(|a, b| a.value(objective).total_cmp(&b.value(objective)))
+    }
+
+    /// Why there is no optimum, in one sentence: how each start ended (and which could not be
+    /// built), and the best feasible schedule a start ended on without converging, when one did
+    /// ([`WholeOutcome::unconverged_flip`]).
+    pub fn no_optimum(&self, settings: &WholeSettings, tolerance: f64) -> String {
+        let objective = settings.objective;
+        let mut why: Vec<String> = self.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect();
+        why.extend(self.skipped.iter().map(|s| format!("{} not built: {}", s.start, s.reason)));
+        let mut line = if self.solutions.is_empty() {
+            format!("no optimum: no start could be built ({})", why.join("; "))
+        } else {
+            format!(
+                "no optimum: none of the {} start(s) converged to a flip ({})",
+                self.solutions.len(),
+                why.join("; ")
+            )
+        };
+        if let Some(s) = self.unconverged_flip(settings, tolerance) {
+            line.push_str(&format!(
+                "; the best flip found, not proved optimal: {} ended ({}) on a flip within {tolerance:.0e} rad and the limits at {}",
+                s.start,
+                s.status,
+                valued(objective, s.value(objective))
+            ));
+        }
+        line
     }
 }

@@ -189,19 +189,19 @@ fn whole_at(problem: &Problem, control_points: usize) -> Result<WholeOutcome, St
     .map_err(|e| e.to_string())
 }
 
-/// The best start's peak torque, N·m, or why there is none.
-fn whole_peak(outcome: &WholeOutcome) -> Result<f64, String> {
-    outcome.best().map(|b| b.peak_torque_nm).ok_or_else(|| {
-        let ends: Vec<String> = outcome.solutions.iter().map(|s| format!("{} {}", s.start, s.status)).collect();
-        format!("no start converged to a flip ({})", ends.join(", "))
-    })
+/// The best start's peak torque on `problem`, N·m, or why there is none.
+fn whole_peak(outcome: &WholeOutcome, problem: &Problem) -> Result<f64, String> {
+    outcome
+        .best()
+        .map(|b| b.peak_torque_nm)
+        .ok_or_else(|| outcome.no_optimum(&problem.optimize.whole, problem.exact.tolerance))
 }
 
 /// The whole-manoeuvre optimiser's curve on `problem` over control points per joint
 /// `control_points`, against the peak of a run at `reference_points` (module docs); with the
 /// report's note on the references.
 pub fn whole_curve(problem: &Problem, control_points: &[usize], reference_points: usize) -> (Curve, CurveNote) {
-    let reference = whole_at(problem, reference_points).and_then(|o| whole_peak(&o));
+    let reference = whole_at(problem, reference_points).and_then(|o| whole_peak(&o, problem));
     let settings: Vec<f64> = control_points.iter().map(|&n| n as f64).collect();
     let curve = Curve::sweep_with(
         "whole",
@@ -211,7 +211,7 @@ pub fn whole_curve(problem: &Problem, control_points: &[usize], reference_points
         |n| whole_at(problem, n as usize),
         |_, outcome: &WholeOutcome| {
             let reference = reference.clone().map_err(|why| format!("no reference: {why}"))?;
-            let peak = whole_peak(outcome)?;
+            let peak = whole_peak(outcome, problem)?;
             let best = outcome.best().ok_or("no best start")?;
             let landed = flip(&problem.cat.half(), &best.spline, problem.exact.tolerance);
             let violation = (flipped().inverse() * landed.orientation).angle();
