@@ -1,6 +1,6 @@
 //! The `catflip` command line: parses arguments and calls the library.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context;
@@ -92,6 +92,10 @@ enum Command {
         /// With --whole: also verify the optimum in rapier (its verdict against the exact engine).
         #[arg(long, requires = "whole")]
         verify: bool,
+        /// With --whole: also write the optimum's report, schedule file (CSV and sidecar),
+        /// URDF/MJCF and filmstrip into <out>/<name>-whole/ (the universal joint, no release spin).
+        #[arg(long, requires = "whole", value_name = "DIR")]
+        out: Option<PathBuf>,
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
         #[arg(long)]
         quiet: bool,
@@ -206,6 +210,23 @@ fn emit<T: serde::Serialize>(json: bool, value: &T, prose: impl FnOnce() -> Stri
 }
 
 /// The command line that regenerates a result, overrides quoted.
+/// With `--out`, the whole optimum's results folder (`catflip::report::whole_files`), and where
+/// it went on stderr; nothing without an optimum.
+fn write_whole(
+    out: Option<&Path>,
+    r: &Resolved,
+    report: &catflip::report::whole::WholeReport,
+    json: &impl serde::Serialize,
+    markdown: &str,
+    command: &str,
+) -> anyhow::Result<()> {
+    let Some(out) = out else { return Ok(()) };
+    if let Some(dir) = catflip::report::whole_files::write_whole(out, &r.problem, report, json, markdown, command)? {
+        eprintln!("wrote {}", dir.display());
+    }
+    Ok(())
+}
+
 fn regenerate(base: String, overrides: &[String]) -> String {
     overrides.iter().fold(base, |c, o| format!("{c} --set '{o}'"))
 }
@@ -274,20 +295,32 @@ fn run() -> anyhow::Result<()> {
             spinner.finish_and_clear();
             emit(common.json, &report, || report.to_markdown())?;
         }
-        Command::Optimize { common, whole: true, verify, quiet } => {
+        Command::Optimize { common, whole: true, verify, out, quiet } => {
             let problem = load(&common, None)?;
+            if out.is_some() {
+                catflip::report::whole_files::files_refusal(&problem)?;
+            }
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let report = catflip::report::whole::whole(&r)?;
             spinner.finish_and_clear();
             let found = report.best().is_some();
             let status = report.status.clone();
+            let verify_arg = if verify { " --verify" } else { "" };
+            let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
+            let command = regenerate(
+                format!("cargo run --release -- optimize {} --whole{verify_arg}{out_arg}", common.problem.display()),
+                &common.overrides,
+            );
+            let out = out.as_deref();
             if verify && found {
                 let spinner = progress(quiet || common.json, "optimize --whole --verify: rapier".into());
                 let check = catflip::report::whole_check::WholeCheck::new(&r, report)?;
                 spinner.finish_and_clear();
+                write_whole(out, &r, &check.report, &check, &check.to_markdown(), &command)?;
                 emit(common.json, &check, || check.to_markdown())?;
             } else {
+                write_whole(out, &r, &report, &report, &report.to_markdown(), &command)?;
                 emit(common.json, &report, || report.to_markdown())?;
             }
             if !found {

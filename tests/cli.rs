@@ -211,3 +211,61 @@ fn compare_models_says_when_no_model_has_an_optimum() {
     assert!(out.join("kane-scher-models").join("models.md").is_file());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `optimize --whole --out`: the optimum's folder holds its report, its schedule file and the
+/// model files, and the schedule file read back by `simulate --schedule` is the optimum (the
+/// flip and the peak of `whole.json`); a joint the files do not build is refused naming
+/// `cat.joint` before anything runs, and without an optimum nothing is written.
+#[test]
+fn optimize_whole_out_writes_a_schedule_file_that_reads_back_as_the_optimum() {
+    let out = scratch("optimize-whole");
+    let dir = out.display().to_string();
+    let coarse = [
+        "--set",
+        "optimize.whole.control_points=40",
+        "--set",
+        "optimize.whole.switch_refinements=0",
+        "--set",
+        "optimize.whole.starts=[\"cone-mirrored\"]",
+    ];
+    let mut args = vec!["optimize", "problems/unequal-halves.toml", "--whole", "--quiet", "--out", &dir];
+    args.extend(coarse);
+    let (code, _, err) = catflip(&args);
+    assert_eq!(code, 0, "{err}");
+    let folder = out.join("unequal-halves-whole");
+    for f in ["whole.md", "whole.json", "whole-optimum.csv", "whole-optimum.json", "model.urdf", "model.xml"] {
+        assert!(folder.join(f).is_file(), "{f} missing");
+    }
+    assert!(folder.join("whole_filmstrip.png").is_file(), "no filmstrip");
+    let md = std::fs::read_to_string(folder.join("whole.md")).expect("whole.md");
+    assert!(md.contains("Regenerate with `cargo run --release -- optimize problems/unequal-halves.toml --whole --out "));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("whole.json")).expect("whole.json")).expect("JSON");
+    let peak = json["peak_torque_nm"]["max"].as_f64().expect("the optimum's peak");
+    let csv = folder.join("whole-optimum.csv").display().to_string();
+    let (code, back, err) = catflip(&["simulate", "problems/unequal-halves.toml", "--schedule", &csv, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let back: serde_json::Value = serde_json::from_str(&back).expect("one JSON object");
+    let twist = back["twist_deg"].as_f64().expect("twist");
+    assert!((twist.abs() - 180.0).abs() <= 1e-6, "the file's flip {twist}°");
+    let read = back["peak_torque_nm"]["max"].as_f64().expect("peak");
+    // The CSV carries q, q̇, q̈ at full precision with rows at every knot, and a quintic Hermite
+    // between rows reproduces the cubic pieces between knots.
+    assert!((read - peak).abs() <= 1e-9 * peak, "the file's peak {read} N·m against the optimum's {peak}");
+    let _ = std::fs::remove_dir_all(&out);
+
+    let mut args = vec!["optimize", "problems/kane-scher.toml", "--whole", "--quiet", "--out", &dir];
+    args.extend(coarse);
+    let (code, _, err) = catflip(&args);
+    assert_ne!(code, 0);
+    assert!(err.contains("error: cat.joint = \"no-twist\": optimize --whole --out"), "{err}");
+    assert!(!out.exists(), "a refused --out writes nothing");
+
+    let mut args = vec!["optimize", "problems/unequal-halves.toml", "--whole", "--quiet", "--out", &dir];
+    args.extend(coarse);
+    args.extend(["--set", "optimize.whole.max_iterations=2"]);
+    let (code, _, err) = catflip(&args);
+    assert_ne!(code, 0);
+    assert!(err.contains("error: no optimum"), "{err}");
+    assert!(!out.exists(), "nothing is written without an optimum");
+}

@@ -4,7 +4,8 @@
 //! - [`simulate`], [`compare`], [`optimize`], [`mod@bench`]: the reports of `catflip simulate`,
 //!   `compare`, `optimize` and `bench`;
 //! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
-//! - [`whole`], [`whole_check`]: `catflip optimize --whole` and its rapier verification (`--verify`);
+//! - [`whole`], [`whole_check`], [`whole_files`]: `catflip optimize --whole`, its rapier
+//!   verification (`--verify`) and its results folder (`--out`);
 //! - [`audit`]: the paper's numbers, published, recomputed and corrected;
 //! - [`plot`]: charts and the animation; [`crate::exchange`]: schedules as CSV with URDF/MJCF;
 //! - [`robust`]: the robustness check's Markdown, CSV, plots and filmstrips;
@@ -23,3 +24,4 @@ pub mod run;
 pub mod simulate;
 pub mod whole;
 pub mod whole_check;
+pub mod whole_files;

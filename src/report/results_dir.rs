@@ -98,6 +98,17 @@ pub enum WriteError {
         /// The serialiser's error.
         source: serde_json::Error,
     },
+    /// The problem could not be written as TOML (the provenance header).
+    #[error("cannot write {what} as TOML: {source}")]
+    Toml {
+        /// What was written, e.g. "the problem".
+        what: &'static str,
+        /// The serialiser's error.
+        source: toml::ser::Error,
+    },
+    /// A schedule file.
+    #[error(transparent)]
+    Exchange(#[from] crate::exchange::ExchangeError),
 }
 
 /// One step of [`Staging::commit`], for [`Staging::commit_with`]'s hook.
