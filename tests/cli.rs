@@ -269,3 +269,30 @@ fn optimize_whole_out_writes_a_schedule_file_that_reads_back_as_the_optimum() {
     assert!(err.contains("error: no optimum"), "{err}");
     assert!(!out.exists(), "nothing is written without an optimum");
 }
+
+/// A rapier step too coarse for the tracked scene: a warning before the run, and when a trial
+/// diverges the run stops with one error naming the trial, the controller and `robust.dt_s`
+/// (the nominal paper cat's open loop diverges at t ≈ 0.18 s with a 1e-3 s step), nothing written.
+#[test]
+fn a_diverged_robust_trial_is_named_with_the_step_to_shorten() {
+    let out = scratch("robust-diverged");
+    let dir = out.display().to_string();
+    let (code, _, err) = catflip(&[
+        "robust",
+        "problems/paper.toml",
+        "--set",
+        "robust.engine=rapier",
+        "--set",
+        "robust.dt_s=1e-3",
+        "--set",
+        "robust.trials=2",
+        "--out",
+        &dir,
+    ]);
+    assert_ne!(code, 0, "{err}");
+    assert!(err.contains("warning: robust.dt_s = 0.001 with the open loop"), "{err}");
+    assert!(err.contains("error: robust: trial "), "{err}");
+    assert!(err.contains("(open loop) diverged in rapier"), "{err}");
+    assert!(err.contains("with robust.dt_s = 1e-3 s"), "{err}");
+    assert!(!out.exists(), "a stopped run writes nothing");
+}

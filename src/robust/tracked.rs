@@ -237,15 +237,29 @@ fn controlled(
     feedback: bool,
 ) -> Result<Robustness, RapierError> {
     let settings = problem.robust;
+    // A diverged run names its trial, its controller and the step.
+    let named = |trial: String| {
+        move |e: RapierError| match e {
+            RapierError::Diverged(at) => RapierError::TrialDiverged {
+                trial,
+                controller: if feedback { "attitude feedback" } else { "open loop" },
+                at,
+                dt: settings.dt_s,
+            },
+            other => other,
+        }
+    };
     let trials = (0..settings.trials)
         .into_par_iter()
         .map(|k| {
             let d = draw(problem, &settings, k);
-            setup.run(&d, noise_seed(settings.seed, Some(k)), Vec::new(), feedback).map(|r| r.0)
+            let run = setup.run(&d, noise_seed(settings.seed, Some(k)), Vec::new(), feedback);
+            run.map(|r| r.0).map_err(named(format!("trial {}", k + 1)))
         })
         .collect::<Result<Vec<Trial>, RapierError>>()?;
-    let (nominal, nominal_run) =
-        setup.run(&nominal_draw(problem), noise_seed(settings.seed, None), Vec::new(), feedback)?;
+    let (nominal, nominal_run) = setup
+        .run(&nominal_draw(problem), noise_seed(settings.seed, None), Vec::new(), feedback)
+        .map_err(named("the nominal cat".to_string()))?;
     let engine = if feedback { Engine::RapierFeedback } else { Engine::Rapier };
     let mut check = summarise(problem, schedule, engine, nominal, trials);
 

@@ -252,6 +252,19 @@ pub enum RapierError {
     /// The simulation produced non-finite numbers.
     #[error("the simulation diverged (non-finite state) at t = {0} s")]
     Diverged(f64),
+    /// A tracked trial of the robustness check diverged: which one, under which controller, when,
+    /// at which step.
+    #[error("robust: {trial} ({controller}) diverged in rapier (non-finite state) at t = {at:.4} s with robust.dt_s = {dt:e} s: the tracked scene is unstable at this step; shorten robust.dt_s (on the paper's cat trials diverge from 5e-4 s open loop and from 4e-4 s with feedback)")]
+    TrialDiverged {
+        /// "trial K" (from 1) or "the nominal cat".
+        trial: String,
+        /// "open loop" or "attitude feedback".
+        controller: &'static str,
+        /// When, s.
+        at: f64,
+        /// The rapier step, s.
+        dt: f64,
+    },
     /// The step is too coarse to resolve the shortest phase.
     #[error("rapier.dt = {dt} s leaves only {steps:.1} steps in the shortest phase ({phase} s); at least {min} are needed to measure its torques")]
     TooCoarse {
