@@ -270,7 +270,8 @@ fn optimize_whole_out_writes_a_schedule_file_that_reads_back_as_the_optimum() {
     assert!(!out.exists(), "nothing is written without an optimum");
 }
 
-/// A rapier step too coarse for the tracked scene: a warning before the run, and when a trial
+/// A rapier step too coarse for the tracked scene's servo: a warning before the run (its stiffest
+/// mode, 2π · 10 Hz · 1e-3 s · √1.2 · 5.8 = 0.40 rad per step), and when a trial
 /// diverges the run stops with one error naming the trial, the controller and `robust.dt_s`
 /// (the nominal paper cat's open loop diverges at t ≈ 0.18 s with a 1e-3 s step), nothing written.
 #[test]
@@ -290,7 +291,12 @@ fn a_diverged_robust_trial_is_named_with_the_step_to_shorten() {
         &dir,
     ]);
     assert_ne!(code, 0, "{err}");
-    assert!(err.contains("warning: robust.dt_s = 0.001 with the open loop"), "{err}");
+    assert!(
+        err.contains(
+            "warning: robust.servo_hz = 10 at robust.dt_s = 0.001 turns the servo's stiffest mode by 0.40 rad per step"
+        ),
+        "{err}"
+    );
     assert!(err.contains("error: robust: trial "), "{err}");
     assert!(err.contains("(open loop) diverged in rapier"), "{err}");
     assert!(err.contains("with robust.dt_s = 1e-3 s"), "{err}");

@@ -328,7 +328,10 @@ impl Problem {
                 self.manoeuvre.theta_deg
             ));
         }
-        out.extend(self.robust.warnings(self.drop.fall_time()));
+        // The tracked trials' servo is sized on the paper's half (robust, README "Robustness").
+        let half = self.cat.half();
+        let stiffening = (0.5 * half.end_transverse() / half.axial()).sqrt();
+        out.extend(self.robust.warnings(self.drop.fall_time(), stiffening));
         out
     }
 }
