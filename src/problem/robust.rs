@@ -17,7 +17,7 @@ pub const MAX_DT_S: f64 = 0.01;
 /// some trials of the paper's cat diverge).
 pub const FEEDBACK_DT_S: f64 = 3e-4;
 /// Largest `ω h` (rad per step) of the tracked trials' stiffest servo mode without a warning
-/// ([`RobustSettings::warnings`]). Measured on the paper's cat (stiffening 5.8), open loop: 48
+/// (a warning of [`crate::problem::Problem::warnings`]). Measured on the paper's cat (stiffening 5.8), open loop: 48
 /// trials at 4e-4 s (up to 0.16 with the gains drawn +20 %) run; at 5e-4 s (0.20) trial 3
 /// diverges, and the nominal cat (no gain drawn) at 1e-3 s (0.36); a fat nominal cat (r = 0.25 m,
 /// stiffening 2.4) runs at 1e-3 s (0.15), as the thin one does with a 3 Hz servo (0.11).
