@@ -128,7 +128,7 @@ struct Setup {
 }
 
 impl Setup {
-    fn new(problem: &Problem, traj: &impl Trajectory) -> Result<Setup, RapierError> {
+    fn new(problem: &Problem, traj: &(impl Trajectory + Sync)) -> Result<Setup, RapierError> {
         let s = &problem.robust;
         let duration = traj.total_duration();
         let steps = (duration / s.dt_s).ceil();

@@ -9,8 +9,8 @@
 //! flip is mass-free) and by its release spin. These are small perturbations of the plan, so the
 //! linearisation along it is the model a re-plan would locally solve anyway. Its Riccati sweep
 //! is done once per check, not per trial ([`lqr_gains`]; `benches/feedback.rs` on the paper's
-//! schedule at 1 kHz, a loaded two-core machine: 2.5 ms from the release, 0.8 ms from mid-fall,
-//! the linearisation 13 ms), and the loop then costs a 2 × 10 product per control step (a
+//! schedule at 1 kHz, a quiet two-core machine: 0.87 ms from the release, 0.44 ms from mid-fall,
+//! the linearisation 14.7 ms, its instants and nodes in parallel), and the loop then costs a 2 × 10 product per control step (a
 //! trial 217 ms against the open loop's 188 ms). A shrinking-horizon re-plan with the whole
 //! optimiser would be a nonlinear solve per step.
 //!
@@ -83,6 +83,7 @@
 use std::ops::{AddAssign, SubAssign};
 
 use nalgebra::{Matrix3, Matrix3x2, SMatrix, SVector, UnitQuaternion, Vector3};
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::control::{AttitudeEstimate, Controller, JointReading, PdGains, Plan};
@@ -98,6 +99,8 @@ pub const MAX_LAG: f64 = 2.0 * std::f64::consts::PI / 180.0;
 const RATE_SCALE: f64 = 0.1;
 /// Process noise of the attitude error in the filter, rad/√s: the linearisation's error.
 const ATTITUDE_WALK: f64 = 0.01;
+/// Run steps per parallel task of the linearisation (a task a few hundred µs long).
+const PARALLEL_CHUNK: usize = 512;
 /// Smallest measurement noise the filter assumes, rad (a noiseless sensor still rounds).
 const MIN_NOISE: f64 = 1e-5;
 
@@ -159,7 +162,7 @@ impl Linearisation {
     /// attitude to `tolerance`) at `rate_hz`.
     pub fn new(
         nominal: &Cylinder,
-        traj: &impl Trajectory,
+        traj: &(impl Trajectory + Sync),
         spin: &Vector3<f64>,
         tolerance: f64,
         plan: &Plan,
@@ -170,14 +173,20 @@ impl Linearisation {
         let pieces = Pieces::new(traj);
         let duration = pieces.duration();
         let (_, history) = SpinHistory::new(nominal, traj, spin, tolerance);
-        let attitudes: Vec<_> = (0..=n)
+        // Each instant and node from the history alone, so in parallel (the same bits at any
+        // number of threads).
+        let attitudes: Vec<_> = (0..n + 1)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK)
             .map(|k| {
                 let t = if k >= n { duration } else { k as f64 * plan.dt };
                 let (piece, s) = pieces.locate(t);
                 history.orientation(nominal, traj, piece, s)
             })
             .collect();
-        let nodes = (0..=n.div_ceil(stride))
+        let nodes = (0..n.div_ceil(stride) + 1)
+            .into_par_iter()
+            .with_min_len(PARALLEL_CHUNK / 8)
             .map(|i| {
                 let k = (i * stride).min(n);
                 node(nominal, plan.state(k).q, plan.state(k).qd, attitudes[k], spin)
@@ -291,7 +300,7 @@ impl FeedbackPlan {
     /// The regulator of `plan` ([`Linearisation::new`], [`lqr_gains`] from the release).
     pub fn new(
         nominal: &Cylinder,
-        traj: &impl Trajectory,
+        traj: &(impl Trajectory + Sync),
         spin: &Vector3<f64>,
         tolerance: f64,
         plan: &Plan,
