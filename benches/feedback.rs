@@ -2,7 +2,8 @@
 //! paper's schedule at the tracked check's step (100 µs) and regulator rate (1 kHz): the LQR
 //! gains re-solved from the middle of the fall and from the release (the backward Riccati
 //! sweep, issue 21 §3's "warm re-plan ≤ 10 ms"), the linearisation along the plan it starts
-//! from, and one tracked trial with feedback against one open loop.
+//! from (and the exact engine's integration of the plan inside it), and one tracked trial with
+//! feedback against one open loop.
 //!
 //! Run with `cargo bench --bench feedback`.
 
@@ -15,6 +16,7 @@ use catflip::engines::rapier::{
     lqr_gains, track, AttitudeSensor, FeedForwardPd, Feedback, FeedbackPlan, FeedbackSettings, Linearisation, PdGains,
     Plan, RapierOptions, TrackOptions,
 };
+use catflip::engines::spin::SpinHistory;
 use catflip::model::motor::Motors;
 use catflip::schedule::Trajectory;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -43,6 +45,9 @@ fn feedback(c: &mut Criterion) {
             b.iter(|| lqr_gains(&fb.linearisation, &settings, *from))
         });
     }
+    g.bench_function("exact history (part of the linearisation)", |b| {
+        b.iter(|| SpinHistory::new(&p.cat.half(), &s, &Vector3::zeros(), p.exact.tolerance))
+    });
     g.bench_function("linearisation", |b| {
         b.iter(|| Linearisation::new(&p.cat.half(), &s, &Vector3::zeros(), p.exact.tolerance, &plan, 1000.0))
     });

@@ -10,8 +10,8 @@
 //! linearisation along it is the model a re-plan would locally solve anyway. Its Riccati sweep
 //! is done once per check, not per trial ([`lqr_gains`]; `benches/feedback.rs` on the paper's
 //! schedule at 1 kHz, a quiet two-core machine: 0.87 ms from the release, 0.44 ms from mid-fall,
-//! the linearisation 14.7 ms, its instants and nodes in parallel), and the loop then costs a 2 × 10 product per control step (a
-//! trial 217 ms against the open loop's 188 ms). A shrinking-horizon re-plan with the whole
+//! the linearisation 14.1–14.7 ms, its instants and nodes in parallel), and the loop then costs a
+//! 2 × 10 product per control step (a trial 217 ms against the open loop's 188 ms). A shrinking-horizon re-plan with the whole
 //! optimiser would be a nonlinear solve per step.
 //!
 //! Measured on the paper's whole optimum (`catflip robust problems/paper.toml --schedule
@@ -99,8 +99,11 @@ pub const MAX_LAG: f64 = 2.0 * std::f64::consts::PI / 180.0;
 const RATE_SCALE: f64 = 0.1;
 /// Process noise of the attitude error in the filter, rad/√s: the linearisation's error.
 const ATTITUDE_WALK: f64 = 0.01;
-/// Run steps per parallel task of the linearisation (a task a few hundred µs long).
-const PARALLEL_CHUNK: usize = 512;
+/// Instants per parallel task of the linearisation (one Runge–Kutta step, four rate
+/// evaluations, each): a task holds thousands of evaluations, not one.
+const INSTANTS_PER_TASK: usize = 512;
+/// Nodes per parallel task of the linearisation (eleven rate evaluations each).
+const NODES_PER_TASK: usize = 64;
 /// Smallest measurement noise the filter assumes, rad (a noiseless sensor still rounds).
 const MIN_NOISE: f64 = 1e-5;
 
@@ -177,7 +180,7 @@ impl Linearisation {
         // number of threads).
         let attitudes: Vec<_> = (0..n + 1)
             .into_par_iter()
-            .with_min_len(PARALLEL_CHUNK)
+            .with_min_len(INSTANTS_PER_TASK)
             .map(|k| {
                 let t = if k >= n { duration } else { k as f64 * plan.dt };
                 let (piece, s) = pieces.locate(t);
@@ -186,7 +189,7 @@ impl Linearisation {
             .collect();
         let nodes = (0..n.div_ceil(stride) + 1)
             .into_par_iter()
-            .with_min_len(PARALLEL_CHUNK / 8)
+            .with_min_len(NODES_PER_TASK)
             .map(|i| {
                 let k = (i * stride).min(n);
                 node(nominal, plan.state(k).q, plan.state(k).qd, attitudes[k], spin)
