@@ -4,6 +4,7 @@ the report they come with."""
 import csv
 import io
 import json
+import signal
 import threading
 import _thread
 import time
@@ -94,6 +95,11 @@ def test_sweep_records_are_the_clis_table(tmp_path, cli):
 def test_interrupt_raises_at_once_and_the_gil_is_free():
     """Ctrl-C (here ``_thread.interrupt_main``) during a long call raises KeyboardInterrupt from
     inside the call; a Python thread runs meanwhile (the GIL is released)."""
+    # A process started in the background by a shell without job control (`cmd &`, as a CI
+    # runner may start this suite) inherits SIGINT ignored, so Python installs no handler and
+    # `interrupt_main` does nothing (Python docs, `_thread.interrupt_main`). Ctrl-C at a
+    # terminal reaches Python's own handler, which is the case under test: install it here.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     problem = catflip.load(PROBLEMS / "servo.toml")
     ticks = []
     stop = threading.Event()
@@ -118,6 +124,7 @@ def test_interrupt_raises_at_once_and_the_gil_is_free():
         timer.cancel()
         stop.set()
         counter.join()
+        signal.signal(signal.SIGINT, previous)
     assert not returned, "the call ran to its end: the interrupt was not delivered inside it"
     assert len(ticks) >= 3, "the counting thread did not run while the call waited"  # 0 or 1 if it held the GIL
     # The package goes on working (the interrupted computation finishes in the background).
