@@ -27,13 +27,15 @@ from collections import defaultdict
 
 # The pipeline, top to bottom: a stage may import only from the stages before it. `numeric` is
 # the math with no physics in it; `problem` reads a `model::Cylinder`; `exchange` (files in and
-# out) sits below the engines and above the presentation (`report`), which `sweep` uses; the
+# out) sits above the engines; `measure` computes what each command answers (every schedule
+# measured into one `engines::measured::Measured`), and `report` only renders it; `sweep` uses
+# both; the
 # `prelude` only re-exports, and nothing in the library imports it. `compare_models`, like `sweep`,
 # runs whole reports (the whole optimum, its verification) for several cats and renders its own
 # table with `report`'s plots.
 STAGES = [
-    "numeric", "model", "problem", "schedule", "engines", "optimize", "exchange", "robust", "report", "sweep",
-    "compare_models", "prelude",
+    "numeric", "model", "problem", "schedule", "engines", "optimize", "exchange", "robust", "measure", "report",
+    "sweep", "compare_models", "prelude",
 ]
 
 # Known upward imports not yet removed, each with the reason and who removes it. The list only

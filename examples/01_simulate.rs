@@ -1,6 +1,7 @@
 //! Step 1 of the ladder: load a problem, resolve it once (its schedule and circulation) and
-//! simulate the schedule with the exact engine (zero angular momentum, DESIGN.md §2): the twist,
-//! the swing and the peak joint torque.
+//! measure the schedule with the exact engine (zero angular momentum, DESIGN.md §2): the twist,
+//! the swing and the peak joint torque. Every command measures every schedule this way, into one
+//! noun, [`Measured`].
 //!
 //! `cargo run --release --example 01_simulate [PROBLEM.toml]` (default problems/paper.toml).
 //! Next: `02_compare`.
@@ -14,7 +15,8 @@ fn main() -> anyhow::Result<()> {
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
     // Any cat model the problem file describes (`[cat] joint`, `[cat.front]`, `[cat.rear]`).
-    let e = resolved.evaluate(&resolved.schedule)?;
+    let measured = resolved.measure(ScheduleName::Problem, resolved.schedule.clone());
+    let e = &measured.exact;
     println!("{}: circulation {:.6} rad ({})", problem.name, resolved.circulation.radians, resolved.circulation.source);
     println!(
         "exact engine: twist {:+.4}°, swing {:.4}°, peak torque {:.4} N·m (integration converged: {})",

@@ -12,14 +12,8 @@ fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "problems/paper.toml".to_string());
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
-    let own = Evaluation::new(
-        &problem.cat.half(),
-        &resolved.schedule,
-        &problem.drop.spin(),
-        &problem.actuator.motors(),
-        &problem.exact,
-    );
-    println!("the problem's schedule: peak torque {:.4} N·m", own.peaks.max);
+    let own = resolved.own();
+    println!("the problem's schedule: peak torque {:.4} N·m", own.exact.peak());
 
     let retimed = retime_schedule(&problem.cat.half(), &resolved.schedule, RetimeSettings::default())?;
     let s = &retimed.solution;
@@ -34,13 +28,17 @@ fn main() -> anyhow::Result<()> {
         problem.exact.tolerance,
     )?;
     match whole.best() {
-        Some(b) => println!(
-            "whole manoeuvre ({} start): peak {:.4} N·m, twist {:+.4}°, {:.0}× below the problem's schedule",
-            b.start,
-            b.peak_torque_nm,
-            b.twist.to_degrees(),
-            own.peaks.max / b.peak_torque_nm
-        ),
+        Some(b) => {
+            // The optimum measured as every schedule is.
+            let optimum = resolved.measure(ScheduleName::WholeOptimum, b.spline.clone());
+            println!(
+                "whole manoeuvre ({} start): peak {:.4} N·m, twist {:+.4}°, {:.0}× below the problem's schedule",
+                b.start,
+                optimum.exact.peak(),
+                optimum.exact.twist_deg(),
+                own.exact.peak() / optimum.exact.peak()
+            )
+        }
         None => println!("whole manoeuvre: no start converged to a flip"),
     }
     Ok(())

@@ -12,11 +12,13 @@ fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "problems/paper.toml".to_string());
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
-    // The exact engine's numbers on the problem's cat (equal or unequal halves), then rapier's.
-    let e = resolved.evaluate(&resolved.schedule)?;
-    let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
-    let v = verify(resolved.model(), &resolved.schedule, &problem.rapier, &reference)?;
-    let steps: Vec<String> = v.dt_sequence.iter().map(|dt| format!("{dt:.2e}")).collect();
-    println!("rapier at dt = {} s: {}", steps.join(", "), v.verdict);
+    // The exact engine's numbers on the problem's cat (equal or unequal halves), then rapier's
+    // check of them: the step halved until rapier's own error estimate meets `[rapier]`.
+    let mut measured = resolved.measure(ScheduleName::Problem, resolved.schedule.clone());
+    measured.verify(resolved.rig())?;
+    if let Some(v) = measured.verification() {
+        let steps: Vec<String> = v.dt_sequence.iter().map(|dt| format!("{dt:.2e}")).collect();
+        println!("rapier at dt = {} s: {}", steps.join(", "), v.verdict);
+    }
     Ok(())
 }

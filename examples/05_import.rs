@@ -12,24 +12,18 @@ fn main() -> anyhow::Result<()> {
     let path = std::env::args().nth(1).unwrap_or_else(|| "problems/paper.toml".to_string());
     let problem = Problem::load(Path::new(&path), &[])?;
     let resolved = Resolved::new(&problem)?;
-    let file = write_schedule(&problem, &resolved.schedule, "problem", &ExportOptions::default())?;
+    let measured = resolved.own();
+    let file = write_schedule(&problem, measured, &ExportOptions::default())?;
     let csv = std::env::temp_dir().join(format!("catflip-05_import-{}.csv", std::process::id()));
     std::fs::write(&csv, &file.csv)?;
     let imported = read_schedule(&csv)?;
-    let report = catflip::exchange::evaluate(&problem, &imported)?;
+    let rows = imported.rows;
+    // Checked (units, ends, sampling) and measured as every schedule is.
+    let read_back = catflip::measure::import::measure_import(&problem, imported)?;
     std::fs::remove_file(&csv)?;
-    let e = Evaluation::new(
-        &problem.cat.half(),
-        &resolved.schedule,
-        &problem.drop.spin(),
-        &problem.actuator.motors(),
-        &problem.exact,
-    );
-    println!("{} rows read back from {}", report.rows, csv.display());
-    println!("twist {:+.6}° from the file, {:+.6}° from the schedule", report.figures.twist_deg, e.twist_deg());
-    println!(
-        "peak torque {:.4} N·m from the file, {:.4} N·m from the schedule",
-        report.peak_torque_nm.max, e.peaks.max
-    );
+    let (file_e, e) = (&read_back.measured.exact, &measured.exact);
+    println!("{rows} rows read back from {}", csv.display());
+    println!("twist {:+.6}° from the file, {:+.6}° from the schedule", file_e.twist_deg(), e.twist_deg());
+    println!("peak torque {:.4} N·m from the file, {:.4} N·m from the schedule", file_e.peak(), e.peak());
     Ok(())
 }

@@ -16,8 +16,8 @@ use catflip::engines::exact::flip;
 use catflip::engines::models::TwoMotorCat;
 use catflip::engines::rapier::{simulate_with, RapierOptions};
 use catflip::engines::resolved::Resolved;
+use catflip::measure::bench::engines::FinalAngles;
 use catflip::problem::{Problem, ProfileKind};
-use catflip::report::bench::engines::FinalAngles;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -215,7 +215,7 @@ fn emit<T: serde::Serialize>(json: bool, value: &T, prose: impl FnOnce() -> Stri
 fn write_whole(
     out: Option<&Path>,
     r: &Resolved,
-    report: &catflip::report::whole::WholeReport,
+    report: &catflip::measure::whole::WholeReport,
     json: &impl serde::Serialize,
     markdown: &str,
     command: &str,
@@ -254,7 +254,7 @@ fn run() -> anyhow::Result<()> {
             let problem = load(&common, None)?;
             problem.require_no_spin("the audit of the paper's numbers")?;
             let r = resolve(&problem, common.json)?;
-            let audit = catflip::report::audit::audit_with_exact(&r)?;
+            let audit = catflip::measure::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
         Command::Simulate { common, engine, dt, schedule } => {
@@ -269,11 +269,7 @@ fn run() -> anyhow::Result<()> {
                 // warnings are not printed: the import's checks say what applies.
                 let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
                 let imported = catflip::exchange::read_schedule(&file)?;
-                let exact = catflip::exchange::evaluate(&problem, &imported)?;
-                let report = match engine {
-                    Engine::Exact => exact,
-                    Engine::Rapier => catflip::exchange::evaluate_rapier(&problem, &imported, &exact)?.into_report()?,
-                };
+                let report = catflip::report::import::simulate_import(&problem, imported, engine)?;
                 if !common.json {
                     for w in &report.warnings {
                         eprintln!("warning: {w}");
@@ -293,6 +289,7 @@ fn run() -> anyhow::Result<()> {
             let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
             let report = catflip::optimize::optimize(&r)?;
             spinner.finish_and_clear();
+            let report = report.to_json(&r.model().cat().rear);
             emit(common.json, &report, || report.to_markdown())?;
         }
         Command::Optimize { common, whole: true, verify, out, quiet } => {
@@ -302,7 +299,7 @@ fn run() -> anyhow::Result<()> {
             }
             let r = resolve(&problem, common.json)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
-            let report = catflip::report::whole::whole(&r)?;
+            let mut report = catflip::measure::whole::whole(&r)?;
             spinner.finish_and_clear();
             let found = report.best().is_some();
             let status = report.status.clone();
@@ -315,7 +312,8 @@ fn run() -> anyhow::Result<()> {
             let out = out.as_deref();
             if verify && found {
                 let spinner = progress(quiet || common.json, "optimize --whole --verify: rapier".into());
-                let check = catflip::report::whole_check::WholeCheck::new(&r, report)?;
+                report.verify(&r)?;
+                let check = catflip::report::whole_check::WholeCheck::new(report);
                 spinner.finish_and_clear();
                 write_whole(out, &r, &check.report, &check, &check.to_markdown(), &command)?;
                 emit(common.json, &check, || check.to_markdown())?;
@@ -397,7 +395,7 @@ fn run() -> anyhow::Result<()> {
                 Some(file) => {
                     let imported = catflip::exchange::read_schedule(file)?;
                     // The import's own checks (units, ends, sampling) apply to the file.
-                    for w in catflip::exchange::evaluate(&problem, &imported)?.warnings {
+                    for w in catflip::measure::import::measure_import(&problem, imported.clone())?.warnings {
                         eprintln!("warning: {w}");
                     }
                     let mut report = catflip::robust::check(&problem, &imported, &file.display().to_string())?;

@@ -1,4 +1,4 @@
-//! Tests of the paper audit (`catflip::report::audit`).
+//! Tests of the paper audit (`catflip::measure::audit`).
 //!
 //! Reference values cite their source: "paper §7" for the printed numbers of the worked example
 //! (m = 1, l = 1, r = 0.1, θ = π/4, h = 10, g = 9.8), or a hand calculation written out here.
@@ -6,14 +6,14 @@
 use std::f64::consts::PI;
 
 use approx::{assert_abs_diff_eq, assert_relative_eq};
-use catflip::model::Cylinder;
-use catflip::problem::Problem;
-use catflip::report::audit::formulas::{
+use catflip::measure::audit::formulas::{
     first_root_theta, k_consistent, k_paper, one_turn_printed_argument, one_turn_residual_consistent,
     one_turn_residual_paper, sin_half_root, whole_cat_moments,
 };
-use catflip::report::audit::readings::{ranked, NEAREST};
-use catflip::report::audit::{audit, is_worked_example, Audit, AuditError, ALPHA_ONE_TURN};
+use catflip::measure::audit::readings::{ranked, NEAREST};
+use catflip::measure::audit::{audit, is_worked_example, Audit, AuditError, ALPHA_ONE_TURN};
+use catflip::model::Cylinder;
+use catflip::problem::Problem;
 use proptest::prelude::*;
 
 fn paper() -> Audit {
@@ -370,7 +370,7 @@ fn exact_column_holds_the_exact_engine_numbers() {
     // the audit's `exact` column; each is checked against a direct call of the engine.
     let p = catflip::problem::Problem::default();
     let resolve = || catflip::engines::resolved::Resolved::new(&p).expect("the paper's schedule resolves");
-    let a = catflip::report::audit::audit_with_exact(&resolve()).expect("every key is the audit's own");
+    let a = catflip::measure::audit::audit_with_exact(&resolve()).expect("every key is the audit's own");
     let r = catflip::report::simulate::simulate(&resolve(), catflip::engines::Engine::Exact).expect("runs");
     let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);
     let pk = r.peak_torque_nm;
@@ -386,7 +386,7 @@ fn exact_column_holds_the_exact_engine_numbers() {
 #[test]
 fn a_reading_of_the_papers_ingredients_gives_its_omega_within_0_05_percent() {
     // Paper §7 prints ω ≈ 2.2514 rad/s and τ ≈ 1.655 N·m; the search tries the grid of
-    // catflip::report::audit::readings over the worked example.
+    // catflip::measure::audit::readings over the worked example.
     let a = paper();
     let search = a.omega_readings.as_ref().unwrap_or_else(|| panic!("the worked example has no reading search"));
     assert_eq!(search.tried, ranked(&Problem::default()).len());

@@ -1,4 +1,4 @@
-//! `catflip bench`'s optimiser curves and tables (`catflip::report::bench`): the retiming and the
+//! `catflip bench`'s optimiser curves and tables (`catflip::measure::bench`): the retiming and the
 //! whole-manoeuvre optimiser converge along their sweeps, and no table, CSV or JSON prints a NaN.
 //! No timing is asserted (timing belongs in `benches/`).
 
@@ -6,9 +6,9 @@
 
 mod common;
 
-use catflip::report::bench::curve::{Curve, Outcome, Timing};
-use catflip::report::bench::random::run_many;
-use catflip::report::bench::{optimizers, stress, BenchReport};
+use catflip::measure::bench::curve::{Curve, Outcome, Timing};
+use catflip::measure::bench::random::run_many;
+use catflip::measure::bench::{optimizers, stress, BenchReport};
 
 use common::paper_resolved;
 

@@ -11,6 +11,8 @@
 //! - each command that models the paper's cat only refuses another, naming the field.
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use std::path::Path;
 
 use catflip::engines::circulation::CirculationError;
@@ -34,7 +36,7 @@ fn equal_halves_written_out_are_the_shorthands_cat_to_the_last_bit() {
     q.cat.rear = Some(half);
     assert!(q.cat.is_paper());
     let (a, b) = (Resolved::new(&p).expect("resolves"), Resolved::new(&q).expect("resolves"));
-    let (ea, eb) = (a.evaluate(&a.schedule).expect("runs"), b.evaluate(&b.schedule).expect("runs"));
+    let (ea, eb) = (a.evaluate(&a.schedule), b.evaluate(&b.schedule));
     assert_eq!(ea.flip.twist.to_bits(), eb.flip.twist.to_bits());
     assert_eq!(ea.peaks.max.to_bits(), eb.peaks.max.to_bits());
 }
@@ -45,7 +47,7 @@ fn kane_and_schers_cat_turns_by_exactly_pi_with_the_papers_circulation() {
         let p = load("kane-scher", &[&format!("manoeuvre.theta_deg={theta}")]);
         assert_eq!(p.cat.model().joint, Joint::NoTwist);
         let r = Resolved::new(&p).expect("π/C is defined for equal halves");
-        let e = r.evaluate(&r.schedule).expect("two coordinates");
+        let e = r.evaluate(&r.schedule);
         // An independent derivation (issue 22) finds −180° to 1e-11° at θ = 45° and 100°; the
         // exact engine's own error estimate is below the problem's exact.tolerance.
         assert!(e.flip.converged);
@@ -55,7 +57,7 @@ fn kane_and_schers_cat_turns_by_exactly_pi_with_the_papers_circulation() {
         let mut u = p.clone();
         u.cat.joint = Joint::Universal;
         let ru = Resolved::new(&u).expect("resolves");
-        let eu = ru.evaluate(&ru.schedule).expect("two coordinates");
+        let eu = ru.evaluate(&ru.schedule);
         assert!((eu.twist_deg() + 180.0).abs() > 1.0, "θ = {theta}: universal twist {}°", eu.twist_deg());
     }
 }
@@ -66,10 +68,14 @@ fn every_model_keeps_zero_momentum_and_action_equal_to_reaction() {
         for profile in ["paper-cosine", "cycloidal"] {
             let p = load(name, &[&format!("manoeuvre.profile=\"{profile}\"")]);
             let r = Resolved::new(&p).expect("resolves");
-            let e = r.evaluate(&r.schedule).expect("two coordinates");
+            let e = r.evaluate(&r.schedule);
             assert!(e.momentum_max < 1e-12, "{name}, {profile}: momentum {:e}", e.momentum_max);
             // Relative to the peak torque: the joint's couple seen from both halves.
-            assert!(e.action_reaction_gap < 1e-9 * e.peaks.max, "{name}, {profile}: gap {:e}", e.action_reaction_gap);
+            assert!(
+                e.peaks.action_reaction_gap < 1e-9 * e.peaks.max,
+                "{name}, {profile}: gap {:e}",
+                e.peaks.action_reaction_gap
+            );
             assert!(e.peaks.max.is_finite() && e.peaks.max > 0.0);
         }
     }
@@ -109,7 +115,7 @@ fn unequal_halves_calibrate_to_a_turn_of_pi() {
     let cal = r.circulation.calibration.expect("a calibrated circulation");
     assert!(cal.status.is_converged());
     assert!((cal.twist.abs() - std::f64::consts::PI).abs() <= p.exact.tolerance);
-    let e = r.evaluate(&r.schedule).expect("two coordinates");
+    let e = r.evaluate(&r.schedule);
     assert!((e.twist_deg().abs() - 180.0).abs() < 1e-6, "twist {}°", e.twist_deg());
 }
 
@@ -131,7 +137,7 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         let r = Resolved::new(&p).expect("resolves");
         let named = |what: &str, m: String| assert!(m.starts_with(field), "{name}, {what}: {m}");
         named("optimize", catflip::optimize::optimize(&r).expect_err("refused").to_string());
-        named("audit", catflip::report::audit::audit_with_exact(&r).expect_err("refused").to_string());
+        named("audit", catflip::measure::audit::audit_with_exact(&r).expect_err("refused").to_string());
         // The exact engine's robustness check runs on every two-motor cat; its rapier trials do not.
         assert!(catflip::robust::check(&p, &r.schedule, "s").is_ok(), "{name}: robust, exact engine");
         let tracked = load(name, &["robust.engine=\"rapier\""]);
@@ -143,7 +149,7 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         // halves on the universal joint (tests/exchange_models.rs).
         let rapier = catflip::report::simulate::simulate(&r, catflip::engines::Engine::Rapier);
         assert!(rapier.is_ok(), "{name}: {:?}", rapier.err());
-        let file = catflip::exchange::write_schedule(&p, &r.schedule, "s", &Default::default());
+        let file = catflip::exchange::write_schedule(&p, &common::measured(&p, &r.schedule), &Default::default());
         if r.model().cat().joint == catflip::model::Joint::Universal {
             assert!(file.is_ok(), "{name}: {:?}", file.err());
         } else {
@@ -250,7 +256,7 @@ fn the_models_match_an_independent_derivation() {
     for c in &REFERENCES {
         let p = load(c.preset, c.set);
         let r = Resolved::new(&p).expect("resolves");
-        let e = r.evaluate(&r.schedule).expect("two coordinates");
+        let e = r.evaluate(&r.schedule);
         let case = format!("{} {:?}", c.preset, c.set);
         // The issue's targets: circulation 1e-6 rad, twist and swing 1e-6°, peaks 1e-3 relative.
         assert!(
@@ -260,7 +266,14 @@ fn the_models_match_an_independent_derivation() {
         );
         assert!((e.twist_deg() - c.twist_deg).abs() < 1e-6, "{case}: twist {}°", e.twist_deg());
         assert!((e.swing_deg() - c.swing_deg).abs() < 1e-6, "{case}: swing {}°", e.swing_deg());
-        for (phase, (ours, theirs)) in [e.peaks.bend, e.peaks.twist, e.peaks.unbend].iter().zip(&c.peaks).enumerate() {
+        for (phase, (ours, theirs)) in {
+            let pp = e.phase_peaks();
+            [pp.bend, pp.twist, pp.unbend]
+        }
+        .iter()
+        .zip(&c.peaks)
+        .enumerate()
+        {
             for j in 0..2 {
                 let tol = 1e-3 * theirs[j].max(1e-3 * e.peaks.max);
                 assert!(

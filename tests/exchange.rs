@@ -2,15 +2,19 @@
 //! read back into the exact engine, and malformed files refused with a line and a column.
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use approx::assert_relative_eq;
 use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector3};
 
 use catflip::engines::exact::flip;
-use catflip::engines::torque::{joint_torques, peak_torques, peak_torques_on, velocity_jumps};
+use catflip::engines::torque::{joint_torques, peak_torques, peak_torques_on};
 use catflip::exchange::import::parse_schedule;
-use catflip::exchange::{evaluate, model_files, write_schedule, ExportOptions, ImportError, Interpolation, Sidecar};
+use catflip::exchange::{model_files, write_schedule, ExportOptions, ImportError, Interpolation, Sidecar};
 use catflip::model::Cylinder;
 use catflip::problem::Problem;
+use catflip::report::import::evaluate;
+use catflip::schedule::variant::ScheduleName;
 use catflip::schedule::{paper_circulation, Schedule, Trajectory};
 
 /// A cat unlike the default, so that no number matches by accident.
@@ -152,7 +156,8 @@ fn mjcf_has_the_true_mass_properties_and_joint_frames() {
 fn paper_file_at_1khz(p: &Problem) -> (Schedule, String, Sidecar) {
     let s = paper_schedule(p);
     let file =
-        write_schedule(p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() }).expect("writes");
+        write_schedule(p, &common::measured(p, &s), &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+            .expect("writes");
     (s, file.csv, file.sidecar)
 }
 
@@ -178,7 +183,7 @@ fn uniform_grid_marks_boundaries_and_states_the_jump() {
     }
     // One jump (the paper's cosine ends at 2ω0), its impulse as the torque module computes it,
     // in the sidecar and on the unbend's start row.
-    let expected = velocity_jumps(&p.cat.half(), &s, 1e-9);
+    let expected = catflip::engines::models::TwoMotorCat::paper(p.cat.half()).velocity_jumps(&s, |_| 0.0);
     assert_eq!((sidecar.jumps.len(), expected.len()), (1, 1));
     let start = rows.iter().find(|r| r[1] == "unbend" && r[2] == "start").expect("a start row");
     for j in 0..2 {
@@ -197,7 +202,7 @@ fn the_sidecar_sizes_the_motors_as_the_evaluation_does() {
     // measured on the file's trajectory; with a torque limit below the peak it says so.
     let mut p = problem();
     let s = paper_schedule(&p);
-    let e = catflip::prelude::Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = catflip::prelude::Evaluation::of_paper(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let (_, _, sidecar) = paper_file_at_1khz(&p);
     let m = &sidecar.motors;
     assert!(m.within_motors && m.demand.limits.is_empty(), "ideal motors: {}", m.verdict);
@@ -224,7 +229,7 @@ fn a_schedule_file_of_a_spinning_release_is_refused_naming_the_field() {
     let mut p = problem();
     p.drop.angular_momentum = [0.0, 0.0, 0.01];
     let s = paper_schedule(&p);
-    let e = write_schedule(&p, &s, "paper", &ExportOptions::default()).map(|_| ()).expect_err("refused");
+    let e = write_schedule(&p, &common::measured(&p, &s), &ExportOptions::default()).map(|_| ()).expect_err("refused");
     assert!(e.to_string().starts_with("drop.angular_momentum = [0, 0, 0.01]: a schedule file"), "{e}");
 }
 
@@ -289,7 +294,7 @@ fn round_trip_with_angles_only_uses_the_spline() {
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     assert!(dt.abs() < 1e-6 && ds.abs() < 1e-6, "twist {dt:.2e} rad, swing {ds:.2e} rad");
     // The paper's one jump is found; the spline's O(h³) end rates make no others.
-    let expected = velocity_jumps(&p.cat.half(), &s, 1e-9);
+    let expected = catflip::engines::models::TwoMotorCat::paper(p.cat.half()).velocity_jumps(&s, |_| 0.0);
     assert_eq!(report.velocity_jumps.len(), 1);
     for j in 0..2 {
         let got = report.velocity_jumps[0].impulse[j];
@@ -360,8 +365,9 @@ fn paper_csv_at_1khz(tag: &str) -> (std::path::PathBuf, std::path::PathBuf, Prob
     std::fs::create_dir_all(&dir).expect("a scratch folder");
     let p = Problem::default();
     let s = paper_schedule(&p);
-    let file = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
-        .expect("writes");
+    let file =
+        write_schedule(&p, &common::measured(&p, &s), &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+            .expect("writes");
     let path = dir.join("paper.csv");
     std::fs::write(&path, &file.csv).expect("writable");
     (dir, path, p, s)
@@ -441,8 +447,10 @@ fn simulate_cli_verifies_a_schedule_file_in_rapier() {
 fn results_files_hold_each_schedule_with_its_sidecar_and_the_model_once() {
     let p = problem();
     let s = paper_schedule(&p);
-    let schedules = [("problem".to_string(), s.clone()), ("other".to_string(), s)];
-    let files = catflip::exchange::results_files(&p, &schedules, &ExportOptions::default()).expect("writes");
+    let file = |name: &str| common::measured(&p, &s).named(ScheduleName::File(name.to_string()));
+    let (problem_file, other) = (file("problem"), file("other"));
+    let files =
+        catflip::exchange::results_files(&p, &[&problem_file, &other], &ExportOptions::default()).expect("writes");
     let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
     assert_eq!(
         names,
@@ -481,8 +489,9 @@ fn acceleration_jumps_inside_a_phase_become_boundaries_and_keep_the_peak_torque(
     let profile =
         catflip::schedule::profile::Profile::from_rate_nodes("nodes", &[0.0, 1.0, 3.0, 2.0, 0.5, 0.0]).expect("nodes");
     let s = paper_schedule(&p).with_profile(profile);
-    let file = write_schedule(&p, &s, "nodes", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
-        .expect("writes");
+    let file =
+        write_schedule(&p, &common::measured(&p, &s), &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+            .expect("writes");
     // Four inner nodes: four cuts inside the twist, each an end/start pair, plus the two phase boundaries.
     assert_eq!(file.sidecar.pieces.len(), 3 + 4);
     assert!(file.sidecar.jumps.is_empty(), "the rates are continuous at the cuts: {:?}", file.sidecar.jumps);
@@ -504,7 +513,9 @@ const QUINTIC: [&str; 8] = ["t_s", "phase", "q1_rad", "q2_rad", "qd1_rad_s", "qd
 /// The paper's schedule for `p` written at `rate_hz`.
 fn paper_csv(p: &Problem, rate_hz: f64) -> String {
     let s = paper_schedule(p);
-    write_schedule(p, &s, "paper", &ExportOptions { rate_hz: Some(rate_hz), ..Default::default() }).expect("writes").csv
+    write_schedule(p, &common::measured(p, &s), &ExportOptions { rate_hz: Some(rate_hz), ..Default::default() })
+        .expect("writes")
+        .csv
 }
 
 /// `csv` with the columns `keep` only (in that order), every number through `f(column, value)`

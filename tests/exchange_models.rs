@@ -3,13 +3,16 @@
 //! puts it, and a joint the files do not build is refused, naming `cat.joint`.
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use std::path::Path;
 
 use approx::assert_relative_eq;
 
 use catflip::engines::resolved::Resolved;
-use catflip::exchange::{model_files, write_schedule, ImportReport, ImportedSchedule};
+use catflip::exchange::{model_files, write_schedule, ImportedSchedule};
 use catflip::problem::Problem;
+use catflip::report::import::ImportReport;
 
 fn resolved(file: &str) -> Resolved {
     let problem = Problem::load(&Path::new("problems").join(file), &[]).unwrap_or_else(|e| panic!("{file}: {e}"));
@@ -27,13 +30,14 @@ fn column(text: &str, name: &str) -> Vec<f64> {
 /// The problem's schedule written as a schedule file, read back from a scratch folder named for
 /// `tag`, and evaluated by the exact engine on the problem's model (`simulate --schedule`).
 fn read_back(r: &Resolved, tag: &str) -> (ImportedSchedule, ImportReport) {
-    let file = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let file = write_schedule(&r.problem, &common::measured(&r.problem, &r.schedule), &Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
     let dir = std::env::temp_dir().join(format!("catflip-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
     let path = dir.join("s.csv");
     std::fs::write(&path, &file.csv).unwrap_or_else(|e| panic!("{e}"));
     let imported = catflip::exchange::read_schedule(&path).unwrap_or_else(|e| panic!("{e}"));
-    let report = catflip::exchange::evaluate(&r.problem, &imported).unwrap_or_else(|e| panic!("{e}"));
+    let report = catflip::report::import::evaluate(&r.problem, &imported).unwrap_or_else(|e| panic!("{e}"));
     let _ = std::fs::remove_dir_all(&dir);
     (imported, report)
 }
@@ -44,8 +48,9 @@ fn read_back(r: &Resolved, tag: &str) -> (ImportedSchedule, ImportReport) {
 #[test]
 fn a_schedule_file_of_unequal_halves_carries_the_models_numbers() {
     let r = resolved("unequal-halves.toml");
-    let file = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
-    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    let file = write_schedule(&r.problem, &common::measured(&r.problem, &r.schedule), &Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let e = r.evaluate(&r.schedule);
     let twist = column(&file.csv, "twist_deg");
     let swing = column(&file.csv, "swing_deg");
     assert_relative_eq!(*twist.last().unwrap_or(&f64::NAN), e.twist_deg(), epsilon = 1e-6);
@@ -70,8 +75,8 @@ fn a_schedule_file_of_unequal_halves_carries_the_models_numbers() {
     assert_relative_eq!(model.joint_point_in_b_m[2], 0.5 * cat.rear.length, epsilon = 0.0);
     // The paper's cat keeps its sidecar: no rear half.
     let paper = resolved("paper.toml");
-    let file =
-        write_schedule(&paper.problem, &paper.schedule, "s", &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+    let file = write_schedule(&paper.problem, &common::measured(&paper.problem, &paper.schedule), &Default::default())
+        .unwrap_or_else(|e| panic!("{e}"));
     assert!(file.sidecar.model.rear.is_none());
 }
 
@@ -104,7 +109,10 @@ fn the_mjcf_of_unequal_halves_puts_each_half_where_the_model_does() {
 #[test]
 fn a_schedule_file_of_the_no_twist_joint_is_refused() {
     let r = resolved("kane-scher.toml");
-    let e = write_schedule(&r.problem, &r.schedule, "s", &Default::default()).map(|_| ()).unwrap_err().to_string();
+    let e = write_schedule(&r.problem, &common::measured(&r.problem, &r.schedule), &Default::default())
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("cat.joint = \"no-twist\""), "{e}");
 }
 
@@ -114,7 +122,7 @@ fn a_schedule_file_of_the_no_twist_joint_is_refused() {
 fn a_schedule_file_of_unequal_halves_reads_back_and_is_verified() {
     let r = resolved("unequal-halves.toml");
     let (imported, exact) = read_back(&r, "unequal");
-    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    let e = r.evaluate(&r.schedule);
     assert!(
         (exact.figures.twist_deg - e.twist_deg()).abs() <= 1e-6,
         "{} against {}",
@@ -131,8 +139,8 @@ fn a_schedule_file_of_unequal_halves_reads_back_and_is_verified() {
     assert!((peak - e.peaks.max).abs() <= 1e-3 * e.peaks.max, "peak {peak} against {}", e.peaks.max);
     assert_eq!(exact.velocity_jumps.len(), e.jumps.len());
     assert!(exact.warnings.iter().all(|w| !w.contains("too far apart")), "{:?}", exact.warnings);
-    let rapier = catflip::exchange::evaluate_rapier(&r.problem, &imported, &exact).unwrap_or_else(|e| panic!("{e}"));
-    let report = rapier.into_report().unwrap_or_else(|e| panic!("{e}"));
+    let report = catflip::report::import::simulate_import(&r.problem, imported, catflip::engines::Engine::Rapier)
+        .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.figures.check.verdict, Some(catflip::engines::rapier::Status::Verified));
 }
 

@@ -15,13 +15,16 @@
 //! inputs per surface); 10⁵ per surface with
 //! `cargo test --release --test fuzz_files -- --ignored --nocapture`.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Component, Path, PathBuf};
 
 use catflip::exchange::import::parse_schedule;
-use catflip::exchange::{evaluate, write_schedule, ExportOptions};
+use catflip::exchange::{write_schedule, ExportOptions};
 use catflip::problem::Problem;
+use catflip::report::import::evaluate;
 use catflip::schedule::{paper_circulation, Schedule};
 use catflip::sweep::shard::{read_parts, MANIFEST};
 use catflip::sweep::spec::with_causes;
@@ -287,9 +290,10 @@ fn schedule_surface(cases: usize) -> Tally {
     let p = cheap_problem();
     let c = paper_circulation(&p.cat.half(), p.manoeuvre.theta()).unwrap_or_else(|e| panic!("{e}"));
     let s = Schedule::new(&p, c);
-    let csv = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(100.0), ..Default::default() })
-        .unwrap_or_else(|e| panic!("the schedule writes: {e}"))
-        .csv;
+    let csv =
+        write_schedule(&p, &common::measured(&p, &s), &ExportOptions { rate_hz: Some(100.0), ..Default::default() })
+            .unwrap_or_else(|e| panic!("the schedule writes: {e}"))
+            .csv;
     let clean = evaluate(&p, &parse_schedule(&csv, "fuzz.csv").unwrap_or_else(|e| panic!("{e}")))
         .unwrap_or_else(|e| panic!("the clean schedule evaluates: {e}"));
     let mut allowed = Vec::new();

@@ -2,6 +2,8 @@
 //! (issue 9, "Messages").
 #![deny(clippy::float_cmp)]
 
+mod common;
+
 use std::process::Command;
 
 use catflip::problem::Problem;
@@ -201,9 +203,10 @@ fn paper_csv_retimed(retime: impl Fn(&str) -> String) -> String {
     let c = catflip::schedule::paper_circulation(&p.cat.half(), p.manoeuvre.theta())
         .expect("the paper's circulation exists");
     let s = catflip::schedule::Schedule::new(&p, c);
-    let csv = write_schedule(&p, &s, "paper", &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
-        .expect("writes")
-        .csv;
+    let csv =
+        write_schedule(&p, &common::measured(&p, &s), &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+            .expect("writes")
+            .csv;
     let mut lines = csv.lines();
     let mut text = lines.next().unwrap_or_default().to_string() + "\n";
     for line in lines {
@@ -244,11 +247,12 @@ fn times_far_from_zero_are_refused_or_warned_by_their_rounding() {
     let p = Problem::default();
     let near = paper_csv_retimed(|t| format!("{}", 1e9 + t.parse::<f64>().expect("a time")));
     let imported = parse_schedule(&near, "near.csv").expect("reads");
-    let r = catflip::exchange::evaluate(&p, &imported).expect("evaluates");
+    let r = catflip::report::import::evaluate(&p, &imported).expect("evaluates");
     assert!(r.warnings.iter().any(|w| w.contains("column `t_s`: times near 1e9 s")), "{:?}", r.warnings);
     // From zero, nothing is said.
     let zero = paper_csv_retimed(str::to_string);
-    let r = catflip::exchange::evaluate(&p, &parse_schedule(&zero, "zero.csv").expect("reads")).expect("evaluates");
+    let r =
+        catflip::report::import::evaluate(&p, &parse_schedule(&zero, "zero.csv").expect("reads")).expect("evaluates");
     assert!(!r.warnings.iter().any(|w| w.contains("double precision")), "{:?}", r.warnings);
     let _ = std::fs::remove_dir_all(&dir);
 }

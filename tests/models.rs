@@ -427,9 +427,9 @@ fn the_papers_circulation_falls_short_through_the_universal_joint() {
     // the cat 3.3 % short of π; the audit says the same, with both turns in its exact column.
     let (p, s) = paper_at(45.0);
     let f = exact::flip(&p.cat.half(), &s, 1e-13);
-    let short = catflip::report::audit::models::shortfall_percent(f.twist.to_degrees());
+    let short = catflip::measure::audit::models::shortfall_percent(f.twist.to_degrees());
     assert!((short - 3.3).abs() < 0.05, "{short}% short (twist {}°)", f.twist.to_degrees());
-    let a = catflip::report::audit::audit(&p);
+    let a = catflip::measure::audit::audit(&p);
     let exact = |k: &str| a.entry(k).and_then(|e| e.exact).unwrap_or(f64::NAN);
     assert!((exact("turn_no_twist") + 180.0).abs() < 1e-11, "{}", exact("turn_no_twist"));
     assert!((exact("turn_universal") - f.twist.to_degrees()).abs() < 1e-9);
@@ -438,7 +438,7 @@ fn the_papers_circulation_falls_short_through_the_universal_joint() {
     // A cat for which π/C is undefined (straight) has no turns and says why, without NaN.
     let mut flat = Problem::default();
     flat.manoeuvre.theta_deg = 180.0;
-    let straight = catflip::report::audit::audit(&flat);
+    let straight = catflip::measure::audit::audit(&flat);
     let e = straight.entry("turn_no_twist").expect("the entry exists");
     assert!(e.exact.is_none() && e.explanation.contains("undefined"), "{e:?}");
 }

@@ -19,7 +19,7 @@ fn paper(overrides: &[&str]) -> Problem {
 fn high_circulation_peak_within_its_stated_bound_of_a_dense_reference() {
     let p = paper(&["manoeuvre.circulation=28"]);
     let r = Resolved::new(&p).expect("a given circulation resolves");
-    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = peak_torques(&p.cat.half(), &r.schedule, 40_000);
     let twist = Phase::Twist.index();
     // The twist phase turns the bend direction by at least 28 rad: 64 per radian, more than
@@ -28,12 +28,12 @@ fn high_circulation_peak_within_its_stated_bound_of_a_dense_reference() {
     assert!(n[twist] >= 1792, "{n:?}");
     // The stated accuracy (halved-grid change) must be tight, and the peak within it (or
     // within 1e-12, the golden search's resolution) of the dense reference.
-    assert!(e.peak_accuracy < 1e-9, "stated accuracy {}", e.peak_accuracy);
+    assert!(e.peaks.accuracy < 1e-9, "stated accuracy {}", e.peaks.accuracy);
     for j in 0..2 {
         let reference = reference.per_piece[twist][j].value;
-        let found = e.peaks.twist[j];
+        let found = e.phase_peaks().twist[j];
         assert!(
-            (found - reference).abs() <= e.peak_accuracy.max(1e-12) * reference,
+            (found - reference).abs() <= e.peaks.accuracy.max(1e-12) * reference,
             "joint {}: {found} vs {reference}",
             j + 1
         );
@@ -47,7 +47,7 @@ fn paper_schedule_keeps_its_floor_and_its_peak() {
     let p = paper(&[]);
     let r = Resolved::new(&p).expect("the paper's circulation resolves");
     let n = piece_samples(&r.schedule, p.exact.torque_samples);
-    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = peak_torques(&p.cat.half(), &r.schedule, 40_000);
     assert!(n.iter().all(|&k| k >= 400), "{n:?}");
     assert_relative_eq!(e.peaks.max, reference.max, max_relative = 1e-9);

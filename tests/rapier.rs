@@ -20,10 +20,10 @@ use catflip::engines::rapier::{
     dt_sweep, extrapolate, observed_orders, simulate, simulate_with, spin_free, CatScene, MotorGains, RapierError,
     RapierOptions, RapierRun, SpinTest,
 };
+use catflip::measure::bench::engines::FinalAngles;
 use catflip::model::{joint_rotation, Cat, Cylinder};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::settings::RapierSettings;
-use catflip::report::bench::engines::FinalAngles;
 use catflip::schedule::profile::Profile;
 use catflip::schedule::{Phase, Schedule};
 
@@ -263,7 +263,7 @@ fn torque_history_follows_the_exact_torques() {
 #[test]
 fn paper_velocity_jump_is_an_impulse() {
     let (p, paper) = paper();
-    let exact = catflip::engines::torque::velocity_jumps(&p.cat.half(), &paper, 1e-9);
+    let exact = catflip::engines::models::TwoMotorCat::paper(p.cat.half()).velocity_jumps(&paper, |_| 0.0);
     assert_eq!(exact.len(), 1, "the paper's cosine profile has one rate jump, at the start of unbending");
     let runs = [run(&p.cat.half(), &paper, 1e-3), run(&p.cat.half(), &paper, 5e-4)];
     for r in &runs {
@@ -292,7 +292,7 @@ fn paper_velocity_jump_is_an_impulse() {
 }
 
 /// The bench's rapier error, `max(|Δtwist|, |Δs|)` with `s` the swing's rotation vector
-/// (`catflip::report::bench::engines::FinalAngles`), halves with the step and extrapolates to
+/// (`catflip::measure::bench::engines::FinalAngles`), halves with the step and extrapolates to
 /// below 1e-3 rad from 0.25 and 0.125 ms, on a smooth profile and on the paper's (whose rate
 /// jumps). Comparing the swing *angle* instead failed both: its raw error went 4.42e-2 → 1.18e-2
 /// rad (ratio 3.7) and its extrapolation stalled at 2.05e-2 rad (≈ twice the exact swing).

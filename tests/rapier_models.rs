@@ -70,7 +70,7 @@ fn unequal_halves_are_joined_where_the_model_joins_them() {
 fn a_library_schedule_on_unequal_halves_is_verified_against_the_general_core() {
     let r = resolved("unequal-halves.toml");
     assert!(r.model().cat().paper().is_none());
-    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    let e = r.evaluate(&r.schedule);
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
     let v = verify(r.model(), &r.schedule, &r.problem.rapier, &reference).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
@@ -110,7 +110,7 @@ fn the_no_twist_joint_is_a_ball_joint_where_the_model_puts_it() {
 fn kane_and_schers_cat_is_verified_on_the_ball_joint() {
     let r = resolved("kane-scher.toml");
     assert_eq!(r.model().cat().joint, Joint::NoTwist);
-    let e = r.evaluate(&r.schedule).unwrap_or_else(|e| panic!("{e}"));
+    let e = r.evaluate(&r.schedule);
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
     let v = verify(r.model(), &r.schedule, &r.problem.rapier, &reference).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());

@@ -2,6 +2,7 @@
 #![deny(clippy::float_cmp)]
 
 use approx::assert_relative_eq;
+use catflip::engines::models::TwoMotorCat;
 use catflip::model::joint_rotation;
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
@@ -81,12 +82,12 @@ fn joint_angles_are_continuous_and_the_cat_ends_straight() {
 fn only_the_paper_cosine_jumps() {
     for kind in ProfileKind::ALL {
         let s = schedule(45.0, BendPath::JointCircle, kind, 3.0);
-        let jumps = s.rate_jumps(1e-9);
+        let jumps = TwoMotorCat::paper(Problem::default().cat.half()).velocity_jumps(&s, |_| 0.0);
         if kind == ProfileKind::PaperCosine {
             assert_eq!(jumps.len(), 1);
             // Joint circle: |q̇| = β φ̇ and φ̇ ends at 2 D / T2 (paper §4: ω ends at 2 ω0).
             let j = jumps[0];
-            let size = j.before[0].hypot(j.before[1]);
+            let size = j.rates_before[0].hypot(j.rates_before[1]);
             assert_relative_eq!(size, s.bend * 2.0 * 3.0 / s.durations[1], max_relative = 1e-12);
             assert_relative_eq!(j.time, s.durations[0] + s.durations[1], epsilon = 1e-15);
         } else {
@@ -112,7 +113,8 @@ fn round_off_of_a_fast_phase_is_not_a_jump() {
     p.manoeuvre.phases = [1e-7, 0.5, 0.5 - 1e-7];
     p.manoeuvre.profile = ProfileKind::Cycloidal;
     let s = Schedule::new(&p, 3.0);
-    assert!(s.rate_jumps(1e-9).is_empty(), "{:?}", s.rate_jumps(1e-9));
+    let jumps = TwoMotorCat::paper(p.cat.half()).velocity_jumps(&s, |_| 0.0);
+    assert!(jumps.is_empty(), "{jumps:?}");
 }
 
 #[test]

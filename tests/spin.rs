@@ -109,11 +109,15 @@ fn the_spin_is_conserved_in_the_world_frame_along_the_paper_schedule() {
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.01, 0.02, -0.03];
     let s = paper_schedule(&p);
-    let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     assert!(e.flip.converged);
     assert!(e.momentum_max < 1e-12, "|R H − L| relative {:.3e}", e.momentum_max);
     // Action = reaction holds only when Ω̇ is the true rate of the spinning motion.
-    assert!(e.action_reaction_gap < 1e-9 * e.peaks.max, "action–reaction gap {:.3e} N·m", e.action_reaction_gap);
+    assert!(
+        e.peaks.action_reaction_gap < 1e-9 * e.peaks.max,
+        "action–reaction gap {:.3e} N·m",
+        e.peaks.action_reaction_gap
+    );
     // The spin changes the flip: the paper's schedule turns the cat differently.
     let still = flip(&p.cat.half(), &s, p.exact.tolerance);
     assert!((e.flip.twist - still.twist).abs() > 1e-3, "the spin left the twist unchanged");
@@ -182,7 +186,7 @@ fn rapier_started_with_the_spin_verifies_the_spinning_flip() {
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.01, 0.02, -0.03];
     let s = paper_schedule(&p);
-    let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
     let cat = TwoMotorCat::paper(p.cat.half());
     let v = verify_with(&cat, &s, &p.rapier, &reference, &RapierOptions::for_problem(&p)).expect("a valid scene");
@@ -240,8 +244,9 @@ fn the_spinning_torques_match_an_independent_derivation() {
     let s = paper_schedule(&p);
     for (l, peaks) in REFERENCE_PEAKS {
         p.drop.angular_momentum = l;
-        let e = Evaluation::new(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
-        let got = [e.peaks.bend, e.peaks.twist, e.peaks.unbend];
+        let e = Evaluation::of_paper(&p.cat.half(), &s, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+        let pp = e.phase_peaks();
+        let got = [pp.bend, pp.twist, pp.unbend];
         for (phase, (g, r)) in got.iter().zip(peaks).enumerate() {
             for j in 0..2 {
                 // 1e-6 relative to the phase's larger peak (a joint at rest has none).
@@ -260,8 +265,8 @@ fn an_imported_schedule_is_measured_with_the_spin() {
     let imported = catflip::exchange::read_schedule(&path).expect("the committed export reads back");
     let mut p = Problem::default();
     p.drop.angular_momentum = [0.0, 0.0, 0.01];
-    let report = catflip::exchange::evaluate(&p, &imported).expect("evaluates");
-    let e = Evaluation::new(&p.cat.half(), &paper_schedule(&p), &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let report = catflip::report::import::evaluate(&p, &imported).expect("evaluates");
+    let e = Evaluation::of_paper(&p.cat.half(), &paper_schedule(&p), &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let gap = (report.figures.twist_deg - e.twist_deg()).abs();
     assert!(gap < 1e-6, "imported twist {}° against {}°", report.figures.twist_deg, e.twist_deg());
     assert!((report.peak_torque_nm.max - e.peaks.max).abs() < 1e-6 * e.peaks.max);

@@ -1,9 +1,9 @@
-//! Stress: seeded random problems spanning decades (`catflip::report::bench::random`) — every
+//! Stress: seeded random problems spanning decades (`catflip::measure::bench::random`) — every
 //! case passes its checks or is refused with a one-line reason; never a panic, a NaN or an
 //! invariant broken. The fast sample runs in CI; the 10⁴ cases run with
 //! `cargo test --release --test stress -- --ignored`.
 
-use catflip::report::bench::random::{run_many, Verdict};
+use catflip::measure::bench::random::{run_many, Verdict};
 
 fn base() -> String {
     std::fs::read_to_string("problems/paper.toml").expect("problems/paper.toml is in the repository")

@@ -10,14 +10,17 @@
 mod common;
 
 use catflip::engines::models::TwoMotorCat;
-use catflip::engines::rapier::{verify, Quantity, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC};
+use catflip::engines::rapier::{
+    verify, Quantity, RapierError, Reference, Status, StepSource, Verdict, Verification, ASYMPTOTIC,
+};
 use catflip::engines::resolved::Resolved;
 use catflip::model::Cylinder;
 use catflip::problem::manoeuvre::{BendPath, Circulation, ProfileKind};
 use catflip::problem::settings::{RapierSettings, TimeStep};
 use catflip::problem::Problem;
-use catflip::report::simulate::{exact_report, rapier_report};
+use catflip::report::simulate::SimulationReport;
 use catflip::schedule::profile::Profile;
+use catflip::schedule::variant::ScheduleName;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 
 use common::paper;
@@ -150,8 +153,7 @@ fn a_very_long_cat_gets_a_verdict_not_a_wrong_number() {
     assert!(v.steps_taken <= p.rapier.step_budget, "{} steps", v.steps_taken);
     // Through the report: a rapier number comes with its verdict, or there is none.
     let r = Resolved::new(&p).unwrap();
-    let exact = exact_report(&r, &s, r.circulation, None).expect("the paper's cat runs every schedule");
-    match rapier_report(&r, &s, &exact) {
+    match rapier_report(&r, &s) {
         Ok(r) => assert!(r.figures.check.verdict.is_some() && r.figures.check.verification.is_some()),
         Err(e) => assert!(e.to_string().contains("inconclusive"), "{e}"),
     }
@@ -304,9 +306,8 @@ fn random_problems() {
         let Ok(p) = Problem::from_toml(&text, "random", &[]) else { continue };
         let Ok(r) = Resolved::new(&p) else { continue };
         let s = r.schedule.clone();
-        let exact = exact_report(&r, &s, r.circulation, None).expect("the paper's cat runs every schedule");
         done += 1;
-        let (verdict, seq, est, steps, time, first) = match rapier_report(&r, &s, &exact) {
+        let (verdict, seq, est, steps, time, first) = match rapier_report(&r, &s) {
             Ok(r) => {
                 let v = r.figures.check.verification.unwrap();
                 counts[v.status as usize] += 1;
@@ -395,6 +396,13 @@ fn a_retimed_path_with_acceleration_jumps_verifies_on_peak_torque() {
     assert!(finest.acceleration_jump_excluded < 0.1, "excluded {}", finest.acceleration_jump_excluded);
 }
 
+/// `s`, one of `r`'s schedules, measured, verified and reported by rapier ([`SimulationReport`]),
+/// as `catflip simulate --engine rapier` reports the problem's own.
+fn rapier_report(r: &Resolved, s: &Schedule) -> Result<SimulationReport, RapierError> {
+    let m = r.measure(ScheduleName::Problem, s.clone()).verified(r.rig())?;
+    SimulationReport::rapier(&m, &SimulationReport::exact(r, &m))?.into_report()
+}
+
 /// The paper's problem with `--set` overrides.
 fn paper_with(overrides: &[&str]) -> Resolved {
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
@@ -410,8 +418,7 @@ fn paper_with(overrides: &[&str]) -> Resolved {
 #[test]
 fn the_paper_schedule_beyond_its_motors_saturates_and_is_not_verified() {
     let r = paper_with(&["actuator.torque_limit_nm=1.0"]);
-    let exact = exact_report(&r, &r.schedule, r.circulation, None).expect("the paper's cat runs every schedule");
-    let report = rapier_report(&r, &r.schedule, &exact).unwrap_or_else(|e| panic!("{e}"));
+    let report = rapier_report(&r, &r.schedule).unwrap_or_else(|e| panic!("{e}"));
     let v = report.figures.check.verification.as_ref().unwrap();
     assert_eq!(v.status, Status::NotVerified, "{}", v.to_text());
     let Verdict::Saturated { motors, twist_deg, swing_deg, planned_twist_deg, .. } = &v.verdict else {
@@ -444,10 +451,12 @@ fn the_min_time_optimum_is_verified_within_its_motors() {
         "optimize.whole.objective=\"min-time\"",
         "optimize.whole.control_points=40",
     ]);
-    let whole = catflip::report::whole::whole(&r).unwrap_or_else(|e| panic!("{e}"));
+    let whole = catflip::measure::whole::whole(&r).unwrap_or_else(|e| panic!("{e}"));
     let best = whole.best().unwrap_or_else(|| panic!("no optimum: {}", whole.status));
     assert!(best.peak_torque_nm <= 0.5 * (1.0 + 1e-6), "peak {} N·m", best.peak_torque_nm);
-    let v = catflip::report::whole::verify_whole(&r, &whole).unwrap().unwrap();
+    let mut whole = whole;
+    whole.verify(&r).unwrap_or_else(|e| panic!("{e}"));
+    let v = whole.verification().cloned().expect("verified");
     assert_verified("min-time optimum", &v);
     let demand = v.motor_demand.as_ref().unwrap();
     assert!(demand.within(), "{}", demand.verdict());

@@ -1,6 +1,8 @@
 //! The peak-torque table and the optimisers against the exact engine (`catflip run`'s output is checked end to end in `tests/results_fresh.rs`).
 #![deny(clippy::float_cmp)]
 
+use std::f64::consts::PI;
+
 use approx::assert_relative_eq;
 use catflip::engines::resolved::Resolved;
 use catflip::optimize::optimize;
@@ -22,9 +24,14 @@ fn table_has_every_profile_and_the_paper_model_peaks() {
     let t2 = 0.6 * p.drop.fall_time();
     for r in &t.rows {
         // Model peak I*·C_a·D/T² (paper §8 with the correct I*).
+        let (model, coefficient, circulation) = (
+            r.model_peak_nm.expect("a profile's row"),
+            r.accel_coefficient.expect("a profile's row"),
+            r.circulation_rad.expect("a profile's row"),
+        );
         assert_relative_eq!(
-            r.model_peak_nm,
-            p.cat.half().end_transverse() * r.accel_coefficient * r.circulation_rad / (t2 * t2),
+            model,
+            p.cat.half().end_transverse() * coefficient * circulation / (t2 * t2),
             max_relative = 1e-12
         );
         // Path invariance: twist and swing do not depend on the profile.
@@ -33,7 +40,7 @@ fn table_has_every_profile_and_the_paper_model_peaks() {
         let jumps = if r.profile == "paper-cosine" { 1 } else { 0 };
         assert_eq!(r.velocity_jumps, jumps, "{}", r.profile);
         // The exact peak is far above the paper's model: centripetal terms dominate.
-        assert!(r.exact_peak_nm.max > r.model_peak_nm, "{}", r.profile);
+        assert!(r.exact_peak_nm.max > model, "{}", r.profile);
     }
     let csv = t.to_csv();
     assert_eq!(csv.lines().count(), 1 + t.rows.len());
@@ -58,7 +65,7 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
         max_relative = 1e-7
     );
     let refined = r.refined_optimum.as_ref().expect("refinement ran");
-    let peak = refined.evaluation.exact_peak_nm.twist[0].max(refined.evaluation.exact_peak_nm.twist[1]);
+    let peak = refined.measured.exact.phase_peaks().phase_max(catflip::schedule::Phase::Twist);
     let table = compare(&resolved, &[]);
     for row in &table.rows {
         let lib = row.exact_peak_nm.twist[0].max(row.exact_peak_nm.twist[1]);
@@ -66,25 +73,26 @@ fn qp_matches_its_closed_form_and_refinement_beats_every_library_profile() {
     }
     // The refinement changes the timing only: the flip is unchanged, and with the calibrated
     // circulation it is π.
-    assert_relative_eq!(refined.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
-    assert_relative_eq!(refined.calibrated_twist_deg.expect("calibration converged").abs(), 180.0, epsilon = 1e-6);
-    assert_eq!(refined.evaluation.velocity_jumps, 0);
+    let e = &refined.measured.exact;
+    assert_relative_eq!(e.twist_deg(), table.rows[0].twist_deg, epsilon = 1e-7);
+    assert_relative_eq!(
+        refined.calibrated.expect("calibration converged").twist.abs(),
+        PI,
+        epsilon = 1e-6f64.to_radians()
+    );
+    assert!(e.jumps.is_empty(), "{:?}", e.jumps);
     // Retiming bend and unbend too lowers the whole manoeuvre's peak below the twist-only
     // refinement's (which the harmonic bend dominates), keeps every phase rest to rest, and
     // leaves the flip alone (same joint path).
     let whole = r.all_phases.as_ref().expect("the all-phases refinement ran");
-    assert!(
-        whole.optimum.evaluation.exact_peak_nm.max < refined.evaluation.exact_peak_nm.max,
-        "{} vs {}",
-        whole.optimum.evaluation.exact_peak_nm.max,
-        refined.evaluation.exact_peak_nm.max
-    );
-    assert_eq!(whole.optimum.evaluation.velocity_jumps, 0);
-    assert_relative_eq!(whole.optimum.evaluation.twist_deg, table.rows[0].twist_deg, epsilon = 1e-7);
-    assert_relative_eq!(whole.optimum.evaluation.swing_deg, table.rows[0].swing_deg, epsilon = 1e-7);
+    let w = &whole.optimum.measured.exact;
+    assert!(w.peak() < e.peak(), "{} vs {}", w.peak(), e.peak());
+    assert!(w.jumps.is_empty(), "{:?}", w.jumps);
+    assert_relative_eq!(w.twist_deg(), table.rows[0].twist_deg, epsilon = 1e-7);
+    assert_relative_eq!(w.swing_deg(), table.rows[0].swing_deg, epsilon = 1e-7);
     assert_relative_eq!(
-        whole.optimum.calibrated_twist_deg.expect("calibration converged").abs(),
-        180.0,
-        epsilon = 1e-6
+        whole.optimum.calibrated.expect("calibration converged").twist.abs(),
+        PI,
+        epsilon = 1e-6f64.to_radians()
     );
 }

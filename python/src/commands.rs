@@ -71,8 +71,8 @@ pub fn schedule_file(
     let inner = problem.inner.clone();
     run(py, move || {
         let r = inner.resolved()?;
-        let file =
-            catflip::exchange::write_schedule(&r.problem, &r.schedule, "problem", &export(steps_per_piece, rate_hz))?;
+        let own = r.own().clone().named(catflip::schedule::variant::ScheduleName::Problem);
+        let file = catflip::exchange::write_schedule(&r.problem, &own, &export(steps_per_piece, rate_hz))?;
         let sidecar = file.sidecar_json()?;
         Ok((file.csv, sidecar))
     })
@@ -120,18 +120,13 @@ pub fn optimize(
         let mut files = Vec::new();
         if series {
             for o in report.optima() {
-                let name = o.variant.to_string();
-                let file = catflip::exchange::write_schedule(
-                    &r.problem,
-                    &o.schedule,
-                    &name,
-                    &export(steps_per_piece, rate_hz),
-                )?;
+                let file =
+                    catflip::exchange::write_schedule(&r.problem, &o.measured, &export(steps_per_piece, rate_hz))?;
                 let sidecar = file.sidecar_json()?;
-                files.push((name, file.csv, sidecar));
+                files.push((o.measured.name.to_string(), file.csv, sidecar));
             }
         }
-        Ok((json(&report)?, r.warnings(), files))
+        Ok((json(&report.to_json(&r.model().cat().rear))?, r.warnings(), files))
     })
 }
 
@@ -154,10 +149,12 @@ pub fn optimize_whole(
             inner.problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
         }
         let r = inner.resolved()?;
-        let report = catflip::report::whole::whole(&r)?;
-        let file = match series {
-            true => catflip::report::whole::optimum_file(&r.problem, &report, &export(steps_per_piece, rate_hz))?,
-            false => None,
+        let report = catflip::measure::whole::whole(&r)?;
+        let file = match (series, report.measured.as_ref()) {
+            (true, Some(m)) => {
+                Some(catflip::exchange::write_whole_optimum(&r.problem, m, &export(steps_per_piece, rate_hz))?)
+            }
+            _ => None,
         };
         let file = file.map(|f| f.sidecar_json().map(|sidecar| (f.csv, sidecar))).transpose()?;
         Ok((json(&report)?, r.warnings(), file))
@@ -244,11 +241,7 @@ pub fn simulate_schedule(
     let (inner, imported) = (problem.inner.clone(), schedule.inner.clone());
     run(py, move || {
         let problem = &inner.problem;
-        let exact = catflip::exchange::evaluate(problem, &imported)?;
-        let report = match engine {
-            Engine::Exact => exact,
-            Engine::Rapier => catflip::exchange::evaluate_rapier(problem, &imported, &exact)?.into_report()?,
-        };
+        let report = catflip::report::import::simulate_import(problem, (*imported).clone(), engine)?;
         Ok((json(&report)?, report.warnings.clone()))
     })
 }

@@ -14,11 +14,11 @@
 //! joint, where the joint circle is the cone (it keeps the bend `|q|` exactly).
 //!
 //! ## What each row is
-//! The optimum of [`crate::report::whole::whole`] on that model, every number re-measured by the
+//! The optimum of [`crate::measure::whole::whole`] on that model, every number re-measured by the
 //! model's exact engine (the general core on any cat but the paper's): peak torque, energy
 //! `∫τ·τ dt`, the largest bend and the turns of the bend direction; beside it the problem's own
 //! library schedule on that model ([`crate::engines::resolved::Resolved::evaluate`]), and with
-//! `--verify` rapier's verdict on the optimum ([`crate::report::whole::verify_whole`]). A model
+//! `--verify` rapier's verdict on the optimum ([`crate::measure::whole::WholeReport::verify`]). A model
 //! without an optimum says why, and its numbers are absent, never zero.
 //!
 //! ## References
@@ -155,11 +155,8 @@ pub struct ModelRow {
     /// The optimum, when one flips the cat.
     pub optimum: Option<OptimumFigures>,
     /// The problem's library schedule on this model (absent when its circulation cannot be
-    /// resolved on this model; `schedule_note` says why).
+    /// resolved on this model; `status` says why).
     pub schedule: Option<ScheduleFigures>,
-    /// Why the library schedule has no numbers on this model.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub schedule_note: Option<String>,
     /// Rapier's verification of the optimum (`--verify` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rapier: Option<Verification>,

@@ -8,9 +8,9 @@ use rayon::prelude::*;
 use super::{variants, ModelComparison, ModelRow, OptimumFigures, ScheduleFigures, Variant};
 use crate::engines::rapier::RapierError;
 use crate::engines::resolved::Resolved;
+use crate::measure::whole::whole;
 use crate::optimize::whole::{WholeCat, WholeError};
 use crate::problem::{Problem, ProblemError};
-use crate::report::whole::{verify_whole, whole};
 
 /// Instants per second of fall at which the optimum's bend is sampled for the plot.
 const BEND_SAMPLES_PER_S: f64 = 600.0;
@@ -69,7 +69,6 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         status: String::new(),
         optimum: None,
         schedule: None,
-        schedule_note: None,
         rapier: None,
         seconds: 0.0,
         problem: v.problem,
@@ -84,26 +83,23 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             return Ok(row);
         }
     };
-    match r.evaluate(&r.schedule) {
-        Ok(e) => {
-            row.schedule = Some(ScheduleFigures {
-                twist_deg: e.twist_deg(),
-                swing_deg: e.swing_deg(),
-                peak_torque_nm: e.peaks.max,
-            })
-        }
-        Err(e) => row.schedule_note = Some(e.to_string()),
+    let e = r.evaluate(&r.schedule);
+    row.schedule =
+        Some(ScheduleFigures { twist_deg: e.twist_deg(), swing_deg: e.swing_deg(), peak_torque_nm: e.peaks.max });
+    let mut report = whole(&r)?;
+    if verify {
+        report.verify(&r)?;
     }
-    let report = whole(&r)?;
     row.status = report.status.clone();
-    if let Some(b) = report.best() {
+    if let (Some(b), Some(m)) = (report.best(), report.measured.as_ref()) {
+        let e = &m.exact;
         row.optimum = Some(OptimumFigures {
             start: b.start.clone(),
             iterations: b.iterations,
-            twist_deg: b.twist.to_degrees(),
-            swing_deg: b.swing.to_degrees(),
-            peak_torque_nm: b.peak_torque_nm,
-            peak_time_s: b.peak_time,
+            twist_deg: e.twist_deg(),
+            swing_deg: e.swing_deg(),
+            peak_torque_nm: e.peak(),
+            peak_time_s: e.peak_time(),
             energy: b.energy,
             max_bend_deg: b.max_bend_deg,
             bend_turns: b.bend_turns,
@@ -118,9 +114,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             })
             .collect();
         row.spline = Some(b.spline.clone());
-        if verify {
-            row.rapier = verify_whole(&r, &report)?;
-        }
+        row.rapier = report.verification().cloned();
     }
     row.seconds = clock.elapsed().as_secs_f64();
     Ok(row)

@@ -9,12 +9,15 @@
 //! - [`shape`]: shape trajectories of any model (the library schedules among them);
 //! - [`spin`]: the reorientation and torques of a release with spin;
 //! - [`torque`]: the joint torques of that motion by Newton–Euler;
+//! - [`jumps`]: the joint-rate jumps between pieces of any trajectory, with their impulses;
 //! - [`calibrate`]: the circulation for which the exact engine turns the cat by exactly π;
 //! - [`rapier`]: an independent multibody simulation in rapier3d-f64, for verification;
 //! - [`rapier_check`]: rapier's check of a trajectory against the exact engine, as reports show it;
 //! - [`motors`]: what a trajectory asks of its motors (peak speed, power, usage of each limit);
 //! - [`peaks`]: the peak torques per phase and joint, one type for both engines;
-//! - [`evaluate`]: one exact [`evaluate::Evaluation`] of a schedule, used by every command;
+//! - [`evaluate`]: one exact [`evaluate::Evaluation`] of any trajectory on any two-motor cat;
+//! - [`measured`]: [`measured::Measured`], a named trajectory with its evaluation and its rapier
+//!   verification: the one noun every command reports, made by [`resolved::Resolved::measure`];
 //! - [`circulation`]: the circulation resolved once;
 //! - [`resolved`]: [`resolved::Resolved`], the problem resolved around it, where every command
 //!   starts;
@@ -24,6 +27,8 @@ pub mod calibrate;
 pub mod circulation;
 pub mod evaluate;
 pub mod exact;
+pub mod jumps;
+pub mod measured;
 pub mod models;
 pub mod motors;
 pub mod peaks;

@@ -70,7 +70,7 @@ pub struct RapierCheck {
 
 /// What an engine says of a trajectory besides its peaks, as both the built-in schedules' report
 /// ([`crate::report::simulate::SimulationReport`]) and an imported schedule's
-/// ([`crate::exchange::ImportReport`]) show it: the exact engine fills the integration's fields,
+/// ([`crate::report::import::ImportReport`]) show it: the exact engine fills the integration's fields,
 /// rapier its check.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EngineFigures {

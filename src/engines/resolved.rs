@@ -12,11 +12,13 @@ use rayon::prelude::*;
 use crate::engines::calibrate::{calibrate_model, Calibration};
 use crate::engines::circulation::{resolve_circulation, CirculationError, ResolvedCirculation};
 use crate::engines::evaluate::Evaluation;
-use crate::engines::models::{ModelError, TwoMotorCat};
+use crate::engines::measured::{Measured, Rig};
+use crate::engines::models::TwoMotorCat;
 use crate::model::Cylinder;
 use crate::problem::{Problem, ProfileKind};
 use crate::schedule::profile::Profile;
-use crate::schedule::Schedule;
+use crate::schedule::variant::ScheduleName;
+use crate::schedule::{Schedule, Trajectory};
 
 /// The swing of the spine, degrees, above which a calibrated circulation is warned: it turns the
 /// cat by π about its spine, but the spine ends nearer across its start than along it, so the cat
@@ -34,10 +36,10 @@ pub struct Resolved {
     pub schedule: Schedule,
     /// The resolved circulation.
     pub circulation: ResolvedCirculation,
-    model: TwoMotorCat,
+    rig: Rig,
     half: Cylinder,
     calibration: OnceLock<Calibration>,
-    library: OnceLock<Vec<(ProfileKind, Schedule, Evaluation)>>,
+    library: OnceLock<Vec<(ProfileKind, Measured<Schedule>)>>,
 }
 
 impl Resolved {
@@ -46,14 +48,16 @@ impl Resolved {
     pub fn new(problem: &Problem) -> Result<Resolved, CirculationError> {
         let fall_time = problem.drop.fall_time();
         let spin = problem.drop.spin();
-        let model = TwoMotorCat::new(problem.cat.model())?;
-        let circulation = resolve_circulation(&model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance)
-            .map_err(|e| match e {
-                CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
-                    field: problem.cat.departure().map_or_else(|| "cat.front".into(), |(f, _)| f),
+        let rig = Rig::new(problem)?;
+        let circulation =
+            resolve_circulation(&rig.model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance).map_err(
+                |e| match e {
+                    CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
+                        field: problem.cat.departure().map_or_else(|| "cat.front".into(), |(f, _)| f),
+                    },
+                    other => other,
                 },
-                other => other,
-            })?;
+            )?;
         let schedule = Schedule::from_manoeuvre(&problem.manoeuvre, fall_time, circulation.radians);
         let calibration = OnceLock::new();
         if let Some(c) = circulation.calibration {
@@ -63,7 +67,7 @@ impl Resolved {
             problem: problem.clone(),
             schedule,
             circulation,
-            model,
+            rig,
             half: problem.cat.half(),
             calibration,
             library: OnceLock::new(),
@@ -91,7 +95,18 @@ impl Resolved {
 
     /// The cat model the exact engine runs (the paper's cat through the two-cylinder engine).
     pub fn model(&self) -> &TwoMotorCat {
-        &self.model
+        &self.rig.model
+    }
+
+    /// What every trajectory of this problem is measured on: its cat, release, motors and the
+    /// engines' settings.
+    pub fn rig(&self) -> &Rig {
+        &self.rig
+    }
+
+    /// Measures `trajectory`, named `name`, on the problem's rig ([`Rig::measure`]).
+    pub fn measure<T: Trajectory>(&self, name: ScheduleName, trajectory: T) -> Measured<T> {
+        self.rig.measure(name, trajectory)
     }
 
     /// Refuses a cat other than the paper's for `what` ([`Problem::require_paper_cat`]).
@@ -99,15 +114,10 @@ impl Resolved {
         self.problem.require_paper_cat(what)
     }
 
-    /// The exact evaluation of `schedule` on the problem's cat, release and motors.
-    pub fn evaluate(&self, schedule: &Schedule) -> Result<Evaluation, ModelError> {
-        Evaluation::of_model(
-            &self.model,
-            schedule,
-            &self.problem.drop.spin(),
-            &self.problem.actuator.motors(),
-            &self.problem.exact,
-        )
+    /// The exact evaluation of `traj` on the problem's cat, release and motors (what
+    /// [`Resolved::measure`] holds).
+    pub fn evaluate(&self, traj: &impl Trajectory) -> Evaluation {
+        self.rig.evaluate(traj)
     }
 
     /// The calibration of the problem's joint path, started from its circulation: the one
@@ -116,7 +126,7 @@ impl Resolved {
     pub fn calibration(&self) -> &Calibration {
         self.calibration.get_or_init(|| {
             let spin = self.problem.drop.spin();
-            calibrate_model(&self.model, &self.schedule, &spin, self.problem.exact.tolerance)
+            calibrate_model(&self.rig.model, &self.schedule, &spin, self.problem.exact.tolerance)
         })
     }
 
@@ -130,28 +140,23 @@ impl Resolved {
         self.schedule.with_profile(Profile::library(kind))
     }
 
-    /// Every library profile's schedule on the problem's path and circulation, evaluated by the
+    /// Every library profile's schedule on the problem's path and circulation, measured by the
     /// exact engine (once), the paper's cosine first.
-    pub fn library(&self) -> &[(ProfileKind, Schedule, Evaluation)] {
+    pub fn library(&self) -> &[(ProfileKind, Measured<Schedule>)] {
         self.library.get_or_init(|| {
             ProfileKind::ALL
                 .par_iter()
-                .filter_map(|&k| {
-                    let s = self.with_library(k);
-                    // Cannot fail: `Resolved::new` ran the model's calibration checks (with
-                    // the release's spin) on a model of two coordinates.
-                    let e = self.evaluate(&s).ok()?;
-                    Some((k, s, e))
-                })
+                .map(|&k| (k, self.measure(ScheduleName::library(k), self.with_library(k))))
                 .collect()
         })
     }
 
-    /// The exact evaluation of the problem's own schedule (the library entry of its profile;
-    /// `None` only if the library lacked that profile).
-    pub fn own(&self) -> Option<&Evaluation> {
+    /// The measurement of the problem's own schedule (the library entry of its profile).
+    pub fn own(&self) -> &Measured<Schedule> {
         let kind = self.problem.manoeuvre.profile;
-        self.library().iter().find(|(k, _, _)| *k == kind).map(|(_, _, e)| e)
+        let library = self.library();
+        // `ProfileKind::ALL` holds every kind, so the problem's own is always there.
+        library.iter().find(|(k, _)| *k == kind).map_or(&library[0].1, |(_, m)| m)
     }
 }
 

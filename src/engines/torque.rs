@@ -32,7 +32,7 @@ use crate::engines::reduction;
 use crate::engines::spin::SpinHistory;
 use crate::model::{skew, Cylinder};
 use crate::numeric::roots::golden_max;
-use crate::schedule::{JointState, Phase, Schedule, Trajectory};
+use crate::schedule::{JointState, Trajectory};
 
 /// Everything Newton–Euler needs at one instant, in A's frame.
 #[derive(Clone, Copy, Debug)]
@@ -252,7 +252,7 @@ pub struct Peak {
 /// Peak joint torques per piece (phase) and joint.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PeakTorques {
-    /// `[piece][joint]`; for a [`Schedule`] the pieces are bend, twist, unbend.
+    /// `[piece][joint]`; for a [`crate::schedule::Schedule`] the pieces are bend, twist, unbend.
     pub per_piece: Vec<[Peak; 2]>,
     /// The largest of all, N·m.
     pub max: f64,
@@ -467,61 +467,4 @@ fn refine_peak(v: &[f64], h: f64, f: &impl Fn(f64) -> f64) -> (f64, f64) {
         }
     }
     peak
-}
-
-/// A joint-rate jump: an impulse, not a torque.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct VelocityJump {
-    /// Time, s.
-    pub time: f64,
-    /// The phase that ends there.
-    pub after_phase: Phase,
-    /// Joint rates before and after, rad/s.
-    pub rates_before: [f64; 2],
-    /// Joint rates after, rad/s.
-    pub rates_after: [f64; 2],
-    /// The impulse the motors must deliver, N·m·s: the impulsive couple the joint transmits,
-    /// projected on the motor axes as the torques are (on the universal joint this is the
-    /// generalised impulse `M(q) Δq̇`).
-    pub impulse: [f64; 2],
-}
-
-/// The schedule's joint-rate jumps larger than `tol` (rad/s), with their impulses `M(q) Δq̇`
-/// (on the universal joint, whose motor axes are its joint axes, the motors' impulse).
-pub fn velocity_jumps(cat: &Cylinder, schedule: &Schedule, tol: f64) -> Vec<VelocityJump> {
-    velocity_jumps_with(|q, dq| generalised_impulse(cat, q, dq), schedule, tol)
-}
-
-/// The paper's cat's generalised impulse `M(q) Δq̇`, N·m·s, of a jump `dq` of the joint rates at
-/// `q` (on the universal joint the motors' impulse).
-pub fn generalised_impulse(cat: &Cylinder, q: [f64; 2], dq: [f64; 2]) -> [f64; 2] {
-    let impulse = reduced_mass_matrix(cat, q) * nalgebra::Vector2::new(dq[0], dq[1]);
-    [impulse[0], impulse[1]]
-}
-
-/// [`velocity_jumps`] with the motors' impulse `impulse(q, Δq̇)` of any two-coordinate model:
-/// the joint's couple at `q̇ = 0` with `q̈ = Δq̇`, projected on the motor axes (over an instant
-/// only the terms linear in the velocity change contribute, and at `q̇ = 0` those are exactly
-/// the couple's acceleration terms;
-/// ([`crate::engines::models::TwoMotorCat::motor_impulse`]).
-pub fn velocity_jumps_with(
-    impulse: impl Fn([f64; 2], [f64; 2]) -> [f64; 2],
-    schedule: &Schedule,
-    tol: f64,
-) -> Vec<VelocityJump> {
-    schedule
-        .rate_jumps(tol)
-        .into_iter()
-        .map(|j| {
-            let q = schedule.state(j.time).q;
-            let dq = [j.after_rates[0] - j.before[0], j.after_rates[1] - j.before[1]];
-            VelocityJump {
-                time: j.time,
-                after_phase: j.after,
-                rates_before: j.before,
-                rates_after: j.after_rates,
-                impulse: impulse(q, dq),
-            }
-        })
-        .collect()
 }

@@ -33,7 +33,7 @@
 //!   manoeuvre is not used, so nothing is said of it.
 
 use crate::engines::models::TwoMotorCat;
-use crate::engines::torque::{generalised_impulse, piece_samples, PeakTorques};
+use crate::engines::torque::{piece_samples, PeakTorques};
 use crate::engines::JUMP_TOLERANCE;
 use crate::exchange::import::{
     ImportError, ImportedSchedule, Interpolation, Row, TimeRounding, POSITION_JUMP_TOLERANCE, TIME_ROUNDING_WARNED,
@@ -153,10 +153,7 @@ fn ends(model: &TwoMotorCat, s: &ImportedSchedule, warnings: &mut Vec<String>) {
             ));
         } else if speed > (JUMP_TOLERANCE * speed.max(1.0)).max(uncertainty) {
             // The impulse from rest: the paper's cat's M(q) q̇, any other model's motor impulse.
-            let m = match model.cat().paper() {
-                Some(cat) => generalised_impulse(cat, q, state.qd),
-                None => model.motor_impulse(q, state.qd),
-            };
+            let m = model.jump_impulse(q, state.qd);
             warnings.push(format!(
                 "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat is {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
                 state.qd[0], state.qd[1], m[0], m[1]

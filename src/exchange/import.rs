@@ -390,17 +390,6 @@ impl TimeRounding {
 /// How many times the estimated rate error a difference of rates must exceed to be a jump.
 pub const JUMP_SAFETY: f64 = 10.0;
 
-impl ImportedSchedule {
-    /// The uncertainty of the rate difference at the boundary after piece `k`, rad/s:
-    /// [`JUMP_SAFETY`] times the two sides' [`ImportedPiece::end_rate_error`].
-    pub fn boundary_rate_uncertainty(&self, k: usize) -> f64 {
-        match (self.pieces.get(k), self.pieces.get(k + 1)) {
-            (Some(a), Some(b)) => JUMP_SAFETY * (a.end_rate_error[1] + b.end_rate_error[0]),
-            _ => 0.0,
-        }
-    }
-}
-
 /// The spline's rate error at both ends of a piece, estimated from a spline on every other knot.
 fn spline_end_rate_error(knots: &[f64], q: [&[f64]; 2], fine: [&Piecewise; 2]) -> [f64; 2] {
     let n = knots.len();
@@ -466,6 +455,15 @@ impl Trajectory for ImportedSchedule {
         let p = &self.pieces[piece.min(self.pieces.len() - 1)];
         let d = p.joints.each_ref().map(|j| j.eval_before(s));
         JointState { q: [d[0].value, d[1].value], qd: [d[0].rate, d[1].rate], qdd: [d[0].accel, d[1].accel] }
+    }
+
+    /// [`JUMP_SAFETY`] times the two sides' [`ImportedPiece::end_rate_error`] (zero where the
+    /// file gives the rates; infinite where a piece is too short to estimate them).
+    fn boundary_rate_uncertainty(&self, k: usize) -> f64 {
+        match (self.pieces.get(k), self.pieces.get(k + 1)) {
+            (Some(a), Some(b)) => JUMP_SAFETY * (a.end_rate_error[1] + b.end_rate_error[0]),
+            _ => 0.0,
+        }
     }
 }
 

@@ -1,5 +1,5 @@
 //! Exchange with other tools: the model as URDF and MJCF, schedules as CSV with a JSON sidecar,
-//! and schedules from elsewhere read back and evaluated (DESIGN.md §7).
+//! and schedules from elsewhere read back (DESIGN.md §7).
 //!
 //! - [`links`]: the three links (A, the cross, B) with their true mass properties;
 //! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`);
@@ -12,9 +12,7 @@
 //! - [`arrays`]: a schedule given as columns of numbers (the Python package's numpy arrays),
 //!   read by the same parser;
 //! - [`checks`]: what is refused and what is warned of an imported schedule (units, duration,
-//!   ends, rates against angles, sampling);
-//! - [`mod@evaluate`]: an imported trajectory through the exact engine (`catflip simulate PROBLEM
-//!   --schedule FILE.csv`).
+//!   ends, rates against angles, sampling); [`crate::measure::import`] measures it.
 //!
 //! Conventions (the README's "Replay elsewhere"): body frames at the centres of mass with `z` towards the head,
 //! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)`; SI units;
@@ -23,10 +21,8 @@
 pub mod arrays;
 pub mod checks;
 pub mod cuts;
-pub mod evaluate;
 pub mod import;
 pub mod interp;
-pub mod jumps;
 pub mod links;
 pub mod mjcf;
 pub mod schedule_file;
@@ -35,14 +31,14 @@ pub mod table;
 pub mod urdf;
 
 pub use arrays::schedule_from_columns;
-pub use evaluate::{evaluate, evaluate_rapier, ImportReport};
 pub use import::{read_schedule, ImportError, ImportedSchedule, Interpolation};
 pub use links::Links;
 pub use mjcf::{mjcf, MjcfOptions};
-pub use schedule_file::{write_schedule, write_trajectory, ExportOptions, ScheduleFile};
+pub use schedule_file::{write_schedule, write_trajectory, write_whole_optimum, ExportOptions, ScheduleFile};
 pub use sidecar::Sidecar;
 pub use urdf::urdf;
 
+use crate::engines::measured::Measured;
 use crate::problem::Problem;
 use crate::schedule::Schedule;
 
@@ -92,12 +88,12 @@ pub fn model_files(problem: &Problem) -> [(String, String); 2] {
     ]
 }
 
-/// Everything `catflip run` writes under `schedules/`: for each `(name, schedule)`,
+/// Everything `catflip run` writes under `schedules/`: for each measured schedule,
 /// `schedules/NAME.csv` and `schedules/NAME.json`, then `schedules/model.urdf` and
 /// `schedules/model.xml` once. Returned as `(path relative to the results folder, contents)`.
 pub fn results_files(
     problem: &Problem,
-    schedules: &[(String, Schedule)],
+    schedules: &[&Measured<Schedule>],
     options: &ExportOptions,
 ) -> Result<Vec<(String, String)>, ExchangeError> {
     let mut out = schedule_files(problem, schedules, options)?;
@@ -105,18 +101,20 @@ pub fn results_files(
     Ok(out)
 }
 
-/// Each schedule's CSV and sidecar as (path in a results folder, contents), computed in parallel
-/// and listed in the given order (sidecar first): [`results_files`] without the model files.
+/// Each measured schedule's CSV and sidecar as (path in a results folder, contents), computed in
+/// parallel and listed in the given order (sidecar first): [`results_files`] without the model
+/// files.
 pub fn schedule_files(
     problem: &Problem,
-    schedules: &[(String, Schedule)],
+    schedules: &[&Measured<Schedule>],
     options: &ExportOptions,
 ) -> Result<Vec<(String, String)>, ExchangeError> {
     use rayon::prelude::*;
     let files = schedules
         .par_iter()
-        .map(|(name, schedule)| {
-            let file = write_schedule(problem, schedule, name, options)?;
+        .map(|m| {
+            let file = write_schedule(problem, m, options)?;
+            let name = &m.name;
             Ok([(format!("schedules/{name}.json"), file.sidecar_json()?), (format!("schedules/{name}.csv"), file.csv)])
         })
         .collect::<Result<Vec<_>, ExchangeError>>()?;

@@ -24,25 +24,29 @@
 //! ([`crate::exchange::cuts`]): the instant is written twice like a phase boundary, so that
 //! every piece between `end`/`start` pairs is smooth.
 //!
-//! # Orientation to the engine's tolerance
+//! # The measurement it carries
 //!
-//! The orientation columns are not a fixed grid's: [`crate::engines::exact::flip`] first finds the step
-//! count `N` per piece at which its Richardson estimate meets `exact.tolerance`; the orientation
-//! is then carried from row to row with sixth-order Magnus steps ([`crate::engines::exact::magnus6`]) no
-//! longer than `T_piece / N`, so every row is at least as accurate as the engine's final answer
-//! (the last row agrees with `flip` to about the tolerance; a test checks it).
+//! A file is written from a measured trajectory ([`Measured`]): the sidecar's flip, jumps and
+//! motor sizing are that measurement's, not a second one. The orientation columns are not a
+//! fixed grid's: the measurement's [`crate::engines::exact::flip`] found the step count `N` per
+//! piece at which its Richardson estimate meets `exact.tolerance`; the orientation is carried
+//! from row to row with sixth-order Magnus steps ([`crate::engines::exact::magnus6`]) no longer
+//! than `T_piece / N`, so every row is at least as accurate as the engine's final answer (the
+//! last row agrees with the flip to about the tolerance; a test checks it).
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::engines::exact::{body_rate, flip, magnus6};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::exact::{body_rate, magnus6};
+use crate::engines::jumps::VelocityJump;
+use crate::engines::measured::Measured;
 use crate::engines::models::TwoMotorCat;
-use crate::engines::motors::motor_demand_from;
-use crate::engines::torque::{peak_torques_from, piece_samples, Peak, TorqueSource};
+use crate::engines::torque::{Peak, TorqueSource};
 use crate::exchange::cuts::{acceleration_cuts, CutTrajectory};
-use crate::exchange::jumps::{rate_jumps, rate_jumps_by, Jump};
 use crate::exchange::links::{num, Links};
 use crate::exchange::sidecar::{
-    Column, Conventions, ModelInfo, MotorSizing, OrientationInfo, PieceInfo, Sampling, Sidecar, Source, FORMAT,
+    Column, Conventions, JumpRecord, ModelInfo, MotorSizing, OrientationInfo, PieceInfo, Sampling, Sidecar, Source,
+    FORMAT,
 };
 use crate::exchange::ExchangeError;
 use crate::model::orientation::{SwingTwist, TwistTracker};
@@ -132,17 +136,19 @@ impl ScheduleFile {
     }
 }
 
-/// One of a problem's three-phase schedules as a file named `name` (`name.csv`, `name.json`),
-/// its phases cut where the acceleration jumps ([`CutTrajectory`]), so every piece is smooth.
+/// One of a problem's three-phase schedules, measured, as a file named by its name (`NAME.csv`,
+/// `NAME.json`), its phases cut where the acceleration jumps ([`CutTrajectory`]), so every piece
+/// is smooth.
 pub fn write_schedule(
     problem: &Problem,
-    schedule: &Schedule,
-    name: &str,
+    measured: &Measured<Schedule>,
     options: &ExportOptions,
 ) -> Result<ScheduleFile, ExchangeError> {
+    let schedule = &measured.trajectory;
     let refined = CutTrajectory::new(schedule, &acceleration_cuts(schedule));
-    let names: Vec<String> =
-        (0..refined.piece_durations().len()).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
+    let pieces = refined.piece_durations().len();
+    let names: Vec<String> = (0..pieces).map(|k| Phase::ALL[refined.origin(k).min(2)].name().to_string()).collect();
+    let origins: Vec<usize> = (0..pieces).map(|k| refined.origin(k)).collect();
     let description = format!(
         "three phases (bend, twist, unbend) of {:?} s; bend β = {} rad on the {:?} path; twist profile {}, circulation {} rad",
         schedule.durations,
@@ -151,14 +157,48 @@ pub fn write_schedule(
         schedule.profile.name(),
         schedule.circulation
     );
-    write_trajectory(problem, &refined, &names, name, &description, options)
+    let file = FileTrajectory { traj: &refined, origins: &origins, measured: &measured.exact };
+    write_file(problem, &file, &names, &measured.name.to_string(), &description, options)
 }
 
-/// Any trajectory as a file named `name`; `piece_names` name its pieces (missing names are
-/// `piece-K`), `description` says what it is.
-pub fn write_trajectory(
+/// Any measured trajectory as a file named by its name; `piece_names` name its pieces (missing
+/// names are `piece-K`), `description` says what it is. Its pieces are the file's.
+pub fn write_trajectory<T: Trajectory>(
     problem: &Problem,
-    traj: &impl Trajectory,
+    measured: &Measured<T>,
+    piece_names: &[String],
+    description: &str,
+    options: &ExportOptions,
+) -> Result<ScheduleFile, ExchangeError> {
+    let origins: Vec<usize> = (0..measured.trajectory.piece_durations().len()).collect();
+    let file = FileTrajectory { traj: &measured.trajectory, origins: &origins, measured: &measured.exact };
+    write_file(problem, &file, piece_names, &measured.name.to_string(), description, options)
+}
+
+/// The whole-manoeuvre optimum, measured, as its schedule file (`whole-optimum.csv` + sidecar):
+/// one piece name for every span, so the rows spread over the whole fall (the spans' joins,
+/// where only the jerk jumps, still get their boundary rows).
+pub fn write_whole_optimum<T: Trajectory>(
+    problem: &Problem,
+    measured: &Measured<T>,
+    options: &ExportOptions,
+) -> Result<ScheduleFile, ExchangeError> {
+    let pieces = vec!["whole".to_string(); measured.trajectory.piece_durations().len()];
+    let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
+    write_trajectory(problem, measured, &pieces, description, options)
+}
+
+/// The rows' trajectory of a file (a measured trajectory, or its pieces cut further), each of
+/// its pieces `k` inside the measured piece `origins[k]`, and the measurement.
+struct FileTrajectory<'a, T: Trajectory> {
+    traj: &'a T,
+    origins: &'a [usize],
+    measured: &'a Evaluation,
+}
+
+fn write_file<T: Trajectory>(
+    problem: &Problem,
+    file: &FileTrajectory<T>,
     piece_names: &[String],
     name: &str,
     description: &str,
@@ -170,20 +210,27 @@ pub fn write_trajectory(
     // The paper's cat through the two-cylinder engine, any other through the general core.
     let model = TwoMotorCat::new(problem.cat.model())?;
     let paper = model.cat().paper().copied();
+    let (traj, e) = (file.traj, file.measured);
     let durations = traj.piece_durations();
     options.validate(durations.iter().sum())?;
     let piece_name = |k: usize| piece_names.get(k).cloned().unwrap_or_else(|| format!("piece-{}", k + 1));
     let labels: Vec<String> = (0..durations.len()).map(piece_name).collect();
     let plan = plan_rows(&durations, &labels, options);
-    let tolerance = problem.exact.tolerance;
-    let engine = paper.map_or_else(|| model.flip(traj, tolerance), |cat| flip(&cat, traj, tolerance));
-    let max_step = durations.iter().fold(0.0, |m: f64, &d| m.max(d)) / engine.steps_per_phase.max(1) as f64;
+    // Steps no longer than the measured pieces' own Magnus steps (a cut piece is shorter).
+    let mut measured_durations = vec![0.0; file.origins.last().map_or(0, |o| o + 1)];
+    for (k, d) in durations.iter().enumerate() {
+        measured_durations[file.origins[k]] += d;
+    }
+    let h_max: Vec<f64> =
+        file.origins.iter().map(|&o| measured_durations[o] / e.flip.steps_per_phase.max(1) as f64).collect();
+    let max_step = h_max.iter().copied().fold(0.0, f64::max);
     let rate = |st: &JointState| paper.map_or_else(|| model.body_rate(st), |cat| body_rate(&cat, st.q, st.qd));
-    let attitude = orientations(rate, traj, &plan, &durations, engine.steps_per_phase);
-    let jumps = match &paper {
-        Some(cat) => rate_jumps(cat, traj),
-        None => rate_jumps_by(|q, dq| model.motor_impulse(q, dq), traj, |_| 0.0),
-    };
+    let attitude = orientations(rate, traj, &plan, &h_max);
+    // The measured jumps, at the file's piece boundaries: after the last file piece of each
+    // measured piece.
+    let last_piece_of = |o: usize| file.origins.iter().rposition(|&x| x == o).unwrap_or(o);
+    let jumps: Vec<VelocityJump> =
+        e.jumps.iter().map(|j| VelocityJump { after_piece: last_piece_of(j.after_piece), ..*j }).collect();
     let source = TorqueSource::of(&model);
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(COLUMNS.map(|c| c.0)).map_err(csv_error)?;
@@ -192,7 +239,7 @@ pub fn write_trajectory(
         let st = traj.piece_state(row.piece, row.local);
         let tau = source.at(traj, row.piece, row.local, &st).tau;
         let impulse = match row.marker {
-            Marker::Start => jumps.iter().find(|j| j.after_piece + 1 == row.piece).map(|j| j.impulse_nms),
+            Marker::Start => jumps.iter().find(|j| j.after_piece + 1 == row.piece).map(|j| j.impulse),
             _ => None,
         }
         .unwrap_or([0.0; 2]);
@@ -255,40 +302,39 @@ pub fn write_trajectory(
             duration_s: durations.iter().sum(),
         },
         pieces,
-        jumps: jumps.clone(),
+        jumps: jumps.iter().map(JumpRecord::from).collect(),
         orientation: OrientationInfo {
             engine: "exact".into(),
             tolerance_rad: problem.exact.tolerance,
             max_step_s: max_step,
-            error_estimate_rad: engine.error_estimate,
-            converged: engine.converged,
-            final_twist_deg: engine.twist.to_degrees(),
-            final_swing_deg: engine.swing.to_degrees(),
+            error_estimate_rad: e.flip.error_estimate,
+            converged: e.flip.converged,
+            final_twist_deg: e.flip.twist.to_degrees(),
+            final_swing_deg: e.flip.swing.to_degrees(),
         },
         interpolation: interpolation_advice(&jumps),
-        motors: motor_sizing(problem, &source, traj),
+        motors: motor_sizing(e),
     };
     Ok(ScheduleFile { csv, sidecar })
 }
 
-/// The motor-sizing figures of `traj` on `problem`'s cat and `[actuator]`, sampled as the
-/// reports sample peaks.
-fn motor_sizing(problem: &Problem, source: &TorqueSource, traj: &impl Trajectory) -> MotorSizing {
-    let samples = piece_samples(traj, problem.exact.torque_samples);
-    let peaks = peak_torques_from(source, traj, &samples);
+/// The motor-sizing figures of a measured trajectory: each joint's peak with when, and what the
+/// trajectory asks of the motors.
+fn motor_sizing(e: &Evaluation) -> MotorSizing {
     let largest = |j: usize| {
-        peaks
-            .per_piece
-            .iter()
-            .map(|p| p[j])
-            .fold(Peak { value: 0.0, time: 0.0 }, |a, b| if b.value > a.value { b } else { a })
+        e.peaks.per_piece.iter().map(|p| p[j]).fold(Peak { value: 0.0, time: 0.0 }, |a, b| {
+            if b.value > a.value {
+                b
+            } else {
+                a
+            }
+        })
     };
-    let demand = motor_demand_from(source, traj, &samples, &problem.actuator.motors());
     MotorSizing {
         peak_torque_nm: [largest(0), largest(1)],
-        within_motors: demand.within(),
-        verdict: demand.verdict(),
-        demand,
+        within_motors: e.motors.within(),
+        verdict: e.motors.verdict(),
+        demand: e.motors.clone(),
     }
 }
 
@@ -296,7 +342,7 @@ fn csv_error(e: csv::Error) -> ExchangeError {
     ExchangeError::Csv(e.to_string())
 }
 
-fn interpolation_advice(jumps: &[Jump]) -> String {
+fn interpolation_advice(jumps: &[VelocityJump]) -> String {
     let mut s = String::from(
         "Within a piece, interpolate q with q̇ and q̈ by quintic Hermite (what `catflip simulate --schedule` does: error O(h⁶) in q, O(h⁴) in q̈); a cubic spline through q alone is O(h⁴). Never interpolate across a piece boundary: split the file at its 'end'/'start' row pairs (each pair has the same t) and fit each piece on its own.",
     );
@@ -372,13 +418,12 @@ fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> V
     rows
 }
 
-/// A's orientation at every row: Magnus steps no longer than `T_piece / steps` from row to row.
+/// A's orientation at every row: Magnus steps no longer than `h_max[piece]` from row to row.
 fn orientations(
     body_rate: impl Fn(&JointState) -> Vector3<f64>,
     traj: &impl Trajectory,
     rows: &[Row],
-    durations: &[f64],
-    steps: usize,
+    h_max: &[f64],
 ) -> Vec<(UnitQuaternion<f64>, SwingTwist)> {
     let c = 15f64.sqrt() / 10.0;
     let mut r = UnitQuaternion::identity();
@@ -388,7 +433,7 @@ fn orientations(
     let mut prev: Option<Row> = None;
     for row in rows {
         if let Some(p) = prev.filter(|p| p.piece == row.piece) {
-            let h_max = durations[row.piece] / steps.max(1) as f64;
+            let h_max = h_max[row.piece];
             let span = row.local - p.local;
             let n = ((span / h_max) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
             let h = span / n as f64;

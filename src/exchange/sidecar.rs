@@ -6,9 +6,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::engines::jumps::VelocityJump;
 use crate::engines::motors::MotorDemand;
 use crate::engines::torque::Peak;
-use crate::exchange::jumps::Jump;
 use crate::exchange::links::Links;
 
 /// The sidecar's format tag.
@@ -35,13 +35,42 @@ pub struct Sidecar {
     pub pieces: Vec<PieceInfo>,
     /// Joint-rate jumps at piece boundaries, with their impulses; empty when the rates are
     /// continuous.
-    pub jumps: Vec<Jump>,
+    pub jumps: Vec<JumpRecord>,
     /// How the orientation columns were computed, and how accurate they are.
     pub orientation: OrientationInfo,
     /// How to interpolate between rows.
     pub interpolation: String,
     /// What the schedule asks of its motors, measured by the exact engine.
     pub motors: MotorSizing,
+}
+
+/// A joint-rate jump as the sidecar records it ([`VelocityJump`], with the units in the names as
+/// every field of the sidecar has them).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JumpRecord {
+    /// Time of the jump from the trajectory's start, s.
+    pub time_s: f64,
+    /// Index of the piece that ends there (the next one starts there).
+    pub after_piece: usize,
+    /// Rates just before, rad/s.
+    pub rates_before_rad_s: [f64; 2],
+    /// Rates just after, rad/s.
+    pub rates_after_rad_s: [f64; 2],
+    /// The motors' impulse on joints 1 and 2 (on the universal joint the generalised impulse
+    /// `M(q) Δq̇`), N·m·s.
+    pub impulse_nms: [f64; 2],
+}
+
+impl From<&VelocityJump> for JumpRecord {
+    fn from(j: &VelocityJump) -> JumpRecord {
+        JumpRecord {
+            time_s: j.time,
+            after_piece: j.after_piece,
+            rates_before_rad_s: j.rates_before,
+            rates_after_rad_s: j.rates_after,
+            impulse_nms: j.impulse,
+        }
+    }
 }
 
 /// The motor-sizing figures of a schedule (DESIGN.md §9), from the exact engine's torques on the

@@ -23,12 +23,10 @@ pub mod refine;
 pub mod retime;
 pub mod whole;
 
-use serde::Serialize;
-
 use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::ResolvedCirculation;
-use crate::engines::evaluate::{CompareRow, Evaluation};
-use crate::engines::exact::flip;
+use crate::engines::exact::{flip, Flip};
+use crate::engines::measured::Measured;
 use crate::engines::resolved::Resolved;
 use crate::schedule::profile::Profile;
 use crate::schedule::variant::{Origin, Variant};
@@ -51,34 +49,35 @@ pub enum OptimizeError {
     Conic(#[from] ConicError),
 }
 
-/// One optimised profile, evaluated.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// One optimised profile, measured.
+#[derive(Clone, Debug)]
 pub struct Optimum {
-    /// Which schedule it is.
-    #[serde(skip)]
-    pub variant: Variant,
-    /// The evaluation on the problem's circulation (a peak-torque table row).
-    pub evaluation: CompareRow,
-    /// Twist with the calibrated circulation, degrees (absent when the calibration failed).
-    pub calibrated_twist_deg: Option<f64>,
-    /// Swing with the calibrated circulation, degrees (absent when the calibration failed).
-    pub calibrated_swing_deg: Option<f64>,
+    /// The schedule on the problem's circulation, named by its variant, measured there.
+    pub measured: Measured<Schedule>,
+    /// Its flip with the calibrated circulation (absent when the calibration failed).
+    pub calibrated: Option<Flip>,
     /// Node rates, rad/s.
     pub rates: Vec<f64>,
+}
+
+impl Optimum {
+    /// Which schedule it is.
+    pub fn variant(&self) -> Variant {
+        // Every optimum is named by its variant (`optimize` below).
+        self.measured.name.variant().unwrap_or_else(|| Variant::new(Origin::Qp))
+    }
+
     /// The schedule itself, on the problem's circulation.
-    #[serde(skip)]
-    pub schedule: Schedule,
-    /// Its exact evaluation there.
-    #[serde(skip)]
-    pub exact: Evaluation,
+    pub fn schedule(&self) -> &Schedule {
+        &self.measured.trajectory
+    }
 }
 
 /// The schedule with all three phases retimed against their exact peaks: the joint path (and so
 /// the flip) is the problem's; only the timing of bend, twist and unbend changes.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug)]
 pub struct AllPhasesRefinement {
-    /// Its evaluation (the twist phase's node rates as `rates`).
-    #[serde(flatten)]
+    /// Its measurement (the twist phase's node rates as `rates`).
     pub optimum: Optimum,
     /// The bend phase's refinement.
     pub bend: Refinement,
@@ -86,8 +85,8 @@ pub struct AllPhasesRefinement {
     pub unbend: Refinement,
 }
 
-/// Everything `catflip optimize` reports.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// Everything `catflip optimize` reports ([`crate::report::optimize`] renders it).
+#[derive(Clone, Debug)]
 pub struct OptimizeReport {
     /// Problem name.
     pub problem: String,
@@ -120,21 +119,11 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
     let qp_data = ProfileQp::new(&problem.optimize, t2, r.circulation.radians, problem.cat.half().end_transverse());
     let qp = qp_data.solve()?.solved()?;
     let calibrated = r.calibrated();
-    // A schedule on the problem's circulation, evaluated there and with the calibrated one.
+    // A schedule on the problem's circulation, measured there, with its flip at the calibrated one.
     let evaluate = |s: Schedule, origin: Origin, rates: Vec<f64>| {
-        let exact =
-            Evaluation::new(&problem.cat.half(), &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact);
-        let at_calibrated =
+        let calibrated =
             calibrated.map(|c| flip(&problem.cat.half(), &s.with_circulation(c.radians), problem.exact.tolerance));
-        Optimum {
-            variant: Variant::new(origin),
-            evaluation: CompareRow::new(&problem.name, &problem.cat.half(), &s, origin, &exact),
-            calibrated_twist_deg: at_calibrated.map(|f| f.twist.to_degrees()),
-            calibrated_swing_deg: at_calibrated.map(|f| f.swing.to_degrees()),
-            rates,
-            schedule: s,
-            exact,
-        }
+        Optimum { measured: r.measure(Variant::new(origin).into(), s), calibrated, rates }
     };
     let qp_optimum = qp.to_profile().map(|p| evaluate(base.with_profile(p), Origin::Qp, qp.rates.clone()));
     let refinement = if qp.status.is_solved() {
@@ -177,7 +166,7 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
     let best_library = r
         .library()
         .iter()
-        .map(|(k, _, e)| (k.name().to_string(), e.peaks.phase_max(Phase::Twist)))
+        .map(|(k, m)| (k.name().to_string(), m.exact.phase_peaks().phase_max(Phase::Twist)))
         .fold((String::new(), f64::INFINITY), |best, x| if x.1 < best.1 { x } else { best });
     Ok(OptimizeReport {
         problem: problem.name.clone(),

@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use crate::engines::rapier::{Quantity, Verification};
+use crate::engines::rapier::{Quantity, Reference, Verification};
 use crate::engines::rapier_check::RapierCheck;
 
 impl RapierCheck {
@@ -43,42 +43,30 @@ impl RapierCheck {
     }
 }
 
-/// The exact engine's values a verification row compares with: twist and swing in degrees, the
-/// peak torque in N·m.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ExactValues {
-    /// Signed twist, degrees.
-    pub twist_deg: f64,
-    /// Swing, degrees.
-    pub swing_deg: f64,
-    /// Peak torque, N·m.
-    pub peak_torque_nm: f64,
-}
-
 /// Header of the verification table that [`verification_row`] fills.
 pub const VERIFICATION_TABLE_HEADER: &str = "| schedule | exact twist | rapier twist | rapier → 0 twist | exact swing | rapier swing | rapier → 0 swing | exact peak | rapier peak | peak diff | rapier momentum drift | tracking error rad | verdict | dt sequence s | estimates | rapier time s |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|\n";
 
-/// One row of the verification table: the exact engine's values and rapier's verification of
-/// the same trajectory. rapier's raw columns are the finest run's, `→ 0` the last extrapolation;
+/// One row of the verification table: the exact engine's values (twist and swing shown in
+/// degrees) and rapier's verification of the same trajectory. rapier's raw columns are the finest run's, `→ 0` the last extrapolation;
 /// a number rapier does not have (no run, fewer than two runs, a zero exact peak) reads `—`.
-pub fn verification_row(name: &str, exact: ExactValues, v: &Verification) -> String {
+pub fn verification_row(name: &str, exact: &Reference, v: &Verification) -> String {
     let run = v.finest.as_ref();
     let dash = || "—".to_string();
     let value = |q: Quantity| v.quantity(q).and_then(|c| c.value).map_or_else(dash, |x| format!("{x:.4}"));
     let raw = |x: Option<f64>, d: usize| x.map_or_else(dash, |x| format!("{x:.d$}"));
     let tr = v.tracking_error_rad.map_or_else(dash, |t| format!("{:.1e}, {:.1e}", t[0], t[1]));
     let diff = run
-        .filter(|_| exact.peak_torque_nm > 0.0)
-        .map_or_else(dash, |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / exact.peak_torque_nm - 1.0)));
+        .filter(|_| exact.peak_torque > 0.0)
+        .map_or_else(dash, |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / exact.peak_torque - 1.0)));
     format!(
         "| {name} | {:.4} | {} | {} | {:.4} | {} | {} | {:.3} | {} | {diff} | {} | {tr} | {} |\n",
-        exact.twist_deg,
+        exact.twist.to_degrees(),
         raw(run.map(|x| x.twist.to_degrees()), 4),
         value(Quantity::Twist),
-        exact.swing_deg,
+        exact.swing.to_degrees(),
         raw(run.map(|x| x.swing.to_degrees()), 4),
         value(Quantity::Swing),
-        exact.peak_torque_nm,
+        exact.peak_torque,
         raw(run.map(|x| x.peak_torque.max), 3),
         v.momentum_drift.map_or_else(dash, |x| format!("{x:.2e}")),
         v.table_cells()

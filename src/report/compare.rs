@@ -6,15 +6,20 @@
 //! `[actuator]` the worst usage of a motor limit), velocity jumps, twist, swing and circulation. The bend path and the
 //! circulation are the problem's, shared by every row; since the reorientation depends only on
 //! the joint path (not its timing), twist and swing agree across rows: a check, printed anyway.
+//!
+//! Every row is a measured schedule ([`Measured`]) as the table shows it ([`CompareRow`]): a
+//! profile's, or a trajectory's without a circulation profile (the whole-manoeuvre optimum),
+//! whose profile columns are absent (`—` in Markdown, empty in CSV).
 
 use serde::Serialize;
 
 use crate::engines::circulation::ResolvedCirculation;
-pub use crate::engines::evaluate::CompareRow;
+use crate::engines::measured::Measured;
 use crate::engines::motors::MotorDemand;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::resolved::Resolved;
-use crate::schedule::variant::Origin;
+use crate::model::Cylinder;
+use crate::schedule::{Phase, Schedule};
 
 /// The table with its shared settings.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -35,49 +40,45 @@ pub struct CompareTable {
     pub rows: Vec<CompareRow>,
 }
 
-/// The table of every library profile (their evaluations made once, in [`Resolved::library`]);
-/// `extra` adds more rows (e.g. the optimisers' profiles, already evaluated).
+/// The table of every library profile (their measurements made once, in [`Resolved::library`]);
+/// `extra` adds more rows (e.g. the optimisers' schedules, already measured).
 pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
     let p = &r.problem;
-    let mut rows: Vec<CompareRow> = r
-        .library()
-        .iter()
-        .map(|(k, s, e)| CompareRow::new(&p.name, &r.model().cat().rear, s, Origin::Library(*k), e))
-        .collect();
+    let rear = &r.model().cat().rear;
+    let mut rows: Vec<CompareRow> =
+        r.library().iter().map(|(_, m)| CompareRow::of_schedule(&p.name, rear, m)).collect();
     rows.extend_from_slice(extra);
     CompareTable {
         problem: p.name.clone(),
         circulation: r.circulation,
-        model_inertia: r.model().cat().rear.end_transverse(),
+        model_inertia: rear.end_transverse(),
         model: r.model().cat().paper().is_none().then(|| r.model().cat().describe()),
         angular_momentum_nms: p.drop.angular_momentum,
         rows,
     }
 }
 
-/// One line of the peak-torque table as both its Markdown and its CSV write it: a profile's row,
-/// or a trajectory's that has no circulation profile (the whole-manoeuvre optimum), whose
-/// profile columns (rest to rest, `C_a`, the paper's model peak, the circulation) are `None`:
-/// `—` in Markdown, empty in CSV.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CompareLine {
+/// One row of the peak-torque table, as its Markdown, CSV and JSON write it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CompareRow {
     /// Problem name.
     pub problem: String,
     /// Profile (or trajectory) name.
     pub profile: String,
-    /// Where it comes from.
+    /// Where it comes from: `paper`, `library`, `qp`, `refined`, `refined-all-phases` or `whole`.
     pub origin: String,
     /// Whether the twist phase's rate is zero at both ends.
     pub rest_to_rest: Option<bool>,
-    /// Peak-acceleration coefficient of the normalised profile.
+    /// Peak-acceleration coefficient `max|A|` of the normalised profile.
     pub accel_coefficient: Option<f64>,
-    /// Peak torque in the paper's model `I* · max|ω̇|`, N·m.
+    /// Peak torque in the paper's model `I* · max|ω̇| = I* C_a |D| / T²`, N·m.
     pub model_peak_nm: Option<f64>,
-    /// Exact peak torques per phase and joint, N·m.
+    /// Exact peak torques per phase (for the whole optimum, over the problem's phase windows)
+    /// and joint, N·m.
     pub exact_peak_nm: PhasePeaks,
-    /// Number of velocity jumps.
+    /// Number of velocity jumps (impulses).
     pub velocity_jumps: usize,
-    /// Largest generalised impulse of a jump, N·m·s (0 when none).
+    /// Largest impulse of a jump, N·m·s (0 when none).
     pub max_impulse_nms: f64,
     /// Signed twist, degrees.
     pub twist_deg: f64,
@@ -89,28 +90,32 @@ pub struct CompareLine {
     pub motors: MotorDemand,
 }
 
-impl From<&CompareRow> for CompareLine {
-    fn from(r: &CompareRow) -> Self {
-        CompareLine {
-            problem: r.problem.clone(),
-            profile: r.profile.clone(),
-            origin: r.origin.to_string(),
-            rest_to_rest: Some(r.rest_to_rest),
-            accel_coefficient: Some(r.accel_coefficient),
-            model_peak_nm: Some(r.model_peak_nm),
-            exact_peak_nm: r.exact_peak_nm,
-            velocity_jumps: r.velocity_jumps,
-            max_impulse_nms: r.max_impulse_nms,
-            twist_deg: r.twist_deg,
-            swing_deg: r.swing_deg,
-            circulation_rad: Some(r.circulation_rad),
-            motors: r.motors.clone(),
+impl CompareRow {
+    /// The row of a measured three-phase schedule on a cat whose rear half is `rear` (the
+    /// paper's model's `I*`), named by its variant.
+    pub fn of_schedule(problem: &str, rear: &Cylinder, m: &Measured<Schedule>) -> CompareRow {
+        let (s, e) = (&m.trajectory, &m.exact);
+        let coefficient = s.profile.peak_accel_coefficient();
+        let t2 = s.durations[Phase::Twist.index()];
+        let origin = m.name.variant().map_or("library", |v| v.origin.name());
+        CompareRow {
+            problem: problem.to_string(),
+            profile: s.profile.name().to_string(),
+            origin: origin.to_string(),
+            rest_to_rest: Some(s.profile.is_rest_to_rest()),
+            accel_coefficient: Some(coefficient),
+            model_peak_nm: Some(rear.end_transverse() * coefficient * s.circulation.abs() / (t2 * t2)),
+            exact_peak_nm: e.phase_peaks(),
+            velocity_jumps: e.jumps.len(),
+            max_impulse_nms: e.max_impulse(),
+            twist_deg: e.twist_deg(),
+            swing_deg: e.swing_deg(),
+            circulation_rad: Some(s.circulation),
+            motors: e.motors.clone(),
         }
     }
-}
 
-impl CompareLine {
-    /// Header of [`CompareLine::csv_fields`].
+    /// Header of [`CompareRow::csv_fields`].
     pub fn csv_header() -> Vec<&'static str> {
         let mut header =
             vec!["problem", "profile", "origin", "engine", "rest_to_rest", "accel_coefficient", "model_peak_nm"];
@@ -199,7 +204,7 @@ impl CompareTable {
         let _ = writeln!(s, "| profile | origin | C_a | model peak | bend τ1, τ2 | twist τ1, τ2 | unbend τ1, τ2 | exact max | peak speed rad/s | peak power W | motors: worst usage | jumps (max impulse N·m·s) | twist ° | swing ° |");
         let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|");
         for r in &self.rows {
-            s.push_str(&CompareLine::from(r).markdown());
+            s.push_str(&r.markdown());
         }
         s
     }
@@ -211,10 +216,10 @@ impl CompareTable {
 
     /// [`CompareTable::to_csv`] with `extra` lines (e.g. the whole-manoeuvre optimum's), sorted in
     /// with the rows.
-    pub fn to_csv_with(&self, extra: &[CompareLine]) -> String {
-        let mut lines: Vec<CompareLine> = self.rows.iter().map(CompareLine::from).collect();
+    pub fn to_csv_with(&self, extra: &[CompareRow]) -> String {
+        let mut lines: Vec<CompareRow> = self.rows.clone();
         lines.extend_from_slice(extra);
         lines.sort_by(|a, b| a.profile.cmp(&b.profile));
-        crate::exchange::table::csv_table(&CompareLine::csv_header(), lines.iter().map(CompareLine::csv_fields))
+        crate::exchange::table::csv_table(&CompareRow::csv_header(), lines.iter().map(CompareRow::csv_fields))
     }
 }

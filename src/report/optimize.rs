@@ -1,19 +1,114 @@
-//! The prose of `catflip optimize`: the profile QP, the exact-dynamics refinement and the whole
-//! manoeuvre retimed, as Markdown. A failed calibration reads as failed, never as a number.
+//! `catflip optimize`: the profile QP, the exact-dynamics refinement and the whole manoeuvre
+//! retimed, as Markdown and as JSON ([`OptimizeJson`]; each optimum as a row of the peak-torque
+//! table). A failed calibration reads as failed, never as a number.
 
-use crate::optimize::OptimizeReport;
+use serde::Serialize;
+
+use crate::engines::calibrate::Calibration;
+use crate::engines::circulation::ResolvedCirculation;
+use crate::model::Cylinder;
+use crate::optimize::qp::ProfileQpSolution;
+use crate::optimize::refine::Refinement;
+use crate::optimize::{OptimizeReport, Optimum};
+use crate::report::compare::CompareRow;
+
+/// `optimize.json` and `catflip optimize --json`: the report with each optimum as a row of the
+/// peak-torque table.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptimizeJson<'a> {
+    /// Problem name.
+    pub problem: &'a str,
+    /// The circulation the profiles realise.
+    pub circulation: ResolvedCirculation,
+    /// The calibration of this joint path (π exactly when its status is `converged`).
+    pub calibration: Calibration,
+    /// The profile QP's solve: status, iterations, residuals, gap.
+    pub qp: &'a ProfileQpSolution,
+    /// The QP's exact discrete optimum when it has a closed form (no limits, no smoothing), N·m.
+    pub qp_closed_form_nm: Option<f64>,
+    /// The QP optimum (absent when the QP did not solve).
+    pub qp_optimum: Option<OptimumJson>,
+    /// The exact-dynamics refinement's history.
+    pub refinement: Option<&'a Refinement>,
+    /// The refined profile.
+    pub refined_optimum: Option<OptimumJson>,
+    /// Every phase retimed against its exact peak (twist, then bend and unbend).
+    pub all_phases: Option<AllPhasesJson<'a>>,
+    /// The best library profile by exact twist-phase peak: name and peak, N·m.
+    pub best_library: &'a (String, f64),
+}
+
+/// One optimum in [`OptimizeJson`].
+#[derive(Clone, Debug, Serialize)]
+pub struct OptimumJson {
+    /// Its row of the peak-torque table on the problem's circulation.
+    pub evaluation: CompareRow,
+    /// Twist with the calibrated circulation, degrees (absent when the calibration failed).
+    pub calibrated_twist_deg: Option<f64>,
+    /// Swing with the calibrated circulation, degrees (absent when the calibration failed).
+    pub calibrated_swing_deg: Option<f64>,
+    /// Node rates, rad/s.
+    pub rates: Vec<f64>,
+}
+
+/// Every phase retimed, in [`OptimizeJson`].
+#[derive(Clone, Debug, Serialize)]
+pub struct AllPhasesJson<'a> {
+    /// The optimum (the twist phase's node rates as `rates`).
+    #[serde(flatten)]
+    pub optimum: OptimumJson,
+    /// The bend phase's refinement.
+    pub bend: &'a Refinement,
+    /// The unbend phase's refinement.
+    pub unbend: &'a Refinement,
+}
+
+impl OptimumJson {
+    fn new(problem: &str, rear: &Cylinder, o: &Optimum) -> OptimumJson {
+        OptimumJson {
+            evaluation: CompareRow::of_schedule(problem, rear, &o.measured),
+            calibrated_twist_deg: o.calibrated.map(|f| f.twist.to_degrees()),
+            calibrated_swing_deg: o.calibrated.map(|f| f.swing.to_degrees()),
+            rates: o.rates.clone(),
+        }
+    }
+}
+
+impl OptimizeReport {
+    /// The report as `optimize.json` writes it, on a cat whose rear half is `rear` (the paper's
+    /// model's `I*`).
+    pub fn to_json(&self, rear: &Cylinder) -> OptimizeJson<'_> {
+        let row = |o: &Optimum| OptimumJson::new(&self.problem, rear, o);
+        OptimizeJson {
+            problem: &self.problem,
+            circulation: self.circulation,
+            calibration: self.calibration,
+            qp: &self.qp,
+            qp_closed_form_nm: self.qp_closed_form_nm,
+            qp_optimum: self.qp_optimum.as_ref().map(row),
+            refinement: self.refinement.as_ref(),
+            refined_optimum: self.refined_optimum.as_ref().map(row),
+            all_phases: self.all_phases.as_ref().map(|w| AllPhasesJson {
+                optimum: row(&w.optimum),
+                bend: &w.bend,
+                unbend: &w.unbend,
+            }),
+            best_library: &self.best_library,
+        }
+    }
+}
 
 /// `x` to `digits` decimals, or `calibration failed` when there is none.
 fn failed_or(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "calibration failed".to_string(), |v| format!("{v:.digits$}"))
 }
 
-impl OptimizeReport {
+impl OptimizeJson<'_> {
     /// A readable Markdown summary.
     pub fn to_markdown(&self) -> String {
         use std::fmt::Write;
         let mut s = String::new();
-        let q = &self.qp;
+        let q = self.qp;
         let _ = writeln!(s, "## Torque-optimal twist profiles: `{}`\n", self.problem);
         let c = &self.calibration;
         let calibrated = if c.status.is_converged() {
@@ -45,7 +140,7 @@ impl OptimizeReport {
             q.peak_torque.map_or("none".to_string(), |p| format!("{p:.6}")),
             self.qp_closed_form_nm.map_or("none with limits or smoothing".to_string(), |c| format!("{c:.6} N·m"))
         );
-        if let Some(r) = &self.refinement {
+        if let Some(r) = self.refinement {
             let accepted = r.iterations.iter().filter(|i| i.accepted).count();
             let _ = writeln!(
                 s,
@@ -63,9 +158,9 @@ impl OptimizeReport {
             let e = &o.evaluation;
             let _ = writeln!(
                 s,
-                "| {} | {:.6} | {:.6}, {:.6} | {:.6} | {:.6} | {:.6} | {} | {} |",
+                "| {} | {} | {:.6}, {:.6} | {:.6} | {:.6} | {:.6} | {} | {} |",
                 e.profile,
-                e.model_peak_nm,
+                e.model_peak_nm.map_or("—".to_string(), |m| format!("{m:.6}")),
                 e.exact_peak_nm.twist[0],
                 e.exact_peak_nm.twist[1],
                 e.exact_peak_nm.max,
@@ -85,7 +180,7 @@ impl OptimizeReport {
                 w.optimum.evaluation.twist_deg, failed_or(w.optimum.calibrated_twist_deg, 9)
             );
         }
-        let (name, peak) = &self.best_library;
+        let (name, peak) = self.best_library;
         let _ = writeln!(s, "\nBest library profile by exact twist-phase peak: {name} ({peak:.6} N·m).");
         if let Some(o) = &self.refined_optimum {
             let t = &o.evaluation.exact_peak_nm.twist;

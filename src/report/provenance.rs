@@ -1,4 +1,5 @@
-//! The provenance header of generated reports: version, date, machine, settings, command.
+//! The provenance header of generated reports: version, date, machine
+//! ([`crate::measure::machine`]), settings, command.
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -18,32 +19,13 @@ pub fn utc_now() -> String {
     format!("{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC", rem / 3600, rem % 3600 / 60, rem % 60)
 }
 
-/// One line describing the machine: CPU model, logical cores, memory, OS.
-pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".to_string());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    let mem = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|s| s.lines().next().and_then(|l| l.split_whitespace().nth(1)).and_then(|k| k.parse::<f64>().ok()))
-        .map_or_else(|| "unknown memory".to_string(), |kb| format!("{:.1} GiB", kb / 1024.0 / 1024.0));
-    format!("{cpu}, {cores} logical cores, {mem}, {} {}", std::env::consts::OS, std::env::consts::ARCH)
-}
-
 /// The Markdown provenance header of a report.
 pub fn header(title: &str, command: &str, settings_toml: &str) -> String {
     format!(
         "# {title}\n\nRegenerate with `{command}`.\n\n| | |\n|---|---|\n| catflip | {} |\n| date | {} |\n| machine | {} |\n| build | {} |\n\n<details><summary>Problem and settings</summary>\n\n```toml\n{}```\n\n</details>\n\n",
         env!("CARGO_PKG_VERSION"),
         utc_now(),
-        machine(),
+        crate::measure::machine::machine(),
         if cfg!(debug_assertions) { "debug" } else { "release" },
         settings_toml
     )

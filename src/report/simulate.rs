@@ -7,26 +7,24 @@
 //! `I* · max|q̇|` (`I*` the end-transverse inertia); released with spin `L`
 //! (`angular_momentum_nms`), the exact engine's is the largest `|R H − L|`, relative to
 //! `max(I* · max|q̇|, |L|)`, and rapier's the drift of `H` from its start. The exact numbers are one
-//! [`Evaluation`]; rapier's run is reported beside them, with its errors against them.
+//! measured schedule's ([`Measured`], [`crate::measure::simulate`]); rapier's run is reported
+//! beside them, with its errors against them.
 
 use serde::Serialize;
 
 use crate::engines::calibrate::Calibration;
-use crate::engines::circulation::{CirculationSource, ResolvedCirculation};
-use crate::engines::evaluate::Evaluation;
-use crate::engines::models::ModelError;
+use crate::engines::circulation::CirculationSource;
+use crate::engines::jumps::VelocityJump;
+use crate::engines::measured::Measured;
 use crate::engines::motors::{LimitUse, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{RapierError, RapierOptions};
+use crate::engines::rapier::RapierError;
 use crate::engines::resolved::Resolved;
-use crate::engines::torque::VelocityJump;
 use crate::engines::Engine;
 use crate::problem::BendPath;
-use crate::schedule::{Schedule, Trajectory};
+use crate::schedule::Schedule;
 
-pub use crate::engines::rapier_check::{
-    rapier_check, EngineFigures, Extrapolation, Finest, RapierCheck, RapierOutcome,
-};
+pub use crate::engines::rapier_check::{EngineFigures, Extrapolation, Finest, RapierCheck, RapierOutcome};
 
 /// What one engine says a schedule does.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -63,86 +61,73 @@ pub struct SimulationReport {
     pub figures: EngineFigures,
 }
 
-/// `catflip simulate`: the problem's schedule through `engine`.
-/// The exact engine runs every cat model; rapier every cat on the universal joint (equal or
-/// unequal halves).
+/// `catflip simulate`: the problem's schedule measured ([`crate::measure::simulate::simulate`]) and
+/// reported by `engine`.
 pub fn simulate(r: &Resolved, engine: Engine) -> Result<SimulationReport, RapierError> {
-    let exact = exact_report(r, &r.schedule, r.circulation, None)?;
-    match engine {
-        Engine::Exact => Ok(exact),
-        Engine::Rapier => rapier_report(r, &r.schedule, &exact),
-    }
+    let measured = crate::measure::simulate::simulate(r, engine)?;
+    SimulationReport::of(r, &measured, engine)
 }
 
-/// The exact engine's report on `schedule` with circulation `circ`, from its evaluation when
-/// one was made already (else it is made now, [`Resolved::evaluate`]).
-pub fn exact_report(
-    r: &Resolved,
-    schedule: &Schedule,
-    circ: ResolvedCirculation,
-    evaluation: Option<&Evaluation>,
-) -> Result<SimulationReport, ModelError> {
-    let made;
-    let e = match evaluation {
-        Some(e) => e,
-        None => {
-            made = r.evaluate(schedule)?;
-            &made
-        }
-    };
-    Ok(SimulationReport {
-        problem: r.problem.name.clone(),
-        engine: Engine::Exact,
-        profile: schedule.profile.name().to_string(),
-        bend_path: schedule.path,
-        model: r.model().cat().paper().is_none().then(|| r.model().cat().describe()),
-        angular_momentum_nms: r.problem.drop.angular_momentum,
-        circulation_rad: circ.radians,
-        circulation_source: circ.source,
-        calibration: circ.calibration,
-        peak_torque_nm: e.peaks,
-        velocity_jumps: e.jumps.clone(),
-        motors: MotorReport::new(&e.motors),
-        figures: EngineFigures::exact(&e.flip, e.momentum_max, e.action_reaction_gap, e.run_time_s),
-    })
-}
-
-/// The rapier engine's report on `schedule`, verified against the exact engine's report `exact`
-/// on the same schedule: the time step is refined until rapier's own error estimate meets the
-/// tolerances of `[rapier]` ([`crate::engines::rapier::verify`]); the raw numbers are from the
-/// finest step, `extrapolated` from the last extrapolation, and `verdict` says whether they agree.
-/// [`RapierOutcome::NoResult`] when the verification made no usable run.
-pub fn rapier_outcome(
-    r: &Resolved,
-    schedule: &impl Trajectory,
-    exact: &SimulationReport,
-) -> Result<RapierOutcome<SimulationReport>, RapierError> {
-    let reference = exact.figures.reference(exact.peak_torque_nm.max);
-    let outcome =
-        rapier_check(r.model(), schedule, &r.problem.rapier, &reference, &RapierOptions::for_problem(&r.problem))?;
-    Ok(outcome.map(|finest| {
-        let peaks = finest.run.peak_torque.phase_peaks().unwrap_or(PhasePeaks {
-            bend: [0.0; 2],
-            twist: [0.0; 2],
-            unbend: [0.0; 2],
-            max: finest.run.peak_torque.max,
-        });
+impl SimulationReport {
+    /// The exact engine's report of `m`, one of `r`'s schedules: on the problem's circulation, or
+    /// on the calibrated one when its variant says so.
+    pub fn exact(r: &Resolved, m: &Measured<Schedule>) -> SimulationReport {
+        let (schedule, e) = (&m.trajectory, &m.exact);
+        let calibrated = m.name.variant().is_some_and(|v| v.is_calibrated());
+        let circ = if calibrated { r.calibrated().unwrap_or(r.circulation) } else { r.circulation };
         SimulationReport {
-            engine: Engine::Rapier,
-            peak_torque_nm: peaks,
-            figures: EngineFigures::rapier(finest),
-            ..exact.clone()
+            problem: r.problem.name.clone(),
+            engine: Engine::Exact,
+            profile: schedule.profile.name().to_string(),
+            bend_path: schedule.path,
+            model: r.model().cat().paper().is_none().then(|| r.model().cat().describe()),
+            angular_momentum_nms: r.problem.drop.angular_momentum,
+            circulation_rad: schedule.circulation,
+            circulation_source: circ.source,
+            calibration: circ.calibration,
+            peak_torque_nm: e.phase_peaks(),
+            velocity_jumps: e.jumps.clone(),
+            motors: MotorReport::new(&e.motors),
+            figures: EngineFigures::exact(&e.flip, e.momentum_max, e.peaks.action_reaction_gap, e.run_time_s),
         }
-    }))
-}
+    }
 
-/// [`rapier_outcome`], with no result an error ([`RapierError::NoResult`]).
-pub fn rapier_report(
-    r: &Resolved,
-    schedule: &impl Trajectory,
-    exact: &SimulationReport,
-) -> Result<SimulationReport, RapierError> {
-    rapier_outcome(r, schedule, exact)?.into_report()
+    /// rapier's report of `m` beside `exact`, the exact engine's report of it; its outcome
+    /// without a usable run ([`RapierOutcome::NoResult`]); an error when `m` was not verified.
+    pub fn rapier(
+        m: &Measured<Schedule>,
+        exact: &SimulationReport,
+    ) -> Result<RapierOutcome<SimulationReport>, RapierError> {
+        let outcome = m.rapier.clone().ok_or_else(|| RapierError::NoResult("not verified in rapier".into()))?;
+        match outcome {
+            RapierOutcome::NoResult(v) => Ok(RapierOutcome::NoResult(v)),
+            RapierOutcome::Report(finest) => {
+                // A schedule has its three phases in rapier's run too.
+                let peaks = finest.run.peak_torque.phase_peaks().ok_or_else(|| {
+                    RapierError::NoResult(format!(
+                        "rapier's run has {} pieces, not the schedule's three phases",
+                        finest.run.peak_torque.per_piece.len()
+                    ))
+                })?;
+                Ok(RapierOutcome::Report(SimulationReport {
+                    engine: Engine::Rapier,
+                    peak_torque_nm: peaks,
+                    figures: EngineFigures::rapier(finest),
+                    ..exact.clone()
+                }))
+            }
+        }
+    }
+
+    /// The report of `engine` on the measured schedule `m` (verified when `engine` is rapier);
+    /// rapier without a usable run is an error ([`RapierError::NoResult`]).
+    pub fn of(r: &Resolved, m: &Measured<Schedule>, engine: Engine) -> Result<SimulationReport, RapierError> {
+        let exact = SimulationReport::exact(r, m);
+        match engine {
+            Engine::Exact => Ok(exact),
+            Engine::Rapier => SimulationReport::rapier(m, &exact)?.into_report(),
+        }
+    }
 }
 
 impl SimulationReport {

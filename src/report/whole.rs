@@ -1,181 +1,21 @@
-//! `catflip optimize --whole`: the whole-manoeuvre optimum ([`crate::optimize::whole`]) and the
-//! certified convex retiming of the problem's own path ([`crate::optimize::retime`]), as a report.
+//! `catflip optimize --whole`: the whole-manoeuvre optimum ([`crate::measure::whole`]) and the
+//! certified convex retimings of the problem's own path ([`crate::measure::retime`]), as
+//! Markdown, table rows and files.
 //!
-//! Every number here is re-measured by the exact engine on the final trajectory, never taken from
-//! a linearisation: the optimum's twist and swing from [`crate::engines::exact::flip`], its peak
-//! from [`crate::engines::torque::peak_torques`] (on a cat other than the paper's, the general
-//! core's, [`crate::optimize::whole::WholeCat`]). The optimum has no phases of its own (it bends
-//! and circulates at once), so its peaks are also given over the time windows of the problem's
-//! phases, for the peak-torque table; `max` is the peak over the whole fall.
+//! Every number of the optimum is its measurement's ([`crate::engines::measured::Measured`]):
+//! re-measured by the exact engine on the final trajectory, never taken from a linearisation.
+//! The per-start table and the iteration log are the optimiser's own record.
 
 use std::fmt::Write as _;
 
-use rayon::prelude::*;
-use serde::Serialize;
-
-use crate::engines::motors::LimitUse;
-use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::{verify_with, RapierError, RapierOptions, Reference, Verification};
-use crate::engines::resolved::Resolved;
-use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
-use crate::optimize::whole::{
-    optimize_whole_spinning, BSpline, Objective, WholeCat, WholeError, WholeOutcome, WholeSolution,
-};
-use crate::report::check::{verification_row, ExactValues};
-use crate::report::compare::CompareLine;
-use crate::schedule::{Schedule, Trajectory};
-
-/// Samples per second of fall used to split the optimum's peaks over the phase windows (the
-/// whole-fall maximum is the refined peak of the optimiser's re-measurement).
-const WINDOW_SAMPLES: usize = 20_000;
-
-/// A limit whose usage ratio is within this of 1 counts as active.
-pub const ACTIVE_RATIO: f64 = 1e-3;
-
-/// The whole-manoeuvre optimum of a problem.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct WholeReport {
-    /// Problem name.
-    pub problem: String,
-    /// The cat optimised, in words ([`crate::model::Cat::describe`]).
-    pub cat: String,
-    /// What was minimised.
-    pub objective: Objective,
-    /// How the best start ended (`converged`), or why there is no optimum.
-    pub status: String,
-    /// Signed twist of the optimum, degrees (absent when no start flipped the cat).
-    pub twist_deg: Option<f64>,
-    /// Swing of the optimum, degrees.
-    pub swing_deg: Option<f64>,
-    /// Peak motor torques of the optimum, N·m: `max` over the whole fall, and over the time
-    /// windows of the problem's phases.
-    pub peak_torque_nm: Option<PhasePeaks>,
-    /// `∫ τ·τ dt` of the optimum, N²·m²·s.
-    pub energy: Option<f64>,
-    /// Trust-region iterations of the best start.
-    pub iterations: Option<usize>,
-    /// The largest bend of the optimum (angle between the spine axes), degrees.
-    pub max_bend_deg: Option<f64>,
-    /// How far its bend direction turns over the fall, turns.
-    pub bend_turns: Option<f64>,
-    /// The optimum's fall time, s: the problem's, or with the objective `min-time` the least
-    /// fall time within the motors.
-    pub fall_time_s: Option<f64>,
-    /// The drop height of that fall, `g T²/2`, m.
-    pub drop_height_m: Option<f64>,
-    /// Peak joint speeds of joints 1 and 2, rad/s.
-    pub peak_speed_rad_s: Option<[f64; 2]>,
-    /// Peak mechanical powers `|τ q̇|` of joints 1 and 2, W.
-    pub peak_power_w: Option<[f64; 2]>,
-    /// The motor limits the optimum reaches (usage within [`ACTIVE_RATIO`] of 1), where and when.
-    pub active_limits: Vec<LimitUse>,
-    /// The motors' verdict on the optimum, in words ("ideal motors" without `[actuator]`).
-    pub motors: Option<String>,
-    /// Every start's outcome, the best one included.
-    pub outcome: WholeOutcome,
-    /// The release's total angular momentum `drop.angular_momentum`, N·m·s, world frame (left
-    /// out at zero): every number above is then that of the spinning motion.
-    #[serde(skip_serializing_if = "is_zero3")]
-    pub angular_momentum_nms: [f64; 3],
-}
-
-fn is_zero3(l: &[f64; 3]) -> bool {
-    l.iter().all(|x| *x == 0.0)
-}
-
-impl WholeReport {
-    /// The optimum, when a start converged to a flip.
-    pub fn best(&self) -> Option<&WholeSolution> {
-        self.outcome.best()
-    }
-
-    /// The optimum's trajectory, when there is one.
-    pub fn spline(&self) -> Option<&BSpline> {
-        self.best().map(|b| &b.spline)
-    }
-}
-
-/// Runs the whole-manoeuvre optimisation on a resolved problem (`[optimize.whole]`), on its cat
-/// model ([`WholeCat`]: the paper's cat through the two-cylinder engine).
-pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
-    let p = &r.problem;
-    let settings = &p.optimize.whole;
-    let cat = WholeCat::from(r.model());
-    let outcome = optimize_whole_spinning(
-        &cat,
-        p.drop.fall_time(),
-        &p.manoeuvre,
-        settings,
-        &p.actuator.motors(),
-        p.exact.tolerance,
-        &p.drop.spin(),
-    )?;
-    let best = outcome.best();
-    let status = match best {
-        Some(b) => b.status.to_string(),
-        None => outcome.no_optimum(settings, p.exact.tolerance),
-    };
-    let peaks = best.map(|b| window_peaks(r, &cat, &b.spline, b.peak_torque_nm));
-    let fall = best.map(|b| b.fall_time_s);
-    Ok(WholeReport {
-        problem: p.name.clone(),
-        cat: cat.describe(),
-        objective: settings.objective,
-        status,
-        twist_deg: best.map(|b| b.twist.to_degrees()),
-        swing_deg: best.map(|b| b.swing.to_degrees()),
-        peak_torque_nm: peaks,
-        energy: best.map(|b| b.energy),
-        iterations: best.map(|b| b.iterations),
-        max_bend_deg: best.map(|b| b.max_bend_deg),
-        bend_turns: best.map(|b| b.bend_turns),
-        fall_time_s: fall,
-        drop_height_m: fall.map(|t| 0.5 * p.drop.gravity * t * t),
-        peak_speed_rad_s: best.map(|b| b.motors.peak_speed_rad_s.map(|x| x.value)),
-        peak_power_w: best.map(|b| b.motors.peak_power_w.map(|x| x.value)),
-        active_limits: best
-            .map(|b| b.motors.limits.iter().copied().filter(|l| l.ratio >= 1.0 - ACTIVE_RATIO).collect())
-            .unwrap_or_default(),
-        motors: best.map(|b| b.motors.verdict()),
-        outcome,
-        angular_momentum_nms: p.drop.angular_momentum,
-    })
-}
-
-/// The optimum's peaks over the time windows of the problem's phases (as fractions of its own
-/// duration, which `min-time` makes shorter than the problem's fall); `max` is `peak`, the
-/// refined whole-fall peak (at least every window's sampled peak).
-fn window_peaks(r: &Resolved, cat: &WholeCat, spline: &BSpline, peak: f64) -> PhasePeaks {
-    let total = spline.total_duration();
-    let to_schedule = r.schedule.duration() / total;
-    let n = ((WINDOW_SAMPLES as f64 * total).ceil() as usize).max(64);
-    let mut w = [[0.0f64; 2]; 3];
-    for (t, tau) in sampled_torques(r, cat, spline, n) {
-        let window = &mut w[r.schedule.locate(t * to_schedule).0.index()];
-        for (m, x) in window.iter_mut().zip(tau) {
-            *m = m.max(x.abs());
-        }
-    }
-    let sampled = w.iter().flatten().copied().fold(0.0, f64::max);
-    PhasePeaks { bend: w[0], twist: w[1], unbend: w[2], max: peak.max(sampled) }
-}
-
-/// The motor torques `(t, [τ₁, τ₂])` of `spline` on `cat` at `n + 1` instants evenly spaced over
-/// it, ends included, released as the problem says (with spin, at the orientations of the
-/// spinning motion).
-fn sampled_torques(r: &Resolved, cat: &WholeCat, spline: &BSpline, n: usize) -> Vec<(f64, [f64; 2])> {
-    let total = spline.total_duration();
-    let spin = r.problem.drop.spin();
-    let history = r.problem.drop.spins().then(|| cat.spin_history(spline, &spin, r.problem.exact.tolerance).1);
-    let source = cat.torque_source(history.as_ref());
-    (0..=n)
-        .map(|k| {
-            let t = total * k as f64 / n as f64;
-            let (piece, s) = spline.locate_piece(t);
-            (t, source.at(spline, piece, s, &spline.piece_state(piece, s)).tau)
-        })
-        .collect()
-}
+use crate::engines::measured::Measured;
+use crate::measure::retime::RetimeRow;
+use crate::measure::whole::WholeReport;
+use crate::optimize::retime::RetimeSettings;
+use crate::optimize::whole::{BSpline, Objective, WholeSolution};
+use crate::report::check::verification_row;
+use crate::report::compare::CompareRow;
+use crate::schedule::variant::WHOLE;
 
 impl WholeReport {
     /// The report as Markdown.
@@ -187,7 +27,7 @@ impl WholeReport {
             s,
             "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n"
         );
-        if !is_zero3(&self.angular_momentum_nms) {
+        if self.spins() {
             let l = self.angular_momentum_nms;
             let _ = writeln!(
                 s,
@@ -195,14 +35,9 @@ impl WholeReport {
                 l[0], l[1], l[2]
             );
         }
-        match self.best() {
-            Some(b) => {
-                let p = self.peak_torque_nm.unwrap_or(PhasePeaks {
-                    bend: [0.0; 2],
-                    twist: [0.0; 2],
-                    unbend: [0.0; 2],
-                    max: b.peak_torque_nm,
-                });
+        match (self.best(), self.measured.as_ref(), self.peak_torque_nm) {
+            (Some(b), Some(m), Some(p)) => {
+                let e = &m.exact;
                 let _ = writeln!(
                     s,
                     "- Status: **{}** (start `{}`, {} iterations, {} Newton steps, {:.2} s).",
@@ -211,15 +46,15 @@ impl WholeReport {
                 let _ = writeln!(
                     s,
                     "- Flip: twist **{:+.9}°**, swing **{:.3e}°** (| |twist| − 180° | = {:.2e} rad; engine error estimate {:.1e} rad).",
-                    b.twist.to_degrees(),
-                    b.swing.to_degrees(),
-                    b.twist_error,
-                    b.flip_error_estimate
+                    e.twist_deg(),
+                    e.swing_deg(),
+                    (e.flip.twist.abs() - std::f64::consts::PI).abs(),
+                    e.flip.error_estimate
                 );
                 let _ = writeln!(
                     s,
                     "- Peak motor torque **{:.6} N·m** at t = {:.4} s; over the problem's phase windows bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}] N·m.",
-                    p.max, b.peak_time, p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1]
+                    p.max, e.peak_time(), p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1]
                 );
                 let _ = writeln!(
                     s,
@@ -242,9 +77,9 @@ impl WholeReport {
                         100.0 * c.deepest_dip[1]
                     );
                 }
-                let _ = writeln!(s, "{}", self.motor_lines(b));
+                let _ = writeln!(s, "{}", self.motor_lines(b, m));
             }
-            None => {
+            _ => {
                 let _ = writeln!(s, "- **{}**", self.status);
             }
         }
@@ -304,8 +139,8 @@ impl WholeReport {
 
 impl WholeReport {
     /// The fall and motor lines of the Markdown report.
-    fn motor_lines(&self, b: &WholeSolution) -> String {
-        let m = &b.motors;
+    fn motor_lines(&self, b: &WholeSolution, measured: &Measured<BSpline>) -> String {
+        let m = &measured.exact.motors;
         let fall = match (self.objective, self.drop_height_m) {
             (Objective::MinTime, Some(h)) => format!(
                 "- Least fall time within the motors **{:.6} s**: drop height **{:.4} m**; active limits: {}.",
@@ -328,81 +163,6 @@ impl WholeReport {
             m.verdict()
         )
     }
-}
-
-/// The certified convex retiming of one schedule along its fixed joint path.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RetimeRow {
-    /// Which schedule was retimed (the problem's circulation, or the calibrated one).
-    pub schedule: String,
-    /// Whether the phase durations were kept or the split was free.
-    pub split: String,
-    /// The solver's status.
-    pub status: String,
-    /// The program's primal peak, N·m (absent when not solved).
-    pub peak_nm: Option<f64>,
-    /// Clarabel's dual objective: a certified lower bound on the discrete program's optimum, N·m.
-    pub lower_bound_nm: Option<f64>,
-    /// Duality gap, N·m.
-    pub gap_nm: Option<f64>,
-    /// The exact engine's peak of the retimed trajectory, N·m.
-    pub exact_peak_nm: Option<f64>,
-    /// Its twist, degrees (the path's: timing does not change it).
-    pub twist_deg: Option<f64>,
-    /// Its swing, degrees.
-    pub swing_deg: Option<f64>,
-    /// Solve time, s.
-    pub solve_time_s: f64,
-}
-
-/// Retimes `schedule` (named `name`) with both splits.
-pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeRow> {
-    let p = &r.problem;
-    [Split::Kept, Split::Free]
-        .into_par_iter()
-        .map(|split| {
-            let settings = RetimeSettings { split, ..RetimeSettings::default() };
-            let label = match split {
-                Split::Kept => "phases kept",
-                Split::Free => "split free",
-            };
-            let row = |status: String| RetimeRow {
-                schedule: name.to_string(),
-                split: label.to_string(),
-                status,
-                peak_nm: None,
-                lower_bound_nm: None,
-                gap_nm: None,
-                exact_peak_nm: None,
-                twist_deg: None,
-                swing_deg: None,
-                solve_time_s: 0.0,
-            };
-            match retime_schedule(&p.cat.half(), schedule, settings) {
-                Err(e) => row(format!("refused: {e}")),
-                Ok(t) => {
-                    let sol = &t.solution;
-                    let solved = sol.status.is_solved();
-                    let again = if solved {
-                        t.remeasure(&p.cat.half(), 4 * settings.intervals, p.exact.tolerance)
-                    } else {
-                        None
-                    };
-                    RetimeRow {
-                        status: sol.status.to_string(),
-                        peak_nm: solved.then_some(sol.peak),
-                        lower_bound_nm: solved.then_some(sol.lower_bound),
-                        gap_nm: solved.then_some(sol.gap),
-                        exact_peak_nm: again.as_ref().map(|m| m.peaks.max),
-                        twist_deg: again.as_ref().map(|m| m.flip.twist.to_degrees()),
-                        swing_deg: again.as_ref().map(|m| m.flip.swing.to_degrees()),
-                        solve_time_s: sol.solve_time_s,
-                        ..row(String::new())
-                    }
-                }
-            }
-        })
-        .collect()
 }
 
 /// The retiming rows as a Markdown table.
@@ -430,78 +190,48 @@ pub fn retime_markdown(rows: &[RetimeRow]) -> String {
     s
 }
 
-/// The whole-manoeuvre optimum through rapier, against the exact engine's numbers of the
-/// optimum (none when there is no optimum).
-pub fn verify_whole(r: &Resolved, report: &WholeReport) -> Result<Option<Verification>, RapierError> {
-    let Some(b) = report.best() else { return Ok(None) };
-    let reference = Reference { twist: b.twist, swing: b.swing, peak_torque: b.peak_torque_nm };
-    let opts = RapierOptions::for_problem(&r.problem);
-    verify_with(r.model(), &b.spline, &r.problem.rapier, &reference, &opts).map(Some)
-}
-
-/// The optimum's line of the peak-torque table (its Markdown row and its CSV record). The
-/// paper's model, the rest-to-rest flag and the circulation do not apply to a trajectory without
-/// a circulation profile, and a cubic spline's joint rates are continuous, so it has no velocity
-/// jumps.
-pub fn compare_line(report: &WholeReport) -> Option<CompareLine> {
-    let (b, p) = (report.best()?, report.peak_torque_nm?);
-    Some(CompareLine {
+/// The optimum's row of the peak-torque table (its Markdown row and its CSV record), its peaks
+/// over the problem's phase windows. The paper's model, the rest-to-rest flag and the circulation
+/// do not apply to a trajectory without a circulation profile.
+pub fn compare_row(report: &WholeReport) -> Option<CompareRow> {
+    let (m, p) = (report.measured.as_ref()?, report.peak_torque_nm?);
+    let e = &m.exact;
+    Some(CompareRow {
         problem: report.problem.clone(),
-        profile: WHOLE.to_string(),
+        profile: m.name.to_string(),
         origin: "whole".to_string(),
         rest_to_rest: None,
         accel_coefficient: None,
         model_peak_nm: None,
         exact_peak_nm: p,
-        velocity_jumps: 0,
-        max_impulse_nms: 0.0,
-        twist_deg: b.twist.to_degrees(),
-        swing_deg: b.swing.to_degrees(),
+        velocity_jumps: e.jumps.len(),
+        max_impulse_nms: e.max_impulse(),
+        twist_deg: e.twist_deg(),
+        swing_deg: e.swing_deg(),
         circulation_rad: None,
-        motors: b.motors.clone(),
+        motors: e.motors.clone(),
     })
 }
 
-/// The optimum's row of the verification table (Markdown, the table's columns).
-pub fn verification_row_markdown(report: &WholeReport, v: &Verification) -> Option<String> {
-    let b = report.best()?;
-    let exact = ExactValues {
-        twist_deg: b.twist.to_degrees(),
-        swing_deg: b.swing.to_degrees(),
-        peak_torque_nm: b.peak_torque_nm,
-    };
-    Some(verification_row(WHOLE, exact, v))
-}
-
-/// The name of the whole-manoeuvre optimum in files and tables.
-pub const WHOLE: &str = "whole-optimum";
-
-/// The optimum as the schedule file `WHOLE.csv` (+ sidecar) that `catflip run` writes, when there
-/// is an optimum: one piece name for every span, so the rows spread over the whole fall (the
-/// spans' joins, where only the jerk jumps, still get their boundary rows).
-pub fn optimum_file(
-    problem: &crate::problem::Problem,
-    report: &WholeReport,
-    export: &crate::exchange::ExportOptions,
-) -> Result<Option<crate::exchange::ScheduleFile>, crate::exchange::ExchangeError> {
-    let Some(spline) = report.spline() else { return Ok(None) };
-    let pieces = vec!["whole".to_string(); spline.piece_durations().len()];
-    let description = "the whole-manoeuvre optimum: both joints as clamped cubic B-splines over the whole fall";
-    crate::exchange::write_trajectory(problem, spline, &pieces, WHOLE, description, export).map(Some)
+/// The optimum's row of the verification table (Markdown, the table's columns), once verified.
+pub fn verification_row_markdown(report: &WholeReport) -> Option<String> {
+    let m = report.measured.as_ref()?;
+    Some(verification_row(&m.name.to_string(), &m.reference(), m.verification()?))
 }
 
 /// The summary lines of the optimum, its verification and the certified retiming, for the
 /// run's report.
-pub fn summary_lines(report: &WholeReport, v: Option<&Verification>, retimed: &[RetimeRow]) -> String {
+pub fn summary_lines(report: &WholeReport, retimed: &[RetimeRow]) -> String {
     let mut s = String::new();
-    match report.best() {
-        Some(b) => {
+    match (report.best(), report.measured.as_ref()) {
+        (Some(b), Some(m)) => {
+            let e = &m.exact;
             let _ = writeln!(
                 s,
                 "- **Whole-manoeuvre optimum** (`{WHOLE}`, both joint paths optimised over the whole fall): twist **{:+.9}°**, swing {:.1e}°, peak torque **{:.4} N·m**, energy {:.4} N²·m²·s; it bends at most {:.1}° and its bend direction turns {:+.2} turns ({}, {} iterations). See `whole.md`.",
-                b.twist.to_degrees(),
-                b.swing.to_degrees(),
-                b.peak_torque_nm,
+                e.twist_deg(),
+                e.swing_deg(),
+                e.peak(),
                 b.energy,
                 b.max_bend_deg,
                 b.bend_turns,
@@ -519,16 +249,16 @@ pub fn summary_lines(report: &WholeReport, v: Option<&Verification>, retimed: &[
             let _ = writeln!(
                 s,
                 "- The optimum's motors reach {:.4} rad/s and {:.4} W: {}.",
-                b.motors.max_speed(),
-                b.motors.max_power(),
-                b.motors.verdict()
+                e.motors.max_speed(),
+                e.motors.max_power(),
+                e.motors.verdict()
             );
         }
-        None => {
+        _ => {
             let _ = writeln!(s, "- Whole-manoeuvre optimum: **{}**.", report.status);
         }
     }
-    if let Some(v) = v {
+    if let Some(v) = report.verification() {
         let _ = writeln!(s, "- rapier verification of `{WHOLE}`: **{}**.", v.verdict);
     }
     for row in retimed {

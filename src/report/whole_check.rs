@@ -2,7 +2,7 @@
 //! it, on any two-motor cat (the universal joint's two revolutes, the no-twist joint's ball joint;
 //! equal or unequal halves).
 //!
-//! The verification is [`verify_whole`]'s: rapier tracks the optimum's joint trajectory with its
+//! The verification is [`WholeReport::verify`]'s: rapier tracks the optimum's joint trajectory with its
 //! motors, the step is halved until rapier's own error estimate meets `[rapier]`'s tolerances,
 //! and the verdict compares the extrapolated twist, swing and peak torque with the exact engine's
 //! numbers of the optimum ([`crate::engines::rapier::verify`]).
@@ -11,9 +11,9 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::engines::rapier::{RapierError, Verification};
-use crate::engines::resolved::Resolved;
-use crate::report::whole::{verification_row_markdown, verify_whole, WholeReport};
+use crate::engines::rapier::Verification;
+use crate::measure::whole::WholeReport;
+use crate::report::whole::verification_row_markdown;
 
 /// The optimum with rapier's verification (none when there is no optimum to verify).
 #[derive(Clone, Debug, Serialize)]
@@ -26,10 +26,10 @@ pub struct WholeCheck {
 }
 
 impl WholeCheck {
-    /// Verifies `report`'s optimum in rapier.
-    pub fn new(r: &Resolved, report: WholeReport) -> Result<WholeCheck, RapierError> {
-        let rapier = verify_whole(r, &report)?;
-        Ok(WholeCheck { report, rapier })
+    /// The optimum with its verification, once [`WholeReport::verify`] ran.
+    pub fn new(report: WholeReport) -> WholeCheck {
+        let rapier = report.verification().cloned();
+        WholeCheck { report, rapier }
     }
 
     /// The optimum's report followed by the verification's section.
@@ -43,7 +43,7 @@ impl WholeCheck {
             Some(v) => {
                 let _ = writeln!(s, "rapier3d (f64) tracks the optimum's joint trajectory with its motors; the step is halved until rapier's own error estimate meets the `[rapier]` tolerances, and the extrapolated numbers are compared with the exact engine's.\n");
                 let _ = writeln!(s, "```text\n{}```\n", v.to_text());
-                if let Some(row) = verification_row_markdown(&self.report, v) {
+                if let Some(row) = verification_row_markdown(&self.report) {
                     let _ = write!(s, "{}{row}", crate::report::check::VERIFICATION_TABLE_HEADER);
                 }
             }

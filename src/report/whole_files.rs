@@ -17,10 +17,12 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::exchange::model_files;
+use crate::exchange::write_whole_optimum;
+use crate::measure::whole::WholeReport;
 use crate::problem::{Problem, ProblemError};
 use crate::report::plot::flip_filmstrip;
 use crate::report::results_dir::{Staging, WriteError};
-use crate::report::whole::{optimum_file, WholeReport, WHOLE};
+use crate::schedule::variant::WHOLE;
 
 /// Why the optimum's files cannot be built for `problem`, before anything is computed: the
 /// model files build the universal joint only, and the schedule file's orientation and torque
@@ -41,8 +43,9 @@ pub fn write_whole(
     markdown: &str,
     command: &str,
 ) -> Result<Option<PathBuf>, WriteError> {
-    let Some(spline) = report.spline() else { return Ok(None) };
-    let Some(file) = optimum_file(problem, report, &Default::default())? else { return Ok(None) };
+    let Some(m) = report.measured.as_ref() else { return Ok(None) };
+    let file = write_whole_optimum(problem, m, &Default::default())?;
+    let spline = &m.trajectory;
     let staging = Staging::begin(out, &format!("{}-whole", problem.name))?;
     let settings = toml::to_string(problem).map_err(|source| WriteError::Toml { what: "the problem", source })?;
     let title = format!("catflip whole-manoeuvre optimum: {}", problem.name);

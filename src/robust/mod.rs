@@ -7,7 +7,7 @@
 //! unequal halves, [`drawn_cat`]) and the release spin `L = L₀ + σ n`, `n` three standard
 //! normals (world frame, `L₀ = drop.angular_momentum`). The joints then follow the schedule
 //! exactly (ideal tracking: the motors are the planned ones), and the exact engine
-//! ([`crate::engines::evaluate::released_flip`], spinning when `L ≠ 0`) gives A's attitude `R` at
+//! ([`crate::engines::evaluate::released_on`], spinning when `L ≠ 0`) gives A's attitude `R` at
 //! the end of the fall. Its **landing error** is the angle of `R_*⁻¹ R` to the target
 //! `R_* = Rz(π)`, the half turn about the initial spine; its twist part is `|twist| − 180°`
 //! and its swing part the spine's swing (DESIGN.md §2).
@@ -34,7 +34,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::engines::evaluate::released_flip;
+use crate::engines::evaluate::released_on;
 use crate::engines::models::{ModelError, TwoMotorCat};
 use crate::model::{Cat, Cylinder};
 use crate::numeric::random::SplitMix64;
@@ -121,7 +121,7 @@ pub fn trial(problem: &Problem, traj: &(impl Trajectory + Sync), draw: Draw) -> 
     let cat = drawn_cat(problem, &draw);
     let spin = Vector3::from(draw.angular_momentum_nms);
     let flip = match cat.paper() {
-        Some(half) => released_flip(half, traj, &spin, problem.exact.tolerance).0,
+        Some(half) => released_on(&TwoMotorCat::paper(*half), traj, &spin, problem.exact.tolerance).0,
         None => TwoMotorCat::new(cat)?.flip_released(traj, &spin, problem.exact.tolerance),
     };
     let (landing_error_deg, twist_error_deg, swing_deg) = landing_figures(&flip.orientation, flip.twist, flip.swing);

@@ -90,6 +90,13 @@ pub trait Trajectory {
         self.piece_state(piece, s)
     }
 
+    /// The uncertainty of the rate difference at the boundary after piece `k`, rad/s: zero for
+    /// rates from a formula or a file (the default), an estimate for rates interpolated from
+    /// rows ([`crate::engines::jumps`] reports a jump only beyond it).
+    fn boundary_rate_uncertainty(&self, _k: usize) -> f64 {
+        0.0
+    }
+
     /// Total duration, s.
     fn total_duration(&self) -> f64 {
         self.piece_durations().iter().sum()
@@ -189,19 +196,6 @@ pub struct Schedule {
     pub bend_profile: Profile,
     /// Timing of the unbend, `q = q_e (1 − P_u(u/T3))`: [`Profile::harmonic`] unless retimed.
     pub unbend_profile: Profile,
-}
-
-/// A jump of the joint rates at a phase boundary.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RateJump {
-    /// Time of the jump, s.
-    pub time: f64,
-    /// The phase that ends there.
-    pub after: Phase,
-    /// Rates just before.
-    pub before: [f64; 2],
-    /// Rates just after.
-    pub after_rates: [f64; 2],
 }
 
 impl Schedule {
@@ -320,28 +314,6 @@ impl Schedule {
                 }
             }
         }
-    }
-
-    /// Joint-rate jumps at the two inner phase boundaries larger than `tol` relative to the rates
-    /// of the two adjoining phases (sampled at quarters; at least `tol` rad/s), so round-off of a
-    /// fast phase is not taken for a jump.
-    pub fn rate_jumps(&self, tol: f64) -> Vec<RateJump> {
-        let mut out = Vec::new();
-        for (ending, next) in [(Phase::Bend, Phase::Twist), (Phase::Twist, Phase::Unbend)] {
-            let before = self.phase_state(ending, self.durations[ending.index()]).qd;
-            let after = self.phase_state(next, 0.0).qd;
-            let jump = (before[0] - after[0]).hypot(before[1] - after[1]);
-            let rate = |ph: Phase, f: f64| {
-                let qd = self.phase_state(ph, f * self.durations[ph.index()]).qd;
-                qd[0].hypot(qd[1])
-            };
-            let scale =
-                [0.25, 0.5, 0.75, 1.0].iter().map(|&f| rate(ending, f).max(rate(next, 1.0 - f))).fold(1.0f64, f64::max);
-            if jump > tol * scale {
-                out.push(RateJump { time: self.phase_start(next), after: ending, before, after_rates: after });
-            }
-        }
-        out
     }
 }
 

@@ -4,7 +4,9 @@
 //! library, the profile QP, the exact-dynamics refinement of the twist or of every phase) and a
 //! [`VariantCirculation`] (the problem's own circulation, or the calibrated one that makes the
 //! exact twist π). Its `Display` is the name users see in files and tables, e.g. `cycloidal`,
-//! `qp-optimal`, `exact-refined-all-phases-calibrated`.
+//! `qp-optimal`, `exact-refined-all-phases-calibrated`. A [`ScheduleName`] names any trajectory
+//! a command measures: a variant, the problem's own schedule, the whole-manoeuvre optimum, a
+//! certified retiming, or a file read back.
 
 use std::fmt;
 
@@ -119,6 +121,65 @@ impl Serialize for Variant {
     }
 }
 
+/// The name of the whole-manoeuvre optimum in files and tables.
+pub const WHOLE: &str = "whole-optimum";
+
+/// The name of any trajectory catflip measures ([`crate::engines::measured::Measured`]), as
+/// files and tables show it (`Display`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum ScheduleName {
+    /// A library or optimised schedule on the problem's joint path (`cycloidal`,
+    /// `exact-refined-calibrated`, …).
+    Variant(Variant),
+    /// The problem's own schedule (`problem`).
+    Problem,
+    /// The whole-manoeuvre optimum (`whole-optimum`): both joint paths optimised over the fall.
+    WholeOptimum,
+    /// The certified convex retiming of a schedule along its own path (`<name>-retimed`).
+    Retimed(Box<ScheduleName>),
+    /// A schedule file read back (its path).
+    File(String),
+}
+
+impl ScheduleName {
+    /// The library profile `kind` on the problem's circulation.
+    pub fn library(kind: ProfileKind) -> ScheduleName {
+        ScheduleName::Variant(Variant::new(Origin::Library(kind)))
+    }
+
+    /// The variant, when this names one.
+    pub fn variant(&self) -> Option<Variant> {
+        match self {
+            ScheduleName::Variant(v) => Some(*v),
+            _ => None,
+        }
+    }
+}
+
+impl From<Variant> for ScheduleName {
+    fn from(v: Variant) -> ScheduleName {
+        ScheduleName::Variant(v)
+    }
+}
+
+impl fmt::Display for ScheduleName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ScheduleName::Variant(v) => v.fmt(f),
+            ScheduleName::Problem => f.write_str("problem"),
+            ScheduleName::WholeOptimum => f.write_str(WHOLE),
+            ScheduleName::Retimed(of) => write!(f, "{of}-retimed"),
+            ScheduleName::File(path) => f.write_str(path),
+        }
+    }
+}
+
+impl Serialize for ScheduleName {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -133,5 +194,7 @@ mod tests {
             Variant::new(Origin::RefinedAllPhases).calibrated().to_string(),
             "exact-refined-all-phases-calibrated"
         );
+        assert_eq!(ScheduleName::WholeOptimum.to_string(), "whole-optimum");
+        assert_eq!(ScheduleName::Retimed(Box::new(ScheduleName::Problem)).to_string(), "problem-retimed");
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! Per case, with the problem's own `exact` settings:
 //! - schedule `paper`: the paper's circulation `D_p = π/C` ([`paper_circulation`]), its flip
-//!   (twist, swing; [`flip`]) and, with `peaks`, its peak torques per phase and joint;
+//!   (twist, swing; [`crate::engines::exact::flip`]) and, with `peaks`, its peak torques per phase and joint;
 //! - schedule `calibrated`: the circulation `D_c` for which the exact engine turns the cat by ±π
 //!   ([`resolve_circulation`] with `circulation = "calibrated"`, i.e. [`crate::engines::calibrate::calibrate`]),
 //!   its swing and peak torques;
@@ -31,16 +31,15 @@
 use serde::Serialize;
 
 use crate::engines::circulation::{resolve_circulation, CirculationError};
-use crate::engines::evaluate::Evaluation;
-use crate::engines::exact::flip;
-use crate::engines::models::TwoMotorCat;
-use crate::engines::rapier::Reference;
+use crate::engines::evaluate::released_on;
+use crate::engines::measured::Rig;
 use crate::engines::Engine;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
+use crate::schedule::variant::{Origin, ScheduleName, Variant, VariantCirculation};
 use crate::schedule::{paper_circulation, Schedule};
 
-use super::row::{Labels, Measured, MotorNumbers, Numbers, Row, Status, Subject, SweepSchedule};
+use super::row::{ExactRow, Labels, Numbers, Row, Status, Subject, SweepSchedule};
 use super::spec::{Compute, Sweep};
 
 /// What a case gives: its rows and the case-level numbers.
@@ -112,6 +111,10 @@ type Resolution = Result<(f64, Option<usize>), (Status, String)>;
 
 /// Evaluates one case.
 pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
+    let rig = match Rig::new(problem) {
+        Ok(rig) => rig,
+        Err(e) => return CaseOutcome::refused(compute, &e.to_string()),
+    };
     let given = match problem.manoeuvre.circulation {
         Circulation::Angle(a) => Some(a),
         _ => None,
@@ -127,16 +130,16 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
             continue;
         }
         let m = match schedule {
-            SweepSchedule::Paper => schedule_row(problem, compute, schedule, &paper),
+            SweepSchedule::Paper => schedule_row(problem, &rig, compute, schedule, &paper),
             SweepSchedule::Calibrated => match &calibrated {
-                Some(c) => schedule_row(problem, compute, schedule, c),
-                None => schedule_row(problem, compute, schedule, &calibrate(problem)),
+                Some(c) => schedule_row(problem, &rig, compute, schedule, c),
+                None => schedule_row(problem, &rig, compute, schedule, &calibrate(problem)),
             },
             SweepSchedule::Retimed => match calibrated.as_ref() {
-                Some(Ok((d, _))) => super::optimum::retimed(problem, SweepSchedule::Calibrated, *d),
+                Some(Ok((d, _))) => super::optimum::retimed(problem, &rig, SweepSchedule::Calibrated, *d),
                 _ => match &paper {
-                    Ok((d, _)) => super::optimum::retimed(problem, SweepSchedule::Paper, *d),
-                    Err((status, reason)) => Measured::alone(Row::without(
+                    Ok((d, _)) => super::optimum::retimed(problem, &rig, SweepSchedule::Paper, *d),
+                    Err((status, reason)) => ExactRow::alone(Row::without(
                         schedule,
                         engine,
                         *status,
@@ -145,18 +148,18 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
                     )),
                 },
             },
-            SweepSchedule::Whole => super::optimum::whole(problem),
+            SweepSchedule::Whole => super::optimum::whole(problem, &rig),
             SweepSchedule::Given => {
                 let g =
                     given.map(|d| (d, None)).ok_or((Status::Failed, "the problem gives no circulation".to_string()));
-                schedule_row(problem, compute, schedule, &g)
+                schedule_row(problem, &rig, compute, schedule, &g)
             }
         };
         measured.push(m);
     }
     let mut rows: Vec<Row> = measured.iter().map(|m| m.row.clone()).collect();
     if compute.rapier {
-        rows.extend(measured.iter().map(|m| super::verify::rapier_row(problem, m)));
+        rows.extend(measured.iter().map(|m| super::verify::rapier_row(&rig, m)));
     }
     CaseOutcome { warnings: problem.warnings().join("; "), paper_rad, calibrated_rad, rows }
 }
@@ -166,7 +169,7 @@ fn calibrate(problem: &Problem) -> Resolution {
     let mut p = problem.clone();
     p.manoeuvre.circulation = Circulation::Calibrated;
     match resolve_circulation(
-        &TwoMotorCat::paper(p.cat.half()),
+        &crate::engines::models::TwoMotorCat::paper(p.cat.half()),
         &p.manoeuvre,
         p.drop.fall_time(),
         &p.drop.spin(),
@@ -179,45 +182,46 @@ fn calibrate(problem: &Problem) -> Resolution {
 }
 
 /// The exact row of the library schedule with `circulation`: with `peaks` (or `rapier`, which
-/// checks the peak) the shared [`Evaluation`] (flip, peaks and motor demand, as `simulate`
-/// measures them), else the flip alone.
-fn schedule_row(problem: &Problem, compute: &Compute, schedule: SweepSchedule, circulation: &Resolution) -> Measured {
-    let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
+/// checks the peak) the schedule measured as every command measures it ([`Rig::measure`]: flip,
+/// peaks and motor demand), else its flip alone (the same engine's, [`released_on`]).
+fn schedule_row(
+    problem: &Problem,
+    rig: &Rig,
+    compute: &Compute,
+    schedule: SweepSchedule,
+    circulation: &Resolution,
+) -> ExactRow {
+    let tol = problem.exact.tolerance;
     let (radians, evaluations) = match circulation {
         Ok(x) => *x,
         Err((status, reason)) => {
-            return Measured::alone(Row::without(schedule, Engine::Exact, *status, reason, Labels::default()))
+            return ExactRow::alone(Row::without(schedule, Engine::Exact, *status, reason, Labels::default()))
         }
     };
     let s = Schedule::new(problem, radians);
-    let evaluation = (compute.peaks || compute.rapier)
-        .then(|| Evaluation::new(cat, &s, &problem.drop.spin(), &problem.actuator.motors(), &problem.exact));
-    let f = match &evaluation {
-        Some(e) => e.flip,
-        None => flip(cat, &s, tol),
+    let circulation = match schedule {
+        SweepSchedule::Calibrated => VariantCirculation::Calibrated,
+        _ => VariantCirculation::Problem,
+    };
+    let name = Variant { origin: Origin::Library(problem.manoeuvre.profile), circulation };
+    let measured = (compute.peaks || compute.rapier).then(|| rig.measure(ScheduleName::Variant(name), s.clone()));
+    let f = match &measured {
+        Some(m) => m.exact.flip,
+        None => released_on(&rig.model, &s, &rig.spin, tol).0,
     };
     if !f.converged {
         let reason = format!(
             "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
             f.error_estimate
         );
-        return Measured::alone(Row::without(schedule, Engine::Exact, Status::Failed, &reason, Labels::default()));
+        return ExactRow::alone(Row::without(schedule, Engine::Exact, Status::Failed, &reason, Labels::default()));
     }
-    let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
-    numbers.calibration_evaluations = evaluations;
-    if compute.peaks {
-        if let Some(e) = &evaluation {
-            numbers.peaks = Some(e.peaks);
-            numbers.peak_nm = Some(e.peaks.max);
-            numbers.motors = Some(MotorNumbers::new(&e.motors));
-        }
-    }
-    let row = Row::with(schedule, Engine::Exact, numbers, Labels::default());
-    let subject = match (&row.status, evaluation) {
-        (Status::Ok, Some(e)) => {
-            Some((Subject::Schedule(s), Reference { twist: f.twist, swing: f.swing, peak_torque: e.peaks.max }))
-        }
-        _ => None,
+    let mut numbers = match (&measured, compute.peaks) {
+        (Some(m), true) => Numbers::measured(Some(radians), &m.exact, true),
+        _ => Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate)),
     };
-    Measured { row, subject }
+    numbers.calibration_evaluations = evaluations;
+    let row = Row::with(schedule, Engine::Exact, numbers, Labels::default());
+    let subject = measured.filter(|_| row.status == Status::Ok).map(Subject::Schedule);
+    ExactRow { row, subject }
 }

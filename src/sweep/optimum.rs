@@ -6,46 +6,42 @@
 //!   which) to the fall time, with [`Split::Free`] (the program shares the duration between the
 //!   phases) and otherwise default [`RetimeSettings`] (200 intervals per phase). The row reports
 //!   Clarabel's certified lower bound `τ_lb` (weak duality: no timing of this path on the
-//!   program's grid has a smaller peak), the program's primal peak and their gap, and the exact
-//!   engine's re-measurement of the timed trajectory ([`Retiming::remeasure`], `exact.torque_samples`
-//!   samples per phase): its peak torques per phase (`peak_max_nm` ≥ `τ_lb` up to the
-//!   discretisation between grid nodes). Twist and swing are the path's, which retiming leaves
+//!   program's grid has a smaller peak), the program's primal peak and their gap, and the timed
+//!   trajectory measured as every schedule is ([`Rig::measure`]): its peak torques per phase
+//!   (`peak_max_nm` ≥ `τ_lb` up to the discretisation between grid nodes) and its motor demand
+//!   with the case's `[actuator]`. Twist and swing are the path's, which retiming leaves
 //!   unchanged (a geometric phase): the exact flip of the original schedule, to `exact.tolerance`.
-//!   The row also carries the motor demand of the timed trajectory ([`motor_demand`] on the
-//!   samples [`piece_samples`] gives it, with the case's `[actuator]`).
 //! - `whole`: [`optimize_whole`] over the fall time from the problem's manoeuvre with the case's
 //!   own `[optimize.whole]` and motors (`[actuator]`): exactly what `catflip optimize --whole`
 //!   computes for the case's problem, so an axis over `optimize.whole.*` or `actuator.*` is
-//!   honoured. The best start that converged and flips the cat to `exact.tolerance` gives twist,
-//!   swing, peak, effort, largest bend, the motor demand, and its duration `T` with the drop
-//!   height `g T²/2` (with the objective `min-time`, the least fall within the motors). When no
-//!   start does, the row is `failed` with every start's status and reason.
+//!   honoured. The best start that converged and flips the cat to `exact.tolerance`, measured
+//!   ([`Rig::measure`]), gives twist, swing, peak and the motor demand; the optimiser gives its
+//!   effort, largest bend, and its duration `T` with the drop height `g T²/2` (with the objective
+//!   `min-time`, the least fall within the motors). When no start does, the row is `failed` with
+//!   every start's status and reason.
 
-use crate::engines::motors::motor_demand;
-use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::Reference;
-use crate::engines::torque::piece_samples;
+use crate::engines::measured::Rig;
 use crate::engines::Engine;
 use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, Retiming, Split};
 use crate::optimize::whole::{optimize_whole, WholeError, WholeOutcome};
 use crate::problem::Problem;
+use crate::schedule::variant::ScheduleName;
 use crate::schedule::Schedule;
 
-use super::row::{
-    Labels, Measured, MotorNumbers, Numbers, RetimeNumbers, Row, Status, Subject, SweepSchedule, WholeNumbers,
-};
+use super::row::{ExactRow, Labels, Numbers, RetimeNumbers, Row, Status, Subject, SweepSchedule, WholeNumbers};
 
 /// The retiming settings of a sweep: the defaults with the phase durations free.
 pub fn retime_settings() -> RetimeSettings {
     RetimeSettings { split: Split::Free, ..RetimeSettings::default() }
 }
 
-/// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path.
-pub(crate) fn retimed(problem: &Problem, from: SweepSchedule, radians: f64) -> Measured {
+/// The `retimed` row: the schedule `from` (with circulation `radians`) retimed along its path,
+/// the timed trajectory measured on the case's rig.
+pub(crate) fn retimed(problem: &Problem, rig: &Rig, from: SweepSchedule, radians: f64) -> ExactRow {
     let (cat, tol) = (&problem.cat.half(), problem.exact.tolerance);
     let labels = |solver: String| Labels { retimed_from: Some(from), solver_status: solver, ..Labels::default() };
     let failed = |status, reason: &str, solver: String| {
-        Measured::alone(Row::without(SweepSchedule::Retimed, Engine::Exact, status, reason, labels(solver)))
+        ExactRow::alone(Row::without(SweepSchedule::Retimed, Engine::Exact, status, reason, labels(solver)))
     };
     let s = Schedule::new(problem, radians);
     let r: Retiming<PhasePath> = match retime_schedule(cat, &s, retime_settings()) {
@@ -57,12 +53,13 @@ pub(crate) fn retimed(problem: &Problem, from: SweepSchedule, radians: f64) -> M
     if !sol.status.is_solved() {
         return failed(Status::Failed, &format!("the retiming program is {solver}"), solver);
     }
-    let (Some(m), Some(traj)) = (r.remeasure(cat, problem.exact.torque_samples, tol), r.trajectory.clone()) else {
+    let Some(traj) = r.trajectory.clone() else {
         return failed(Status::Failed, "the solved retiming has no trajectory", solver);
     };
+    let m = rig.measure(ScheduleName::Retimed(Box::new(ScheduleName::Problem)), traj);
     // The retimed trajectory's own flip: retiming keeps the path, so it is the path's (a
     // geometric phase) up to the tolerance, which the tests check.
-    let f = &m.flip;
+    let f = &m.exact.flip;
     if !f.converged {
         let reason = format!(
             "the exact integration did not meet exact.tolerance = {tol:e} rad (estimate {:e} rad)",
@@ -70,21 +67,16 @@ pub(crate) fn retimed(problem: &Problem, from: SweepSchedule, radians: f64) -> M
         );
         return failed(Status::Failed, &reason, solver);
     }
-    let mut numbers = Numbers::flip(Some(radians), f.twist, f.swing, Some(f.error_estimate));
-    numbers.peaks = Some(PhasePeaks::from_peaks(&m.peaks));
-    numbers.peak_nm = Some(m.peaks.max);
-    let samples = piece_samples(&traj, problem.exact.torque_samples);
-    numbers.motors = Some(MotorNumbers::new(&motor_demand(cat, &traj, &samples, &problem.actuator.motors())));
+    let mut numbers = Numbers::measured(Some(radians), &m.exact, true);
     numbers.retiming =
         Some(RetimeNumbers { lower_bound_nm: sol.lower_bound, program_peak_nm: sol.peak, gap_nm: sol.gap });
     let row = Row::with(SweepSchedule::Retimed, Engine::Exact, numbers, labels(solver));
-    let reference = Reference { twist: f.twist, swing: f.swing, peak_torque: m.peaks.max };
-    let subject = (row.status == Status::Ok).then_some((Subject::Retimed(traj), reference));
-    Measured { row, subject }
+    let subject = (row.status == Status::Ok).then_some(Subject::Retimed(m));
+    ExactRow { row, subject }
 }
 
-/// The `whole` row: the whole-manoeuvre optimum of the case.
-pub(crate) fn whole(problem: &Problem) -> Measured {
+/// The `whole` row: the whole-manoeuvre optimum of the case, measured on its rig.
+pub(crate) fn whole(problem: &Problem, rig: &Rig) -> ExactRow {
     let outcome = optimize_whole(
         problem.cat.half(),
         problem.drop.fall_time(),
@@ -96,7 +88,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
     let outcome: WholeOutcome = match outcome {
         Ok(o) => o,
         Err(e @ WholeError::BadFieldValue { .. }) => {
-            return Measured::alone(Row::without(
+            return ExactRow::alone(Row::without(
                 SweepSchedule::Whole,
                 Engine::Exact,
                 Status::Refused,
@@ -105,7 +97,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
             ))
         }
         Err(e) => {
-            return Measured::alone(Row::without(
+            return ExactRow::alone(Row::without(
                 SweepSchedule::Whole,
                 Engine::Exact,
                 Status::Failed,
@@ -118,11 +110,11 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
     let Some(best) = outcome.best() else {
         let reason = outcome.no_optimum(&problem.optimize.whole, problem.exact.tolerance);
         let labels = Labels { solver_status: solver.join("; "), ..Labels::default() };
-        return Measured::alone(Row::without(SweepSchedule::Whole, Engine::Exact, Status::Failed, &reason, labels));
+        return ExactRow::alone(Row::without(SweepSchedule::Whole, Engine::Exact, Status::Failed, &reason, labels));
     };
     let labels = Labels { solver_status: solver.join("; "), whole_start: best.start.clone(), ..Labels::default() };
-    let mut numbers = Numbers::flip(None, best.twist, best.swing, Some(best.flip_error_estimate));
-    numbers.peak_nm = Some(best.peak_torque_nm);
+    let m = rig.measure(ScheduleName::WholeOptimum, best.spline.clone());
+    let mut numbers = Numbers::measured(None, &m.exact, false);
     let t = best.fall_time_s;
     numbers.whole = Some(WholeNumbers {
         energy: best.energy,
@@ -130,9 +122,7 @@ pub(crate) fn whole(problem: &Problem) -> Measured {
         fall_time_s: t,
         drop_height_m: 0.5 * problem.drop.gravity * t * t,
     });
-    numbers.motors = Some(MotorNumbers::new(&best.motors));
     let row = Row::with(SweepSchedule::Whole, Engine::Exact, numbers, labels);
-    let reference = Reference { twist: best.twist, swing: best.swing, peak_torque: best.peak_torque_nm };
-    let subject = (row.status == Status::Ok).then(|| (Subject::Whole(best.spline.clone()), reference));
-    Measured { row, subject }
+    let subject = (row.status == Status::Ok).then_some(Subject::Whole(m));
+    ExactRow { row, subject }
 }

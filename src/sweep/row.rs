@@ -1,14 +1,16 @@
 //! A sweep's rows: how each ended ([`Status`]), the numbers it carries ([`Numbers`] and its
-//! parts), its labels, and what an exact row measured for rapier to verify (`Measured`, the [`Subject`]).
+//! parts, from one measured schedule: [`Numbers::measured`]), its labels, and what an exact row
+//! measured for rapier to verify (`ExactRow`, the [`Subject`]).
 //!
 //! A row is `ok` only when every number it carries is finite and valid; otherwise its status
 //! (`refused`, `failed`, `skipped`) and a one-line reason say why, and it carries no number.
 
 use serde::Serialize;
 
+use crate::engines::evaluate::Evaluation;
+use crate::engines::measured::Measured;
 use crate::engines::motors::{MotorDemand, RATIO_TOLERANCE};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::Reference;
 use crate::engines::Engine;
 use crate::model::motor::Limit;
 use crate::optimize::retime::{PhasePath, RetimedTrajectory};
@@ -254,6 +256,17 @@ impl Numbers {
         }
     }
 
+    /// The numbers of a measured trajectory: its flip, its peaks (per phase when `phases`, a
+    /// three-phase schedule) and what it asks of its motors.
+    pub fn measured(circulation_rad: Option<f64>, e: &Evaluation, phases: bool) -> Numbers {
+        let f = &e.flip;
+        let mut numbers = Numbers::flip(circulation_rad, f.twist, f.swing, Some(f.error_estimate));
+        numbers.peaks = phases.then(|| e.phase_peaks());
+        numbers.peak_nm = Some(e.peak());
+        numbers.motors = Some(MotorNumbers::new(&e.motors));
+        numbers
+    }
+
     /// Whether every number is finite.
     pub fn all_finite(&self) -> bool {
         let mut v = vec![self.twist_deg, self.swing_deg, self.flip_error_deg];
@@ -332,25 +345,24 @@ impl Row {
 /// A trajectory an exact row measured, for rapier to verify.
 pub enum Subject {
     /// A library schedule.
-    Schedule(Schedule),
+    Schedule(Measured<Schedule>),
     /// A schedule retimed.
-    Retimed(RetimedTrajectory<PhasePath>),
+    Retimed(Measured<RetimedTrajectory<PhasePath>>),
     /// The whole-manoeuvre optimum's spline.
-    Whole(BSpline),
+    Whole(Measured<BSpline>),
 }
 
-/// An exact row and, when it is `ok`, the trajectory it measured and the exact engine's numbers
-/// for rapier to check.
-pub(crate) struct Measured {
+/// An exact row and, when it is `ok`, the measured trajectory rapier verifies.
+pub(crate) struct ExactRow {
     /// The row.
     pub row: Row,
     /// What rapier verifies.
-    pub subject: Option<(Subject, Reference)>,
+    pub subject: Option<Subject>,
 }
 
-impl Measured {
+impl ExactRow {
     /// A row with nothing to verify.
-    pub fn alone(row: Row) -> Measured {
-        Measured { row, subject: None }
+    pub fn alone(row: Row) -> ExactRow {
+        ExactRow { row, subject: None }
     }
 }

@@ -1,5 +1,5 @@
-//! The `rapier` rows of a case: every `ok` exact row's trajectory verified by rapier against the
-//! exact engine's twist, swing and peak torque ([`crate::engines::rapier::verify`], DESIGN.md §6).
+//! The `rapier` rows of a case: every `ok` exact row's measured trajectory verified by rapier
+//! against the exact engine's twist, swing and peak torque ([`Measured::verify`], DESIGN.md §6).
 //!
 //! The step is refined by halving until rapier's own Richardson error estimate meets the
 //! problem's `[rapier]` tolerances or the next run would overrun `rapier.step_budget` (all runs'
@@ -14,32 +14,32 @@
 //! verdict as reason and in `rapier_verdict`, and counts as `inconclusive` among the verdicts,
 //! as in `catflip run`; an exact row without a result gives a `skipped` rapier row.
 
-use crate::engines::models::TwoMotorCat;
-use crate::engines::rapier::{verify_with, Quantity, RapierError, RapierOptions, Reference, Verification};
+use crate::engines::measured::{Measured, Rig};
+use crate::engines::rapier::{Quantity, RapierError, Verification};
 use crate::engines::Engine;
 use crate::problem::settings::RapierSettings;
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
 
-use super::row::{Labels, Measured, Numbers, RapierNumbers, Row, Status, Subject};
+use super::row::{ExactRow, Labels, Numbers, RapierNumbers, Row, Status, Subject};
 
 /// The problem's rapier settings without a wall-clock budget (module docs).
 pub fn rapier_settings(problem: &Problem) -> RapierSettings {
     RapierSettings { time_budget_s: None, ..problem.rapier }
 }
 
-/// The rapier row of one exact row.
-pub(crate) fn rapier_row(problem: &Problem, exact: &Measured) -> Row {
+/// The rapier row of one exact row, verified on the case's `rig` without a wall-clock budget.
+pub(crate) fn rapier_row(rig: &Rig, exact: &ExactRow) -> Row {
     let schedule = exact.row.schedule;
-    let Some((subject, reference)) = &exact.subject else {
+    let Some(subject) = &exact.subject else {
         let reason = format!("no exact result to verify (the exact row is {})", exact.row.status.name());
         return Row::without(schedule, Engine::Rapier, Status::Skipped, &reason, Labels::default());
     };
-    let settings = rapier_settings(problem);
+    let rig = Rig { rapier: RapierSettings { time_budget_s: None, ..rig.rapier }, ..rig.clone() };
     let result = match subject {
-        Subject::Schedule(s) => run(problem, s, &settings, reference),
-        Subject::Retimed(s) => run(problem, s, &settings, reference),
-        Subject::Whole(s) => run(problem, s, &settings, reference),
+        Subject::Schedule(m) => verified(&rig, m),
+        Subject::Retimed(m) => verified(&rig, m),
+        Subject::Whole(m) => verified(&rig, m),
     };
     let v = match result {
         Ok(v) => v,
@@ -68,17 +68,9 @@ pub(crate) fn rapier_row(problem: &Problem, exact: &Measured) -> Row {
     Row::with(schedule, Engine::Rapier, numbers, labels)
 }
 
-fn run(
-    problem: &Problem,
-    traj: &impl Trajectory,
-    settings: &RapierSettings,
-    reference: &Reference,
-) -> Result<Verification, RapierError> {
-    verify_with(
-        &TwoMotorCat::paper(problem.cat.half()),
-        traj,
-        settings,
-        reference,
-        &RapierOptions::for_problem(problem),
-    )
+/// `m` verified in rapier on `rig`: its verification.
+fn verified<T: Trajectory + Clone>(rig: &Rig, m: &Measured<T>) -> Result<Verification, RapierError> {
+    let mut m = m.clone();
+    m.verify(rig)?;
+    m.verification().cloned().ok_or_else(|| RapierError::NoResult("not verified".into()))
 }

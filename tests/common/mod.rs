@@ -6,8 +6,10 @@
 
 #![allow(dead_code)]
 
+use catflip::engines::measured::{Measured, Rig};
 use catflip::engines::resolved::Resolved;
 use catflip::problem::Problem;
+use catflip::schedule::variant::ScheduleName;
 use catflip::schedule::{paper_circulation, JointState, Schedule, Trajectory};
 
 /// The paper's problem (every field at its default) and its schedule with the paper's
@@ -23,6 +25,13 @@ pub fn paper() -> (Problem, Schedule) {
 /// The paper's problem resolved (its schedule and circulation), as every command starts.
 pub fn paper_resolved() -> Resolved {
     Resolved::new(&Problem::default()).unwrap_or_else(|e| panic!("the paper's problem resolves: {e}"))
+}
+
+/// `schedule` measured on `problem`'s cat, release and motors, named `problem` (as `catflip run`
+/// names the problem's own schedule), as every command measures it.
+pub fn measured<T: Trajectory + Clone>(problem: &Problem, schedule: &T) -> Measured<T> {
+    let rig = Rig::new(problem).unwrap_or_else(|e| panic!("a two-motor cat: {e}"));
+    rig.measure(ScheduleName::Problem, schedule.clone())
 }
 
 /// A cat held at joint angles `q` for `duration` s: a rigid body (`q = 0`: held straight).

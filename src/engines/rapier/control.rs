@@ -31,7 +31,8 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use crate::engines::evaluate::{released_flip, torque_source};
+use crate::engines::evaluate::{released_on, released_torques};
+use crate::engines::models::TwoMotorCat;
 use crate::model::Cylinder;
 use crate::schedule::{JointState, Trajectory};
 
@@ -83,8 +84,9 @@ impl Plan {
         let dt = duration / n.max(1) as f64;
         let at = |k: usize| if k >= n { duration } else { k as f64 * dt };
         let states = (0..=n).map(|k| pieces.state(at(k))).collect();
-        let (_, history) = released_flip(nominal, traj, spin, tolerance);
-        let source = torque_source(nominal, history.as_ref());
+        let model = TwoMotorCat::paper(*nominal);
+        let (_, history) = released_on(&model, traj, spin, tolerance);
+        let source = released_torques(&model, history.as_ref());
         let feedforward = (0..n)
             .map(|k| {
                 let (piece, s) = pieces.locate((k as f64 + 0.5) * dt);

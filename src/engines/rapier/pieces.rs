@@ -1,5 +1,5 @@
 //! A [`Trajectory`] seen on one global clock: where each piece starts, the state at a time `t`,
-//! and the jumps of the joint rates between pieces.
+//! and where its acceleration jumps.
 //!
 //! Times in s, angles in rad. At a boundary the later piece's formula is used (as
 //! [`crate::schedule::Schedule::state`] does), so a step that ends on a boundary takes its target
@@ -84,27 +84,5 @@ impl<'a, T: Trajectory> Pieces<'a, T> {
         let mut times: Vec<f64> = jumps.into_iter().filter(|&(_, j)| j > fraction * scale).map(|(t, _)| t).collect();
         times.sort_by(f64::total_cmp);
         times
-    }
-
-    /// Times of the boundaries where the joint rates jump by more than `tol` relative to the
-    /// rates of the two adjoining pieces (sampled at quarters; at least `tol` rad/s), so that
-    /// round-off of a fast piece is not taken for a jump.
-    pub fn rate_jumps(&self, tol: f64) -> Vec<f64> {
-        let rate = |i: usize, f: f64| {
-            let qd = self.traj.piece_state(i, f * self.durations[i]).qd;
-            qd[0].hypot(qd[1])
-        };
-        (1..self.durations.len())
-            .filter(|&i| self.durations[i] > 0.0 && self.durations[i - 1] > 0.0)
-            .filter(|&i| {
-                let before = self.traj.piece_state(i - 1, self.durations[i - 1]).qd;
-                let after = self.traj.piece_state(i, 0.0).qd;
-                let jump = (before[0] - after[0]).hypot(before[1] - after[1]);
-                let scale =
-                    [0.25, 0.5, 0.75, 1.0].iter().map(|&f| rate(i - 1, f).max(rate(i, 1.0 - f))).fold(1.0, f64::max);
-                jump > tol * scale
-            })
-            .map(|i| self.starts[i])
-            .collect()
     }
 }

@@ -11,7 +11,6 @@ use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::models::TwoMotorCat;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::torque::{joint_torques, joint_torques_spinning};
-use crate::engines::JUMP_TOLERANCE;
 use crate::model::orientation::TwistTracker;
 use crate::problem::settings::{RapierSettings, TimeStep};
 use crate::schedule::{JointState, Phase, Trajectory};
@@ -250,8 +249,11 @@ pub fn simulate_with(
     scene.start_with_momentum(start.qd, &opts.spin)?;
     let masses = *scene.masses();
 
-    let mut windows: Vec<JumpWindow> =
-        pieces.rate_jumps(JUMP_TOLERANCE).iter().map(|&t| JumpWindow::new(t, JUMP_STEPS * dt)).collect();
+    let mut windows: Vec<JumpWindow> = cat
+        .velocity_jumps(traj, |k| traj.boundary_rate_uncertainty(k))
+        .iter()
+        .map(|j| JumpWindow::new(j.time, JUMP_STEPS * dt))
+        .collect();
     let boundaries = pieces.boundaries();
     let accel_jumps = pieces.acceleration_jumps(ACCEL_JUMP_FRACTION);
     let accel_margin = ACCEL_JUMP_STEPS * dt;

@@ -4,32 +4,28 @@
 
 use std::fmt::Write;
 
-use super::Verified;
+use super::Shown;
 use crate::engines::rapier::Verification;
-use crate::report::whole::{WholeReport, WHOLE};
-use crate::schedule::variant::Origin;
+use crate::measure::whole::WholeReport;
+use crate::schedule::variant::{Origin, Variant, WHOLE};
 
 /// The terminal text of a run of the problem whose own profile is `own`, written to `shown`.
-pub(super) fn answer(
-    own: Origin,
-    verified: &[Verified],
-    whole: &WholeReport,
-    whole_verification: Option<&Verification>,
-    shown: &str,
-) -> String {
+pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, shown: &str) -> String {
     let mut s = String::new();
-    let problem = verified.iter().find(|v| v.variant.origin == own && !v.variant.is_calibrated());
+    let variant = |v: &Shown| v.measured.name.variant();
+    let problem = verified.iter().find(|v| variant(v) == Some(Variant::new(own)));
     let verdict = |v: Option<&Verification>| v.map_or("no rapier verification".to_string(), |v| v.verdict.to_string());
-    match (whole.best(), problem) {
+    let whole_verification = whole.verification();
+    match (whole.measured.as_ref().map(|m| &m.exact), problem) {
         (Some(b), Some(p)) => {
             let own_peak = p.exact.peak_torque_nm.max;
             let _ = writeln!(
                 s,
                 "The whole-manoeuvre optimum flips the cat (twist {:+.6}°, swing {:.1e}°) with a peak torque of {:.4} N·m, {:.0}× below the problem's own schedule ({:.4} N·m, twist {:+.3}°); rapier: {}.",
-                b.twist.to_degrees(),
-                b.swing.to_degrees(),
-                b.peak_torque_nm,
-                own_peak / b.peak_torque_nm,
+                b.twist_deg(),
+                b.swing_deg(),
+                b.peak(),
+                own_peak / b.peak(),
                 own_peak,
                 p.exact.figures.twist_deg,
                 verdict(whole_verification)
@@ -39,9 +35,9 @@ pub(super) fn answer(
             let _ = writeln!(
                 s,
                 "The whole-manoeuvre optimum flips the cat (twist {:+.6}°, swing {:.1e}°) with a peak torque of {:.4} N·m; rapier: {}.",
-                b.twist.to_degrees(),
-                b.swing.to_degrees(),
-                b.peak_torque_nm,
+                b.twist_deg(),
+                b.swing_deg(),
+                b.peak(),
                 verdict(whole_verification)
             );
         }
@@ -50,18 +46,20 @@ pub(super) fn answer(
         }
     }
     s.push_str("\n| schedule | twist ° | swing ° | peak N·m | rapier |\n|---|---:|---:|---:|---|\n");
+    let library = |v: &Shown| variant(v).is_some_and(|x| !x.origin.is_optimised() && !x.is_calibrated());
+    let optimised = |v: &Shown| variant(v).is_some_and(|x| x.origin.is_optimised());
     let best_library = verified
         .iter()
-        .filter(|v| !v.variant.origin.is_optimised() && !v.variant.is_calibrated())
+        .filter(|v| library(v))
         .min_by(|a, b| a.exact.peak_torque_nm.max.total_cmp(&b.exact.peak_torque_nm.max));
-    let mut shown_rows: Vec<(String, &Verified)> = Vec::new();
+    let mut shown_rows: Vec<(String, &Shown)> = Vec::new();
     if let Some(p) = problem {
-        shown_rows.push((format!("{} (the problem's)", p.variant), p));
+        shown_rows.push((format!("{} (the problem's)", p.name()), p));
     }
-    if let Some(b) = best_library.filter(|b| problem.is_none_or(|p| p.variant != b.variant)) {
-        shown_rows.push((format!("{} (best library profile)", b.variant), b));
+    if let Some(b) = best_library.filter(|b| problem.is_none_or(|p| p.name() != b.name())) {
+        shown_rows.push((format!("{} (best library profile)", b.name()), b));
     }
-    shown_rows.extend(verified.iter().filter(|v| v.variant.origin.is_optimised()).map(|v| (v.variant.to_string(), v)));
+    shown_rows.extend(verified.iter().filter(|v| optimised(v)).map(|v| (v.name(), v)));
     for (name, v) in shown_rows {
         let f = &v.exact.figures;
         let _ = writeln!(
@@ -73,13 +71,13 @@ pub(super) fn answer(
             v.verification().map_or("no result".to_string(), |x| x.verdict.status().to_string())
         );
     }
-    if let Some(b) = whole.best() {
+    if let Some(b) = whole.measured.as_ref().map(|m| &m.exact) {
         let _ = writeln!(
             s,
             "| {WHOLE} | {:+.3} | {:.1e} | {:.4} | {} |",
-            b.twist.to_degrees(),
-            b.swing.to_degrees(),
-            b.peak_torque_nm,
+            b.twist_deg(),
+            b.swing_deg(),
+            b.peak(),
             whole_verification.map_or("not run".to_string(), |x| x.verdict.status().to_string())
         );
     }

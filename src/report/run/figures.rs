@@ -2,12 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::Verified;
+use super::Shown;
 use crate::engines::resolved::Resolved;
+use crate::measure::whole::WholeReport;
 use crate::problem::ProfileKind;
 use crate::report::plot::PlotError;
-use crate::report::whole::{WholeReport, WHOLE};
-use crate::schedule::variant::{Origin, Variant, VariantCirculation};
+use crate::schedule::variant::{Origin, Variant, VariantCirculation, WHOLE};
 use crate::schedule::{Schedule, Trajectory};
 
 /// The library profiles shown in the plots beside the optimised ones.
@@ -25,19 +25,20 @@ const FRAMES: usize = 72;
 pub(super) fn plots(
     r: &Resolved,
     plots: &Path,
-    verified: &[Verified],
+    verified: &[Shown],
     whole: &WholeReport,
 ) -> Result<Vec<PathBuf>, PlotError> {
     let problem = &r.problem;
     let mut written = Vec::new();
     let shown: Vec<(String, Schedule)> = verified
         .iter()
-        .filter(|v| v.variant.circulation == VariantCirculation::Problem)
-        .filter(|v| match v.variant.origin {
+        .filter_map(|v| v.measured.name.variant().map(|x| (x, v)))
+        .filter(|(x, _)| x.circulation == VariantCirculation::Problem)
+        .filter(|(x, _)| match x.origin {
             Origin::Library(k) => SHOWN.contains(&k),
             _ => true,
         })
-        .map(|v| (v.variant.to_string(), v.schedule.clone()))
+        .map(|(x, v)| (x.to_string(), v.measured.trajectory.clone()))
         .collect();
     written.extend(crate::report::plot::profiles_plot(plots, problem, &shown)?);
     let mut curves: Vec<(String, &dyn Trajectory)> =
@@ -62,13 +63,14 @@ pub(super) fn plots(
 }
 
 /// The animation of the schedule to replay when the whole optimum does not exist: the most
-/// refined calibrated schedule, else the problem's ([`super::compute`] animates the optimum).
-pub(super) fn fallback_animation(r: &Resolved, plots: &Path, verified: &[Verified]) -> Result<Vec<PathBuf>, PlotError> {
+/// refined calibrated schedule, else the problem's (the run animates the optimum beside its
+/// verification).
+pub(super) fn fallback_animation(r: &Resolved, plots: &Path, verified: &[Shown]) -> Result<Vec<PathBuf>, PlotError> {
     let own = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).to_string();
     let (name, schedule) = verified
         .iter()
-        .find(|v| v.variant.is_calibrated())
-        .map_or((own, &r.schedule), |v| (v.variant.to_string(), &v.schedule));
+        .find(|v| v.measured.name.variant().is_some_and(|x| x.is_calibrated()))
+        .map_or((own, &r.schedule), |v| (v.name(), &v.measured.trajectory));
     animation_of(r, plots, &name, schedule)
 }
 

@@ -1,4 +1,5 @@
-//! `catflip run`: everything for one problem, written to `results/<name>/`.
+//! `catflip run`: everything for one problem ([`crate::measure::run`] computes it), written to
+//! `results/<name>/`.
 //!
 //! The audit, the exact engine on the problem's schedule, the peak-torque table (every library
 //! profile, the QP optimum and the exact-dynamics refinement), the rapier verification of every
@@ -8,32 +9,25 @@
 //! results (and keeps the previous ones).
 
 mod answer;
-mod compute;
 mod figures;
 mod tables;
-mod timings;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::engines::circulation::CirculationError;
-use crate::engines::rapier::{RapierError, Status, Verification};
+use crate::engines::measured::Measured;
+use crate::engines::rapier::{Status, Verification};
 use crate::engines::resolved::Resolved;
 use crate::engines::Engine;
-use crate::optimize::OptimizeError;
-use crate::report::audit::AuditError;
-use crate::report::bench::BenchError;
-use crate::report::check::ExactValues;
+use crate::measure::run::{compute, ComputeError, RunResults};
+pub use crate::measure::timings::StageTime;
+use crate::measure::timings::Stopwatch;
 use crate::report::compare::compare;
 use crate::report::results_dir::Staging;
-use crate::report::simulate::{RapierOutcome, SimulationReport};
-use crate::report::whole::WHOLE;
-use crate::schedule::variant::Variant;
+use crate::report::simulate::SimulationReport;
+use crate::schedule::variant::WHOLE;
 use crate::schedule::Schedule;
-use compute::{compute, Computed};
 use tables::{summary, verification_csv, verification_markdown};
-use timings::Stopwatch;
-pub use timings::{table as timings_table, StageTime};
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -46,24 +40,9 @@ pub enum RunError {
         /// The OS error.
         source: std::io::Error,
     },
-    /// The problem's circulation could not be resolved.
+    /// A computation failed (the optimisers, the engines, the audit, the files).
     #[error(transparent)]
-    Circulation(#[from] CirculationError),
-    /// The problem asks for what `run` does not model.
-    #[error(transparent)]
-    Problem(#[from] crate::problem::ProblemError),
-    /// The rapier engine failed.
-    #[error(transparent)]
-    Rapier(#[from] RapierError),
-    /// An optimiser failed.
-    #[error(transparent)]
-    Optimize(#[from] OptimizeError),
-    /// The audit refused a value.
-    #[error(transparent)]
-    Audit(#[from] AuditError),
-    /// The benchmark failed.
-    #[error(transparent)]
-    Bench(#[from] BenchError),
+    Compute(#[from] ComputeError),
     /// A plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plot::PlotError),
@@ -76,12 +55,18 @@ pub enum RunError {
     /// The results folder could not be staged or swapped in.
     #[error(transparent)]
     ResultsDir(#[from] crate::report::results_dir::ResultsDirError),
-    /// The whole-manoeuvre optimisation could not run.
-    #[error(transparent)]
-    Whole(#[from] crate::optimize::whole::WholeError),
-    /// A schedule file could not be written.
-    #[error(transparent)]
-    Exchange(#[from] crate::exchange::ExchangeError),
+}
+
+impl From<crate::exchange::ExchangeError> for RunError {
+    fn from(e: crate::exchange::ExchangeError) -> RunError {
+        RunError::Compute(e.into())
+    }
+}
+
+impl From<crate::problem::ProblemError> for RunError {
+    fn from(e: crate::problem::ProblemError) -> RunError {
+        RunError::Compute(e.into())
+    }
 }
 
 /// What a run produced.
@@ -134,39 +119,37 @@ fn io(path: &Path, source: std::io::Error) -> RunError {
     RunError::Io { path: path.display().to_string(), source }
 }
 
-/// A verified schedule: the exact engine's report and rapier's beside it, or rapier's
+/// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
 /// verification alone when it made no usable run.
-pub(crate) struct Verified {
-    variant: Variant,
-    schedule: Schedule,
+pub(crate) struct Shown<'a> {
+    measured: &'a Measured<Schedule>,
     exact: SimulationReport,
-    rapier: RapierOutcome<SimulationReport>,
+    rapier: crate::report::simulate::RapierOutcome<SimulationReport>,
 }
 
-impl Verified {
-    /// rapier's verification of the schedule, with or without a result.
-    fn verification(&self) -> Option<&Verification> {
-        match &self.rapier {
-            RapierOutcome::Report(r) => r.figures.check.verification.as_ref(),
-            RapierOutcome::NoResult(v) => Some(v),
-        }
+impl<'a> Shown<'a> {
+    /// The reports of `m`, one of `r`'s schedules, verified.
+    fn new(r: &Resolved, m: &'a Measured<Schedule>) -> Result<Shown<'a>, RunError> {
+        let exact = SimulationReport::exact(r, m);
+        let rapier = SimulationReport::rapier(m, &exact).map_err(ComputeError::from)?;
+        Ok(Shown { measured: m, exact, rapier })
     }
 
-    /// The exact engine's values the verification compares with.
-    fn exact_values(&self) -> ExactValues {
-        let e = &self.exact;
-        ExactValues {
-            twist_deg: e.figures.twist_deg,
-            swing_deg: e.figures.swing_deg,
-            peak_torque_nm: e.peak_torque_nm.max,
-        }
+    /// The schedule's name.
+    fn name(&self) -> String {
+        self.measured.name.to_string()
+    }
+
+    /// rapier's verification of the schedule, with or without a result.
+    fn verification(&self) -> Option<&Verification> {
+        self.measured.verification()
     }
 
     /// The entry of `simulate_rapier.json`.
     fn rapier_json(&self) -> RapierJson<'_> {
         match &self.rapier {
-            RapierOutcome::Report(r) => RapierJson::Report(r),
-            RapierOutcome::NoResult(v) => RapierJson::NoResult {
+            crate::report::simulate::RapierOutcome::Report(r) => RapierJson::Report(r),
+            crate::report::simulate::RapierOutcome::NoResult(v) => RapierJson::NoResult {
                 problem: &self.exact.problem,
                 engine: Engine::Rapier,
                 profile: &self.exact.profile,
@@ -204,6 +187,24 @@ enum RapierJson<'a> {
     },
 }
 
+/// The stages of a run ([`StageTime`]) as a plain-text table for the terminal: start, end and
+/// duration of each, and the run's total.
+pub fn timings_table(stages: &[StageTime], total_s: f64) -> String {
+    let width = stages.iter().map(|s| s.name.chars().count()).max().unwrap_or(0).max(5);
+    let mut out = format!("{:<width$}  {:>7}  {:>7}  {:>7}\n", "stage", "start s", "end s", "wall s");
+    for s in stages {
+        out.push_str(&format!(
+            "{:<width$}  {:>7.3}  {:>7.3}  {:>7.3}\n",
+            s.name,
+            s.start_s,
+            s.start_s + s.wall_s,
+            s.wall_s
+        ));
+    }
+    out.push_str(&format!("{:<width$}  {:>7.3}  {:>7.3}  {:>7.3}\n", "run", 0.0, total_s, total_s));
+    out
+}
+
 /// Runs everything for the resolved problem and writes `out_root/<name>/`. `command` is the
 /// command line that regenerates it, for the report's header.
 pub fn run(r: &Resolved, command: &str, out_root: &Path) -> Result<RunOutcome, RunError> {
@@ -226,15 +227,16 @@ pub fn run_with(
 }
 
 /// Runs `catflip bench` on the resolved problem (rapier at
-/// [`crate::report::bench::RAPIER_STEPS`]), writes `out_root/bench/` and returns the report
+/// [`crate::measure::bench::RAPIER_STEPS`]), writes `out_root/bench/` and returns the report
 /// beside what was written.
 pub fn run_bench(
     r: &Resolved,
     command: &str,
     out_root: &Path,
-) -> Result<(RunOutcome, crate::report::bench::BenchReport), RunError> {
+) -> Result<(RunOutcome, crate::measure::bench::BenchReport), RunError> {
     atomically(out_root, "bench", |w| {
-        let report = crate::report::bench::bench(r, &crate::report::bench::RAPIER_STEPS)?;
+        let report =
+            crate::measure::bench::bench(r, &crate::measure::bench::RAPIER_STEPS).map_err(ComputeError::from)?;
         w.put("bench.csv", &report.to_csv())?;
         w.json("bench.json", &report)?;
         let plots = w.dir.join("plots");
@@ -285,21 +287,30 @@ fn produce(
     let settings = toml::to_string(problem)?;
     let plots = w.dir.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
-    let Computed { audit, opt, whole, retimed, verified, whole_verification, animation, robustness, files } =
-        compute(r, &plots, export, clock)?;
+    // The whole optimum's animation is drawn beside its verification, as soon as it exists.
+    let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
+    let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
+    let verified = verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>()?;
     // 1. The audit.
     w.put("audit.md", &audit.to_markdown())?;
     w.json("audit.json", &audit)?;
-    // 2. Optimisation and the peak-torque table (every schedule evaluated once).
+    // 2. Optimisation and the peak-torque table (every schedule measured once).
+    let rear = &r.model().cat().rear;
+    let opt = opt.to_json(rear);
     w.put("optimize.md", &opt.to_markdown())?;
     w.json("optimize.json", &opt)?;
     w.put("whole.md", &whole.to_markdown())?;
     w.json("whole.json", &whole)?;
     w.put("retime.md", &crate::report::whole::retime_markdown(&retimed))?;
     w.json("retime.json", &retimed)?;
-    let extra: Vec<_> = opt.optima().map(|o| o.evaluation.clone()).collect();
+    let extra: Vec<_> = [&opt.qp_optimum, &opt.refined_optimum]
+        .into_iter()
+        .flatten()
+        .chain(opt.all_phases.as_ref().map(|a| &a.optimum))
+        .map(|o| o.evaluation.clone())
+        .collect();
     let table = compare(r, &extra);
-    let whole_line: Vec<_> = crate::report::whole::compare_line(&whole).into_iter().collect();
+    let whole_line: Vec<_> = crate::report::whole::compare_row(&whole).into_iter().collect();
     let mut compare_md = table.to_markdown();
     compare_md.extend(whole_line.iter().map(|l| l.markdown()));
     w.put("compare.md", &compare_md)?;
@@ -307,13 +318,13 @@ fn produce(
     // 3. Every schedule of the table through both engines, and the recommended one.
     w.put("verification.csv", &verification_csv(&verified))?;
     let mut verification_md = verification_markdown(problem, &verified);
-    if let Some(v) = &whole_verification {
-        verification_md.extend(crate::report::whole::verification_row_markdown(&whole, v));
+    if let Some(v) = whole.verification() {
+        verification_md.extend(crate::report::whole::verification_row_markdown(&whole));
         w.json("verification_whole.json", v)?;
     }
     w.put("verification.md", &verification_md)?;
     w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
-    w.json("simulate_rapier.json", &verified.iter().map(Verified::rapier_json).collect::<Vec<_>>())?;
+    w.json("simulate_rapier.json", &verified.iter().map(Shown::rapier_json).collect::<Vec<_>>())?;
     // 3b. The whole optimum's robustness: the exact engine's trials, its tables and plots.
     let robust = robustness.map(|c| crate::robust::RobustReport { checks: vec![c], command: command.to_string() });
     if let Some(report) = &robust {
@@ -332,10 +343,9 @@ fn produce(
     let (figures, animation) = rayon::join(
         || clock.time("plots", || figures::plots(r, &plots, &verified, &whole)),
         || {
-            animation.map_or_else(
-                || clock.time("animate the fallback", || figures::fallback_animation(r, &plots, &verified)),
-                Ok,
-            )
+            animation.unwrap_or_else(|| {
+                clock.time("animate the fallback", || figures::fallback_animation(r, &plots, &verified))
+            })
         },
     );
     for (name, contents) in files {
@@ -344,7 +354,7 @@ fn produce(
     w.record(figures?);
     w.record(animation?);
     // 6. The report.
-    let optimum = crate::report::whole::summary_lines(&whole, whole_verification.as_ref(), &retimed);
+    let optimum = crate::report::whole::summary_lines(&whole, &retimed);
     let mut summary = summary(r, &table, &opt, &verified, &optimum);
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         let _ = writeln!(
@@ -368,8 +378,7 @@ fn produce(
     }
     w.put("report.md", &report)?;
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
-    let mut answer =
-        answer::answer(own, &verified, &whole, whole_verification.as_ref(), &w.shown.display().to_string());
+    let mut answer = answer::answer(own, &verified, &whole, &w.shown.display().to_string());
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));
     }

@@ -2,15 +2,15 @@
 
 use std::fmt::Write as _;
 
-use super::Verified;
+use super::Shown;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
 use crate::engines::Engine;
-use crate::optimize::OptimizeReport;
 use crate::problem::Problem;
 use crate::report::check::{verification_row, VERIFICATION_TABLE_HEADER};
 use crate::report::compare::CompareTable;
+use crate::report::optimize::OptimizeJson;
 use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::schedule::variant::Origin;
 use crate::schedule::Phase;
@@ -23,7 +23,7 @@ const MEASURED: [&str; 4] = ["momentum_max", "dt_s", "tracking1_rad", "tracking2
 /// `verification.csv`: one row per schedule and engine, sorted. A rapier row carries the
 /// verification's columns and `verdict_reason` (the verdict in words); a rapier row without a
 /// result has empty number fields.
-pub(super) fn verification_csv(rows: &[Verified]) -> String {
+pub(super) fn verification_csv(rows: &[Shown]) -> String {
     let mut header = REPORT_HEAD.to_vec();
     header.extend(PhasePeaks::CSV_HEADER.split(','));
     header.extend(MEASURED);
@@ -32,7 +32,7 @@ pub(super) fn verification_csv(rows: &[Verified]) -> String {
     header.push("verdict_reason");
     let mut all: Vec<(String, Engine, Vec<String>)> = Vec::new();
     for v in rows {
-        let name = v.variant.to_string();
+        let name = v.name();
         all.push((name.clone(), Engine::Exact, report_fields(&name, &v.exact)));
         all.push((name.clone(), Engine::Rapier, rapier_fields(&name, v)));
     }
@@ -70,7 +70,7 @@ fn report_fields(name: &str, r: &SimulationReport) -> Vec<String> {
 
 /// rapier's row: its report's fields, or empty ones when it has no result, then the
 /// verification's and the verdict's.
-fn rapier_fields(name: &str, v: &Verified) -> Vec<String> {
+fn rapier_fields(name: &str, v: &Shown) -> Vec<String> {
     let mut f = match &v.rapier {
         RapierOutcome::Report(r) => report_fields(name, r),
         RapierOutcome::NoResult(x) => {
@@ -90,22 +90,22 @@ fn rapier_fields(name: &str, v: &Verified) -> Vec<String> {
     f
 }
 
-pub(super) fn verification_markdown(problem: &Problem, rows: &[Verified]) -> String {
+pub(super) fn verification_markdown(problem: &Problem, rows: &[Shown]) -> String {
     let mut s = format!(
         "## Verification in rapier3d-f64 (`{}`, first dt {})\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
         problem.name, problem.rapier.dt
     );
     s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step; — where rapier has no such number (no run, or fewer than two).\n\n");
-    if let Some(v) = rows.iter().find_map(Verified::verification) {
+    if let Some(v) = rows.iter().find_map(Shown::verification) {
         let _ =
             writeln!(s, "Tolerances: {}; budget {} rapier steps per schedule.\n", v.tolerances_text(), v.step_budget);
     }
     s.push_str(VERIFICATION_TABLE_HEADER);
     for v in rows {
         match v.verification() {
-            Some(x) => s.push_str(&verification_row(&v.variant.to_string(), v.exact_values(), x)),
+            Some(x) => s.push_str(&verification_row(&v.name(), &v.measured.reference(), x)),
             None => {
-                let _ = writeln!(s, "| {} | {} |", v.variant, ["—"; 15].join(" | "));
+                let _ = writeln!(s, "| {} | {} |", v.name(), ["—"; 15].join(" | "));
             }
         }
     }
@@ -115,30 +115,32 @@ pub(super) fn verification_markdown(problem: &Problem, rows: &[Verified]) -> Str
 pub(super) fn summary(
     r: &Resolved,
     table: &CompareTable,
-    opt: &OptimizeReport,
-    verified: &[Verified],
+    opt: &OptimizeJson,
+    verified: &[Shown],
     optimum: &str,
 ) -> String {
     let problem = &r.problem;
     let mut s = String::new();
     let _ = writeln!(s, "## Summary\n");
     let own = Origin::Library(problem.manoeuvre.profile);
-    if let Some(p) = table.rows.iter().find(|row| row.origin == own && row.profile == own.profile_name()) {
+    if let Some(p) = table.rows.iter().find(|row| row.origin == own.name() && row.profile == own.profile_name()) {
         let verdict = if (p.twist_deg.abs() - 180.0).abs() < 1e-6 { "a half turn" } else { "not a half turn" };
         let _ = writeln!(
             s,
             "- The problem's schedule ({} profile, {} path, circulation {:.6} rad, {}) turns the cat by **{:.6}°** with a swing of {:.6}° (exact engine): {verdict}.",
-            p.profile, problem.manoeuvre.bend_path, p.circulation_rad, table.circulation.source, p.twist_deg, p.swing_deg
+            p.profile, problem.manoeuvre.bend_path, table.circulation.radians, table.circulation.source, p.twist_deg, p.swing_deg
         );
         let e = &p.exact_peak_nm;
+        let model = p
+            .model_peak_nm
+            .map_or(String::new(), |m| format!("; the paper's model I*·max|ω̇| gives {m:.4} N·m for the twist"));
         let _ = writeln!(
             s,
-            "- Its exact peak torque is **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}); the paper's model I*·max|ω̇| gives {:.4} N·m for the twist.",
+            "- Its exact peak torque is **{:.4} N·m** (bend {:.4}, twist {:.4}, unbend {:.4}){model}.",
             e.max,
             e.phase_max(Phase::Bend),
             e.phase_max(Phase::Twist),
             e.phase_max(Phase::Unbend),
-            p.model_peak_nm
         );
         if p.velocity_jumps > 0 {
             let _ = writeln!(
@@ -206,7 +208,7 @@ pub(super) fn summary(
     let _ = writeln!(
         s,
         "- Verdicts: {}.",
-        Verification::verdicts_line(verified.iter().map(|v| (v.variant.to_string(), v.verification())))
+        Verification::verdicts_line(verified.iter().map(|v| (v.name(), v.verification())))
     );
     s.push_str(optimum);
     let _ = writeln!(
@@ -218,7 +220,7 @@ pub(super) fn summary(
 
 /// The summary's line on rapier: how close its results came to the exact engine's, and how many
 /// schedules it has no result for.
-fn rapier_line(problem: &Problem, verified: &[Verified]) -> String {
+fn rapier_line(problem: &Problem, verified: &[Shown]) -> String {
     let reports: Vec<&SimulationReport> = verified.iter().filter_map(|v| v.rapier.report()).collect();
     let missing = verified.len() - reports.len();
     let mut s = format!("- rapier3d-f64 verification of {} schedules (first dt {})", verified.len(), problem.rapier.dt);

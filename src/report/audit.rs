@@ -1,8 +1,8 @@
-//! The audit as a Markdown report.
+//! The paper audit ([`crate::measure::audit`]) as a Markdown report.
 
 use std::fmt::Write;
 
-use super::{Audit, Entry};
+use crate::measure::audit::{Audit, Entry};
 
 /// A value with six significant digits, or a dash.
 fn cell(x: Option<f64>) -> String {
@@ -28,7 +28,14 @@ fn escape(s: &str) -> String {
     s.replace('|', "\\|")
 }
 
-pub(super) fn render(a: &Audit) -> String {
+impl Audit {
+    /// A readable Markdown report: one table row per entry, then warnings and notes.
+    pub fn to_markdown(&self) -> String {
+        render(self)
+    }
+}
+
+fn render(a: &Audit) -> String {
     let mut out = String::new();
     let with_exact = a.entries.iter().any(|e| e.exact.is_some());
     let _ = writeln!(out, "# Paper audit: {}\n", a.problem);

@@ -7,7 +7,7 @@
 //! optimiser over control points ([`optimizers`]). Every point is timed [`curve::Timing::measure`]
 //! (best and median of up to 7 runs within a budget) on this machine, named in the report.
 //! The table "time to reach 1e-3 / 1e-6 / 1e-9 rad" takes, per engine curve, the least best
-//! time of a point at or below the target ([`table`]).
+//! time of a point at or below the target ([`crate::report::bench`]).
 //!
 //! Stress: the named edge cases ([`stress`]) and a seeded sample of random problems spanning
 //! decades ([`random`], with the invariants they are checked against).
@@ -28,7 +28,6 @@ pub mod engines;
 pub mod optimizers;
 pub mod random;
 pub mod stress;
-pub mod table;
 
 use serde::Serialize;
 
@@ -64,7 +63,7 @@ pub const WHOLE_REFERENCE_POINTS: usize = 240;
 /// The whole benchmark.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BenchReport {
-    /// The machine, as [`crate::report::provenance::machine`] names it.
+    /// The machine, as [`crate::measure::machine::machine`] names it.
     pub machine: String,
     /// The work-precision curves.
     pub curves: Vec<Curve>,
@@ -115,7 +114,7 @@ pub fn bench(r: &Resolved, dts: &[f64]) -> Result<BenchReport, BenchError> {
     let base = toml::to_string(p)?;
     let (results, tally) = random::run_many(&base, RANDOM_SEED, RANDOM_CASES);
     Ok(BenchReport {
-        machine: crate::report::provenance::machine(),
+        machine: crate::measure::machine::machine(),
         curves,
         notes: vec![retime_note, whole_note],
         evaluation: engines::evaluation_timing(p, &r.schedule),

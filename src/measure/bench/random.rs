@@ -137,7 +137,7 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
         }
     };
     let p = &r.problem;
-    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     let heavy = match load(Some(format!("cat.mass={:e}", 10.0 * p.cat.mass))) {
         Ok(h) => h,
         Err(why) => {
@@ -145,9 +145,14 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
             return out;
         }
     };
-    let e10 =
-        Evaluation::new(&heavy.cat.half(), &r.schedule, &heavy.drop.spin(), &heavy.actuator.motors(), &heavy.exact);
-    let (momentum, action_reaction) = (e.momentum_max, e.action_reaction_gap / e.peaks.max);
+    let e10 = Evaluation::of_paper(
+        &heavy.cat.half(),
+        &r.schedule,
+        &heavy.drop.spin(),
+        &heavy.actuator.motors(),
+        &heavy.exact,
+    );
+    let (momentum, action_reaction) = (e.momentum_max, e.peaks.action_reaction_gap / e.peaks.max);
     let mass_twist = (e10.flip.twist - e.flip.twist).abs();
     let mass_torque = (e10.peaks.max / (10.0 * e.peaks.max) - 1.0).abs();
     let qp = qp_gap(&r, case.nodes);
@@ -157,7 +162,8 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
     out.mass_twist = finite(mass_twist);
     out.mass_torque = finite(mass_torque);
     out.qp_gap = qp.as_ref().ok().copied().and_then(finite);
-    let numbers = [e.flip.twist, e.flip.swing, e.peaks.max, e.momentum_max, e.action_reaction_gap, e.peak_accuracy];
+    let numbers =
+        [e.flip.twist, e.flip.swing, e.peaks.max, e.momentum_max, e.peaks.action_reaction_gap, e.peaks.accuracy];
     let numbers = numbers.iter().chain([&mass_twist, &mass_torque, &e10.peaks.max]);
     // Each check passes only on a finite number within its limit (`≤` is false for NaN); the
     // first check names a non-finite number, so no message below prints one.
@@ -182,8 +188,8 @@ pub fn run_case(base: &str, case: &RandomCase) -> RandomResult {
             "flip short of {:e} rad (estimate {:.1e}, {} steps per phase)",
             p.exact.tolerance, e.flip.error_estimate, e.flip.steps_per_phase
         ));
-    } else if e.peak_accuracy > 1e-6 {
-        out.verdict = Verdict::Degraded(format!("peak torque accuracy {:.1e}", e.peak_accuracy));
+    } else if e.peaks.accuracy > 1e-6 {
+        out.verdict = Verdict::Degraded(format!("peak torque accuracy {:.1e}", e.peaks.accuracy));
     }
     out
 }

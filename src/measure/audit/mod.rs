@@ -58,7 +58,6 @@
 
 mod entries;
 pub mod formulas;
-mod markdown;
 pub mod models;
 mod notes;
 pub mod readings;
@@ -178,11 +177,6 @@ impl Audit {
         entry.exact = Some(value);
         Ok(())
     }
-
-    /// A readable Markdown report: one table row per entry, then warnings and notes.
-    pub fn to_markdown(&self) -> String {
-        markdown::render(self)
-    }
 }
 
 /// Whether a problem is the paper's §7 worked example: `m = 1`, `l = 1`, `r = 0.1`, `θ = 45°`,
@@ -232,13 +226,12 @@ pub fn audit_with_exact(r: &Resolved) -> Result<Audit, AuditError> {
     r.require_paper_cat("the audit of the paper's numbers")?;
     let mut a = audit(&r.problem);
     let mut values = Vec::new();
-    if let Some(e) = r.own() {
-        values.extend([
-            ("tau_bend", e.peaks.phase_max(Phase::Bend)),
-            ("tau_twist", e.peaks.phase_max(Phase::Twist)),
-            ("tau_unbend", e.peaks.phase_max(Phase::Unbend)),
-        ]);
-    }
+    let peaks = r.own().exact.phase_peaks();
+    values.extend([
+        ("tau_bend", peaks.phase_max(Phase::Bend)),
+        ("tau_twist", peaks.phase_max(Phase::Twist)),
+        ("tau_unbend", peaks.phase_max(Phase::Unbend)),
+    ]);
     if let Some(c) = r.calibrated() {
         values.push(("circulation", c.radians));
     }

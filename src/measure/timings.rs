@@ -1,7 +1,7 @@
 //! How long each stage of a run took: the wall-clock interval of every computation, from the
 //! run's start, for `catflip run --timings` (issue 19, "measure each stage once").
 //!
-//! The stages overlap (they run in parallel, [`super::compute`]), so their times do not add up to
+//! The stages overlap (they run in parallel, [`super::run::compute`]), so their times do not add up to
 //! the run's: the table shows when each started and ended, and the run's critical path is the
 //! chain that ends last. Times are wall clock on a machine shared with whatever else runs; they
 //! are printed, never written into the results (which depend on the problem only).
@@ -22,7 +22,7 @@ pub struct StageTime {
 
 /// Records stage intervals from any thread.
 #[derive(Debug)]
-pub(crate) struct Stopwatch {
+pub struct Stopwatch {
     start: Instant,
     stages: Mutex<Vec<StageTime>>,
 }
@@ -58,24 +58,6 @@ impl Stopwatch {
     }
 }
 
-/// The stages as a plain-text table for the terminal: start, end and duration of each, and the
-/// run's total.
-pub fn table(stages: &[StageTime], total_s: f64) -> String {
-    let width = stages.iter().map(|s| s.name.chars().count()).max().unwrap_or(0).max(5);
-    let mut out = format!("{:<width$}  {:>7}  {:>7}  {:>7}\n", "stage", "start s", "end s", "wall s");
-    for s in stages {
-        out.push_str(&format!(
-            "{:<width$}  {:>7.3}  {:>7.3}  {:>7.3}\n",
-            s.name,
-            s.start_s,
-            s.start_s + s.wall_s,
-            s.wall_s
-        ));
-    }
-    out.push_str(&format!("{:<width$}  {:>7.3}  {:>7.3}  {:>7.3}\n", "run", 0.0, total_s, total_s));
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -93,7 +75,7 @@ mod tests {
         for s in &stages {
             assert!(s.start_s >= 0.0 && s.start_s + s.wall_s <= total, "{s:?} outside 0..{total}");
         }
-        let shown = table(&stages, total);
+        let shown = crate::report::run::timings_table(&stages, total);
         assert_eq!(shown.lines().count(), 4, "header, two stages, total:\n{shown}");
         assert!(shown.lines().last().is_some_and(|l| l.starts_with("run")), "{shown}");
     }

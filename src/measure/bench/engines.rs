@@ -62,9 +62,9 @@ use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::{flip, integrate};
 use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{richardson, simulate, swing_vector, RapierRun};
+use crate::measure::bench::curve::{Curve, Outcome, Timing};
 use crate::problem::settings::ExactSettings;
 use crate::problem::Problem;
-use crate::report::bench::curve::{Curve, Outcome, Timing};
 use crate::schedule::profile::Profile;
 use crate::schedule::Schedule;
 use nalgebra::{UnitQuaternion, Vector3};
@@ -155,7 +155,7 @@ pub fn rapier_curves(problem: &Problem, smooth: &Schedule, dts: &[f64]) -> Vec<C
 /// The raw and extrapolated curves of one schedule, named `name` and `name-extrapolated`.
 fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) -> Vec<Curve> {
     let cat = &problem.cat.half();
-    let exact = Evaluation::new(
+    let exact = Evaluation::of_paper(
         cat,
         schedule,
         &problem.drop.spin(),
@@ -199,7 +199,7 @@ fn rapier_pair(problem: &Problem, schedule: &Schedule, dts: &[f64], name: &str) 
 /// The wall time of one `catflip`-style evaluation (flip, peaks, jumps) for the record.
 pub fn evaluation_timing(problem: &Problem, schedule: &Schedule) -> Timing {
     Timing::measure(|| {
-        std::hint::black_box(Evaluation::new(
+        std::hint::black_box(Evaluation::of_paper(
             &problem.cat.half(),
             schedule,
             &problem.drop.spin(),

@@ -43,13 +43,13 @@ use std::f64::consts::PI;
 use crate::engines::calibrate::calibrate;
 use crate::engines::exact::flip;
 use crate::engines::torque::peak_torques;
+use crate::measure::bench::curve::{Curve, CurveNote, Outcome};
 use crate::model::Cylinder;
 use crate::optimize::qp::ProfileQp;
 use crate::optimize::retime::{retime_schedule, PhasePath, RetimeSettings, Retiming};
 use crate::optimize::whole::{flipped, optimize_whole, WholeOutcome, WholeSettings};
 use crate::problem::settings::Boundary;
 use crate::problem::Problem;
-use crate::report::bench::curve::{Curve, CurveNote, Outcome};
 use crate::schedule::{Phase, Schedule};
 
 /// The whole manoeuvre's least peak torque on the paper's problem found by an independent IPOPT

@@ -9,8 +9,8 @@ use serde::Serialize;
 use crate::engines::circulation::CirculationError;
 use crate::engines::evaluate::Evaluation;
 use crate::engines::resolved::Resolved;
+use crate::measure::bench::BenchError;
 use crate::problem::Problem;
-use crate::report::bench::BenchError;
 
 /// One stress case.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -89,7 +89,7 @@ pub fn stress(base: &Problem) -> Result<Vec<StressCase>, BenchError> {
 
 fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<StressCase, CirculationError> {
     let r = Resolved::new(p)?;
-    let e = Evaluation::new(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
+    let e = Evaluation::of_paper(&p.cat.half(), &r.schedule, &p.drop.spin(), &p.actuator.motors(), &p.exact);
     Ok(StressCase {
         case: case.to_string(),
         overrides,
@@ -98,7 +98,7 @@ fn stress_case(case: &str, overrides: Vec<String>, p: &Problem) -> Result<Stress
         steps_per_phase: Some(e.flip.steps_per_phase),
         twist_deg: finite(e.twist_deg()),
         momentum_max: finite(e.momentum_max),
-        action_reaction_rel: finite(e.action_reaction_gap / e.peaks.max.max(f64::MIN_POSITIVE)),
+        action_reaction_rel: finite(e.peaks.action_reaction_gap / e.peaks.max.max(f64::MIN_POSITIVE)),
         peak_torque_nm: finite(e.peaks.max),
         refused: None,
     })

@@ -1,12 +1,13 @@
-//! The benchmark as tables: the time-to-reach table, one Markdown table per curve, the stress
-//! tables, a tidy CSV (one row per point) and the log–log plots (one per error kind).
+//! `catflip bench` ([`crate::measure::bench`]) as tables: the time-to-reach table, one Markdown
+//! table per curve, the stress tables, a tidy CSV (one row per point) and the log–log plots (one
+//! per error kind).
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
-use super::curve::Curve;
-use super::random::Verdict;
-use super::BenchReport;
+use crate::measure::bench::curve::Curve;
+use crate::measure::bench::random::Verdict;
+use crate::measure::bench::BenchReport;
 use crate::report::plot::{line_plot, LinePlot, PlotError, Scale, Series};
 
 /// The targets of the time-to-reach table, rad.
@@ -98,8 +99,8 @@ impl BenchReport {
         let t = self.random;
         let _ = writeln!(
             s,
-            "\n## Stress: random problems spanning decades\n\nSeed {}, {} cases (`report::bench::random`): {} passed, {} refused with a reason, {} degraded, {} failed.\n",
-            super::RANDOM_SEED,
+            "\n## Stress: random problems spanning decades\n\nSeed {}, {} cases (`measure::bench::random`): {} passed, {} refused with a reason, {} degraded, {} failed.\n",
+            crate::measure::bench::RANDOM_SEED,
             t.cases,
             t.passed,
             t.refused,
