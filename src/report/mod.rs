@@ -6,6 +6,8 @@
 //! - [`run`]: `catflip run`, everything for one problem written atomically to `results/<name>/`;
 //! - [`simulate`], [`import`], [`compare`], [`optimize`], [`mod@bench`]: the reports of
 //!   `catflip simulate` (with or without `--schedule`), `compare`, `optimize` and `bench`;
+//! - [`export`]: the one seam between a run's results and its files, an exporter per format
+//!   (Markdown, CSV, JSON);
 //! - [`check`]: rapier's check of a trajectory against the exact engine, with its verdict;
 //! - [`whole`], [`whole_check`], [`whole_files`]: `catflip optimize --whole`, its rapier
 //!   verification (`--verify`) and its results folder (`--out`);
@@ -18,6 +20,7 @@ pub mod audit;
 pub mod bench;
 pub mod check;
 pub mod compare;
+pub mod export;
 pub mod import;
 pub mod optimize;
 pub mod plot;

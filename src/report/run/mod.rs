@@ -16,18 +16,18 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::engines::measured::Measured;
-use crate::engines::rapier::{Status, Verification};
+use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
-use crate::engines::Engine;
 use crate::measure::run::{compute, ComputeError, RunResults};
 pub use crate::measure::timings::StageTime;
 use crate::measure::timings::Stopwatch;
 use crate::report::compare::compare;
+use crate::report::export::{exporters, Views};
 use crate::report::results_dir::Staging;
 use crate::report::simulate::SimulationReport;
 use crate::schedule::variant::WHOLE;
 use crate::schedule::Schedule;
-use tables::{summary, verification_csv, verification_markdown};
+use tables::summary;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -121,10 +121,13 @@ fn io(path: &Path, source: std::io::Error) -> RunError {
 
 /// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
 /// verification alone when it made no usable run.
-pub(crate) struct Shown<'a> {
-    measured: &'a Measured<Schedule>,
-    exact: SimulationReport,
-    rapier: crate::report::simulate::RapierOutcome<SimulationReport>,
+pub struct Shown<'a> {
+    /// The schedule, measured and verified.
+    pub measured: &'a Measured<Schedule>,
+    /// The exact engine's report.
+    pub exact: SimulationReport,
+    /// rapier's report, or its verification alone when it made no usable run.
+    pub rapier: crate::report::simulate::RapierOutcome<SimulationReport>,
 }
 
 impl<'a> Shown<'a> {
@@ -136,55 +139,14 @@ impl<'a> Shown<'a> {
     }
 
     /// The schedule's name.
-    fn name(&self) -> String {
+    pub(crate) fn name(&self) -> String {
         self.measured.name.to_string()
     }
 
     /// rapier's verification of the schedule, with or without a result.
-    fn verification(&self) -> Option<&Verification> {
+    pub(crate) fn verification(&self) -> Option<&Verification> {
         self.measured.verification()
     }
-
-    /// The entry of `simulate_rapier.json`.
-    fn rapier_json(&self) -> RapierJson<'_> {
-        match &self.rapier {
-            crate::report::simulate::RapierOutcome::Report(r) => RapierJson::Report(r),
-            crate::report::simulate::RapierOutcome::NoResult(v) => RapierJson::NoResult {
-                problem: &self.exact.problem,
-                engine: Engine::Rapier,
-                profile: &self.exact.profile,
-                bend_path: self.exact.bend_path,
-                circulation_rad: self.exact.circulation_rad,
-                twist_deg: None,
-                swing_deg: None,
-                peak_torque_nm: None,
-                verdict: v.status,
-                reason: v.verdict.to_string(),
-                verification: v,
-            },
-        }
-    }
-}
-
-/// An entry of `simulate_rapier.json`: rapier's report, or, when rapier has no result, the
-/// schedule's identity, `null` numbers, the verdict (`inconclusive`) and why.
-#[derive(serde::Serialize)]
-#[serde(untagged)]
-enum RapierJson<'a> {
-    Report(&'a SimulationReport),
-    NoResult {
-        problem: &'a str,
-        engine: Engine,
-        profile: &'a str,
-        bend_path: crate::problem::BendPath,
-        circulation_rad: f64,
-        twist_deg: Option<f64>,
-        swing_deg: Option<f64>,
-        peak_torque_nm: Option<f64>,
-        verdict: Status,
-        reason: String,
-        verification: &'a Verification,
-    },
 }
 
 /// The stages of a run ([`StageTime`]) as a plain-text table for the terminal: start, end and
@@ -291,18 +253,8 @@ fn produce(
     let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
     let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
     let verified = verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>()?;
-    // 1. The audit.
-    w.put("audit.md", &audit.to_markdown())?;
-    w.json("audit.json", &audit)?;
-    // 2. Optimisation and the peak-torque table (every schedule measured once).
-    let rear = &r.model().cat().rear;
-    let opt = opt.to_json(rear);
-    w.put("optimize.md", &opt.to_markdown())?;
-    w.json("optimize.json", &opt)?;
-    w.put("whole.md", &whole.to_markdown())?;
-    w.json("whole.json", &whole)?;
-    w.put("retime.md", &crate::report::whole::retime_markdown(&retimed))?;
-    w.json("retime.json", &retimed)?;
+    // The views every format renders: the peak-torque table holds every schedule measured once.
+    let opt = opt.to_json(&r.model().cat().rear);
     let extra: Vec<_> = [&opt.qp_optimum, &opt.refined_optimum]
         .into_iter()
         .flatten()
@@ -310,29 +262,25 @@ fn produce(
         .map(|o| o.evaluation.clone())
         .collect();
     let table = compare(r, &extra);
-    let whole_line: Vec<_> = crate::report::whole::compare_row(&whole).into_iter().collect();
-    let mut compare_md = table.to_markdown();
-    compare_md.extend(whole_line.iter().map(|l| l.markdown()));
-    w.put("compare.md", &compare_md)?;
-    w.put("compare.csv", &table.to_csv_with(&whole_line))?;
-    // 3. Every schedule of the table through both engines, and the recommended one.
-    w.put("verification.csv", &verification_csv(&verified))?;
-    let mut verification_md = verification_markdown(problem, &verified);
-    if let Some(v) = whole.verification() {
-        verification_md.extend(crate::report::whole::verification_row_markdown(&whole));
-        w.json("verification_whole.json", v)?;
-    }
-    w.put("verification.md", &verification_md)?;
-    w.json("simulate_exact.json", &verified.iter().map(|v| &v.exact).collect::<Vec<_>>())?;
-    w.json("simulate_rapier.json", &verified.iter().map(Shown::rapier_json).collect::<Vec<_>>())?;
-    // 3b. The whole optimum's robustness: the exact engine's trials, its tables and plots.
+    let whole_row = crate::report::whole::compare_row(&whole);
     let robust = robustness.map(|c| crate::robust::RobustReport { checks: vec![c], command: command.to_string() });
+    let views = Views {
+        problem,
+        audit: &audit,
+        optimize: &opt,
+        whole: &whole,
+        retimed: &retimed,
+        table: &table,
+        whole_row: whole_row.as_ref(),
+        verified: &verified,
+        robust: robust.as_ref(),
+    };
+    for exporter in exporters() {
+        for (name, contents) in exporter.files(&views)? {
+            w.put(&name, &contents)?;
+        }
+    }
     if let Some(report) = &robust {
-        w.put("robust.md", &report.to_markdown())?;
-        w.put("robust.csv", &report.to_csv())?;
-        // The JSON holds results only: the command that made them is in the Markdown (and in
-        // report.md), as in every other JSON file of a run.
-        w.json("robust.json", &crate::robust::RobustReport { command: String::new(), ..report.clone() })?;
         for plot in [report.histogram_plot(), report.distribution_plot()] {
             w.record(crate::report::plot::line_plot(&plots, &plot)?);
         }

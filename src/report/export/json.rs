@@ -1,0 +1,79 @@
+//! The JSON files of a run: every result as data, the same numbers the tables show. They hold
+//! results only: the command that made them is in the Markdown, and wall-clock times are the
+//! machine's (`*_time_s`, `seconds`).
+
+use super::{Exporter, Files, Views};
+use crate::engines::rapier::{Status, Verification};
+use crate::engines::Engine;
+use crate::report::run::{RunError, Shown};
+use crate::report::simulate::{RapierOutcome, SimulationReport};
+use crate::robust::RobustReport;
+
+/// The JSON exporter.
+pub struct Json;
+
+/// `value` as pretty JSON with a final newline.
+fn text(value: &impl serde::Serialize) -> Result<String, RunError> {
+    serde_json::to_string_pretty(value).map(|t| t + "\n").map_err(|_| RunError::Json("a JSON result"))
+}
+
+impl Exporter for Json {
+    fn files(&self, v: &Views) -> Result<Files, RunError> {
+        let mut files = vec![
+            ("audit.json".to_string(), text(v.audit)?),
+            ("optimize.json".to_string(), text(v.optimize)?),
+            ("whole.json".to_string(), text(v.whole)?),
+            ("retime.json".to_string(), text(&v.retimed)?),
+            ("simulate_exact.json".to_string(), text(&v.verified.iter().map(|s| &s.exact).collect::<Vec<_>>())?),
+            ("simulate_rapier.json".to_string(), text(&v.verified.iter().map(rapier_json).collect::<Vec<_>>())?),
+        ];
+        if let Some(verification) = v.whole.verification() {
+            files.push(("verification_whole.json".to_string(), text(verification)?));
+        }
+        if let Some(r) = v.robust {
+            files.push(("robust.json".to_string(), text(&RobustReport { command: String::new(), ..r.clone() })?));
+        }
+        Ok(files)
+    }
+}
+
+/// The entry of `simulate_rapier.json` of one schedule.
+fn rapier_json<'a>(s: &'a Shown<'a>) -> RapierJson<'a> {
+    match &s.rapier {
+        RapierOutcome::Report(r) => RapierJson::Report(r),
+        RapierOutcome::NoResult(v) => RapierJson::NoResult {
+            problem: &s.exact.problem,
+            engine: Engine::Rapier,
+            profile: &s.exact.profile,
+            bend_path: s.exact.bend_path,
+            circulation_rad: s.exact.circulation_rad,
+            twist_deg: None,
+            swing_deg: None,
+            peak_torque_nm: None,
+            verdict: v.status,
+            reason: v.verdict.to_string(),
+            verification: v,
+        },
+    }
+}
+
+/// An entry of `simulate_rapier.json`: rapier's report, or, when rapier has no result, the
+/// schedule's identity, `null` numbers, the verdict (`inconclusive`) and why.
+#[derive(serde::Serialize)]
+#[serde(untagged)]
+enum RapierJson<'a> {
+    Report(&'a SimulationReport),
+    NoResult {
+        problem: &'a str,
+        engine: Engine,
+        profile: &'a str,
+        bend_path: crate::problem::BendPath,
+        circulation_rad: f64,
+        twist_deg: Option<f64>,
+        swing_deg: Option<f64>,
+        peak_torque_nm: Option<f64>,
+        verdict: Status,
+        reason: String,
+        verification: &'a Verification,
+    },
+}

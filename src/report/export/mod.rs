@@ -1,0 +1,55 @@
+//! The one seam between a run's results and its files (hyperfine's `export/`): an [`Exporter`]
+//! per format turns the rendered views of a run ([`Views`]) into `(file name, contents)`, one
+//! file of the format per table. [`markdown`] writes the reports people read, [`csv`] the tidy
+//! tables scripts read (one row per problem × schedule × engine), [`json`] every result as data.
+//! The plots, the animation, the schedule files and `report.md` (which lists every file) are
+//! written beside them by [`crate::report::run`].
+
+pub mod csv;
+pub mod json;
+pub mod markdown;
+
+use crate::measure::audit::Audit;
+use crate::measure::retime::RetimeRow;
+use crate::measure::whole::WholeReport;
+use crate::problem::Problem;
+use crate::report::compare::{CompareRow, CompareTable};
+use crate::report::optimize::OptimizeJson;
+use crate::report::run::{RunError, Shown};
+use crate::robust::RobustReport;
+
+/// A run's results as its exporters read them: every table rendered once.
+pub struct Views<'a> {
+    /// The problem.
+    pub problem: &'a Problem,
+    /// The paper's numbers.
+    pub audit: &'a Audit,
+    /// The profile QP and its refinements.
+    pub optimize: &'a OptimizeJson<'a>,
+    /// The whole-manoeuvre optimum, measured and verified.
+    pub whole: &'a WholeReport,
+    /// The certified retimings.
+    pub retimed: &'a [RetimeRow],
+    /// The peak-torque table (library and optimised schedules).
+    pub table: &'a CompareTable,
+    /// The whole optimum's row of the peak-torque table, when it exists.
+    pub whole_row: Option<&'a CompareRow>,
+    /// Every schedule of the table, measured and verified, with its reports.
+    pub verified: &'a [Shown<'a>],
+    /// The whole optimum's robustness, when it exists.
+    pub robust: Option<&'a RobustReport>,
+}
+
+/// Files as `(name in the results folder, contents)`.
+pub type Files = Vec<(String, String)>;
+
+/// One format's files of a run.
+pub trait Exporter {
+    /// The files of this format for the run's `views`.
+    fn files(&self, views: &Views) -> Result<Files, RunError>;
+}
+
+/// Every format, in the order their files are written: Markdown, CSV, JSON.
+pub fn exporters() -> [&'static dyn Exporter; 3] {
+    [&markdown::Markdown, &csv::Csv, &json::Json]
+}
