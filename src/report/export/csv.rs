@@ -1,17 +1,17 @@
 //! The CSV files of a run: tidy tables (one row per problem × schedule × engine, sorted).
 
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Verification;
 use crate::engines::Engine;
-use crate::report::run::{RunError, Shown};
 use crate::report::simulate::{RapierOutcome, SimulationReport};
 
 /// The CSV exporter.
 pub struct Csv;
 
 impl Exporter for Csv {
-    fn files(&self, v: &Views) -> Result<Files, RunError> {
+    fn files(&self, v: &Views) -> Result<Files, ExportError> {
         let whole: Vec<_> = v.whole_row.into_iter().cloned().collect();
         let mut files = vec![
             ("compare.csv".to_string(), v.table.to_csv_with(&whole)),

@@ -2,36 +2,38 @@
 //! results only: the command that made them is in the Markdown, and wall-clock times are the
 //! machine's (`*_time_s`, `seconds`).
 
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::engines::rapier::{Status, Verification};
 use crate::engines::Engine;
-use crate::report::run::{RunError, Shown};
 use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::robust::RobustReport;
 
 /// The JSON exporter.
 pub struct Json;
 
-/// `value` as pretty JSON with a final newline.
-fn text(value: &impl serde::Serialize) -> Result<String, RunError> {
-    serde_json::to_string_pretty(value).map(|t| t + "\n").map_err(|_| RunError::Json("a JSON result"))
+/// `value`, the file `name`, as pretty JSON with a final newline.
+fn file(name: &str, value: &impl serde::Serialize) -> Result<(String, String), ExportError> {
+    let text =
+        serde_json::to_string_pretty(value).map_err(|source| ExportError::Json { what: name.to_string(), source })?;
+    Ok((name.to_string(), text + "\n"))
 }
 
 impl Exporter for Json {
-    fn files(&self, v: &Views) -> Result<Files, RunError> {
+    fn files(&self, v: &Views) -> Result<Files, ExportError> {
         let mut files = vec![
-            ("audit.json".to_string(), text(v.audit)?),
-            ("optimize.json".to_string(), text(v.optimize)?),
-            ("whole.json".to_string(), text(v.whole)?),
-            ("retime.json".to_string(), text(&v.retimed)?),
-            ("simulate_exact.json".to_string(), text(&v.verified.iter().map(|s| &s.exact).collect::<Vec<_>>())?),
-            ("simulate_rapier.json".to_string(), text(&v.verified.iter().map(rapier_json).collect::<Vec<_>>())?),
+            file("audit.json", v.audit)?,
+            file("optimize.json", v.optimize)?,
+            file("whole.json", v.whole)?,
+            file("retime.json", &v.retimed)?,
+            file("simulate_exact.json", &v.verified.iter().map(|s| &s.exact).collect::<Vec<_>>())?,
+            file("simulate_rapier.json", &v.verified.iter().map(rapier_json).collect::<Vec<_>>())?,
         ];
         if let Some(verification) = v.whole.verification() {
-            files.push(("verification_whole.json".to_string(), text(verification)?));
+            files.push(file("verification_whole.json", verification)?);
         }
         if let Some(r) = v.robust {
-            files.push(("robust.json".to_string(), text(&RobustReport { command: String::new(), ..r.clone() })?));
+            files.push(file("robust.json", &RobustReport { command: String::new(), ..r.clone() })?);
         }
         Ok(files)
     }

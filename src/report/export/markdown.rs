@@ -2,16 +2,16 @@
 
 use std::fmt::Write as _;
 
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::problem::Problem;
 use crate::report::check::{verification_row, VERIFICATION_TABLE_HEADER};
-use crate::report::run::{RunError, Shown};
 
 /// The Markdown exporter.
 pub struct Markdown;
 
 impl Exporter for Markdown {
-    fn files(&self, v: &Views) -> Result<Files, RunError> {
+    fn files(&self, v: &Views) -> Result<Files, ExportError> {
         let mut compare = v.table.to_markdown();
         compare.extend(v.whole_row.map(|row| row.markdown()));
         let mut verification = verification_markdown(v.problem, v.verified);

@@ -9,14 +9,61 @@ pub mod csv;
 pub mod json;
 pub mod markdown;
 
+use crate::engines::measured::Measured;
+use crate::engines::rapier::{RapierError, Verification};
+use crate::engines::resolved::Resolved;
 use crate::measure::audit::Audit;
 use crate::measure::retime::RetimeRow;
 use crate::measure::whole::WholeReport;
 use crate::problem::Problem;
 use crate::report::compare::{CompareRow, CompareTable};
 use crate::report::optimize::OptimizeJson;
-use crate::report::run::{RunError, Shown};
+use crate::report::simulate::{RapierOutcome, SimulationReport};
 use crate::robust::RobustReport;
+use crate::schedule::Schedule;
+
+/// Why a file could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    /// A result could not be serialised as JSON.
+    #[error("cannot serialise {what} as JSON")]
+    Json {
+        /// The file.
+        what: String,
+        /// serde's error.
+        source: serde_json::Error,
+    },
+}
+
+/// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
+/// verification alone when it made no usable run.
+pub struct Shown<'a> {
+    /// The schedule, measured and verified.
+    pub measured: &'a Measured<Schedule>,
+    /// The exact engine's report.
+    pub exact: SimulationReport,
+    /// rapier's report, or its verification alone when it made no usable run.
+    pub rapier: RapierOutcome<SimulationReport>,
+}
+
+impl<'a> Shown<'a> {
+    /// The reports of `m`, one of `r`'s schedules, verified ([`crate::engines::measured::Measured::verify`]).
+    pub fn new(r: &Resolved, m: &'a Measured<Schedule>) -> Result<Shown<'a>, RapierError> {
+        let exact = SimulationReport::exact(r, m);
+        let rapier = SimulationReport::rapier(m, &exact)?;
+        Ok(Shown { measured: m, exact, rapier })
+    }
+
+    /// The schedule's name.
+    pub fn name(&self) -> String {
+        self.measured.name.to_string()
+    }
+
+    /// rapier's verification of the schedule, with or without a result.
+    pub fn verification(&self) -> Option<&Verification> {
+        self.measured.verification()
+    }
+}
 
 /// A run's results as its exporters read them: every table rendered once.
 pub struct Views<'a> {
@@ -46,7 +93,7 @@ pub type Files = Vec<(String, String)>;
 /// One format's files of a run.
 pub trait Exporter {
     /// The files of this format for the run's `views`.
-    fn files(&self, views: &Views) -> Result<Files, RunError>;
+    fn files(&self, views: &Views) -> Result<Files, ExportError>;
 }
 
 /// Every format, in the order their files are written: Markdown, CSV, JSON.

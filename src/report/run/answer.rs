@@ -4,9 +4,9 @@
 
 use std::fmt::Write;
 
-use super::Shown;
 use crate::engines::rapier::Verification;
 use crate::measure::whole::WholeReport;
+use crate::report::export::Shown;
 use crate::schedule::variant::{Origin, Variant, WHOLE};
 
 /// The terminal text of a run of the problem whose own profile is `own`, written to `shown`.

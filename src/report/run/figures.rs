@@ -2,10 +2,10 @@
 
 use std::path::{Path, PathBuf};
 
-use super::Shown;
 use crate::engines::resolved::Resolved;
 use crate::measure::whole::WholeReport;
 use crate::problem::ProfileKind;
+use crate::report::export::Shown;
 use crate::report::plot::PlotError;
 use crate::schedule::variant::{Origin, Variant, VariantCirculation, WHOLE};
 use crate::schedule::{Schedule, Trajectory};

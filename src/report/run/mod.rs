@@ -15,18 +15,14 @@ mod tables;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::engines::measured::Measured;
-use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
 use crate::measure::run::{compute, ComputeError, RunResults};
 pub use crate::measure::timings::StageTime;
 use crate::measure::timings::Stopwatch;
 use crate::report::compare::compare;
-use crate::report::export::{exporters, Views};
+use crate::report::export::{exporters, Shown, Views};
 use crate::report::results_dir::Staging;
-use crate::report::simulate::SimulationReport;
 use crate::schedule::variant::WHOLE;
-use crate::schedule::Schedule;
 use tables::summary;
 
 /// Why a run failed.
@@ -49,6 +45,9 @@ pub enum RunError {
     /// A result could not be serialised.
     #[error("cannot serialise {0}")]
     Json(&'static str),
+    /// A file of the run could not be rendered.
+    #[error(transparent)]
+    Export(#[from] crate::report::export::ExportError),
     /// The problem could not be written as TOML for the report's header.
     #[error("cannot write the problem as TOML for the report header")]
     Toml(#[from] toml::ser::Error),
@@ -117,36 +116,6 @@ impl Writer {
 
 fn io(path: &Path, source: std::io::Error) -> RunError {
     RunError::Io { path: path.display().to_string(), source }
-}
-
-/// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
-/// verification alone when it made no usable run.
-pub struct Shown<'a> {
-    /// The schedule, measured and verified.
-    pub measured: &'a Measured<Schedule>,
-    /// The exact engine's report.
-    pub exact: SimulationReport,
-    /// rapier's report, or its verification alone when it made no usable run.
-    pub rapier: crate::report::simulate::RapierOutcome<SimulationReport>,
-}
-
-impl<'a> Shown<'a> {
-    /// The reports of `m`, one of `r`'s schedules, verified.
-    fn new(r: &Resolved, m: &'a Measured<Schedule>) -> Result<Shown<'a>, RunError> {
-        let exact = SimulationReport::exact(r, m);
-        let rapier = SimulationReport::rapier(m, &exact).map_err(ComputeError::from)?;
-        Ok(Shown { measured: m, exact, rapier })
-    }
-
-    /// The schedule's name.
-    pub(crate) fn name(&self) -> String {
-        self.measured.name.to_string()
-    }
-
-    /// rapier's verification of the schedule, with or without a result.
-    pub(crate) fn verification(&self) -> Option<&Verification> {
-        self.measured.verification()
-    }
 }
 
 /// The stages of a run ([`StageTime`]) as a plain-text table for the terminal: start, end and
@@ -252,7 +221,8 @@ fn produce(
     // The whole optimum's animation is drawn beside its verification, as soon as it exists.
     let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
     let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
-    let verified = verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>()?;
+    let verified =
+        verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
     // The views every format renders: the peak-torque table holds every schedule measured once.
     let opt = opt.to_json(&r.model().cat().rear);
     let extra: Vec<_> = [&opt.qp_optimum, &opt.refined_optimum]

@@ -2,11 +2,11 @@
 
 use std::fmt::Write as _;
 
-use super::Shown;
 use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
 use crate::problem::Problem;
 use crate::report::compare::CompareTable;
+use crate::report::export::Shown;
 use crate::report::optimize::OptimizeJson;
 use crate::report::simulate::SimulationReport;
 use crate::schedule::variant::Origin;
