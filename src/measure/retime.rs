@@ -1,12 +1,14 @@
 //! The certified convex retiming of a schedule along its fixed joint path
 //! ([`crate::optimize::retime`]), both ways: the phases' durations kept, and the split free.
-//! Each solved retiming is re-measured by the exact engine on the retimed trajectory.
+//! Each solved retiming's trajectory is measured as every schedule is
+//! ([`crate::engines::measured::Rig::measure`]).
 
 use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::engines::resolved::Resolved;
 use crate::optimize::retime::{retime_schedule, RetimeSettings, Split};
+use crate::schedule::variant::ScheduleName;
 use crate::schedule::Schedule;
 
 /// The certified convex retiming of one schedule along its fixed joint path.
@@ -35,7 +37,7 @@ pub struct RetimeRow {
 }
 
 /// Retimes `schedule` (named `name`) with both splits.
-pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeRow> {
+pub fn retime_rows(r: &Resolved, name: &ScheduleName, schedule: &Schedule) -> Vec<RetimeRow> {
     let p = &r.problem;
     [Split::Kept, Split::Free]
         .into_par_iter()
@@ -62,17 +64,18 @@ pub fn retime_rows(r: &Resolved, name: &str, schedule: &Schedule) -> Vec<RetimeR
                 Ok(t) => {
                     let sol = &t.solution;
                     let solved = sol.status.is_solved();
-                    let again = if solved {
-                        t.remeasure(&p.cat.half(), 4 * settings.intervals, p.exact.tolerance)
-                    } else {
-                        None
-                    };
+                    // The timed trajectory measured as every schedule is.
+                    let again = t
+                        .trajectory
+                        .clone()
+                        .filter(|_| solved)
+                        .map(|traj| r.measure(ScheduleName::Retimed(Box::new(name.clone())), traj).exact);
                     RetimeRow {
                         status: sol.status.to_string(),
                         peak_nm: solved.then_some(sol.peak),
                         lower_bound_nm: solved.then_some(sol.lower_bound),
                         gap_nm: solved.then_some(sol.gap),
-                        exact_peak_nm: again.as_ref().map(|m| m.peaks.max),
+                        exact_peak_nm: again.as_ref().map(|m| m.peak()),
                         twist_deg: again.as_ref().map(|m| m.flip.twist.to_degrees()),
                         swing_deg: again.as_ref().map(|m| m.flip.swing.to_degrees()),
                         solve_time_s: sol.solve_time_s,

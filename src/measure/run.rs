@@ -194,9 +194,9 @@ fn whole_files(
 /// The certified retimings of the problem's schedule and, when the calibration converged, of
 /// the calibrated one.
 fn retimings(r: &Resolved, clock: &Stopwatch) -> Vec<RetimeRow> {
-    let mut schedules = vec![(ScheduleName::Problem.to_string(), r.schedule.clone())];
+    let mut schedules = vec![(ScheduleName::Problem, r.schedule.clone())];
     if let Some(cal) = r.calibrated() {
-        let name = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).calibrated().to_string();
+        let name = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).calibrated().into();
         schedules.push((name, r.schedule.with_circulation(cal.radians)));
     }
     schedules

@@ -9,9 +9,12 @@
 use serde::Serialize;
 
 use super::{PathProblem, PieceTiming, RetimeError, RetimeSettings, RetimeSolution};
-use crate::engines::exact::{flip, Flip};
-use crate::engines::torque::{peak_torques, PeakTorques};
+use crate::engines::evaluate::Evaluation;
+use crate::engines::exact::Flip;
+use crate::engines::torque::PeakTorques;
+use crate::model::motor::Motors;
 use crate::model::Cylinder;
+use crate::problem::settings::ExactSettings;
 use crate::schedule::{JointState, Trajectory};
 
 /// A path with new timings: the pieces are the path's, each run in its [`PieceTiming`].
@@ -98,15 +101,15 @@ impl<P: Trajectory + Clone> Retiming<P> {
 }
 
 impl<P: Trajectory> Retiming<P> {
-    /// Measures the retimed trajectory with the exact engine: its peak torques with `samples + 1`
-    /// points per piece ([`peak_torques`]) and its flip to `tolerance` rad ([`flip`]). `None` when there is no trajectory.
+    /// Measures the retimed trajectory on the paper's cat of `cat` at zero angular momentum as
+    /// every trajectory is ([`Evaluation::new`]), with at least `samples + 1` torque samples per
+    /// piece and the flip to `tolerance` rad, and its distance to the certified bound (a
+    /// convergence study's finer sampling than a problem's `[exact]`). `None` when there is no
+    /// trajectory.
     pub fn remeasure(&self, cat: &Cylinder, samples: usize, tolerance: f64) -> Option<Remeasurement> {
         let traj = self.trajectory.as_ref()?;
-        let peaks = peak_torques(cat, traj, samples);
-        Some(Remeasurement {
-            gap_to_bound: peaks.max - self.solution.lower_bound,
-            peaks,
-            flip: flip(cat, traj, tolerance),
-        })
+        let settings = ExactSettings { tolerance, torque_samples: samples };
+        let e = Evaluation::of_paper(cat, traj, &nalgebra::Vector3::zeros(), &Motors::ideal(), &settings);
+        Some(Remeasurement { gap_to_bound: e.peaks.max - self.solution.lower_bound, peaks: e.peaks, flip: e.flip })
     }
 }
