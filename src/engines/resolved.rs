@@ -39,6 +39,7 @@ pub struct Resolved {
     rig: Rig,
     half: Cylinder,
     calibration: OnceLock<Calibration>,
+    own: OnceLock<Measured<Schedule>>,
     library: OnceLock<Vec<(ProfileKind, Measured<Schedule>)>>,
 }
 
@@ -70,6 +71,7 @@ impl Resolved {
             rig,
             half: problem.cat.half(),
             calibration,
+            own: OnceLock::new(),
             library: OnceLock::new(),
         })
     }
@@ -141,22 +143,28 @@ impl Resolved {
     }
 
     /// Every library profile's schedule on the problem's path and circulation, measured by the
-    /// exact engine (once), the paper's cosine first.
+    /// exact engine (once; the problem's own profile is [`Resolved::own`]), the paper's cosine
+    /// first.
     pub fn library(&self) -> &[(ProfileKind, Measured<Schedule>)] {
         self.library.get_or_init(|| {
+            let own = self.problem.manoeuvre.profile;
             ProfileKind::ALL
                 .par_iter()
-                .map(|&k| (k, self.measure(ScheduleName::library(k), self.with_library(k))))
+                .map(|&k| match k == own {
+                    true => (k, self.own().clone()),
+                    false => (k, self.measure(ScheduleName::library(k), self.with_library(k))),
+                })
                 .collect()
         })
     }
 
-    /// The measurement of the problem's own schedule (the library entry of its profile).
+    /// The measurement of the problem's own schedule, named by its library profile (made once,
+    /// alone: a command that needs only it does not measure the whole library).
     pub fn own(&self) -> &Measured<Schedule> {
-        let kind = self.problem.manoeuvre.profile;
-        let library = self.library();
-        // `ProfileKind::ALL` holds every kind, so the problem's own is always there.
-        library.iter().find(|(k, _)| *k == kind).map_or(&library[0].1, |(_, m)| m)
+        self.own.get_or_init(|| {
+            let kind = self.problem.manoeuvre.profile;
+            self.measure(ScheduleName::library(kind), self.schedule.clone())
+        })
     }
 }
 

@@ -7,8 +7,9 @@
 
 use std::fmt::Write as _;
 
+use crate::engines::jumps::VelocityJump;
 use crate::engines::rapier::{Quantity, Reference, Verification};
-use crate::engines::rapier_check::RapierCheck;
+use crate::engines::rapier_check::{EngineFigures, RapierCheck};
 
 impl RapierCheck {
     /// The check as indented lines of prose (nothing for the exact engine's report).
@@ -41,6 +42,31 @@ impl RapierCheck {
         }
         s
     }
+}
+
+impl EngineFigures {
+    /// The prose lines every engine report ends with: rapier's check, the integration's error
+    /// estimate (with its steps per `piece`, e.g. `phase`), whether it converged, the run time.
+    pub fn closing_text(&self, piece: &str) -> String {
+        let mut s = self.check.to_text();
+        if let Some(e) = self.error_estimate_rad {
+            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per {piece})", self.steps);
+        }
+        if self.converged == Some(false) {
+            let _ =
+                writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
+        }
+        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.run_time_s);
+        s
+    }
+}
+
+/// A rate jump as a line of a report's prose.
+pub fn jump_line(j: &VelocityJump) -> String {
+    format!(
+        "  velocity jump    at t = {:.6} s: q̇ [{:.4}, {:.4}] → [{:.4}, {:.4}] rad/s, impulse [{:.5}, {:.5}] N·m·s\n",
+        j.time, j.rates_before[0], j.rates_before[1], j.rates_after[0], j.rates_after[1], j.impulse[0], j.impulse[1]
+    )
 }
 
 /// Header of the verification table that [`verification_row`] fills.

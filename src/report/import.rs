@@ -202,28 +202,10 @@ impl ImportReport {
             let _ = writeln!(s, "  velocity jumps   none");
         }
         for j in &self.velocity_jumps {
-            let _ = writeln!(
-                s,
-                "  velocity jump    at t = {:.6} s: q̇ [{:.4}, {:.4}] → [{:.4}, {:.4}] rad/s, impulse [{:.5}, {:.5}] N·m·s",
-                j.time,
-                j.rates_before[0],
-                j.rates_before[1],
-                j.rates_after[0],
-                j.rates_after[1],
-                j.impulse[0],
-                j.impulse[1]
-            );
+            s.push_str(&crate::report::check::jump_line(j));
         }
         let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);
-        s.push_str(&self.figures.check.to_text());
-        if let Some(e) = self.figures.error_estimate_rad {
-            let _ = writeln!(s, "  error estimate   {e:.1e} rad ({} steps per piece)", self.figures.steps);
-        }
-        if self.figures.converged == Some(false) {
-            let _ =
-                writeln!(s, "  NOT CONVERGED    the integration did not meet exact.tolerance within its step budget");
-        }
-        let _ = writeln!(s, "  run time         {:.3} ms", 1e3 * self.figures.run_time_s);
+        s.push_str(&self.figures.closing_text("piece"));
         s
     }
 }
