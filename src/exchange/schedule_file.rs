@@ -36,8 +36,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::engines::exact::{body_rate, flip, magnus6};
 use crate::engines::models::TwoMotorCat;
-use crate::engines::motors::motor_demand_from;
-use crate::engines::torque::{peak_torques_from, piece_samples, Peak, TorqueSource};
+use crate::engines::motors::peaks_and_demand;
+use crate::engines::torque::{piece_samples, Peak, TorqueSource};
 use crate::exchange::cuts::{acceleration_cuts, CutTrajectory};
 use crate::exchange::jumps::{rate_jumps, rate_jumps_by, Jump};
 use crate::exchange::links::{num, Links};
@@ -275,7 +275,7 @@ pub fn write_trajectory(
 /// reports sample peaks.
 fn motor_sizing(problem: &Problem, source: &TorqueSource, traj: &impl Trajectory) -> MotorSizing {
     let samples = piece_samples(traj, problem.exact.torque_samples);
-    let peaks = peak_torques_from(source, traj, &samples);
+    let (peaks, demand) = peaks_and_demand(source, traj, &samples, &problem.actuator.motors());
     let largest = |j: usize| {
         peaks
             .per_piece
@@ -283,7 +283,6 @@ fn motor_sizing(problem: &Problem, source: &TorqueSource, traj: &impl Trajectory
             .map(|p| p[j])
             .fold(Peak { value: 0.0, time: 0.0 }, |a, b| if b.value > a.value { b } else { a })
     };
-    let demand = motor_demand_from(source, traj, &samples, &problem.actuator.motors());
     MotorSizing {
         peak_torque_nm: [largest(0), largest(1)],
         within_motors: demand.within(),
