@@ -35,12 +35,10 @@ use serde::Serialize;
 
 use crate::engines::exact::{body_rate, body_rate_spinning, flip, momentum, Flip};
 use crate::engines::models::{ModelError, TwoMotorCat};
-use crate::engines::motors::{motor_demand_from, MotorDemand};
+use crate::engines::motors::{peaks_and_demand, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::spin::SpinHistory;
-use crate::engines::torque::{
-    peak_torques_from, piece_samples, velocity_jumps, velocity_jumps_with, TorqueSource, VelocityJump,
-};
+use crate::engines::torque::{piece_samples, velocity_jumps, velocity_jumps_with, TorqueSource, VelocityJump};
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
@@ -122,8 +120,7 @@ impl Evaluation {
         start: Instant,
     ) -> Evaluation {
         let samples = piece_samples(schedule, settings.torque_samples);
-        let peaks = peak_torques_from(source, schedule, &samples);
-        let motors = motor_demand_from(source, schedule, &samples, motors);
+        let (peaks, motors) = peaks_and_demand(source, schedule, &samples, motors);
         Evaluation {
             flip,
             peaks: PhasePeaks::from_peaks(&peaks),
