@@ -32,10 +32,10 @@ use serde::Serialize;
 use crate::engines::exact::{body_rate, body_rate_spinning, flip, momentum, Flip};
 use crate::engines::jumps::{max_impulse, VelocityJump};
 use crate::engines::models::TwoMotorCat;
-use crate::engines::motors::{motor_demand_from, MotorDemand};
+use crate::engines::motors::{peaks_and_demand, MotorDemand};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::spin::SpinHistory;
-use crate::engines::torque::{peak_torques_from, piece_samples, PeakTorques, TorqueSource};
+use crate::engines::torque::{piece_samples, PeakTorques, TorqueSource};
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
@@ -77,8 +77,7 @@ impl Evaluation {
         let samples = piece_samples(traj, settings.torque_samples);
         let (flip, history) = released_on(model, traj, spin, settings.tolerance);
         let source = released_torques(model, history.as_ref());
-        let peaks = peak_torques_from(&source, traj, &samples);
-        let motors = motor_demand_from(&source, traj, &samples, motors);
+        let (peaks, motors) = peaks_and_demand(&source, traj, &samples, motors);
         let momentum_max = momentum_on(model, traj, spin, history.as_ref(), settings.torque_samples);
         Evaluation { flip, peaks, motors, jumps, momentum_max, run_time_s: start.elapsed().as_secs_f64() }
     }

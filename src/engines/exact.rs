@@ -201,6 +201,13 @@ pub trait RateField {
     fn body_rate(&self, piece: usize, s: f64) -> Vector3<f64>;
     /// `Ω = I_lock⁻¹ (λ − h)` with the total angular momentum `λ` in A's frame.
     fn body_rate_spinning(&self, piece: usize, s: f64, lambda: &Vector3<f64>) -> Vector3<f64>;
+    /// [`RateField::body_rate_spinning`] at one instant as a function of `λ`: what does not
+    /// depend on the attitude (the joint state, `I_lock` and its factor, `h`) is computed once,
+    /// for the Runge–Kutta stages that share the instant. The same numbers as
+    /// `body_rate_spinning(piece, s, λ)`.
+    fn spinning_rates(&self, piece: usize, s: f64) -> impl Fn(&Vector3<f64>) -> Vector3<f64> + '_ {
+        move |lambda| self.body_rate_spinning(piece, s, lambda)
+    }
 }
 
 /// The two-cylinder cat on a joint trajectory: [`body_rate`] and [`body_rate_spinning`].
@@ -224,20 +231,31 @@ impl<T: Trajectory> RateField for CylinderField<'_, T> {
         let st = self.traj.piece_state(piece, s);
         body_rate_spinning(self.cat, st.q, st.qd, lambda)
     }
+    fn spinning_rates(&self, piece: usize, s: f64) -> impl Fn(&Vector3<f64>) -> Vector3<f64> + '_ {
+        let st = self.traj.piece_state(piece, s);
+        let (m, rhs) = locked_and_shape_momentum(self.cat, st.q, st.qd);
+        let factor = m.cholesky();
+        // solve_spd's steps, the factor kept.
+        move |lambda| {
+            let b = lambda - rhs;
+            match &factor {
+                Some(ch) => ch.solve(&b),
+                None => m.lu().solve(&b).unwrap_or_else(|| Vector3::repeat(f64::NAN)),
+            }
+        }
+    }
 }
 
-/// `ṙ = ½ r ⊗ (0, Ω)` at local time `s` of `piece`, for the (not necessarily unit) quaternion
-/// `r`, with `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r`.
+/// `ṙ = ½ r ⊗ (0, Ω)` at one instant, for the (not necessarily unit) quaternion `r`, with
+/// `Ω = I_lock⁻¹ (Rᵀ L − h)` at the normalised `r` (`rates`: [`RateField::spinning_rates`]).
 fn quaternion_rate(
-    field: &impl RateField,
-    piece: usize,
+    rates: &impl Fn(&Vector3<f64>) -> Vector3<f64>,
     spin: &Vector3<f64>,
     r: &Quaternion<f64>,
-    s: f64,
 ) -> Quaternion<f64> {
     let unit = UnitQuaternion::new_normalize(*r);
     let lambda = unit.inverse_transform_vector(spin);
-    let omega = field.body_rate_spinning(piece, s, &lambda);
+    let omega = rates(&lambda);
     r * Quaternion::from_parts(0.0, omega) * 0.5
 }
 
@@ -253,11 +271,13 @@ pub fn rk4_on(
     h: f64,
 ) -> UnitQuaternion<f64> {
     let y = *r.quaternion();
-    let f = |y: &Quaternion<f64>, s: f64| quaternion_rate(field, piece, spin, y, s);
-    let k1 = f(&y, s);
-    let k2 = f(&(y + k1 * (0.5 * h)), s + 0.5 * h);
-    let k3 = f(&(y + k2 * (0.5 * h)), s + 0.5 * h);
-    let k4 = f(&(y + k3 * h), s + h);
+    // k2 and k3 share their instant: the joint motion there is evaluated once.
+    let (start, middle, end) =
+        (field.spinning_rates(piece, s), field.spinning_rates(piece, s + 0.5 * h), field.spinning_rates(piece, s + h));
+    let k1 = quaternion_rate(&start, spin, &y);
+    let k2 = quaternion_rate(&middle, spin, &(y + k1 * (0.5 * h)));
+    let k3 = quaternion_rate(&middle, spin, &(y + k2 * (0.5 * h)));
+    let k4 = quaternion_rate(&end, spin, &(y + k3 * h));
     UnitQuaternion::new_normalize(y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0))
 }
 

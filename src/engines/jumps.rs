@@ -23,7 +23,7 @@ use crate::engines::models::TwoMotorCat;
 use crate::engines::torque::reduced_mass_matrix;
 use crate::engines::JUMP_TOLERANCE;
 use crate::model::Cylinder;
-use crate::schedule::Trajectory;
+use crate::schedule::{JointState, Trajectory};
 
 /// A jump of the joint rates at a piece boundary (for a three-phase schedule the pieces are the
 /// phases: bend 0, twist 1, unbend 2).
@@ -41,13 +41,24 @@ pub struct VelocityJump {
     pub impulse: [f64; 2],
 }
 
-/// The rate jumps of `traj` (module docs) with the motors' impulse `impulse(q, Δq̇)`, where the
-/// rate difference at the boundary after piece `k` is uncertain by `uncertainty(k)` rad/s.
-pub fn velocity_jumps(
-    impulse: impl Fn([f64; 2], [f64; 2]) -> [f64; 2],
-    traj: &impl Trajectory,
-    uncertainty: impl Fn(usize) -> f64,
-) -> Vec<VelocityJump> {
+/// A boundary where the joint rates jump: the piece that ends there (0-based), the time from the
+/// trajectory's start (s), and the states on both sides.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateJump {
+    /// The piece that ends there.
+    pub after_piece: usize,
+    /// Time from the trajectory's start, s.
+    pub time: f64,
+    /// The state at the end of piece `after_piece`.
+    pub before: JointState,
+    /// The state at the start of the next piece.
+    pub after: JointState,
+}
+
+/// The boundaries of `traj` where the rates jump (module docs), the rate difference after piece
+/// `k` uncertain by `uncertainty(k)` rad/s: the one detection behind [`velocity_jumps`] and the
+/// simulator's rough boundaries.
+pub fn rate_jumps(traj: &impl Trajectory, uncertainty: impl Fn(usize) -> f64) -> Vec<RateJump> {
     let durations = traj.piece_durations();
     let speed = |piece: usize, f: f64| {
         let qd = traj.piece_state(piece, f * durations[piece]).qd;
@@ -64,18 +75,32 @@ pub fn velocity_jumps(
         let after = traj.piece_state(k + 1, 0.0);
         let dq = [after.qd[0] - before.qd[0], after.qd[1] - before.qd[1]];
         let scale = [0.25, 0.5, 0.75, 1.0].iter().map(|&f| speed(k, f).max(speed(k + 1, 1.0 - f))).fold(1.0, f64::max);
-        if dq[0].hypot(dq[1]) <= (JUMP_TOLERANCE * scale).max(uncertainty(k)) {
-            continue;
+        if dq[0].hypot(dq[1]) > (JUMP_TOLERANCE * scale).max(uncertainty(k)) {
+            out.push(RateJump { after_piece: k, time, before, after });
         }
-        out.push(VelocityJump {
-            time,
-            after_piece: k,
-            rates_before: before.qd,
-            rates_after: after.qd,
-            impulse: impulse(after.q, dq),
-        });
     }
     out
+}
+
+/// The rate jumps of `traj` ([`rate_jumps`]) with the motors' impulse `impulse(q, Δq̇)`.
+pub fn velocity_jumps(
+    impulse: impl Fn([f64; 2], [f64; 2]) -> [f64; 2],
+    traj: &impl Trajectory,
+    uncertainty: impl Fn(usize) -> f64,
+) -> Vec<VelocityJump> {
+    rate_jumps(traj, uncertainty)
+        .into_iter()
+        .map(|j| {
+            let dq = [j.after.qd[0] - j.before.qd[0], j.after.qd[1] - j.before.qd[1]];
+            VelocityJump {
+                time: j.time,
+                after_piece: j.after_piece,
+                rates_before: j.before.qd,
+                rates_after: j.after.qd,
+                impulse: impulse(j.after.q, dq),
+            }
+        })
+        .collect()
 }
 
 impl TwoMotorCat {

@@ -15,11 +15,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::engines::torque::{Peak, TorqueSource};
+use crate::engines::torque::{piece_peaks_sampled, Peak, PeakCollector, PeakTorques, PieceSamples, TorqueSource};
 use crate::model::motor::{Limit, Motors};
 use crate::model::Cylinder;
 use crate::numeric::roots::golden_max;
-use crate::schedule::{JointState, Trajectory};
+use crate::schedule::Trajectory;
 
 /// A usage ratio above `1 + RATIO_TOLERANCE` exceeds its limit (round-off of the measurement).
 pub const RATIO_TOLERANCE: f64 = 1e-9;
@@ -203,75 +203,130 @@ pub fn motor_demand_from(
     samples: &[usize],
     motors: &Motors,
 ) -> MotorDemand {
-    let mut channels = vec![Channel::Speed(0), Channel::Speed(1), Channel::Power(0), Channel::Power(1)];
-    for (j, m) in motors.joints.iter().enumerate() {
-        channels.extend(m.ratios(0.0, 0.0).into_iter().map(|(l, _)| Channel::Ratio(j, l)));
+    let mut demand = DemandCollector::new(motors);
+    for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
+        let sampled = PieceSamples::of_duration(source, traj, piece, dur, samples.get(piece).copied().unwrap_or(2));
+        demand.push(source, traj, piece, &sampled);
     }
-    if !motors.is_ideal() {
-        channels.push(Channel::Stretch);
+    demand.finish(source, traj)
+}
+
+/// The peak torques ([`crate::engines::torque::peak_torques_from`]) and the motor demand
+/// ([`motor_demand_from`]) of `traj` on the same samples, each sample's torques computed once
+/// for both: the same numbers as the two calls.
+pub fn peaks_and_demand(
+    source: &TorqueSource,
+    traj: &impl Trajectory,
+    samples: &[usize],
+    motors: &Motors,
+) -> (PeakTorques, MotorDemand) {
+    let mut peaks = PeakCollector::default();
+    let mut demand = DemandCollector::new(motors);
+    for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
+        let sampled = PieceSamples::of_duration(source, traj, piece, dur, samples.get(piece).copied().unwrap_or(2));
+        peaks.push(piece_peaks_sampled(source, traj, piece, &sampled), dur);
+        demand.push(source, traj, piece, &sampled);
     }
-    let eval = |piece: usize, s: f64, st: &JointState| {
-        let tau = source.at(traj, piece, s, st).tau;
-        channels.iter().map(|c| c.value(motors, tau, st.qd)).collect::<Vec<f64>>()
-    };
-    let durations = traj.piece_durations();
-    let mut t0 = 0.0;
-    let starts: Vec<f64> = durations
-        .iter()
-        .map(|d| {
-            let s = t0;
-            t0 += d;
-            s
-        })
-        .collect();
-    // Per piece, per channel: the best sample.
-    let mut per_piece: Vec<Vec<Best>> = Vec::with_capacity(durations.len());
-    for (piece, &dur) in durations.iter().enumerate() {
-        let n = samples.get(piece).copied().unwrap_or(2).max(4);
-        let h = dur / n as f64;
+    (peaks.finish(), demand.finish(source, traj))
+}
+
+/// [`motor_demand_from`]'s pieces gathered one by one, then refined.
+struct DemandCollector<'m> {
+    motors: &'m Motors,
+    channels: Vec<Channel>,
+    /// Per piece, per channel: the best sample.
+    per_piece: Vec<Vec<Best>>,
+}
+
+impl<'m> DemandCollector<'m> {
+    fn new(motors: &'m Motors) -> Self {
+        let mut channels = vec![Channel::Speed(0), Channel::Speed(1), Channel::Power(0), Channel::Power(1)];
+        for (j, m) in motors.joints.iter().enumerate() {
+            channels.extend(m.ratios(0.0, 0.0).into_iter().map(|(l, _)| Channel::Ratio(j, l)));
+        }
+        if !motors.is_ideal() {
+            channels.push(Channel::Stretch);
+        }
+        Self { motors, channels, per_piece: Vec::new() }
+    }
+
+    /// The next piece, `piece`, from its samples.
+    fn push(&mut self, source: &TorqueSource, traj: &impl Trajectory, piece: usize, sampled: &PieceSamples) {
+        let (motors, channels) = (self.motors, &self.channels);
+        let values = |tau: [f64; 2], qd: [f64; 2]| channels.iter().map(move |c| c.value(motors, tau, qd));
+        let h = sampled.h;
         let mut best = vec![Best { value: f64::NEG_INFINITY, piece, s: 0.0, h }; channels.len()];
-        let mut take = |values: Vec<f64>, s: f64, spacing: f64| {
-            for (b, v) in best.iter_mut().zip(values) {
-                if v > b.value {
-                    *b = Best { value: v, piece, s, h: spacing };
-                }
-            }
-        };
-        for k in 0..=n {
-            let s = k as f64 * h;
-            take(eval(piece, s, &traj.piece_state(piece, s)), s, h);
+        for (s, st, jt) in &sampled.points {
+            take(&mut best, values(jt.tau, st.qd), *s, h);
         }
         // Both sides of every acceleration jump (no refinement: a one-sided limit).
         for jump in traj.acceleration_jumps(piece) {
-            take(eval(piece, jump, &traj.piece_state_before(piece, jump)), jump, 0.0);
-            take(eval(piece, jump, &traj.piece_state(piece, jump)), jump, 0.0);
+            for st in [traj.piece_state_before(piece, jump), traj.piece_state(piece, jump)] {
+                take(&mut best, values(source.at(traj, piece, jump, &st).tau, st.qd), jump, 0.0);
+            }
         }
-        per_piece.push(best);
+        self.per_piece.push(best);
     }
-    let refined: Vec<(f64, f64)> = (0..channels.len())
-        .map(|c| {
-            let top = per_piece.iter().map(|b| b[c].value).fold(f64::NEG_INFINITY, f64::max);
-            let mut out = (f64::NEG_INFINITY, 0.0);
-            for b in per_piece.iter().map(|b| b[c]).filter(|b| b.value >= top - 0.02 * top.abs()) {
-                let mut candidate = (b.value, b.s);
-                if b.h > 0.0 {
-                    let dur = durations[b.piece];
-                    let f = |s: f64| {
-                        let st = traj.piece_state(b.piece, s);
-                        channels[c].value(motors, source.at(traj, b.piece, s, &st).tau, st.qd)
-                    };
-                    let (s, v) = golden_max(f, (b.s - b.h).max(0.0), (b.s + b.h).min(dur), 40);
-                    if v > candidate.0 {
-                        candidate = (v, s);
+
+    /// Every channel's largest sample (and each piece's within 2 % of it) refined, as the demand.
+    fn finish(self, source: &TorqueSource, traj: &impl Trajectory) -> MotorDemand {
+        let Self { motors, channels, per_piece } = self;
+        let durations = traj.piece_durations();
+        let mut t0 = 0.0;
+        let starts: Vec<f64> = durations
+            .iter()
+            .map(|d| {
+                let s = t0;
+                t0 += d;
+                s
+            })
+            .collect();
+        let refined: Vec<(f64, f64)> = (0..channels.len())
+            .map(|c| {
+                let top = per_piece.iter().map(|b| b[c].value).fold(f64::NEG_INFINITY, f64::max);
+                let mut out = (f64::NEG_INFINITY, 0.0);
+                for b in per_piece.iter().map(|b| b[c]).filter(|b| b.value >= top - 0.02 * top.abs()) {
+                    let mut candidate = (b.value, b.s);
+                    if b.h > 0.0 {
+                        let dur = durations[b.piece];
+                        let f = |s: f64| {
+                            let st = traj.piece_state(b.piece, s);
+                            channels[c].value(motors, source.at(traj, b.piece, s, &st).tau, st.qd)
+                        };
+                        let (s, v) = golden_max(f, (b.s - b.h).max(0.0), (b.s + b.h).min(dur), 40);
+                        if v > candidate.0 {
+                            candidate = (v, s);
+                        }
+                    }
+                    if candidate.0 > out.0 {
+                        out = (candidate.0, starts[b.piece] + candidate.1);
                     }
                 }
-                if candidate.0 > out.0 {
-                    out = (candidate.0, starts[b.piece] + candidate.1);
-                }
-            }
-            out
-        })
-        .collect();
+                out
+            })
+            .collect();
+        demand_of(motors, &channels, &refined, source, traj)
+    }
+}
+
+/// Keeps, per channel, the larger of its best sample and `values` (the channels' values at `s`,
+/// in order; `spacing` the samples' around it, 0 for a one-sided limit).
+fn take(best: &mut [Best], values: impl Iterator<Item = f64>, s: f64, spacing: f64) {
+    for (b, v) in best.iter_mut().zip(values) {
+        if v > b.value {
+            *b = Best { value: v, piece: b.piece, s, h: spacing };
+        }
+    }
+}
+
+/// The demand from each channel's refined `(value, time)`.
+fn demand_of(
+    motors: &Motors,
+    channels: &[Channel],
+    refined: &[(f64, f64)],
+    source: &TorqueSource,
+    traj: &impl Trajectory,
+) -> MotorDemand {
     let peak = |c: usize| Peak { value: refined[c].0.max(0.0), time: refined[c].1 };
     let mut limits = Vec::new();
     let mut stretch = None;

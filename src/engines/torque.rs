@@ -334,19 +334,77 @@ pub fn peak_torques_on(cat: &Cylinder, traj: &impl Trajectory, samples: &[usize]
 
 /// [`peak_torques_on`] with the torques of `source`.
 pub fn peak_torques_from(source: &TorqueSource, traj: &impl Trajectory, samples: &[usize]) -> PeakTorques {
-    let mut per_piece = Vec::new();
-    let mut gap: f64 = 0.0;
-    let mut accuracy: f64 = 0.0;
-    let mut t0 = 0.0;
+    let mut peaks = PeakCollector::default();
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
-        let found = piece_peaks_from(source, traj, piece, samples.get(piece).copied().unwrap_or(2));
-        gap = gap.max(found.action_reaction_gap);
-        accuracy = accuracy.max(found.accuracy);
-        per_piece.push(found.peaks.map(|p| Peak { value: p.value, time: t0 + p.time }));
-        t0 += dur;
+        peaks.push(piece_peaks_from(source, traj, piece, samples.get(piece).copied().unwrap_or(2)), dur);
     }
-    let max = per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
-    PeakTorques { per_piece, max, action_reaction_gap: gap, accuracy }
+    peaks.finish()
+}
+
+/// [`peak_torques_from`]'s pieces gathered one by one, the peaks' times made global.
+#[derive(Default)]
+pub(crate) struct PeakCollector {
+    per_piece: Vec<[Peak; 2]>,
+    gap: f64,
+    accuracy: f64,
+    t0: f64,
+}
+
+impl PeakCollector {
+    /// The next piece's peaks; `dur` its duration, s.
+    pub(crate) fn push(&mut self, found: PiecePeaks, dur: f64) {
+        self.gap = self.gap.max(found.action_reaction_gap);
+        self.accuracy = self.accuracy.max(found.accuracy);
+        let t0 = self.t0;
+        self.per_piece.push(found.peaks.map(|p| Peak { value: p.value, time: t0 + p.time }));
+        self.t0 += dur;
+    }
+
+    pub(crate) fn finish(self) -> PeakTorques {
+        let max = self.per_piece.iter().flatten().map(|p| p.value).fold(0.0, f64::max);
+        PeakTorques { per_piece: self.per_piece, max, action_reaction_gap: self.gap, accuracy: self.accuracy }
+    }
+}
+
+/// The equally spaced samples of one piece that its peaks ([`piece_peaks_from`]) and its motor
+/// demand ([`crate::engines::motors::motor_demand_from`]) start from: `n + 1` points `k h`,
+/// `h = T_piece / n`, `n` = the samples asked for, at least 4, each with its joint state and
+/// torques. Sampled once when both are wanted ([`crate::engines::motors::peaks_and_demand`]).
+pub(crate) struct PieceSamples {
+    /// The piece's duration, s.
+    pub dur: f64,
+    /// The spacing `h`, s.
+    pub h: f64,
+    /// `(s, state, torques)` at `s = k h`, `k = 0..=n`.
+    pub points: Vec<(f64, JointState, JointTorques)>,
+}
+
+impl PieceSamples {
+    /// Piece `piece` of `traj` on `samples` intervals (at least 4), torques from `source`.
+    pub(crate) fn new(source: &TorqueSource, traj: &impl Trajectory, piece: usize, samples: usize) -> Self {
+        let dur = traj.piece_durations().get(piece).copied().unwrap_or(0.0);
+        Self::of_duration(source, traj, piece, dur, samples)
+    }
+
+    /// [`PieceSamples::new`] with the piece's duration `dur` (s) known.
+    pub(crate) fn of_duration(
+        source: &TorqueSource,
+        traj: &impl Trajectory,
+        piece: usize,
+        dur: f64,
+        samples: usize,
+    ) -> Self {
+        let n = samples.max(4);
+        let h = dur / n as f64;
+        let points = (0..=n)
+            .map(|k| {
+                let s = k as f64 * h;
+                let st = traj.piece_state(piece, s);
+                (s, st, source.at(traj, piece, s, &st))
+            })
+            .collect();
+        Self { dur, h, points }
+    }
 }
 
 /// Equal parts of each smooth segment between a piece's acceleration jumps that
@@ -372,15 +430,23 @@ pub fn piece_peaks(cat: &Cylinder, traj: &impl Trajectory, piece: usize, samples
 
 /// [`piece_peaks`] with the torques of `source`.
 pub fn piece_peaks_from(source: &TorqueSource, traj: &impl Trajectory, piece: usize, samples: usize) -> PiecePeaks {
-    let dur = traj.piece_durations().get(piece).copied().unwrap_or(0.0);
-    let n = samples.max(4);
-    let h = dur / n as f64;
+    piece_peaks_sampled(source, traj, piece, &PieceSamples::new(source, traj, piece, samples))
+}
+
+/// [`piece_peaks_from`] from the piece's samples, already taken.
+pub(crate) fn piece_peaks_sampled(
+    source: &TorqueSource,
+    traj: &impl Trajectory,
+    piece: usize,
+    sampled: &PieceSamples,
+) -> PiecePeaks {
+    let (dur, h) = (sampled.dur, sampled.h);
     let tau = |s: f64| source.at(traj, piece, s, &traj.piece_state(piece, s));
     let mut gap: f64 = 0.0;
     let mut accuracy: f64 = 0.0;
-    let mut values = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
-    for k in 0..=n {
-        let jt = tau(k as f64 * h);
+    let n = sampled.points.len();
+    let mut values = [Vec::with_capacity(n), Vec::with_capacity(n)];
+    for (_, _, jt) in &sampled.points {
         for (j, v) in values.iter_mut().enumerate() {
             gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
             v.push(jt.tau[j].abs());

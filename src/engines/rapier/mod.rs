@@ -177,7 +177,8 @@ pub use saturation::{available_torque, MotorSaturation, SATURATION_TOLERANCE};
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
 pub use timescale::{
-    time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
+    time_scales, time_scales_within, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE,
+    STEPS_PER_TORQUE_TIME,
 };
 pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use verify::{

@@ -5,7 +5,12 @@
 //! [`crate::schedule::Schedule::state`] does), so a step that ends on a boundary takes its target
 //! from the piece that starts there.
 
+use crate::engines::jumps::rate_jumps;
 use crate::schedule::{JointState, Trajectory};
+
+fn norm(a: [f64; 2]) -> f64 {
+    a[0].hypot(a[1])
+}
 
 /// A trajectory with its piece start times.
 pub(crate) struct Pieces<'a, T: Trajectory> {
@@ -36,11 +41,6 @@ impl<'a, T: Trajectory> Pieces<'a, T> {
         self.durations.iter().sum()
     }
 
-    /// The shortest piece of positive length, s (`∞` if there is none).
-    pub fn shortest(&self) -> f64 {
-        self.durations.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min)
-    }
-
     /// Start times of the pieces after the first: the inner boundaries, s.
     pub fn boundaries(&self) -> &[f64] {
         self.starts.get(1..).unwrap_or(&[])
@@ -68,7 +68,15 @@ impl<'a, T: Trajectory> Pieces<'a, T> {
     /// exceeds `fraction` of the largest `‖q̈‖` seen on either side of any of them or at the
     /// pieces' quarters, sorted.
     pub fn acceleration_jumps(&self, fraction: f64) -> Vec<f64> {
-        let norm = |a: [f64; 2]| a[0].hypot(a[1]);
+        let (jumps, scale) = self.inner_acceleration_jumps();
+        let mut times: Vec<f64> = jumps.into_iter().filter(|&(_, j)| j > fraction * scale).map(|(t, _)| t).collect();
+        times.sort_by(f64::total_cmp);
+        times
+    }
+
+    /// The jumps of `q̈` inside the pieces, `(global time, ‖Δq̈‖)`, and the largest `‖q̈‖` seen on
+    /// either side of any of them or at the pieces' quarters.
+    fn inner_acceleration_jumps(&self) -> (Vec<(f64, f64)>, f64) {
         let mut jumps = Vec::new();
         let mut scale = 0.0f64;
         for (i, (&start, &d)) in self.starts.iter().zip(&self.durations).enumerate() {
@@ -81,8 +89,50 @@ impl<'a, T: Trajectory> Pieces<'a, T> {
                 jumps.push((start + s, norm([after[0] - before[0], after[1] - before[1]])));
             }
         }
-        let mut times: Vec<f64> = jumps.into_iter().filter(|&(_, j)| j > fraction * scale).map(|(t, _)| t).collect();
-        times.sort_by(f64::total_cmp);
-        times
+        (jumps, scale)
+    }
+
+    /// Which inner boundaries (piece `i` starts at boundary `i − 1`) are rough: the joint rates
+    /// jump there ([`crate::engines::jumps::rate_jumps`]) or the accelerations jump by
+    /// more than `fraction` of the largest `‖q̈‖` ([`Pieces::acceleration_jumps`]' scale), as
+    /// they do between the phases of a schedule. A boundary that is not rough joins two pieces
+    /// of one smooth motion, as a cubic spline's knots do (`q̈` continuous): the servo sees no
+    /// jump there.
+    pub fn rough(&self, fraction: f64) -> Vec<bool> {
+        let rates = rate_jumps(self.traj, |k| self.traj.boundary_rate_uncertainty(k));
+        let (_, scale) = self.inner_acceleration_jumps();
+        (1..self.durations.len())
+            .map(|i| {
+                let before = self.traj.piece_state(i - 1, self.durations[i - 1]).qdd;
+                let after = self.traj.piece_state(i, 0.0).qdd;
+                rates.iter().any(|j| j.after_piece + 1 == i)
+                    || norm([after[0] - before[0], after[1] - before[1]]) > fraction * scale
+            })
+            .collect()
+    }
+
+    /// The inner boundaries marked in `rough` ([`Pieces::rough`]), s.
+    pub fn rough_boundaries(&self, rough: &[bool]) -> Vec<f64> {
+        self.boundaries().iter().zip(rough).filter(|(_, r)| **r).map(|(b, _)| *b).collect()
+    }
+
+    /// The shortest stretch of positive length between consecutive rough boundaries (or the
+    /// ends), the sum of its pieces' durations, s (`∞` if there is none). With every boundary
+    /// rough, the shortest piece of positive length.
+    pub fn shortest_smooth(&self, rough: &[bool]) -> f64 {
+        let mut shortest = f64::INFINITY;
+        let mut stretch: Option<f64> = None;
+        for (i, &d) in self.durations.iter().enumerate() {
+            if i > 0 && rough.get(i - 1).copied().unwrap_or(true) {
+                if let Some(len) = stretch.take().filter(|len| *len > 0.0) {
+                    shortest = shortest.min(len);
+                }
+            }
+            stretch = Some(stretch.map_or(d, |len| len + d));
+        }
+        if let Some(len) = stretch.filter(|len| *len > 0.0) {
+            shortest = shortest.min(len);
+        }
+        shortest
     }
 }

@@ -15,9 +15,9 @@ use crate::model::orientation::TwistTracker;
 use crate::problem::settings::{RapierSettings, TimeStep};
 use crate::schedule::{JointState, Phase, Trajectory};
 
-/// Torque samples within this many steps of a piece boundary are left out of the per-phase
-/// peaks: two for the stencil, two for the servo to settle after a jump of `q̈` (it shrinks an
-/// error about twentyfold per step).
+/// Torque samples within this many steps of a rough piece boundary (where `q̇` or `q̈` jumps,
+/// [`Pieces::rough`]) are left out of the per-phase peaks: two for the stencil, two for the
+/// servo to settle after a jump of `q̈` (it shrinks an error about twentyfold per step).
 const BOUNDARY_STEPS: f64 = 4.0;
 
 /// Half-width, in steps, of the window whose samples make up the motors' answer to a jump of
@@ -221,13 +221,15 @@ pub fn simulate_with(
     }
     let requested = match settings.dt {
         TimeStep::Fixed(dt) => dt,
-        TimeStep::Auto => super::time_scales(cat, traj).first_step,
+        TimeStep::Auto => super::time_scales_within(cat, traj, &opts.motors).first_step,
     };
     let steps_f = (duration / requested).ceil();
     if steps_f.is_nan() || steps_f > MAX_STEPS as f64 {
         return Err(RapierError::TooManySteps { dt: requested, duration, steps: steps_f, max: MAX_STEPS });
     }
-    let shortest = pieces.shortest();
+    // Boundaries where the motion is smooth (a spline's knots) are not the servo's business.
+    let rough = pieces.rough(ACCEL_JUMP_FRACTION);
+    let shortest = pieces.shortest_smooth(&rough);
     if shortest / requested < MIN_STEPS_PER_PHASE as f64 {
         return Err(RapierError::TooCoarse {
             dt: requested,
@@ -254,7 +256,7 @@ pub fn simulate_with(
         .iter()
         .map(|j| JumpWindow::new(j.time, JUMP_STEPS * dt))
         .collect();
-    let boundaries = pieces.boundaries();
+    let boundaries = pieces.rough_boundaries(&rough);
     let accel_jumps = pieces.acceleration_jumps(ACCEL_JUMP_FRACTION);
     let accel_margin = ACCEL_JUMP_STEPS * dt;
     let near_accel_jump = |t: f64| {

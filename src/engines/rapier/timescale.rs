@@ -7,7 +7,7 @@
 //!
 //! | scale | bound on `h` | why |
 //! |---|---|---|
-//! | shortest piece `T_min` | `T_min / N` | every piece needs many steps: torque samples within four steps of a boundary are not measured |
+//! | shortest piece `T_min` | `T_min / N` | every piece needs many steps: torque samples within four steps of a boundary where `q̇` or `q̈` jumps are not measured; pieces joined where the motion is smooth (a spline's knots) count as one, unless the motors have limits ([`time_scales_within`]) |
 //! | joint rate `max‖q̇‖` | `δ / max‖q̇‖` | the motors follow `q` step by step: a step must not sweep more than `δ` of the joint path |
 //! | body rate `max‖Ω‖` | `δ / max‖Ω‖` | A's own rotation per step (the gyroscopic terms are taken semi-implicitly) |
 //! | its rate `max‖Ω̇‖` | `√(δ / max‖Ω̇‖)` | the rotation that the change of `Ω` alone makes within a step |
@@ -34,7 +34,11 @@ use serde::Serialize;
 
 use nalgebra::Vector3;
 
+use super::pieces::Pieces;
+use super::run::ACCEL_JUMP_FRACTION;
+use super::saturation::bounds_torque;
 use crate::engines::models::TwoMotorCat;
+use crate::model::motor::Motors;
 use crate::schedule::{JointState, Trajectory};
 
 /// Sampling intervals per piece when the scales are measured.
@@ -77,7 +81,8 @@ impl std::fmt::Display for StepLimit {
 /// The trajectory's time scales and the first step they give.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct TimeScales {
-    /// Shortest piece of positive length, s.
+    /// Shortest piece of positive length, s; pieces joined where the motion is smooth (`q̇` and
+    /// `q̈` continuous, as at a spline's knots) count as one.
     pub shortest_piece: f64,
     /// `max ‖q̇‖`, rad/s.
     pub max_joint_rate: f64,
@@ -94,14 +99,26 @@ pub struct TimeScales {
 }
 
 /// Measures the time scales of `traj` on the exact zero-momentum motion of `model`: the paper's
-/// cat through the two-cylinder engine, any other model through the general core.
+/// cat through the two-cylinder engine, any other model through the general core. The motors
+/// are ideal ([`time_scales_within`]).
 pub fn time_scales(model: &TwoMotorCat, traj: &impl Trajectory) -> TimeScales {
+    time_scales_within(model, traj, &Motors::ideal())
+}
+
+/// [`time_scales`] for a run whose joint motors have `motors`' limits. With limits that bound a
+/// torque every piece boundary counts for the shortest piece, smooth or not: a schedule planned
+/// on its motors' limits (the least-fall-time optimum on a DC envelope) touches them by the
+/// tracking error, which grows with the step, and the finer first step keeps that within
+/// [`super::SATURATION_TOLERANCE`] (on `problems/servo.toml` the optimum's spline joined into
+/// one piece gave a first step of 1.1 ms, where its motors fell short by 1e-3 N·m).
+pub fn time_scales_within(model: &TwoMotorCat, traj: &impl Trajectory, motors: &Motors) -> TimeScales {
+    let join_smooth = !bounds_torque(motors);
     match model.cat().paper() {
-        Some(cat) => scales_of(traj, |st| {
+        Some(cat) => scales_of(traj, join_smooth, |st| {
             let kin = crate::engines::torque::kinematics(cat, st);
             (kin.omega, kin.omega_dot, crate::engines::torque::joint_torques(cat, st).tau)
         }),
-        None => scales_of(traj, |st| {
+        None => scales_of(traj, join_smooth, |st| {
             let (omega, omega_dot) = model.body_motion(st);
             let tau = model.joint_torques(st).tau;
             (omega, omega_dot, [tau[0], tau[1]])
@@ -109,9 +126,11 @@ pub fn time_scales(model: &TwoMotorCat, traj: &impl Trajectory) -> TimeScales {
     }
 }
 
-/// The time scales of `traj` from `motion(st) = (Ω, Ω̇, τ)` at each sample.
+/// The time scales of `traj` from `motion(st) = (Ω, Ω̇, τ)` at each sample; with `join_smooth`,
+/// pieces joined where the motion is smooth count as one for the shortest piece.
 fn scales_of(
     traj: &impl Trajectory,
+    join_smooth: bool,
     motion: impl Fn(&JointState) -> (Vector3<f64>, Vector3<f64>, [f64; 2]),
 ) -> TimeScales {
     let (mut qd_max, mut w_max, mut wd_max, mut tau_max, mut taud_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
@@ -132,7 +151,10 @@ fn scales_of(
             prev = Some(tau);
         }
     }
-    let shortest = durations.iter().copied().filter(|d| *d > 0.0).fold(f64::INFINITY, f64::min);
+    let pieces = Pieces::new(traj);
+    let rough =
+        if join_smooth { pieces.rough(ACCEL_JUMP_FRACTION) } else { vec![true; durations.len().saturating_sub(1)] };
+    let shortest = pieces.shortest_smooth(&rough);
     let torque_time = if taud_max > 0.0 { tau_max / taud_max } else { f64::INFINITY };
     let over = |scale: f64, rate: f64| if rate > 0.0 { scale / rate } else { f64::INFINITY };
     let bounds = [

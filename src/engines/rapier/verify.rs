@@ -436,7 +436,7 @@ pub fn verify_with(
     opts: &RapierOptions,
 ) -> Result<Verification, RapierError> {
     settings.validate()?;
-    let scales = super::time_scales(cat, traj);
+    let scales = super::time_scales_within(cat, traj, &opts.motors);
     let duration: f64 = traj.piece_durations().iter().sum();
     if !(duration.is_finite() && duration > 0.0) {
         return Err(RapierError::BadDuration(duration));

@@ -33,6 +33,42 @@ pub struct BSpline {
     pub coefficients: [Vec<f64>; 2],
 }
 
+/// The highest degree a [`BSpline`] may have: its [`Basis`] lives on the stack, in arrays of
+/// `MAX_DEGREE + 1` (the optimiser's splines are cubic, [`crate::problem::whole::WholeSettings::DEGREE`]).
+pub const MAX_DEGREE: usize = 7;
+
+/// The values of the `p + 1` non-vanishing functions at one instant (or of their derivatives),
+/// kept on the stack: the basis is evaluated at every step of every integration of a spline, and
+/// a heap allocation per list cost more than the arithmetic. Reads as a slice of `p + 1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasisRow {
+    len: usize,
+    /// The values, then zeros.
+    data: [f64; MAX_DEGREE + 1],
+}
+
+impl BasisRow {
+    /// `len` zeros.
+    fn zeros(len: usize) -> Self {
+        Self { len, data: [0.0; MAX_DEGREE + 1] }
+    }
+}
+
+impl std::ops::Deref for BasisRow {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.data[..self.len]
+    }
+}
+
+impl<'a> IntoIterator for &'a BasisRow {
+    type Item = &'a f64;
+    type IntoIter = std::slice::Iter<'a, f64>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.data[..self.len].iter()
+    }
+}
+
 /// The basis functions that do not vanish at one instant: `N_{first+k}` and its first two
 /// derivatives for `k = 0..=p`.
 #[derive(Clone, Debug, PartialEq)]
@@ -40,13 +76,18 @@ pub struct Basis {
     /// Index of the first non-vanishing function.
     pub first: usize,
     /// `[N, N', N'']` of the `p + 1` functions, 1, 1/s, 1/s².
-    pub values: [Vec<f64>; 3],
+    pub values: [BasisRow; 3],
 }
 
 impl BSpline {
     /// The straight cat at rest: `n` zero control points of degree `p` on `[0, duration]`.
     /// Needs `n ≥ p + 1`, `p ≥ 1` and a positive duration (checked by the settings).
+    ///
+    /// # Panics
+    /// If `degree` exceeds [`MAX_DEGREE`] (a programming error: the degree is the crate's
+    /// constant, never a user's input).
     pub fn zero(duration: f64, control_points: usize, degree: usize) -> Self {
+        assert!(degree <= MAX_DEGREE, "a B-spline of degree {degree} > {MAX_DEGREE}");
         let spans = control_points - degree;
         let mut knots = vec![0.0; degree + 1];
         knots.extend((1..spans).map(|k| duration * k as f64 / spans as f64));
@@ -106,35 +147,36 @@ impl BSpline {
         let u = &self.knots;
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
         // levels[d][j] = N_{mu−d+j, d}(t), j = 0..=d.
-        let mut levels: Vec<Vec<f64>> = vec![vec![1.0]];
+        let mut levels = [BasisRow::zeros(0); MAX_DEGREE + 1];
+        levels[0] = BasisRow::zeros(1);
+        levels[0].data[0] = 1.0;
         for d in 1..=p {
-            let prev = &levels[d - 1];
-            let level = (0..=d)
-                .map(|j| {
-                    let i = mu + j - d;
-                    let left = if j >= 1 { ratio(t - u[i], u[i + d] - u[i]) * prev[j - 1] } else { 0.0 };
-                    let right = if j < d { ratio(u[i + d + 1] - t, u[i + d + 1] - u[i + 1]) * prev[j] } else { 0.0 };
-                    left + right
-                })
-                .collect();
-            levels.push(level);
+            let prev = levels[d - 1];
+            let mut level = BasisRow::zeros(d + 1);
+            for (j, value) in level.data[..=d].iter_mut().enumerate() {
+                let i = mu + j - d;
+                let left = if j >= 1 { ratio(t - u[i], u[i + d] - u[i]) * prev.data[j - 1] } else { 0.0 };
+                let right = if j < d { ratio(u[i + d + 1] - t, u[i + d + 1] - u[i + 1]) * prev.data[j] } else { 0.0 };
+                *value = left + right;
+            }
+            levels[d] = level;
         }
         // The derivative of degree-d functions from a list over degree d − 1 (linear, so it
         // also maps derivatives to second derivatives).
-        let differentiate = |d: usize, prev: &[f64]| -> Vec<f64> {
-            (0..=d)
-                .map(|j| {
-                    let i = mu + j - d;
-                    let left = if j >= 1 { ratio(prev[j - 1], u[i + d] - u[i]) } else { 0.0 };
-                    let right = if j < d { ratio(prev[j], u[i + d + 1] - u[i + 1]) } else { 0.0 };
-                    d as f64 * (left - right)
-                })
-                .collect()
+        let differentiate = |d: usize, prev: &BasisRow| -> BasisRow {
+            let mut out = BasisRow::zeros(d + 1);
+            for (j, value) in out.data[..=d].iter_mut().enumerate() {
+                let i = mu + j - d;
+                let left = if j >= 1 { ratio(prev.data[j - 1], u[i + d] - u[i]) } else { 0.0 };
+                let right = if j < d { ratio(prev.data[j], u[i + d + 1] - u[i + 1]) } else { 0.0 };
+                *value = d as f64 * (left - right);
+            }
+            out
         };
-        let first_derivative = if p >= 1 { differentiate(p, &levels[p - 1]) } else { vec![0.0] };
+        let first_derivative = if p >= 1 { differentiate(p, &levels[p - 1]) } else { BasisRow::zeros(1) };
         let second_derivative =
-            if p >= 2 { differentiate(p, &differentiate(p - 1, &levels[p - 2])) } else { vec![0.0; p + 1] };
-        Basis { first: mu - p, values: [levels.swap_remove(p), first_derivative, second_derivative] }
+            if p >= 2 { differentiate(p, &differentiate(p - 1, &levels[p - 2])) } else { BasisRow::zeros(p + 1) };
+        Basis { first: mu - p, values: [levels[p], first_derivative, second_derivative] }
     }
 
     /// The joint state at `t` in span `s` from a basis already evaluated there.
