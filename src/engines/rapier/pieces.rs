@@ -12,6 +12,12 @@ fn norm(a: [f64; 2]) -> f64 {
     a[0].hypot(a[1])
 }
 
+/// Jumps of `q̈` smaller than this fraction of the trajectory's largest `‖q̈‖` are not kept out of
+/// the peaks: their transient, about a tenth of the jump, is within the verification's
+/// resolution, and a fine grid of them (a retimed path has one at every node) would otherwise
+/// leave few samples at the coarse steps.
+pub const ACCEL_JUMP_FRACTION: f64 = 0.01;
+
 /// A trajectory with its piece start times.
 pub(crate) struct Pieces<'a, T: Trajectory> {
     traj: &'a T,

@@ -4,7 +4,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Serialize, Serializer};
 
 use super::measure::{angular_momentum, JumpWindow, TorqueEstimator, TorqueSample};
-use super::pieces::Pieces;
+use super::pieces::{Pieces, ACCEL_JUMP_FRACTION};
 use super::saturation::{available_torque, bounds_torque, MotorSaturation, SaturationTracker};
 use super::scene::{CatScene, MotorGains};
 use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
@@ -29,12 +29,6 @@ const JUMP_STEPS: f64 = 6.0;
 /// the torque's jump two steps after it and has decayed to a fiftieth of it six steps after
 /// (measured on a retimed path, dt = 54 µs … 434 µs; see the module docs).
 const ACCEL_JUMP_STEPS: f64 = 6.0;
-
-/// Jumps of `q̈` smaller than this fraction of the trajectory's largest `‖q̈‖` are not kept out of
-/// the peaks: their transient, about a tenth of the jump, is within the verification's
-/// resolution, and a fine grid of them (a retimed path has one at every node) would otherwise
-/// leave few samples at the coarse steps.
-pub const ACCEL_JUMP_FRACTION: f64 = 0.01;
 
 /// One sample of the orientation history.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

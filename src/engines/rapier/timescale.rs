@@ -35,7 +35,7 @@ use serde::Serialize;
 use nalgebra::Vector3;
 
 use super::pieces::Pieces;
-use super::run::ACCEL_JUMP_FRACTION;
+use super::pieces::ACCEL_JUMP_FRACTION;
 use super::saturation::bounds_torque;
 use crate::engines::models::TwoMotorCat;
 use crate::model::motor::Motors;
