@@ -78,6 +78,32 @@ fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
 }
 
 #[test]
+fn a_replanned_check_is_byte_identical_at_one_and_two_threads() {
+    let p = problem(&[
+        "robust.trials=4",
+        "robust.engine=rapier",
+        "robust.dt_s=2e-4",
+        "robust.controller=feedback",
+        "robust.feedback_replan_hz=20",
+    ]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let at = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+        pool.install(|| {
+            let report = check(&p, &r.schedule, "s").expect("the check");
+            (serde_json::to_string(&report).expect("serialises"), report.to_csv(), report.to_markdown())
+        })
+    };
+    let (one, two) = (at(1), at(2));
+    assert!(one == two, "the re-planned check depends on the thread count");
+    assert!(one.2.contains("re-planned every 0.050 s"), "{}", one.2);
+    // The same draws without re-plans land otherwise: the re-plans act.
+    let once = problem(&["robust.trials=4", "robust.engine=rapier", "robust.dt_s=2e-4", "robust.controller=feedback"]);
+    let without = check(&once, &r.schedule, "s").expect("the check");
+    assert!(without.to_csv() != one.1, "re-planning changed nothing");
+}
+
+#[test]
 fn without_spread_every_trial_is_the_nominal_cat() {
     let p = problem(&["robust.mass_pct=0", "robust.radius_pct=0", "robust.spin_sigma_nms=0"]);
     let r = Resolved::new(&p).expect("calibrates");
@@ -159,6 +185,10 @@ fn bad_robust_settings_name_their_field() {
         ("robust.feedback_joint_deg=100", "robust.feedback_joint_deg"),
         ("robust.feedback_accel=0", "robust.feedback_accel"),
         ("robust.feedback_spin_prior_nms=-1", "robust.feedback_spin_prior_nms"),
+        ("robust.feedback_replan_hz=-1", "robust.feedback_replan_hz"),
+        ("robust.feedback_replan_hz=nan", "robust.feedback_replan_hz"),
+        ("robust.feedback_replan_hz=inf", "robust.feedback_replan_hz"),
+        ("robust.feedback_replan_hz=2000", "robust.feedback_replan_hz"),
         ("robust.controller=feedback", "robust.controller"),
     ] {
         let err = Problem::from_toml("", "t.toml", &[set.to_string()]).expect_err(set);

@@ -129,6 +129,11 @@ pub struct RobustSettings {
     /// Rate of the feedback's regulator, Hz.
     #[serde(skip_serializing_if = "default::feedback_hz")]
     pub feedback_hz: f64,
+    /// Rate at which the feedback re-plans the rest of the fall from its estimate (re-linearised
+    /// about the motion it then expects, its gains re-solved), Hz; 0: never, the gains solved
+    /// once along the plan. Rounded to a whole number of the regulator's steps.
+    #[serde(skip_serializing_if = "default::feedback_replan_hz")]
+    pub feedback_replan_hz: f64,
     /// The feedback's attitude error scale (its LQR weight `1/θ²`), degrees.
     #[serde(skip_serializing_if = "default::feedback_attitude_deg")]
     pub feedback_attitude_deg: f64,
@@ -171,6 +176,7 @@ const DEFAULT: RobustSettings = RobustSettings {
     feet_down_deg: 20.0,
     controller: RobustController::OpenLoop,
     feedback_hz: 1000.0,
+    feedback_replan_hz: 0.0,
     feedback_attitude_deg: 1.0,
     feedback_joint_deg: 10.0,
     feedback_accel: 20.0,
@@ -208,6 +214,7 @@ mod default {
         attitude_noise_deg,
         feet_down_deg,
         feedback_hz,
+        feedback_replan_hz,
         feedback_attitude_deg,
         feedback_joint_deg,
         feedback_accel,
@@ -278,6 +285,20 @@ impl RobustSettings {
                 "robust.feedback_hz",
                 echo(self.feedback_hz),
                 &format!("must not exceed the rapier step's rate 1/robust.dt_s = {} Hz", echo(1.0 / self.dt_s)),
+            ));
+        }
+        if !(self.feedback_replan_hz.is_finite() && self.feedback_replan_hz >= 0.0) {
+            return Err(bad(
+                "robust.feedback_replan_hz",
+                echo(self.feedback_replan_hz),
+                "must be a finite number ≥ 0 (Hz; 0: never re-plan)",
+            ));
+        }
+        if self.feedback_replan_hz > self.feedback_hz {
+            return Err(bad(
+                "robust.feedback_replan_hz",
+                echo(self.feedback_replan_hz),
+                &format!("must not exceed the regulator's rate robust.feedback_hz = {} Hz", echo(self.feedback_hz)),
             ));
         }
         for (field, v) in [

@@ -72,9 +72,10 @@ impl RobustReport {
                 Engine::RapierFeedback => {
                     let _ = writeln!(
                         out,
-                        "- *{}*: the same trials (same draws, same sensor noise), the plan corrected by time-varying LQR on the linearised reduced dynamics at {} (attitude scale {}°, joint correction scale {}°, joint acceleration ≤ {} rad/s²), fed by a Kalman filter that estimates the attitude error and the unknown spin from the late, noisy sensor (prior σ = {} N·m·s) and carries it over the latency.",
+                        "- *{}*: the same trials (same draws, same sensor noise), the plan corrected by time-varying LQR on the linearised reduced dynamics at {}{} (attitude scale {}°, joint correction scale {}°, joint acceleration ≤ {} rad/s²), fed by a Kalman filter that estimates the attitude error and the unknown spin from the late, noisy sensor (prior σ = {} N·m·s) and carries it over the latency.",
                         c.engine.describe(),
                         control_rate(s.feedback_hz, c.tracking.as_ref().and_then(|t| t.feedback.as_ref())),
+                        replan_rate(c.tracking.as_ref().and_then(|t| t.feedback.as_ref())),
                         s.feedback_attitude_deg,
                         s.feedback_joint_deg,
                         s.feedback_accel,
@@ -318,9 +319,13 @@ fn tracking_section(out: &mut String, t: &TrackingSummary, c: &Robustness) {
         t.peak_torque_nm
     );
     if let Some(f) = &t.feedback {
+        let replans = match f.replan_dt_s {
+            Some(every) => format!(" It re-plans the rest of the fall every {every:.3e} s from its estimate (one iteration of iterative LQR about the motion it then expects, the joint accelerations' bound respected)."),
+            None => " Its gains are solved once, along the plan.".to_string(),
+        };
         let _ = writeln!(
             out,
-            "The regulator steps every {:.3e} s; its largest gain entry is {:.4e} (bounded to the end of the fall). The tracking error below is from the plan, the correction included.\n",
+            "The regulator steps every {:.3e} s; its largest gain entry along the plan is {:.4e} (bounded to the end of the fall).{replans} The tracking error below is from the plan, the correction included.\n",
             f.control_dt_s, f.largest_gain
         );
     }
@@ -428,6 +433,16 @@ fn write_film(
         pose_filmstrip(&path, problem, engine_name, schedule, &poses, &caption)?;
     }
     Ok(())
+}
+
+/// The re-plans as they ran: their interval, or nothing when the gains were solved once.
+fn replan_rate(feedback: Option<&FeedbackSummary>) -> String {
+    match feedback.and_then(|f| f.replan_dt_s) {
+        Some(every) => format!(
+            ", re-planned every {every:.3} s from its estimate (the rest of the fall re-linearised about the motion it then expects, the gains re-solved within the acceleration bound)"
+        ),
+        None => String::new(),
+    }
 }
 
 /// The regulator's rate as it ran: the setting, or the whole number of run steps it was rounded

@@ -100,7 +100,11 @@ pub struct FeedbackSummary {
     pub settings: FeedbackSettings,
     /// The regulator's step, s.
     pub control_dt_s: f64,
-    /// The largest entry of any gain `K_i` (bounded to the end of the fall).
+    /// The interval between re-plans of the rest of the fall, s (none: the gains solved once
+    /// along the plan).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replan_dt_s: Option<f64>,
+    /// The largest entry of any gain `K_i` along the plan (bounded to the end of the fall).
     pub largest_gain: f64,
     /// Percentiles of the larger joint's largest correction, degrees.
     pub correction_deg: Percentiles,
@@ -156,6 +160,7 @@ impl Setup {
         let feedback = s.controller.feedback().then(|| {
             let settings = FeedbackSettings {
                 rate_hz: s.feedback_hz,
+                replan_hz: s.feedback_replan_hz,
                 attitude: s.feedback_attitude_deg.to_radians(),
                 joint: s.feedback_joint_deg.to_radians(),
                 accel: s.feedback_accel,
@@ -278,6 +283,7 @@ fn controlled(
         feedback: setup.feedback.as_ref().filter(|_| feedback).map(|fb| FeedbackSummary {
             settings: fb.settings,
             control_dt_s: fb.linearisation.dt,
+            replan_dt_s: fb.replan_every().map(|every| every as f64 * fb.linearisation.dt),
             largest_gain: fb.largest_gain(),
             correction_deg: Percentiles::of(
                 &figures.iter().filter_map(|f| f.correction_deg).map(|c| c[0].max(c[1])).collect::<Vec<f64>>(),

@@ -166,7 +166,7 @@ mod verify_text;
 
 pub use bodies::{BodyState, Layout, MassModel, Snapshot};
 pub use control::{AttitudeEstimate, Controller, FeedForwardPd, JointReading, PdGains, Plan};
-pub use feedback::{lqr_gains, Feedback, FeedbackLog, FeedbackPlan, FeedbackSettings, Linearisation};
+pub use feedback::{lqr_gains, Feedback, FeedbackLog, FeedbackPlan, FeedbackSettings, Linearisation, Regulator};
 pub use ground::{Landing, Part, Touchdown};
 pub use measure::{angular_momentum, kinetic_energy, observed_orders, TorqueEstimator, TorqueSample};
 pub use run::{
