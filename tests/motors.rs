@@ -168,3 +168,38 @@ fn a_fixed_fall_is_planned_within_the_motors_or_refused_with_the_least_fall_time
     let worst = dense_worst_ratio(&b.spline, &m);
     assert!(worst <= 1.0 + 1e-9, "dense re-measurement: usage {worst}");
 }
+
+/// The motor demand of a piecewise-linear rate profile (the profile QP's optimum, whose `q̈`
+/// jumps at every node) finds the largest power between the jumps and at both sides of each:
+/// it equals the largest of 100 000 points per phase, each taken from both sides, measured here.
+/// (Before each smooth segment was searched on its own, joint 2's peak power was reported
+/// 0.29 % low: 88.382 W against 88.641 W.)
+#[test]
+fn the_peak_power_of_a_piecewise_linear_profile_is_found_between_its_acceleration_jumps() {
+    let problem = Problem::load(std::path::Path::new("problems/paper.toml"), &[]).expect("problems/paper.toml loads");
+    let r = catflip::engines::resolved::Resolved::new(&problem).expect("the paper's problem resolves");
+    let opt = catflip::optimize::optimize(&r).expect("the profile QP solves");
+    let qp = opt.qp_optimum.as_ref().expect("the QP optimum");
+    let schedule = qp.schedule();
+    assert!(schedule.acceleration_jumps(1).len() > 10, "the QP's twist has jumps of q̈ to search between");
+    let cat = problem.cat.half();
+    let mut dense = [0.0f64; 2];
+    for (piece, d) in schedule.piece_durations().into_iter().enumerate() {
+        let n = 100_000;
+        for k in 0..=n {
+            let s = d * k as f64 / n as f64;
+            for st in [schedule.piece_state(piece, s), schedule.piece_state_before(piece, s)] {
+                let tau = joint_torques(&cat, &st).tau;
+                for j in 0..2 {
+                    dense[j] = dense[j].max((tau[j] * st.qd[j]).abs());
+                }
+            }
+        }
+    }
+    let reported = &qp.measured.exact.motors.peak_power_w;
+    for j in 0..2 {
+        // The dense grid can only fall short of the supremum, by its spacing times the slope.
+        let gap = reported[j].value / dense[j] - 1.0;
+        assert!((0.0..=1e-4).contains(&gap), "joint {}: reported {} W, dense {} W", j + 1, reported[j].value, dense[j]);
+    }
+}

@@ -182,13 +182,15 @@ impl Channel {
     }
 }
 
-/// The best sample of a channel: value, piece, position in the piece, and the sample spacing.
+/// The best sample of a channel: value, piece, position in the piece, and the bracket
+/// `[lo, hi]` (local times) its refinement searches, empty for a one-sided limit.
 #[derive(Clone, Copy, Debug)]
 struct Best {
     value: f64,
     piece: usize,
     s: f64,
-    h: f64,
+    lo: f64,
+    hi: f64,
 }
 
 /// Measures what `traj` asks of `motors` on `samples[i] + 1` points of piece `i` (module docs).
@@ -206,7 +208,7 @@ pub fn motor_demand_from(
     let mut demand = DemandCollector::new(motors);
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
         let sampled = PieceSamples::of_duration(source, traj, piece, dur, samples.get(piece).copied().unwrap_or(2));
-        demand.push(source, traj, piece, &sampled);
+        demand.push(piece, &sampled);
     }
     demand.finish(source, traj)
 }
@@ -225,7 +227,7 @@ pub fn peaks_and_demand(
     for (piece, dur) in traj.piece_durations().into_iter().enumerate() {
         let sampled = PieceSamples::of_duration(source, traj, piece, dur, samples.get(piece).copied().unwrap_or(2));
         peaks.push(piece_peaks_sampled(source, traj, piece, &sampled), dur);
-        demand.push(source, traj, piece, &sampled);
+        demand.push(piece, &sampled);
     }
     (peaks.finish(), demand.finish(source, traj))
 }
@@ -251,18 +253,29 @@ impl<'m> DemandCollector<'m> {
     }
 
     /// The next piece, `piece`, from its samples.
-    fn push(&mut self, source: &TorqueSource, traj: &impl Trajectory, piece: usize, sampled: &PieceSamples) {
+    fn push(&mut self, piece: usize, sampled: &PieceSamples) {
         let (motors, channels) = (self.motors, &self.channels);
         let values = |tau: [f64; 2], qd: [f64; 2]| channels.iter().map(move |c| c.value(motors, tau, qd));
-        let h = sampled.h;
-        let mut best = vec![Best { value: f64::NEG_INFINITY, piece, s: 0.0, h }; channels.len()];
+        let (h, dur) = (sampled.h, sampled.dur);
+        let mut best = vec![Best { value: f64::NEG_INFINITY, piece, s: 0.0, lo: 0.0, hi: 0.0 }; channels.len()];
+        // Where q̈ jumps inside the piece the channels are smooth only between the jumps: each
+        // segment's samples are refined within their segment, and its ends (both sides of every
+        // jump) are one-sided limits; a smooth piece's samples are refined between neighbours.
         for (s, st, jt) in &sampled.points {
-            take(&mut best, values(jt.tau, st.qd), *s, h);
+            // Between the neighbours, within the sample's own segment.
+            let (a, b) = sampled
+                .segments
+                .iter()
+                .find(|seg| *s < seg.b)
+                .or(sampled.segments.last())
+                .map_or((0.0, dur), |seg| (seg.a, seg.b));
+            take(&mut best, values(jt.tau, st.qd), *s, ((s - h).max(a), (s + h).min(b)));
         }
-        // Both sides of every acceleration jump (no refinement: a one-sided limit).
-        for jump in traj.acceleration_jumps(piece) {
-            for st in [traj.piece_state_before(piece, jump), traj.piece_state(piece, jump)] {
-                take(&mut best, values(source.at(traj, piece, jump, &st).tau, st.qd), jump, 0.0);
+        for seg in &sampled.segments {
+            let m = seg.points.len() - 1;
+            for (k, (s, st, jt)) in seg.points.iter().enumerate() {
+                let bracket = if k == 0 || k == m { (*s, *s) } else { (seg.at(k - 1), seg.at(k + 1)) };
+                take(&mut best, values(jt.tau, st.qd), *s, bracket);
             }
         }
         self.per_piece.push(best);
@@ -287,13 +300,12 @@ impl<'m> DemandCollector<'m> {
                 let mut out = (f64::NEG_INFINITY, 0.0);
                 for b in per_piece.iter().map(|b| b[c]).filter(|b| b.value >= top - 0.02 * top.abs()) {
                     let mut candidate = (b.value, b.s);
-                    if b.h > 0.0 {
-                        let dur = durations[b.piece];
+                    if b.hi > b.lo {
                         let f = |s: f64| {
                             let st = traj.piece_state(b.piece, s);
                             channels[c].value(motors, source.at(traj, b.piece, s, &st).tau, st.qd)
                         };
-                        let (s, v) = golden_max(f, (b.s - b.h).max(0.0), (b.s + b.h).min(dur), 40);
+                        let (s, v) = golden_max(f, b.lo, b.hi, 40);
                         if v > candidate.0 {
                             candidate = (v, s);
                         }
@@ -310,11 +322,11 @@ impl<'m> DemandCollector<'m> {
 }
 
 /// Keeps, per channel, the larger of its best sample and `values` (the channels' values at `s`,
-/// in order; `spacing` the samples' around it, 0 for a one-sided limit).
-fn take(best: &mut [Best], values: impl Iterator<Item = f64>, s: f64, spacing: f64) {
+/// in order; `(lo, hi)` the bracket its refinement searches, empty for a one-sided limit).
+fn take(best: &mut [Best], values: impl Iterator<Item = f64>, s: f64, (lo, hi): (f64, f64)) {
     for (b, v) in best.iter_mut().zip(values) {
         if v > b.value {
-            *b = Best { value: v, piece: b.piece, s, h: spacing };
+            *b = Best { value: v, piece: b.piece, s, lo, hi };
         }
     }
 }

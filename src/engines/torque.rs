@@ -377,6 +377,28 @@ pub(crate) struct PieceSamples {
     pub h: f64,
     /// `(s, state, torques)` at `s = k h`, `k = 0..=n`.
     pub points: Vec<(f64, JointState, JointTorques)>,
+    /// Where `q̈` jumps inside the piece ([`Trajectory::acceleration_jumps`]), the smooth
+    /// segments between the jumps, each on its own samples; none for a smooth piece.
+    pub segments: Vec<Segment>,
+}
+
+/// A smooth segment `[a, b]` of a piece between acceleration jumps (or the piece's ends), on
+/// [`SEGMENT_SAMPLES`] equal parts: `(s, state, torques)` at `s = a + k (b − a)/m`, the last
+/// point `b` taken from the segment's own side (the left limit).
+pub(crate) struct Segment {
+    /// The segment's ends, local times of the piece, s.
+    pub a: f64,
+    /// See `a`.
+    pub b: f64,
+    /// The samples, `m + 1` of them.
+    pub points: Vec<(f64, JointState, JointTorques)>,
+}
+
+impl Segment {
+    /// Local time of sample `k`, s.
+    pub fn at(&self, k: usize) -> f64 {
+        self.a + (self.b - self.a) * k as f64 / SEGMENT_SAMPLES as f64
+    }
 }
 
 impl PieceSamples {
@@ -403,7 +425,30 @@ impl PieceSamples {
                 (s, st, source.at(traj, piece, s, &st))
             })
             .collect();
-        Self { dur, h, points }
+        let jumps = traj.acceleration_jumps(piece);
+        let segments = if jumps.is_empty() {
+            Vec::new()
+        } else {
+            let ends: Vec<f64> = std::iter::once(0.0).chain(jumps).chain(std::iter::once(dur)).collect();
+            ends.windows(2)
+                .map(|w| {
+                    let (a, b, m) = (w[0], w[1], SEGMENT_SAMPLES);
+                    let points = (0..=m)
+                        .map(|k| {
+                            let (s, st) = if k == m {
+                                (b, traj.piece_state_before(piece, b))
+                            } else {
+                                let s = a + (b - a) * k as f64 / m as f64;
+                                (s, traj.piece_state(piece, s))
+                            };
+                            (s, st, source.at(traj, piece, s, &st))
+                        })
+                        .collect();
+                    Segment { a, b, points }
+                })
+                .collect()
+        };
+        Self { dur, h, points, segments }
     }
 }
 
@@ -440,7 +485,7 @@ pub(crate) fn piece_peaks_sampled(
     piece: usize,
     sampled: &PieceSamples,
 ) -> PiecePeaks {
-    let (dur, h) = (sampled.dur, sampled.h);
+    let h = sampled.h;
     let tau = |s: f64| source.at(traj, piece, s, &traj.piece_state(piece, s));
     let mut gap: f64 = 0.0;
     let mut accuracy: f64 = 0.0;
@@ -466,41 +511,27 @@ pub(crate) fn piece_peaks_sampled(
     // be a one-sided limit or a maximum inside a segment shorter than the samples' spacing
     // (none for a smooth piece): each segment is searched on its own, both ends taken from
     // their side.
-    let jumps = traj.acceleration_jumps(piece);
-    if !jumps.is_empty() {
-        let ends: Vec<f64> = std::iter::once(0.0).chain(jumps).chain(std::iter::once(dur)).collect();
-        for w in ends.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            let m = SEGMENT_SAMPLES;
-            let at = |k: usize| a + (b - a) * k as f64 / m as f64;
-            let states = (0..=m).map(|k| {
-                if k == m {
-                    (b, traj.piece_state_before(piece, b))
-                } else {
-                    (at(k), traj.piece_state(piece, at(k)))
-                }
-            });
-            let mut v = [Vec::with_capacity(m + 1), Vec::with_capacity(m + 1)];
-            for (s, st) in states {
-                let jt = source.at(traj, piece, s, &st);
-                for (j, vj) in v.iter_mut().enumerate() {
-                    gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
-                    vj.push(jt.tau[j].abs());
+    for seg in &sampled.segments {
+        let m = seg.points.len() - 1;
+        let mut v = [Vec::with_capacity(m + 1), Vec::with_capacity(m + 1)];
+        for (_, _, jt) in &seg.points {
+            for (j, vj) in v.iter_mut().enumerate() {
+                gap = gap.max((jt.tau[j] - jt.from_a[j]).abs());
+                vj.push(jt.tau[j].abs());
+            }
+        }
+        for (j, p) in peaks.iter_mut().enumerate() {
+            let (k, &best) = v[j].iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1)).unwrap_or((0, &0.0));
+            let (mut s, mut value) = (seg.at(k), best);
+            if k > 0 && k < m {
+                let f = |x: f64| tau(x).tau[j].abs();
+                let (sg, vg) = golden_max(f, seg.at(k - 1), seg.at(k + 1), 40);
+                if vg > value {
+                    (s, value) = (sg, vg);
                 }
             }
-            for (j, p) in peaks.iter_mut().enumerate() {
-                let (k, &best) = v[j].iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1)).unwrap_or((0, &0.0));
-                let (mut s, mut value) = (at(k), best);
-                if k > 0 && k < m {
-                    let f = |x: f64| tau(x).tau[j].abs();
-                    let (sg, vg) = golden_max(f, at(k - 1), at(k + 1), 40);
-                    if vg > value {
-                        (s, value) = (sg, vg);
-                    }
-                }
-                if value > p.value {
-                    *p = Peak { value, time: s };
-                }
+            if value > p.value {
+                *p = Peak { value, time: s };
             }
         }
     }
