@@ -42,7 +42,7 @@ fn rotation(axis: Vector3<f64>, angle: f64) -> Matrix3<f64> {
 const Q: [f64; 2] = [0.4, -0.9];
 
 fn model(p: &Problem, index: usize) -> String {
-    model_files(p)[index].1.clone()
+    model_files(p).unwrap_or_else(|e| panic!("{e}"))[index].1.clone()
 }
 
 #[test]
@@ -801,7 +801,7 @@ fn plain_text_simulate_schedule_says_nothing_of_the_manoeuvre_and_ends_its_line(
 #[test]
 fn model_files_cite_the_readme_not_a_missing_design_section() {
     let p = problem();
-    for (name, text) in model_files(&p) {
+    for (name, text) in model_files(&p).unwrap_or_else(|e| panic!("{e}")) {
         assert!(!text.contains("DESIGN.md"), "{name}");
         assert!(text.contains("README.md") && text.contains("Replay elsewhere"), "{name}");
     }

@@ -186,7 +186,8 @@ def import_schedule(
 
 def model_files(problem: Problem) -> Dict[str, str]:
     """The cat as ``model.urdf`` and ``model.xml`` (MJCF): file name → text, as ``catflip run``
-    writes them beside the schedules (true inertias, zero gravity: the falling frame)."""
+    writes them beside the schedules (true inertias, zero gravity: the falling frame); on the
+    no-twist joint ``model.xml`` alone (a ball joint; URDF has none)."""
     return dict(_catflip.model_files(problem))
 
 

@@ -247,12 +247,11 @@ pub fn simulate_schedule(
 }
 
 /// The model files of the problem's cat, `[(file name, contents)]`: `model.urdf` and `model.xml`
-/// (MJCF), as `catflip run` writes them beside the schedules.
+/// (MJCF), as `catflip run` writes them beside the schedules; `model.xml` alone on the no-twist
+/// joint (a ball joint; URDF has none).
 #[pyfunction]
 pub fn model_files(problem: &Problem) -> PyResult<Vec<(String, String)>> {
-    let p = &problem.inner.problem;
-    p.require_universal_joint("the URDF/MJCF export").map_err(refuse)?;
-    Ok(catflip::exchange::model_files(p).into())
+    catflip::exchange::model_files(&problem.inner.problem).map_err(refuse)
 }
 
 /// `catflip sweep SWEEP.toml`: the tidy table (the `sweep.csv` text) of every case; with `out`,

@@ -140,14 +140,17 @@ def test_a_paper_only_computation_refuses_another_cat_naming_the_joint(cli, args
         problem = catflip.load(PROBLEMS / "kane-scher.toml")
     message = same_as_cli(cli, args, lambda: call(problem))
     assert message.startswith('cat.joint = "no-twist"')
-    assert refused(lambda: catflip.model_files(problem)).startswith('cat.joint = "no-twist"')
 
 
-def test_rapier_verifies_the_no_twist_cat_and_its_schedule_file_is_refused():
-    """Rapier builds the no-twist joint (a ball joint); its schedule and model files are the
-    universal joint's only, so they are refused naming the joint."""
+def test_rapier_verifies_the_no_twist_cat_and_its_files_are_a_ball_joint():
+    """Rapier builds the no-twist joint (a ball joint); its model files are the MJCF alone (a ball
+    joint; URDF has none) and its schedule file adds the ball's columns."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", catflip.CatflipWarning)
         problem = catflip.load(PROBLEMS / "kane-scher.toml")
     assert catflip.verify(problem).report["verdict"] == "verified"
-    assert refused(lambda: catflip.schedule_series(problem)).startswith('cat.joint = "no-twist"')
+    files = catflip.model_files(problem)
+    assert list(files) == ["model.xml"] and 'type="ball"' in files["model.xml"]
+    header = catflip.schedule_series(problem).csv.splitlines()[0].split(",")
+    assert header[-9:] == ["tauz_nm", "impulsez_nms", "rel_qw", "rel_qx", "rel_qy", "rel_qz",
+                           "rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s"]

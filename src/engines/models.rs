@@ -217,8 +217,16 @@ impl TwoMotorCat {
     /// an instant only the couple's terms linear in the velocity change count, and at `q̇ = 0` its
     /// acceleration terms are exactly those (the base's `ΔΩ = −I_lock⁻¹ Δh` as `Ω̇ = −I_lock⁻¹ ḣ`).
     pub fn motor_impulse(&self, q: [f64; 2], dq: [f64; 2]) -> [f64; 2] {
-        let t = self.joint_torques(&JointState { q, qd: [0.0; 2], qdd: dq });
+        let t = self.jump_impulse_couple(q, dq);
         [t.tau[0], t.tau[1]]
+    }
+
+    /// The joint's whole impulse on B when the rates jump by `dq` at `q` (zero angular
+    /// momentum), as [`TwoMotorCat::joint_torques`] gives a couple: its projections on the motor
+    /// axes ([`TwoMotorCat::motor_impulse`]), the impulsive couple about the joint point in A's
+    /// frame, N·m·s, and the impulsive force, N·s.
+    pub fn jump_impulse_couple(&self, q: [f64; 2], dq: [f64; 2]) -> LinkTorques {
+        self.joint_torques(&JointState { q, qd: [0.0; 2], qdd: dq })
     }
 
     /// The kinetic energy about the centre of mass of the zero-momentum motion `(q, q̇)`, J:

@@ -1,5 +1,7 @@
-//! The cat as three links, the numbers both model files ([`mod@crate::exchange::urdf`],
-//! [`mod@crate::exchange::mjcf`]) write: A, the cross of the universal joint, B.
+//! The cat's links, the numbers the model files ([`mod@crate::exchange::urdf`],
+//! [`mod@crate::exchange::mjcf`]) write: A, the cross of the universal joint, B. On the no-twist
+//! joint (a ball joint in the files) there is no cross: the files write A and B only, and the
+//! cross's entries are not used.
 //!
 //! - **A** and **B**: each half's mass `m`, inertia about its centre of mass
 //!   `diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)` in its body frame (`z` along the spine,
@@ -9,20 +11,23 @@
 //!   `(2/5) f m̄ r̄²` of a solid sphere of their mean radius with that mass. A real universal joint's cross is massless; simulators
 //!   need a body with positive mass between two revolute joints, and at `f = 10⁻⁶` it changes
 //!   the flip by far less than the engines' tolerances;
-//! - joint 1 about A's `x` at A's `(0, 0, −l_A/2)`, joint 2 about the cross's `y` at the same
-//!   point, which is B's `(0, 0, +l_B/2)`: `R_AB = Rx(q1) · Ry(q2)` (the universal joint only).
+//! - the universal joint: joint 1 about A's `x` at A's `(0, 0, −l_A/2)`, joint 2 about the
+//!   cross's `y` at the same point, which is B's `(0, 0, +l_B/2)`: `R_AB = Rx(q1) · Ry(q2)`;
+//! - the no-twist joint: B turns about the same point, `R_AB = exp([q1, q2, 0]×)`.
 //!
 //! Numbers are written with Rust's shortest round-trip formatting, so a parser reads back the
 //! very `f64` written.
 
 use crate::engines::rapier::MassModel;
-use crate::model::{Cat, Cylinder};
+use crate::model::{Cat, Cylinder, Joint};
 
-/// Mass properties and geometry of the three links, SI units.
+/// Mass properties and geometry of the links (A, the cross, B), SI units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Links {
     /// The front half A and the rear half B.
     pub halves: [Cylinder; 2],
+    /// How B hangs from A (the model files build the universal and no-twist joints).
+    pub joint: Joint,
     /// Masses of A, the cross and B, kg.
     pub mass: [f64; 3],
     /// Principal moments `(I_x, I_y, I_z)` of A, the cross and B about their centres, kg·m².
@@ -30,11 +35,16 @@ pub struct Links {
 }
 
 impl Links {
-    /// The links of `cat` (its joint is taken to be the universal one: the caller refuses any
-    /// other) with a cross of mass `cross_mass_fraction · m̄` (as in the rapier scene).
+    /// The links of `cat` with a cross of mass `cross_mass_fraction · m̄` (as in the rapier
+    /// scene; written on the universal joint only).
     pub fn new(cat: &Cat, cross_mass_fraction: f64) -> Links {
         let masses = MassModel::new(cat, cross_mass_fraction);
-        Links { halves: [cat.front, cat.rear], mass: masses.mass, inertia: masses.inertia }
+        Links { halves: [cat.front, cat.rear], joint: cat.joint, mass: masses.mass, inertia: masses.inertia }
+    }
+
+    /// Whether the model files have a cross (the universal joint's two revolute joints).
+    pub fn has_cross(&self) -> bool {
+        self.joint == Joint::Universal
     }
 
     /// Half of each half's length, `(l_A/2, l_B/2)`, m: the joint point is `(0, 0, −l_A/2)` in A

@@ -1,8 +1,9 @@
 //! Exchange with other tools: the model as URDF and MJCF, schedules as CSV with a JSON sidecar,
 //! and schedules from elsewhere read back (DESIGN.md §7).
 //!
-//! - [`links`]: the three links (A, the cross, B) with their true mass properties;
-//! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`);
+//! - [`links`]: the links (A, the universal joint's cross, B) with their true mass properties;
+//! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`; the no-twist joint
+//!   is a ball joint in the MJCF and has no URDF);
 //! - [`schedule_file`] and [`sidecar`]: `NAME.csv` and `NAME.json`: units in the column names,
 //!   an optional uniform rate, boundary rows marked, jumps with their impulses, orientation
 //!   columns to the exact engine's tolerance;
@@ -15,8 +16,9 @@
 //!   ends, rates against angles, sampling); [`crate::measure::import`] measures it.
 //!
 //! Conventions (the README's "Replay elsewhere"): body frames at the centres of mass with `z` towards the head,
-//! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)`; SI units;
-//! quaternions scalar first `(w, x, y, z)`.
+//! joint point `(0, 0, −l/2)` in A and `(0, 0, +l/2)` in B, `R_AB = Rx(q1) · Ry(q2)` on the
+//! universal joint and `exp([q1, q2, 0]×)` on the no-twist joint; SI units; quaternions scalar
+//! first `(w, x, y, z)`.
 
 pub mod arrays;
 pub mod checks;
@@ -76,28 +78,26 @@ pub enum ExchangeError {
 }
 
 /// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and
-/// [`MJCF_FILE`], with the cross of the rapier scene and the falling frame's zero gravity. The
-/// files build the universal joint (equal or unequal halves); a caller refuses any other
-/// ([`Problem::require_universal_joint`]).
-pub fn model_files(problem: &Problem) -> [(String, String); 2] {
+/// [`MJCF_FILE`] on the universal joint (with the cross of the rapier scene), for [`MJCF_FILE`]
+/// alone on the no-twist joint (a ball joint; URDF has none, [`mod@urdf`]); the falling frame's
+/// zero gravity. The spherical joint is refused, naming `cat.joint`.
+pub fn model_files(problem: &Problem) -> Result<Vec<(String, String)>, ExchangeError> {
+    problem.require_two_motor_joint("the URDF/MJCF export")?;
     let links = Links::new(&problem.cat.model(), problem.rapier.cross_mass_fraction);
     let name = format!("catflip-{}", problem.name);
-    [
-        (URDF_FILE.to_string(), urdf(&links, &name)),
-        (MJCF_FILE.to_string(), mjcf(&links, &name, &MjcfOptions::default())),
-    ]
+    let urdf = urdf(&links, &name).map(|text| (URDF_FILE.to_string(), text));
+    Ok(urdf.into_iter().chain([(MJCF_FILE.to_string(), mjcf(&links, &name, &MjcfOptions::default()))]).collect())
 }
 
 /// Everything `catflip run` writes under `schedules/`: for each measured schedule,
-/// `schedules/NAME.csv` and `schedules/NAME.json`, then `schedules/model.urdf` and
-/// `schedules/model.xml` once. Returned as `(path relative to the results folder, contents)`.
+/// `schedules/NAME.csv` and `schedules/NAME.json`, then the model files ([`model_files`]) once. Returned as `(path relative to the results folder, contents)`.
 pub fn results_files(
     problem: &Problem,
     schedules: &[&Measured<Schedule>],
     options: &ExportOptions,
 ) -> Result<Vec<(String, String)>, ExchangeError> {
     let mut out = schedule_files(problem, schedules, options)?;
-    out.extend(model_files(problem).map(|(n, text)| (format!("schedules/{n}"), text)));
+    out.extend(model_files(problem)?.into_iter().map(|(n, text)| (format!("schedules/{n}"), text)));
     Ok(out)
 }
 

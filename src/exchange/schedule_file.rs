@@ -12,6 +12,17 @@
 //! in the order (w, x, y, z); its twist and swing. Numbers are written with Rust's shortest
 //! round-trip formatting: a reader gets the very `f64`s.
 //!
+//! On the **no-twist joint** (DESIGN.md §10) the same columns come first, with `q1, q2` the
+//! rotation vector `(q1, q2, 0)` of B relative to A and `tau1, tau2` (and the impulses) the
+//! joint's couple on B about A's `x` and `y`; then what a ball joint's replay needs
+//! ([`NO_TWIST_COLUMNS`]): `tauz_nm, impulsez_nms`, the couple's (and impulse's) component about
+//! A's `z`, which the joint's structure supplies to hold the relative twist at zero (no motor's;
+//! a ball joint must be given it); `rel_qw, rel_qx, rel_qy, rel_qz`, B relative to A as a unit
+//! quaternion `R_AB = exp([q1, q2, 0]×)` (from [`Joint::rotation`]), scalar first, `w > 0`; and
+//! `rel_wx_rad_s, rel_wy_rad_s, rel_wz_rad_s`, B's angular velocity relative to A in B's frame,
+//! `R_ABᵀ ω_rel` (from [`Joint::relative_rate`]). These are MuJoCo's ball-joint `qpos` and `qvel`
+//! ([`mod@crate::exchange::mjcf`]). Every torque column is one [`crate::engines::torque::JointTorques`]'s.
+//!
 //! # Rows
 //!
 //! - [`ExportOptions::rate_hz`] `= Some(f)`: the uniform grid `t = k/f` (`k = 0, 1, …`), plus both
@@ -34,7 +45,7 @@
 //! than `T_piece / N`, so every row is at least as accurate as the engine's final answer (the
 //! last row agrees with the flip to about the tolerance; a test checks it).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
 use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::{body_rate, magnus6};
@@ -50,10 +61,12 @@ use crate::exchange::sidecar::{
 };
 use crate::exchange::ExchangeError;
 use crate::model::orientation::{SwingTwist, TwistTracker};
+use crate::model::Joint;
 use crate::problem::Problem;
 use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
-/// The columns: name, unit, meaning.
+/// The columns of a file of the universal joint (the first columns of every file): name, unit,
+/// meaning.
 pub const COLUMNS: [(&str, &str, &str); 19] = [
     ("t_s", "s", "time from the start of the schedule"),
     ("phase", "", "the piece (phase) the row belongs to"),
@@ -76,9 +89,51 @@ pub const COLUMNS: [(&str, &str, &str); 19] = [
     ("swing_deg", "deg", "swing of A's spine axis"),
 ];
 
-/// The CSV header line (without the newline).
-pub fn header() -> String {
-    COLUMNS.map(|c| c.0).join(",")
+/// What the no-twist joint's file says differently of the common columns (name, meaning).
+const NO_TWIST_MEANINGS: [(&str, &str); 8] = [
+    ("q1_rad", "x component of the rotation vector (q1, q2, 0) of B relative to A: R_AB = exp([q1, q2, 0]×)"),
+    ("q2_rad", "y component of the rotation vector of B relative to A"),
+    ("qd1_rad_s", "rate of q1"),
+    ("qd2_rad_s", "rate of q2"),
+    ("qdd1_rad_s2", "acceleration of q1"),
+    ("qdd2_rad_s2", "acceleration of q2"),
+    ("tau1_nm", "motor torque: the joint's couple on B about the joint point, about A's x"),
+    ("tau2_nm", "motor torque: the joint's couple on B about the joint point, about A's y"),
+];
+
+/// The columns the no-twist joint's file adds after [`COLUMNS`] (module docs).
+pub const NO_TWIST_COLUMNS: [(&str, &str, &str); 9] = [
+    (
+        "tauz_nm",
+        "N·m",
+        "the joint's couple on B about A's z: the no-twist constraint's, no motor's; a ball joint must be given it",
+    ),
+    ("impulsez_nms", "N·m·s", "the impulsive couple of a rate jump about A's z ('start' rows only, else 0)"),
+    ("rel_qw", "", "B's orientation relative to A, exp([q1, q2, 0]×), scalar part (MuJoCo's ball qpos)"),
+    ("rel_qx", "", "B's orientation relative to A, x"),
+    ("rel_qy", "", "B's orientation relative to A, y"),
+    ("rel_qz", "", "B's orientation relative to A, z (0: no relative twist)"),
+    ("rel_wx_rad_s", "rad/s", "B's angular velocity relative to A, B's frame, x (MuJoCo's ball qvel)"),
+    ("rel_wy_rad_s", "rad/s", "B's angular velocity relative to A, B's frame, y"),
+    ("rel_wz_rad_s", "rad/s", "B's angular velocity relative to A, B's frame, z"),
+];
+
+/// The columns of a file of the cat on `joint` (the universal or no-twist joint): name, unit,
+/// meaning.
+pub fn columns(joint: Joint) -> Vec<(&'static str, &'static str, &'static str)> {
+    if joint == Joint::Universal {
+        return COLUMNS.to_vec();
+    }
+    let meaning = |(name, unit, text): (&'static str, &'static str, &'static str)| {
+        let own = NO_TWIST_MEANINGS.iter().find(|(n, _)| *n == name).map_or(text, |(_, m)| *m);
+        (name, unit, own)
+    };
+    COLUMNS.into_iter().map(meaning).chain(NO_TWIST_COLUMNS).collect()
+}
+
+/// The CSV header line of a file of the cat on `joint` (without the newline).
+pub fn header(joint: Joint) -> String {
+    columns(joint).iter().map(|c| c.0).collect::<Vec<_>>().join(",")
 }
 
 /// How to sample a schedule.
@@ -206,7 +261,7 @@ fn write_file<T: Trajectory>(
 ) -> Result<ScheduleFile, ExchangeError> {
     // The orientation and torque columns and the sidecar's figures are the zero-momentum flip's.
     problem.require_no_spin("a schedule file (its orientation and torque columns)")?;
-    problem.require_universal_joint("a schedule file (its URDF/MJCF model)")?;
+    problem.require_two_motor_joint("a schedule file (its columns and URDF/MJCF model)")?;
     // The paper's cat through the two-cylinder engine, any other through the general core.
     let model = TwoMotorCat::new(problem.cat.model())?;
     let paper = model.cat().paper().copied();
@@ -232,17 +287,20 @@ fn write_file<T: Trajectory>(
     let jumps: Vec<VelocityJump> =
         e.jumps.iter().map(|j| VelocityJump { after_piece: last_piece_of(j.after_piece), ..*j }).collect();
     let source = TorqueSource::of(&model);
+    let joint = problem.cat.joint;
+    let columns = columns(joint);
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(COLUMNS.map(|c| c.0)).map_err(csv_error)?;
+    w.write_record(columns.iter().map(|c| c.0)).map_err(csv_error)?;
     let mut pieces: Vec<PieceInfo> = Vec::new();
     for (i, (row, (q, angles))) in plan.iter().zip(&attitude).enumerate() {
         let st = traj.piece_state(row.piece, row.local);
-        let tau = source.at(traj, row.piece, row.local, &st).tau;
-        let impulse = match row.marker {
-            Marker::Start => jumps.iter().find(|j| j.after_piece + 1 == row.piece).map(|j| j.impulse),
+        let torques = source.at(traj, row.piece, row.local, &st);
+        let tau = torques.tau;
+        let jump = match row.marker {
+            Marker::Start => jumps.iter().find(|j| j.after_piece + 1 == row.piece),
             _ => None,
-        }
-        .unwrap_or([0.0; 2]);
+        };
+        let impulse = jump.map_or([0.0; 2], |j| j.impulse);
         let numbers = [
             st.q[0],
             st.q[1],
@@ -263,6 +321,13 @@ fn write_file<T: Trajectory>(
         ];
         let mut record = vec![num(row.time), piece_name(row.piece), row.marker.text().to_string()];
         record.extend(numbers.map(num));
+        if joint != Joint::Universal {
+            let impulse_z = jump.map_or(0.0, |j| {
+                let dq = [j.rates_after[0] - j.rates_before[0], j.rates_after[1] - j.rates_before[1]];
+                model.jump_impulse_couple(st.q, dq).couple.z
+            });
+            record.extend(ball_columns(joint, &st, torques.couple.z, impulse_z).map(num));
+        }
         w.write_record(&record).map_err(csv_error)?;
         let same_piece = pieces.len() == row.piece + 1;
         match pieces.last_mut() {
@@ -292,8 +357,8 @@ fn write_file<T: Trajectory>(
             problem_file: serde_json::to_value(problem).map_err(|e| ExchangeError::Json(e.to_string()))?,
         },
         model: ModelInfo::new(&links, super::URDF_FILE, super::MJCF_FILE),
-        conventions: Conventions::default(),
-        columns: COLUMNS.iter().map(|c| Column { name: c.0.into(), unit: c.1.into(), meaning: c.2.into() }).collect(),
+        conventions: Conventions::new(joint),
+        columns: columns.iter().map(|c| Column { name: c.0.into(), unit: c.1.into(), meaning: c.2.into() }).collect(),
         sampling: Sampling {
             kind: if options.rate_hz.is_some() { "uniform" } else { "per-piece" }.into(),
             rate_hz: options.rate_hz,
@@ -316,6 +381,17 @@ fn write_file<T: Trajectory>(
         motors: motor_sizing(e),
     };
     Ok(ScheduleFile { csv, sidecar })
+}
+
+/// The no-twist joint's [`NO_TWIST_COLUMNS`] at `st`: the couple's and the jump impulse's
+/// components about A's `z`, B's orientation relative to A as a quaternion `(w, x, y, z)` with
+/// `w ≥ 0`, and B's angular velocity relative to A in B's frame.
+fn ball_columns(joint: Joint, st: &JointState, tau_z: f64, impulse_z: f64) -> [f64; 9] {
+    let r = joint.rotation(&st.q);
+    let rel = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
+    let rel = if rel.w < 0.0 { UnitQuaternion::new_unchecked(-rel.into_inner()) } else { rel };
+    let w = r.transpose() * joint.relative_rate(&st.q, &st.qd);
+    [tau_z, impulse_z, rel.w, rel.i, rel.j, rel.k, w.x, w.y, w.z]
 }
 
 /// The motor-sizing figures of a measured trajectory: each joint's peak with when, and what the

@@ -10,6 +10,7 @@ use crate::engines::jumps::VelocityJump;
 use crate::engines::motors::MotorDemand;
 use crate::engines::torque::Peak;
 use crate::exchange::links::Links;
+use crate::model::Joint;
 
 /// The sidecar's format tag.
 pub const FORMAT: &str = "catflip-schedule/1";
@@ -122,16 +123,25 @@ pub struct ModelInfo {
     pub joint_point_in_b_m: [f64; 3],
     /// The joint: axes and the rotation of B relative to A.
     pub joint: String,
-    /// Mass of the cross of the universal joint in the model files, kg.
-    pub cross_mass_kg: f64,
+    /// Mass of the cross of the universal joint in the model files, kg (absent on the no-twist
+    /// joint, which has no cross).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cross_mass_kg: Option<f64>,
     /// Its moments, kg·m².
-    pub cross_inertia_kg_m2: [f64; 3],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cross_inertia_kg_m2: Option<[f64; 3]>,
     /// Why the cross has a mass.
-    pub cross_note: String,
-    /// The URDF model file, relative to the CSV.
-    pub urdf: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cross_note: Option<String>,
+    /// The URDF model file, relative to the CSV (absent on the no-twist joint: URDF has no ball
+    /// joint, `model_note` says so).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub urdf: Option<String>,
     /// The MJCF model file, relative to the CSV.
     pub mjcf: String,
+    /// How the model files build this joint, when they need saying (the no-twist joint's ball).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_note: Option<String>,
 }
 
 /// One half of a cat whose halves differ.
@@ -148,10 +158,12 @@ pub struct HalfInfo {
 }
 
 impl ModelInfo {
-    /// The description of `links`, with the model files' names.
+    /// The description of `links`, with the model files' names (the URDF only on the universal
+    /// joint).
     pub fn new(links: &Links, urdf: &str, mjcf: &str) -> ModelInfo {
         let [front, rear] = links.halves;
         let [half_a, half_b] = links.half_lengths();
+        let cross = links.has_cross();
         ModelInfo {
             mass_kg: front.mass,
             length_m: front.length,
@@ -165,12 +177,18 @@ impl ModelInfo {
             }),
             joint_point_in_a_m: [0.0, 0.0, -half_a],
             joint_point_in_b_m: [0.0, 0.0, half_b],
-            joint: "universal: joint 1 turns about A's x, joint 2 about the cross's y (Rx(q1)·ŷ in A's frame); B relative to A is R_AB = Rx(q1)·Ry(q2); q = 0 is the straight cat".into(),
-            cross_mass_kg: links.mass[1],
-            cross_inertia_kg_m2: links.inertia[1],
-            cross_note: "the cross is massless in the model; simulators need a body between two revolute joints, so the model files give it rapier.cross_mass_fraction times a half's mass and the inertia (2/5)·m_c·r² of a solid sphere of the cat's radius, as the rapier scene does; the tau columns are the massless cross's, so a simulator's inverse dynamics of the model files differ from them by a relative amount of the order of that fraction".into(),
-            urdf: urdf.into(),
+            joint: if cross {
+                "universal: joint 1 turns about A's x, joint 2 about the cross's y (Rx(q1)·ŷ in A's frame); B relative to A is R_AB = Rx(q1)·Ry(q2); q = 0 is the straight cat"
+            } else {
+                "no-twist (Kane and Scher's constant-velocity joint): (q1, q2, 0) is the rotation vector of B relative to A, R_AB = exp([q1, q2, 0]×); the halves bend by |q| and never twist relative to each other; the motors act about A's x and y; q = 0 is the straight cat"
+            }
+            .into(),
+            cross_mass_kg: cross.then_some(links.mass[1]),
+            cross_inertia_kg_m2: cross.then_some(links.inertia[1]),
+            cross_note: cross.then(|| "the cross is massless in the model; simulators need a body between two revolute joints, so the model files give it rapier.cross_mass_fraction times a half's mass and the inertia (2/5)·m_c·r² of a solid sphere of the cat's radius, as the rapier scene does; the tau columns are the massless cross's, so a simulator's inverse dynamics of the model files differ from them by a relative amount of the order of that fraction".into()),
+            urdf: cross.then(|| urdf.into()),
             mjcf: mjcf.into(),
+            model_note: (!cross).then(|| "MuJoCo has no no-twist joint: the MJCF joins B to A by a ball joint (qpos = rel_qw..rel_qz, qvel = rel_wx..rel_wz in B's frame) with three motors tau_bx, tau_by, tau_bz about B's own axes. A replay sets them to R_AB^T (tau1, tau2, tauz), the joint's whole couple turned into B's frame (tauz is the couple that holds the relative twist at zero, no motor's), plus a stiff PD on the relative rotation. There is no URDF: URDF has no ball joint (pyBullet's non-standard 'spherical' is not written)".into()),
         }
     }
 }
@@ -192,14 +210,26 @@ pub struct Conventions {
     pub boundary: String,
 }
 
-impl Default for Conventions {
-    fn default() -> Self {
+impl Conventions {
+    /// The conventions of a file of the cat on `joint` (the universal or no-twist joint).
+    pub fn new(joint: Joint) -> Self {
+        let universal = joint == Joint::Universal;
         Conventions {
             units: "SI: time s, angles rad, rates rad/s, accelerations rad/s², torques N·m, impulses N·m·s; twist and swing in degrees; each column's name ends with its unit".into(),
             frames: "each half's body frame is at its centre of mass, z along its axis towards the head; the world frame is the frame falling with the cat's centre of mass, aligned with A's body frame at t = 0".into(),
-            quaternion: "qw, qx, qy, qz: A's orientation in the world frame as a unit quaternion, scalar first (w, x, y, z), the map from A's body frame to the world".into(),
+            quaternion: if universal {
+                "qw, qx, qy, qz: A's orientation in the world frame as a unit quaternion, scalar first (w, x, y, z), the map from A's body frame to the world"
+            } else {
+                "qw, qx, qy, qz: A's orientation in the world frame as a unit quaternion, scalar first (w, x, y, z), the map from A's body frame to the world; rel_qw, rel_qx, rel_qy, rel_qz: B's orientation relative to A, R_AB = exp([q1, q2, 0]×), scalar first (MuJoCo's ball-joint qpos); rel_wx_rad_s, rel_wy_rad_s, rel_wz_rad_s: B's angular velocity relative to A in B's frame (MuJoCo's ball-joint qvel)"
+            }
+            .into(),
             twist_swing: "A's orientation split as R = R_swing·R_twist: twist_deg about A's initial +z (right-handed, signed, continued past ±180°), swing_deg the angle between A's initial and current z".into(),
-            torque: "tau1_nm, tau2_nm: the motor torques the joint applies to B about joint 1's and joint 2's axes (exact inverse dynamics of the zero-momentum motion); impulse1_nms, impulse2_nms: the generalised impulse M(q)·Δq̇ of a rate jump, on the row where the jump lands ('start'), zero elsewhere".into(),
+            torque: if universal {
+                "tau1_nm, tau2_nm: the motor torques the joint applies to B about joint 1's and joint 2's axes (exact inverse dynamics of the zero-momentum motion); impulse1_nms, impulse2_nms: the generalised impulse M(q)·Δq̇ of a rate jump, on the row where the jump lands ('start'), zero elsewhere"
+            } else {
+                "tau1_nm, tau2_nm, tauz_nm: the couple the joint applies to B about the joint point, in A's frame (exact inverse dynamics of the zero-momentum motion); tau1 and tau2, about A's x and y, are the motor torques; tauz, about A's z, is the no-twist constraint's couple (no motor's) that a ball joint must be given too; impulse1_nms, impulse2_nms, impulsez_nms: the same of the impulsive couple of a rate jump, on the row where the jump lands ('start'), zero elsewhere"
+            }
+            .into(),
             boundary: "'' for an ordinary row; at a boundary between two pieces the time is written twice: 'end' carries the ending piece's one-sided values, 'start' the next piece's; drop one of them (or split the file there) before fitting a spline".into(),
         }
     }

@@ -17,6 +17,14 @@
 //! `<collision>`: the scene needs no contacts. Tools that compute inertia from collision
 //! shapes by default (pyBullet) must be told to use the file's (`URDF_USE_INERTIA_FROM_FILE`).
 //!
+//! **The no-twist joint has no URDF.** URDF's joint types (revolute, continuous, prismatic,
+//! fixed, floating, planar) have no ball joint, and two revolute joints make the universal joint,
+//! not Kane and Scher's constant-velocity joint. pyBullet reads a non-standard
+//! `type="spherical"`, but other URDF tools refuse it, and its torque convention is pyBullet's
+//! own; catflip writes no such file it has not replayed. [`urdf`] returns `None` for any joint
+//! but the universal one, and the no-twist cat's folder holds its MJCF only (a ball joint,
+//! [`mod@crate::exchange::mjcf`]).
+//!
 //! ## References
 //! - the URDF XML specification, <http://wiki.ros.org/urdf/XML> (link, joint, inertial).
 
@@ -24,8 +32,12 @@ use std::fmt::Write as _;
 
 use crate::exchange::links::{num, vec3, xml_escape, Links};
 
-/// The URDF text of the cat `links`, robot name `name`.
-pub fn urdf(links: &Links, name: &str) -> String {
+/// The URDF text of the cat `links`, robot name `name`; `None` unless the joint is the universal
+/// one (module docs).
+pub fn urdf(links: &Links, name: &str) -> Option<String> {
+    if !links.has_cross() {
+        return None;
+    }
     let [a, b] = links.halves;
     let [half_a, half_b] = links.half_lengths();
     let mut s = String::new();
@@ -41,7 +53,7 @@ pub fn urdf(links: &Links, name: &str) -> String {
     joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], [1.0, 0.0, 0.0]);
     joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
     let _ = writeln!(s, "</robot>");
-    s
+    Some(s)
 }
 
 /// One link with its inertial at `com` (link frame) and, for a half, a cylinder visual there.

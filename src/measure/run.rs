@@ -114,7 +114,7 @@ pub fn compute<A: Send>(
     verified.extend(optimised);
     let mut files = problem_files?;
     files.extend(optimised_files);
-    files.extend(model_files(&r.problem).map(|(n, text)| (format!("schedules/{n}"), text)));
+    files.extend(model_files(&r.problem)?.into_iter().map(|(n, text)| (format!("schedules/{n}"), text)));
     files.extend(whole_files);
     Ok((RunResults { audit, opt, whole, retimed, verified, robustness, files }, beside))
 }

@@ -276,17 +276,17 @@ impl Problem {
         ))
     }
 
-    /// Refuses a joint other than the universal one for a computation that builds only it (the
-    /// schedule files and URDF/MJCF; `what` names it in the message), naming `cat.joint`;
-    /// unequal halves pass.
-    pub fn require_universal_joint(&self, what: &str) -> Result<(), ProblemError> {
-        if self.cat.joint == Joint::Universal {
+    /// Refuses the spherical joint for a computation that builds the two-motor joints only (the
+    /// schedule files and the model files; `what` names it in the message), naming `cat.joint`;
+    /// the universal and no-twist joints pass, on equal or unequal halves.
+    pub fn require_two_motor_joint(&self, what: &str) -> Result<(), ProblemError> {
+        if self.cat.joint != Joint::Spherical {
             return Ok(());
         }
         Err(bad(
             "cat.joint",
             format!("\"{}\"", self.cat.joint.name()),
-            &format!("{what} builds the universal joint only (two revolute joints and a cross) so far, on equal or unequal halves; the exact engine and rapier run this joint (`simulate`, `simulate --engine rapier`, `compare`, `optimize --whole --verify`)"),
+            &format!("{what} builds the universal and no-twist joints only (two motors) so far; the spherical joint's third coordinate has no schedule, and its twist held at zero is exactly cat.joint = \"no-twist\""),
         ))
     }
 

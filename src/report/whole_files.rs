@@ -6,11 +6,13 @@
 //! - `whole-optimum.csv` and `whole-optimum.json`: the optimum as a schedule file and its sidecar
 //!   ([`crate::exchange`]), which `catflip simulate PROBLEM --schedule` reads back and MuJoCo or
 //!   pyBullet replay with the model files;
-//! - `model.urdf` and `model.xml`: the cat's halves and joint ([`crate::exchange::model_files`]);
+//! - `model.urdf` and `model.xml`: the cat's halves and joint ([`crate::exchange::model_files`];
+//!   the no-twist joint is a ball joint in `model.xml` and has no `model.urdf`);
 //! - `whole_filmstrip.png`: the flip, frame by frame.
 //!
-//! The files build the universal joint, equal or unequal halves, released without spin: the
-//! command refuses `--out` for any other problem before it optimises ([`files_refusal`]).
+//! The files build the universal and no-twist joints, equal or unequal halves, released without
+//! spin: the command refuses `--out` for any other problem (the spherical joint, a spin) before it
+//! optimises ([`files_refusal`]).
 
 use std::path::{Path, PathBuf};
 
@@ -25,11 +27,11 @@ use crate::report::results_dir::{Staging, WriteError};
 use crate::schedule::variant::WHOLE;
 
 /// Why the optimum's files cannot be built for `problem`, before anything is computed: the
-/// model files build the universal joint only, and the schedule file's orientation and torque
-/// columns are the zero-momentum flip's.
+/// files build the two-motor joints only (universal and no-twist), and the schedule file's
+/// orientation and torque columns are the zero-momentum flip's.
 pub fn files_refusal(problem: &Problem) -> Result<(), ProblemError> {
     let what = "optimize --whole --out (the optimum's schedule file and URDF/MJCF)";
-    problem.require_universal_joint(what)?;
+    problem.require_two_motor_joint(what)?;
     problem.require_no_spin(what)
 }
 
@@ -58,7 +60,7 @@ pub fn write_whole(
         (format!("{WHOLE}.csv"), file.csv),
         (format!("{WHOLE}.json"), sidecar),
     ];
-    files.extend(model_files(problem));
+    files.extend(model_files(problem)?);
     for (name, text) in files {
         let path = staging.dir().join(name);
         std::fs::write(&path, text).map_err(|source| WriteError::Io { path: staging.shown(&path), source })?;
