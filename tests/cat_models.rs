@@ -145,16 +145,12 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         named("robust, rapier", refused.clone());
         assert!(refused.contains("robust.engine"), "{name}: {refused}");
         named("run", catflip::report::run::run(&r, "test", &out).expect_err("refused").to_string());
-        // Rapier builds both joints (tests/rapier_models.rs); the schedule files build unequal
-        // halves on the universal joint (tests/exchange_models.rs).
+        // Rapier builds both joints (tests/rapier_models.rs); the schedule files build both, on
+        // equal or unequal halves (tests/exchange_models.rs).
         let rapier = catflip::report::simulate::simulate(&r, catflip::engines::Engine::Rapier);
         assert!(rapier.is_ok(), "{name}: {:?}", rapier.err());
         let file = catflip::exchange::write_schedule(&p, &common::measured(&p, &r.schedule), &Default::default());
-        if r.model().cat().joint == catflip::model::Joint::Universal {
-            assert!(file.is_ok(), "{name}: {:?}", file.err());
-        } else {
-            named("schedule file", file.map(|_| ()).expect_err("refused").to_string());
-        }
+        assert!(file.is_ok(), "{name}: {:?}", file.err());
         // The exact engine runs it (and the whole optimiser: tests/whole_models.rs).
         assert!(catflip::report::simulate::simulate(&r, catflip::engines::Engine::Exact).is_ok());
     }

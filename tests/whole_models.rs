@@ -52,23 +52,12 @@ fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) 
     assert!((peak - best.peak_torque_nm).abs() <= 1e-9 * peak, "{file}: peak {peak} against {}", best.peak_torque_nm);
     let library = r.library().iter().map(|(_, m)| m.exact.peak()).fold(f64::INFINITY, f64::min);
     assert!(peak < library, "{file} {sets:?}: the optimum's peak {peak} N·m is not below the library's best {library}");
-    // Its schedule file: the universal joint's (its URDF/MJCF), with the model's last twist.
-    let file = report.measured.as_ref().map(|m| write_whole_optimum(&r.problem, m, &Default::default())).transpose();
-    match joint {
-        Joint::Universal => {
-            let file = file.unwrap_or_else(|e| panic!("{e}")).unwrap_or_else(|| panic!("no file"));
-            let last = file.sidecar.orientation.final_twist_deg;
-            assert!(
-                (last.abs() - 180.0).abs() <= 1e-6,
-                "{file_name}: the file's twist {last}°",
-                file_name = r.problem.name
-            );
-        }
-        _ => {
-            let e = file.map(|_| ()).unwrap_err().to_string();
-            assert!(e.starts_with("cat.joint"), "{e}");
-        }
-    }
+    // Its schedule file (the universal joint's two revolutes or the no-twist joint's ball in its
+    // MJCF), with the model's last twist.
+    let file = report.measured.as_ref().map(|m| write_whole_optimum(&r.problem, m, &Default::default()));
+    let file = file.unwrap_or_else(|| panic!("no optimum")).unwrap_or_else(|e| panic!("{e}"));
+    let last = file.sidecar.orientation.final_twist_deg;
+    assert!((last.abs() - 180.0).abs() <= 1e-6, "{file_name}: the file's twist {last}°", file_name = r.problem.name);
     (r, report)
 }
 
