@@ -3,7 +3,8 @@
 # alone from anywhere: `bash python/test.sh`. In a fresh virtual environment it installs the
 # package with the README's one command (`pip install ./python`: maturin builds the abi3 wheel in
 # target/), then runs the pytest suite (against target/release/catflip, built first), the
-# examples (MuJoCo's replay when `pip install mujoco` works) and clippy on the binding crate.
+# examples (MuJoCo's and pyBullet's replays when `pip install mujoco pybullet` works) and clippy
+# on the binding crate.
 # Without python3 (or its venv module) it says so and exits 0, except under CI=true, where
 # a missing Python is a failure.
 set -euo pipefail
@@ -35,6 +36,7 @@ step "pip install ./python" "$venv/bin/pip" install --quiet --disable-pip-versio
 # alone lacks the compiled half).
 step pytest "$venv/bin/pytest" -q -p no:cacheprovider python/tests
 step "installing mujoco" "$venv/bin/pip" install --quiet --disable-pip-version-check mujoco || echo "python/test.sh: mujoco not installable; its example will say so"
+step "installing pybullet" "$venv/bin/pip" install --quiet --disable-pip-version-check pybullet || echo "python/test.sh: pybullet not installable; its example will say so"
 for example in python/examples/*.py; do
     step "$example" "$venv/bin/python" "$example"
 done

@@ -255,17 +255,18 @@ fn optimize_whole_out_writes_a_schedule_file_that_reads_back_as_the_optimum() {
     assert!((read - peak).abs() <= 1e-9 * peak, "the file's peak {read} N·m against the optimum's {peak}");
     let _ = std::fs::remove_dir_all(&out);
 
-    // Kane and Scher's no-twist joint: the MJCF (a ball joint) and no URDF, and the schedule file
-    // reads back as the optimum on the same cat.
+    // Kane and Scher's no-twist joint: the MJCF (a ball joint) and the URDF (pyBullet's spherical
+    // joint), and the schedule file reads back as the optimum on the same cat.
     let mut args = vec!["optimize", "problems/kane-scher.toml", "--whole", "--quiet", "--out", &dir];
     args.extend(&coarse[..4]);
     let (code, _, err) = catflip(&args);
     assert_eq!(code, 0, "{err}");
     let folder = out.join("kane-scher-whole");
-    for f in ["whole.md", "whole.json", "whole-optimum.csv", "whole-optimum.json", "model.xml"] {
+    for f in ["whole.md", "whole.json", "whole-optimum.csv", "whole-optimum.json", "model.xml", "model.urdf"] {
         assert!(folder.join(f).is_file(), "{f} missing");
     }
-    assert!(!folder.join("model.urdf").exists(), "a URDF of the no-twist joint");
+    let urdf = std::fs::read_to_string(folder.join("model.urdf")).expect("model.urdf");
+    assert!(urdf.contains("type=\"spherical\""), "{urdf}");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(folder.join("whole.json")).expect("whole.json")).expect("JSON");
     let (peak, twist) =

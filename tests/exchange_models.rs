@@ -1,6 +1,7 @@
 //! Schedule files and URDF/MJCF of unequal halves and of the no-twist joint (issue 22): the
 //! orientation and torque columns are the general exact engine's on the model, the model files put
-//! each half where DESIGN.md §10 puts it (the no-twist joint as a ball joint, with no URDF), and a
+//! each half where DESIGN.md §10 puts it (the no-twist joint as a ball joint in the MJCF and pyBullet's
+//! spherical joint in the URDF), and a
 //! joint the files do not build (the spherical one) or a release with spin is refused, naming the
 //! field.
 #![deny(clippy::float_cmp)]
@@ -121,8 +122,8 @@ fn plain_rows(csv: &str) -> Vec<usize> {
 /// along the schedule, step 1e-5 s, so agreement to ~1e-9); the whole couple `(τ1, τ2, τz)`
 /// does the work the motion needs: `(τ1, τ2, τz) · ω_rel = dE/dt` at zero momentum (the joint
 /// force does no net work at the joint point), which fails if the constraint's `τz` is left out
-/// or wrong (the test checks that leaving it out would be seen). The sidecar has no URDF and no
-/// cross.
+/// or wrong (the test checks that leaving it out would be seen). The sidecar names the URDF and
+/// has no cross.
 #[test]
 fn a_schedule_file_of_the_no_twist_joint_carries_the_ball_columns() {
     let r = resolved("kane-scher.toml");
@@ -173,7 +174,7 @@ fn a_schedule_file_of_the_no_twist_joint_carries_the_ball_columns() {
     assert!(file.sidecar.jumps.is_empty() || impulse_z.iter().any(|x| x.abs() > 0.0), "no impulse about z");
     assert!(impulse_z.iter().filter(|x| x.abs() > 0.0).count() <= starts);
     let m = &file.sidecar.model;
-    assert!(m.urdf.is_none() && m.cross_mass_kg.is_none(), "{m:?}");
+    assert!(m.urdf == "model.urdf" && m.cross_mass_kg.is_none(), "{m:?}");
     assert!(m.joint.starts_with("no-twist") && m.model_note.is_some(), "{m:?}");
     assert!(file.sidecar.columns.iter().any(|c| c.name == "tauz_nm"));
     // The universal joint's files keep their 19 columns.
@@ -181,13 +182,15 @@ fn a_schedule_file_of_the_no_twist_joint_carries_the_ball_columns() {
     let file = write_schedule(&paper.problem, &common::measured(&paper.problem, &paper.schedule), &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(file.sidecar.columns.len(), 19);
-    assert!(file.sidecar.model.urdf.is_some() && file.sidecar.model.cross_mass_kg.is_some());
+    assert!(file.sidecar.model.urdf == "model.urdf" && file.sidecar.model.cross_mass_kg.is_some());
 }
 
-/// The no-twist joint's model files: `model.xml` alone (URDF has no ball joint), with B on a
-/// `ball` joint through B's `(0, 0, +l_B/2)`, B's centre at A's `(0, 0, −l_A/2 − l_B/2)` (so the
-/// joint point is A's `(0, 0, −l_A/2)`), no cross, each half's true mass and inertia, and three
-/// motors about B's axes; on equal halves and on unequal ones.
+/// The no-twist joint's model files: `model.xml` with B on a `ball` joint through B's
+/// `(0, 0, +l_B/2)`, B's centre at A's `(0, 0, −l_A/2 − l_B/2)` (so the joint point is A's
+/// `(0, 0, −l_A/2)`), no cross, each half's true mass and inertia, and three motors about B's
+/// axes; `model.urdf` with links A and B joined by pyBullet's `spherical` joint at A's
+/// `(0, 0, −l_A/2)`, B's centre of mass at `(0, 0, −l_B/2)` in B's frame there, the same masses
+/// and inertias; on equal halves and on unequal ones.
 #[test]
 fn the_mjcf_of_the_no_twist_joint_is_a_ball_at_the_joint_point() {
     let sets = ["cat.joint=no-twist".to_string()];
@@ -197,8 +200,9 @@ fn the_mjcf_of_the_no_twist_joint_is_a_ball_at_the_joint_point() {
         assert_eq!(cat.joint, Joint::NoTwist);
         let files = model_files(&problem).unwrap_or_else(|e| panic!("{e}"));
         let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["model.xml"], "{file}");
-        let doc = roxmltree::Document::parse(&files[0].1).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(names, ["model.urdf", "model.xml"], "{file}");
+        check_spherical_urdf(&files[0].1, &cat);
+        let doc = roxmltree::Document::parse(&files[1].1).unwrap_or_else(|e| panic!("{e}"));
         let bodies: Vec<&str> =
             doc.descendants().filter(|n| n.has_tag_name("body")).filter_map(|n| n.attribute("name")).collect();
         assert_eq!(bodies, ["A", "B"], "{file}");
@@ -237,6 +241,43 @@ fn the_mjcf_of_the_no_twist_joint_is_a_ball_at_the_joint_point() {
             .map(|n| (n.attribute("joint").unwrap_or(""), n.attribute("gear").unwrap_or("")))
             .collect();
         assert_eq!(gears, [("joint", "1 0 0 0 0 0"), ("joint", "0 1 0 0 0 0"), ("joint", "0 0 1 0 0 0")]);
+    }
+}
+
+/// The no-twist cat's URDF ([`the_mjcf_of_the_no_twist_joint_is_a_ball_at_the_joint_point`]).
+fn check_spherical_urdf(text: &str, cat: &catflip::model::Cat) {
+    let doc = roxmltree::Document::parse(text).unwrap_or_else(|e| panic!("{e}"));
+    let links: Vec<&str> =
+        doc.descendants().filter(|n| n.has_tag_name("link")).filter_map(|n| n.attribute("name")).collect();
+    assert_eq!(links, ["A", "B"]);
+    let joints: Vec<_> = doc.descendants().filter(|n| n.has_tag_name("joint")).collect();
+    assert_eq!(joints.len(), 1);
+    assert_eq!(joints[0].attribute("type"), Some("spherical"));
+    fn child<'a, 'i>(tag: &str, node: roxmltree::Node<'a, 'i>) -> roxmltree::Node<'a, 'i> {
+        node.descendants().find(|n| n.has_tag_name(tag)).unwrap_or_else(|| panic!("no {tag}"))
+    }
+    let xyz = |node: roxmltree::Node| -> Vec<f64> {
+        node.attribute("xyz").unwrap_or_default().split(' ').map(|x| x.parse().unwrap_or(f64::NAN)).collect()
+    };
+    assert_eq!(child("parent", joints[0]).attribute("link"), Some("A"));
+    assert_eq!(child("child", joints[0]).attribute("link"), Some("B"));
+    let at = xyz(child("origin", joints[0]));
+    assert_relative_eq!(at[2], -0.5 * cat.front.length, max_relative = 1e-15);
+    assert_relative_eq!(at[0].abs() + at[1].abs(), 0.0, epsilon = 0.0);
+    for (name, half, com) in [("A", cat.front, 0.0), ("B", cat.rear, -0.5 * cat.rear.length)] {
+        let link = doc
+            .descendants()
+            .find(|n| n.has_tag_name("link") && n.attribute("name") == Some(name))
+            .unwrap_or_else(|| panic!("no link {name}"));
+        let inertial = child("inertial", link);
+        assert_relative_eq!(xyz(child("origin", inertial))[2], com, max_relative = 1e-15);
+        let mass: f64 = child("mass", inertial).attribute("value").unwrap_or_default().parse().unwrap_or(f64::NAN);
+        assert_relative_eq!(mass, half.mass, max_relative = 1e-15);
+        let inertia = child("inertia", inertial);
+        let moment = |k: &str| inertia.attribute(k).unwrap_or_default().parse::<f64>().unwrap_or(f64::NAN);
+        assert_relative_eq!(moment("ixx"), half.transverse(), max_relative = 1e-15);
+        assert_relative_eq!(moment("iyy"), half.transverse(), max_relative = 1e-15);
+        assert_relative_eq!(moment("izz"), half.axial(), max_relative = 1e-15);
     }
 }
 

@@ -187,7 +187,8 @@ def import_schedule(
 def model_files(problem: Problem) -> Dict[str, str]:
     """The cat as ``model.urdf`` and ``model.xml`` (MJCF): file name → text, as ``catflip run``
     writes them beside the schedules (true inertias, zero gravity: the falling frame); on the
-    no-twist joint ``model.xml`` alone (a ball joint; URDF has none)."""
+    no-twist joint a ball joint in ``model.xml`` and pyBullet's non-standard spherical joint in
+    ``model.urdf``."""
     return dict(_catflip.model_files(problem))
 
 

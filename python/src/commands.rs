@@ -247,8 +247,8 @@ pub fn simulate_schedule(
 }
 
 /// The model files of the problem's cat, `[(file name, contents)]`: `model.urdf` and `model.xml`
-/// (MJCF), as `catflip run` writes them beside the schedules; `model.xml` alone on the no-twist
-/// joint (a ball joint; URDF has none).
+/// (MJCF), as `catflip run` writes them beside the schedules; on the no-twist joint a ball joint
+/// in the MJCF and pyBullet's non-standard spherical joint in the URDF.
 #[pyfunction]
 pub fn model_files(problem: &Problem) -> PyResult<Vec<(String, String)>> {
     catflip::exchange::model_files(&problem.inner.problem).map_err(refuse)

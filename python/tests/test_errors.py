@@ -143,14 +143,16 @@ def test_a_paper_only_computation_refuses_another_cat_naming_the_joint(cli, args
 
 
 def test_rapier_verifies_the_no_twist_cat_and_its_files_are_a_ball_joint():
-    """Rapier builds the no-twist joint (a ball joint); its model files are the MJCF alone (a ball
-    joint; URDF has none) and its schedule file adds the ball's columns."""
+    """Rapier builds the no-twist joint (a ball joint); its model files are a ball joint in the
+    MJCF and pyBullet's spherical joint in the URDF, and its schedule file adds the ball's
+    columns."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", catflip.CatflipWarning)
         problem = catflip.load(PROBLEMS / "kane-scher.toml")
     assert catflip.verify(problem).report["verdict"] == "verified"
     files = catflip.model_files(problem)
-    assert list(files) == ["model.xml"] and 'type="ball"' in files["model.xml"]
+    assert list(files) == ["model.urdf", "model.xml"] and 'type="ball"' in files["model.xml"]
+    assert 'type="spherical"' in files["model.urdf"]
     header = catflip.schedule_series(problem).csv.splitlines()[0].split(",")
     assert header[-9:] == ["tauz_nm", "impulsez_nms", "rel_qw", "rel_qx", "rel_qy", "rel_qz",
                            "rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s"]

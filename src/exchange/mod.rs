@@ -3,7 +3,7 @@
 //!
 //! - [`links`]: the links (A, the universal joint's cross, B) with their true mass properties;
 //! - [`mod@urdf`], [`mod@mjcf`]: the model files (`model.urdf`, `model.xml`; the no-twist joint
-//!   is a ball joint in the MJCF and has no URDF);
+//!   is a ball joint in the MJCF and pyBullet's non-standard spherical joint in the URDF);
 //! - [`schedule_file`] and [`sidecar`]: `NAME.csv` and `NAME.json`: units in the column names,
 //!   an optional uniform rate, boundary rows marked, jumps with their impulses, orientation
 //!   columns to the exact engine's tolerance;
@@ -78,15 +78,17 @@ pub enum ExchangeError {
 }
 
 /// The model files of a problem's cat: `(file name, contents)` for [`URDF_FILE`] and
-/// [`MJCF_FILE`] on the universal joint (with the cross of the rapier scene), for [`MJCF_FILE`]
-/// alone on the no-twist joint (a ball joint; URDF has none, [`mod@urdf`]); the falling frame's
-/// zero gravity. The spherical joint is refused, naming `cat.joint`.
+/// [`MJCF_FILE`]: on the universal joint two revolutes with the cross of the rapier scene, on the
+/// no-twist joint a ball (MJCF) and pyBullet's spherical joint (URDF, [`mod@urdf`]); the falling
+/// frame's zero gravity. The spherical joint is refused, naming `cat.joint`.
 pub fn model_files(problem: &Problem) -> Result<Vec<(String, String)>, ExchangeError> {
     problem.require_two_motor_joint("the URDF/MJCF export")?;
     let links = Links::new(&problem.cat.model(), problem.rapier.cross_mass_fraction);
     let name = format!("catflip-{}", problem.name);
-    let urdf = urdf(&links, &name).map(|text| (URDF_FILE.to_string(), text));
-    Ok(urdf.into_iter().chain([(MJCF_FILE.to_string(), mjcf(&links, &name, &MjcfOptions::default()))]).collect())
+    Ok(vec![
+        (URDF_FILE.to_string(), urdf(&links, &name)),
+        (MJCF_FILE.to_string(), mjcf(&links, &name, &MjcfOptions::default())),
+    ])
 }
 
 /// Everything `catflip run` writes under `schedules/`: for each measured schedule,

@@ -133,10 +133,9 @@ pub struct ModelInfo {
     /// Why the cross has a mass.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cross_note: Option<String>,
-    /// The URDF model file, relative to the CSV (absent on the no-twist joint: URDF has no ball
-    /// joint, `model_note` says so).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub urdf: Option<String>,
+    /// The URDF model file, relative to the CSV (on the no-twist joint pyBullet's non-standard
+    /// spherical joint, `model_note` says so).
+    pub urdf: String,
     /// The MJCF model file, relative to the CSV.
     pub mjcf: String,
     /// How the model files build this joint, when they need saying (the no-twist joint's ball).
@@ -158,8 +157,7 @@ pub struct HalfInfo {
 }
 
 impl ModelInfo {
-    /// The description of `links`, with the model files' names (the URDF only on the universal
-    /// joint).
+    /// The description of `links`, with the model files' names.
     pub fn new(links: &Links, urdf: &str, mjcf: &str) -> ModelInfo {
         let [front, rear] = links.halves;
         let [half_a, half_b] = links.half_lengths();
@@ -186,9 +184,9 @@ impl ModelInfo {
             cross_mass_kg: cross.then_some(links.mass[1]),
             cross_inertia_kg_m2: cross.then_some(links.inertia[1]),
             cross_note: cross.then(|| "the cross is massless in the model; simulators need a body between two revolute joints, so the model files give it rapier.cross_mass_fraction times a half's mass and the inertia (2/5)·m_c·r² of a solid sphere of the cat's radius, as the rapier scene does; the tau columns are the massless cross's, so a simulator's inverse dynamics of the model files differ from them by a relative amount of the order of that fraction".into()),
-            urdf: cross.then(|| urdf.into()),
+            urdf: urdf.into(),
             mjcf: mjcf.into(),
-            model_note: (!cross).then(|| "MuJoCo has no no-twist joint: the MJCF joins B to A by a ball joint (qpos = rel_qw..rel_qz, qvel = rel_wx..rel_wz in B's frame) with three motors tau_bx, tau_by, tau_bz about B's own axes. A replay sets them to R_AB^T (tau1, tau2, tauz), the joint's whole couple turned into B's frame (tauz is the couple that holds the relative twist at zero, no motor's), plus a stiff PD on the relative rotation. There is no URDF: URDF has no ball joint (pyBullet's non-standard 'spherical' is not written)".into()),
+            model_note: (!cross).then(|| "MuJoCo has no no-twist joint and URDF no ball joint: the MJCF joins B to A by a ball joint (qpos = rel_qw..rel_qz, qvel = rel_wx..rel_wz in B's frame) with three motors tau_bx, tau_by, tau_bz about B's own axes, and the URDF by pyBullet's non-standard 'spherical' joint (joint position rel_qx, rel_qy, rel_qz, rel_qw; velocity in B's frame; TORQUE_CONTROL couples about B's axes). A replay sets the couple to R_AB^T (tau1, tau2, tauz), the joint's whole couple turned into B's frame (tauz is the couple that holds the relative twist at zero, no motor's), plus a stiff PD on the relative rotation".into()),
         }
     }
 }

@@ -17,13 +17,19 @@
 //! `<collision>`: the scene needs no contacts. Tools that compute inertia from collision
 //! shapes by default (pyBullet) must be told to use the file's (`URDF_USE_INERTIA_FROM_FILE`).
 //!
-//! **The no-twist joint has no URDF.** URDF's joint types (revolute, continuous, prismatic,
-//! fixed, floating, planar) have no ball joint, and two revolute joints make the universal joint,
-//! not Kane and Scher's constant-velocity joint. pyBullet reads a non-standard
-//! `type="spherical"`, but other URDF tools refuse it, and its torque convention is pyBullet's
-//! own; catflip writes no such file it has not replayed. [`urdf`] returns `None` for any joint
-//! but the universal one, and the no-twist cat's folder holds its MJCF only (a ball joint,
-//! [`mod@crate::exchange::mjcf`]).
+//! **The no-twist joint** is written for pyBullet only. URDF's joint types (revolute,
+//! continuous, prismatic, fixed, floating, planar) have no ball joint, and two revolute joints
+//! make the universal joint, not Kane and Scher's constant-velocity joint. pyBullet reads a
+//! non-standard `type="spherical"` (other URDF tools refuse it): links `A` and `B` only, joint
+//! `joint` at `(0, 0, −l_A/2)` in `A` with `B`'s frame there (B's centre of mass at
+//! `(0, 0, −l_B/2)`), the same layout as the MJCF's ball ([`mod@crate::exchange::mjcf`]).
+//! pyBullet's conventions for it, measured on this file (pyBullet 3.2.7): the joint's position is
+//! B's rotation relative to A as `(x, y, z, w)`, its velocity B's angular velocity relative to A in
+//! B's frame, and a `TORQUE_CONTROL` force of `setJointMotorControlMultiDof` a couple about B's own
+//! axes (the work it does equals the change of kinetic energy to 4e-7 relative only with B's
+//! axes). Like the MJCF's ball it has three rotational freedoms where the joint has two: a replay
+//! gives it the joint's whole couple, `(tau1, tau2, tauz)` turned into B's frame, with `tauz` the
+//! couple that holds the relative twist at zero (README, "Replay elsewhere").
 //!
 //! ## References
 //! - the URDF XML specification, <http://wiki.ros.org/urdf/XML> (link, joint, inertial).
@@ -32,28 +38,35 @@ use std::fmt::Write as _;
 
 use crate::exchange::links::{num, vec3, xml_escape, Links};
 
-/// The URDF text of the cat `links`, robot name `name`; `None` unless the joint is the universal
-/// one (module docs).
-pub fn urdf(links: &Links, name: &str) -> Option<String> {
-    if !links.has_cross() {
-        return None;
-    }
+/// The URDF text of the cat `links`, robot name `name`: two continuous joints and the cross on
+/// the universal joint, pyBullet's `spherical` joint on the no-twist one (module docs).
+pub fn urdf(links: &Links, name: &str) -> String {
     let [a, b] = links.halves;
     let [half_a, half_b] = links.half_lengths();
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
+    let relative = if links.has_cross() {
+        "Rx(q1)·Ry(q2)"
+    } else {
+        "exp([q1, q2, 0]×), pyBullet's non-standard spherical joint whose relative twist the replay holds at zero"
+    };
     let _ = writeln!(
         s,
-        "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is Rx(q1)·Ry(q2). -->"
+        "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is {relative}. -->"
     );
     let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
     link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((a.length, a.radius)));
-    link(&mut s, links, "cross", 1, [0.0, 0.0, 0.0], None);
-    link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
-    joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], [1.0, 0.0, 0.0]);
-    joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    if links.has_cross() {
+        link(&mut s, links, "cross", 1, [0.0, 0.0, 0.0], None);
+        link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], Some([1.0, 0.0, 0.0]));
+        joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], Some([0.0, 1.0, 0.0]));
+    } else {
+        link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        joint(&mut s, "joint", "A", "B", [0.0, 0.0, -half_a], None);
+    }
     let _ = writeln!(s, "</robot>");
-    Some(s)
+    s
 }
 
 /// One link with its inertial at `com` (link frame) and, for a half, a cylinder visual there.
@@ -81,13 +94,17 @@ fn link(s: &mut String, links: &Links, name: &str, index: usize, com: [f64; 3], 
     let _ = writeln!(s, "  </link>");
 }
 
-/// One continuous joint at `origin` in the parent's frame, turning about `axis`.
-fn joint(s: &mut String, name: &str, parent: &str, child: &str, origin: [f64; 3], axis: [f64; 3]) {
-    let _ = writeln!(s, "  <joint name=\"{name}\" type=\"continuous\">");
+/// One joint at `origin` in the parent's frame: continuous about `axis`, or pyBullet's
+/// `spherical` without one.
+fn joint(s: &mut String, name: &str, parent: &str, child: &str, origin: [f64; 3], axis: Option<[f64; 3]>) {
+    let kind = if axis.is_some() { "continuous" } else { "spherical" };
+    let _ = writeln!(s, "  <joint name=\"{name}\" type=\"{kind}\">");
     let _ = writeln!(s, "    <parent link=\"{parent}\"/>");
     let _ = writeln!(s, "    <child link=\"{child}\"/>");
     let _ = writeln!(s, "    <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(origin));
-    let _ = writeln!(s, "    <axis xyz=\"{}\"/>", vec3(axis));
+    if let Some(axis) = axis {
+        let _ = writeln!(s, "    <axis xyz=\"{}\"/>", vec3(axis));
+    }
     let _ = writeln!(s, "    <dynamics damping=\"0\" friction=\"0\"/>");
     let _ = writeln!(s, "  </joint>");
 }

@@ -7,7 +7,8 @@
 //!   ([`crate::exchange`]), which `catflip simulate PROBLEM --schedule` reads back and MuJoCo or
 //!   pyBullet replay with the model files;
 //! - `model.urdf` and `model.xml`: the cat's halves and joint ([`crate::exchange::model_files`];
-//!   the no-twist joint is a ball joint in `model.xml` and has no `model.urdf`);
+//!   the no-twist joint is a ball joint in `model.xml` and pyBullet's spherical joint in
+//!   `model.urdf`);
 //! - `whole_filmstrip.png`: the flip, frame by frame.
 //!
 //! The files build the universal and no-twist joints, equal or unequal halves, released without
