@@ -8,7 +8,8 @@
 //! - every model keeps its momentum at zero and its joint's action equal to its reaction;
 //! - the general core's reduced mass matrix is the two-cylinder engine's on the paper's cat;
 //! - unequal halves calibrate to a turn of π, and refuse the paper's undefined `C`;
-//! - each command that models the paper's cat only refuses another, naming the field.
+//! - each command that models the paper's cat only refuses another, naming the field; `run`
+//!   runs it and names the parts it leaves out (tests/run_models.rs), and refuses a spin.
 #![deny(clippy::float_cmp)]
 
 mod common;
@@ -19,6 +20,7 @@ use catflip::engines::circulation::CirculationError;
 use catflip::engines::models::TwoMotorCat;
 use catflip::engines::resolved::Resolved;
 use catflip::engines::torque;
+use catflip::measure::run::PaperOnly;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::problem::{Circulation, HalfSection, Problem};
 
@@ -138,13 +140,22 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         let named = |what: &str, m: String| assert!(m.starts_with(field), "{name}, {what}: {m}");
         named("optimize", catflip::optimize::optimize(&r).expect_err("refused").to_string());
         named("audit", catflip::measure::audit::audit_with_exact(&r).expect_err("refused").to_string());
+        // `run` runs these cats (tests/run_models.rs) and says in one sentence, naming the field,
+        // that these two parts are not run.
+        for part in [PaperOnly::Audit, PaperOnly::ProfileQp] {
+            let said = part.not_run(&p).unwrap_or_default();
+            assert!(said.contains("not run for this cat") && said.contains(field), "{name}: {said}");
+        }
+        // With a spin it refuses, naming the field, and writes nothing.
+        let spun = Resolved::new(&load(name, &["drop.angular_momentum=[0.0, 0.0, 0.01]"])).expect("resolves");
+        let refused = catflip::report::run::run(&spun, "test", &out).expect_err("refused").to_string();
+        assert!(refused.starts_with("drop.angular_momentum"), "{name}: {refused}");
         // The exact engine's robustness check runs on every two-motor cat; its rapier trials do not.
         assert!(catflip::robust::check(&p, &r.schedule, "s").is_ok(), "{name}: robust, exact engine");
         let tracked = load(name, &["robust.engine=\"rapier\""]);
         let refused = catflip::robust::check(&tracked, &r.schedule, "s").expect_err("refused").to_string();
         named("robust, rapier", refused.clone());
         assert!(refused.contains("robust.engine"), "{name}: {refused}");
-        named("run", catflip::report::run::run(&r, "test", &out).expect_err("refused").to_string());
         // Rapier builds both joints (tests/rapier_models.rs); the schedule files build both, on
         // equal or unequal halves (tests/exchange_models.rs).
         let rapier = catflip::report::simulate::simulate(&r, catflip::engines::Engine::Rapier);
@@ -155,6 +166,10 @@ fn each_command_for_the_papers_cat_only_refuses_another_naming_the_field() {
         assert!(catflip::report::simulate::simulate(&r, catflip::engines::Engine::Exact).is_ok());
     }
     assert!(!out.exists(), "a refused run wrote nothing");
+    // On the paper's cat both parts run: nothing to say.
+    let paper = load("paper", &[]);
+    assert_eq!(PaperOnly::Audit.not_run(&paper), None);
+    assert_eq!(PaperOnly::ProfileQp.not_run(&paper), None);
 }
 
 #[test]

@@ -271,6 +271,17 @@ impl TwoMotorCat {
         SpinHistory::new_on(&self.field(traj), spin, tolerance)
     }
 
+    /// The orientation history a picture of the fall of `traj` is drawn from, released with
+    /// total angular momentum `spin` and about `steps` steps: the paper's cat without spin
+    /// through the two-cylinder engine ([`crate::engines::exact::fall_history`]), any other
+    /// through the general core ([`TwoMotorCat::fall_history`]).
+    pub fn picture_history(&self, traj: &impl Trajectory, spin: &Vector3<f64>, steps: usize) -> Vec<OrientationSample> {
+        match self.cat.paper() {
+            Some(half) if spin.norm_squared() == 0.0 => crate::engines::exact::fall_history(half, traj, steps),
+            _ => self.fall_history(traj, spin, steps),
+        }
+    }
+
     /// A's orientation history along `traj` released with total angular momentum `spin`, with
     /// about `steps` fixed steps over the whole trajectory, shared equally between its pieces (at
     /// least [`MIN_HISTORY_PIECE_STEPS`] each), as [`crate::engines::exact::fall_history`] on the

@@ -130,6 +130,34 @@ pub fn joint_torques_spinning(cat: &Cylinder, s: &JointState, lambda: &Vector3<f
     torques_of(cat, s, &kinematics_spinning(cat, s, lambda))
 }
 
+/// The motor torques of a cat released without spin, `τ(q, q̇, q̈) = M(q) q̈ + c(q, q̇)` (N·m, `c`
+/// homogeneous quadratic in `q̇`): what a retiming samples along a path
+/// ([`crate::optimize::retime`]). The paper's cat ([`Cylinder`], its half) goes through the
+/// two-cylinder engine ([`joint_torques`]); a [`TwoMotorCat`] through the same engine when it is
+/// the paper's cat, else through the general core ([`TwoMotorCat::joint_torques`]).
+pub trait ZeroMomentumTorques: Sync {
+    /// `(τ1, τ2)` on the joint's motor axes through `state`, N·m.
+    fn motor_torques(&self, state: &JointState) -> [f64; 2];
+}
+
+impl ZeroMomentumTorques for Cylinder {
+    fn motor_torques(&self, state: &JointState) -> [f64; 2] {
+        joint_torques(self, state).tau
+    }
+}
+
+impl ZeroMomentumTorques for TwoMotorCat {
+    fn motor_torques(&self, state: &JointState) -> [f64; 2] {
+        match self.cat().paper() {
+            Some(half) => half.motor_torques(state),
+            None => {
+                let t = self.joint_torques(state);
+                [t.tau[0], t.tau[1]]
+            }
+        }
+    }
+}
+
 /// Where the joint torques along a trajectory come from: the paper's cat at zero momentum or
 /// released with spin (whose orientations a [`SpinHistory`] holds), or another two-coordinate
 /// model ([`crate::engines::models`]), likewise.

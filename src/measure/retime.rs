@@ -1,7 +1,8 @@
 //! The certified convex retiming of a schedule along its fixed joint path
 //! ([`crate::optimize::retime`]), both ways: the phases' durations kept, and the split free.
-//! Each solved retiming's trajectory is measured as every schedule is
-//! ([`crate::engines::measured::Rig::measure`]).
+//! It runs on every two-motor cat (the problem's model, [`Resolved::model`]: its torques along the
+//! path, [`crate::engines::torque::ZeroMomentumTorques`]). Each solved retiming's trajectory is
+//! measured as every schedule is ([`crate::engines::measured::Rig::measure`]).
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -38,7 +39,6 @@ pub struct RetimeRow {
 
 /// Retimes `schedule` (named `name`) with both splits.
 pub fn retime_rows(r: &Resolved, name: &ScheduleName, schedule: &Schedule) -> Vec<RetimeRow> {
-    let p = &r.problem;
     [Split::Kept, Split::Free]
         .into_par_iter()
         .map(|split| {
@@ -59,7 +59,7 @@ pub fn retime_rows(r: &Resolved, name: &ScheduleName, schedule: &Schedule) -> Ve
                 swing_deg: None,
                 solve_time_s: 0.0,
             };
-            match retime_schedule(&p.cat.half(), schedule, settings) {
+            match retime_schedule(r.model(), schedule, settings) {
                 Err(e) => row(format!("refused: {e}")),
                 Ok(t) => {
                     let sol = &t.solution;

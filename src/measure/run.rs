@@ -1,6 +1,14 @@
 //! Everything `catflip run` computes for one problem, before anything is written
 //! ([`crate::report::run`] renders and writes it).
 //!
+//! It runs on every two-motor cat (the paper's, unequal halves, the no-twist joint: DESIGN.md
+//! §10). Two parts model the paper's cat only (equal halves on the universal joint) and are not
+//! run on another ([`PaperOnly`]): the audit of the paper's numbers and the paper-model profile
+//! QP with its exact refinements (built on the two-cylinder engine). Everything else runs on the
+//! problem's model: the library's measurements and rapier verifications, the certified
+//! retimings, the whole optimum with its verification and robustness, the schedule and model
+//! files.
+//!
 //! The independent computations run in parallel (rayon): the profile QP and its refinements,
 //! the whole-manoeuvre optimum, the certified retimings and the rapier verification of every
 //! library schedule start together; each optimised schedule is verified, and its schedule file
@@ -56,12 +64,45 @@ pub enum ComputeError {
     Exchange(#[from] crate::exchange::ExchangeError),
 }
 
+/// A part of `run` that models the paper's cat only (equal halves on the universal joint): on
+/// any other cat it is not run, and the report says so ([`PaperOnly::not_run`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PaperOnly {
+    /// The audit of the paper's numbers ([`audit_with_exact`]): its formulas are the paper's cat's.
+    Audit,
+    /// The paper-model profile QP and its exact refinements ([`optimize`]): the QP's model is the
+    /// paper's `I*`, the refinements run the two-cylinder engine.
+    ProfileQp,
+}
+
+impl PaperOnly {
+    /// The part as the sentence's subject, with its verb.
+    fn subject(self) -> &'static str {
+        match self {
+            PaperOnly::Audit => "The audit of the paper's numbers models",
+            PaperOnly::ProfileQp => "The paper-model profile QP and its refinements model",
+        }
+    }
+
+    /// One plain sentence saying that the part is not run for `problem`'s cat, and why (the field
+    /// that departs from the paper's cat); `None` on the paper's cat, where it runs.
+    pub fn not_run(self, problem: &crate::problem::Problem) -> Option<String> {
+        let (field, value) = problem.cat.departure()?;
+        Some(format!(
+            "{} the paper's cat (equal halves on the universal joint): not run for this cat ({field} = {value}).",
+            self.subject()
+        ))
+    }
+}
+
 /// The results of one run.
 pub struct RunResults {
-    /// The paper's numbers, with the exact engine's column.
-    pub audit: Audit,
-    /// The profile QP and its refinements, each optimum measured.
-    pub opt: OptimizeReport,
+    /// The paper's numbers, with the exact engine's column; `None` on a cat other than the
+    /// paper's ([`PaperOnly::Audit`]).
+    pub audit: Option<Audit>,
+    /// The profile QP and its refinements, each optimum measured; `None` on a cat other than the
+    /// paper's ([`PaperOnly::ProfileQp`]).
+    pub opt: Option<OptimizeReport>,
     /// The whole-manoeuvre optimum, measured and verified.
     pub whole: WholeReport,
     /// The certified retimings of the problem's schedule (and of the calibrated one).
@@ -90,7 +131,8 @@ pub fn compute<A: Send>(
     clock: &Stopwatch,
     beside: impl Fn(&Measured<crate::optimize::whole::BSpline>) -> A + Sync,
 ) -> Result<(RunResults, Option<A>), ComputeError> {
-    let audit = clock.time("audit", || audit_with_exact(r))?;
+    let paper = r.problem.cat.is_paper();
+    let audit = paper.then(|| clock.time("audit", || audit_with_exact(r))).transpose()?;
     let library: Vec<Measured<Schedule>> = r.library().iter().map(|(_, m)| m.clone()).collect();
     // Four branches; each verifies what it produced as soon as it has it. The longest chains
     // start first: the whole optimum (solve, then verification beside the robustness and
@@ -119,13 +161,21 @@ pub fn compute<A: Send>(
     Ok((RunResults { audit, opt, whole, retimed, verified, robustness, files }, beside))
 }
 
+/// The profile QP's report (none on a cat other than the paper's), its optima measured and
+/// verified, and their schedule files.
+type OptimiseBranch = (Option<OptimizeReport>, Vec<Measured<Schedule>>, Files);
+
 /// The profile QP and its refinements, then their verification, and the recommended schedule's:
-/// the most refined one with the calibrated circulation (when the calibration converged).
+/// the most refined one with the calibrated circulation (when the calibration converged). On a
+/// cat other than the paper's, nothing ([`PaperOnly::ProfileQp`]).
 fn optimise_and_verify(
     r: &Resolved,
     export: &ExportOptions,
     clock: &Stopwatch,
-) -> Result<(OptimizeReport, Vec<Measured<Schedule>>, Files), ComputeError> {
+) -> Result<OptimiseBranch, ComputeError> {
+    if !r.problem.cat.is_paper() {
+        return Ok((None, Vec::new(), Vec::new()));
+    }
     let opt = clock.time("profile QP and refinements", || optimize(r))?;
     let mut runs: Vec<Measured<Schedule>> = opt.optima().map(|o| o.measured.clone()).collect();
     let most_refined =
@@ -140,7 +190,7 @@ fn optimise_and_verify(
         || clock.time("schedule files: optimised", || schedule_files(&r.problem, &exported, export)),
         || verify_all(r, runs.clone(), clock),
     );
-    Ok((opt, verified?, files?))
+    Ok((Some(opt), verified?, files?))
 }
 
 /// The whole optimum with its robustness, what `beside` made of it, and its schedule files.

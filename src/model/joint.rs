@@ -117,6 +117,16 @@ impl Joint {
             Joint::Spherical => vec![Vector3::x(), Vector3::y(), spine(&bend_vector(q))],
         }
     }
+
+    /// The [`Joint::motor_axes`] in words, one per coordinate (`A's x`, `the cross's y`, …), for
+    /// labels.
+    pub fn motor_axis_names(self) -> &'static [&'static str] {
+        match self {
+            Joint::Universal => &["A's x", "the cross's y"],
+            Joint::NoTwist => &["A's x", "A's y"],
+            Joint::Spherical => &["A's x", "A's y", "B's spine"],
+        }
+    }
 }
 
 impl std::fmt::Display for Joint {

@@ -8,9 +8,10 @@
 //! the third; refused until a schedule drives it: the library schedules give two coordinates).
 //!
 //! The model the engines run is [`CatSection::model`]. The paper's cat (equal halves on the
-//! universal joint) runs every command; any other model runs the exact engine's commands
-//! (`simulate`, the calibration, `compare`), and every other command refuses it by name
-//! ([`crate::problem::Problem::require_paper_cat`]).
+//! universal joint) runs every command; any other two-motor model runs the exact engine's
+//! commands (`simulate`, the calibration, `compare`), rapier, the whole optimiser and `run` (less
+//! its parts for the paper's cat, [`crate::measure::run::PaperOnly`]), and every other command
+//! refuses it by name ([`crate::problem::Problem::require_paper_cat`]).
 
 use serde::{Deserialize, Serialize};
 

@@ -272,7 +272,7 @@ impl Problem {
         Err(bad(
             &field,
             value,
-            &format!("{what} models the paper's cat only (equal halves on the universal joint) so far; `simulate` (exact engine and rapier), `compare`, `optimize --whole [--verify]`, `compare-models` and `robust` with robust.engine = \"exact\" run this cat (its circulation given or calibrated)"),
+            &format!("{what} models the paper's cat only (equal halves on the universal joint) so far; `simulate` (exact engine and rapier), `compare`, `optimize --whole [--verify]`, `compare-models`, `run` (without the audit and the profile QP) and `robust` with robust.engine = \"exact\" run this cat (its circulation given or calibrated)"),
         ))
     }
 

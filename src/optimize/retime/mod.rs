@@ -11,9 +11,11 @@
 //! $$ τ(s) = a(s)\, \ddot s + b(s)\, \dot s^2, \qquad
 //!    a = M(q)\, q' = τ(q, 0, q'), \quad b = M(q)\, q'' + c(q, q') = τ(q, q', q''), $$
 //!
-//! both evaluated by Newton–Euler ([`crate::engines::torque::joint_torques`]) at the states
-//! `(q, q̇ = 0, q̈ = q')` and `(q, q̇ = q', q̈ = q'')`. The reorientation is a geometric phase of the
-//! path ([`crate::engines::exact`]): no timing changes twist or swing.
+//! both evaluated by Newton–Euler ([`crate::engines::torque::ZeroMomentumTorques`]: the paper's
+//! two-cylinder engine, or the general core for the other two-motor cats, unequal halves and the
+//! no-twist joint of DESIGN.md §10) at the states `(q, q̇ = 0, q̈ = q')` and `(q, q̇ = q', q̈ = q'')`.
+//! The reorientation is a geometric phase of the path ([`crate::engines::exact`]): no timing
+//! changes twist or swing.
 //!
 //! ## The convex program
 //!

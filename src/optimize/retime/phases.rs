@@ -16,7 +16,7 @@
 
 use super::problemdata::graded_grid;
 use super::{PathPiece, PathProblem, RetimeError, RetimeSettings, Retiming};
-use crate::model::Cylinder;
+use crate::engines::torque::ZeroMomentumTorques;
 use crate::schedule::{JointState, Phase, Schedule, Trajectory};
 
 /// A schedule's path with every moving phase parametrised by `|φ|`, its progress variable
@@ -73,7 +73,7 @@ impl Trajectory for PhasePath {
 /// one [`PathPiece::sample`] grades on the schedule's own timing (half the nodes equally spaced
 /// in time, half in arc length), carried to `φ`: the same points of the path.
 pub fn retime_schedule(
-    cat: &Cylinder,
+    cat: &impl ZeroMomentumTorques,
     schedule: &Schedule,
     settings: RetimeSettings,
 ) -> Result<Retiming<PhasePath>, RetimeError> {

@@ -4,8 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{bad, positive, RetimeError, RetimeSettings, Split};
-use crate::engines::torque::joint_torques;
-use crate::model::Cylinder;
+use crate::engines::torque::ZeroMomentumTorques;
 use crate::schedule::{JointState, Trajectory};
 
 /// The path at one grid node: the coefficients of `τ = a s̈ + b ṡ²` and the tangent.
@@ -55,7 +54,7 @@ impl PathPiece {
     /// where its optimal `ṡ` is large and steep; half the nodes follow the arc, so the joint
     /// motion is resolved evenly, half follow `s`, so no interval of `s` is left coarse.
     pub fn sample(
-        cat: &Cylinder,
+        cat: &impl ZeroMomentumTorques,
         path: &impl Trajectory,
         piece: usize,
         length: f64,
@@ -66,7 +65,7 @@ impl PathPiece {
 
     /// [`PathPiece::sample`] on the given grid (increasing from 0 to `length`).
     pub(crate) fn sample_on(
-        cat: &Cylinder,
+        cat: &impl ZeroMomentumTorques,
         path: &impl Trajectory,
         piece: usize,
         length: f64,
@@ -74,8 +73,8 @@ impl PathPiece {
     ) -> Result<PathPiece, RetimeError> {
         let node = |s: f64| -> Result<PathNode, RetimeError> {
             let st = path.piece_state(piece, s);
-            let a = joint_torques(cat, &JointState { q: st.q, qd: [0.0; 2], qdd: st.qd }).tau;
-            let b = joint_torques(cat, &st).tau;
+            let a = cat.motor_torques(&JointState { q: st.q, qd: [0.0; 2], qdd: st.qd });
+            let b = cat.motor_torques(&st);
             let finite = |v: [f64; 2]| v.iter().all(|x| x.is_finite());
             if !finite(st.q) || !finite(st.qdd) {
                 return Err(RetimeError::NonFinitePath { piece, s, what: "q or q''" });
@@ -143,7 +142,7 @@ pub(crate) struct Junction {
 impl PathProblem {
     /// The program for a trajectory's path, every piece timed anew within a total `duration`.
     pub fn from_trajectory(
-        cat: &Cylinder,
+        cat: &impl ZeroMomentumTorques,
         path: &impl Trajectory,
         duration: f64,
         settings: RetimeSettings,

@@ -11,7 +11,7 @@ use serde::Serialize;
 use super::{PathProblem, PieceTiming, RetimeError, RetimeSettings, RetimeSolution};
 use crate::engines::evaluate::Evaluation;
 use crate::engines::exact::Flip;
-use crate::engines::torque::PeakTorques;
+use crate::engines::torque::{PeakTorques, ZeroMomentumTorques};
 use crate::model::motor::Motors;
 use crate::model::Cylinder;
 use crate::problem::settings::ExactSettings;
@@ -79,7 +79,7 @@ pub struct Remeasurement {
 /// Retimes a trajectory's path to a total `duration` (s): samples it, solves the program, and
 /// builds the timed trajectory (module docs).
 pub fn retime<P: Trajectory + Clone>(
-    cat: &Cylinder,
+    cat: &impl ZeroMomentumTorques,
     path: &P,
     duration: f64,
     settings: RetimeSettings,

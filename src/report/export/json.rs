@@ -21,14 +21,14 @@ fn file(name: &str, value: &impl serde::Serialize) -> Result<(String, String), E
 
 impl Exporter for Json {
     fn files(&self, v: &Views) -> Result<Files, ExportError> {
-        let mut files = vec![
-            file("audit.json", v.audit)?,
-            file("optimize.json", v.optimize)?,
+        let mut files: Files = v.audit.map(|a| file("audit.json", a)).transpose()?.into_iter().collect();
+        files.extend(v.optimize.map(|o| file("optimize.json", o)).transpose()?);
+        files.extend([
             file("whole.json", v.whole)?,
             file("retime.json", &v.retimed)?,
             file("simulate_exact.json", &v.verified.iter().map(|s| &s.exact).collect::<Vec<_>>())?,
             file("simulate_rapier.json", &v.verified.iter().map(rapier_json).collect::<Vec<_>>())?,
-        ];
+        ]);
         if let Some(verification) = v.whole.verification() {
             files.push(file("verification_whole.json", verification)?);
         }

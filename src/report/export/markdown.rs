@@ -16,14 +16,14 @@ impl Exporter for Markdown {
         compare.extend(v.whole_row.map(|row| row.markdown()));
         let mut verification = verification_markdown(v.problem, v.verified);
         verification.extend(crate::report::whole::verification_row_markdown(v.whole));
-        let mut files = vec![
-            ("audit.md".to_string(), v.audit.to_markdown()),
-            ("optimize.md".to_string(), v.optimize.to_markdown()),
+        let mut files: Files = v.audit.map(|a| ("audit.md".to_string(), a.to_markdown())).into_iter().collect();
+        files.extend(v.optimize.map(|o| ("optimize.md".to_string(), o.to_markdown())));
+        files.extend([
             ("whole.md".to_string(), v.whole.to_markdown()),
             ("retime.md".to_string(), crate::report::whole::retime_markdown(v.retimed)),
             ("compare.md".to_string(), compare),
             ("verification.md".to_string(), verification),
-        ];
+        ]);
         files.extend(v.robust.map(|r| ("robust.md".to_string(), r.to_markdown())));
         Ok(files)
     }

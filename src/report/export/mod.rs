@@ -69,10 +69,12 @@ impl<'a> Shown<'a> {
 pub struct Views<'a> {
     /// The problem.
     pub problem: &'a Problem,
-    /// The paper's numbers.
-    pub audit: &'a Audit,
-    /// The profile QP and its refinements.
-    pub optimize: &'a OptimizeJson<'a>,
+    /// The paper's numbers; `None` on a cat other than the paper's
+    /// ([`crate::measure::run::PaperOnly::Audit`]: no file is written).
+    pub audit: Option<&'a Audit>,
+    /// The profile QP and its refinements; `None` on a cat other than the paper's
+    /// ([`crate::measure::run::PaperOnly::ProfileQp`]: no file is written).
+    pub optimize: Option<&'a OptimizeJson<'a>>,
     /// The whole-manoeuvre optimum, measured and verified.
     pub whole: &'a WholeReport,
     /// The certified retimings.

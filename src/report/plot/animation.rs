@@ -122,7 +122,7 @@ pub fn flip_filmstrip(
 }
 
 /// The problem's cat as the engines run it, or why a picture of it cannot be drawn.
-fn model_of(problem: &Problem, path: &Path) -> Result<TwoMotorCat, PlotError> {
+pub(super) fn model_of(problem: &Problem, path: &Path) -> Result<TwoMotorCat, PlotError> {
     TwoMotorCat::new(problem.cat.model())
         .map_err(|e| PlotError::BadArgument { path: path.to_path_buf(), reason: e.to_string() })
 }

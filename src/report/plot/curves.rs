@@ -4,11 +4,11 @@
 
 use std::path::{Path, PathBuf};
 
+use super::animation::model_of;
 use super::chart::{line_plot, Band, LinePlot, RefLine, Scale};
 use super::{PlotError, Series};
-use crate::engines::exact::fall_history;
-use crate::engines::torque::joint_torques;
-use crate::model::Cylinder;
+use crate::engines::models::TwoMotorCat;
+use crate::engines::torque::ZeroMomentumTorques;
 use crate::problem::Problem;
 use crate::schedule::{Phase, Schedule, Trajectory};
 
@@ -53,7 +53,8 @@ fn rate_curve(schedule: &Schedule) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The motor torques `τ₁` and `τ₂` (N·m) of each schedule over the whole manoeuvre, as
+/// The motor torques `τ₁` and `τ₂` (N·m, on the problem's joint's motor axes) of each schedule
+/// over the whole manoeuvre on the problem's cat, as
 /// `dir/torques_joint1.{png,svg}` and `dir/torques_joint2.{png,svg}`, with the phases marked.
 ///
 /// Each phase is sampled by its own formula on its closed interval (about
@@ -64,12 +65,14 @@ pub fn torques_plot(
     problem: &Problem,
     schedules: &[(String, &dyn Trajectory)],
 ) -> Result<Vec<PathBuf>, PlotError> {
+    let cat = model_of(problem, dir)?;
     let sampled: Vec<(&str, TorqueCurve)> =
-        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&problem.cat.half(), *s))).collect();
+        schedules.iter().map(|(name, s)| (name.as_str(), torque_curve(&cat, *s))).collect();
     let bands = schedules.first().map(|(_, s)| phase_bands(*s)).unwrap_or_default();
-    let axes = ["1", "2"].iter().zip(["τ₁", "τ₂"]).zip(["about A's x axis", "about the cross's y axis"]);
+    let axes = ["1", "2"].iter().zip(["τ₁", "τ₂"]).zip(problem.cat.joint.motor_axis_names());
     let mut files = Vec::new();
-    for (j, ((number, symbol), about)) in axes.enumerate() {
+    for (j, ((number, symbol), axis)) in axes.enumerate() {
+        let about = format!("about {axis} axis");
         let series = sampled
             .iter()
             .map(|(name, points)| Series::new(*name, points.iter().map(|(t, tau)| (*t, tau[j])).collect()))
@@ -90,9 +93,9 @@ pub fn torques_plot(
 /// `(t, [τ₁, τ₂])` samples, s and N·m.
 type TorqueCurve = Vec<(f64, [f64; 2])>;
 
-/// `(t, [τ₁, τ₂])` piece by piece (phase by phase for a schedule), both ends of each piece
-/// included.
-fn torque_curve(cat: &Cylinder, schedule: &dyn Trajectory) -> TorqueCurve {
+/// `(t, [τ₁, τ₂])` on `cat` at zero angular momentum, piece by piece (phase by phase for a
+/// schedule), both ends of each piece included.
+fn torque_curve(cat: &TwoMotorCat, schedule: &dyn Trajectory) -> TorqueCurve {
     let durations = schedule.piece_durations();
     let total: f64 = durations.iter().sum();
     let mut out = Vec::with_capacity(TORQUE_SAMPLES + 2 * durations.len() + 4);
@@ -101,7 +104,7 @@ fn torque_curve(cat: &Cylinder, schedule: &dyn Trajectory) -> TorqueCurve {
         let n = ((TORQUE_SAMPLES as f64 * dur / total).round() as usize).max(2);
         out.extend((0..=n).map(|k| {
             let s = dur * k as f64 / n as f64;
-            (t0 + s, joint_torques(cat, &schedule.piece_state(piece, s)).tau)
+            (t0 + s, cat.motor_torques(&schedule.piece_state(piece, s)))
         }));
         t0 += dur;
     }
@@ -127,8 +130,8 @@ fn phase_bands(schedule: &dyn Trajectory) -> Vec<Band> {
         .collect()
 }
 
-/// Twist and swing of the front half A (degrees) over time from the exact engine with `steps`
-/// Magnus steps over the whole fall ([`fall_history`]), as
+/// Twist and swing of the front half A (degrees) over time from the exact engine on the problem's
+/// cat with `steps` Magnus steps over the whole fall ([`TwoMotorCat::picture_history`]), as
 /// `dir/flip.{png,svg}`, with the ±180° target dashed.
 pub fn flip_plot(
     dir: &Path,
@@ -140,7 +143,7 @@ pub fn flip_plot(
     if steps == 0 {
         return Err(PlotError::BadArgument { path: dir.join("flip"), reason: "steps must be at least 1".into() });
     }
-    let samples = fall_history(&problem.cat.half(), schedule, steps);
+    let samples = model_of(problem, dir)?.picture_history(schedule, &nalgebra::Vector3::zeros(), steps);
     let twist: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.twist.to_degrees())).collect();
     let swing: Vec<(f64, f64)> = samples.iter().map(|s| (s.time, s.angles.swing.to_degrees())).collect();
     let end = |c: &[(f64, f64)]| c.last().map_or(f64::NAN, |p| p.1);
@@ -197,11 +200,17 @@ pub fn trajectory_torques_plot(
     name: &str,
     trajectory: &dyn Trajectory,
 ) -> Result<Vec<PathBuf>, PlotError> {
-    let curve = torque_curve(&problem.cat.half(), trajectory);
-    let series = ["τ₁ (joint 1, about A's x)", "τ₂ (joint 2, about the cross's y)"]
+    let curve = torque_curve(&model_of(problem, dir)?, trajectory);
+    let series = ["τ₁", "τ₂"]
         .iter()
+        .zip(problem.cat.joint.motor_axis_names())
         .enumerate()
-        .map(|(j, label)| Series::new(*label, curve.iter().map(|(t, tau)| (*t, tau[j])).collect()))
+        .map(|(j, (symbol, axis))| {
+            Series::new(
+                format!("{symbol} (joint {}, about {axis})", j + 1),
+                curve.iter().map(|(t, tau)| (*t, tau[j])).collect(),
+            )
+        })
         .collect();
     let mut plot = LinePlot::new(
         stem,

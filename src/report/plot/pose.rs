@@ -10,12 +10,12 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
-use crate::engines::exact::{fall_history, OrientationSample};
+use crate::engines::exact::OrientationSample;
 use crate::engines::models::TwoMotorCat;
 use crate::schedule::{Phase, Trajectory};
 
 /// Magnus steps over the whole fall of the orientation history the poses are interpolated from
-/// (600 per phase of a three-phase schedule; [`fall_history`]).
+/// (600 per phase of a three-phase schedule; [`TwoMotorCat::picture_history`]).
 const HISTORY_STEPS: usize = 1800;
 
 /// One half's place in the world frame.
@@ -64,10 +64,7 @@ pub fn cat_poses_spinning(
     times: &[f64],
 ) -> Vec<CatPose> {
     let model = cat.cat();
-    let samples = match model.paper() {
-        Some(half) if spin.norm_squared() == 0.0 => fall_history(half, schedule, HISTORY_STEPS),
-        _ => cat.fall_history(schedule, spin, HISTORY_STEPS),
-    };
+    let samples = cat.picture_history(schedule, spin, HISTORY_STEPS);
     let (front, rear) = (model.front, model.rear);
     // The shares of A's-centre-to-B's-centre vector from the centre of mass to each centre.
     let share_a = rear.mass / (front.mass + rear.mass);

@@ -9,8 +9,9 @@ use crate::measure::whole::WholeReport;
 use crate::report::export::Shown;
 use crate::schedule::variant::{Origin, Variant, WHOLE};
 
-/// The terminal text of a run of the problem whose own profile is `own`, written to `shown`.
-pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, shown: &str) -> String {
+/// The terminal text of a run of the problem whose own profile is `own`, written to `shown`;
+/// `not_run` holds one sentence per part that models the paper's cat only and was not run.
+pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, not_run: &[String], shown: &str) -> String {
     let mut s = String::new();
     let variant = |v: &Shown| v.measured.name.variant();
     let problem = verified.iter().find(|v| variant(v) == Some(Variant::new(own)));
@@ -44,6 +45,9 @@ pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, shown
         (None, _) => {
             let _ = writeln!(s, "No whole-manoeuvre optimum: {}.", whole.status);
         }
+    }
+    for line in not_run {
+        let _ = writeln!(s, "{line}");
     }
     s.push_str("\n| schedule | twist ° | swing ° | peak N·m | rapier |\n|---|---:|---:|---:|---|\n");
     let library = |v: &Shown| variant(v).is_some_and(|x| !x.origin.is_optimised() && !x.is_calibrated());

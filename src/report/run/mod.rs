@@ -4,7 +4,9 @@
 //! The audit, the exact engine on the problem's schedule, the peak-torque table (every library
 //! profile, the QP optimum and the exact-dynamics refinement), the rapier verification of every
 //! schedule in that table, the schedules as CSV, the plots and the animation, and a Markdown
-//! report with a provenance header. Files are written into a scratch folder beside the target
+//! report with a provenance header. On a two-motor cat other than the paper's, the audit and the
+//! profile QP with its refinements are not run ([`PaperOnly`]), and the terminal and `report.md`
+//! say so, one sentence each; the spherical joint and a release with spin are refused. Files are written into a scratch folder beside the target
 //! and moved into place only when everything succeeded: a failed run leaves no half-written
 //! results (and keeps the previous ones).
 
@@ -16,7 +18,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::engines::resolved::Resolved;
-use crate::measure::run::{compute, ComputeError, RunResults};
+use crate::measure::run::{compute, ComputeError, PaperOnly, RunResults};
 pub use crate::measure::timings::StageTime;
 use crate::measure::timings::Stopwatch;
 use crate::report::compare::compare;
@@ -149,7 +151,8 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
-    r.require_paper_cat("run (its optimisers, rapier verifications and exports)")?;
+    r.problem.require_no_spin("run (its optimisers and retimings)")?;
+    r.problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")?;
     let clock = Stopwatch::start();
     let (mut outcome, ()) =
         atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock).map(|s| (s, ())))?;
@@ -224,20 +227,27 @@ fn produce(
     let verified =
         verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
     // The views every format renders: the peak-torque table holds every schedule measured once.
-    let opt = opt.to_json(&r.model().cat().rear);
-    let extra: Vec<_> = [&opt.qp_optimum, &opt.refined_optimum]
-        .into_iter()
-        .flatten()
-        .chain(opt.all_phases.as_ref().map(|a| &a.optimum))
+    let opt = opt.as_ref().map(|o| o.to_json(&r.model().cat().rear));
+    let extra: Vec<_> = opt
+        .iter()
+        .flat_map(|opt| {
+            [&opt.qp_optimum, &opt.refined_optimum]
+                .into_iter()
+                .flatten()
+                .chain(opt.all_phases.as_ref().map(|a| &a.optimum))
+        })
         .map(|o| o.evaluation.clone())
         .collect();
+    // The parts that model the paper's cat only, said plainly when they are not run.
+    let not_run: Vec<String> =
+        [PaperOnly::Audit, PaperOnly::ProfileQp].into_iter().filter_map(|p| p.not_run(problem)).collect();
     let table = compare(r, &extra);
     let whole_row = crate::report::whole::compare_row(&whole);
     let robust = robustness.map(|c| crate::robust::RobustReport { checks: vec![c], command: command.to_string() });
     let views = Views {
         problem,
-        audit: &audit,
-        optimize: &opt,
+        audit: audit.as_ref(),
+        optimize: opt.as_ref(),
         whole: &whole,
         retimed: &retimed,
         table: &table,
@@ -273,7 +283,7 @@ fn produce(
     w.record(animation?);
     // 6. The report.
     let optimum = crate::report::whole::summary_lines(&whole, &retimed);
-    let mut summary = summary(r, &table, &opt, &verified, &optimum);
+    let mut summary = summary(r, &views, &not_run, &optimum);
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         let _ = writeln!(
             summary,
@@ -296,7 +306,7 @@ fn produce(
     }
     w.put("report.md", &report)?;
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
-    let mut answer = answer::answer(own, &verified, &whole, &w.shown.display().to_string());
+    let mut answer = answer::answer(own, &verified, &whole, &not_run, &w.shown.display().to_string());
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));
     }

@@ -5,20 +5,17 @@ use std::fmt::Write as _;
 use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
 use crate::problem::Problem;
-use crate::report::compare::CompareTable;
-use crate::report::export::Shown;
+use crate::report::export::{Shown, Views};
 use crate::report::optimize::OptimizeJson;
 use crate::report::simulate::SimulationReport;
 use crate::schedule::variant::Origin;
 use crate::schedule::Phase;
 
-pub(super) fn summary(
-    r: &Resolved,
-    table: &CompareTable,
-    opt: &OptimizeJson,
-    verified: &[Shown],
-    optimum: &str,
-) -> String {
+/// The report's summary of the run's `views`; `not_run` holds one sentence per part that models
+/// the paper's cat only and was not run ([`crate::measure::run::PaperOnly`]), `optimum` the whole
+/// optimum's lines.
+pub(super) fn summary(r: &Resolved, views: &Views, not_run: &[String], optimum: &str) -> String {
+    let (table, verified) = (views.table, views.verified);
     let problem = &r.problem;
     let mut s = String::new();
     let _ = writeln!(s, "## Summary\n");
@@ -58,7 +55,7 @@ pub(super) fn summary(
             m.verdict()
         );
     }
-    let c = &opt.calibration;
+    let c = r.calibration();
     if c.status.is_converged() {
         let _ = writeln!(
             s,
@@ -75,6 +72,38 @@ pub(super) fn summary(
             c.status, c.evaluations, r.circulation.radians
         );
     }
+    if let Some(opt) = views.optimize {
+        profile_qp_lines(&mut s, opt);
+    }
+    for line in not_run {
+        let _ = writeln!(s, "- {line}");
+    }
+    let _ = writeln!(s, "{}", rapier_line(problem, verified));
+    let _ = writeln!(
+        s,
+        "- Verdicts: {}.",
+        Verification::verdicts_line(verified.iter().map(|v| (v.name(), v.verification())))
+    );
+    s.push_str(optimum);
+    let tables: Vec<String> = [
+        ("audit.md", views.audit.is_some()),
+        ("compare.md", true),
+        ("optimize.md", views.optimize.is_some()),
+        ("whole.md", true),
+        ("retime.md", true),
+        ("verification.md", true),
+    ]
+    .into_iter()
+    .filter(|(_, written)| *written)
+    .map(|(f, _)| format!("`{f}`"))
+    .collect();
+    let (last, rest) = tables.split_last().map_or(("", &[][..]), |(l, r)| (l.as_str(), r));
+    let _ = writeln!(s, "\nSee {} and {last} for the tables.", rest.join(", "));
+    s
+}
+
+/// The summary's lines on the profile QP and its refinements.
+fn profile_qp_lines(s: &mut String, opt: &OptimizeJson) {
     let closed = opt.qp_closed_form_nm.map_or("none with limits".to_string(), |c| format!("{c:.6}"));
     let _ = writeln!(
         s,
@@ -104,18 +133,6 @@ pub(super) fn summary(
             e.phase_max(Phase::Unbend)
         );
     }
-    let _ = writeln!(s, "{}", rapier_line(problem, verified));
-    let _ = writeln!(
-        s,
-        "- Verdicts: {}.",
-        Verification::verdicts_line(verified.iter().map(|v| (v.name(), v.verification())))
-    );
-    s.push_str(optimum);
-    let _ = writeln!(
-        s,
-        "\nSee `audit.md`, `compare.md`, `optimize.md`, `whole.md`, `retime.md` and `verification.md` for the tables."
-    );
-    s
 }
 
 /// The summary's line on rapier: how close its results came to the exact engine's, and how many
