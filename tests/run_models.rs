@@ -65,9 +65,11 @@ fn run_on_kane_and_schers_cat_writes_what_applies_and_names_what_it_leaves_out()
         let twist: f64 = row.split(',').nth(16).and_then(|x| x.parse().ok()).expect("twist_deg, the 17th column");
         assert!((twist + 180.0).abs() < 1e-6, "{row}");
     }
-    // The model file: MJCF only (URDF has no joint that bends without twisting).
+    // The model files: a ball joint in the MJCF, pyBullet's spherical joint in the URDF (URDF has
+    // no joint that bends without twisting).
     assert!(file("schedules/model.xml").is_file());
-    assert!(!file("schedules/model.urdf").exists());
+    let urdf = std::fs::read_to_string(file("schedules/model.urdf")).expect("schedules/model.urdf");
+    assert!(urdf.contains("type=\"spherical\""), "{urdf}");
     assert!(file("schedules/whole-optimum.csv").is_file() && file("schedules/problem.csv").is_file());
     // What is left out: said once in the terminal and once in the report, naming the field; no
     // file of theirs.
