@@ -31,6 +31,15 @@ fn the_check_is_the_same_at_one_and_two_threads() {
     assert!(one == two, "the check depends on the thread count");
 }
 
+/// The check's JSON, CSV and Markdown of `p`'s own schedule on a pool of `threads` threads.
+fn outputs_at(p: &Problem, r: &Resolved, threads: usize) -> (String, String, String) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
+    pool.install(|| {
+        let report = check(p, &r.schedule, "s").expect("the check");
+        (serde_json::to_string(&report).expect("serialises"), report.to_csv(), report.to_markdown())
+    })
+}
+
 #[test]
 fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
     let p = problem(&[
@@ -41,14 +50,7 @@ fn the_tracked_check_is_byte_identical_at_one_and_two_threads() {
         "robust.controller=both",
     ]);
     let r = Resolved::new(&p).expect("calibrates");
-    let at = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
-        pool.install(|| {
-            let report = check(&p, &r.schedule, "s").expect("the check");
-            (serde_json::to_string(&report).expect("serialises"), report.to_csv(), report.to_markdown())
-        })
-    };
-    let (one, two) = (at(1), at(2));
+    let (one, two) = (outputs_at(&p, &r, 1), outputs_at(&p, &r, 2));
     assert!(one == two, "the tracked check depends on the thread count");
     let report = check(&p, &r.schedule, "s").expect("the check");
     let engines: Vec<Engine> = report.checks.iter().map(|c| c.engine).collect();
@@ -87,14 +89,7 @@ fn a_replanned_check_is_byte_identical_at_one_and_two_threads() {
         "robust.feedback_replan_hz=20",
     ]);
     let r = Resolved::new(&p).expect("calibrates");
-    let at = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
-        pool.install(|| {
-            let report = check(&p, &r.schedule, "s").expect("the check");
-            (serde_json::to_string(&report).expect("serialises"), report.to_csv(), report.to_markdown())
-        })
-    };
-    let (one, two) = (at(1), at(2));
+    let (one, two) = (outputs_at(&p, &r, 1), outputs_at(&p, &r, 2));
     assert!(one == two, "the re-planned check depends on the thread count");
     assert!(one.2.contains("re-planned every 0.050 s"), "{}", one.2);
     // The same draws without re-plans land otherwise: the re-plans act.

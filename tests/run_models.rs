@@ -116,3 +116,27 @@ fn the_torque_plots_name_the_no_twist_joints_axes() {
     let whole = read("plots/torques_whole_optimum.svg").replace("&apos;", "'");
     assert!(whole.contains("joint 2, about A's y") && !whole.contains("cross"), "the optimum's legend");
 }
+
+/// A `…-calibrated` variant is made only where the problem does not ask for the calibrated
+/// circulation: a problem that does (problems/cone-calibrated.toml) runs on it already, and its
+/// variants would repeat its schedules under a second name (its run once retimed and verified its
+/// own schedule twice); the paper's problem on π/C gets the calibrated one, 3.3 % apart.
+#[test]
+fn calibrated_variants_are_made_only_where_they_change_the_circulation() {
+    let load = |name: &str| {
+        let p = Problem::load(Path::new(&format!("problems/{name}.toml")), &[]).expect("loads");
+        Resolved::new(&p).expect("resolves")
+    };
+    let calibrated = load("cone-calibrated");
+    let own = calibrated.calibrated().expect("the calibration converges");
+    assert_eq!(calibrated.schedule.circulation.to_bits(), own.radians.to_bits(), "runs on the calibrated circulation");
+    assert!(calibrated.recalibration().is_none());
+    let paper = load("paper");
+    let other = paper.recalibration().expect("the calibration converges and differs from π/C");
+    assert!(
+        (other.radians / paper.schedule.circulation - 1.0).abs() > 0.01,
+        "{} against {}",
+        other.radians,
+        paper.schedule.circulation
+    );
+}

@@ -15,7 +15,7 @@ use crate::engines::evaluate::Evaluation;
 use crate::engines::measured::{Measured, Rig};
 use crate::engines::models::TwoMotorCat;
 use crate::model::Cylinder;
-use crate::problem::{Problem, ProfileKind};
+use crate::problem::{Circulation, Problem, ProfileKind};
 use crate::schedule::profile::Profile;
 use crate::schedule::variant::ScheduleName;
 use crate::schedule::{Schedule, Trajectory};
@@ -135,6 +135,14 @@ impl Resolved {
     /// The calibrated circulation, when the calibration converged.
     pub fn calibrated(&self) -> Option<ResolvedCirculation> {
         ResolvedCirculation::from_calibration(self.calibration())
+    }
+
+    /// The calibrated circulation when it is not already the problem's: what a schedule's
+    /// `…-calibrated` variant changes. None when the calibration failed, or when the problem asks
+    /// for the calibrated circulation (`manoeuvre.circulation = "calibrated"`), whose variants
+    /// would repeat the schedules themselves.
+    pub fn recalibration(&self) -> Option<ResolvedCirculation> {
+        self.calibrated().filter(|_| !matches!(self.problem.manoeuvre.circulation, Circulation::Calibrated))
     }
 
     /// The problem's schedule with the library profile `kind` in the twist phase.

@@ -180,7 +180,7 @@ fn optimise_and_verify(
     let mut runs: Vec<Measured<Schedule>> = opt.optima().map(|o| o.measured.clone()).collect();
     let most_refined =
         opt.optima().last().filter(|o| matches!(o.variant().origin, Origin::Refined | Origin::RefinedAllPhases));
-    if let (Some(o), Some(cal)) = (most_refined, r.calibrated()) {
+    if let (Some(o), Some(cal)) = (most_refined, r.recalibration()) {
         let name = ScheduleName::from(o.variant().calibrated());
         let calibrated = o.schedule().with_circulation(cal.radians);
         runs.push(clock.time(format!("measure {name}"), || r.measure(name.clone(), calibrated)));
@@ -245,7 +245,7 @@ fn whole_files(
 /// the calibrated one.
 fn retimings(r: &Resolved, clock: &Stopwatch) -> Vec<RetimeRow> {
     let mut schedules = vec![(ScheduleName::Problem, r.schedule.clone())];
-    if let Some(cal) = r.calibrated() {
+    if let Some(cal) = r.recalibration() {
         let name = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).calibrated().into();
         schedules.push((name, r.schedule.with_circulation(cal.radians)));
     }
