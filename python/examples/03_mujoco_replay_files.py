@@ -23,13 +23,11 @@ The cat's final orientation in MuJoCo is compared with the CSV's last row (catfl
 engine); on the ball joint the largest relative twist met during the replay is printed too.
 """
 
-import json
-import subprocess
 import sys
-import tempfile
-from pathlib import Path
 
 import numpy as np
+
+from exported_folder import folder_from, interpolator, read_rows, report, twist_swing
 
 try:
     import mujoco
@@ -39,24 +37,13 @@ except ImportError:
 
 KP, KD = 200.0, 20.0  # the PD's stiffness (N·m/rad) and damping (N·m·s/rad), as in the README
 
-if len(sys.argv) > 1:
-    folder = Path(sys.argv[1])
-else:
-    scratch = tempfile.mkdtemp()
-    subprocess.run(["cargo", "run", "--release", "--quiet", "--", "optimize", "problems/kane-scher.toml",
-                    "--whole", "--quiet", "--out", scratch], check=True, stdout=subprocess.DEVNULL)
-    folder = Path(scratch) / "kane-scher-whole"
-S = np.genfromtxt(folder / "whole-optimum.csv", delimiter=",", names=True, dtype=None, encoding=None)
+folder = folder_from(sys.argv)
+S = read_rows(folder)
+T = S["t_s"]
 m = mujoco.MjModel.from_xml_path(str(folder / "model.xml"))  # g = 0 (falling frame), RK4
 d = mujoco.MjData(m)
 ball = m.jnt_type[1] == mujoco.mjtJoint.mjJNT_BALL
 dt = m.opt.timestep
-sidecar = json.loads((folder / "whole-optimum.json").read_text())
-assert not sidecar["jumps"], "this recipe replays a file whose rates do not jump"
-# A boundary time is written twice ('end', 'start'); where the rates are continuous the two rows
-# agree to the jerk, so the 'start' rows alone make one grid of distinct times.
-S = S[S["boundary"] != "end"]
-T = S["t_s"]
 
 
 def rotation(quat):
@@ -64,12 +51,6 @@ def rotation(quat):
     out = np.zeros(9)
     mujoco.mju_quat2Mat(out, quat)
     return out.reshape(3, 3)
-
-
-def twist_swing(quat):
-    """Twist about +z and swing of the z axis, degrees, of a unit quaternion (w, x, y, z)."""
-    w, x, y, z = quat
-    return np.degrees(2 * np.arctan2(z, w)), np.degrees(2 * np.arctan2(np.hypot(x, y), np.hypot(w, z)))
 
 
 def check_ball_readings():
@@ -90,13 +71,7 @@ if ball:
     check_ball_readings()
 worst_relative_twist = 0.0
 for k in range(round(T[-1] / dt)):
-    t = k * dt
-    # Cubic (four-row Lagrange) interpolation between rows: O(h⁴), where a straight line between
-    # rows a few milliseconds apart would cost the flip about 1e-2°.
-    i = min(max(np.searchsorted(T, t, side="right") - 2, 0), len(T) - 4)
-    x = T[i:i + 4]
-    weights = [np.prod([(t - x[b]) / (x[a] - x[b]) for b in range(4) if b != a]) for a in range(4)]
-    at = lambda c: np.dot(weights, S[c][i:i + 4])
+    at = interpolator(S, k * dt)
     if ball:
         # The joint's couple on B in A's frame (motors about x and y, the constraint about z),
         # turned into B's frame.
@@ -108,18 +83,14 @@ for k in range(round(T[-1] / dt)):
         mujoco.mju_subQuat(error, goal, now)  # now · exp(error) = goal, error in B's frame
         rate = np.array([at(c) for c in ("rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s")])
         d.ctrl[:] = rotation(now).T @ couple + KP * error + KD * (rate - d.qvel[6:9])
-        worst_relative_twist = max(worst_relative_twist, abs(twist_swing(now)[0]))
+        worst_relative_twist = max(worst_relative_twist, abs(twist_swing(*now)[0]))
     else:
         d.ctrl[:] = [at(f"tau{j}_nm")
                      + KP * (at(f"q{j}_rad") - d.qpos[6 + j]) + KD * (at(f"qd{j}_rad_s") - d.qvel[5 + j]) for j in (1, 2)]
     mujoco.mj_step(m, d)
 
-twist, swing = twist_swing(d.qpos[3:7])  # A's orientation, (w, x, y, z)
-print(f"{folder}: {'ball (no-twist)' if ball else 'universal'} joint")
-print(f"MuJoCo {mujoco.__version__}: twist {twist:+.9f}°, swing {swing:.9f}° after {k + 1} steps of {dt} s")
-print(f"catflip (exact engine):  twist {S['twist_deg'][-1]:+.9f}°, swing {S['swing_deg'][-1]:.9f}°")
-gap = abs((twist - S["twist_deg"][-1] + 180.0) % 360.0 - 180.0)
-print(f"twist gap {gap:.2e}°, swing gap {abs(swing - S['swing_deg'][-1]):.2e}°")
+twist, swing = twist_swing(*d.qpos[3:7])  # A's orientation, (w, x, y, z)
 if ball:
     print(f"largest relative twist of the halves during the replay: {worst_relative_twist:.2e}°")
-assert gap < 1e-3 and abs(swing - S["swing_deg"][-1]) < 1e-3, "MuJoCo's replay does not land where catflip says"
+report(folder, "ball (no-twist)" if ball else "universal", f"MuJoCo {mujoco.__version__}", twist, swing, S, k + 1, dt,
+       1e-3)

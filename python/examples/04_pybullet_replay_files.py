@@ -22,13 +22,11 @@ pyBullet's integrator is first order: the flip's error falls in proportion to th
 here). The cat's final orientation is compared with the CSV's last row (catflip's exact engine).
 """
 
-import json
-import subprocess
 import sys
-import tempfile
-from pathlib import Path
 
 import numpy as np
+
+from exported_folder import folder_from, interpolator, read_rows, report, twist_swing
 
 try:
     import pybullet as p
@@ -39,19 +37,9 @@ except ImportError:
 KP, KD = 200.0, 20.0  # the PD's stiffness (N·m/rad) and damping (N·m·s/rad), as in the README
 DT = 1e-5  # s; first order, so the twist's error is proportional to it
 
-if len(sys.argv) > 1:
-    folder = Path(sys.argv[1])
-else:
-    scratch = tempfile.mkdtemp()
-    subprocess.run(["cargo", "run", "--release", "--quiet", "--", "optimize", "problems/kane-scher.toml",
-                    "--whole", "--quiet", "--out", scratch], check=True, stdout=subprocess.DEVNULL)
-    folder = Path(scratch) / "kane-scher-whole"
-S = np.genfromtxt(folder / "whole-optimum.csv", delimiter=",", names=True, dtype=None, encoding=None)
-sidecar = json.loads((folder / "whole-optimum.json").read_text())
-assert not sidecar["jumps"], "this recipe replays a file whose rates do not jump"
-S = S[S["boundary"] != "end"]  # a boundary time is written twice; keep one row per time
+folder = folder_from(sys.argv)
+S = read_rows(folder)
 T = S["t_s"]
-
 p.connect(p.DIRECT)
 p.setGravity(0, 0, 0)  # the falling frame: gravity exerts no torque about the centre of mass
 p.setTimeStep(DT)
@@ -67,15 +55,6 @@ else:
     p.setJointMotorControlArray(cat, [0, 1], p.VELOCITY_CONTROL, forces=[0, 0])
 
 
-def matrix(xyzw):
-    return np.array(p.getMatrixFromQuaternion(xyzw)).reshape(3, 3)
-
-
-def twist_swing(x, y, z, w):
-    """Twist about +z and swing of the z axis, degrees."""
-    return np.degrees(2 * np.arctan2(z, w)), np.degrees(2 * np.arctan2(np.hypot(x, y), np.hypot(w, z)))
-
-
 def rotation_vector(xyzw):
     """The rotation vector of a unit quaternion (x, y, z, w), its shorter way round."""
     v, w = np.array(xyzw[:3]), xyzw[3]
@@ -87,12 +66,7 @@ def rotation_vector(xyzw):
 
 worst_relative_twist = 0.0
 for k in range(round(T[-1] / DT)):
-    t = k * DT
-    # Cubic (four-row Lagrange) interpolation between rows a few milliseconds apart.
-    i = min(max(np.searchsorted(T, t, side="right") - 2, 0), len(T) - 4)
-    x = T[i:i + 4]
-    weights = [np.prod([(t - x[b]) / (x[a] - x[b]) for b in range(4) if b != a]) for a in range(4)]
-    at = lambda c: np.dot(weights, S[c][i:i + 4])
+    at = interpolator(S, k * DT)
     if ball:
         now, rate_now = p.getJointStateMultiDof(cat, 0)[:2]  # (x, y, z, w); B's frame
         goal = np.array([at(c) for c in ("rel_qx", "rel_qy", "rel_qz", "rel_qw")])
@@ -102,9 +76,10 @@ for k in range(round(T[-1] / DT)):
         error = rotation_vector(p.multiplyTransforms([0, 0, 0], inverse, [0, 0, 0], goal.tolist())[1])
         couple = np.array([at(c) for c in ("tau1_nm", "tau2_nm", "tauz_nm")])
         rate = np.array([at(c) for c in ("rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s")])
-        force = matrix(now).T @ couple + KP * error + KD * (rate - np.array(rate_now))
+        turn = np.array(p.getMatrixFromQuaternion(now)).reshape(3, 3)  # B's axes in A's frame
+        force = turn.T @ couple + KP * error + KD * (rate - np.array(rate_now))
         p.setJointMotorControlMultiDof(cat, 0, p.TORQUE_CONTROL, force=force.tolist())
-        worst_relative_twist = max(worst_relative_twist, abs(twist_swing(*now)[0]))
+        worst_relative_twist = max(worst_relative_twist, abs(twist_swing(now[3], *now[:3])[0]))
     else:
         js = p.getJointStates(cat, [0, 1])
         tau = [at(f"tau{j}_nm") + KP * (at(f"q{j}_rad") - js[j - 1][0]) + KD * (at(f"qd{j}_rad_s") - js[j - 1][1])
@@ -112,12 +87,9 @@ for k in range(round(T[-1] / DT)):
         p.setJointMotorControlArray(cat, [0, 1], p.TORQUE_CONTROL, forces=tau)
     p.stepSimulation()
 
-twist, swing = twist_swing(*p.getBasePositionAndOrientation(cat)[1])  # A's orientation, (x, y, z, w)
-print(f"{folder}: {'spherical (no-twist)' if ball else 'universal'} joint")
-print(f"pyBullet {p.getAPIVersion()}: twist {twist:+.6f}°, swing {swing:.6f}° after {k + 1} steps of {DT} s")
-print(f"catflip (exact engine):  twist {S['twist_deg'][-1]:+.6f}°, swing {S['swing_deg'][-1]:.6f}°")
-gap = abs((twist - S["twist_deg"][-1] + 180.0) % 360.0 - 180.0)
-print(f"twist gap {gap:.2e}°, swing gap {abs(swing - S['swing_deg'][-1]):.2e}°")
+x, y, z, w = p.getBasePositionAndOrientation(cat)[1]  # A's orientation; pyBullet: (x, y, z, w)
+twist, swing = twist_swing(w, x, y, z)
 if ball:
     print(f"largest relative twist of the halves during the replay: {worst_relative_twist:.2e}°")
-assert gap < 0.2 and abs(swing - S["swing_deg"][-1]) < 0.2, "pyBullet's replay does not land where catflip says"
+report(folder, "spherical (no-twist)" if ball else "universal", f"pyBullet {p.getAPIVersion()}", twist, swing, S, k + 1,
+       DT, 0.2)

@@ -1,0 +1,59 @@
+"""What the replays of an exported folder (``03_mujoco_replay_files.py``,
+``04_pybullet_replay_files.py``) share: finding the folder, reading its schedule file, the
+interpolation between its rows, and twist and swing. Only ``numpy``; run on its own it does
+nothing.
+"""
+
+import json
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+
+def folder_from(argv):
+    """The folder named on the command line, or (from the repository root) Kane and Scher's
+    optimum written into a temporary folder by ``catflip optimize … --whole --out``."""
+    if len(argv) > 1:
+        return Path(argv[1])
+    scratch = tempfile.mkdtemp()
+    subprocess.run(["cargo", "run", "--release", "--quiet", "--", "optimize", "problems/kane-scher.toml",
+                    "--whole", "--quiet", "--out", scratch], check=True, stdout=subprocess.DEVNULL)
+    return Path(scratch) / "kane-scher-whole"
+
+
+def read_rows(folder):
+    """The schedule file's rows, one per time (a boundary time is written twice, 'end' and
+    'start'; where the rates are continuous the two agree to the jerk, so the 'start' rows alone
+    make one grid)."""
+    rows = np.genfromtxt(folder / "whole-optimum.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    sidecar = json.loads((folder / "whole-optimum.json").read_text())
+    assert not sidecar["jumps"], "this recipe replays a file whose rates do not jump"
+    return rows[rows["boundary"] != "end"]
+
+
+def interpolator(rows, t):
+    """Column name → its value at time ``t``: cubic (four-row Lagrange) interpolation, O(h⁴),
+    where a straight line between rows a few milliseconds apart would cost the flip about 1e-2°."""
+    times = rows["t_s"]
+    i = min(max(np.searchsorted(times, t, side="right") - 2, 0), len(times) - 4)
+    x = times[i:i + 4]
+    weights = [np.prod([(t - x[b]) / (x[a] - x[b]) for b in range(4) if b != a]) for a in range(4)]
+    return lambda column: np.dot(weights, rows[column][i:i + 4])
+
+
+def twist_swing(w, x, y, z):
+    """Twist about +z and swing of the z axis, degrees, of a unit quaternion."""
+    return np.degrees(2 * np.arctan2(z, w)), np.degrees(2 * np.arctan2(np.hypot(x, y), np.hypot(w, z)))
+
+
+def report(folder, joint, engine, twist, swing, rows, steps, dt, tolerance):
+    """Prints the replay against catflip's last row and fails beyond ``tolerance`` degrees."""
+    print(f"{folder}: {joint} joint")
+    print(f"{engine}: twist {twist:+.9f}°, swing {swing:.9f}° after {steps} steps of {dt} s")
+    print(f"catflip (exact engine):  twist {rows['twist_deg'][-1]:+.9f}°, swing {rows['swing_deg'][-1]:.9f}°")
+    gap = abs((twist - rows["twist_deg"][-1] + 180.0) % 360.0 - 180.0)
+    print(f"twist gap {gap:.2e}°, swing gap {abs(swing - rows['swing_deg'][-1]):.2e}°")
+    assert gap < tolerance and abs(swing - rows["swing_deg"][-1]) < tolerance, \
+        f"{engine}'s replay does not land where catflip says"
