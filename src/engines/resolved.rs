@@ -15,7 +15,7 @@ use crate::engines::evaluate::Evaluation;
 use crate::engines::measured::{Measured, Rig};
 use crate::engines::models::TwoMotorCat;
 use crate::model::Cylinder;
-use crate::problem::{Circulation, Problem, ProfileKind};
+use crate::problem::{Problem, ProfileKind};
 use crate::schedule::profile::Profile;
 use crate::schedule::variant::ScheduleName;
 use crate::schedule::{Schedule, Trajectory};
@@ -137,12 +137,14 @@ impl Resolved {
         ResolvedCirculation::from_calibration(self.calibration())
     }
 
-    /// The calibrated circulation when it is not already the problem's: what a schedule's
-    /// `…-calibrated` variant changes. None when the calibration failed, or when the problem asks
-    /// for the calibrated circulation (`manoeuvre.circulation = "calibrated"`), whose variants
-    /// would repeat the schedules themselves.
+    /// The calibrated circulation when the problem's own schedule does not already turn the cat
+    /// by π (to the exact engine's tolerance, the calibration's): what a schedule's
+    /// `…-calibrated` variant changes. None when the calibration failed, or when the schedule's
+    /// circulation already is the calibrated one (`manoeuvre.circulation = "calibrated"`, or
+    /// Kane and Scher's cat on π/C), whose variants would repeat the schedules themselves.
     pub fn recalibration(&self) -> Option<ResolvedCirculation> {
-        self.calibrated().filter(|_| !matches!(self.problem.manoeuvre.circulation, Circulation::Calibrated))
+        let off = (self.own().exact.flip.twist.abs() - std::f64::consts::PI).abs();
+        self.calibrated().filter(|_| off > self.problem.exact.tolerance)
     }
 
     /// The problem's schedule with the library profile `kind` in the twist phase.
