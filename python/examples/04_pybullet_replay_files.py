@@ -55,6 +55,64 @@ else:
     p.setJointMotorControlArray(cat, [0, 1], p.VELOCITY_CONTROL, forces=[0, 0])
 
 
+def matrix(xyzw):
+    """The rotation matrix of a unit quaternion (x, y, z, w)."""
+    return np.array(p.getMatrixFromQuaternion(xyzw)).reshape(3, 3)
+
+
+def check_spherical_readings():
+    """The conventions the recipe relies on, checked on this model (a second copy of it, at a
+    random state): the joint's position is B's rotation relative to A, its velocity B's angular
+    velocity relative to A in B's frame, and a TORQUE_CONTROL couple acts about B's axes: over
+    2000 steps from rest its work equals the change of kinetic energy to 1e-4 (the first-order
+    step's error; about A's axes it would not)."""
+    probe = p.loadURDF(str(folder / "model.urdf"), basePosition=[10, 0, 0], useFixedBase=False,
+                       flags=p.URDF_USE_INERTIA_FROM_FILE)
+    for link in (-1, 0):
+        p.changeDynamics(probe, link, linearDamping=0, angularDamping=0)
+    p.setJointMotorControlMultiDof(probe, 0, p.POSITION_CONTROL, targetPosition=[0, 0, 0, 1],
+                                   targetVelocity=[0, 0, 0], force=[0, 0, 0])
+    rng = np.random.default_rng(22)
+    relative = rng.normal(size=4)
+    relative /= np.linalg.norm(relative)
+    p.resetJointStateMultiDof(probe, 0, targetValue=relative.tolist(), targetVelocity=rng.normal(size=3).tolist())
+    inertia = [np.diag(p.getDynamicsInfo(probe, link)[2]) for link in (-1, 0)]
+
+    def frames():
+        base = p.getBasePositionAndOrientation(probe)[1]
+        link = p.getLinkState(probe, 0, computeLinkVelocity=1, computeForwardKinematics=1)
+        return matrix(base), matrix(link[1]), np.array(p.getBaseVelocity(probe)[1]), np.array(link[7])
+
+    def energy():
+        (v_a, w_a), link = p.getBaseVelocity(probe), p.getLinkState(probe, 0, computeLinkVelocity=1)
+        r_a, r_b, _, w_b = frames()
+        masses = [p.getDynamicsInfo(probe, link)[0] for link in (-1, 0)]
+        return sum(0.5 * m * np.dot(v, v) + 0.5 * (r.T @ w) @ i @ (r.T @ w) for m, v, w, r, i in
+                   zip(masses, (np.array(v_a), np.array(link[6])), (np.array(w_a), w_b), (r_a, r_b), inertia))
+
+    position, velocity = p.getJointStateMultiDof(probe, 0)[:2]
+    r_a, r_b, w_a, w_b = frames()
+    assert np.allclose(r_a.T @ r_b, matrix(position), atol=1e-6)  # pyBullet hands link frames as floats
+    assert np.allclose(r_b.T @ (w_b - w_a), velocity, atol=1e-6)
+    # From rest, so that what moves the energy is the couple alone.
+    p.resetJointStateMultiDof(probe, 0, targetValue=relative.tolist(), targetVelocity=[0, 0, 0])
+    p.resetBaseVelocity(probe, [0, 0, 0], [0, 0, 0])
+    couple, start = np.array([0.3, -0.2, 0.1]), energy()
+    work_b = work_a = 0.0
+    for _ in range(2000):
+        position, before = p.getJointStateMultiDof(probe, 0)[:2]
+        p.setJointMotorControlMultiDof(probe, 0, p.TORQUE_CONTROL, force=couple.tolist())
+        p.stepSimulation()
+        mean = (np.array(before) + np.array(p.getJointStateMultiDof(probe, 0)[1])) / 2
+        work_b += couple @ mean * DT
+        work_a += couple @ (matrix(position) @ mean) * DT
+    change = energy() - start
+    print(f"pyBullet's spherical joint: work about B's axes {work_b:.6e} J, about A's {work_a:.6e} J, "
+          f"kinetic energy {change:+.6e} J")
+    assert abs(work_b - change) <= 1e-4 * abs(change) < abs(work_a - change)
+    p.removeBody(probe)
+
+
 def rotation_vector(xyzw):
     """The rotation vector of a unit quaternion (x, y, z, w), its shorter way round."""
     v, w = np.array(xyzw[:3]), xyzw[3]
@@ -64,6 +122,8 @@ def rotation_vector(xyzw):
     return v * (2 * np.arctan2(s, w) / s) if s > 1e-15 else 2 * v
 
 
+if ball:
+    check_spherical_readings()
 worst_relative_twist = 0.0
 for k in range(round(T[-1] / DT)):
     at = interpolator(S, k * DT)
@@ -76,8 +136,7 @@ for k in range(round(T[-1] / DT)):
         error = rotation_vector(p.multiplyTransforms([0, 0, 0], inverse, [0, 0, 0], goal.tolist())[1])
         couple = np.array([at(c) for c in ("tau1_nm", "tau2_nm", "tauz_nm")])
         rate = np.array([at(c) for c in ("rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s")])
-        turn = np.array(p.getMatrixFromQuaternion(now)).reshape(3, 3)  # B's axes in A's frame
-        force = turn.T @ couple + KP * error + KD * (rate - np.array(rate_now))
+        force = matrix(now).T @ couple + KP * error + KD * (rate - np.array(rate_now))
         p.setJointMotorControlMultiDof(cat, 0, p.TORQUE_CONTROL, force=force.tolist())
         worst_relative_twist = max(worst_relative_twist, abs(twist_swing(now[3], *now[:3])[0]))
     else:
