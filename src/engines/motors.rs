@@ -263,12 +263,9 @@ impl<'m> DemandCollector<'m> {
         // jump) are one-sided limits; a smooth piece's samples are refined between neighbours.
         for (s, st, jt) in &sampled.points {
             // Between the neighbours, within the sample's own segment.
-            let (a, b) = sampled
-                .segments
-                .iter()
-                .find(|seg| *s < seg.b)
-                .or(sampled.segments.last())
-                .map_or((0.0, dur), |seg| (seg.a, seg.b));
+            let segments = &sampled.segments;
+            let k = segments.partition_point(|seg| seg.b <= *s).min(segments.len().saturating_sub(1));
+            let (a, b) = segments.get(k).map_or((0.0, dur), |seg| (seg.a, seg.b));
             take(&mut best, values(jt.tau, st.qd), *s, ((s - h).max(a), (s + h).min(b)));
         }
         for seg in &sampled.segments {
