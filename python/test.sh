@@ -37,7 +37,7 @@ step "pip install ./python" "$venv/bin/pip" install --quiet --disable-pip-versio
 step pytest "$venv/bin/pytest" -q -p no:cacheprovider python/tests
 step "installing mujoco" "$venv/bin/pip" install --quiet --disable-pip-version-check mujoco || echo "python/test.sh: mujoco not installable; its example will say so"
 step "installing pybullet" "$venv/bin/pip" install --quiet --disable-pip-version-check pybullet || echo "python/test.sh: pybullet not installable; its example will say so"
-for example in python/examples/*.py; do
+for example in python/examples/[0-9]*.py; do
     step "$example" "$venv/bin/python" "$example"
 done
 # The replay again on unequal halves (each half its own link in the MJCF).

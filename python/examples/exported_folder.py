@@ -29,6 +29,11 @@ def read_rows(folder):
     make one grid)."""
     rows = np.genfromtxt(folder / "whole-optimum.csv", delimiter=",", names=True, dtype=None, encoding=None)
     sidecar = json.loads((folder / "whole-optimum.json").read_text())
+    sampling = sidecar["sampling"]
+    # A truncated or foreign CSV would replay to its own last row and seem to land: refuse it.
+    assert rows.size == sampling["rows"], f"whole-optimum.csv holds {rows.size} rows, its sidecar {sampling['rows']}"
+    assert abs(rows["t_s"][-1] - sampling["duration_s"]) <= 1e-9 * sampling["duration_s"], \
+        f"whole-optimum.csv ends at {rows['t_s'][-1]} s, its sidecar's fall at {sampling['duration_s']} s"
     assert not sidecar["jumps"], "this recipe replays a file whose rates do not jump"
     return rows[rows["boundary"] != "end"]
 

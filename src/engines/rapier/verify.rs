@@ -66,9 +66,9 @@ use serde::Serialize;
 
 use super::saturation::MotorSaturation;
 use super::{RapierError, RapierOptions, RapierRun, TimeScales, MAX_STEPS};
-use crate::engines::motors::{motor_demand, motor_demand_from, MotorDemand};
-use crate::engines::spin::SpinHistory;
-use crate::engines::torque::{piece_samples, TorqueSource};
+use crate::engines::evaluate::{released_on, released_torques};
+use crate::engines::motors::{motor_demand_from, MotorDemand};
+use crate::engines::torque::piece_samples;
 
 use crate::engines::models::TwoMotorCat;
 use crate::problem::settings::{ExactSettings, RapierSettings, TimeStep};
@@ -451,18 +451,10 @@ pub fn verify_with(
     let demand = (!opts.motors.is_ideal()).then(|| {
         let samples = piece_samples(traj, ExactSettings::default().torque_samples);
         let tolerance = ExactSettings::default().tolerance;
-        match (cat.cat().paper(), opts.spin.norm_squared() > 0.0) {
-            (Some(half), true) => {
-                let (_, history) = SpinHistory::new(half, traj, &opts.spin, tolerance);
-                motor_demand_from(&TorqueSource::spinning(half, &history), traj, &samples, &opts.motors)
-            }
-            (Some(half), false) => motor_demand(half, traj, &samples, &opts.motors),
-            (None, true) => {
-                let (_, history) = cat.flip_spinning(traj, &opts.spin, tolerance);
-                motor_demand_from(&TorqueSource::model_spinning(cat, &history), traj, &samples, &opts.motors)
-            }
-            (None, false) => motor_demand_from(&TorqueSource::model(cat), traj, &samples, &opts.motors),
-        }
+        // The spinning cat's torques need its attitude history; at zero momentum none.
+        let history =
+            (opts.spin.norm_squared() > 0.0).then(|| released_on(cat, traj, &opts.spin, tolerance).1).flatten();
+        motor_demand_from(&released_torques(cat, history.as_ref()), traj, &samples, &opts.motors)
     });
     let (mut runs, mut kept, mut failures) = (Vec::<RunRecord>::new(), Vec::<RapierRun>::new(), Vec::new());
     let mut spent = 0.0;
