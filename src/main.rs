@@ -393,14 +393,17 @@ fn run() -> anyhow::Result<()> {
             );
             let (report, dir) = match &schedule {
                 Some(file) => {
-                    let imported = catflip::exchange::read_schedule(file)?;
-                    // The import's own checks (units, ends, sampling) apply to the file.
-                    for w in catflip::measure::import::measure_import(&problem, imported.clone())?.warnings {
+                    // The import's own checks (units, ends, sampling, numbers that cannot be
+                    // computed) apply to the file before any trial runs.
+                    let checked =
+                        catflip::measure::import::measure_import(&problem, catflip::exchange::read_schedule(file)?)?;
+                    for w in &checked.warnings {
                         eprintln!("warning: {w}");
                     }
-                    let mut report = catflip::robust::check(&problem, &imported, &file.display().to_string())?;
+                    let imported = &checked.measured.trajectory;
+                    let mut report = catflip::robust::check(&problem, imported, &file.display().to_string())?;
                     report.command = command;
-                    let dir = out.as_ref().map(|o| report.write(o, &problem, &imported)).transpose()?;
+                    let dir = out.as_ref().map(|o| report.write(o, &problem, imported)).transpose()?;
                     (report, dir)
                 }
                 None => {
