@@ -157,6 +157,16 @@ impl Assembly {
         self.eq.push(entries, rhs);
     }
 
+    /// Number of equality rows so far: the index of the next one among [`Solved::duals`].
+    pub(crate) fn equalities(&self) -> usize {
+        self.eq.len()
+    }
+
+    /// Number of inequality rows so far.
+    pub(crate) fn inequalities(&self) -> usize {
+        self.ineq.len()
+    }
+
     /// The inequality `Σ val·x_col ≤ rhs`.
     pub(crate) fn at_most(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
         self.ineq.push(entries, rhs);
@@ -237,6 +247,7 @@ impl Assembly {
         let (sol, info) = (&solver.solution, &solver.info);
         Ok(Solved {
             x: sol.x.clone(),
+            duals: sol.z.clone(),
             status: sol.status.into(),
             objective: sol.obj_val,
             info: SolveInfo {
@@ -254,6 +265,9 @@ impl Assembly {
 /// Clarabel's answer, in the normalised variables.
 pub(crate) struct Solved {
     pub(crate) x: Vec<f64>,
+    /// Clarabel's multipliers `z`, one per row, the equalities first in the order they were
+    /// added, then the inequalities (`Px + q + Aᵀz = 0` at the optimum).
+    pub(crate) duals: Vec<f64>,
     pub(crate) status: QpStatus,
     pub(crate) objective: f64,
     pub(crate) info: SolveInfo,

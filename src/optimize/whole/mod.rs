@@ -25,7 +25,8 @@
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
 //! A release with spin is planned on every model through the same seam (the spinning dynamics
 //! of [`model_dynamics`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
-//! spinning subproblems end primal infeasible and the outcome says there is no optimum.
+//! controls cannot reach the swing's directions of the flip error: the subproblems and the Newton
+//! steps work on the reachable ones ([`reach`]).
 //!
 //! ## Why cubic B-splines
 //! The torques need `q̈`; a cubic's `q̈` is continuous and piecewise linear, so the torque is
@@ -97,6 +98,7 @@ pub mod dynamics;
 pub mod limits;
 pub mod measure;
 pub mod model_dynamics;
+pub mod reach;
 pub mod refine;
 pub mod scvx;
 pub mod sensitivity;

@@ -31,11 +31,12 @@
 //!   Magazine 42 (2022) 40–113 (arXiv:2106.09125), §4 (SCvx);
 //! - J. Nocedal, S. J. Wright, *Numerical Optimization* (2nd ed., 2006), ch. 4 and §15.5.
 
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector3};
 
 use super::cat::WholeCat;
-use super::curvature::{Curvature, Point};
+use super::curvature::{Curvature, Form, Point};
 use super::limits::{largest, limit_rows, LimitRow, RowForm};
+use super::reach::Reach;
 use super::sensitivity::{
     bend_samples, final_orientation, gauss_grid, torque_samples, uniform_grid, BendSample, FinalOrientation, Layout,
     TorqueSample,
@@ -232,8 +233,12 @@ impl ScvxProblem<'_> {
         let floor = 1e-12 * it.objective.max(1e-300);
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
         let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
-        // What the energy's Gauss–Newton model leaves out, learnt from the accepted steps.
-        let mut curvature = Curvature::default();
+        // The curvature the energy's and the peak's models leave out, learnt from the accepted
+        // steps ([`super::curvature`]).
+        let mut curvature = Curvature::new(match objective {
+            Objective::Peak => Form::Scalar,
+            _ => Form::Bfgs,
+        });
         loop {
             if enough.is_some_and(|e| it.objective <= e) && it.violation <= LOOP_FEASIBILITY {
                 let reason = format!("objective {:.6} within {:.6}", it.objective, enough.unwrap_or(0.0));
@@ -359,12 +364,17 @@ impl ScvxProblem<'_> {
             }
             if ratio >= 0.1 {
                 // The curvature estimate needs dense gradients; with spin they are lifted.
-                if objective == Objective::Energy && it.lift.is_none() {
+                if it.lift.is_none() {
                     if let (Some(from), Some(to)) = (it.orientation.as_ref(), trial.orientation.as_ref()) {
-                        curvature.update(
-                            Point { values: &it.values, samples: &it.samples, jacobian: &from.jacobian },
-                            Point { values: &trial.values, samples: &trial.samples, jacobian: &to.jacobian },
-                        );
+                        let from = Point { values: &it.values, samples: &it.samples, jacobian: &from.jacobian };
+                        let to = Point { values: &trial.values, samples: &trial.samples, jacobian: &to.jacobian };
+                        match (objective, step.multipliers) {
+                            (Objective::Energy, _) => curvature.update(from, to),
+                            (Objective::Peak, Some(lambda)) => {
+                                curvature.update_with(from, to, &lambda, &step.torque_multipliers)
+                            }
+                            _ => {}
+                        }
                     }
                 }
                 it = trial;
@@ -388,8 +398,7 @@ impl ScvxProblem<'_> {
                 return (best.1, k);
             }
             let j = &o.jacobian;
-            let jjt: Matrix3<f64> = Matrix3::from_fn(|a, b| j.row(a).dot(&j.row(b)));
-            let Some(y) = newton_multipliers(&jjt, &o.error) else { return (best.1, k) };
+            let Some(y) = Reach::of(j).newton_multipliers(j, &o.error) else { return (best.1, k) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
             let next = layout.moved(spline, &step);
@@ -401,33 +410,4 @@ impl ScvxProblem<'_> {
         }
         (best.1, most)
     }
-}
-
-/// The ratio of the smallest to the largest eigenvalue of `JJᵀ` below which the Newton step
-/// leaves out the directions the controls cannot reach: singular values of `J` below `10⁻⁶` of
-/// the largest (on the no-twist joint with equal halves the swing's rows are round-off, ~10⁻¹²,
-/// since the symmetric cat cannot swing its spine, and their inverse made every step useless).
-const RANK_RATIO: f64 = 1e-12;
-
-/// `y = (JJᵀ)⁻¹ e` of the minimum-norm Newton step `δ = −Jᵀ y`: the inverse when `JJᵀ` is well
-/// conditioned (the paper's cat: the same numbers as ever), else the pseudo-inverse on the
-/// eigenvectors whose eigenvalues are at least [`RANK_RATIO`] of the largest.
-fn newton_multipliers(jjt: &Matrix3<f64>, error: &Vector3<f64>) -> Option<Vector3<f64>> {
-    let eigen = jjt.symmetric_eigen();
-    let largest = eigen.eigenvalues.amax();
-    let smallest = eigen.eigenvalues.iter().fold(f64::INFINITY, |m, x| m.min(x.abs()));
-    if smallest > RANK_RATIO * largest {
-        return jjt.try_inverse().map(|inv| inv * error);
-    }
-    if largest <= 0.0 {
-        return None;
-    }
-    let mut y = Vector3::zeros();
-    for (i, l) in eigen.eigenvalues.iter().enumerate() {
-        if *l > RANK_RATIO * largest {
-            let v = eigen.eigenvectors.column(i);
-            y += v * (v.dot(error) / l);
-        }
-    }
-    Some(y)
 }

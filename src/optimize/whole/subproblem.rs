@@ -26,6 +26,7 @@
 use nalgebra::{DMatrix, Vector3};
 
 use super::limits::{LimitRow, ROW_FLOOR};
+use super::reach::Reach;
 use super::sensitivity::{BendSample, TorqueSample};
 use super::settings::Objective;
 use super::spin::Lift;
@@ -75,8 +76,9 @@ pub struct Subproblem<'a> {
     /// The bound on every `ρ` row at a fixed fall time; none leaves the rows out (or, for
     /// `min-time`, makes them the objective).
     pub limit_bound: Option<f64>,
-    /// For the energy: the estimate `B` of the curvature Gauss–Newton leaves out
-    /// ([`super::curvature`]), N²·m²·s per rad²; the model gains `½ δᵀBδ / J_u`.
+    /// For the energy and the peak: the estimate `B` of the orientation constraint's curvature
+    /// that the model leaves out ([`super::curvature`]), in the objective's units per rad²; the
+    /// model gains `½ δᵀBδ / J_u`.
     pub curvature: Option<&'a DMatrix<f64>>,
     /// With spin, the lifted attitude unknowns ([`super::spin`]): gradient entries from
     /// `values.len()` on are theirs, tied to `δ` by the transitions' equality rows.
@@ -92,6 +94,13 @@ pub struct Step {
     pub step: Vec<f64>,
     /// The convex model of the merit function at `δ` (normalised objective + `λ Σ|e + Jδ|`).
     pub model: f64,
+    /// The multipliers `λ` of the hard orientation constraint `e + Jδ = 0` at the step, in the
+    /// objective's own units per radian (N·m or N²·m²·s): `ℒ = J + λᵀe`. None when the constraint
+    /// is penalised rather than imposed, or absent.
+    pub multipliers: Option<Vector3<f64>>,
+    /// The peak's multipliers of its torque rows `±τ_kj ≤ t`, as `(sample, joint, ±z)`: the
+    /// Lagrangian's gradient is `Σ ±z ∇τ_kj + Jᵀλ` (empty for the other objectives).
+    pub torque_multipliers: Vec<(usize, usize, f64)>,
 }
 
 impl Subproblem<'_> {
@@ -129,16 +138,17 @@ impl Subproblem<'_> {
         let violation = self.orientation.filter(|_| !self.hard).map_or(0.0, |(e, jac)| {
             (0..3).map(|i| (e[i] + (0..step.len()).map(|v| jac[(i, v)] * step[v]).sum::<f64>()).abs()).sum()
         });
-        let curvature = self.energy_curvature().map_or(0.0, |b| {
+        let curvature = self.curvature_estimate().map_or(0.0, |b| {
             let d = nalgebra::DVector::from_column_slice(step);
             0.5 * d.dot(&(b * &d)) / self.scale
         });
         objective + curvature + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
     }
 
-    /// The curvature estimate, which only the energy's model takes.
-    fn energy_curvature(&self) -> Option<&DMatrix<f64>> {
-        self.curvature.filter(|_| self.objective == Objective::Energy)
+    /// The curvature estimate, which the energy's and the peak's models take (not `min-time`'s,
+    /// whose rows are the motors' stretch).
+    fn curvature_estimate(&self) -> Option<&DMatrix<f64>> {
+        self.curvature.filter(|_| matches!(self.objective, Objective::Energy | Objective::Peak))
     }
 
     /// The most a row with `gradient` can move within the trust box.
@@ -187,6 +197,8 @@ impl Subproblem<'_> {
             }
         }
         let unit = 1.0 / self.scale;
+        // The peak's torque rows: (inequality index, sample, joint, side).
+        let mut torque_rows: Vec<(usize, usize, usize, f64)> = Vec::new();
         match self.objective {
             Objective::Peak => {
                 asm.linear_cost(bound, 1.0);
@@ -194,8 +206,13 @@ impl Subproblem<'_> {
                 let rows: Vec<(&[(usize, f64)], f64)> =
                     self.samples.iter().flat_map(|s| (0..2).map(|j| (&s.gradient[j][..], s.tau[j]))).collect();
                 let spans: Vec<(f64, f64)> = rows.iter().map(|(g, tau)| (*tau, self.reach(g))).collect();
-                for ((g, tau), sides) in rows.iter().zip(active_sides(&spans)) {
-                    asm.sides_at_most(g.iter().map(|&(v, c)| (at(v), c * unit)), tau * unit, sides, bound);
+                for (r, ((g, tau), sides)) in rows.iter().zip(active_sides(&spans)).enumerate() {
+                    for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, kept)| *kept) {
+                        torque_rows.push((asm.inequalities(), r / 2, r % 2, sign));
+                        let mut one = [false; 2];
+                        one[usize::from(sign < 0.0)] = true;
+                        asm.sides_at_most(g.iter().map(|&(v, c)| (at(v), c * unit)), tau * unit, one, bound);
+                    }
                 }
             }
             Objective::Energy => {
@@ -213,9 +230,6 @@ impl Subproblem<'_> {
                 for (v, &c) in linear.iter().enumerate() {
                     asm.linear_cost(v, c);
                 }
-                if let Some(b) = self.energy_curvature() {
-                    asm.quadratic_cost(b, unit);
-                }
             }
             Objective::MinTime => {
                 asm.linear_cost(bound, 1.0);
@@ -231,6 +245,9 @@ impl Subproblem<'_> {
                 }
             }
         }
+        if let Some(b) = self.curvature_estimate() {
+            asm.quadratic_cost(b, unit);
+        }
         if let Some(b) = self.constraint_bound() {
             // k² + gᵀδ − σ ≤ b with σ ≥ 0; a row that cannot reach b within the trust box is left out.
             asm.linear_cost(limit_elastic, LIMIT_PENALTY);
@@ -245,14 +262,24 @@ impl Subproblem<'_> {
                 }
             }
         }
+        let sparse =
+            |row: Vec<f64>| -> Vec<(usize, f64)> { row.into_iter().enumerate().filter(|e| e.1 != 0.0).collect() };
+        // The hard orientation rows: where they start among the equalities, and the directions.
+        let mut hard_rows: Option<(usize, Reach)> = None;
         if let Some((e, jac)) = self.orientation {
-            for i in 0..3 {
-                let row: Vec<(usize, f64)> = (0..n).map(|v| (v, jac[(i, v)])).filter(|e| e.1 != 0.0).collect();
-                if self.hard {
-                    asm.equal(row, -e[i]);
-                } else {
+            if self.hard {
+                // Only the directions the controls reach ([`super::reach`]): J's own rows on a
+                // cat whose J has full rank.
+                let reach = Reach::of(jac);
+                let first = asm.equalities();
+                for (row, rhs) in reach.constraint_rows(jac, e) {
+                    asm.equal(sparse(row), rhs);
+                }
+                hard_rows = Some((first, reach));
+            } else {
+                for i in 0..3 {
                     asm.linear_cost(slack + i, self.penalty);
-                    asm.abs_at_most(row.into_iter(), e[i], slack + i);
+                    asm.abs_at_most(sparse((0..n).map(|v| jac[(i, v)]).collect()).into_iter(), e[i], slack + i);
                 }
             }
         }
@@ -273,9 +300,25 @@ impl Subproblem<'_> {
                 asm.at_most(b.gradient.iter().map(|&(v, g)| (v, -g)).chain([(elastic, -1.0)]), b.cos_bend - floor);
             }
         }
+        let m_eq = asm.equalities();
         let solved = asm.solve(settings)?;
         let step = solved.x[..n].to_vec();
         let model = self.model(&step);
-        Ok(Step { status: solved.status, step, model })
+        // Clarabel's multipliers belong to the normalised objective (J/J_u): back to J's units.
+        let multipliers = hard_rows.map(|(first, reach)| {
+            let z = |k: usize| self.scale * solved.duals.get(first + k).copied().unwrap_or(0.0);
+            match reach {
+                Reach::Full => Vector3::new(z(0), z(1), z(2)),
+                Reach::Directions(dirs) => dirs.iter().enumerate().map(|(k, (u, _))| u * z(k)).sum(),
+            }
+        });
+        let torque_multipliers = torque_rows
+            .iter()
+            .map(|&(row, sample, joint, sign)| {
+                (sample, joint, sign * solved.duals.get(m_eq + row).copied().unwrap_or(0.0))
+            })
+            .filter(|t| t.2 != 0.0)
+            .collect();
+        Ok(Step { status: solved.status, step, model, multipliers, torque_multipliers })
     }
 }
