@@ -28,6 +28,7 @@
 //! - S. Blanes, F. Casas, J. Ros, BIT 40 (2000) 434–450, for the Magnus scheme.
 
 use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
+use rayon::prelude::*;
 
 use super::cat::WholeCat;
 use super::dual::Dual;
@@ -148,6 +149,9 @@ pub fn left_jacobian_inverse(phi: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() - 0.5 * k + c * k * k
 }
 
+/// The basis at a Magnus node and the body rate there with its partials in `(q, q̇)`.
+type NodeRate = (Basis, [Dual<4>; 3]);
+
 /// Integrates the orientation with `steps` Magnus steps per knot span (on the widest span; fewer
 /// on narrower ones, [`BSpline::by_width`]), as
 /// [`crate::engines::exact::integrate`] does, and its exact derivative (module docs).
@@ -164,38 +168,53 @@ pub fn final_orientation(
     let mut eta = DMatrix::<f64>::zeros(3, layout.variables());
     let mut columns: Vec<(usize, f64)> = Vec::new();
     let widest = spline.widest_span();
-    for span in 0..spline.spans() {
-        let (t0, t1) = spline.span_bounds(span);
-        let steps = spline.by_width(span, widest, steps, 1);
-        let h = (t1 - t0) / steps as f64;
-        for n in 0..steps {
-            // Rates and their partials at the three nodes.
-            let at = nodes.map(|c| {
-                let basis = spline.basis(span, t0 + (n as f64 + c) * h);
-                let st = spline.state_from(&basis);
-                let d: [Dual<4>; 4] =
-                    std::array::from_fn(|k| Dual::input([st.q[0], st.q[1], st.qd[0], st.qd[1]][k], k));
-                (basis, cat.body_rate([d[0], d[1]], [d[2], d[3]]))
-            });
-            let w: [[Dual<9>; 3]; 3] =
-                std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].re, 3 * k + i)));
-            let sigma = magnus6(h, w[0], w[1], w[2]);
-            let sigma_re = Vector3::new(sigma[0].re, sigma[1].re, sigma[2].re);
-            r = UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma_re)).quaternion());
-            let m = r.to_rotation_matrix().into_inner() * right_jacobian(&sigma_re);
-            for (k, (basis, omega)) in at.iter().enumerate() {
-                let ds = Matrix3::from_fn(|i, l| sigma[i].eps[3 * k + l]);
-                let p = m * ds;
-                // Column of ∂Ω/∂c for each free control point touching this node.
-                for comp in 0..3 {
-                    columns.clear();
-                    let dq = [omega[comp].eps[0], omega[comp].eps[1]];
-                    let dqd = [omega[comp].eps[2], omega[comp].eps[3]];
-                    layout.chain(basis, dq, dqd, [0.0; 2], &mut columns);
-                    for &(v, g) in &columns {
-                        for row in 0..3 {
-                            eta[(row, v)] += p[(row, comp)] * g;
-                        }
+    // Every step's rates and their partials at its three nodes, `(h, nodes)` in step order: each
+    // depends on its instant only, so they are computed in parallel; the propagation below is
+    // sequential.
+    let grid: Vec<(usize, f64, usize, f64)> = (0..spline.spans())
+        .flat_map(|span| {
+            let (t0, t1) = spline.span_bounds(span);
+            let steps = spline.by_width(span, widest, steps, 1);
+            let h = (t1 - t0) / steps as f64;
+            (0..steps).map(move |n| (span, t0, n, h))
+        })
+        .collect();
+    let rates: Vec<(f64, [NodeRate; 3])> = grid
+        .par_iter()
+        .with_min_len(16)
+        .map(|&(span, t0, n, h)| {
+            (
+                h,
+                nodes.map(|c| {
+                    let basis = spline.basis(span, t0 + (n as f64 + c) * h);
+                    let st = spline.state_from(&basis);
+                    let d: [Dual<4>; 4] =
+                        std::array::from_fn(|k| Dual::input([st.q[0], st.q[1], st.qd[0], st.qd[1]][k], k));
+                    (basis, cat.body_rate([d[0], d[1]], [d[2], d[3]]))
+                }),
+            )
+        })
+        .collect();
+    for (h, at) in &rates {
+        let h = *h;
+        let w: [[Dual<9>; 3]; 3] =
+            std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].re, 3 * k + i)));
+        let sigma = magnus6(h, w[0], w[1], w[2]);
+        let sigma_re = Vector3::new(sigma[0].re, sigma[1].re, sigma[2].re);
+        r = UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma_re)).quaternion());
+        let m = r.to_rotation_matrix().into_inner() * right_jacobian(&sigma_re);
+        for (k, (basis, omega)) in at.iter().enumerate() {
+            let ds = Matrix3::from_fn(|i, l| sigma[i].eps[3 * k + l]);
+            let p = m * ds;
+            // Column of ∂Ω/∂c for each free control point touching this node.
+            for comp in 0..3 {
+                columns.clear();
+                let dq = [omega[comp].eps[0], omega[comp].eps[1]];
+                let dqd = [omega[comp].eps[2], omega[comp].eps[3]];
+                layout.chain(basis, dq, dqd, [0.0; 2], &mut columns);
+                for &(v, g) in &columns {
+                    for row in 0..3 {
+                        eta[(row, v)] += p[(row, comp)] * g;
                     }
                 }
             }
@@ -262,9 +281,10 @@ pub fn gauss_grid(spline: &BSpline, parts: usize) -> Vec<GridPoint> {
     out
 }
 
-/// Torques and their gradients on a grid.
+/// Torques and their gradients on a grid (each instant on its own, in parallel).
 pub fn torque_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
-    grid.iter()
+    grid.par_iter()
+        .with_min_len(16)
         .map(|&(span, time, weight)| {
             let basis = spline.basis(span, time);
             let st = spline.state_from(&basis);
