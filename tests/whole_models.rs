@@ -1,6 +1,6 @@
 //! The whole-manoeuvre optimiser on the two-motor cat models (issue 22): Kane and Scher's
 //! no-twist joint and unequal halves on the universal joint (unequal halves on the no-twist joint
-//! do not converge within the iteration limit yet: README, "More cats"). Each optimum
+//! converge too, in 5 s: `tests/compare_models.rs` and README, "More cats"). Each optimum
 //! is re-measured here by the general exact engine ([`TwoMotorCat`]), not taken from the
 //! optimiser, and must beat the best library schedule of the same problem; the paper's cat through
 //! the seam ([`WholeCat`]) gives the optimum committed in `results/paper/whole.json` and, to the
@@ -63,8 +63,8 @@ fn optimum_flips_and_beats_the_library(file: &str, sets: &[&str], joint: Joint) 
 
 /// Each test below runs the start that wins with the default starts (`optimize PROBLEM --whole`
 /// shows every start's row), alone: the other start ends above the winner and would only cost
-/// the suite time (Kane and Scher's `paper` converges at 0.320917 N·m against `cone-mirrored`'s
-/// 0.318651, and with spin runs to its iteration limit at 0.404; unequal halves' `paper` runs to
+/// the suite time (Kane and Scher's `paper` converges at 0.320910 N·m against `cone-mirrored`'s
+/// 0.318653, and with spin runs to its iteration limit at 0.404; unequal halves' `paper` runs to
 /// its limit near 1.15 N·m, with spin 0.628).
 const CONE_MIRRORED_START: &str = "optimize.whole.starts=[\"cone-mirrored\"]";
 

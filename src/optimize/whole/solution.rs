@@ -14,7 +14,9 @@ use crate::optimize::conic::QpStatus;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WholeStatus {
-    /// A stationary point of the merit function that flips the cat within the tolerance.
+    /// A stationary point of the merit function that flips the cat within the tolerance (for the
+    /// peak, also a stage whose progress fell below `3e-5` of the peak over five accepted steps,
+    /// which its reason says: [`super::scvx`]).
     Converged,
     /// The trust region collapsed (or the subproblems kept failing) before stationarity.
     Stalled,
