@@ -162,11 +162,6 @@ impl Assembly {
         self.eq.len()
     }
 
-    /// Number of inequality rows so far.
-    pub(crate) fn inequalities(&self) -> usize {
-        self.ineq.len()
-    }
-
     /// The inequality `Σ val·x_col ≤ rhs`.
     pub(crate) fn at_most(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
         self.ineq.push(entries, rhs);
@@ -193,8 +188,22 @@ impl Assembly {
         I: Iterator<Item = (usize, f64)> + Clone,
     {
         for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, side)| *side) {
-            self.at_most(entries.clone().map(|(c, v)| (c, sign * v)).chain([(bound, -1.0)]), -sign * constant);
+            self.side_at_most(entries.clone(), constant, sign, bound);
         }
+    }
+
+    /// One side `sign · (Σ val·x_col + constant) ≤ x_bound` (`sign` = ±1); returns its index
+    /// among the inequalities (its multiplier is `duals[equalities + index]`, [`Solved::duals`]).
+    pub(crate) fn side_at_most(
+        &mut self,
+        entries: impl Iterator<Item = (usize, f64)>,
+        constant: f64,
+        sign: f64,
+        bound: usize,
+    ) -> usize {
+        let index = self.ineq.len();
+        self.at_most(entries.map(|(c, v)| (c, sign * v)).chain([(bound, -1.0)]), -sign * constant);
+        index
     }
 
     /// The same QP on the variables of `fold`: its objective restricted to the subspace and its

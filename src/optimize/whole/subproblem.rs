@@ -76,9 +76,9 @@ pub struct Subproblem<'a> {
     /// The bound on every `ρ` row at a fixed fall time; none leaves the rows out (or, for
     /// `min-time`, makes them the objective).
     pub limit_bound: Option<f64>,
-    /// For the energy and the peak: the estimate `B` of the orientation constraint's curvature
-    /// that the model leaves out ([`super::curvature`]), in the objective's units per rad²; the
-    /// model gains `½ δᵀBδ / J_u`.
+    /// For the energy and the peak: the estimate `B` of the curvature that the model leaves out
+    /// ([`super::curvature`]: the orientation constraint's for the energy, the whole Lagrangian's
+    /// for the peak), in the objective's units per rad²; the model gains `½ δᵀBδ / J_u`.
     pub curvature: Option<&'a DMatrix<f64>>,
     /// With spin, the lifted attitude unknowns ([`super::spin`]): gradient entries from
     /// `values.len()` on are theirs, tied to `δ` by the transitions' equality rows.
@@ -203,15 +203,17 @@ impl Subproblem<'_> {
             Objective::Peak => {
                 asm.linear_cost(bound, 1.0);
                 // Only the sides that can be active (exact; the trust box bounds every step).
-                let rows: Vec<(&[(usize, f64)], f64)> =
-                    self.samples.iter().flat_map(|s| (0..2).map(|j| (&s.gradient[j][..], s.tau[j]))).collect();
-                let spans: Vec<(f64, f64)> = rows.iter().map(|(g, tau)| (*tau, self.reach(g))).collect();
-                for (r, ((g, tau), sides)) in rows.iter().zip(active_sides(&spans)).enumerate() {
+                // (sample, joint) of each row.
+                let rows: Vec<(usize, usize)> = (0..self.samples.len()).flat_map(|k| [(k, 0), (k, 1)]).collect();
+                let spans: Vec<(f64, f64)> = rows
+                    .iter()
+                    .map(|&(k, j)| (self.samples[k].tau[j], self.reach(&self.samples[k].gradient[j])))
+                    .collect();
+                for (&(k, j), sides) in rows.iter().zip(active_sides(&spans)) {
+                    let (g, tau) = (&self.samples[k].gradient[j], self.samples[k].tau[j]);
                     for (sign, _) in [1.0, -1.0].into_iter().zip(sides).filter(|(_, kept)| *kept) {
-                        torque_rows.push((asm.inequalities(), r / 2, r % 2, sign));
-                        let mut one = [false; 2];
-                        one[usize::from(sign < 0.0)] = true;
-                        asm.sides_at_most(g.iter().map(|&(v, c)| (at(v), c * unit)), tau * unit, one, bound);
+                        let row = asm.side_at_most(g.iter().map(|&(v, c)| (at(v), c * unit)), tau * unit, sign, bound);
+                        torque_rows.push((row, k, j, sign));
                     }
                 }
             }
