@@ -275,7 +275,8 @@ impl Assembly {
 pub(crate) struct Solved {
     pub(crate) x: Vec<f64>,
     /// Clarabel's multipliers `z`, one per row, the equalities first in the order they were
-    /// added, then the inequalities (`Px + q + Aᵀz = 0` at the optimum).
+    /// added, then the inequalities (`Px + q + Aᵀz = 0` at the optimum); after
+    /// [`Assembly::fold`], which drops and merges rows, they are the folded rows'.
     pub(crate) duals: Vec<f64>,
     pub(crate) status: QpStatus,
     pub(crate) objective: f64,

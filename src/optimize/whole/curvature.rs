@@ -1,5 +1,5 @@
 //! The curvature that the subproblems' models leave out, estimated from the accepted steps: the
-//! orientation constraint's for the energy (damped BFGS), the whole Lagrangian's for the peak
+//! orientation constraint's for the energy (damped BFGS), the Lagrangian's for the peak
 //! (a scalar).
 //!
 //! The energy subproblem ([`super::subproblem`]) models `J = Σ_k w_k |τ_k|²` by Gauss–Newton and
@@ -31,9 +31,9 @@
 //! joint's optimum) successive linear programming crawls: measured on `problems/kane-scher.toml`
 //! from the `paper` start, 150 iterations at radii near 10⁻⁴ rad with ratios of 0.15–0.2, the peak
 //! falling by 10⁻⁸ N·m per iteration, and the iteration limit reached. The peak's model therefore
-//! also takes a curvature, from the secant pair of the whole Lagrangian
+//! also takes a curvature, from the secant pair of its Lagrangian's torque and flip terms
 //! `ℒ = t + Σ z_r (±τ_r − t) + λᵀe` with the multipliers `z`, `λ` of the subproblem that made the
-//! step, `y = Σ ±z_r (∇τ_r(x₊) − ∇τ_r(x)) + (J_{e+} − J_e)ᵀλ` (the torques' curvature is what the
+//! step (the bend and motor-limit rows' multipliers are left out), `y = Σ ±z_r (∇τ_r(x₊) − ∇τ_r(x)) + (J_{e+} − J_e)ᵀλ` (the torques' curvature is what the
 //! linear model lacks most; the constraint's alone, tried, left the crawl as it was). Kept as the
 //! full BFGS matrix it ends the crawl (51 iterations) but makes `P` dense and each iteration 2.5
 //! times slower (10.3 s for that problem); kept as the scalar `σ = sᵀy/sᵀs` (the Lagrangian's
@@ -103,7 +103,8 @@ pub enum Form {
     /// Damped BFGS, a dense matrix (the energy's).
     #[default]
     Bfgs,
-    /// A multiple of the identity, the Rayleigh quotient of the last pair (the peak's).
+    /// A multiple of the identity, the Rayleigh quotient of the last pair with positive
+    /// curvature (the peak's).
     Scalar,
 }
 
@@ -136,7 +137,7 @@ impl Curvature {
     /// Updates the estimate with the accepted move from `from` to `to` and the multipliers of
     /// the subproblem that made it (as SQP takes them): `lambda` of the orientation constraint
     /// and `(sample, joint, ±z)` of the torque rows (the peak's; the secant pair is then that of
-    /// the whole Lagrangian, module docs).
+    /// the Lagrangian's torque and flip terms, module docs).
     pub fn update_with(
         &mut self,
         from: Point<'_>,

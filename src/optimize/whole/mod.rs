@@ -47,10 +47,11 @@
 //! (`samples_per_span` per span, ends included) and the final-orientation error are linearised
 //! with exact derivatives ([`sensitivity`]: dual numbers through the engine's formulas, and the
 //! forward sensitivity of the sixth-order Magnus integrator itself), the convex subproblem
-//! ([`subproblem`]: an LP for the peak, a QP for the energy, with an ℓ1-penalised virtual control on
+//! ([`subproblem`]: a QP for the peak and for the energy, with an ℓ1-penalised virtual control on
 //! the orientation and an ℓ∞ trust region) is solved by Clarabel, and the step is accepted by the
 //! ratio of the exact merit decrease to the predicted one. The energy's model also carries a
-//! damped-BFGS estimate of the orientation constraint's curvature ([`curvature`]), and an energy
+//! damped-BFGS estimate of the orientation constraint's curvature, the peak's a scalar one of its
+//! Lagrangian's ([`curvature`]), and an energy
 //! step that did better than predicted is extended along its direction: without them a start
 //! could crawl to the iteration limit along a curved, flat valley (a fat cat, r/l = 0.25: 200
 //! iterations, now 35). A final phase of minimum-norm Newton

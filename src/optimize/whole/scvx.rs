@@ -15,8 +15,8 @@
 //! below the loop's feasibility threshold; when it is below `optimality` with the error still
 //! above, the penalty `λ` grows tenfold, up to `10⁶` times its setting, and then the stage ends
 //! **infeasible**. It ends **stalled** when the radius falls below `10⁻¹⁰` rad. A peak stage also
-//! ends converged, on the constraint and within the limits, when its last five accepted steps
-//! lowered the peak by less than `3·10⁻⁵` of itself (the reason says so): there the linear model
+//! ends converged when its last five accepted steps, between iterates on the constraint and
+//! within the limits, lowered the peak by less than `3·10⁻⁵` of itself (the reason says so): there the linear model
 //! of a minimax optimum that is not a vertex keeps predicting a decrease that the torques'
 //! curvature takes back, and the stage crawled for 50 iterations at radii near `10⁻⁴` rad for
 //! `10⁻⁵` of the peak (Kane and Scher's cat; the paper's cat converges before the test applies).
@@ -328,6 +328,8 @@ impl ScvxProblem<'_> {
                 }
                 if penalty < 1e6 * s.penalty {
                     penalty *= 10.0;
+                    // A new merit: the progress test starts again.
+                    accepted.clear();
                     continue;
                 }
                 let reason = if limit_violation > LOOP_FEASIBILITY {
@@ -385,14 +387,17 @@ impl ScvxProblem<'_> {
                     }
                 }
                 it = trial;
-                accepted.push(it.objective);
-                if let Some(reason) = crawling(objective, &accepted) {
-                    let feasible = it.violation <= LOOP_FEASIBILITY
-                        && it.bend_violation <= LOOP_FEASIBILITY
-                        && it.limit_violation(bound) <= LOOP_FEASIBILITY;
-                    if feasible {
+                // The progress test looks at feasible iterates only: an infeasible one starts it again.
+                let feasible = it.violation <= LOOP_FEASIBILITY
+                    && it.bend_violation <= LOOP_FEASIBILITY
+                    && it.limit_violation(bound) <= LOOP_FEASIBILITY;
+                if feasible {
+                    accepted.push(it.objective);
+                    if let Some(reason) = crawling(objective, &accepted) {
                         return end(it, WholeStatus::Converged, reason);
                     }
+                } else {
+                    accepted.clear();
                 }
             }
             if radius < MIN_RADIUS {
@@ -434,7 +439,9 @@ const PROGRESS_STEPS: usize = 5;
 const PROGRESS: f64 = 3e-5;
 
 /// Why the peak's stage should end although its model still predicts a decrease: over its last
-/// [`PROGRESS_STEPS`] accepted steps the peak fell by less than [`PROGRESS`] of itself. Near a
+/// [`PROGRESS_STEPS`] accepted steps between feasible iterates (`accepted`, their peaks, at one
+/// penalty) the peak fell, but by less than [`PROGRESS`] of itself (a peak that rose, as when a
+/// tightened motor bound is being met, is not a stall). Near a
 /// minimax optimum that is not a vertex the linear model keeps predicting a decrease that the
 /// torques' curvature takes back (ratios of 0.1–0.3 at radii near 1e-4 rad): measured on Kane and
 /// Scher's cat, 50 more iterations would lower the peak by 1e-5 of itself. None for the other
@@ -445,7 +452,7 @@ fn crawling(objective: Objective, accepted: &[f64]) -> Option<String> {
     }
     let (then, now) = (accepted[accepted.len() - 1 - PROGRESS_STEPS], accepted[accepted.len() - 1]);
     let progress = (then - now) / now.abs().max(f64::MIN_POSITIVE);
-    (progress < PROGRESS).then(|| {
+    (0.0..PROGRESS).contains(&progress).then(|| {
         format!(
             "the peak fell by {progress:.1e} of itself over the last {PROGRESS_STEPS} accepted steps (below {PROGRESS:.0e}): the linear model's predicted decrease is taken back by the torques' curvature"
         )

@@ -5,13 +5,14 @@
 //! virtual control `ν = e + Jδ`, penalised in ℓ1). With `τ̂ = τ/J_u`, `Ĝ = G/J_u` scaled by the
 //! current objective `J_u`:
 //!
-//! $$ \text{peak: } \min\; t + λ \textstyle\sum_i s_i \quad
+//! $$ \text{peak: } \min\; t + ½ δᵀBδ/J_u + λ \textstyle\sum_i s_i \quad
 //!    |τ̂_k + Ĝ_k δ| ≤ t \;\;\forall k \text{ and both joints}, $$
-//! $$ \text{energy: } \min\; \textstyle\sum_k w_k |τ_k + G_k δ|^2 / J_u + λ \sum_i s_i, $$
+//! $$ \text{energy: } \min\; \textstyle\sum_k w_k |τ_k + G_k δ|^2 / J_u + ½ δᵀBδ/J_u + λ \sum_i s_i, $$
 //! $$ \text{min-time: } \min\; t + λ \textstyle\sum_i s_i \quad
 //!    (k^2_r + ∇k^2_r δ)/J_u ≤ t \;\;\forall \text{motor-limit rows } r \;([`super::limits`]), $$
 //!
-//! both subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
+//! with `B` the curvature estimate ([`super::curvature`]; none before the first pair), all
+//! subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
 //! `e + Jδ = 0` exactly and no `s`: an exact penalty weighted far above the multiplier turns
 //! Clarabel's residuals into noise of the model's size), the trust box `|δ_v| ≤ Δ s_v` (`s_v = 1` on
 //! uniform knots, smaller where the knots are refined), the joint limit on the
@@ -77,7 +78,7 @@ pub struct Subproblem<'a> {
     /// `min-time`, makes them the objective).
     pub limit_bound: Option<f64>,
     /// For the energy and the peak: the estimate `B` of the curvature that the model leaves out
-    /// ([`super::curvature`]: the orientation constraint's for the energy, the whole Lagrangian's
+    /// ([`super::curvature`]: the orientation constraint's for the energy, the Lagrangian's
     /// for the peak), in the objective's units per rad²; the model gains `½ δᵀBδ / J_u`.
     pub curvature: Option<&'a DMatrix<f64>>,
     /// With spin, the lifted attitude unknowns ([`super::spin`]): gradient entries from
@@ -92,7 +93,8 @@ pub struct Step {
     pub status: QpStatus,
     /// `δ`, rad.
     pub step: Vec<f64>,
-    /// The convex model of the merit function at `δ` (normalised objective + `λ Σ|e + Jδ|`).
+    /// The convex model of the merit function at `δ` (normalised objective, with `½δᵀBδ/J_u`,
+    /// + `λ Σ|e + Jδ|` and the elastic penalties).
     pub model: f64,
     /// The multipliers `λ` of the hard orientation constraint `e + Jδ = 0` at the step, in the
     /// objective's own units per radian (N·m or N²·m²·s): `ℒ = J + λᵀe`. None when the constraint
