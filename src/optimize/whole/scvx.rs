@@ -458,3 +458,29 @@ fn crawling(objective: Objective, accepted: &[f64]) -> Option<String> {
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The peaks of six accepted iterates, evenly apart: the five steps between the first and the
+    /// last lowered the peak by `fall` of itself.
+    fn peaks(fall: f64) -> Vec<f64> {
+        let now = 0.3;
+        (0..=5).map(|k| now * (1.0 + fall * (5 - k) as f64 / 5.0)).collect()
+    }
+
+    #[test]
+    fn a_peak_that_hardly_falls_over_five_steps_is_a_crawl() {
+        let reason = crawling(Objective::Peak, &peaks(1e-5)).expect("a crawl");
+        assert!(reason.starts_with("the peak fell by 1.0e-5 of itself over the last 5 accepted steps"), "{reason}");
+    }
+
+    #[test]
+    fn a_peak_that_falls_rises_or_has_too_few_steps_is_not_a_crawl() {
+        assert_eq!(crawling(Objective::Peak, &peaks(1e-3)), None, "still falling");
+        assert_eq!(crawling(Objective::Peak, &peaks(-1e-5)), None, "a rising peak is no stall");
+        assert_eq!(crawling(Objective::Peak, &peaks(1e-5)[1..]), None, "five peaks are four steps");
+        assert_eq!(crawling(Objective::Energy, &peaks(1e-5)), None, "the peak's test only");
+    }
+}
