@@ -333,8 +333,7 @@ fn run() -> anyhow::Result<()> {
             let loaded =
                 problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
             for (_, problem) in &loaded {
-                problem.require_no_spin("run (its optimisers and retimings)")?;
-                problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")?;
+                catflip::report::run::runnable(problem)?;
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;

@@ -144,6 +144,13 @@ pub fn run(r: &Resolved, command: &str, out_root: &Path) -> Result<RunOutcome, R
     run_with(r, command, out_root, &crate::exchange::ExportOptions::default())
 }
 
+/// Whether `run` takes `problem`: a two-motor cat (not the spherical joint) released without spin.
+/// The CLI asks it of every problem before the first is run, so that a bad one writes nothing.
+pub fn runnable(problem: &crate::problem::Problem) -> Result<(), crate::problem::ProblemError> {
+    problem.require_no_spin("run (its optimisers and retimings)")?;
+    problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")
+}
+
 /// [`run`] with the schedule files sampled as `export` says (e.g. a uniform `--rate`).
 pub fn run_with(
     r: &Resolved,
@@ -151,8 +158,7 @@ pub fn run_with(
     out_root: &Path,
     export: &crate::exchange::ExportOptions,
 ) -> Result<RunOutcome, RunError> {
-    r.problem.require_no_spin("run (its optimisers and retimings)")?;
-    r.problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")?;
+    runnable(&r.problem)?;
     let clock = Stopwatch::start();
     let (mut outcome, ()) =
         atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock).map(|s| (s, ())))?;
