@@ -152,6 +152,18 @@ impl Assembly {
         }
     }
 
+    /// Adds `½ value · Σ x_col²` over the first `n` variables to the objective (`value·𝟙` on
+    /// `P`'s diagonal; nothing when `value` is zero).
+    pub(crate) fn identity_cost(&mut self, n: usize, value: f64) {
+        if value != 0.0 {
+            for j in 0..n {
+                self.p.row.push(j);
+                self.p.col.push(j);
+                self.p.val.push(value);
+            }
+        }
+    }
+
     /// The equality `Σ val·x_col = rhs`.
     pub(crate) fn equal(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, rhs: f64) {
         self.eq.push(entries, rhs);

@@ -50,6 +50,7 @@ use nalgebra::{DMatrix, DVector, Vector3};
 
 use super::reach::Reach;
 use super::sensitivity::TorqueSample;
+use crate::optimize::conic::Assembly;
 
 /// Powell's damping threshold: the update keeps `sᵀr ≥ 0.2 sᵀBs`.
 const DAMPING: f64 = 0.2;
@@ -108,22 +109,54 @@ pub enum Form {
     Scalar,
 }
 
+/// An estimate `B` over the `n` variables of a step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Estimate {
+    /// A dense symmetric matrix ([`Form::Bfgs`]).
+    Dense(DMatrix<f64>),
+    /// `σ𝟙` ([`Form::Scalar`]).
+    Scalar {
+        /// `σ`, in the objective's units per rad².
+        sigma: f64,
+        /// The number of variables.
+        n: usize,
+    },
+}
+
+impl Estimate {
+    /// `δᵀBδ`.
+    pub fn quadratic_form(&self, step: &DVector<f64>) -> f64 {
+        match self {
+            Estimate::Dense(b) => step.dot(&(b * step)),
+            Estimate::Scalar { sigma, .. } => step.dot(&(step * *sigma)),
+        }
+    }
+
+    /// Adds `½ weight · δᵀBδ` to the objective of `asm` (`δ` its first `n` variables).
+    pub(crate) fn add_to(&self, asm: &mut Assembly, weight: f64) {
+        match self {
+            Estimate::Dense(b) => asm.quadratic_cost(b, weight),
+            Estimate::Scalar { sigma, n } => asm.identity_cost(*n, weight * sigma),
+        }
+    }
+}
+
 /// The estimate `B` (module docs); none until a pair with positive curvature.
 #[derive(Clone, Debug, Default)]
 pub struct Curvature {
     form: Form,
-    matrix: Option<DMatrix<f64>>,
+    estimate: Option<Estimate>,
 }
 
 impl Curvature {
     /// An empty estimate kept in `form`.
     pub fn new(form: Form) -> Self {
-        Curvature { form, matrix: None }
+        Curvature { form, estimate: None }
     }
 
     /// The estimate, when there is one.
-    pub fn matrix(&self) -> Option<&DMatrix<f64>> {
-        self.matrix.as_ref()
+    pub fn estimate(&self) -> Option<&Estimate> {
+        self.estimate.as_ref()
     }
 
     /// Updates the estimate with the accepted move from `from` to `to`, with the energy's
@@ -168,32 +201,40 @@ impl Curvature {
         }
         if self.form == Form::Scalar {
             if sy > 0.0 {
-                self.matrix = Some(DMatrix::from_diagonal_element(s.len(), s.len(), sy / ss));
+                self.estimate = Some(Estimate::Scalar { sigma: sy / ss, n: s.len() });
             }
             return;
         }
-        let b = match self.matrix.take() {
-            Some(b) => b,
-            None if sy > 0.0 => DMatrix::identity(s.len(), s.len()) * (sy / ss),
-            None => return,
+        let b = match self.estimate.take() {
+            Some(Estimate::Dense(b)) => b,
+            _ if sy > 0.0 => DMatrix::identity(s.len(), s.len()) * (sy / ss),
+            _ => return,
         };
         let bs = &b * s;
         let sbs = s.dot(&bs);
         if sbs <= 0.0 || !sbs.is_finite() {
-            self.matrix = Some(b);
+            self.estimate = Some(Estimate::Dense(b));
             return;
         }
         let theta = if sy >= DAMPING * sbs { 1.0 } else { (1.0 - DAMPING) * sbs / (sbs - sy) };
         let r = y * theta + &bs * (1.0 - theta);
         let sr = s.dot(&r);
         let updated = &b - &bs * bs.transpose() / sbs + &r * r.transpose() / sr;
-        self.matrix = Some(updated);
+        self.estimate = Some(Estimate::Dense(updated));
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The dense estimate of a BFGS curvature.
+    fn dense(c: &Curvature) -> Option<&DMatrix<f64>> {
+        match c.estimate() {
+            Some(Estimate::Dense(b)) => Some(b),
+            _ => None,
+        }
+    }
 
     /// On a quadratic with Hessian `A` the secant pairs are `y = A s`; every BFGS update
     /// satisfies the secant condition `B₊ s = y` (Nocedal & Wright, eq. 6.6).
@@ -205,7 +246,7 @@ mod tests {
             let s = DVector::from_row_slice(&s);
             let y = &a * &s;
             c.apply(&s, &y);
-            let b = c.matrix().expect("positive curvature gives an estimate");
+            let b = dense(&c).expect("positive curvature gives an estimate");
             assert!((b * &s - &y).norm() <= 1e-12 * y.norm(), "B s = y after the update");
         }
     }
@@ -215,7 +256,7 @@ mod tests {
         let mut c = Curvature::default();
         c.apply(&DVector::from_row_slice(&[1.0, 0.0]), &DVector::from_row_slice(&[2.0, 0.0]));
         c.apply(&DVector::from_row_slice(&[0.0, 1.0]), &DVector::from_row_slice(&[0.0, -5.0]));
-        let b = c.matrix().expect("an estimate");
+        let b = dense(&c).expect("an estimate");
         let eig = b.clone().symmetric_eigen().eigenvalues;
         assert!(eig.iter().all(|&l| l > 0.0), "eigenvalues {eig:?}");
     }
@@ -224,6 +265,6 @@ mod tests {
     fn no_estimate_before_positive_curvature() {
         let mut c = Curvature::default();
         c.apply(&DVector::from_row_slice(&[1.0, 0.0]), &DVector::from_row_slice(&[-1.0, 0.0]));
-        assert!(c.matrix().is_none());
+        assert!(c.estimate().is_none());
     }
 }

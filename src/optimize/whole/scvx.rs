@@ -269,7 +269,7 @@ impl ScvxProblem<'_> {
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
                 limits: &it.limits,
                 limit_bound: bound,
-                curvature: curvature.matrix(),
+                curvature: curvature.estimate(),
                 lift: it.lift.as_ref(),
             };
             let step = sub.solve(&self.qp)?;

@@ -26,6 +26,7 @@
 
 use nalgebra::{DMatrix, Vector3};
 
+use super::curvature::Estimate;
 use super::limits::{LimitRow, ROW_FLOOR};
 use super::reach::Reach;
 use super::sensitivity::{BendSample, TorqueSample};
@@ -80,7 +81,7 @@ pub struct Subproblem<'a> {
     /// For the energy and the peak: the estimate `B` of the curvature that the model leaves out
     /// ([`super::curvature`]: the orientation constraint's for the energy, the Lagrangian's
     /// for the peak), in the objective's units per rad²; the model gains `½ δᵀBδ / J_u`.
-    pub curvature: Option<&'a DMatrix<f64>>,
+    pub curvature: Option<&'a Estimate>,
     /// With spin, the lifted attitude unknowns ([`super::spin`]): gradient entries from
     /// `values.len()` on are theirs, tied to `δ` by the transitions' equality rows.
     pub lift: Option<&'a Lift>,
@@ -140,16 +141,15 @@ impl Subproblem<'_> {
         let violation = self.orientation.filter(|_| !self.hard).map_or(0.0, |(e, jac)| {
             (0..3).map(|i| (e[i] + (0..step.len()).map(|v| jac[(i, v)] * step[v]).sum::<f64>()).abs()).sum()
         });
-        let curvature = self.curvature_estimate().map_or(0.0, |b| {
-            let d = nalgebra::DVector::from_column_slice(step);
-            0.5 * d.dot(&(b * &d)) / self.scale
-        });
+        let curvature = self
+            .curvature_estimate()
+            .map_or(0.0, |b| 0.5 * b.quadratic_form(&nalgebra::DVector::from_column_slice(step)) / self.scale);
         objective + curvature + self.penalty * violation + BEND_PENALTY * bend + LIMIT_PENALTY * limits
     }
 
     /// The curvature estimate, which the energy's and the peak's models take (not `min-time`'s,
     /// whose rows are the motors' stretch).
-    fn curvature_estimate(&self) -> Option<&DMatrix<f64>> {
+    fn curvature_estimate(&self) -> Option<&Estimate> {
         self.curvature.filter(|_| matches!(self.objective, Objective::Energy | Objective::Peak))
     }
 
@@ -250,7 +250,7 @@ impl Subproblem<'_> {
             }
         }
         if let Some(b) = self.curvature_estimate() {
-            asm.quadratic_cost(b, unit);
+            b.add_to(&mut asm, unit);
         }
         if let Some(b) = self.constraint_bound() {
             // k² + gᵀδ − σ ≤ b with σ ≥ 0; a row that cannot reach b within the trust box is left out.
