@@ -47,13 +47,6 @@ pub struct BasisRow {
     data: [f64; MAX_DEGREE + 1],
 }
 
-impl BasisRow {
-    /// `len` zeros.
-    fn zeros(len: usize) -> Self {
-        Self { len, data: [0.0; MAX_DEGREE + 1] }
-    }
-}
-
 impl std::ops::Deref for BasisRow {
     type Target = [f64];
     fn deref(&self) -> &[f64] {
@@ -144,39 +137,39 @@ impl BSpline {
     pub fn basis(&self, s: usize, t: f64) -> Basis {
         let p = self.degree;
         let mu = p + s;
-        let u = &self.knots;
+        let u = &self.knots[mu - p..=mu + p + 1];
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
-        // levels[d][j] = N_{mu−d+j, d}(t), j = 0..=d.
-        let mut levels = [BasisRow::zeros(0); MAX_DEGREE + 1];
-        levels[0] = BasisRow::zeros(1);
-        levels[0].data[0] = 1.0;
+        // levels[d][j] = N_{mu−d+j, d}(t), j = 0..=d, in one triangular table; `u[i]` below is
+        // the knot `u_{mu−p+i}`, so the function N_{mu−d+j} starts at `u[p−d+j]`.
+        let mut levels = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+        levels[0][0] = 1.0;
         for d in 1..=p {
-            let prev = levels[d - 1];
-            let mut level = BasisRow::zeros(d + 1);
-            for (j, value) in level.data[..=d].iter_mut().enumerate() {
-                let i = mu + j - d;
-                let left = if j >= 1 { ratio(t - u[i], u[i + d] - u[i]) * prev.data[j - 1] } else { 0.0 };
-                let right = if j < d { ratio(u[i + d + 1] - t, u[i + d + 1] - u[i + 1]) * prev.data[j] } else { 0.0 };
+            let (done, rest) = levels.split_at_mut(d);
+            let (prev, level) = (&done[d - 1], &mut rest[0]);
+            for (j, value) in level[..=d].iter_mut().enumerate() {
+                let i = p - d + j;
+                let left = if j >= 1 { ratio(t - u[i], u[i + d] - u[i]) * prev[j - 1] } else { 0.0 };
+                let right = if j < d { ratio(u[i + d + 1] - t, u[i + d + 1] - u[i + 1]) * prev[j] } else { 0.0 };
                 *value = left + right;
             }
-            levels[d] = level;
         }
         // The derivative of degree-d functions from a list over degree d − 1 (linear, so it
         // also maps derivatives to second derivatives).
-        let differentiate = |d: usize, prev: &BasisRow| -> BasisRow {
-            let mut out = BasisRow::zeros(d + 1);
-            for (j, value) in out.data[..=d].iter_mut().enumerate() {
-                let i = mu + j - d;
-                let left = if j >= 1 { ratio(prev.data[j - 1], u[i + d] - u[i]) } else { 0.0 };
-                let right = if j < d { ratio(prev.data[j], u[i + d + 1] - u[i + 1]) } else { 0.0 };
+        let differentiate = |d: usize, prev: &[f64; MAX_DEGREE + 1]| -> [f64; MAX_DEGREE + 1] {
+            let mut out = [0.0; MAX_DEGREE + 1];
+            for (j, value) in out[..=d].iter_mut().enumerate() {
+                let i = p - d + j;
+                let left = if j >= 1 { ratio(prev[j - 1], u[i + d] - u[i]) } else { 0.0 };
+                let right = if j < d { ratio(prev[j], u[i + d + 1] - u[i + 1]) } else { 0.0 };
                 *value = d as f64 * (left - right);
             }
             out
         };
-        let first_derivative = if p >= 1 { differentiate(p, &levels[p - 1]) } else { BasisRow::zeros(1) };
+        let row = |data: [f64; MAX_DEGREE + 1]| BasisRow { len: p + 1, data };
+        let first_derivative = if p >= 1 { differentiate(p, &levels[p - 1]) } else { [0.0; MAX_DEGREE + 1] };
         let second_derivative =
-            if p >= 2 { differentiate(p, &differentiate(p - 1, &levels[p - 2])) } else { BasisRow::zeros(p + 1) };
-        Basis { first: mu - p, values: [levels[p], first_derivative, second_derivative] }
+            if p >= 2 { differentiate(p, &differentiate(p - 1, &levels[p - 2])) } else { [0.0; MAX_DEGREE + 1] };
+        Basis { first: mu - p, values: [row(levels[p]), row(first_derivative), row(second_derivative)] }
     }
 
     /// The joint state at `t` in span `s` from a basis already evaluated there.
