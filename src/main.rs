@@ -159,26 +159,25 @@ enum Command {
     },
 }
 
-/// Loads the problem (its rapier step set to `dt` when given) and prints its warnings, unless
-/// the output is JSON.
+/// Fewest rows a schedule file should give the shortest phase at `run --rate`; fewer are warned of.
+const MIN_ROWS_PER_PHASE: f64 = 10.0;
+
+/// Loads the problem (its rapier step set to `dt` when given) and prints its warnings on stderr
+/// (also with `--json`, whose output is stdout's).
 fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
     let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
-    if !common.json {
-        for w in problem.warnings() {
-            eprintln!("warning: {w}");
-        }
+    for w in problem.warnings() {
+        eprintln!("warning: {w}");
     }
     Ok(problem)
 }
 
 /// Resolves `problem` (its circulation, calibrated if asked) and prints what the resolution
-/// warns of, unless the output is JSON.
-fn resolve(problem: &Problem, json: bool) -> anyhow::Result<Resolved> {
+/// warns of on stderr.
+fn resolve(problem: &Problem) -> anyhow::Result<Resolved> {
     let r = Resolved::new(problem)?;
-    if !json {
-        for w in r.warnings() {
-            eprintln!("warning: {w}");
-        }
+    for w in r.warnings() {
+        eprintln!("warning: {w}");
     }
     Ok(r)
 }
@@ -253,7 +252,7 @@ fn run() -> anyhow::Result<()> {
         Command::Audit(common) => {
             let problem = load(&common, None)?;
             problem.require_no_spin("the audit of the paper's numbers")?;
-            let r = resolve(&problem, common.json)?;
+            let r = resolve(&problem)?;
             let audit = catflip::measure::audit::audit_with_exact(&r)?;
             emit(common.json, &audit, || audit.to_markdown())?;
         }
@@ -277,15 +276,19 @@ fn run() -> anyhow::Result<()> {
                 }
                 emit(common.json, &report, || report.to_text())?;
             } else {
-                let r = resolve(&load(&common, dt)?, common.json)?;
+                let r = resolve(&load(&common, dt)?)?;
                 let report = catflip::report::simulate::simulate(&r, engine)?;
                 emit(common.json, &report, || report.to_text())?;
+                // Printed in full, but a number that is not a result does not exit 0.
+                if let Some(why) = report.unconverged() {
+                    anyhow::bail!("{why}");
+                }
             }
         }
         Command::Optimize { common, whole: false, quiet, .. } => {
             let problem = load(&common, None)?;
             problem.require_no_spin("optimize (the profile QP and the refinements)")?;
-            let r = resolve(&problem, common.json)?;
+            let r = resolve(&problem)?;
             let spinner = progress(quiet || common.json, "optimize: profile QP and exact refinement".into());
             let report = catflip::optimize::optimize(&r)?;
             spinner.finish_and_clear();
@@ -297,7 +300,7 @@ fn run() -> anyhow::Result<()> {
             if out.is_some() {
                 catflip::report::whole_files::files_refusal(&problem)?;
             }
-            let r = resolve(&problem, common.json)?;
+            let r = resolve(&problem)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
             let mut report = catflip::measure::whole::whole(&r)?;
             spinner.finish_and_clear();
@@ -330,22 +333,45 @@ fn run() -> anyhow::Result<()> {
             export.validate(0.0)?;
             let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
             // Load every problem first, so a bad one stops the run before anything is written.
-            let loaded =
-                problems.iter().map(|p| Problem::load(p, &overrides).map(|x| (p, x))).collect::<Result<Vec<_>, _>>()?;
-            for (_, problem) in &loaded {
-                catflip::report::run::runnable(problem)?;
+            // Each error names its file: `run` takes several.
+            let named = |p: &std::path::PathBuf, e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", p.display());
+            let loaded = problems
+                .iter()
+                .map(|p| {
+                    Problem::load(p, &overrides).map(|x| (p, x)).map_err(|e| match e {
+                        // These name the file already.
+                        catflip::problem::ProblemError::Io { .. } | catflip::problem::ProblemError::Parse { .. } => {
+                            anyhow::Error::from(e)
+                        }
+                        other => named(p, &other),
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            for (path, problem) in &loaded {
+                catflip::report::run::runnable(problem).map_err(|e| named(path, &e))?;
+                // The rate against this fall, before anything is computed or written.
+                export.validate(problem.drop.fall_time()).map_err(|e| named(path, &e))?;
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
             for (path, problem) in loaded {
-                for w in problem.warnings() {
+                let shortest =
+                    problem.drop.fall_time() * problem.manoeuvre.phases.iter().copied().fold(f64::INFINITY, f64::min);
+                let coarse = rate.filter(|r| r * shortest < MIN_ROWS_PER_PHASE).map(|r| {
+                    format!(
+                        "--rate {r} Hz gives {:.2} rows in the shortest phase ({shortest:.3} s): the schedule files keep little more than its boundaries (at least {} Hz gives {MIN_ROWS_PER_PHASE} rows)",
+                        r * shortest,
+                        (MIN_ROWS_PER_PHASE / shortest).ceil()
+                    )
+                });
+                for w in problem.warnings().into_iter().chain(coarse) {
                     eprintln!("warning: {}: {w}", path.display());
                 }
                 let command =
                     regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
                 let spinner =
                     progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
-                let outcome = catflip::report::run::run_with(&resolve(&problem, false)?, &command, &out, &export)?;
+                let outcome = catflip::report::run::run_with(&resolve(&problem)?, &command, &out, &export)?;
                 spinner.finish_and_clear();
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
@@ -359,7 +385,7 @@ fn run() -> anyhow::Result<()> {
             p.require_no_spin("bench")?;
             let command =
                 regenerate(format!("cargo run --release -- bench --problem {}", problem.display()), &overrides);
-            let (outcome, report) = catflip::report::run::run_bench(&resolve(&p, json)?, &command, &out)?;
+            let (outcome, report) = catflip::report::run::run_bench(&resolve(&p)?, &command, &out)?;
             if json {
                 print_json(&report)?;
             } else {
@@ -406,7 +432,7 @@ fn run() -> anyhow::Result<()> {
                     (report, dir)
                 }
                 None => {
-                    let r = resolve(&problem, common.json)?;
+                    let r = resolve(&problem)?;
                     let mut report = catflip::robust::check(&problem, &r.schedule, "the problem's schedule")?;
                     report.command = command;
                     let dir = out.as_ref().map(|o| report.write(o, &problem, &r.schedule)).transpose()?;
@@ -442,7 +468,7 @@ fn run() -> anyhow::Result<()> {
             }
         }
         Command::Compare(common) => {
-            let r = resolve(&load(&common, None)?, common.json)?;
+            let r = resolve(&load(&common, None)?)?;
             let table = catflip::report::compare::compare(&r, &[]);
             emit(common.json, &table, || table.to_markdown())?;
         }

@@ -8,9 +8,11 @@
 pub mod actuator;
 pub mod cat;
 pub mod error;
+mod file;
 pub mod limits;
 pub mod manoeuvre;
 mod overrides;
+mod plausible;
 pub mod robust;
 pub mod settings;
 pub mod whole;
@@ -113,6 +115,10 @@ pub struct Problem {
     pub optimize: OptimizeSettings,
     /// Settings of the robustness check (`catflip robust`).
     pub robust: robust::RobustSettings,
+    /// What the file left to the defaults, as warnings ([`Problem::load`]; none for text parsed
+    /// by [`Problem::from_toml`]).
+    #[serde(skip)]
+    pub omissions: Vec<String>,
 }
 
 impl Default for Problem {
@@ -127,16 +133,30 @@ impl Default for Problem {
             rapier: RapierSettings::default(),
             optimize: OptimizeSettings::default(),
             robust: robust::RobustSettings::default(),
+            omissions: Vec::new(),
         }
     }
 }
 
 impl Problem {
-    /// Reads, overrides and validates a problem file.
+    /// Reads, overrides and validates a problem file. A file must hold a field; one without
+    /// `name` is named after its stem, and what it leaves to the defaults (a section, the drop
+    /// height, a last line cut short) is kept as a warning ([`Problem::warnings`]).
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, ProblemError> {
         let text = std::fs::read_to_string(path)
             .map_err(|source| ProblemError::Io { path: path.display().to_string(), source })?;
-        Self::from_toml(&text, &path.display().to_string(), overrides)
+        let origin = path.display().to_string();
+        // A file that is not TOML is reported by `from_toml`, with its line.
+        let Ok(table) = text.parse::<toml::Table>() else { return Self::from_toml(&text, &origin, overrides) };
+        let omissions = file::omissions(&text, &table, &origin, overrides)?;
+        let named =
+            table.contains_key("name") || overrides.iter().any(|o| o.split('=').next().map(str::trim) == Some("name"));
+        let mut problem = Self::from_toml(&text, &origin, overrides)?;
+        if !named {
+            problem.name = file::name_from_stem(path)?;
+        }
+        problem.omissions = omissions;
+        Ok(problem)
     }
 
     /// Parses TOML text, applies `key=value` overrides (values in TOML syntax; a bare word is
@@ -181,7 +201,7 @@ impl Problem {
 
     /// Checks every field a model or engine relies on; names the first bad one.
     pub fn validate(&self) -> Result<(), ProblemError> {
-        if self.name.is_empty() || !self.name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+        if !names_a_folder(&self.name) {
             return Err(bad(
                 "name",
                 &self.name,
@@ -313,7 +333,7 @@ impl Problem {
 
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out = self.omissions.clone();
         let turns = self.drop.spin_turns(&self.cat.model());
         if turns > WARN_SPIN_TURNS {
             out.push(format!(
@@ -321,6 +341,7 @@ impl Problem {
                 num(turns)
             ));
         }
+        out.extend(plausible::warnings(self));
         out.extend(self.short_halves());
         if self.manoeuvre.theta_deg < 90.0 {
             out.push(format!(
@@ -334,6 +355,11 @@ impl Problem {
         out.extend(self.robust.warnings(self.drop.fall_time(), stiffening));
         out
     }
+}
+
+/// Whether `name` can name a results folder: non-empty, letters, digits, `-` and `_` only.
+pub(crate) fn names_a_folder(name: &str) -> bool {
+    !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
 }
 
 /// A parse error in the user's words: serde's type names replaced by the file's section names and

@@ -131,6 +131,21 @@ impl SimulationReport {
 }
 
 impl SimulationReport {
+    /// Why the engine's numbers are not a result, when they are not: rapier's verification
+    /// ended inconclusive (its runs did not converge as `dt → 0`), or the exact integration missed
+    /// its tolerance.
+    pub fn unconverged(&self) -> Option<String> {
+        use crate::engines::rapier::Status;
+        if self.figures.check.verdict == Some(Status::Inconclusive) {
+            return Some(
+                "rapier's verification is inconclusive (its runs did not converge as dt → 0): the twist, swing and torques below are its unconverged estimates, not a result (see the verdict)".into(),
+            );
+        }
+        (self.figures.converged == Some(false)).then(|| {
+            "the exact integration missed exact.tolerance: the angles below are not to be trusted to it".into()
+        })
+    }
+
     /// A short human-readable summary.
     pub fn to_text(&self) -> String {
         use std::fmt::Write;
@@ -141,6 +156,9 @@ impl SimulationReport {
             "{} engine — problem {}, profile {}, path {}",
             self.engine, self.problem, self.profile, self.bend_path
         );
+        if let Some(line) = self.unconverged() {
+            let _ = writeln!(s, "  NO RESULT        {line}");
+        }
         if let Some(m) = &self.model {
             let _ = writeln!(s, "  cat              {m}");
         }

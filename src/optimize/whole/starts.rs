@@ -20,7 +20,7 @@ use super::cat::WholeCat;
 use crate::numeric::roots::RootStatus;
 use crate::problem::manoeuvre::{BendPath, Manoeuvre, ProfileKind, CONE_GIMBAL_MARGIN_DEG};
 use crate::schedule::profile::Profile;
-use crate::schedule::Schedule;
+use crate::schedule::{Schedule, ScheduleError};
 
 /// The largest bend of the cone start, degrees.
 pub const CONE_START_BEND_DEG: f64 = 60.0;
@@ -90,14 +90,27 @@ pub fn start_schedule_spinning(
         theta_deg = theta_deg.max(limit + START_BEND_MARGIN_DEG);
     }
     // Within the joint limit: both paths keep |q1|, |q2| at most the bend β = 180° − θ.
+    let mut limited = None;
     if let Some(limit) = joint_limit_deg {
-        theta_deg = theta_deg.max(180.0 - (limit - START_BEND_MARGIN_DEG).max(0.5 * limit));
+        let within = 180.0 - (limit - START_BEND_MARGIN_DEG).max(0.5 * limit);
+        if within > theta_deg {
+            theta_deg = within;
+            limited = Some(limit);
+        }
     }
     let manoeuvre = Manoeuvre { theta_deg, ..manoeuvre.clone() };
     if path == BendPath::Cone && (manoeuvre.bend().to_degrees() - 90.0).abs() < CONE_GIMBAL_MARGIN_DEG {
         return Err(format!("the cone path meets gimbal lock within {CONE_GIMBAL_MARGIN_DEG}° of a 90° bend"));
     }
-    let circulation = cat.paper_circulation(manoeuvre.theta()).map_err(|e| e.to_string())?;
+    let circulation = cat.paper_circulation(manoeuvre.theta()).map_err(|e| match limited.filter(|_| matches!(e, ScheduleError::CirculationTooLarge(..))) {
+        // The joint limit, not the manoeuvre, chose this bend: name it.
+        Some(limit) => format!(
+            "optimize.whole.joint_limit_deg = {limit} lets a start bend only {:.3}°, too little to turn the cat over (the paper's circulation there, π/C, exceeds the {} rad a schedule may circulate): raise optimize.whole.joint_limit_deg",
+            180.0 - theta_deg,
+            crate::problem::manoeuvre::MAX_CIRCULATION
+        ),
+        None => e.to_string(),
+    })?;
     let schedule = Schedule {
         durations: manoeuvre.phases.map(|f| f * duration),
         bend: manoeuvre.bend(),

@@ -1,0 +1,156 @@
+//! Careless input as a new user writes it: a problem file cut short or missing a section, a value
+//! in the wrong unit, several files of which one is bad, a `--rate` the files cannot take, a
+//! rapier run that does not converge. Each is said plainly: one error naming the field and the
+//! file, or a warning, also with `--json`; never a number passed off as a result with exit 0.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use catflip::problem::Problem;
+
+fn catflip(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// A fresh scratch folder for this test binary.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("catflip-careless-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("a scratch folder");
+    d
+}
+
+/// `text` written to `file` in a scratch folder `name`.
+fn problem_file(name: &str, file: &str, text: &str) -> PathBuf {
+    let path = scratch(name).join(file);
+    std::fs::write(&path, text).expect("written");
+    path
+}
+
+const PAPER: &str = include_str!("../problems/paper.toml");
+
+#[test]
+fn an_empty_problem_file_is_refused() {
+    let path = problem_file("empty", "empty.toml", "# nothing but a comment\n");
+    let err = Problem::load(&path, &[]).expect_err("refused").to_string();
+    assert!(err.contains("empty.toml") && err.contains("holds no field"), "{err}");
+}
+
+#[test]
+fn a_file_without_a_name_is_named_after_its_stem_not_the_paper() {
+    let text: String = PAPER.lines().filter(|l| !l.starts_with("name")).map(|l| format!("{l}\n")).collect();
+    let path = problem_file("stem", "my-robot.toml", &text);
+    let p = Problem::load(&path, &[]).expect("loads");
+    assert_eq!(p.name, "my-robot");
+    // A stem that cannot name a folder is refused, naming the field to give.
+    let bad = problem_file("stem-bad", "my robot.toml", &text);
+    let err = Problem::load(&bad, &[]).expect_err("refused").to_string();
+    assert!(err.starts_with("name = (not given)") && err.contains("\"my robot\""), "{err}");
+    // `--set name=...` names it too.
+    assert_eq!(Problem::load(&bad, &["name=robot".into()]).expect("loads").name, "robot");
+}
+
+#[test]
+fn a_file_cut_short_says_what_its_defaults_fill_in() {
+    // Cut in the middle of [drop]: no height, no [manoeuvre], no last line break.
+    let cut = &PAPER[..PAPER.find("height").expect("the paper's file gives a height")];
+    let cut = cut.trim_end_matches('\n');
+    let path = problem_file("cut", "cut.toml", cut);
+    let warnings = Problem::load(&path, &[]).expect("loads").warnings();
+    let has = |s: &str| warnings.iter().any(|w| w.contains(s));
+    assert!(has("no drop.height: the default 10 m"), "{warnings:?}");
+    assert!(has("no [manoeuvre] section") && has("theta_deg = 45.0"), "{warnings:?}");
+    assert!(has("does not end with a line break"), "{warnings:?}");
+    // The whole file: none of these.
+    let whole = Problem::load(&problem_file("whole", "paper.toml", PAPER), &[]).expect("loads").warnings();
+    assert!(!whole.iter().any(|w| w.contains("the file")), "{whole:?}");
+    // An override that gives the section is not a section left out.
+    let given = Problem::load(&path, &["manoeuvre.theta_deg=100".into()]).expect("loads").warnings();
+    assert!(!given.iter().any(|w| w.contains("[manoeuvre]")), "{given:?}");
+}
+
+#[test]
+fn values_in_the_wrong_unit_are_warned_of_naming_the_field_and_its_unit() {
+    let cases = [
+        ("manoeuvre.circulation=180", "manoeuvre.circulation = 180 rad", "degrees"),
+        ("drop.height=10000", "drop.height = 10000 m", "mm or cm"),
+        ("drop.height=0.001", "drop.height = 0.001 m", "km"),
+        ("manoeuvre.theta_deg=1.5708", "manoeuvre.theta_deg = 1.5708", "radians"),
+        ("cat.length=1000", "cat.length = 1000 m", "mm or cm"),
+        ("cat.mass=2000", "cat.mass = 2000 kg", "g?"),
+        ("robust.spin_sigma_nms=10", "robust.spin_sigma_nms = 10", "N·m·s"),
+    ];
+    let paper = PathBuf::from("problems/paper.toml");
+    let quiet = Problem::load(&paper, &[]).expect("loads").warnings();
+    for (set, field, unit) in cases {
+        assert!(!quiet.iter().any(|w| w.contains(field)), "{quiet:?}");
+        let warnings = Problem::load(&paper, &[set.into()]).expect(set).warnings();
+        assert!(warnings.iter().any(|w| w.contains(field) && w.contains(unit)), "{set}: {warnings:?}");
+    }
+}
+
+#[test]
+fn json_output_keeps_the_warnings_on_stderr() {
+    let (code, out, err) =
+        catflip(&["simulate", "problems/paper.toml", "--set", "manoeuvre.circulation=180", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(serde_json::from_str::<serde_json::Value>(&out).is_ok(), "stdout is the JSON alone: {out}");
+    assert!(err.contains("warning: manoeuvre.circulation = 180 rad"), "{err}");
+}
+
+#[test]
+fn a_bad_file_among_several_is_named_and_nothing_is_written() {
+    let bad = problem_file("several", "falls-up.toml", &PAPER.replace("height = 10.0", "height = -1.0"));
+    let out = scratch("several-out").join("results");
+    let (code, _, err) = catflip(&[
+        "run",
+        "problems/kane-scher.toml",
+        bad.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("falls-up.toml: drop.height = -1"), "{err}");
+    assert!(!out.exists(), "results were written");
+}
+
+#[test]
+fn a_rate_the_files_cannot_take_is_refused_before_anything_runs() {
+    let out = scratch("rate").join("results");
+    let (code, _, err) =
+        catflip(&["run", "problems/kane-scher.toml", "--rate", "1e9", "--out", out.to_str().expect("utf-8")]);
+    assert_ne!(code, 0);
+    assert!(err.contains("kane-scher.toml: --rate 1000000000") && err.contains("rows"), "{err}");
+    assert!(!out.exists(), "a folder was left behind");
+}
+
+#[test]
+fn a_joint_limit_too_tight_to_flip_is_named() {
+    let (code, _, err) = catflip(&[
+        "optimize",
+        "problems/paper.toml",
+        "--whole",
+        "--quiet",
+        "--set",
+        "optimize.whole.joint_limit_deg=2",
+    ]);
+    assert_ne!(code, 0);
+    let last = err.lines().last().unwrap_or_default();
+    assert!(last.contains("optimize.whole.joint_limit_deg = 2 lets a start bend only 1.000°"), "{err}");
+    assert!(!last.contains("lower manoeuvre.theta_deg"), "the advice is the joint limit's: {err}");
+}
+
+#[test]
+fn an_inconclusive_rapier_run_is_no_result_and_exits_non_zero() {
+    // A spin of 91 turns: rapier's runs do not converge within the step budget.
+    let (code, out, err) =
+        catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--set", "drop.angular_momentum=[0,0,4]"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.lines().nth(1).is_some_and(|l| l.contains("NO RESULT") && l.contains("inconclusive")), "{out}");
+    assert!(err.lines().last().is_some_and(|l| l.starts_with("error: rapier's verification is inconclusive")), "{err}");
+}
