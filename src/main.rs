@@ -159,9 +159,6 @@ enum Command {
     },
 }
 
-/// Fewest rows a schedule file should give the shortest phase at `run --rate`; fewer are warned of.
-const MIN_ROWS_PER_PHASE: f64 = 10.0;
-
 /// Loads the problem (its rapier step set to `dt` when given) and prints its warnings on stderr
 /// (also with `--json`, whose output is stdout's).
 fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
@@ -357,13 +354,7 @@ fn run() -> anyhow::Result<()> {
             for (path, problem) in loaded {
                 let shortest =
                     problem.drop.fall_time() * problem.manoeuvre.phases.iter().copied().fold(f64::INFINITY, f64::min);
-                let coarse = rate.filter(|r| r * shortest < MIN_ROWS_PER_PHASE).map(|r| {
-                    format!(
-                        "--rate {r} Hz gives {:.2} rows in the shortest phase ({shortest:.3} s): the schedule files keep little more than its boundaries (at least {} Hz gives {MIN_ROWS_PER_PHASE} rows)",
-                        r * shortest,
-                        (MIN_ROWS_PER_PHASE / shortest).ceil()
-                    )
-                });
+                let coarse = export.coarse(shortest);
                 for w in problem.warnings().into_iter().chain(coarse) {
                     eprintln!("warning: {}: {w}", path.display());
                 }

@@ -154,3 +154,25 @@ fn an_inconclusive_rapier_run_is_no_result_and_exits_non_zero() {
     assert!(out.lines().nth(1).is_some_and(|l| l.contains("NO RESULT") && l.contains("inconclusive")), "{out}");
     assert!(err.lines().last().is_some_and(|l| l.starts_with("error: rapier's verification is inconclusive")), "{err}");
 }
+
+#[test]
+fn a_duplicate_key_is_named_on_its_own_line() {
+    // toml says "duplicate key" without the key; the message names it, on the repeat's line.
+    let path = problem_file("dup", "dup.toml", "name = \"x\"\n[cat]\nmass = 1.0\nlength = 1.0\nmass = 2.0\n");
+    let err = Problem::load(&path, &[]).expect_err("refused").to_string();
+    assert!(err.ends_with("dup.toml, line 5: duplicate key `mass`"), "{err}");
+    // An error at the start of a line is on that line, not the one before.
+    let path = problem_file("unclosed", "unclosed.toml", "name = \"x\"\n[cat\nmass = 1.0\n");
+    let err = Problem::load(&path, &[]).expect_err("refused").to_string();
+    assert!(err.contains("unclosed.toml, line 2:"), "{err}");
+}
+
+#[test]
+fn a_rate_too_coarse_for_the_shortest_phase_is_warned_of() {
+    use catflip::exchange::ExportOptions;
+    // The paper's shortest phase: 0.2 of a 1.43 s fall.
+    let coarse = ExportOptions { rate_hz: Some(0.1), ..Default::default() }.coarse(0.286);
+    assert!(coarse.is_some_and(|w| w.starts_with("--rate 0.1 Hz gives 0.03 rows") && w.contains("35 Hz")));
+    assert_eq!(ExportOptions { rate_hz: Some(1000.0), ..Default::default() }.coarse(0.286), None);
+    assert_eq!(ExportOptions::default().coarse(0.286), None);
+}

@@ -118,6 +118,13 @@ fn a_bad_axis_is_refused_with_its_field_named() {
     let (field, _) =
         bad_field(&with_base("[[axis]]\nfield = \"cat.radius\"\nrange = { from = 1.0, to = 2.0, count = 0 }"));
     assert_eq!(field, "axis[0].range.count");
+    // One value cannot be both ends of a range: refused unless they are equal.
+    let (field, reason) =
+        bad_field(&with_base("[[axis]]\nfield = \"cat.radius\"\nrange = { from = 0.05, to = 0.1, count = 1 }"));
+    assert_eq!(field, "axis[0].range.count", "{reason}");
+    assert!(reason.contains("0.05") && reason.contains("0.1") && reason.contains("count >= 2"), "{reason}");
+    let one = sweep_ok(&with_base("[[axis]]\nfield = \"cat.radius\"\nrange = { from = 0.05, to = 0.05, count = 1 }"));
+    assert_eq!(one.axes[0].values, [toml::Value::Float(0.05)]);
     let (field, reason) = bad_field(&with_base(
         "[[axis]]\nfield = \"cat.mass\"\nvalues = [1.0]\n[[axis]]\nfield = \"cat.mass\"\nvalues = [2.0]",
     ));
@@ -128,6 +135,22 @@ fn a_bad_axis_is_refused_with_its_field_named() {
         Err(SpecError::Parse { message, .. }) => assert!(message.contains("rapid"), "{message}"),
         other => panic!("an unknown key must be refused by name: {other:?}"),
     }
+}
+
+#[test]
+fn a_base_problem_file_that_cannot_be_read_is_refused_naming_base() {
+    let dir = scratch("no-base");
+    let text = "base = \"nonexist.toml\"\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1]\n";
+    match Sweep::from_toml(text, "s.toml", "s", &dir) {
+        Err(SpecError::BadField { field, reason }) => {
+            assert_eq!(field, "base", "{reason}");
+            let path = dir.join("nonexist.toml");
+            assert!(reason.contains(&format!("cannot read the problem file {}", path.display())), "{reason}");
+        }
+        Err(e) => panic!("expected the `base` field named, got {e}"),
+        Ok(_) => panic!("a sweep without its base problem must be refused"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -711,13 +734,31 @@ fn edited_parts_are_refused_naming_the_file_and_line() {
         ),
     ];
     for (want, edit) in edits {
-        std::fs::write(&csv, &original).expect("restore");
-        edit(&p[1]);
-        let _ = std::fs::remove_dir_all(root.join("merged"));
+        // As edited, and with `\r\n` line ends (as a spreadsheet or Python's csv module writes):
+        // the same lines.
+        for crlf in [false, true] {
+            std::fs::write(&csv, &original).expect("restore");
+            edit(&p[1]);
+            if crlf {
+                let text = std::fs::read_to_string(&csv).expect("cases.csv");
+                std::fs::write(&csv, text.replace("\r\n", "\n").replace('\n', "\r\n")).expect("rewrite");
+            }
+            let _ = std::fs::remove_dir_all(root.join("merged"));
+            let e = merge_error(&p, &root.join("merged"));
+            assert!(
+                e.contains(&format!("{}", csv.display())) && e.contains(want),
+                "crlf {crlf}: want {want:?}, got: {e}"
+            );
+            assert!(!e.contains('\n'), "one line: {e}");
+            assert!(!root.join("merged").exists(), "{want}: results were written");
+        }
+    }
+    // A row with a cell too many is named by its line too.
+    for end in ["\n", "\r\n"] {
+        let lines: Vec<&str> = original.lines().collect();
+        std::fs::write(&csv, format!("{}{end}{}{end}{},x{end}", lines[0], lines[1], lines[2])).expect("rewrite");
         let e = merge_error(&p, &root.join("merged"));
-        assert!(e.contains(&format!("{}", csv.display())) && e.contains(want), "want {want:?}, got: {e}");
-        assert!(!e.contains('\n'), "one line: {e}");
-        assert!(!root.join("merged").exists(), "{want}: results were written");
+        assert!(e.contains("line 3: ") && e.contains("fields where the header has"), "{end:?}: {e}");
     }
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -5,12 +5,15 @@
 //! - a duration more than [`ABSURD_DURATION_FACTOR`] times longer or shorter than the fall
 //!   `t_fall = √(2h/g)` (the times cannot be seconds; the engines' numbers would overflow);
 //! - (when the file is read, [`crate::exchange::import`]) a non-finite field, an angle beyond
-//!   [`crate::exchange::import::MAX_ANGLE_RAD`], angles that jump at a repeated time, times so
+//!   [`crate::exchange::import::MAX_ANGLE_RAD`], a rate or an acceleration beyond the limits of
+//!   [`crate::exchange::import::FASTEST_TURN_SHARE`], angles that jump at a repeated time, times so
 //!   far from zero that their rounding in double precision reaches
 //!   [`crate::exchange::import::TIME_ROUNDING_REFUSED`] of the rows' mean spacing
 //!   ([`crate::exchange::import::TimeRounding`]: near 1e15 s rows 1 ms apart run together).
 //!
 //! Warned (the report is made, with the warning beside it):
+//! - times that do not start at 0: the schedule starts at its first row, so every time is shifted
+//!   (by how much is said, with the file's last time and where it falls after the shift);
 //! - times whose rounding reaches [`TIME_ROUNDING_WARNED`] of the rows' mean spacing (a clock's
 //!   epoch, not the fall's start: near 1e9 s the rows move by 1e-7 s);
 //! - a duration that is not the fall's (within [`DURATION_TOLERANCE`] relative), said as
@@ -54,6 +57,7 @@ pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 /// in the user's words, naming the line or the column.
 pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
     let mut warnings = Vec::new();
+    start(schedule, &mut warnings);
     duration(problem, schedule, &mut warnings)?;
     time_rounding(schedule, &mut warnings);
     degrees(schedule, &mut warnings);
@@ -61,6 +65,24 @@ pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule
     consistency(schedule, &mut warnings);
     warnings.extend(problem.short_halves());
     Ok(warnings)
+}
+
+/// The first row's time is the schedule's start (`t = 0`): any other is said, with the shift.
+fn start(s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    use crate::numeric::numfmt::{echo, num, signed};
+    let (Some(first), Some(last)) = (s.all_rows().next(), s.all_rows().last()) else { return };
+    if first.t != 0.0 {
+        warnings.push(format!(
+            "line {}, column `{}`: the times start at {} s, not 0: the schedule starts at its first row, so every time is shifted by {} s (the last, {} s on line {}, is {} s from the start); write the times from the start of the fall (t = 0)",
+            first.line,
+            s.columns.time,
+            echo(first.t),
+            signed(-first.t),
+            echo(last.t),
+            last.line,
+            num(last.t - first.t)
+        ));
+    }
 }
 
 fn duration(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) -> Result<(), ImportError> {
@@ -141,7 +163,7 @@ fn ends(model: &TwoMotorCat, s: &ImportedSchedule, warnings: &mut Vec<String>) {
         let q = state.q;
         if q[0].hypot(q[1]) > POSITION_JUMP_TOLERANCE {
             warnings.push(format!(
-                "line {line}: the schedule {verb} bent (q = [{:.6}, {:.6}] rad): the cat is {event} straight (q = 0)",
+                "line {line}: the schedule {verb} bent (q = [{:.6}, {:.6}] rad): the cat {event} straight (q = 0)",
                 q[0], q[1]
             ));
         }
@@ -155,7 +177,7 @@ fn ends(model: &TwoMotorCat, s: &ImportedSchedule, warnings: &mut Vec<String>) {
             // The impulse from rest: the paper's cat's M(q) q̇, any other model's motor impulse.
             let m = model.jump_impulse(q, state.qd);
             warnings.push(format!(
-                "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat is {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
+                "line {line}: the schedule {verb} moving (q̇ = [{:.6}, {:.6}] rad/s): the cat {event} at rest, so this takes an impulse [{:.6}, {:.6}] N·m·s at that instant, which no torque here includes",
                 state.qd[0], state.qd[1], m[0], m[1]
             ));
         }

@@ -34,11 +34,14 @@
 //!
 //! Every defect is an [`ImportError`] naming the file, the line and the column; nothing panics.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use serde::Serialize;
 
 use crate::exchange::interp::Piecewise;
+use crate::exchange::table::{error_message, record_line};
+use crate::numeric::numfmt::sig;
 use crate::problem::error::one_line;
 use crate::schedule::{JointState, Trajectory};
 
@@ -150,7 +153,7 @@ pub enum ImportError {
         scheme: Interpolation,
     },
     /// A joint angle too large to be an angle in radians.
-    #[error("{path}: line {line}, column {column} (`{name}`): {value:e} rad is not a joint angle (more than {limit:e} rad, {turns:.0} turns); angles must be in radians")]
+    #[error("{path}: line {line}, column {column} (`{name}`): {value:e} rad is not a joint angle (more than {limit:e} rad, {} turns); angles must be in radians", sig(*turns, 3))]
     AbsurdAngle {
         /// The file.
         path: String,
@@ -166,6 +169,27 @@ pub enum ImportError {
         limit: f64,
         /// The value in turns.
         turns: f64,
+    },
+    /// A rate or an acceleration too large to be a joint's ([`FASTEST_TURN_SHARE`]): the engines
+    /// cannot use it.
+    #[error("{path}: line {line}, column {column} (`{name}`): {value:e} {unit} is not a joint {quantity}: more than {} {unit} ({}), too large for the engines; {quantity}s must be in {unit}", sig(*limit, 2), fastest_turn(*duration_s, *power), unit = derivative(*power).1, quantity = derivative(*power).0)]
+    AbsurdRate {
+        /// The file.
+        path: String,
+        /// The line.
+        line: u64,
+        /// The column, 1-based.
+        column: usize,
+        /// The column's name.
+        name: String,
+        /// The value, rad/s or rad/s².
+        value: f64,
+        /// The largest accepted magnitude, rad/s or rad/s².
+        limit: f64,
+        /// The schedule's duration (its last time less its first), s.
+        duration_s: f64,
+        /// The time derivative: 1 for a rate (rad/s), 2 for an acceleration (rad/s²).
+        power: u8,
     },
     /// A time written twice (a piece split) with different angles: the joints would have to jump.
     #[error("{path}: lines {lines:?}: t = {time} s is written twice with `{name}` = {before} then {after} rad: a joint cannot jump (a repeated time splits pieces where the rates may jump, not the angles); write the same angles on both rows")]
@@ -333,6 +357,30 @@ pub struct Columns {
 /// meaningless.
 pub const MAX_ANGLE_RAD: f64 = 1e3;
 
+/// The shortest time, as a share of a schedule's duration `T`, in which a joint may turn by
+/// [`MAX_ANGLE_RAD`]: a rate beyond `MAX_ANGLE_RAD / (share · T)` or an acceleration beyond
+/// `MAX_ANGLE_RAD / (share · T)²` is no joint's (on a fall of 1.43 s, 7·10⁸ rad/s and
+/// 5·10¹⁴ rad/s²), and the engines' numbers would overflow. The limits scale with the file's own
+/// times, so a file in the wrong time unit is refused for its duration, not here.
+pub const FASTEST_TURN_SHARE: f64 = 1e-6;
+
+/// The name and unit of the angles' `power`-th time derivative (1 or 2).
+fn derivative(power: u8) -> (&'static str, &'static str) {
+    if power == 1 {
+        ("rate", "rad/s")
+    } else {
+        ("acceleration", "rad/s²")
+    }
+}
+
+/// The limit's basis in words: `1000 rad in 1.4e-6 s, a millionth of the schedule's 1.4 s`
+/// (per that time squared for an acceleration, `power` 2).
+fn fastest_turn(duration_s: f64, power: u8) -> String {
+    let tau = FASTEST_TURN_SHARE * duration_s;
+    let per = if power == 1 { format!("in {} s", sig(tau, 2)) } else { format!("per ({} s)²", sig(tau, 2)) };
+    format!("{} rad {per}, a millionth of the schedule's {} s", sig(MAX_ANGLE_RAD, 3), sig(duration_s, 6))
+}
+
 /// The largest difference of the angles on the two rows of a repeated time, rad: below any
 /// joint's resolution, above the round-off of a file written to seven digits or more.
 pub const POSITION_JUMP_TOLERANCE: f64 = 1e-6;
@@ -483,11 +531,16 @@ const ACCELS: [[&str; 2]; 2] = [["qdd1_rad_s2", "qdd1"], ["qdd2_rad_s2", "qdd2"]
 /// Parses a schedule CSV text; `origin` names it in errors.
 pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, ImportError> {
     let path = origin.to_string();
+    // Every line end as `\n` (a file's `\r\n` or lone `\r`): the reader ends a comment at `\n`
+    // only, so a comment in a file of `\r` line ends would swallow the rows after it.
+    let text: Cow<str> =
+        if text.contains('\r') { text.replace("\r\n", "\n").replace('\r', "\n").into() } else { text.into() };
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
+    let line_of = |p: &csv::Position| record_line(text.as_bytes(), p, Some(b'#'));
     let csv_err = |e: csv::Error| ImportError::Csv {
         path: path.clone(),
-        line: e.position().map_or(1, |p| p.line()),
-        message: e.kind_message(),
+        line: e.position().map_or(1, line_of),
+        message: error_message(&e),
     };
     let header: Vec<String> = reader.headers().map_err(csv_err)?.iter().map(|h| h.to_lowercase()).collect();
     let find = |names: &[&str]| names.iter().find_map(|n| header.iter().position(|h| h == n));
@@ -530,7 +583,7 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
     let mut samples = Vec::new();
     for record in reader.records() {
         let record = record.map_err(csv_err)?;
-        let line = record.position().map_or(0, |p| p.line());
+        let line = record.position().map_or(0, line_of);
         let number = |col: usize| -> Result<f64, ImportError> {
             let field = record.get(col).unwrap_or("");
             let value: f64 = field.parse().map_err(|_| ImportError::NotANumber {
@@ -586,6 +639,7 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
     }
     let groups = split_pieces(&samples, &path, t_col, &header[t_col])?;
     check_continuity(&groups, &path, &columns)?;
+    check_magnitudes(&samples, &path, &header, qd_cols, qdd_cols)?;
     let pieces = groups
         .iter()
         .enumerate()
@@ -636,6 +690,49 @@ fn split_pieces<'a>(samples: &'a [Row], path: &str, t_col: usize, t_name: &str) 
         groups.push(&samples[start..]);
     }
     Ok(groups)
+}
+
+/// Rates and accelerations within [`FASTEST_TURN_SHARE`]'s limits of the file's duration; the
+/// first row beyond them (and its first column) is refused.
+fn check_magnitudes(
+    samples: &[Row],
+    path: &str,
+    header: &[String],
+    rates: Option<[usize; 2]>,
+    accels: Option<[usize; 2]>,
+) -> Result<(), ImportError> {
+    let (Some(first), Some(last)) = (samples.first(), samples.last()) else { return Ok(()) };
+    let duration = last.t - first.t;
+    // The times increase (checked before), so only a file of one time has no duration.
+    if duration <= 0.0 {
+        return Ok(());
+    }
+    let tau = FASTEST_TURN_SHARE * duration;
+    let kinds = [
+        (rates, 1, MAX_ANGLE_RAD / tau, &(|r: &Row| r.qd) as &dyn Fn(&Row) -> Option<[f64; 2]>),
+        (accels, 2, MAX_ANGLE_RAD / (tau * tau), &|r: &Row| r.qdd),
+    ];
+    for row in samples {
+        // The row's fields beyond their limit, in the file's column order.
+        let beyond = kinds.iter().filter_map(|(cols, power, limit, get)| {
+            let (cols, values) = ((*cols)?, get(row)?);
+            let j = (0..2).filter(|&j| values[j].abs() > *limit).min_by_key(|&j| cols[j])?;
+            Some((cols[j], values[j], *power, *limit))
+        });
+        if let Some((col, value, power, limit)) = beyond.min_by_key(|b| b.0) {
+            return Err(ImportError::AbsurdRate {
+                path: path.into(),
+                line: row.line,
+                column: col + 1,
+                name: header[col].clone(),
+                value,
+                limit,
+                duration_s: duration,
+                power,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The angles on the two rows of a repeated time must agree ([`POSITION_JUMP_TOLERANCE`]): a
@@ -725,22 +822,5 @@ impl ImportedSchedule {
     /// All rows, in order.
     pub fn all_rows(&self) -> impl Iterator<Item = &Row> {
         self.pieces.iter().flat_map(|p| p.rows.iter())
-    }
-}
-
-/// The CSV error's message without its position (the caller names the line).
-trait KindMessage {
-    fn kind_message(&self) -> String;
-}
-
-impl KindMessage for csv::Error {
-    fn kind_message(&self) -> String {
-        match self.kind() {
-            csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
-                format!("{len} fields where the header has {expected_len}")
-            }
-            csv::ErrorKind::Utf8 { .. } => "not valid UTF-8".into(),
-            _ => self.to_string(),
-        }
     }
 }

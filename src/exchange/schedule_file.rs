@@ -154,6 +154,10 @@ impl Default for ExportOptions {
 /// Most rows a schedule file may have (a guard against a mistyped `--rate`).
 pub const MAX_ROWS: usize = 10_000_000;
 
+/// Fewest rows a schedule file at `rate_hz` should give the shortest phase; fewer are warned of
+/// ([`ExportOptions::coarse`]).
+pub const MIN_ROWS_PER_PHASE: f64 = 10.0;
+
 impl ExportOptions {
     /// Checks the options against a schedule of `duration` seconds.
     pub fn validate(&self, duration: f64) -> Result<(), ExchangeError> {
@@ -172,6 +176,18 @@ impl ExportOptions {
             return Err(ExchangeError::BadSteps(self.steps_per_piece));
         }
         Ok(())
+    }
+
+    /// A warning when `rate_hz` gives a phase of `shortest` seconds fewer than
+    /// [`MIN_ROWS_PER_PHASE`] rows: the files would keep little more than its boundaries.
+    pub fn coarse(&self, shortest: f64) -> Option<String> {
+        self.rate_hz.filter(|r| r * shortest < MIN_ROWS_PER_PHASE).map(|r| {
+            format!(
+                "--rate {r} Hz gives {:.2} rows in the shortest phase ({shortest:.3} s): the schedule files keep little more than its boundaries (at least {} Hz gives {MIN_ROWS_PER_PHASE} rows)",
+                r * shortest,
+                (MIN_ROWS_PER_PHASE / shortest).ceil()
+            )
+        })
     }
 }
 

@@ -163,11 +163,19 @@ impl Problem {
     /// taken as a string) and validates.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
         let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].lines().count().max(1));
-            ProblemError::Parse {
-                origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")),
-                message: one_line(e.message()),
-            }
+            // The line the error's span starts on, counted from 1 (a span at a line's start is
+            // on that line, not the one before).
+            let line = e
+                .span()
+                .map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
+            // toml says "duplicate key" without the key: its span holds it.
+            let quoted =
+                e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty() && !k.contains('\n'));
+            let message = match quoted {
+                Some(key) if e.message().trim() == "duplicate key" => format!("duplicate key `{key}`"),
+                _ => one_line(e.message()),
+            };
+            ProblemError::Parse { origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")), message }
         })?;
         // The file alone first, so that a value it holds is blamed on it and one an override
         // brings in on that override.
@@ -248,11 +256,7 @@ impl Problem {
     fn validate_spin(&self) -> Result<(), ProblemError> {
         let l = self.drop.angular_momentum;
         if let Some(i) = l.iter().position(|x| !x.is_finite()) {
-            return Err(bad(
-                &format!("drop.angular_momentum[{}]", i + 1),
-                echo(l[i]),
-                "must be a finite number (N·m·s)",
-            ));
+            return Err(bad(&format!("drop.angular_momentum[{i}]"), echo(l[i]), "must be a finite number (N·m·s)"));
         }
         let turns = self.drop.spin_turns(&self.cat.model());
         if turns > MAX_SPIN_TURNS {

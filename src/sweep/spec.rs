@@ -98,7 +98,7 @@ pub struct Range {
     pub from: f64,
     /// Last value.
     pub to: f64,
-    /// Number of values (1 gives `from` alone).
+    /// Number of values (1 needs `from` = `to`: a range has both ends).
     pub count: usize,
     /// Spacing.
     #[serde(default)]
@@ -263,8 +263,15 @@ impl Sweep {
         let (base_text, base_origin) = match &file.base {
             BaseSource::Path(p) => {
                 let path: PathBuf = dir.join(p);
-                let t = std::fs::read_to_string(&path)
-                    .map_err(|source| SpecError::Io { path: path.display().to_string(), source })?;
+                let t = std::fs::read_to_string(&path).map_err(|e| {
+                    bad(
+                        "base",
+                        &format!(
+                            "cannot read the problem file {} ({p:?}, relative to the sweep file): {e}",
+                            path.display()
+                        ),
+                    )
+                })?;
                 (t, path.display().to_string())
             }
             BaseSource::Inline(table) => (
@@ -381,6 +388,16 @@ fn check_range(field: &str, r: &Range) -> Result<(), SpecError> {
     }
     if r.count == 0 {
         return Err(bad(&format!("{field}.count"), "must be at least 1"));
+    }
+    // One value cannot be both ends: it would be `from` alone, `to` dropped unsaid.
+    if r.count == 1 && (r.to - r.from).abs() > 0.0 {
+        return Err(bad(
+            &format!("{field}.count"),
+            &format!(
+                "1 gives one value, but `from` = {} and `to` = {} differ: a range has both ends; give count >= 2, or from = to for one value",
+                r.from, r.to
+            ),
+        ));
     }
     if r.scale == RangeScale::Log && (r.from <= 0.0 || r.to <= 0.0) {
         return Err(bad(&format!("{field}.scale"), "a log range needs positive `from` and `to`"));

@@ -27,6 +27,7 @@
 
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::Engine;
+use crate::exchange::table::{error_message, record_line};
 
 use super::cases::{case, cell};
 use super::evaluate::CaseOutcome;
@@ -277,9 +278,14 @@ pub fn from_csv_lines(sweep: &Sweep, text: &str, origin: &str) -> Result<Vec<(u6
     let o = 1 + sweep.axes.len();
     let mut out = Vec::new();
     let columns = header(sweep);
+    // Lines as the file has them, whatever its line ends (an editor may have written `\r\n`).
+    let line_of = |p: &csv::Position| record_line(text.as_bytes(), p, None);
     for rec in rd.records() {
-        let rec = rec.map_err(|e| fail(e.to_string()))?;
-        let line = rec.position().map_or(0, csv::Position::line);
+        let rec = rec.map_err(|e| match e.position() {
+            Some(p) => fail(format!("line {}: {}", line_of(p), error_message(&e))),
+            None => fail(e.to_string()),
+        })?;
+        let line = rec.position().map_or(0, line_of);
         let bad = |what: &str| fail(format!("line {line}: bad {what}"));
         // The cell of a named column after the axes.
         let at = |name: &str| tail().position(|c| c == name).and_then(|k| rec.get(o + k)).unwrap_or("");
