@@ -46,6 +46,17 @@ pub fn echo(x: f64) -> String {
     sig(x, ECHO_SIGNIFICANT)
 }
 
+/// `x` with `decimals` decimals (a table's fixed format) when that shows it, that is when
+/// `|x| ≥ 10⁻³` or `x = 0`; smaller by the module's rule ([`num`]), so that `1e-6` does not read
+/// `0.000001` or `0.0000`.
+pub fn fixed(x: f64, decimals: usize) -> String {
+    if x == 0.0 || x.abs() >= 1e-3 || !x.is_finite() {
+        format!("{x:.decimals$}")
+    } else {
+        num(x)
+    }
+}
+
 /// `x` to `digits` significant digits (at least one) by the module's rule.
 pub fn sig(x: f64, digits: usize) -> String {
     if x.is_nan() {
@@ -97,6 +108,17 @@ fn plain(digits: &str, exponent: i32) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fixed_keeps_a_table_s_decimals_unless_they_would_hide_the_number() {
+        assert_eq!(fixed(0.316452, 6), "0.316452");
+        assert_eq!(fixed(437.3025951, 6), "437.302595");
+        assert_eq!(fixed(0.0, 4), "0.0000");
+        assert_eq!(fixed(1e-3, 4), "0.0010");
+        // Below 1e-3 a fixed format shows zeros or one digit: the module's rule instead.
+        assert_eq!(fixed(1e-6, 6), "1e-6");
+        assert_eq!(fixed(-9.99617e-7, 4), "-9.99617e-7");
+    }
 
     #[test]
     fn the_examples_of_the_issue_read_as_people_write_them() {

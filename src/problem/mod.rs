@@ -13,6 +13,7 @@ pub mod limits;
 pub mod manoeuvre;
 mod overrides;
 mod plausible;
+pub use plausible::PLAUSIBLE_HEIGHT_M;
 pub mod robust;
 pub mod settings;
 pub mod whole;

@@ -8,7 +8,7 @@ use super::{Circulation, Drop, Problem, WARN_SPIN_TURNS};
 use crate::numeric::numfmt::{echo, num};
 
 /// Drop heights a cat or a robot is dropped from, m: a few centimetres to a tall building.
-const HEIGHT_M: (f64, f64) = (0.05, 500.0);
+pub const PLAUSIBLE_HEIGHT_M: (f64, f64) = (0.05, 500.0);
 /// Lengths of a half, m.
 const LENGTH_M: (f64, f64) = (0.01, 10.0);
 /// Masses of a half, kg.
@@ -39,7 +39,7 @@ fn outside(field: &str, value: f64, unit: &str, (lo, hi): (f64, f64), small: &st
 /// The problem's values that are probably in the wrong unit, as warnings.
 pub(crate) fn warnings(p: &Problem) -> Vec<String> {
     let mut out = Vec::new();
-    out.extend(outside("drop.height", p.drop.height, "m", HEIGHT_M, "km", "mm or cm"));
+    out.extend(outside("drop.height", p.drop.height, "m", PLAUSIBLE_HEIGHT_M, "km", "mm or cm"));
     let cat = &p.cat;
     let halves = [
         ("cat", Some(cat.half())),

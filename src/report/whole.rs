@@ -11,8 +11,10 @@ use std::fmt::Write as _;
 use crate::engines::measured::Measured;
 use crate::measure::retime::RetimeRow;
 use crate::measure::whole::WholeReport;
+use crate::numeric::numfmt::fixed;
 use crate::optimize::retime::RetimeSettings;
 use crate::optimize::whole::{BSpline, Objective, WholeSolution};
+use crate::problem::PLAUSIBLE_HEIGHT_M;
 use crate::report::check::verification_row;
 use crate::report::compare::CompareRow;
 use crate::schedule::variant::WHOLE;
@@ -53,13 +55,20 @@ impl WholeReport {
                 );
                 let _ = writeln!(
                     s,
-                    "- Peak motor torque **{:.6} N·m** at t = {:.4} s; over the problem's phase windows bend [{:.4}, {:.4}], twist [{:.4}, {:.4}], unbend [{:.4}, {:.4}] N·m.",
-                    p.max, e.peak_time(), p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1]
+                    "- Peak motor torque **{} N·m** at t = {:.4} s; over the problem's phase windows bend [{}, {}], twist [{}, {}], unbend [{}, {}] N·m.",
+                    fixed(p.max, 6),
+                    e.peak_time(),
+                    fixed(p.bend[0], 4),
+                    fixed(p.bend[1], 4),
+                    fixed(p.twist[0], 4),
+                    fixed(p.twist[1], 4),
+                    fixed(p.unbend[0], 4),
+                    fixed(p.unbend[1], 4)
                 );
                 let _ = writeln!(
                     s,
-                    "- Energy ∫τ·τ dt = {:.6} N²·m²·s; largest bend {:.2}° (angle between the halves ≥ {:.2}°); the bend direction turns {:+.3} turns.",
-                    b.energy,
+                    "- Energy ∫τ·τ dt = {} N²·m²·s; largest bend {:.2}° (angle between the halves ≥ {:.2}°); the bend direction turns {:+.3} turns.",
+                    fixed(b.energy, 6),
                     b.max_bend_deg,
                     180.0 - b.max_bend_deg,
                     b.bend_turns
@@ -143,9 +152,17 @@ impl WholeReport {
         let m = &measured.exact.motors;
         let fall = match (self.objective, self.drop_height_m) {
             (Objective::MinTime, Some(h)) => format!(
-                "- Least fall time within the motors **{:.6} s**: drop height **{:.4} m**; active limits: {}.",
+                "- Least fall time within the motors **{:.6} s**: drop height **{:.4} m**{}; active limits: {}.",
                 b.fall_time_s,
                 h,
+                if h > PLAUSIBLE_HEIGHT_M.1 {
+                    format!(
+                        " (beyond the {} m of any drop: the motors are far too weak for this cat)",
+                        PLAUSIBLE_HEIGHT_M.1
+                    )
+                } else {
+                    String::new()
+                },
                 if self.active_limits.is_empty() {
                     "none".to_string()
                 } else {
