@@ -93,7 +93,7 @@ enum Command {
         #[arg(long, requires = "whole")]
         verify: bool,
         /// With --whole: also write the optimum's report, schedule file (CSV and sidecar),
-        /// URDF/MJCF and filmstrip into <out>/<name>-whole/ (the universal joint, no release spin).
+        /// URDF/MJCF and filmstrip into <out>/<name>-whole/ (the universal or no-twist joint, no release spin).
         #[arg(long, requires = "whole", value_name = "DIR")]
         out: Option<PathBuf>,
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).

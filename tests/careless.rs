@@ -176,3 +176,16 @@ fn a_rate_too_coarse_for_the_shortest_phase_is_warned_of() {
     assert_eq!(ExportOptions { rate_hz: Some(1000.0), ..Default::default() }.coarse(0.286), None);
     assert_eq!(ExportOptions::default().coarse(0.286), None);
 }
+
+#[test]
+fn a_schedule_file_made_for_another_cat_is_said_to_be() {
+    // The committed optimum of unequal halves, on the paper's equal halves: its sidecar says so.
+    let file = "results/unequal-halves/schedules/whole-optimum.csv";
+    let (code, _, err) = catflip(&["simulate", "problems/paper.toml", "--schedule", file]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("made for problem \"unequal-halves\"") && err.contains("front half 0.8 kg"), "{err}");
+    // On its own problem, nothing of the kind.
+    let (code, _, err) = catflip(&["simulate", "problems/unequal-halves.toml", "--schedule", file]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("made for problem"), "{err}");
+}

@@ -52,7 +52,7 @@ fn unequal_halves_are_compared_with_their_mean_half() {
     let p = preset("unequal-halves", &[]);
     let v = variants(&p).expect("valid models");
     let keys: Vec<&str> = v.iter().map(|x| x.key.as_str()).collect();
-    assert_eq!(keys, ["universal", "no-twist", "unequal-universal", "unequal-no-twist"]);
+    assert_eq!(keys, ["mean-universal", "mean-no-twist", "unequal-universal", "unequal-no-twist"]);
     let (front, rear) = (p.cat.front(), p.cat.rear());
     let mean = v[0].problem.cat.model().front;
     assert!((mean.mass - 0.5 * (front.mass + rear.mass)).abs() < 1e-15, "{mean:?}");

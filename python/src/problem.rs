@@ -81,8 +81,9 @@ pub fn load(py: Python<'_>, path: PathBuf, overrides: Vec<String>) -> PyResult<P
     py.detach(|| catflip::problem::Problem::load(&path, &overrides)).map(wrap).map_err(refuse)
 }
 
-/// Parses TOML text named `origin` in messages, overrides and validates (`Problem::from_toml`).
+/// Parses TOML text named `origin` in messages, overrides and validates, as a file's text
+/// (`Problem::from_user_text`: an empty text is refused, what it leaves out is warned of).
 #[pyfunction]
 pub fn from_toml(py: Python<'_>, text: String, origin: String, overrides: Vec<String>) -> PyResult<Problem> {
-    py.detach(|| catflip::problem::Problem::from_toml(&text, &origin, &overrides)).map(wrap).map_err(refuse)
+    py.detach(|| catflip::problem::Problem::from_user_text(&text, &origin, &overrides)).map(wrap).map_err(refuse)
 }

@@ -156,3 +156,12 @@ def test_rapier_verifies_the_no_twist_cat_and_its_files_are_a_ball_joint():
     header = catflip.schedule_series(problem).csv.splitlines()[0].split(",")
     assert header[-9:] == ["tauz_nm", "impulsez_nms", "rel_qw", "rel_qx", "rel_qy", "rel_qz",
                            "rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s"]
+
+
+def test_an_empty_problem_is_refused_as_the_cli_refuses_an_empty_file(tmp_path, cli):
+    path = tmp_path / "empty.toml"
+    path.write_text("# only a comment\n")
+    message = same_as_cli(cli, ["simulate", str(path)], lambda: catflip.load(path))
+    assert "holds no field" in message
+    assert refused(lambda: catflip.loads("# only a comment\n", origin=str(path))) == message
+    assert "holds no field" in refused(lambda: catflip.from_dict({}))

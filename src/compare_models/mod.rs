@@ -60,11 +60,13 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     let cat = problem.cat.model();
     let equal = cat.has_equal_halves();
     let half = if equal { cat.front } else { cat.mean_half() };
-    let mut halves = vec![(
-        String::new(),
-        if equal { "equal halves" } else { "equal halves (the mean half)" },
-        CatSection::from(half),
-    )];
+    // The mean half's models are keyed `mean-…` (their rows, legends and files), so that a
+    // reader of a problem with unequal halves never takes them for its own cat.
+    let mut halves = vec![if equal {
+        (String::new(), "equal halves", CatSection::from(half))
+    } else {
+        ("mean-".to_string(), "equal halves (the mean half)", CatSection::from(half))
+    }];
     if !equal {
         halves.push(("unequal-".to_string(), "unequal halves (the problem's)", problem.cat));
     }
@@ -77,7 +79,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
                 p.manoeuvre.bend_path = BendPath::JointCircle;
             }
             p.validate()?;
-            let whose = match (joint, prefix.is_empty()) {
+            let whose = match (joint, prefix != "unequal-") {
                 (Joint::Universal, true) => " (the paper's model)",
                 (Joint::NoTwist, true) => " (Kane and Scher's)",
                 _ => "",

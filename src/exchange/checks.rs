@@ -57,6 +57,7 @@ pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 /// in the user's words, naming the line or the column.
 pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule) -> Result<Vec<String>, ImportError> {
     let mut warnings = Vec::new();
+    made_for(problem, schedule, &mut warnings);
     start(schedule, &mut warnings);
     duration(problem, schedule, &mut warnings)?;
     time_rounding(schedule, &mut warnings);
@@ -65,6 +66,29 @@ pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule
     consistency(schedule, &mut warnings);
     warnings.extend(problem.short_halves());
     Ok(warnings)
+}
+
+/// A file catflip wrote carries its sidecar (`NAME.json` beside `NAME.csv`) with the problem it
+/// was made for: a cat other than this problem's is said (the file is still evaluated on this
+/// cat, as asked). A file without a readable sidecar is taken as it is.
+fn made_for(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    let sidecar = std::path::Path::new(&s.path).with_extension("json");
+    let Ok(text) = std::fs::read_to_string(&sidecar) else { return };
+    let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else { return };
+    let source = &json["source"];
+    let Ok(cat) = serde_json::from_value::<crate::problem::CatSection>(source["problem_file"]["cat"].clone()) else {
+        return;
+    };
+    let (theirs, ours) = (cat.model(), problem.cat.model());
+    if theirs != ours {
+        warnings.push(format!(
+            "its sidecar {} says it was made for problem \"{}\", whose cat ({}) is not this problem's ({}): the twist and torques here are this cat's, not the ones it was planned for",
+            sidecar.display(),
+            source["problem"].as_str().unwrap_or("?"),
+            theirs.describe(),
+            ours.describe()
+        ));
+    }
 }
 
 /// The first row's time is the schedule's start (`t = 0`): any other is said, with the shift.

@@ -140,22 +140,29 @@ impl Default for Problem {
 }
 
 impl Problem {
-    /// Reads, overrides and validates a problem file. A file must hold a field; one without
-    /// `name` is named after its stem, and what it leaves to the defaults (a section, the drop
-    /// height, a last line cut short) is kept as a warning ([`Problem::warnings`]).
+    /// Reads, overrides and validates a problem file ([`Problem::from_user_text`]); a file
+    /// without `name` is named after its stem.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, ProblemError> {
         let text = std::fs::read_to_string(path)
             .map_err(|source| ProblemError::Io { path: path.display().to_string(), source })?;
-        let origin = path.display().to_string();
-        // A file that is not TOML is reported by `from_toml`, with its line.
-        let Ok(table) = text.parse::<toml::Table>() else { return Self::from_toml(&text, &origin, overrides) };
-        let omissions = file::omissions(&text, &table, &origin, overrides)?;
-        let named =
-            table.contains_key("name") || overrides.iter().any(|o| o.split('=').next().map(str::trim) == Some("name"));
-        let mut problem = Self::from_toml(&text, &origin, overrides)?;
+        let mut problem = Self::from_user_text(&text, &path.display().to_string(), overrides)?;
+        let named = text.parse::<toml::Table>().is_ok_and(|t| t.contains_key("name"))
+            || overrides.iter().any(|o| o.split('=').next().map(str::trim) == Some("name"));
         if !named {
             problem.name = file::name_from_stem(path)?;
         }
+        Ok(problem)
+    }
+
+    /// A problem a user wrote (a file's text, or the Python package's `loads`): as
+    /// [`Problem::from_toml`], but a text that holds no field is refused, and what it leaves to
+    /// the defaults (a section, the drop height, a last line cut short) is kept as a warning
+    /// ([`Problem::warnings`]).
+    pub fn from_user_text(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
+        // A text that is not TOML is reported by `from_toml`, with its line.
+        let Ok(table) = text.parse::<toml::Table>() else { return Self::from_toml(text, origin, overrides) };
+        let omissions = file::omissions(text, &table, origin, overrides)?;
+        let mut problem = Self::from_toml(text, origin, overrides)?;
         problem.omissions = omissions;
         Ok(problem)
     }

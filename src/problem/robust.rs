@@ -22,6 +22,11 @@ pub const FEEDBACK_DT_S: f64 = 3e-4;
 /// diverges, and the nominal cat (no gain drawn) at 1e-3 s (0.36); a fat nominal cat (r = 0.25 m,
 /// stiffening 2.4) runs at 1e-3 s (0.15), as the thin one does with a 3 Hz servo (0.11).
 pub const WARN_SERVO_PER_STEP: f64 = 0.15;
+/// Fewer trials than this are warned of: their percentiles are a few trials' values.
+pub const WARN_FEW_TRIALS: usize = 20;
+/// A landing tolerance at or above this, degrees, is warned of: a cat this far off is not on
+/// its feet.
+pub const WARN_TOLERANCE_DEG: f64 = 90.0;
 
 /// Which engines the robustness check runs its trials through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -333,7 +338,8 @@ impl RobustSettings {
         Ok(())
     }
 
-    /// Careless tracked-check settings that still run: a servo the step barely resolves, an
+    /// Careless settings that still run: so few trials that a percentile says little, a landing
+    /// tolerance any schedule meets; for the tracked check, a servo the step barely resolves, an
     /// attitude estimate older than the fall.
     ///
     /// The servo is an explicit PD whose gains are sized on `J = I_end/2` (a half's transverse
@@ -345,6 +351,19 @@ impl RobustSettings {
     /// warned about: there the tracked trials diverge.
     pub(crate) fn warnings(&self, fall_time: f64, servo_stiffening: f64) -> Vec<String> {
         let mut out = Vec::new();
+        if self.trials < WARN_FEW_TRIALS {
+            out.push(format!(
+                "robust.trials = {}: percentiles from so few trials say little (the 95th of {} trials is its largest or next to it); {WARN_FEW_TRIALS} or more make a distribution",
+                self.trials, self.trials
+            ));
+        }
+        if self.tolerance_deg >= WARN_TOLERANCE_DEG {
+            out.push(format!(
+                "robust.tolerance_deg = {}: a cat within {}° of its target is not on its feet; any schedule lands \"within\" it",
+                echo(self.tolerance_deg),
+                echo(self.tolerance_deg)
+            ));
+        }
         if !self.engine.rapier() {
             return out;
         }

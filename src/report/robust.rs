@@ -119,12 +119,12 @@ impl RobustReport {
         for c in &self.checks {
             worst_section(&mut out, c);
         }
-        let feedback = self.checks.iter().any(|c| c.engine == Engine::RapierFeedback);
-        let _ = writeln!(
-            out,
-            "\nNot modelled here: unequal halves{}.",
-            if feedback { "" } else { "; feedback on the attitude (the controller seam takes one)" }
-        );
+        if !self.checks.iter().any(|c| c.engine == Engine::RapierFeedback) {
+            let _ = writeln!(
+                out,
+                "\nNo trial here fed the attitude back: `--set robust.engine=rapier --set robust.controller=feedback` tracks the schedule with attitude feedback (README, \"Robustness\")."
+            );
+        }
         out
     }
 
@@ -233,9 +233,13 @@ impl RobustReport {
     }
 
     /// The landing error's histogram, [`HISTOGRAM_BINS`] bins from 0 to the largest error of any
-    /// engine, each engine's counts as a step outline; the tolerance starts a band.
+    /// engine (at least 1.2 times the tolerance, so that the tolerance is on the scale even when
+    /// every trial lands within it, or all alike), each engine's counts as a step outline; the
+    /// tolerance starts a band.
     pub fn histogram_plot(&self) -> LinePlot {
-        let top = self.checks.iter().map(|c| c.landing_error_deg.max).fold(0.0, f64::max).max(1e-9);
+        let tolerance = self.checks.first().map_or(0.0, |c| c.settings.tolerance_deg);
+        let top =
+            self.checks.iter().map(|c| c.landing_error_deg.max).fold(0.0, f64::max).max(1.2 * tolerance).max(1e-9);
         let width = top / HISTOGRAM_BINS as f64;
         let series = self
             .checks
@@ -259,7 +263,7 @@ impl RobustReport {
             "robust_histogram",
             format!("{}: landing error, {} trials", self.title(), self.checks.first().map_or(0, |c| c.trials.len())),
             "landing error (degrees)",
-            format!("trials per {width:.2}° bin"),
+            format!("trials per {}° bin", crate::numeric::numfmt::sig(width, 3)),
             series,
         );
         if let Some(c) = self.checks.first() {

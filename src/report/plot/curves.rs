@@ -24,7 +24,7 @@ pub fn plot_profiles(dir: &Path, problem_name: &str, curves: &[Series]) -> Resul
     let plot = LinePlot::new(
         "profiles",
         format!("Circulation rate of the twist phase, problem \u{201c}{problem_name}\u{201d}"),
-        "time since the twist phase began, s (s)",
+        "time since the twist phase began (s)",
         "circulation rate ω (rad/s)",
         curves.to_vec(),
     );

@@ -10,8 +10,16 @@ use crate::report::export::Shown;
 use crate::schedule::variant::{Origin, Variant, WHOLE};
 
 /// The terminal text of a run of the problem whose own profile is `own`, written to `shown`;
-/// `not_run` holds one sentence per part that models the paper's cat only and was not run.
-pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, not_run: &[String], shown: &str) -> String {
+/// `not_run` holds one sentence per part that models the paper's cat only and was not run;
+/// `audited` says whether the audit of the paper's numbers was.
+pub(super) fn answer(
+    own: Origin,
+    verified: &[Shown],
+    whole: &WholeReport,
+    not_run: &[String],
+    audited: bool,
+    shown: &str,
+) -> String {
     let mut s = String::new();
     let variant = |v: &Shown| v.measured.name.variant();
     let problem = verified.iter().find(|v| variant(v) == Some(Variant::new(own)));
@@ -85,6 +93,7 @@ pub(super) fn answer(own: Origin, verified: &[Shown], whole: &WholeReport, not_r
             whole_verification.map_or("not run".to_string(), |x| x.verdict.status().to_string())
         );
     }
-    let _ = writeln!(s, "\nThe audit, every table, plot and schedule file: {shown}/report.md");
+    let what = if audited { "The audit, every table" } else { "Every table" };
+    let _ = writeln!(s, "\n{what}, plot and schedule file: {shown}/report.md");
     s
 }
