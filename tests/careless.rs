@@ -189,3 +189,14 @@ fn a_schedule_file_made_for_another_cat_is_said_to_be() {
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("made for problem"), "{err}");
 }
+
+#[test]
+fn robustness_settings_that_say_little_are_warned_of() {
+    let paper = PathBuf::from("problems/paper.toml");
+    let quiet = Problem::load(&paper, &[]).expect("loads").warnings();
+    assert!(!quiet.iter().any(|w| w.starts_with("robust.")), "{quiet:?}");
+    let few = Problem::load(&paper, &["robust.trials=5".into()]).expect("loads").warnings();
+    assert!(few.iter().any(|w| w.starts_with("robust.trials = 5: percentiles")), "{few:?}");
+    let any = Problem::load(&paper, &["robust.tolerance_deg=180".into()]).expect("loads").warnings();
+    assert!(any.iter().any(|w| w.starts_with("robust.tolerance_deg = 180")), "{any:?}");
+}
