@@ -200,3 +200,23 @@ fn robustness_settings_that_say_little_are_warned_of() {
     let any = Problem::load(&paper, &["robust.tolerance_deg=180".into()]).expect("loads").warnings();
     assert!(any.iter().any(|w| w.starts_with("robust.tolerance_deg = 180")), "{any:?}");
 }
+
+#[test]
+fn a_results_folder_holding_a_file_catflip_did_not_write_is_not_replaced() {
+    let out = scratch("foreign");
+    let folder = out.join("paper-robust");
+    std::fs::create_dir_all(&folder).expect("a folder");
+    std::fs::write(folder.join("mine.txt"), "keep").expect("written");
+    let args = ["robust", "problems/paper.toml", "--set", "robust.trials=20", "--out", out.to_str().expect("utf-8")];
+    let (code, _, err) = catflip(&args);
+    assert_ne!(code, 0);
+    assert!(err.contains("mine.txt") && err.contains("catflip did not write"), "{err}");
+    assert_eq!(std::fs::read_to_string(folder.join("mine.txt")).expect("kept"), "keep");
+    // Without the user's file, catflip writes the folder, with its list of files, and replaces it
+    // on the next run.
+    std::fs::remove_file(folder.join("mine.txt")).expect("removed");
+    assert_eq!(catflip(&args).0, 0);
+    let listed = std::fs::read_to_string(folder.join(".catflip-files")).expect("the list");
+    assert!(listed.lines().any(|l| l == "robust.md"), "{listed}");
+    assert_eq!(catflip(&args).0, 0, "its own folder is replaced");
+}

@@ -23,6 +23,7 @@ pub mod compare;
 pub mod export;
 pub mod import;
 pub mod optimize;
+pub mod owned;
 pub mod plot;
 pub mod provenance;
 pub mod results_dir;

@@ -20,6 +20,10 @@
 //! Names: [`check_names`] refuses a problem named like a reserved folder ([`RESERVED`], the
 //! `bench` command's) and two problems with the same name in one run, before anything is written.
 //!
+//! A folder holds the list of the files catflip wrote into it; an existing `OUT/NAME` that holds
+//! a file catflip did not write is refused before anything is touched, naming the file
+//! ([`ResultsDirError::Foreign`], [`crate::report::owned`]): replacing it would delete the file.
+//!
 //! Both `catflip run` (`OUT/NAME/`) and `catflip sweep` (`OUT/NAME/` and its shard parts
 //! `OUT/NAME.part-K-of-N/`) write through [`Staging`]. A path `OUT/NAME` that exists and is not
 //! a folder is refused before anything is touched ([`ResultsDirError::NotAFolder`]).
@@ -28,6 +32,7 @@
 //! that PID is alive (checked through `/proc/PID` on Linux; elsewhere a PID is taken as alive and
 //! its folders are left alone).
 
+use crate::report::owned;
 use crate::report::plot::PlotError;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -60,6 +65,21 @@ pub enum ResultsDirError {
     NotAFolder {
         /// The user's `OUT/NAME`.
         path: PathBuf,
+    },
+    /// `OUT/NAME` holds files catflip did not write ([`crate::report::owned`]): replacing the
+    /// folder would delete them.
+    #[error(
+        "{}: holds {} that catflip did not write ({}), which replacing the folder would delete; move {} away or choose another --out",
+        path.display(),
+        if files.len() == 1 { "a file".to_string() } else { format!("{} files", files.len()) },
+        files.iter().take(3).map(|f| f.display().to_string()).collect::<Vec<_>>().join(", ") + if files.len() > 3 { ", …" } else { "" },
+        if files.len() == 1 { "it" } else { "them" }
+    )]
+    Foreign {
+        /// The user's `OUT/NAME`.
+        path: PathBuf,
+        /// The files catflip did not write.
+        files: Vec<PathBuf>,
     },
     /// The file system refused a step; `path` is the user's folder or a file in it.
     #[error("cannot {action} {}", path.display())]
@@ -154,6 +174,12 @@ impl Staging {
             return Err(ResultsDirError::NotAFolder { path: target });
         }
         let fail = |action, source| ResultsDirError::Io { action, path: target.clone(), source };
+        if target.is_dir() {
+            let files = owned::foreign_files(&target).map_err(|e| fail("read", e))?;
+            if !files.is_empty() {
+                return Err(ResultsDirError::Foreign { path: target, files });
+            }
+        }
         std::fs::create_dir_all(out).map_err(|source| ResultsDirError::Io {
             action: "create the folder",
             path: out.to_path_buf(),
@@ -199,6 +225,8 @@ impl Staging {
     ) -> Result<PathBuf, ResultsDirError> {
         let target = self.target.clone();
         let fail = |action, source| ResultsDirError::Io { action, path: target.clone(), source };
+        // The list of what catflip wrote, so that a later run knows a file it did not write.
+        owned::write_manifest(&self.scratch).map_err(|e| fail("write the list of files of", e))?;
         let had_old = self.target.exists();
         if had_old {
             hook(Step::MoveOldAside)
@@ -338,7 +366,7 @@ mod tests {
         let target = s.commit().expect("commits");
         assert_eq!(target, out.join("paper"));
         assert_eq!(listing(&out), ["paper"]);
-        assert_eq!(listing(&target), ["a.csv"]);
+        assert_eq!(listing(&target), [".catflip-files", "a.csv"], "the new files and their list");
         assert_eq!(read(&target, "a.csv"), "new a");
     }
 
@@ -355,7 +383,7 @@ mod tests {
             match failing {
                 Step::DeleteOld => {
                     assert!(result.is_ok(), "{failing:?}: the new results are in place");
-                    assert_eq!(listing(&paper), ["a.csv"]);
+                    assert_eq!(listing(&paper), [".catflip-files", "a.csv"]);
                     assert_eq!(read(&paper, "a.csv"), "new a");
                 }
                 _ => {
@@ -363,7 +391,11 @@ mod tests {
                     // The error names the user's folder, not the scratch folder.
                     assert!(e.to_string().ends_with(&paper.display().to_string()), "{failing:?}: {e}");
                     assert!(!e.to_string().contains(".partial-"), "{e}");
-                    assert_eq!(listing(&paper), ["a.csv", "b.csv"], "{failing:?}: old results not whole");
+                    assert_eq!(
+                        listing(&paper),
+                        [".catflip-files", "a.csv", "b.csv"],
+                        "{failing:?}: old results not whole"
+                    );
                     assert_eq!(read(&paper, "a.csv"), "old a");
                     assert_eq!(listing(&out), ["paper"], "{failing:?}: scratch left behind");
                 }
