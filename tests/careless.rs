@@ -220,3 +220,20 @@ fn a_results_folder_holding_a_file_catflip_did_not_write_is_not_replaced() {
     assert!(listed.lines().any(|l| l == "robust.md"), "{listed}");
     assert_eq!(catflip(&args).0, 0, "its own folder is replaced");
 }
+
+#[test]
+fn exact_engine_rows_of_robust_csv_leave_the_unused_servo_gains_empty() {
+    let out = scratch("robust-csv");
+    let args = ["robust", "problems/paper.toml", "--set", "robust.trials=20", "--out", out.to_str().expect("utf-8")];
+    assert_eq!(catflip(&args).0, 0);
+    let csv = std::fs::read_to_string(out.join("paper-robust/robust.csv")).expect("written");
+    let header: Vec<&str> = csv.lines().next().expect("a header").split(',').collect();
+    let at = |name: &str| header.iter().position(|h| *h == name).expect("a column");
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 20);
+    for r in &rows {
+        assert_eq!(r[at("engine")], "exact");
+        assert_eq!((r[at("gain1")], r[at("gain2")]), ("", ""), "{r:?}");
+        assert!(r[at("landing_error_deg")].parse::<f64>().is_ok(), "{r:?}");
+    }
+}
