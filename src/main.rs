@@ -352,9 +352,7 @@ fn run() -> anyhow::Result<()> {
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
             for (path, problem) in loaded {
-                let shortest =
-                    problem.drop.fall_time() * problem.manoeuvre.phases.iter().copied().fold(f64::INFINITY, f64::min);
-                let coarse = export.coarse(shortest);
+                let coarse = export.coarse(&problem);
                 for w in problem.warnings().into_iter().chain(coarse) {
                     eprintln!("warning: {}: {w}", path.display());
                 }

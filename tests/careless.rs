@@ -3,19 +3,12 @@
 //! rapier run that does not converge. Each is said plainly: one error naming the field and the
 //! file, or a warning, also with `--json`; never a number passed off as a result with exit 0.
 
+mod common;
+
+use common::catflip;
 use std::path::PathBuf;
-use std::process::Command;
 
 use catflip::problem::Problem;
-
-fn catflip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
 
 /// A fresh scratch folder for this test binary.
 fn scratch(name: &str) -> PathBuf {
@@ -171,10 +164,11 @@ fn a_duplicate_key_is_named_on_its_own_line() {
 fn a_rate_too_coarse_for_the_shortest_phase_is_warned_of() {
     use catflip::exchange::ExportOptions;
     // The paper's shortest phase: 0.2 of a 1.43 s fall.
-    let coarse = ExportOptions { rate_hz: Some(0.1), ..Default::default() }.coarse(0.286);
+    let paper = Problem::default();
+    let coarse = ExportOptions { rate_hz: Some(0.1), ..Default::default() }.coarse(&paper);
     assert!(coarse.is_some_and(|w| w.starts_with("--rate 0.1 Hz gives 0.03 rows") && w.contains("35 Hz")));
-    assert_eq!(ExportOptions { rate_hz: Some(1000.0), ..Default::default() }.coarse(0.286), None);
-    assert_eq!(ExportOptions::default().coarse(0.286), None);
+    assert_eq!(ExportOptions { rate_hz: Some(1000.0), ..Default::default() }.coarse(&paper), None);
+    assert_eq!(ExportOptions::default().coarse(&paper), None);
 }
 
 #[test]

@@ -1,17 +1,11 @@
 //! The command line as a user meets it: the JSON contract of DESIGN.md §8, clear errors with a
 //! non-zero exit, and no half-written results.
 
+mod common;
+
+use common::catflip;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
-
-fn catflip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
 
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("catflip-cli-{name}-{}", std::process::id()));

@@ -2,8 +2,10 @@
 //! byte-identical whatever the thread count, shards that merge into the single run, and the
 //! command line end to end.
 
+mod common;
+
+use common::catflip;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use approx::assert_relative_eq;
 use catflip::sweep::cases::{case, cases};
@@ -276,15 +278,6 @@ fn shards_slice_the_cases_contiguously_and_completely() {
     }
     assert_eq!("3/16".parse::<Shard>(), Ok(Shard { k: 3, n: 16 }));
     assert!("0/4".parse::<Shard>().is_err() && "5/4".parse::<Shard>().is_err() && "x".parse::<Shard>().is_err());
-}
-
-fn catflip(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
 }
 
 #[test]

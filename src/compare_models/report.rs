@@ -25,7 +25,7 @@ impl ModelComparison {
     pub fn to_markdown(&self) -> String {
         let mut s = format!("# {}\n\n", self.title());
         if !self.command.is_empty() {
-            let _ = writeln!(s, "Regenerate with `{}`.\n", self.command);
+            let _ = writeln!(s, "{}\n", crate::report::provenance::regenerate_line(&self.command));
         }
         s + &self.body()
     }

@@ -72,19 +72,19 @@ pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule
 /// was made for: a cat other than this problem's is said (the file is still evaluated on this
 /// cat, as asked). A file without a readable sidecar is taken as it is.
 fn made_for(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
-    let sidecar = std::path::Path::new(&s.path).with_extension("json");
-    let Ok(text) = std::fs::read_to_string(&sidecar) else { return };
-    let Ok(json) = serde_json::from_str::<serde_json::Value>(&text) else { return };
-    let source = &json["source"];
-    let Ok(cat) = serde_json::from_value::<crate::problem::CatSection>(source["problem_file"]["cat"].clone()) else {
+    let path = std::path::Path::new(&s.path).with_extension("json");
+    let Ok(text) = std::fs::read_to_string(&path) else { return };
+    let Ok(sidecar) = serde_json::from_str::<crate::exchange::sidecar::Sidecar>(&text) else { return };
+    let source = &sidecar.source;
+    let Ok(cat) = serde_json::from_value::<crate::problem::CatSection>(source.problem_file["cat"].clone()) else {
         return;
     };
     let (theirs, ours) = (cat.model(), problem.cat.model());
     if theirs != ours {
         warnings.push(format!(
             "its sidecar {} says it was made for problem \"{}\", whose cat ({}) is not this problem's ({}): the twist and torques here are this cat's, not the ones it was planned for",
-            sidecar.display(),
-            source["problem"].as_str().unwrap_or("?"),
+            path.display(),
+            source.problem,
             theirs.describe(),
             ours.describe()
         ));

@@ -708,25 +708,25 @@ fn check_magnitudes(
         return Ok(());
     }
     let tau = FASTEST_TURN_SHARE * duration;
-    let kinds = [
-        (rates, 1, MAX_ANGLE_RAD / tau, &(|r: &Row| r.qd) as &dyn Fn(&Row) -> Option<[f64; 2]>),
-        (accels, 2, MAX_ANGLE_RAD / (tau * tau), &|r: &Row| r.qdd),
-    ];
+    // The limit of the angles' `power`-th time derivative.
+    let limit = |power: u8| MAX_ANGLE_RAD / tau.powi(i32::from(power));
     for row in samples {
-        // The row's fields beyond their limit, in the file's column order.
-        let beyond = kinds.iter().filter_map(|(cols, power, limit, get)| {
-            let (cols, values) = ((*cols)?, get(row)?);
-            let j = (0..2).filter(|&j| values[j].abs() > *limit).min_by_key(|&j| cols[j])?;
-            Some((cols[j], values[j], *power, *limit))
-        });
-        if let Some((col, value, power, limit)) = beyond.min_by_key(|b| b.0) {
+        // The row's rates and accelerations as (column, value, power), in the file's column order.
+        let mut fields: Vec<(usize, f64, u8)> = Vec::with_capacity(4);
+        for (cols, values, power) in [(rates, row.qd, 1), (accels, row.qdd, 2)] {
+            if let (Some(c), Some(v)) = (cols, values) {
+                fields.extend([(c[0], v[0], power), (c[1], v[1], power)]);
+            }
+        }
+        fields.sort_by_key(|f| f.0);
+        if let Some(&(col, value, power)) = fields.iter().find(|f| f.1.abs() > limit(f.2)) {
             return Err(ImportError::AbsurdRate {
                 path: path.into(),
                 line: row.line,
                 column: col + 1,
                 name: header[col].clone(),
                 value,
-                limit,
+                limit: limit(power),
                 duration_s: duration,
                 power,
             });

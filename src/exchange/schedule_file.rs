@@ -178,9 +178,11 @@ impl ExportOptions {
         Ok(())
     }
 
-    /// A warning when `rate_hz` gives a phase of `shortest` seconds fewer than
+    /// A warning when `rate_hz` gives the shortest phase of `problem`'s fall fewer than
     /// [`MIN_ROWS_PER_PHASE`] rows: the files would keep little more than its boundaries.
-    pub fn coarse(&self, shortest: f64) -> Option<String> {
+    pub fn coarse(&self, problem: &Problem) -> Option<String> {
+        let shortest =
+            problem.drop.fall_time() * problem.manoeuvre.phases.iter().copied().fold(f64::INFINITY, f64::min);
         self.rate_hz.filter(|r| r * shortest < MIN_ROWS_PER_PHASE).map(|r| {
             format!(
                 "--rate {r} Hz gives {:.2} rows in the shortest phase ({shortest:.3} s): the schedule files keep little more than its boundaries (at least {} Hz gives {MIN_ROWS_PER_PHASE} rows)",

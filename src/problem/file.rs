@@ -29,6 +29,11 @@ fn overridden(overrides: &[String], key: &str) -> bool {
     })
 }
 
+/// Whether the file's table or an override gives `name`.
+pub(crate) fn names_itself(table: &toml::Table, overrides: &[String]) -> bool {
+    table.contains_key("name") || overridden(overrides, "name")
+}
+
 /// What the file at `origin`, holding `text` parsed as `table`, leaves to the defaults, as
 /// warnings; refused when it holds nothing at all.
 pub(crate) fn omissions(

@@ -145,9 +145,10 @@ impl Problem {
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, ProblemError> {
         let text = std::fs::read_to_string(path)
             .map_err(|source| ProblemError::Io { path: path.display().to_string(), source })?;
-        let mut problem = Self::from_user_text(&text, &path.display().to_string(), overrides)?;
-        let named = text.parse::<toml::Table>().is_ok_and(|t| t.contains_key("name"))
-            || overrides.iter().any(|o| o.split('=').next().map(str::trim) == Some("name"));
+        let origin = path.display().to_string();
+        let table = parse_table(&text, &origin)?;
+        let named = file::names_itself(&table, overrides);
+        let mut problem = Self::from_user_table(&text, table, &origin, overrides)?;
         if !named {
             problem.name = file::name_from_stem(path)?;
         }
@@ -159,10 +160,18 @@ impl Problem {
     /// the defaults (a section, the drop height, a last line cut short) is kept as a warning
     /// ([`Problem::warnings`]).
     pub fn from_user_text(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
-        // A text that is not TOML is reported by `from_toml`, with its line.
-        let Ok(table) = text.parse::<toml::Table>() else { return Self::from_toml(text, origin, overrides) };
+        Self::from_user_table(text, parse_table(text, origin)?, origin, overrides)
+    }
+
+    /// [`Problem::from_user_text`] of `text` already parsed as `table`.
+    fn from_user_table(
+        text: &str,
+        table: toml::Table,
+        origin: &str,
+        overrides: &[String],
+    ) -> Result<Self, ProblemError> {
         let omissions = file::omissions(text, &table, origin, overrides)?;
-        let mut problem = Self::from_toml(text, origin, overrides)?;
+        let mut problem = Self::from_table(table, origin, overrides)?;
         problem.omissions = omissions;
         Ok(problem)
     }
@@ -170,21 +179,11 @@ impl Problem {
     /// Parses TOML text, applies `key=value` overrides (values in TOML syntax; a bare word is
     /// taken as a string) and validates.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
-        let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            // The line the error's span starts on, counted from 1 (a span at a line's start is
-            // on that line, not the one before).
-            let line = e
-                .span()
-                .map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
-            // toml says "duplicate key" without the key: its span holds it.
-            let quoted =
-                e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty() && !k.contains('\n'));
-            let message = match quoted {
-                Some(key) if e.message().trim() == "duplicate key" => format!("duplicate key `{key}`"),
-                _ => one_line(e.message()),
-            };
-            ProblemError::Parse { origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")), message }
-        })?;
+        Self::from_table(parse_table(text, origin)?, origin, overrides)
+    }
+
+    /// [`Problem::from_toml`] of text already parsed as `table`.
+    fn from_table(mut table: toml::Table, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
         // The file alone first, so that a value it holds is blamed on it and one an override
         // brings in on that override.
         let from_file: Result<Problem, toml::de::Error> = table.clone().try_into();
@@ -367,6 +366,22 @@ impl Problem {
         out.extend(self.robust.warnings(self.drop.fall_time(), stiffening));
         out
     }
+}
+
+/// `text` as a TOML table, or the parser's error on the line it names (counted from 1: a span at
+/// a line's start is on that line, not the one before), a duplicate key named (toml says
+/// "duplicate key" without it; its span holds it).
+fn parse_table(text: &str, origin: &str) -> Result<toml::Table, ProblemError> {
+    text.parse().map_err(|e: toml::de::Error| {
+        let line =
+            e.span().map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
+        let quoted = e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty() && !k.contains('\n'));
+        let message = match quoted {
+            Some(key) if e.message().trim() == "duplicate key" => format!("duplicate key `{key}`"),
+            _ => one_line(e.message()),
+        };
+        ProblemError::Parse { origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")), message }
+    })
 }
 
 /// Whether `name` can name a results folder: non-empty, letters, digits, `-` and `_` only.

@@ -2,16 +2,16 @@
 //! file the user put there would go with it. Each folder catflip writes lists its files in
 //! [`MANIFEST`]; before replacing a folder, any file it holds that its manifest does not list is
 //! the user's, and the run is refused, naming it. A folder from before the manifests is
-//! catflip's when one of its Markdown reports carries catflip's provenance line (`Regenerate with …`);
+//! catflip's when one of its Markdown reports carries catflip's provenance line ([`REGENERATE`]);
 //! any other non-empty folder is the user's.
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
+
+use super::provenance::REGENERATE;
 
 /// The list of the files catflip wrote into a results folder, one relative path per line.
 pub const MANIFEST: &str = ".catflip-files";
-
-/// The line every report catflip writes carries (`crate::report::provenance`).
-const PROVENANCE: &str = "Regenerate with `";
 
 /// Every file under `dir`, as paths relative to it, sorted ('/' between folders).
 pub fn files_under(dir: &Path) -> std::io::Result<Vec<String>> {
@@ -42,10 +42,10 @@ pub fn write_manifest(dir: &Path) -> std::io::Result<()> {
 /// The files of the existing folder `dir` that catflip did not write (module docs), sorted.
 pub fn foreign_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     let files = files_under(dir)?;
-    let listed: Option<Vec<String>> =
+    let listed: Option<HashSet<String>> =
         std::fs::read_to_string(dir.join(MANIFEST)).ok().map(|text| text.lines().map(str::to_string).collect());
     let foreign: Vec<&String> = match &listed {
-        Some(listed) => files.iter().filter(|f| *f != MANIFEST && !listed.contains(f)).collect(),
+        Some(listed) => files.iter().filter(|f| *f != MANIFEST && !listed.contains(*f)).collect(),
         None if is_catflips(dir, &files) => Vec::new(),
         None => files.iter().collect(),
     };
@@ -56,7 +56,7 @@ pub fn foreign_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
 /// files carries the provenance line.
 fn is_catflips(dir: &Path, files: &[String]) -> bool {
     files.iter().filter(|f| !f.contains('/') && f.ends_with(".md")).any(|f| {
-        std::fs::read_to_string(dir.join(f)).is_ok_and(|text| text.lines().take(20).any(|l| l.contains(PROVENANCE)))
+        std::fs::read_to_string(dir.join(f)).is_ok_and(|text| text.lines().take(20).any(|l| l.contains(REGENERATE)))
     })
 }
 
@@ -88,8 +88,14 @@ mod tests {
         let d = folder("legacy");
         std::fs::write(d.join("mine.txt"), "keep").expect("written");
         assert_eq!(foreign_files(&d).expect("read"), vec![d.join("mine.txt")]);
-        std::fs::write(d.join("robust.md"), format!("# Robustness\n\n{PROVENANCE} robust problems/paper.toml`.\n"))
-            .expect("written");
+        std::fs::write(
+            d.join("robust.md"),
+            format!(
+                "# Robustness\n\n{}\n",
+                crate::report::provenance::regenerate_line("catflip robust problems/paper.toml")
+            ),
+        )
+        .expect("written");
         assert_eq!(foreign_files(&d).expect("read"), Vec::<PathBuf>::new());
         std::fs::remove_dir_all(&d).expect("removed");
     }

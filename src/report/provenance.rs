@@ -19,10 +19,20 @@ pub fn utc_now() -> String {
     format!("{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC", rem / 3600, rem % 3600 / 60, rem % 60)
 }
 
+/// How every report's provenance line starts; [`crate::report::owned`] knows catflip's reports
+/// by it.
+pub const REGENERATE: &str = "Regenerate with `";
+
+/// The line that says how to regenerate a report: `Regenerate with `COMMAND`.`
+pub fn regenerate_line(command: &str) -> String {
+    format!("{REGENERATE}{command}`.")
+}
+
 /// The Markdown provenance header of a report.
 pub fn header(title: &str, command: &str, settings_toml: &str) -> String {
     format!(
-        "# {title}\n\nRegenerate with `{command}`.\n\n| | |\n|---|---|\n| catflip | {} |\n| date | {} |\n| machine | {} |\n| build | {} |\n\n<details><summary>Problem and settings</summary>\n\n```toml\n{}```\n\n</details>\n\n",
+        "# {title}\n\n{}\n\n| | |\n|---|---|\n| catflip | {} |\n| date | {} |\n| machine | {} |\n| build | {} |\n\n<details><summary>Problem and settings</summary>\n\n```toml\n{}```\n\n</details>\n\n",
+        regenerate_line(command),
         env!("CARGO_PKG_VERSION"),
         utc_now(),
         crate::measure::machine::machine(),

@@ -38,7 +38,7 @@ impl RobustReport {
         let s = &first.settings;
         let _ = writeln!(out, "# Robustness of `{}` on problem `{}`\n", first.schedule, first.problem);
         if !self.command.is_empty() {
-            let _ = writeln!(out, "Regenerate with `{}`.\n", self.command);
+            let _ = writeln!(out, "{}\n", crate::report::provenance::regenerate_line(&self.command));
         }
         for c in &self.checks {
             let _ = writeln!(out, "**{}: the schedule {}.**\n", c.engine.describe(), c.verdict);

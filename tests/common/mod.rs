@@ -49,3 +49,14 @@ impl Trajectory for Held {
         JointState { q: self.q, ..JointState::default() }
     }
 }
+
+/// Runs the `catflip` binary with `args`: its exit code (-1 when killed by a signal), stdout and
+/// stderr.
+pub fn catflip(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_catflip")).args(args).output().expect("the binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
