@@ -73,6 +73,7 @@ fn values_in_the_wrong_unit_are_warned_of_naming_the_field_and_its_unit() {
         ("manoeuvre.circulation=180", "manoeuvre.circulation = 180 rad", "degrees"),
         ("drop.height=10000", "drop.height = 10000 m", "mm or cm"),
         ("drop.height=0.001", "drop.height = 0.001 m", "km"),
+        ("drop.gravity=980", "drop.gravity = 980 m/s²", "cm/s²"),
         ("manoeuvre.theta_deg=1.5708", "manoeuvre.theta_deg = 1.5708", "radians"),
         ("cat.length=1000", "cat.length = 1000 m", "mm or cm"),
         ("cat.mass=2000", "cat.mass = 2000 kg", "g?"),

@@ -9,6 +9,8 @@ use crate::numeric::numfmt::{echo, num};
 
 /// Drop heights a cat or a robot is dropped from, m: a few centimetres to a tall building.
 pub const PLAUSIBLE_HEIGHT_M: (f64, f64) = (0.05, 500.0);
+/// Gravitational accelerations, m/s²: below the Moon's 1.62, above Jupiter's 24.8.
+const GRAVITY_M_S2: (f64, f64) = (1.0, 30.0);
 /// Lengths of a half, m.
 const LENGTH_M: (f64, f64) = (0.01, 10.0);
 /// Masses of a half, kg.
@@ -29,7 +31,7 @@ fn outside(field: &str, value: f64, unit: &str, (lo, hi): (f64, f64), small: &st
         return None;
     };
     Some(format!(
-        "{field} = {} {unit} is outside the {}–{} {unit} of a cat or a robot: is it in {guess}? (the field is in {unit})",
+        "{field} = {} {unit} is outside the {}–{} {unit} any cat or robot meets: is it in {guess}? (the field is in {unit})",
         echo(value),
         echo(lo),
         echo(hi)
@@ -40,6 +42,7 @@ fn outside(field: &str, value: f64, unit: &str, (lo, hi): (f64, f64), small: &st
 pub(crate) fn warnings(p: &Problem) -> Vec<String> {
     let mut out = Vec::new();
     out.extend(outside("drop.height", p.drop.height, "m", PLAUSIBLE_HEIGHT_M, "km", "mm or cm"));
+    out.extend(outside("drop.gravity", p.drop.gravity, "m/s²", GRAVITY_M_S2, "g units or km/s²", "cm/s²"));
     let cat = &p.cat;
     let halves = [
         ("cat", Some(cat.half())),
