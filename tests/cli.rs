@@ -56,6 +56,35 @@ fn rapier_simulation_reports_its_step() {
     assert!(v["tracking_error_rad"].as_array().is_some());
 }
 
+/// `compare --verify` verifies every library profile in rapier: one entry per row of the table,
+/// in its order, each with its verdict, and the Markdown ends with the verdicts. Without
+/// `--verify` the JSON is the table alone.
+#[test]
+fn compare_verify_checks_every_library_profile_in_rapier() {
+    let (code, out, err) = catflip(&["compare", "problems/paper.toml", "--verify", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
+    let rows = v["table"]["rows"].as_array().expect("the table's rows");
+    let rapier = v["rapier"].as_array().expect("rapier's entries");
+    assert_eq!(rows.len(), 9, "the nine library profiles");
+    let profiles = |x: &[serde_json::Value]| x.iter().map(|e| e["profile"].clone()).collect::<Vec<_>>();
+    assert_eq!(profiles(rows), profiles(rapier));
+    // Every library profile of the paper's problem is verified: their extrapolated twists lie
+    // within 0.03° of the exact engine's and rapier's own estimates within 0.17°, against the
+    // 0.5° tolerance (the table of `catflip compare problems/paper.toml --verify`).
+    for e in rapier {
+        assert_eq!(e["verdict"], "verified", "{}: {}", e["profile"], e["verification"]["verdict"]);
+    }
+    let (code, md, err) = catflip(&["compare", "problems/paper.toml", "--verify"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(md.contains("\nVerdicts: 9 verified, 0 not verified, 0 inconclusive"), "{md}");
+    assert!(!md.contains("Not verified here"), "{md}");
+    let (code, out, err) = catflip(&["compare", "problems/paper.toml", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
+    assert!(v.get("rapier").is_none() && v["rows"].as_array().is_some_and(|r| r.len() == 9), "{v}");
+}
+
 #[test]
 fn bad_input_gives_one_clear_error_and_a_non_zero_exit() {
     let (code, out, err) = catflip(&["simulate", "problems/paper.toml", "--set", "cat.mass=-1"]);

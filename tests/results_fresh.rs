@@ -241,6 +241,44 @@ fn run_writes_every_result_file_atomically() {
     assert!(fields[1].abs() < 1e-12 && fields[2].abs() < 1e-12, "{last}");
 }
 
+/// A run verifies in rapier what its answer reports (the problem's own schedule, the best library
+/// profile, every optimised one), measures every schedule of the peak-torque table, and names the
+/// library profiles it did not verify (`catflip compare --verify` verifies them, tests/cli.rs).
+#[test]
+fn run_verifies_what_it_reports_and_names_what_it_does_not() {
+    let outcome = paper_run();
+    let read = |f: &str| std::fs::read_to_string(outcome.dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let (header, rows) = csv_records(&read("verification.csv"));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let mut verified: Vec<&str> =
+        rows.iter().filter(|r| r[col("engine")] == "rapier").map(|r| r[col("schedule")].as_str()).collect();
+    verified.sort_unstable();
+    // The best library profile by exact peak is the trapezoid (compare.md: 37.417 N·m).
+    let mut expected = [
+        "paper-cosine",
+        "trapezoid",
+        "qp-optimal",
+        "exact-refined",
+        "exact-refined-all-phases",
+        "exact-refined-all-phases-calibrated",
+    ];
+    expected.sort_unstable();
+    assert_eq!(verified, expected);
+    let exact: serde_json::Value = serde_json::from_str(&read("simulate_exact.json")).expect("JSON");
+    let (_, table) = csv_records(&read("compare.csv"));
+    // Every row of the peak-torque table but the whole optimum's (its own files) is measured,
+    // and the most refined schedule with the calibrated circulation.
+    let profiles: Vec<&str> =
+        exact.as_array().map_or(Vec::new(), |a| a.iter().filter_map(|e| e["profile"].as_str()).collect());
+    assert_eq!(profiles.len(), table.len() - 1 + 1, "{profiles:?}");
+    let md = read("verification.md");
+    let line = md.lines().find(|l| l.starts_with("Not verified here:")).unwrap_or_else(|| panic!("{md}"));
+    for name in ["cycloidal", "bang-bang", "modified-trapezoid", "modified-sine", "poly-345", "poly-4567", "s-curve"] {
+        assert!(line.contains(&format!("`{name}`")), "{name}: {line}");
+    }
+    assert!(!line.contains("`trapezoid`") && line.contains("catflip compare --verify"), "{line}");
+}
+
 #[test]
 fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
     // A step budget below rapier's first run: no verification makes a usable run, so rapier has

@@ -168,6 +168,21 @@ impl Resolved {
         })
     }
 
+    /// The library profile of least exact peak torque over the whole manoeuvre (the run's "best
+    /// library profile"); the first of equals.
+    pub fn best_library(&self) -> Option<&Measured<Schedule>> {
+        self.library().iter().map(|(_, m)| m).min_by(|a, b| a.exact.peak().total_cmp(&b.exact.peak()))
+    }
+
+    /// The library profiles a run verifies in rapier: the problem's own and the best one
+    /// ([`Resolved::best_library`]), the ones its answer reports, in library order.
+    /// `catflip compare --verify` verifies every one.
+    pub fn reported_library(&self) -> Vec<&Measured<Schedule>> {
+        let own = self.problem.manoeuvre.profile;
+        let best = self.best_library().map(|m| m.name.clone());
+        self.library().iter().filter(|(k, m)| *k == own || Some(&m.name) == best.as_ref()).map(|(_, m)| m).collect()
+    }
+
     /// The measurement of the problem's own schedule, named by its library profile (made once,
     /// alone: a command that needs only it does not measure the whole library).
     pub fn own(&self) -> &Measured<Schedule> {

@@ -35,22 +35,24 @@ pub enum ExportError {
     },
 }
 
-/// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
-/// verification alone when it made no usable run.
+/// The reports of one measured schedule: the exact engine's and, when the schedule was verified,
+/// rapier's, or its verification alone when it made no usable run.
 pub struct Shown<'a> {
-    /// The schedule, measured and verified.
+    /// The schedule, measured (and verified, or not).
     pub measured: &'a Measured<Schedule>,
     /// The exact engine's report.
     pub exact: SimulationReport,
-    /// rapier's report, or its verification alone when it made no usable run.
-    pub rapier: RapierOutcome<SimulationReport>,
+    /// rapier's report, or its verification alone when it made no usable run; `None` when the
+    /// schedule was not verified.
+    pub rapier: Option<RapierOutcome<SimulationReport>>,
 }
 
 impl<'a> Shown<'a> {
-    /// The reports of `m`, one of `r`'s schedules, verified ([`crate::engines::measured::Measured::verify`]).
+    /// The reports of `m`, one of `r`'s schedules, verified or not
+    /// ([`crate::engines::measured::Measured::verify`]).
     pub fn new(r: &Resolved, m: &'a Measured<Schedule>) -> Result<Shown<'a>, RapierError> {
         let exact = SimulationReport::exact(r, m);
-        let rapier = SimulationReport::rapier(m, &exact)?;
+        let rapier = m.rapier.is_some().then(|| SimulationReport::rapier(m, &exact)).transpose()?;
         Ok(Shown { measured: m, exact, rapier })
     }
 
@@ -63,6 +65,18 @@ impl<'a> Shown<'a> {
     pub fn verification(&self) -> Option<&Verification> {
         self.measured.verification()
     }
+
+    /// rapier's report or its verification alone, with the schedule's reports, when verified.
+    fn verified(&self) -> Option<(&Shown<'a>, &RapierOutcome<SimulationReport>)> {
+        self.rapier.as_ref().map(|x| (self, x))
+    }
+}
+
+/// The rows of `schedules` that were verified in rapier, with rapier's outcome.
+pub fn verified<'s, 'a>(
+    schedules: &'s [Shown<'a>],
+) -> impl Iterator<Item = (&'s Shown<'a>, &'s RapierOutcome<SimulationReport>)> {
+    schedules.iter().filter_map(Shown::verified)
 }
 
 /// A run's results as its exporters read them: every table rendered once.
@@ -83,8 +97,8 @@ pub struct Views<'a> {
     pub table: &'a CompareTable,
     /// The whole optimum's row of the peak-torque table, when it exists.
     pub whole_row: Option<&'a CompareRow>,
-    /// Every schedule of the table, measured and verified, with its reports.
-    pub verified: &'a [Shown<'a>],
+    /// Every schedule of the table, measured, with its reports (rapier's when verified).
+    pub schedules: &'a [Shown<'a>],
     /// The whole optimum's robustness, when it exists.
     pub robust: Option<&'a RobustReport>,
 }

@@ -15,7 +15,6 @@ use nalgebra::Vector3;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use rayon::prelude::*;
 
 use super::gif::RgbFrames;
 use super::pose::{cat_poses_spinning, BodyPose, CatPose};
@@ -77,21 +76,17 @@ pub fn flip_animation(
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
 
     let delay_ms = (LOOP_SECONDS * 1000.0 / frames as f64).clamp(40.0, 200.0).round() as u32;
-    // Frames are drawn in parallel, each into its own buffer, then encoded with one palette.
+    // Frames are drawn in parallel, each into its own buffer, and encoded with one palette.
     let (w, h) = GIF_SIZE;
-    let rendered = poses
-        .par_iter()
-        .map(|pose| {
-            let mut rgb = vec![0u8; 3 * w as usize * h as usize];
-            {
-                let root = Raster::new(BitMapBackend::with_buffer(&mut rgb, GIF_SIZE)).into_drawing_area();
-                scene.draw(&root, pose, &extent, false).and_then(|()| root.present().map_err(failed))?;
-            }
-            Ok(rgb)
-        })
-        .collect::<Result<Vec<_>, String>>()
-        .map_err(write_error(path))?;
-    RgbFrames::new(GIF_SIZE, rendered).and_then(|f| f.write(path, delay_ms)).map_err(write_error(path))?;
+    let draw = |k: usize| -> Result<Vec<u8>, String> {
+        let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+        {
+            let root = Raster::new(BitMapBackend::with_buffer(&mut rgb, GIF_SIZE)).into_drawing_area();
+            scene.draw(&root, &poses[k], &extent, false).and_then(|()| root.present().map_err(failed))?;
+        }
+        Ok(rgb)
+    };
+    RgbFrames::new(GIF_SIZE, poses.len(), draw).and_then(|f| f.write(path, delay_ms)).map_err(write_error(path))?;
 
     let stem = path.file_stem().map_or_else(|| "flip".into(), |s| s.to_string_lossy().into_owned());
     let strip = path.with_file_name(format!("{stem}_filmstrip.png"));

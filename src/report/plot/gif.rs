@@ -43,48 +43,68 @@ impl Hasher for ColourHasher {
     }
 }
 
-/// Frames of `size` pixels as packed RGB (3 bytes per pixel, row-major).
-pub(crate) struct RgbFrames {
+/// Frames drawn in batches of this many (in parallel), each indexed and dropped before the next
+/// batch is drawn: the animation holds one byte per pixel and frame, not three.
+const BATCH: usize = 8;
+
+/// A drawn frame (packed RGB) or why it could not be drawn.
+pub(crate) type Drawn = Result<Vec<u8>, String>;
+
+/// `count` frames of `size` pixels, frame `k` drawn on demand by `draw(k)` as packed RGB (3 bytes
+/// per pixel, row-major).
+pub(crate) struct RgbFrames<F> {
     size: (u16, u16),
-    frames: Vec<Vec<u8>>,
+    count: usize,
+    draw: F,
 }
 
-impl RgbFrames {
-    /// Frames of `size`; each must hold `3 · width · height` bytes.
-    pub(crate) fn new(size: (u32, u32), frames: Vec<Vec<u8>>) -> Result<Self, String> {
+impl<F: Fn(usize) -> Drawn + Sync> RgbFrames<F> {
+    /// `count` frames of `size` drawn by `draw`; each must hold `3 · width · height` bytes.
+    pub(crate) fn new(size: (u32, u32), count: usize, draw: F) -> Result<Self, String> {
         let (Ok(w), Ok(h)) = (u16::try_from(size.0), u16::try_from(size.1)) else {
             return Err(format!("a GIF is at most 65535 pixels a side, {} × {} asked", size.0, size.1));
         };
-        let bytes = 3 * usize::from(w) * usize::from(h);
-        if frames.is_empty() {
+        if count == 0 {
             return Err("an animation needs at least one frame".into());
         }
-        if let Some(k) = frames.iter().position(|f| f.len() != bytes) {
-            return Err(format!("frame {k} holds {} bytes, not the {bytes} of {w} × {h} RGB", frames[k].len()));
-        }
-        Ok(Self { size: (w, h), frames })
+        Ok(Self { size: (w, h), count, draw })
     }
 
-    /// The shared palette (256 RGB entries) learnt from up to [`TRAINING_FRAMES`] frames.
-    fn quantiser(&self) -> NeuQuant {
-        let stride = self.frames.len().div_ceil(TRAINING_FRAMES);
-        let rgba: Vec<u8> = self
-            .frames
-            .iter()
-            .step_by(stride)
-            .flat_map(|f| f.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]))
-            .collect();
+    /// Frame `k`, checked for its size.
+    fn frame(&self, k: usize) -> Drawn {
+        let frame = (self.draw)(k)?;
+        let bytes = 3 * usize::from(self.size.0) * usize::from(self.size.1);
+        if frame.len() != bytes {
+            let (w, h) = self.size;
+            return Err(format!("frame {k} holds {} bytes, not the {bytes} of {w} × {h} RGB", frame.len()));
+        }
+        Ok(frame)
+    }
+
+    /// The frames that teach the palette: up to [`TRAINING_FRAMES`], evenly spread, drawn in
+    /// parallel, as `(index, frame)`.
+    fn training(&self) -> Result<Vec<(usize, Vec<u8>)>, String> {
+        let stride = self.count.div_ceil(TRAINING_FRAMES);
+        let picked: Vec<usize> = (0..self.count).step_by(stride).collect();
+        picked.into_par_iter().map(|k| self.frame(k).map(|f| (k, f))).collect()
+    }
+
+    /// The shared palette (256 RGB entries) learnt from the training frames.
+    fn quantiser(training: &[(usize, Vec<u8>)]) -> NeuQuant {
+        let rgba: Vec<u8> =
+            training.iter().flat_map(|(_, f)| f.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255])).collect();
         NeuQuant::new(SAMPLING, 256, &rgba)
     }
 
     /// Writes a looping GIF to `path`, each frame shown `delay_ms` (rounded to 10 ms). After the
     /// first, each frame is stored as the rectangle where it differs from the one before, drawn
     /// over it (disposal "keep"): the same pictures for a fraction of the bytes and of the
-    /// compression work. The frames are compressed in parallel.
+    /// compression work. The frames are drawn and compressed in parallel.
     pub(crate) fn write(&self, path: &Path, delay_ms: u32) -> Result<(), String> {
-        let nq = self.quantiser();
+        let mut training = self.training()?;
+        let nq = Self::quantiser(&training);
         let palette = nq.color_map_rgb();
-        let indexed = self.indexed(&nq);
+        let indexed = self.indexed(&nq, &mut training)?;
         let (w, h) = self.size;
         let delay = u16::try_from(delay_ms.div_ceil(10)).unwrap_or(u16::MAX);
         let frames: Vec<gif::Frame<'static>> = (0..indexed.len())
@@ -115,29 +135,48 @@ impl RgbFrames {
         Ok(())
     }
 
-    /// Every frame as palette indices, each colour looked up once.
-    fn indexed(&self, nq: &NeuQuant) -> Vec<Vec<u8>> {
+    /// Every frame as palette indices, each colour looked up once: drawn [`BATCH`] at a time (the
+    /// training frames taken, not drawn again), indexed in order, and dropped.
+    fn indexed(&self, nq: &NeuQuant, training: &mut [(usize, Vec<u8>)]) -> Result<Vec<Vec<u8>>, String> {
         let mut index: HashMap<u32, u8, BuildHasherDefault<ColourHasher>> = HashMap::default();
-        self.frames
-            .iter()
-            .map(|rgb| {
-                // Most pixels repeat their left neighbour (background, fills): those skip the map.
-                let mut last: Option<(u32, u8)> = None;
-                rgb.chunks_exact(3)
-                    .map(|p| {
-                        let key = u32::from_le_bytes([p[0], p[1], p[2], 0]);
-                        if let Some((_, i)) = last.filter(|&(k, _)| k == key) {
-                            return i;
-                        }
-                        // NeuQuant's palette has 256 entries, so an index always fits a byte.
-                        let i = *index.entry(key).or_insert_with(|| nq.index_of(&[p[0], p[1], p[2], 255]) as u8);
-                        last = Some((key, i));
-                        i
-                    })
-                    .collect()
-            })
-            .collect()
+        let mut indexed = Vec::with_capacity(self.count);
+        let all: Vec<usize> = (0..self.count).collect();
+        for batch in all.chunks(BATCH) {
+            let taught = |k: usize| training.iter().any(|(t, _)| *t == k);
+            let drawn: Vec<Option<Vec<u8>>> = batch
+                .par_iter()
+                .map(|&k| if taught(k) { Ok(None) } else { self.frame(k).map(Some) })
+                .collect::<Result<_, String>>()?;
+            for (&k, rgb) in batch.iter().zip(drawn) {
+                let rgb = match rgb {
+                    Some(rgb) => rgb,
+                    None => {
+                        training.iter_mut().find(|(t, _)| *t == k).map(|(_, f)| std::mem::take(f)).unwrap_or_default()
+                    }
+                };
+                indexed.push(index_frame(&rgb, nq, &mut index));
+            }
+        }
+        Ok(indexed)
     }
+}
+
+/// A frame's palette indices; `index` remembers each colour's entry across frames.
+fn index_frame(rgb: &[u8], nq: &NeuQuant, index: &mut HashMap<u32, u8, BuildHasherDefault<ColourHasher>>) -> Vec<u8> {
+    // Most pixels repeat their left neighbour (background, fills): those skip the map.
+    let mut last: Option<(u32, u8)> = None;
+    rgb.chunks_exact(3)
+        .map(|p| {
+            let key = u32::from_le_bytes([p[0], p[1], p[2], 0]);
+            if let Some((_, i)) = last.filter(|&(k, _)| k == key) {
+                return i;
+            }
+            // NeuQuant's palette has 256 entries, so an index always fits a byte.
+            let i = *index.entry(key).or_insert_with(|| nq.index_of(&[p[0], p[1], p[2], 255]) as u8);
+            last = Some((key, i));
+            i
+        })
+        .collect()
 }
 
 /// A rectangle of a frame, pixels.
@@ -188,6 +227,11 @@ impl Rect {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The frames `frames`, drawn by copying.
+    fn drawn(size: (u32, u32), frames: &[Vec<u8>]) -> Result<RgbFrames<impl Fn(usize) -> Drawn + Sync + '_>, String> {
+        RgbFrames::new(size, frames.len(), |k| Ok(frames[k].clone()))
+    }
 
     /// The pictures a viewer shows: each frame drawn over the last at its offset (every frame
     /// of ours keeps the one before).
@@ -240,7 +284,7 @@ mod tests {
             })
             .collect();
         let path = std::env::temp_dir().join(format!("catflip-gif-test-{}.gif", std::process::id()));
-        RgbFrames::new((w as u32, h as u32), frames.clone()).unwrap().write(&path, 80).unwrap();
+        drawn((w as u32, h as u32), &frames).unwrap().write(&path, 80).unwrap();
         let (palette, decoded) = decode(&path);
         std::fs::remove_file(&path).unwrap();
         assert_eq!(palette.len(), 3 * 256);
@@ -268,7 +312,7 @@ mod tests {
         };
         let frames = vec![picture(1), picture(3), picture(3)];
         let path = std::env::temp_dir().join(format!("catflip-gif-rect-test-{}.gif", std::process::id()));
-        RgbFrames::new((w as u32, h as u32), frames.clone()).unwrap().write(&path, 80).unwrap();
+        drawn((w as u32, h as u32), &frames).unwrap().write(&path, 80).unwrap();
         let mut decoder = gif::DecodeOptions::new().read_info(File::open(&path).unwrap()).unwrap();
         let mut rects = Vec::new();
         while let Some(f) = decoder.read_next_frame().unwrap() {
@@ -284,7 +328,10 @@ mod tests {
 
     #[test]
     fn a_frame_of_the_wrong_size_is_refused() {
-        let err = RgbFrames::new((4, 4), vec![vec![0; 48], vec![0; 47]]).err().unwrap();
+        let frames = vec![vec![0; 48], vec![0; 47]];
+        let path = std::env::temp_dir().join(format!("catflip-gif-size-test-{}.gif", std::process::id()));
+        let err = drawn((4, 4), &frames).unwrap().write(&path, 80).err().unwrap();
+        let _ = std::fs::remove_file(&path);
         assert_eq!(err, "frame 1 holds 47 bytes, not the 48 of 4 × 4 RGB");
     }
 }

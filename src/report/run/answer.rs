@@ -7,14 +7,16 @@ use std::fmt::Write;
 use crate::engines::rapier::Verification;
 use crate::measure::whole::WholeReport;
 use crate::report::export::Shown;
-use crate::schedule::variant::{Origin, Variant, WHOLE};
+use crate::schedule::variant::{Origin, ScheduleName, Variant, WHOLE};
 
-/// The terminal text of a run of the problem whose own profile is `own`, written to `shown`;
+/// The terminal text of a run of the problem whose own profile is `own` and whose best library
+/// profile is `best` ([`crate::engines::resolved::Resolved::best_library`]), written to `shown`;
 /// `not_run` holds one sentence per part that models the paper's cat only and was not run;
 /// `audited` says whether the audit of the paper's numbers was.
 pub(super) fn answer(
     own: Origin,
-    verified: &[Shown],
+    best: Option<&ScheduleName>,
+    schedules: &[Shown],
     whole: &WholeReport,
     not_run: &[String],
     audited: bool,
@@ -22,7 +24,7 @@ pub(super) fn answer(
 ) -> String {
     let mut s = String::new();
     let variant = |v: &Shown| v.measured.name.variant();
-    let problem = verified.iter().find(|v| variant(v) == Some(Variant::new(own)));
+    let problem = schedules.iter().find(|v| variant(v) == Some(Variant::new(own)));
     let verdict = |v: Option<&Verification>| v.map_or("no rapier verification".to_string(), |v| v.verdict.to_string());
     let whole_verification = whole.verification();
     match (whole.measured.as_ref().map(|m| &m.exact), problem) {
@@ -58,12 +60,8 @@ pub(super) fn answer(
         let _ = writeln!(s, "{line}");
     }
     s.push_str("\n| schedule | twist ° | swing ° | peak N·m | rapier |\n|---|---:|---:|---:|---|\n");
-    let library = |v: &Shown| variant(v).is_some_and(|x| !x.origin.is_optimised() && !x.is_calibrated());
     let optimised = |v: &Shown| variant(v).is_some_and(|x| x.origin.is_optimised());
-    let best_library = verified
-        .iter()
-        .filter(|v| library(v))
-        .min_by(|a, b| a.exact.peak_torque_nm.max.total_cmp(&b.exact.peak_torque_nm.max));
+    let best_library = best.and_then(|b| schedules.iter().find(|v| &v.measured.name == b));
     let mut shown_rows: Vec<(String, &Shown)> = Vec::new();
     if let Some(p) = problem {
         shown_rows.push((format!("{} (the problem's)", p.name()), p));
@@ -71,7 +69,7 @@ pub(super) fn answer(
     if let Some(b) = best_library.filter(|b| problem.is_none_or(|p| p.name() != b.name())) {
         shown_rows.push((format!("{} (best library profile)", b.name()), b));
     }
-    shown_rows.extend(verified.iter().filter(|v| optimised(v)).map(|v| (v.name(), v)));
+    shown_rows.extend(schedules.iter().filter(|v| optimised(v)).map(|v| (v.name(), v)));
     for (name, v) in shown_rows {
         let f = &v.exact.figures;
         let _ = writeln!(
