@@ -471,7 +471,7 @@ fn run() -> anyhow::Result<()> {
                 let verified =
                     catflip::measure::run::verify_library(&r, &catflip::measure::timings::Stopwatch::start())?;
                 spinner.finish_and_clear();
-                let (markdown, json) = catflip::report::compare::with_verification(&r, &table, &verified)?;
+                let (markdown, json) = catflip::report::export::with_verification(&r, &table, &verified)?;
                 emit(common.json, &json, || markdown)?;
             } else {
                 emit(common.json, &table, || table.to_markdown())?;

@@ -115,10 +115,13 @@ def schedule_series(problem: Problem, steps_per_piece: int = STEPS_PER_PIECE, ra
     return Series.from_csv(*_catflip.schedule_file(problem, steps_per_piece, rate_hz))
 
 
-def compare(problem: Problem) -> Dict[str, Any]:
+def compare(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
     """``catflip compare --json``: every library profile on the problem's path and circulation,
-    side by side (``["rows"]``, one record per profile: peak torques, twist, swing, jumps)."""
-    return _report(_catflip.compare(problem))
+    side by side (``["rows"]``, one record per profile: peak torques, twist, swing, jumps). With
+    ``verify`` (``catflip compare --verify --json``), each profile verified in rapier too:
+    ``["table"]`` is that table and ``["rapier"]`` one record per profile, with its
+    ``["verdict"]``."""
+    return _report(_catflip.compare(problem, verify))
 
 
 def compare_models(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:

@@ -78,14 +78,21 @@ pub fn schedule_file(
     })
 }
 
-/// `catflip compare PROBLEM --json`: every library profile side by side.
+/// `catflip compare PROBLEM [--verify] --json`: every library profile side by side; with
+/// `verify`, each verified in rapier (`{"table", "rapier"}`).
 #[pyfunction]
-pub fn compare(py: Python<'_>, problem: &Problem) -> PyResult<Report> {
+#[pyo3(signature = (problem, verify = false))]
+pub fn compare(py: Python<'_>, problem: &Problem, verify: bool) -> PyResult<Report> {
     let inner = problem.inner.clone();
     run(py, move || {
         let r = inner.resolved()?;
         let table = catflip::report::compare::compare(&r, &[]);
-        Ok((json(&table)?, r.warnings()))
+        if !verify {
+            return Ok((json(&table)?, r.warnings()));
+        }
+        let verified = catflip::measure::run::verify_library(&r, &catflip::measure::timings::Stopwatch::start())?;
+        let (_, value) = catflip::report::export::with_verification(&r, &table, &verified)?;
+        Ok((json(&value)?, r.warnings()))
     })
 }
 

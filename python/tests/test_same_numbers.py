@@ -35,6 +35,13 @@ def test_compare(case, cli_json):
     same(catflip.compare(problem), cli_json("compare", path))
 
 
+def test_compare_verify(cli_json):
+    path = "problems/paper.toml"
+    report = catflip.compare(catflip.load(PROBLEMS / "paper.toml"), verify=True)
+    same(report, cli_json("compare", path, "--verify"))
+    assert [r["verdict"] for r in report["rapier"]] == ["verified"] * 9
+
+
 def test_optimize(case, cli_json):
     path, problem = case
     same(catflip.optimize(problem, series=False).report, cli_json("optimize", path))

@@ -58,25 +58,6 @@ pub fn compare(r: &Resolved, extra: &[CompareRow]) -> CompareTable {
     }
 }
 
-/// `catflip compare --verify`: the table, then rapier's verification of its schedules
-/// (`verified`, every library profile measured and verified, [`crate::measure::run::verify_library`])
-/// as `verification.md` writes it and a line of verdicts; and as JSON, `{"table", "rapier"}` with
-/// `rapier` the entries of `simulate_rapier.json`.
-pub fn with_verification(
-    r: &Resolved,
-    table: &CompareTable,
-    verified: &[Measured<Schedule>],
-) -> Result<(String, serde_json::Value), crate::engines::rapier::RapierError> {
-    use crate::report::export::{json::rapier_json, markdown::verification_markdown, verified as rows, Shown};
-    let shown = verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>()?;
-    let verdicts =
-        crate::engines::rapier::Verification::verdicts_line(shown.iter().map(|v| (v.name(), v.verification())));
-    let markdown =
-        format!("{}\n{}\nVerdicts: {verdicts}.\n", table.to_markdown(), verification_markdown(&r.problem, &shown));
-    let json = serde_json::json!({ "table": table, "rapier": rows(&shown).map(rapier_json).collect::<Vec<_>>() });
-    Ok((markdown, json))
-}
-
 /// One row of the peak-torque table, as its Markdown, CSV and JSON write it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareRow {

@@ -79,6 +79,27 @@ pub fn verified<'s, 'a>(
     schedules.iter().filter_map(Shown::verified)
 }
 
+/// `catflip compare --verify`: the table, then rapier's verification of its schedules
+/// (`measured`, every library profile measured and verified, [`crate::measure::run::verify_library`])
+/// as `verification.md` writes it and a line of verdicts; and as JSON, `{"table", "rapier"}` with
+/// `rapier` the entries of `simulate_rapier.json`.
+pub fn with_verification(
+    r: &Resolved,
+    table: &CompareTable,
+    measured: &[Measured<Schedule>],
+) -> Result<(String, serde_json::Value), RapierError> {
+    let shown = measured.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>()?;
+    let verdicts = Verification::verdicts_line(shown.iter().map(|v| (v.name(), v.verification())));
+    let markdown = format!(
+        "{}\n{}\nVerdicts: {verdicts}.\n",
+        table.to_markdown(),
+        markdown::verification_markdown(&r.problem, &shown)
+    );
+    let json =
+        serde_json::json!({ "table": table, "rapier": verified(&shown).map(json::rapier_json).collect::<Vec<_>>() });
+    Ok((markdown, json))
+}
+
 /// A run's results as its exporters read them: every table rendered once.
 pub struct Views<'a> {
     /// The problem.
