@@ -34,15 +34,22 @@
 //! A's `(0, 0, −l_A/2)` to **the ball**, a tiny body like the cross, welded to B at B's
 //! `(0, 0, +l_B/2)` by a fixed joint ([`Layout::Ball`]). Its generalized velocities are
 //! the relative angular velocity `ω_rel` in A's frame, and rapier turns the joint by
-//! `R_rel ← exp(h ω_rel) R_rel` per step. Its three motors cannot hold a rotation vector (rapier's
-//! angular coordinates there are the integral of `ω_rel`, not an angle), so each step aims them at
-//! `w = log(R(q(t_{k+1})) R_relᵀ)/h`, the relative rate that carries the present rotation onto the
-//! schedule's over the step, with the same gains ([`CatScene::set_plan`]); any drift is taken out
-//! at the next step. The joint's coordinates are read back as the rotation vector of `R_A⁻¹ R_B`,
-//! and its motor torques are the couple on {ball, B} about the joint point projected on A's `x`
-//! and `y` (DESIGN.md §10). The ball joint drives the relative rotation, not the two motor axes,
-//! so motor limits on it are refused ([`RapierError::LimitsOnJoint`]); the spherical joint's third
-//! motor is not built ([`RapierError::UnsupportedJoint`]).
+//! `R_rel ← exp(h ω_rel) R_rel` per step; so its three motors act about A's `x`, `y` and `z`, and
+//! their generalized forces are the couple's components on A's axes. The motors cannot hold a
+//! rotation vector (rapier's angular coordinates there are the integral of `ω_rel`, not an
+//! angle), so each step aims the two about `x` and `y` at `w = log(R(q(t_{k+1})) R_relᵀ)/h`, the
+//! relative rate that carries the present rotation onto the schedule's over the step, with the
+//! same gains ([`CatScene::set_plan`]); any drift is taken out at the next step. The one about `z`
+//! holds the joint's constraint: a no-twist joint's rates satisfy `ω_rel·(ẑ + e) = 0` (`e` B's
+//! spine in A's frame), so it aims at the `ω_z` that keeps it for the step's `ω_x, ω_y`, less
+//! the twist already there over `h` (`untwisting_rate` in `scene.rs`; the run records the largest
+//! twist, [`RapierRun::spine_twist_max`]). The joint's coordinates are read back as the rotation
+//! vector of `R_A⁻¹ R_B`, and its motor torques are the couple on {ball, B} about the joint point
+//! projected on A's `x` and `y` (DESIGN.md §10). With motor limits the bounds go to the motors
+//! about `x` and `y`, at the joint's coordinate rates `q̇` (least squares from `ω_rel`); the one
+//! about `z` is the joint's constraint, not a motor, and stays unbounded, so a clipped motor
+//! leaves the halves untwisted (to `O(h²)`). The spherical joint's third motor is not built
+//! ([`RapierError::UnsupportedJoint`]).
 //!
 //! # Motors
 //!
@@ -223,9 +230,6 @@ pub enum RapierError {
     /// no-twist joints, and only the universal joint's scene takes applied joint torques.
     #[error("cat.joint = \"{0}\": rapier's scene builds the universal joint (two revolute joints and a cross) and the no-twist joint (a ball joint) for tracked schedules, not this joint or this use of it, so far; the exact engine runs it (`simulate --engine exact`)")]
     UnsupportedJoint(crate::model::Joint),
-    /// Motor limits on a joint whose scene drives the relative rotation, not the motor axes.
-    #[error("[actuator] limits with cat.joint = \"{0}\": rapier's ball joint drives the relative rotation, not the two motor axes, so it cannot bound their torques (so far); the exact engine reports the motor demand (`simulate --engine exact`)")]
-    LimitsOnJoint(crate::model::Joint),
     /// Rapier refused to build a joint.
     #[error("rapier refused {0}")]
     JointRejected(&'static str),

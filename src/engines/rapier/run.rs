@@ -154,6 +154,11 @@ pub struct RapierRun {
     /// the motors bound no torque (then absent from JSON).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub saturation: Vec<MotorSaturation>,
+    /// On the ball joint (the no-twist joint), the largest twist of B about its spine relative
+    /// to A over the run, rad ([`super::scene`]'s `spine_twist`): how well rapier held the
+    /// joint's constraint. `None` (absent from JSON) on the universal joint.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spine_twist_max: Option<f64>,
 }
 
 pub(super) fn quat_wxyz<S: Serializer>(q: &UnitQuaternion<f64>, s: S) -> Result<S::Ok, S::Error> {
@@ -232,9 +237,6 @@ pub fn simulate_with(
             min: MIN_STEPS_PER_PHASE,
         });
     }
-    if bounds_torque(&opts.motors) && cat.cat().joint != crate::model::Joint::Universal {
-        return Err(RapierError::LimitsOnJoint(cat.cat().joint));
-    }
     let n = (steps_f as usize).max(1);
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
@@ -278,6 +280,7 @@ pub fn simulate_with(
 
     // The largest joint rate of the schedule, over the steps' instants.
     let mut qd_max = 0.0f64;
+    let mut spine_twist_max = None;
 
     for k in 0..=n {
         let t = time(k);
@@ -285,22 +288,28 @@ pub fn simulate_with(
         let target = pieces.state(t);
         qd_max = qd_max.max(target.qd[0].hypot(target.qd[1]));
         if k > 0 {
+            // Each motor's torque at rapier's joint rate at the start of the step, against the
+            // schedule's own torque at its end (released with spin, at rapier's current attitude).
+            let limited = match &bounded {
+                Some(motors) => {
+                    let rate = scene.joint_rates()?;
+                    let bound: [Option<f64>; 2] = std::array::from_fn(|j| available_torque(&motors.joints[j], rate[j]));
+                    let lambda = if opts.spin.norm_squared() > 0.0 {
+                        Some(scene.snapshot()?.rotations[0].inverse_transform_vector(&opts.spin))
+                    } else {
+                        None
+                    };
+                    Some((bound, planned_torques(cat, &target, lambda.as_ref())))
+                }
+                None => None,
+            };
+            let reaching = limited.map_or([true; 2], |(bound, _)| bound.map(|b| b.is_none()));
             // Targets from the schedule at the end of the step, the position shifted by −h q̇ so
             // that the motor's spring pulls the end-of-step position onto q(t_{k+1}).
-            scene.set_plan(&target)?;
-            if let Some(motors) = &bounded {
-                // Each motor's torque at rapier's joint rate at the start of the step, against
-                // the schedule's own torque at its end.
-                let rate = scene.joint_rates()?;
-                let bound = std::array::from_fn(|j| available_torque(&motors.joints[j], rate[j]));
+            scene.set_plan(&target, reaching)?;
+            if let Some((bound, need)) = limited {
                 scene.set_max_forces(bound)?;
-                // Released with spin, the schedule's torque at rapier's current attitude.
-                let lambda = if opts.spin.norm_squared() > 0.0 {
-                    Some(scene.snapshot()?.rotations[0].inverse_transform_vector(&opts.spin))
-                } else {
-                    None
-                };
-                saturation.step(t, bound, planned_torques(cat, &target, lambda.as_ref()));
+                saturation.step(t, bound, need);
             }
             scene.step();
         }
@@ -311,6 +320,10 @@ pub fn simulate_with(
         let h = angular_momentum(&masses, &snap.bodies(&masses));
         drift = drift.max((h - *h0.get_or_insert(h)).norm());
         last_h = h;
+        if snap.layout == super::bodies::Layout::Ball {
+            let twist = super::scene::spine_twist(&(snap.rotations[0].inverse() * snap.rotations[2])).abs();
+            spine_twist_max = Some(spine_twist_max.map_or(twist, |m: f64| m.max(twist)));
+        }
         let st = tracker.update(&snap.rotations[0]);
         for (e, (q, s)) in tracking.iter_mut().zip(snap.q.iter().zip(target.q)) {
             *e = e.max((q - s).abs());
@@ -374,6 +387,7 @@ pub fn simulate_with(
             .collect(),
         torque_history,
         saturation: saturation.finish(),
+        spine_twist_max,
     })
 }
 

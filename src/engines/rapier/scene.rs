@@ -84,6 +84,45 @@ fn rot_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
 /// The ball joint's three motor axes, its angular coordinates in A's frame.
 const BALL_AXES: [JointAxis; 3] = [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ];
 
+/// The ball joint's relative rate `ω_rel` (A's frame), its generalized velocities.
+fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
+    Vector3::new(snap.velocities[6], snap.velocities[7], snap.velocities[8])
+}
+
+/// The rate about A's `z` that keeps the ball a no-twist joint over the next step of `h` s, at
+/// B's rotation `now` relative to A and relative rate `rate` (A's frame). A no-twist joint's
+/// relative rates satisfy `ω·(ẑ + e) = 0` with `e = now ẑ` B's spine in A's frame, and the twist
+/// `ψ` of `now` about the spine (its swing–twist decomposition, `now = S(e) Rz(ψ)`) moves at
+/// `ψ̇ = ω·(ẑ + e)/(1 + e_z)`; so `ω_z = −(ω_x e_x + ω_y e_y)/(1 + e_z) − ψ/h` keeps the joint's
+/// constraint and takes out any twist left. The motor about `z` then carries the couple the
+/// constraint needs, whatever the bounded motors about `x` and `y` deliver. `rate`'s `x` and `y`
+/// are the rates the step ends with, as far as they are known before it (the motors' aim, or
+/// the present rate of a motor held back by its bound: the constraint then lags one step, and
+/// the twist it leaves, `O(h²)` per step, goes at the next).
+fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> f64 {
+    let e = now * Vector3::z();
+    -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - spine_twist(now) / h
+}
+
+/// The twist `ψ ∈ (−π, π]` of B about its own spine in `now`, B's rotation relative to A, by
+/// its swing–twist decomposition `now = S Rz(ψ)` (`S` about an axis perpendicular to A's `z`):
+/// `ψ = 2 atan2(q_z, q_w)` of its quaternion. Zero on a no-twist joint.
+pub(super) fn spine_twist(now: &UnitQuaternion<f64>) -> f64 {
+    let q = now.quaternion();
+    let (w, z) = if q.w < 0.0 { (-q.w, -q.k) } else { (q.w, q.k) };
+    2.0 * z.atan2(w)
+}
+
+/// The no-twist joint's coordinate rates `q̇` at `q` from its relative rate `ω` (A's frame): the
+/// least-squares solution of `ω = J(q) q̇`, `J`'s columns [`Joint::relative_rate`] of the unit
+/// rates (exact when `ω` keeps the joint untwisted). `None` when `J` loses rank (folded flat).
+fn no_twist_rates(q: [f64; 2], w: &Vector3<f64>) -> Option<[f64; 2]> {
+    let j = [Joint::NoTwist.relative_rate(&q, &[1.0, 0.0]), Joint::NoTwist.relative_rate(&q, &[0.0, 1.0])];
+    let normal = nalgebra::Matrix2::new(j[0].dot(&j[0]), j[0].dot(&j[1]), j[1].dot(&j[0]), j[1].dot(&j[1]));
+    let x = normal.cholesky()?.solve(&nalgebra::Vector2::new(j[0].dot(w), j[1].dot(w)));
+    Some([x.x, x.y])
+}
+
 fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
     Rotation::from_xyzw(r.i, r.j, r.k, r.w)
 }
@@ -260,11 +299,14 @@ impl CatScene {
 
     /// Aims the motors at the schedule's `target`, the state at the end of the next step (module
     /// docs of [`crate::engines::rapier`]): on the universal joint each revolute's spring at
-    /// `q − h q̇` with velocity `q̇`; on the ball joint the relative rotation that carries the
-    /// present one onto `R(q)` over the step, `w = log(R(q) R_relᵀ)/h` (A's frame), as the
-    /// velocity of each angular coordinate, its spring at the present coordinate (so that it acts
-    /// on `h (v⁺ − w)`). No-op without motors.
-    pub fn set_plan(&mut self, target: &JointState) -> Result<(), RapierError> {
+    /// `q − h q̇` with velocity `q̇`. On the ball joint the motors about A's `x` and `y` aim at the
+    /// relative rotation that carries the present one onto `R(q)` over the step,
+    /// `w = log(R(q) R_relᵀ)/h` (A's frame), as the velocity of each angular coordinate, its
+    /// spring at the present coordinate (so that it acts on `h (v⁺ − w)`); the motor about `z`
+    /// holds the joint's no-twist constraint (`untwisting_rate`) for the rates the step ends
+    /// with: the aim of a motor `reaching` it (unbounded), the present rate of a bounded one,
+    /// which the bound may hold back. No-op without motors.
+    pub fn set_plan(&mut self, target: &JointState, reaching: [bool; 2]) -> Result<(), RapierError> {
         let h = self.dt();
         match self.layout {
             Layout::Universal => {
@@ -276,7 +318,16 @@ impl CatScene {
                 let snap = self.snapshot()?;
                 let now = snap.rotations[0].inverse() * snap.rotations[2];
                 let goal = rot_from_matrix(&Joint::NoTwist.rotation(&target.q));
-                let w = (goal * now.inverse()).scaled_axis() / h;
+                let mut w = (goal * now.inverse()).scaled_axis() / h;
+                // The rates about x and y the step ends with: an unbounded motor's aim, a bounded
+                // one's present rate.
+                let present = ball_rate(&snap);
+                let ends = Vector3::new(
+                    if reaching[0] { w.x } else { present.x },
+                    if reaching[1] { w.y } else { present.y },
+                    0.0,
+                );
+                w.z = untwisting_rate(&now, &ends, h);
                 let (mb, id) =
                     self.world.multibody_joints.get_mut(self.joints[0]).ok_or(RapierError::Missing("a joint"))?;
                 let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
@@ -290,7 +341,7 @@ impl CatScene {
     }
 
     /// Sets the revolute motors' target positions and velocities (no-op without motors; the
-    /// universal joint's scene).
+    /// universal joint's scene; the ball's are aimed by [`CatScene::set_plan`]).
     pub fn set_targets(&mut self, pos: [f64; 2], vel: [f64; 2]) -> Result<(), RapierError> {
         let Some(g) = self.gains else { return Ok(()) };
         if self.layout != Layout::Universal {
@@ -308,28 +359,41 @@ impl CatScene {
     /// Bounds each joint motor's torque, N·m (`None`: unbounded), for the next steps: rapier clamps
     /// the motor's impulse per step to `max_force · dt` whatever the motor model (see
     /// [`super::saturation`]).
+    /// On the ball joint the bounds go to its motors about A's `x` and `y` (its angular DoFs are
+    /// the relative rate in A's frame, so their generalized forces are the couple's components
+    /// on A's axes: the no-twist joint's motor torques, DESIGN.md §10); the motor about A's `z`,
+    /// which holds the joint without twist ([`CatScene::set_plan`]), stays unbounded: it is the
+    /// joint's own constraint, not a motor.
     pub fn set_max_forces(&mut self, bound: [Option<f64>; 2]) -> Result<(), RapierError> {
-        if self.layout != Layout::Universal {
-            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
-        }
-        for (i, b) in bound.iter().enumerate() {
+        let motors: [(usize, JointAxis); 2] = match self.layout {
+            Layout::Universal => [(0, JointAxis::AngX), (1, JointAxis::AngX)],
+            Layout::Ball => [(0, JointAxis::AngX), (0, JointAxis::AngY)],
+        };
+        for ((joint, axis), b) in motors.into_iter().zip(bound) {
             let (mb, id) =
-                self.world.multibody_joints.get_mut(self.joints[i]).ok_or(RapierError::Missing("a joint"))?;
+                self.world.multibody_joints.get_mut(self.joints[joint]).ok_or(RapierError::Missing("a joint"))?;
             let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
-            link.joint.data.set_motor_max_force(JointAxis::AngX, b.unwrap_or(f64::MAX));
+            link.joint.data.set_motor_max_force(axis, b.unwrap_or(f64::MAX));
         }
         Ok(())
     }
 
-    /// The joint rates `(q̇1, q̇2)`, rad/s.
+    /// The joint rates `(q̇1, q̇2)`, rad/s: the revolutes' rates, or the no-twist joint's
+    /// coordinate rates from the ball's relative rate (least squares, `no_twist_rates`).
     pub fn joint_rates(&self) -> Result<[f64; 2], RapierError> {
-        if self.layout != Layout::Universal {
-            return Err(RapierError::UnsupportedJoint(Joint::NoTwist));
-        }
-        let v = self.multibody()?.generalized_velocity();
-        match (v.get(6), v.get(7)) {
-            (Some(a), Some(b)) => Ok([*a, *b]),
-            _ => Err(RapierError::Missing("a floating root with two joints (wrong DoF count)")),
+        match self.layout {
+            Layout::Universal => {
+                let v = self.multibody()?.generalized_velocity();
+                match (v.get(6), v.get(7)) {
+                    (Some(a), Some(b)) => Ok([*a, *b]),
+                    _ => Err(RapierError::Missing("a floating root with two joints (wrong DoF count)")),
+                }
+            }
+            Layout::Ball => {
+                let snap = self.snapshot()?;
+                no_twist_rates(snap.q, &ball_rate(&snap))
+                    .ok_or(RapierError::Missing("the no-twist joint's rates (folded flat)"))
+            }
         }
     }
 

@@ -332,6 +332,10 @@ pub struct RunRecord {
     /// The joints whose motors saturated (absent when none did).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub saturation: Vec<MotorSaturation>,
+    /// On the ball joint, the halves' largest twist about the spine relative to each other,
+    /// degrees ([`RapierRun::spine_twist_max`]); absent on the universal joint.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spine_twist_max_deg: Option<f64>,
     /// The swing's rotation vector, degrees (what is extrapolated).
     #[serde(skip)]
     swing_vector: Vector3<f64>,
@@ -578,6 +582,7 @@ fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
         momentum_drift: run.momentum.max_rel,
         run_time_s,
         saturation: run.saturation.clone(),
+        spine_twist_max_deg: run.spine_twist_max.map(f64::to_degrees),
         swing_vector: super::swing_vector(&run.orientation, run.twist).map(f64::to_degrees),
     }
 }

@@ -54,6 +54,15 @@ impl Verification {
             };
             let _ = writeln!(s, "  motors           {} (exact engine); {rapier}", d.verdict());
         }
+        let twists: Vec<String> =
+            self.runs.iter().filter_map(|r| r.spine_twist_max_deg).map(|t| format!("{t:.1e}")).collect();
+        if !twists.is_empty() {
+            let _ = writeln!(
+                s,
+                "  joint twist      the halves twisted about the spine by at most {}° (ball joint, per run: its no-twist constraint as rapier held it)",
+                twists.join(", ")
+            );
+        }
         for f in &self.failures {
             let _ = writeln!(s, "  failed run       dt = {:.3e} s: {}", f.dt, f.reason);
         }
