@@ -78,11 +78,17 @@ fn compare_verify_checks_every_library_profile_in_rapier() {
     let (code, md, err) = catflip(&["compare", "problems/paper.toml", "--verify"]);
     assert_eq!(code, 0, "{err}");
     assert!(md.contains("\nVerdicts: 9 verified, 0 not verified, 0 inconclusive"), "{md}");
-    assert!(!md.contains("Not verified here"), "{md}");
+    assert!(!md.contains("Not verified in rapier"), "{md}");
     let (code, out, err) = catflip(&["compare", "problems/paper.toml", "--json"]);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).expect("one JSON object");
     assert!(v.get("rapier").is_none() && v["rows"].as_array().is_some_and(|r| r.len() == 9), "{v}");
+    // A step budget below rapier's first run: every verdict inconclusive, the table printed, and
+    // a non-zero exit that says so.
+    let (code, md, err) = catflip(&["compare", "problems/paper.toml", "--verify", "--set", "rapier.step_budget=1"]);
+    assert_ne!(code, 0, "{md}");
+    assert!(md.contains("Verdicts: 0 verified, 0 not verified, 9 inconclusive"), "{md}");
+    assert!(err.contains("rapier has no result for 9 of the 9 profiles"), "{err}");
 }
 
 #[test]

@@ -168,9 +168,13 @@ fn motor_limits_on_the_ball_joint_clip_its_motors_and_keep_it_untwisted() {
     let clipped = run(2e-4, Some(10.0));
     let joints: Vec<usize> = clipped.saturation.iter().map(|m| m.joint).collect();
     assert_eq!(joints, [1], "{:?}", clipped.saturation);
+    // Where a clipped run lands moves with the step (it is not smooth in it); at every step it is
+    // far from the flip (measured at 2e-4 s: twist −172.0°, swing 30.0°).
+    let off = (clipped.twist.abs() - std::f64::consts::PI).abs().to_degrees() + clipped.swing.to_degrees();
     assert!(
-        clipped.swing.to_degrees() > 5.0,
-        "swing {}°: the clipped motor should spoil the flip",
+        off > 5.0,
+        "twist {}°, swing {}°: the clipped motor should spoil the flip",
+        clipped.twist.to_degrees(),
         clipped.swing.to_degrees()
     );
     let finer = run(1e-4, Some(10.0));

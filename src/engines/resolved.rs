@@ -168,19 +168,19 @@ impl Resolved {
         })
     }
 
-    /// The library profile of least exact peak torque over the whole manoeuvre (the run's "best
-    /// library profile"); the first of equals.
-    pub fn best_library(&self) -> Option<&Measured<Schedule>> {
-        self.library().iter().map(|(_, m)| m).min_by(|a, b| a.exact.peak().total_cmp(&b.exact.peak()))
-    }
-
-    /// The library profiles a run verifies in rapier: the problem's own and the best one
-    /// ([`Resolved::best_library`]), the ones its answer reports, in library order.
-    /// `catflip compare --verify` verifies every one.
-    pub fn reported_library(&self) -> Vec<&Measured<Schedule>> {
-        let own = self.problem.manoeuvre.profile;
-        let best = self.best_library().map(|m| m.name.clone());
-        self.library().iter().filter(|(k, m)| *k == own || Some(&m.name) == best.as_ref()).map(|(_, m)| m).collect()
+    /// The best library profile: the least exact twist-phase peak torque, the first of equals in
+    /// library order. The library profiles share the bend and the unbend and differ in the twist
+    /// phase only, so it also has the least peak over the whole manoeuvre (where the bend or the
+    /// unbend dominates, every profile ties there and the twist phase decides).
+    pub fn best_library(&self) -> Option<(ProfileKind, &Measured<Schedule>)> {
+        let twist = |m: &Measured<Schedule>| m.exact.phase_peaks().phase_max(crate::schedule::Phase::Twist);
+        self.library()
+            .iter()
+            .fold(None, |best: Option<&(ProfileKind, Measured<Schedule>)>, x| match best {
+                Some(b) if twist(&b.1) <= twist(&x.1) => Some(b),
+                _ => Some(x),
+            })
+            .map(|(k, m)| (*k, m))
     }
 
     /// The measurement of the problem's own schedule, named by its library profile (made once,

@@ -5,18 +5,13 @@
 //! §10). Two parts model the paper's cat only (equal halves on the universal joint) and are not
 //! run on another ([`PaperOnly`]): the audit of the paper's numbers and the paper-model profile
 //! QP with its exact refinements (built on the two-cylinder engine). Everything else runs on the
-//! problem's model: the library's measurements, the certified
+//! problem's model: the library's measurements and rapier verifications, the certified
 //! retimings, the whole optimum with its verification and robustness, the schedule and model
 //! files.
 //!
-//! What rapier verifies is what the run's answer reports: the problem's own schedule, the best
-//! library profile and every optimised schedule ([`Resolved::reported_library`]). The other
-//! library profiles differ from these in the twist phase's timing only; `catflip compare
-//! --verify` verifies all of them ([`verify_library`]).
-//!
 //! The independent computations run in parallel (rayon): the profile QP and its refinements,
-//! the whole-manoeuvre optimum, the certified retimings and the rapier verification of the
-//! reported library schedules start together; each optimised schedule is verified, and its schedule file
+//! the whole-manoeuvre optimum, the certified retimings and the rapier verification of every
+//! library schedule start together; each optimised schedule is verified, and its schedule file
 //! written, as soon as it exists; the whole optimum's robustness (the exact engine's Monte Carlo,
 //! [`crate::robust`]) and a caller's own work on the optimum (the report's animation) run beside
 //! its verification. Every schedule is measured once ([`Measured`]): its exact numbers serve its
@@ -112,11 +107,9 @@ pub struct RunResults {
     pub whole: WholeReport,
     /// The certified retimings of the problem's schedule (and of the calibrated one).
     pub retimed: Vec<RetimeRow>,
-    /// Every schedule of the peak-torque table, measured: the library first (in
-    /// [`crate::problem::ProfileKind::ALL`] order), then the optimised ones, then the most refined
-    /// one with the calibrated circulation. Verified in rapier: every optimised one and the
-    /// library's reported ones ([`Resolved::reported_library`]); the other library profiles are
-    /// not (`catflip compare --verify` verifies them, [`verify_library`]).
+    /// Every schedule of the peak-torque table, measured and verified in rapier (DESIGN.md §6):
+    /// the library first (in [`crate::problem::ProfileKind::ALL`] order), then the optimised ones,
+    /// then the most refined one with the calibrated circulation.
     pub schedules: Vec<Measured<Schedule>>,
     /// The whole optimum's robustness on the exact engine (`[robust]`'s draws, ideal tracking),
     /// when the optimum exists.
@@ -138,18 +131,18 @@ pub fn compute<A: Send>(
     clock: &Stopwatch,
     beside: impl Fn(&Measured<crate::optimize::whole::BSpline>) -> A + Sync,
 ) -> Result<(RunResults, Option<A>), ComputeError> {
-    let library: Vec<Measured<Schedule>> = r.library().iter().map(|(_, m)| m.clone()).collect();
-    let reported: Vec<Measured<Schedule>> = r.reported_library().into_iter().cloned().collect();
     // Four branches; each verifies what it produced as soon as it has it. The longest chains
     // start first: the whole optimum (solve, then verification beside the robustness and
     // `beside`) and the refinement (sequential steps, then four verifications); the retimings,
     // the library's verifications, the audit and the problem's schedule file fill the gaps.
+    // The library's measurements, made once before the branches that read them.
+    r.library();
     let audit = || r.problem.cat.is_paper().then(|| clock.time("audit", || audit_with_exact(r))).transpose();
     let problem_file = || {
         let own = r.own().clone().named(ScheduleName::Problem);
         clock.time("schedule files: problem", || schedule_files(&r.problem, &[&own], export))
     };
-    let (whole, (opt, (retimed, (reported, (audit, problem_files))))) = rayon::join(
+    let (whole, (opt, (retimed, (library, (audit, problem_files))))) = rayon::join(
         || whole_and_verify(r, export, clock, &beside),
         || {
             rayon::join(
@@ -157,15 +150,14 @@ pub fn compute<A: Send>(
                 || {
                     rayon::join(
                         || retimings(r, clock),
-                        || rayon::join(|| verify_all(r, reported, clock), || rayon::join(audit, problem_file)),
+                        || rayon::join(|| verify_library(r, clock), || rayon::join(audit, problem_file)),
                     )
                 },
             )
         },
     );
-    let ((opt, optimised, optimised_files), (whole, robustness, beside, whole_files), reported, audit) =
-        (opt?, whole?, reported?, audit?);
-    let mut schedules = with_verified(library, reported);
+    let ((opt, optimised, optimised_files), (whole, robustness, beside, whole_files), mut schedules, audit) =
+        (opt?, whole?, library?, audit?);
     schedules.extend(optimised);
     let mut files = problem_files?;
     files.extend(optimised_files);
@@ -268,18 +260,8 @@ fn retimings(r: &Resolved, clock: &Stopwatch) -> Vec<RetimeRow> {
         .collect()
 }
 
-/// `all` with each schedule that `verified` holds (by name) replaced by its verified measurement.
-fn with_verified(all: Vec<Measured<Schedule>>, mut verified: Vec<Measured<Schedule>>) -> Vec<Measured<Schedule>> {
-    all.into_iter()
-        .map(|m| match verified.iter().position(|v| v.name == m.name) {
-            Some(k) => verified.remove(k),
-            None => m,
-        })
-        .collect()
-}
-
-/// Every library profile of `r` verified in rapier, in parallel, in library order (what
-/// `catflip compare --verify` shows; a run verifies the reported ones only).
+/// Every library profile of `r` verified in rapier, in parallel, in library order (`run`'s and
+/// `catflip compare --verify`'s).
 pub fn verify_library(r: &Resolved, clock: &Stopwatch) -> Result<Vec<Measured<Schedule>>, ComputeError> {
     verify_all(r, r.library().iter().map(|(_, m)| m.clone()).collect(), clock)
 }

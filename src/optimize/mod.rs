@@ -163,11 +163,9 @@ pub fn optimize(r: &Resolved) -> Result<OptimizeReport, OptimizeError> {
         let optimum = evaluate(s, Origin::RefinedAllPhases, twist_refinement.rates.clone());
         all_phases = Some(AllPhasesRefinement { optimum, bend, unbend });
     }
-    let best_library = r
-        .library()
-        .iter()
-        .map(|(k, m)| (k.name().to_string(), m.exact.phase_peaks().phase_max(Phase::Twist)))
-        .fold((String::new(), f64::INFINITY), |best, x| if x.1 < best.1 { x } else { best });
+    let best_library = r.best_library().map_or((String::new(), f64::INFINITY), |(k, m)| {
+        (k.name().to_string(), m.exact.phase_peaks().phase_max(Phase::Twist))
+    });
     Ok(OptimizeReport {
         problem: problem.name.clone(),
         circulation: r.circulation,

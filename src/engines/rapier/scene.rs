@@ -99,12 +99,13 @@ fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
 /// are the rates the step ends with, as far as they are known before it (the motors' aim, or
 /// the present rate of a motor held back by its bound: the constraint then lags one step, and
 /// the twist it leaves, `O(h²)` per step, goes at the next).
-fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> f64 {
+/// `None` when the halves are folded flat (`1 + e_z` below 1e-9), where the twist is undefined.
+fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> Option<f64> {
     let e = now * Vector3::z();
-    -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - spine_twist(now) / h
+    (1.0 + e.z > 1e-9).then(|| -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - spine_twist(now) / h)
 }
 
-/// The twist `ψ ∈ (−π, π]` of B about its own spine in `now`, B's rotation relative to A, by
+/// The twist `ψ ∈ [−π, π]` of B about its own spine in `now`, B's rotation relative to A, by
 /// its swing–twist decomposition `now = S Rz(ψ)` (`S` about an axis perpendicular to A's `z`):
 /// `ψ = 2 atan2(q_z, q_w)` of its quaternion. Zero on a no-twist joint.
 pub(super) fn spine_twist(now: &UnitQuaternion<f64>) -> f64 {
@@ -115,7 +116,7 @@ pub(super) fn spine_twist(now: &UnitQuaternion<f64>) -> f64 {
 
 /// The no-twist joint's coordinate rates `q̇` at `q` from its relative rate `ω` (A's frame): the
 /// least-squares solution of `ω = J(q) q̇`, `J`'s columns [`Joint::relative_rate`] of the unit
-/// rates (exact when `ω` keeps the joint untwisted). `None` when `J` loses rank (folded flat).
+/// rates (exact when `ω` keeps the joint untwisted). `None` when `J` loses rank (a bend of 2π).
 fn no_twist_rates(q: [f64; 2], w: &Vector3<f64>) -> Option<[f64; 2]> {
     let j = [Joint::NoTwist.relative_rate(&q, &[1.0, 0.0]), Joint::NoTwist.relative_rate(&q, &[0.0, 1.0])];
     let normal = nalgebra::Matrix2::new(j[0].dot(&j[0]), j[0].dot(&j[1]), j[1].dot(&j[0]), j[1].dot(&j[1]));
@@ -327,7 +328,8 @@ impl CatScene {
                     if reaching[1] { w.y } else { present.y },
                     0.0,
                 );
-                w.z = untwisting_rate(&now, &ends, h);
+                w.z = untwisting_rate(&now, &ends, h)
+                    .ok_or(RapierError::Missing("a twist of the no-twist joint (its halves folded flat)"))?;
                 let (mb, id) =
                     self.world.multibody_joints.get_mut(self.joints[0]).ok_or(RapierError::Missing("a joint"))?;
                 let link = mb.link_mut(id).ok_or(RapierError::Missing("a link"))?;
@@ -392,7 +394,7 @@ impl CatScene {
             Layout::Ball => {
                 let snap = self.snapshot()?;
                 no_twist_rates(snap.q, &ball_rate(&snap))
-                    .ok_or(RapierError::Missing("the no-twist joint's rates (folded flat)"))
+                    .ok_or(RapierError::Missing("the no-twist joint's rates (a bend of 2π)"))
             }
         }
     }

@@ -150,9 +150,11 @@ impl<F: Fn(usize) -> Drawn + Sync> RgbFrames<F> {
             for (&k, rgb) in batch.iter().zip(drawn) {
                 let rgb = match rgb {
                     Some(rgb) => rgb,
-                    None => {
-                        training.iter_mut().find(|(t, _)| *t == k).map(|(_, f)| std::mem::take(f)).unwrap_or_default()
-                    }
+                    None => training
+                        .iter_mut()
+                        .find(|(t, _)| *t == k)
+                        .map(|(_, f)| std::mem::take(f))
+                        .ok_or_else(|| format!("frame {k} taught the palette but was not kept"))?,
                 };
                 indexed.push(index_frame(&rgb, nq, &mut index));
             }

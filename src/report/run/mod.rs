@@ -314,7 +314,7 @@ fn produce(
     w.put("report.md", &report)?;
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
     let audited = PaperOnly::Audit.not_run(problem).is_none();
-    let best = r.best_library().map(|m| &m.name);
+    let best = r.best_library().map(|(_, m)| &m.name);
     let mut answer = answer::answer(own, best, &schedules, &whole, &not_run, audited, &w.shown.display().to_string());
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));

@@ -141,10 +141,7 @@ fn rapier_line(problem: &Problem, schedules: &[Shown]) -> String {
     let reports: Vec<&SimulationReport> = verified(schedules).filter_map(|(_, x)| x.report()).collect();
     let count = verified(schedules).count();
     let missing = count - reports.len();
-    let mut s = format!(
-        "- rapier3d-f64 verification of {count} schedules (first dt {}; the problem's own, the best library profile and every optimised one)",
-        problem.rapier.dt
-    );
+    let mut s = format!("- rapier3d-f64 verification of {count} schedules (first dt {})", problem.rapier.dt);
     if !reports.is_empty() {
         let worst = reports.iter().filter_map(|r| r.figures.check.twist_error_deg).map(f64::abs).fold(0.0, f64::max);
         let worst_x = reports
