@@ -166,3 +166,28 @@ fn the_files_and_pictures_are_written_together() {
     assert_eq!(json["rows"].as_array().map(Vec::len), Some(c.rows.len()));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// With the objective `min-time` each model flies its own least fall within its motors: the table
+/// gives each one's fall and the drop height it needs (`g t²/2`), and does not call it the
+/// problem's fall (measured on Kane and Scher's cat, `|τ| ≤ 0.5 N·m`, 40 control points: the
+/// universal joint 1.143268 s, 6.40 m; the no-twist joint 1.149759 s, 6.48 m).
+#[test]
+fn least_fall_times_are_compared_with_their_drop_heights() {
+    let extra =
+        ["actuator.torque_limit_nm=0.5", "optimize.whole.objective=\"min-time\"", "optimize.whole.control_points=40"];
+    let p = preset("kane-scher", &extra);
+    let c = compare_models(&p, false, "test").unwrap_or_else(|e| panic!("{e}"));
+    let md = c.to_markdown();
+    assert!(md.contains("| fall s | drop m |") && !md.contains("on the same fall"), "{md}");
+    for r in &c.rows {
+        let o = r.optimum.as_ref().unwrap_or_else(|| panic!("{}: {}", r.label, r.status));
+        assert!(o.peak_torque_nm <= 0.5 * (1.0 + 1e-6), "{}: peak {} N·m", r.label, o.peak_torque_nm);
+        assert!(o.fall_time_s < p.drop.fall_time(), "{}: {} s is not below the problem's fall", r.label, o.fall_time_s);
+        approx::assert_relative_eq!(
+            o.drop_height_m,
+            0.5 * p.drop.gravity * o.fall_time_s.powi(2),
+            max_relative = 1e-12
+        );
+        assert!(md.contains(&format!("| {:.4} |", o.drop_height_m)), "{}: {md}", r.label);
+    }
+}

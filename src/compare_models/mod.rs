@@ -117,6 +117,9 @@ pub struct OptimumFigures {
     pub bend_turns: f64,
     /// The fall time, s (with the objective `min-time` the least fall time within the motors).
     pub fall_time_s: f64,
+    /// The drop height of that fall, `g t²/2`, m (with `min-time` the least drop height from
+    /// which this cat turns over within its motors).
+    pub drop_height_m: f64,
 }
 
 impl OptimumFigures {

@@ -56,20 +56,28 @@ impl ModelComparison {
         } else {
             format!("released with total angular momentum [{}, {}, {}] N·m·s (world frame)", spin[0], spin[1], spin[2])
         };
+        let min_time = self.objective == Objective::MinTime;
+        let fall = if min_time {
+            "each model's least fall time within the motors (`[actuator]`; the drop height it needs beside it)"
+                .to_string()
+        } else {
+            format!("the same fall of {:.4} s", self.fall_time_s)
+        };
         let _ = writeln!(
             s,
-            "Each model's whole-manoeuvre optimum (objective {}, `[optimize.whole]` of the problem) on the same fall of {:.4} s, {release}; every number is re-measured by that model's exact engine. The library schedule is the problem's own (`[manoeuvre]`) on that model.\n",
+            "Each model's whole-manoeuvre optimum (objective {}, `[optimize.whole]` of the problem) on {fall}, {release}; every number is re-measured by that model's exact engine. The library schedule is the problem's own (`[manoeuvre]`) on that model (on the problem's fall of {:.4} s).\n",
             self.objective.name(),
             self.fall_time_s
         );
         let rapier = if self.verified_in_rapier { " rapier |" } else { "" };
+        let (fall_head, fall_rule) = if min_time { (" fall s | drop m |", "---:|---:|") } else { ("", "") };
         let _ = writeln!(
             s,
-            "| model | status | peak N·m | energy N²·m²·s | max bend ° | bend turns | twist ° | swing ° | library schedule: twist °, peak N·m |{rapier} time s |"
+            "| model | status |{fall_head} peak N·m | energy N²·m²·s | max bend ° | bend turns | twist ° | swing ° | library schedule: twist °, peak N·m |{rapier} time s |"
         );
         let _ = writeln!(
             s,
-            "|---|---|---:|---:|---:|---:|---:|---:|---:|{}---:|",
+            "|---|---|{fall_rule}---:|---:|---:|---:|---:|---:|---:|{}---:|",
             if rapier.is_empty() { "" } else { "---|" }
         );
         for r in &self.rows {
@@ -83,9 +91,14 @@ impl ModelComparison {
             } else {
                 String::new()
             };
+            let fall = if min_time {
+                format!(" {} | {} |", shown(o.map(|o| o.fall_time_s), 6), shown(o.map(|o| o.drop_height_m), 4))
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {schedule} |{verdict} {:.2} |",
+                "| {} | {} |{fall} {} | {} | {} | {} | {} | {} | {schedule} |{verdict} {:.2} |",
                 r.label,
                 if o.is_some() { r.status.as_str() } else { "**no optimum**" },
                 shown(o.map(|o| o.peak_torque_nm), 6),
@@ -123,7 +136,9 @@ impl ModelComparison {
         let mut s = match self.objective {
             Objective::Peak => format!("peak {:.4} N·m", o.peak_torque_nm),
             Objective::Energy => format!("energy {:.6} N²·m²·s", o.energy),
-            Objective::MinTime => format!("least fall time {:.4} s", o.fall_time_s),
+            Objective::MinTime => {
+                format!("least fall time {:.4} s, a drop of {:.4} m", o.fall_time_s, o.drop_height_m)
+            }
         };
         let others: Vec<String> = self
             .rows
@@ -146,14 +161,14 @@ impl ModelComparison {
 
     /// One row per model; absent numbers are empty cells.
     pub fn to_csv(&self) -> String {
-        let mut out = String::from("problem,model,joint,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
+        let mut out = String::from("problem,model,joint,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,drop_height_m,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
         for r in &self.rows {
             let o = r.optimum.as_ref();
             let f = r.schedule.as_ref();
             let halves = if r.key.starts_with("unequal-") { "unequal" } else { "equal" };
             let _ = writeln!(
                 out,
-                "{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 self.problem,
                 r.key,
                 r.joint.name(),
@@ -167,6 +182,7 @@ impl ModelComparison {
                 cell(o.map(|o| o.twist_deg)),
                 cell(o.map(|o| o.swing_deg)),
                 cell(o.map(|o| o.fall_time_s)),
+                cell(o.map(|o| o.drop_height_m)),
                 cell(f.map(|f| f.twist_deg)),
                 cell(f.map(|f| f.peak_torque_nm)),
                 r.rapier.as_ref().map_or_else(String::new, |v| v.status.to_string().replace(' ', "-")),

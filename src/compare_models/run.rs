@@ -104,6 +104,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             max_bend_deg: b.max_bend_deg,
             bend_turns: b.bend_turns,
             fall_time_s: b.fall_time_s,
+            drop_height_m: r.problem.drop.height_for(b.fall_time_s),
         });
         let n = ((BEND_SAMPLES_PER_S * b.fall_time_s).ceil() as usize).max(64);
         let cat = WholeCat::from(r.model());

@@ -151,7 +151,7 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
         max_bend_deg: best.map(|b| b.max_bend_deg),
         bend_turns: best.map(|b| b.bend_turns),
         fall_time_s: fall,
-        drop_height_m: fall.map(|t| 0.5 * p.drop.gravity * t * t),
+        drop_height_m: fall.map(|t| p.drop.height_for(t)),
         peak_speed_rad_s: e.map(|e| e.motors.peak_speed_rad_s.map(|x| x.value)),
         peak_power_w: e.map(|e| e.motors.peak_power_w.map(|x| x.value)),
         active_limits: e

@@ -65,6 +65,12 @@ impl Drop {
         (2.0 * self.height / self.gravity).sqrt()
     }
 
+    /// The drop height that gives a fall of `fall_time` s, `g t²/2`, m (the inverse of
+    /// [`Drop::fall_time`] at this gravity).
+    pub fn height_for(&self, fall_time: f64) -> f64 {
+        0.5 * self.gravity * fall_time * fall_time
+    }
+
     /// The release spin `L` (world frame), N·m·s.
     pub fn spin(&self) -> Vector3<f64> {
         Vector3::from(self.angular_momentum)

@@ -120,7 +120,7 @@ pub(crate) fn whole(problem: &Problem, rig: &Rig) -> ExactRow {
         energy: best.energy,
         max_bend_deg: best.max_bend_deg,
         fall_time_s: t,
-        drop_height_m: 0.5 * problem.drop.gravity * t * t,
+        drop_height_m: problem.drop.height_for(t),
     });
     let row = Row::with(SweepSchedule::Whole, Engine::Exact, numbers, labels);
     let subject = (row.status == Status::Ok).then_some(Subject::Whole(m));
