@@ -174,13 +174,7 @@ impl Resolved {
     /// unbend dominates, every profile ties there and the twist phase decides).
     pub fn best_library(&self) -> Option<(ProfileKind, &Measured<Schedule>)> {
         let twist = |m: &Measured<Schedule>| m.exact.phase_peaks().phase_max(crate::schedule::Phase::Twist);
-        self.library()
-            .iter()
-            .fold(None, |best: Option<&(ProfileKind, Measured<Schedule>)>, x| match best {
-                Some(b) if twist(&b.1) <= twist(&x.1) => Some(b),
-                _ => Some(x),
-            })
-            .map(|(k, m)| (*k, m))
+        self.library().iter().min_by(|a, b| twist(&a.1).total_cmp(&twist(&b.1))).map(|(k, m)| (*k, m))
     }
 
     /// The measurement of the problem's own schedule, named by its library profile (made once,

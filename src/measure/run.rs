@@ -110,7 +110,7 @@ pub struct RunResults {
     /// Every schedule of the peak-torque table, measured and verified in rapier (DESIGN.md §6):
     /// the library first (in [`crate::problem::ProfileKind::ALL`] order), then the optimised ones,
     /// then the most refined one with the calibrated circulation.
-    pub schedules: Vec<Measured<Schedule>>,
+    pub verified: Vec<Measured<Schedule>>,
     /// The whole optimum's robustness on the exact engine (`[robust]`'s draws, ideal tracking),
     /// when the optimum exists.
     pub robustness: Option<Robustness>,
@@ -156,14 +156,14 @@ pub fn compute<A: Send>(
             )
         },
     );
-    let ((opt, optimised, optimised_files), (whole, robustness, beside, whole_files), mut schedules, audit) =
+    let ((opt, optimised, optimised_files), (whole, robustness, beside, whole_files), mut verified, audit) =
         (opt?, whole?, library?, audit?);
-    schedules.extend(optimised);
+    verified.extend(optimised);
     let mut files = problem_files?;
     files.extend(optimised_files);
     files.extend(model_files(&r.problem)?.into_iter().map(|(n, text)| (format!("schedules/{n}"), text)));
     files.extend(whole_files);
-    Ok((RunResults { audit, opt, whole, retimed, schedules, robustness, files }, beside))
+    Ok((RunResults { audit, opt, whole, retimed, verified, robustness, files }, beside))
 }
 
 /// The profile QP's report (none on a cat other than the paper's), its optima measured and

@@ -11,7 +11,7 @@ use super::{RapierError, RapierOptions, MAX_STEPS, MIN_STEPS_PER_PHASE};
 use crate::engines::models::TwoMotorCat;
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::torque::{joint_torques, joint_torques_spinning};
-use crate::model::orientation::TwistTracker;
+use crate::model::orientation::{swing_twist, TwistTracker};
 use crate::problem::settings::{RapierSettings, TimeStep};
 use crate::schedule::{JointState, Phase, Trajectory};
 
@@ -155,7 +155,7 @@ pub struct RapierRun {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub saturation: Vec<MotorSaturation>,
     /// On the ball joint (the no-twist joint), the largest twist of B about its spine relative
-    /// to A over the run, rad ([`super::scene`]'s `spine_twist`): how well rapier held the
+    /// to A over the run, rad (the twist of `R_A⁻¹ R_B` by [`swing_twist`]): how well rapier held the
     /// joint's constraint. `None` (absent from JSON) on the universal joint.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spine_twist_max: Option<f64>,
@@ -321,7 +321,7 @@ pub fn simulate_with(
         drift = drift.max((h - *h0.get_or_insert(h)).norm());
         last_h = h;
         if snap.layout == super::bodies::Layout::Ball {
-            let twist = super::scene::spine_twist(&(snap.rotations[0].inverse() * snap.rotations[2])).abs();
+            let twist = swing_twist(&(snap.rotations[0].inverse() * snap.rotations[2])).twist.abs();
             spine_twist_max = Some(spine_twist_max.map_or(twist, |m: f64| m.max(twist)));
         }
         let st = tracker.update(&snap.rotations[0]);

@@ -22,6 +22,7 @@ use rapier3d_f64::pipeline::PhysicsWorld;
 
 use super::bodies::{Layout, MassModel, Snapshot, NDOFS};
 use super::RapierError;
+use crate::model::orientation::swing_twist;
 use crate::model::{Cat, Joint};
 use crate::schedule::JointState;
 
@@ -92,7 +93,8 @@ fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
 /// The rate about A's `z` that keeps the ball a no-twist joint over the next step of `h` s, at
 /// B's rotation `now` relative to A and relative rate `rate` (A's frame). A no-twist joint's
 /// relative rates satisfy `ω·(ẑ + e) = 0` with `e = now ẑ` B's spine in A's frame, and the twist
-/// `ψ` of `now` about the spine (its swing–twist decomposition, `now = S(e) Rz(ψ)`) moves at
+/// `ψ` of `now` about the spine (its swing–twist decomposition `now = S(e) Rz(ψ)`,
+/// [`swing_twist`]; zero on a no-twist joint) moves at
 /// `ψ̇ = ω·(ẑ + e)/(1 + e_z)`; so `ω_z = −(ω_x e_x + ω_y e_y)/(1 + e_z) − ψ/h` keeps the joint's
 /// constraint and takes out any twist left. The motor about `z` then carries the couple the
 /// constraint needs, whatever the bounded motors about `x` and `y` deliver. `rate`'s `x` and `y`
@@ -102,16 +104,7 @@ fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
 /// `None` when the halves are folded flat (`1 + e_z` below 1e-9), where the twist is undefined.
 fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> Option<f64> {
     let e = now * Vector3::z();
-    (1.0 + e.z > 1e-9).then(|| -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - spine_twist(now) / h)
-}
-
-/// The twist `ψ ∈ [−π, π]` of B about its own spine in `now`, B's rotation relative to A, by
-/// its swing–twist decomposition `now = S Rz(ψ)` (`S` about an axis perpendicular to A's `z`):
-/// `ψ = 2 atan2(q_z, q_w)` of its quaternion. Zero on a no-twist joint.
-pub(super) fn spine_twist(now: &UnitQuaternion<f64>) -> f64 {
-    let q = now.quaternion();
-    let (w, z) = if q.w < 0.0 { (-q.w, -q.k) } else { (q.w, q.k) };
-    2.0 * z.atan2(w)
+    (1.0 + e.z > 1e-9).then(|| -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - swing_twist(now).twist / h)
 }
 
 /// The no-twist joint's coordinate rates `q̇` at `q` from its relative rate `ω` (A's frame): the

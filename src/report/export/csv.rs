@@ -1,6 +1,6 @@
 //! The CSV files of a run: tidy tables (one row per problem × schedule × engine, sorted).
 
-use super::{verified, ExportError, Shown};
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::engines::peaks::PhasePeaks;
 use crate::engines::rapier::Verification;
@@ -15,7 +15,7 @@ impl Exporter for Csv {
         let whole: Vec<_> = v.whole_row.into_iter().cloned().collect();
         let mut files = vec![
             ("compare.csv".to_string(), v.table.to_csv_with(&whole)),
-            ("verification.csv".to_string(), verification_csv(v.schedules)),
+            ("verification.csv".to_string(), verification_csv(v.verified)),
         ];
         files.extend(v.robust.map(|r| ("robust.csv".to_string(), r.to_csv())));
         Ok(files)
@@ -27,7 +27,7 @@ const REPORT_HEAD: [&str; 6] = ["problem", "schedule", "engine", "circulation_ra
 /// The measured columns after the peaks, up to the run time.
 const MEASURED: [&str; 4] = ["momentum_max", "dt_s", "tracking1_rad", "tracking2_rad"];
 
-/// `verification.csv`: one row per verified schedule and engine, sorted. A rapier row carries the
+/// `verification.csv`: one row per schedule and engine, sorted. A rapier row carries the
 /// verification's columns and `verdict_reason` (the verdict in words); a rapier row without a
 /// result has empty number fields.
 fn verification_csv(rows: &[Shown]) -> String {
@@ -38,10 +38,10 @@ fn verification_csv(rows: &[Shown]) -> String {
     header.extend(Verification::CSV_HEADER.split(','));
     header.push("verdict_reason");
     let mut all: Vec<(String, Engine, Vec<String>)> = Vec::new();
-    for (v, rapier) in verified(rows) {
+    for v in rows {
         let name = v.name();
         all.push((name.clone(), Engine::Exact, report_fields(&name, &v.exact)));
-        all.push((name.clone(), Engine::Rapier, rapier_fields(&name, v, rapier)));
+        all.push((name.clone(), Engine::Rapier, rapier_fields(&name, v)));
     }
     all.sort_by(|a, b| (&a.0, a.1).cmp(&(&b.0, b.1)));
     let width = header.len();
@@ -77,8 +77,8 @@ fn report_fields(name: &str, r: &SimulationReport) -> Vec<String> {
 
 /// rapier's row: its report's fields, or empty ones when it has no result, then the
 /// verification's and the verdict's.
-fn rapier_fields(name: &str, v: &Shown, rapier: &RapierOutcome<SimulationReport>) -> Vec<String> {
-    let mut f = match rapier {
+fn rapier_fields(name: &str, v: &Shown) -> Vec<String> {
+    let mut f = match &v.rapier {
         RapierOutcome::Report(r) => report_fields(name, r),
         RapierOutcome::NoResult(x) => {
             let e = &v.exact;

@@ -2,7 +2,7 @@
 //! results only: the command that made them is in the Markdown, and wall-clock times are the
 //! machine's (`*_time_s`, `seconds`).
 
-use super::{verified, ExportError, Shown};
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::engines::rapier::{Status, Verification};
 use crate::engines::Engine;
@@ -26,8 +26,8 @@ impl Exporter for Json {
         files.extend([
             file("whole.json", v.whole)?,
             file("retime.json", &v.retimed)?,
-            file("simulate_exact.json", &v.schedules.iter().map(|s| &s.exact).collect::<Vec<_>>())?,
-            file("simulate_rapier.json", &verified(v.schedules).map(rapier_json).collect::<Vec<_>>())?,
+            file("simulate_exact.json", &v.verified.iter().map(|s| &s.exact).collect::<Vec<_>>())?,
+            file("simulate_rapier.json", &v.verified.iter().map(rapier_json).collect::<Vec<_>>())?,
         ]);
         if let Some(verification) = v.whole.verification() {
             files.push(file("verification_whole.json", verification)?);
@@ -39,9 +39,9 @@ impl Exporter for Json {
     }
 }
 
-/// The entry of `simulate_rapier.json` of one verified schedule.
-pub fn rapier_json<'a>((s, rapier): (&'a Shown<'a>, &'a RapierOutcome<SimulationReport>)) -> RapierJson<'a> {
-    match rapier {
+/// The entry of `simulate_rapier.json` of one schedule.
+pub fn rapier_json<'a>(s: &'a Shown<'a>) -> RapierJson<'a> {
+    match &s.rapier {
         RapierOutcome::Report(r) => RapierJson::Report(r),
         RapierOutcome::NoResult(v) => RapierJson::NoResult {
             problem: &s.exact.problem,

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use super::{verified, ExportError, Shown};
+use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::problem::Problem;
 use crate::report::check::{verification_row, VERIFICATION_TABLE_HEADER};
@@ -14,7 +14,7 @@ impl Exporter for Markdown {
     fn files(&self, v: &Views) -> Result<Files, ExportError> {
         let mut compare = v.table.to_markdown();
         compare.extend(v.whole_row.map(|row| row.markdown()));
-        let mut verification = verification_markdown(v.problem, v.schedules);
+        let mut verification = verification_markdown(v.problem, v.verified);
         verification.extend(crate::report::whole::verification_row_markdown(v.whole));
         let mut files: Files = v.audit.map(|a| ("audit.md".to_string(), a.to_markdown())).into_iter().collect();
         files.extend(v.optimize.map(|o| ("optimize.md".to_string(), o.to_markdown())));
@@ -29,26 +29,20 @@ impl Exporter for Markdown {
     }
 }
 
-/// `verification.md`: every schedule of `rows` through the exact engine and rapier (a run's and
-/// `catflip compare --verify`'s verify them all, DESIGN.md §6); one not verified would be named
-/// in a line of its own, not left out silently.
+/// `verification.md`: every schedule of the table through the exact engine and rapier (also
+/// `catflip compare --verify`'s table, [`super::with_verification`]).
 pub fn verification_markdown(problem: &Problem, rows: &[Shown]) -> String {
     let mut s = format!(
         "## Verification in rapier3d-f64 (`{}`, first dt {})\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
         problem.name, problem.rapier.dt
     );
-    let unverified: Vec<String> =
-        rows.iter().filter(|v| v.rapier.is_none()).map(|v| format!("`{}`", v.name())).collect();
-    if !unverified.is_empty() {
-        let _ = writeln!(s, "Not verified in rapier: {}.\n", unverified.join(", "));
-    }
     s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step; — where rapier has no such number (no run, or fewer than two).\n\n");
     if let Some(v) = rows.iter().find_map(Shown::verification) {
         let _ =
             writeln!(s, "Tolerances: {}; budget {} rapier steps per schedule.\n", v.tolerances_text(), v.step_budget);
     }
     s.push_str(VERIFICATION_TABLE_HEADER);
-    for (v, _) in verified(rows) {
+    for v in rows {
         match v.verification() {
             Some(x) => s.push_str(&verification_row(&v.name(), &v.measured.reference(), x)),
             None => {

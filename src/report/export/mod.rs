@@ -35,24 +35,22 @@ pub enum ExportError {
     },
 }
 
-/// The reports of one measured schedule: the exact engine's and, when the schedule was verified,
-/// rapier's, or its verification alone when it made no usable run.
+/// The reports of one measured and verified schedule: the exact engine's, and rapier's or its
+/// verification alone when it made no usable run.
 pub struct Shown<'a> {
-    /// The schedule, measured (and verified, or not).
+    /// The schedule, measured and verified.
     pub measured: &'a Measured<Schedule>,
     /// The exact engine's report.
     pub exact: SimulationReport,
-    /// rapier's report, or its verification alone when it made no usable run; `None` when the
-    /// schedule was not verified.
-    pub rapier: Option<RapierOutcome<SimulationReport>>,
+    /// rapier's report, or its verification alone when it made no usable run.
+    pub rapier: RapierOutcome<SimulationReport>,
 }
 
 impl<'a> Shown<'a> {
-    /// The reports of `m`, one of `r`'s schedules, verified or not
-    /// ([`crate::engines::measured::Measured::verify`]).
+    /// The reports of `m`, one of `r`'s schedules, verified ([`crate::engines::measured::Measured::verify`]).
     pub fn new(r: &Resolved, m: &'a Measured<Schedule>) -> Result<Shown<'a>, RapierError> {
         let exact = SimulationReport::exact(r, m);
-        let rapier = m.rapier.is_some().then(|| SimulationReport::rapier(m, &exact)).transpose()?;
+        let rapier = SimulationReport::rapier(m, &exact)?;
         Ok(Shown { measured: m, exact, rapier })
     }
 
@@ -65,18 +63,6 @@ impl<'a> Shown<'a> {
     pub fn verification(&self) -> Option<&Verification> {
         self.measured.verification()
     }
-
-    /// rapier's report or its verification alone, with the schedule's reports, when verified.
-    fn verified(&self) -> Option<(&Shown<'a>, &RapierOutcome<SimulationReport>)> {
-        self.rapier.as_ref().map(|x| (self, x))
-    }
-}
-
-/// The rows of `schedules` that were verified in rapier, with rapier's outcome.
-pub fn verified<'s, 'a>(
-    schedules: &'s [Shown<'a>],
-) -> impl Iterator<Item = (&'s Shown<'a>, &'s RapierOutcome<SimulationReport>)> {
-    schedules.iter().filter_map(Shown::verified)
 }
 
 /// `catflip compare --verify`: the table, then rapier's verification of its schedules
@@ -95,8 +81,7 @@ pub fn with_verification(
         table.to_markdown(),
         markdown::verification_markdown(&r.problem, &shown)
     );
-    let json =
-        serde_json::json!({ "table": table, "rapier": verified(&shown).map(json::rapier_json).collect::<Vec<_>>() });
+    let json = serde_json::json!({ "table": table, "rapier": shown.iter().map(json::rapier_json).collect::<Vec<_>>() });
     Ok((markdown, json))
 }
 
@@ -118,8 +103,8 @@ pub struct Views<'a> {
     pub table: &'a CompareTable,
     /// The whole optimum's row of the peak-torque table, when it exists.
     pub whole_row: Option<&'a CompareRow>,
-    /// Every schedule of the table, measured, with its reports (rapier's when verified).
-    pub schedules: &'a [Shown<'a>],
+    /// Every schedule of the table, measured and verified, with its reports.
+    pub verified: &'a [Shown<'a>],
     /// The whole optimum's robustness, when it exists.
     pub robust: Option<&'a RobustReport>,
 }

@@ -16,7 +16,7 @@ use crate::schedule::variant::{Origin, ScheduleName, Variant, WHOLE};
 pub(super) fn answer(
     own: Origin,
     best: Option<&ScheduleName>,
-    schedules: &[Shown],
+    verified: &[Shown],
     whole: &WholeReport,
     not_run: &[String],
     audited: bool,
@@ -24,7 +24,7 @@ pub(super) fn answer(
 ) -> String {
     let mut s = String::new();
     let variant = |v: &Shown| v.measured.name.variant();
-    let problem = schedules.iter().find(|v| variant(v) == Some(Variant::new(own)));
+    let problem = verified.iter().find(|v| variant(v) == Some(Variant::new(own)));
     let verdict = |v: Option<&Verification>| v.map_or("no rapier verification".to_string(), |v| v.verdict.to_string());
     let whole_verification = whole.verification();
     match (whole.measured.as_ref().map(|m| &m.exact), problem) {
@@ -61,7 +61,7 @@ pub(super) fn answer(
     }
     s.push_str("\n| schedule | twist ° | swing ° | peak N·m | rapier |\n|---|---:|---:|---:|---|\n");
     let optimised = |v: &Shown| variant(v).is_some_and(|x| x.origin.is_optimised());
-    let best_library = best.and_then(|b| schedules.iter().find(|v| &v.measured.name == b));
+    let best_library = best.and_then(|b| verified.iter().find(|v| &v.measured.name == b));
     let mut shown_rows: Vec<(String, &Shown)> = Vec::new();
     if let Some(p) = problem {
         shown_rows.push((format!("{} (the problem's)", p.name()), p));
@@ -69,7 +69,7 @@ pub(super) fn answer(
     if let Some(b) = best_library.filter(|b| problem.is_none_or(|p| p.name() != b.name())) {
         shown_rows.push((format!("{} (best library profile)", b.name()), b));
     }
-    shown_rows.extend(schedules.iter().filter(|v| optimised(v)).map(|v| (v.name(), v)));
+    shown_rows.extend(verified.iter().filter(|v| optimised(v)).map(|v| (v.name(), v)));
     for (name, v) in shown_rows {
         let f = &v.exact.figures;
         let _ = writeln!(

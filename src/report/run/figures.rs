@@ -25,12 +25,12 @@ const FRAMES: usize = 72;
 pub(super) fn plots(
     r: &Resolved,
     plots: &Path,
-    schedules: &[Shown],
+    verified: &[Shown],
     whole: &WholeReport,
 ) -> Result<Vec<PathBuf>, PlotError> {
     let problem = &r.problem;
     let mut written = Vec::new();
-    let shown: Vec<(String, Schedule)> = schedules
+    let shown: Vec<(String, Schedule)> = verified
         .iter()
         .filter_map(|v| v.measured.name.variant().map(|x| (x, v)))
         .filter(|(x, _)| x.circulation == VariantCirculation::Problem)
@@ -65,9 +65,9 @@ pub(super) fn plots(
 /// The animation of the schedule to replay when the whole optimum does not exist: the most
 /// refined calibrated schedule, else the problem's (the run animates the optimum beside its
 /// verification).
-pub(super) fn fallback_animation(r: &Resolved, plots: &Path, schedules: &[Shown]) -> Result<Vec<PathBuf>, PlotError> {
+pub(super) fn fallback_animation(r: &Resolved, plots: &Path, verified: &[Shown]) -> Result<Vec<PathBuf>, PlotError> {
     let own = Variant::new(Origin::Library(r.problem.manoeuvre.profile)).to_string();
-    let (name, schedule) = schedules
+    let (name, schedule) = verified
         .iter()
         .find(|v| v.measured.name.variant().is_some_and(|x| x.is_calibrated()))
         .map_or((own, &r.schedule), |v| (v.name(), &v.measured.trajectory));

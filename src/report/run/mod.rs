@@ -2,9 +2,8 @@
 //! `results/<name>/`.
 //!
 //! The audit, the exact engine on the problem's schedule, the peak-torque table (every library
-//! profile, the QP optimum and the exact-dynamics refinement), the rapier verification of the
-//! schedules the answer reports (the problem's own, the best library profile, every optimised
-//! one; [`crate::measure::run`]), the schedules as CSV, the plots and the animation, and a Markdown
+//! profile, the QP optimum and the exact-dynamics refinement), the rapier verification of every
+//! schedule in that table, the schedules as CSV, the plots and the animation, and a Markdown
 //! report with a provenance header. On a two-motor cat other than the paper's, the audit and the
 //! profile QP with its refinements are not run ([`PaperOnly`]), and the terminal and `report.md`
 //! say so, one sentence each; the spherical joint and a release with spin are refused. Files are written into a scratch folder beside the target
@@ -230,9 +229,9 @@ fn produce(
     std::fs::create_dir_all(&plots).map_err(|e| io(&w.shown.join("plots"), e))?;
     // The whole optimum's animation is drawn beside its verification, as soon as it exists.
     let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
-    let RunResults { audit, opt, whole, retimed, schedules, robustness, files } = results;
-    let schedules =
-        schedules.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
+    let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
+    let verified =
+        verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
     // The views every format renders: the peak-torque table holds every schedule measured once.
     let opt = opt.as_ref().map(|o| o.to_json(&r.model().cat().rear));
     let extra: Vec<_> = opt
@@ -259,7 +258,7 @@ fn produce(
         retimed: &retimed,
         table: &table,
         whole_row: whole_row.as_ref(),
-        schedules: &schedules,
+        verified: &verified,
         robust: robust.as_ref(),
     };
     for exporter in exporters() {
@@ -276,10 +275,10 @@ fn produce(
     // (computed beside the verifications), the plots and the animation: produced in parallel,
     // recorded in this order.
     let (figures, animation) = rayon::join(
-        || clock.time("plots", || figures::plots(r, &plots, &schedules, &whole)),
+        || clock.time("plots", || figures::plots(r, &plots, &verified, &whole)),
         || {
             animation.unwrap_or_else(|| {
-                clock.time("animate the fallback", || figures::fallback_animation(r, &plots, &schedules))
+                clock.time("animate the fallback", || figures::fallback_animation(r, &plots, &verified))
             })
         },
     );
@@ -315,7 +314,7 @@ fn produce(
     let own = crate::schedule::variant::Origin::Library(problem.manoeuvre.profile);
     let audited = PaperOnly::Audit.not_run(problem).is_none();
     let best = r.best_library().map(|(_, m)| &m.name);
-    let mut answer = answer::answer(own, best, &schedules, &whole, &not_run, audited, &w.shown.display().to_string());
+    let mut answer = answer::answer(own, best, &verified, &whole, &not_run, audited, &w.shown.display().to_string());
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));
     }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use crate::engines::rapier::Verification;
 use crate::engines::resolved::Resolved;
 use crate::problem::Problem;
-use crate::report::export::{verified, Shown, Views};
+use crate::report::export::{Shown, Views};
 use crate::report::optimize::OptimizeJson;
 use crate::report::simulate::SimulationReport;
 use crate::schedule::variant::Origin;
@@ -15,7 +15,7 @@ use crate::schedule::Phase;
 /// the paper's cat only and was not run ([`crate::measure::run::PaperOnly`]), `optimum` the whole
 /// optimum's lines.
 pub(super) fn summary(r: &Resolved, views: &Views, not_run: &[String], optimum: &str) -> String {
-    let (table, schedules) = (views.table, views.schedules);
+    let (table, verified) = (views.table, views.verified);
     let problem = &r.problem;
     let mut s = String::new();
     let _ = writeln!(s, "## Summary\n");
@@ -78,11 +78,11 @@ pub(super) fn summary(r: &Resolved, views: &Views, not_run: &[String], optimum: 
     for line in not_run {
         let _ = writeln!(s, "- {line}");
     }
-    let _ = writeln!(s, "{}", rapier_line(problem, schedules));
+    let _ = writeln!(s, "{}", rapier_line(problem, verified));
     let _ = writeln!(
         s,
         "- Verdicts: {}.",
-        Verification::verdicts_line(verified(schedules).map(|(v, _)| (v.name(), v.verification())))
+        Verification::verdicts_line(verified.iter().map(|v| (v.name(), v.verification())))
     );
     s.push_str(optimum);
     let tables: Vec<String> = [
@@ -137,11 +137,10 @@ fn profile_qp_lines(s: &mut String, opt: &OptimizeJson) {
 
 /// The summary's line on rapier: how close its results came to the exact engine's, and how many
 /// schedules it has no result for.
-fn rapier_line(problem: &Problem, schedules: &[Shown]) -> String {
-    let reports: Vec<&SimulationReport> = verified(schedules).filter_map(|(_, x)| x.report()).collect();
-    let count = verified(schedules).count();
-    let missing = count - reports.len();
-    let mut s = format!("- rapier3d-f64 verification of {count} schedules (first dt {})", problem.rapier.dt);
+fn rapier_line(problem: &Problem, verified: &[Shown]) -> String {
+    let reports: Vec<&SimulationReport> = verified.iter().filter_map(|v| v.rapier.report()).collect();
+    let missing = verified.len() - reports.len();
+    let mut s = format!("- rapier3d-f64 verification of {} schedules (first dt {})", verified.len(), problem.rapier.dt);
     if !reports.is_empty() {
         let worst = reports.iter().filter_map(|r| r.figures.check.twist_error_deg).map(f64::abs).fold(0.0, f64::max);
         let worst_x = reports
