@@ -54,8 +54,8 @@ enum Command {
     Compare {
         #[command(flatten)]
         common: Common,
-        /// Also verify every profile in rapier (its verdict against the exact engine; `run`
-        /// verifies the problem's own and the best one).
+        /// Also verify every profile in rapier (its verdict against the exact engine), as `run`
+        /// does; exits non-zero when rapier has no result for one.
         #[arg(long)]
         verify: bool,
     },
