@@ -871,8 +871,9 @@ fn the_min_time_row_reports_the_drop_height_optimize_whole_gives() {
     assert!(w.fall_time_s > 0.1 && w.fall_time_s < 1.0, "{w:?}");
     // The least fall uses a limit fully, and stays within every one.
     let m = n.motors.expect("the motor figures");
-    assert_eq!(Some(m.peak_speed_rad_s.map(f64::to_bits)), report.peak_speed_rad_s.map(|x| x.map(f64::to_bits)));
-    assert_eq!(Some(m.peak_power_w.map(f64::to_bits)), report.peak_power_w.map(|x| x.map(f64::to_bits)));
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(Some(bits(&m.peak_speed_rad_s)), report.peak_speed_rad_s.as_deref().map(bits));
+    assert_eq!(Some(bits(&m.peak_power_w)), report.peak_power_w.as_deref().map(bits));
     let worst = m.worst.expect("a limit");
     assert!(worst.within() && worst.ratio > 0.99, "{worst:?}");
     assert_eq!(worst.limit, catflip::model::motor::Limit::Envelope);

@@ -2,12 +2,14 @@
 //! known answer, and the paper problem's optimum re-measured by the exact engine.
 
 use approx::assert_relative_eq;
+use catflip::engines::models;
 use catflip::model::motor::Motors;
-use catflip::model::Cylinder;
+use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::conic::QpSettings;
 use catflip::optimize::whole::measure::chatter;
 use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
+use catflip::optimize::whole::spline::SplineShape;
 use catflip::optimize::whole::{
     build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeCat,
     WholeSettings, WholeStatus,
@@ -28,7 +30,7 @@ fn paper_start(settings: &WholeSettings) -> BSpline {
 #[test]
 fn orientation_jacobian_matches_central_differences() {
     let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
-    let layout = Layout { control_points: 12, fixed: settings.fixed() };
+    let layout = Layout { control_points: 12, fixed: settings.fixed(), joints: 2 };
     let spline = paper_start(&settings);
     let target = flipped();
     let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
@@ -55,32 +57,33 @@ fn derivatives_hold_on_knots_refined_where_torques_switch() {
     // (`BSpline::by_width`), and the Jacobian must be that of the integrator as it steps.
     let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
     let spline = refined(&paper_start(&settings), &[3, 6]);
-    let layout = Layout { control_points: spline.control_points(), fixed: settings.fixed() };
+    let layout = Layout { control_points: spline.control_points(), fixed: settings.fixed(), joints: 2 };
+    assert_derivatives_match_central_differences(&WholeCat::from(PAPER), &spline, &layout);
+}
+
+/// The loop's orientation Jacobian and torque gradients of `cat` at `spline`, against central
+/// differences in every free control point. Steps and tolerances as in the two tests on uniform
+/// knots (the orientation's below and the torques' above).
+fn assert_derivatives_match_central_differences(cat: &WholeCat, spline: &BSpline, layout: &Layout) {
     let target = flipped();
-    let at = |s: &BSpline| final_orientation(&WholeCat::from(PAPER), s, &layout, 8, &target);
-    let base = at(&spline);
-    let grid = gauss_grid(&spline, 1);
-    let torques = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
-    // Steps and tolerances as in the two tests on uniform knots below and above.
+    let at = |s: &BSpline| final_orientation(cat, s, layout, 8, &target);
+    let base = at(spline);
+    let grid = gauss_grid(spline, 1);
+    let torques = torque_samples(cat, spline, layout, &grid);
     let h = 1e-6;
     for v in 0..layout.variables() {
         let mut step = vec![0.0; layout.variables()];
         step[v] = h;
-        let (plus, tp) = (
-            layout.moved(&spline, &step),
-            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
-        );
+        let plus = layout.moved(spline, &step);
         step[v] = -h;
-        let (minus, tm) = (
-            layout.moved(&spline, &step),
-            torque_samples(&WholeCat::from(PAPER), &layout.moved(&spline, &step), &layout, &grid),
-        );
+        let minus = layout.moved(spline, &step);
         let (ep, em) = (at(&plus).error, at(&minus).error);
         for i in 0..3 {
             assert_relative_eq!(base.jacobian[(i, v)], (ep[i] - em[i]) / (2.0 * h), epsilon = 1e-7);
         }
+        let (tp, tm) = (torque_samples(cat, &plus, layout, &grid), torque_samples(cat, &minus, layout, &grid));
         for k in 0..grid.len() {
-            for j in 0..2 {
+            for j in 0..layout.joints {
                 let g: f64 = torques[k].gradient[j].iter().filter(|e| e.0 == v).map(|e| e.1).sum();
                 let fd = (tp[k].tau[j] - tm[k].tau[j]) / (2.0 * h);
                 assert_relative_eq!(g, fd, epsilon = 1e-6, max_relative = 1e-7);
@@ -92,7 +95,7 @@ fn derivatives_hold_on_knots_refined_where_torques_switch() {
 #[test]
 fn torque_gradients_match_central_differences() {
     let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
-    let layout = Layout { control_points: 12, fixed: settings.fixed() };
+    let layout = Layout { control_points: 12, fixed: settings.fixed(), joints: 2 };
     let spline = paper_start(&settings);
     let grid = gauss_grid(&spline, 1);
     let base = torque_samples(&WholeCat::from(PAPER), &spline, &layout, &grid);
@@ -112,6 +115,76 @@ fn torque_gradients_match_central_differences() {
             }
         }
     }
+}
+
+/// The spherical joint (issue 22): the loop's derivatives in all three coordinates (the bend's
+/// two and the relative twist) against central differences, on a path whose twist moves, and its
+/// torques against the general core's Newton–Euler on the same shape.
+#[test]
+fn spherical_joint_derivatives_match_central_differences_and_the_general_core() {
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let fixed = settings.fixed();
+    let layout = Layout { control_points: 12, fixed, joints: 3 };
+    let mut spline = paper_start(&settings).with_joints(3);
+    for (i, c) in spline.coefficients[2].iter_mut().enumerate().take(12 - fixed).skip(fixed) {
+        *c = 0.4 * (1.3 * i as f64).sin();
+    }
+    let model = Cat::equal(PAPER, Joint::Spherical);
+    let cat = WholeCat::spherical(model).expect("a spherical cat");
+    let grid = gauss_grid(&spline, 1);
+    for (sample, &(span, time, _)) in torque_samples(&cat, &spline, &layout, &grid).iter().zip(&grid) {
+        let shape = spline.shape_from(&spline.basis(span, time));
+        let reference = models::joint_torques(&model, &shape).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(sample.tau.len(), 3);
+        for (a, b) in sample.tau.iter().zip(&reference.tau) {
+            assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "τ at {time} s: {a} against {b}");
+        }
+    }
+    assert_derivatives_match_central_differences(&cat, &spline, &layout);
+}
+
+/// Issue 22: the spherical joint's whole optimum, through the optimiser's public entry on the
+/// paper's halves: its starts are the no-twist joint's with the relative twist held at zero, it
+/// converges to a flip that the general core's adaptive engine confirms here on its own, its
+/// peak is the largest of the three motors' torques (sampled here densely, independently of the
+/// optimiser's peak search), and the third motor is used: the halves twist relative to each other.
+#[test]
+fn the_spherical_joint_plans_its_three_motors_to_an_exact_flip() {
+    let settings = WholeSettings { control_points: 40, ..WholeSettings::default() };
+    let model = Cat::equal(PAPER, Joint::Spherical);
+    let cat = WholeCat::spherical(model).expect("a spherical cat");
+    let held = cat.twist_held().expect("its no-twist cat");
+    for kind in [StartKind::Paper, StartKind::ConeMirrored] {
+        let on_three =
+            build_start(&cat, FALL, &Manoeuvre::default(), kind, &settings).unwrap_or_else(|e| panic!("{e}"));
+        let on_two = build_start(&held, FALL, &Manoeuvre::default(), kind, &settings).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(on_three.spline, on_two.spline.with_joints(3), "the {kind:?} start");
+    }
+    let outcome = optimize_whole(&cat, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.no_optimum(&settings, FLIP)));
+    assert_eq!(best.status, WholeStatus::Converged, "{}", best.reason);
+    let flip = models::flip(&model, &SplineShape(&best.spline), 1e-12).unwrap_or_else(|e| panic!("{e}"));
+    assert!((flip.twist.abs() - PI).abs() <= FLIP, "twist {} rad", flip.twist);
+    assert!(flip.swing <= FLIP, "swing {} rad", flip.swing);
+    let n = 20_000;
+    let (mut sampled, mut twist) = ([0.0f64; 3], 0.0f64);
+    for k in 0..=n {
+        let t = FALL * k as f64 / n as f64;
+        let shape = best.spline.shape_from(&best.spline.basis(best.spline.span_of(t), t));
+        twist = twist.max(shape.q[2].abs());
+        let tau = models::joint_torques(&model, &shape).unwrap_or_else(|e| panic!("{e}")).tau;
+        for (m, x) in sampled.iter_mut().zip(&tau) {
+            *m = m.max(x.abs());
+        }
+    }
+    let largest = sampled.iter().copied().fold(0.0, f64::max);
+    // Samples 71 µs apart on torques that switch over a knot span (~12 ms): within 1e-4 of the
+    // golden-section peak, and never above it.
+    assert!(largest <= best.peak_torque_nm * (1.0 + 1e-12), "{sampled:?} above {}", best.peak_torque_nm);
+    assert!(largest >= best.peak_torque_nm * (1.0 - 1e-4), "{sampled:?} below {}", best.peak_torque_nm);
+    assert!(sampled[2] > 0.5 * largest, "the third motor works: {sampled:?}");
+    assert!(twist.to_degrees() > 1.0, "the halves twist relative to each other by {}°", twist.to_degrees());
 }
 
 /// Flip tolerance of the issue's target, rad.
@@ -141,11 +214,13 @@ fn paper_peak_optimum_flips_and_beats_the_target() {
     // Chatter, on 20 001 instants sampled here.
     let n = 20_000;
     let times: Vec<f64> = (0..=n).map(|k| FALL * k as f64 / n as f64).collect();
-    let tau: Vec<[f64; 2]> =
-        times.iter().map(|&t| catflip::engines::torque::joint_torques(&PAPER, &best.spline.state(t)).tau).collect();
+    let tau: Vec<Vec<f64>> = times
+        .iter()
+        .map(|&t| catflip::engines::torque::joint_torques(&PAPER, &best.spline.state(t)).tau.to_vec())
+        .collect();
     let c = chatter(&times, &tau, FALL);
     // The collocation switches 3 and 4 times (chatter.py).
-    assert_eq!(c.switches, [3, 4], "{c:?}");
+    assert_eq!(c.switches, vec![3, 4], "{c:?}");
     for j in 0..2 {
         assert!(c.deepest_dip[j] > 0.9, "joint {}: {c:?}", j + 1);
         assert!(c.excess_variation[j] < 0.22, "joint {}: {c:?}", j + 1);

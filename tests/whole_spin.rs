@@ -30,7 +30,7 @@ fn spinning_derivatives_match_central_differences() {
     let settings = WholeSettings { control_points: 16, coarse_control_points: None, ..WholeSettings::default() };
     let start = build_start_spinning(PAPER, FALL, &Manoeuvre::default(), StartKind::Paper, &settings, &spin)
         .unwrap_or_else(|e| panic!("{e}"));
-    let layout = Layout { control_points: settings.control_points, fixed: settings.fixed() };
+    let layout = Layout { control_points: settings.control_points, fixed: settings.fixed(), joints: 2 };
     let n = layout.variables();
     let direction: Vec<f64> = (0..n).map(|v| ((v as f64 * 1.7).sin() + 0.3) * 0.5).collect();
     for grid in [uniform_grid(&start.spline, 4), gauss_grid(&start.spline, 2)] {

@@ -111,7 +111,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         row.bend = (0..=n)
             .map(|k| {
                 let t = b.fall_time_s * k as f64 / n as f64;
-                (t, cat.bend_cosine(b.spline.state(t).q).0.clamp(-1.0, 1.0).acos().to_degrees())
+                (t, cat.bend_cosine(&b.spline.angles(t)).0.clamp(-1.0, 1.0).acos().to_degrees())
             })
             .collect();
         row.spline = Some(b.spline.clone());

@@ -65,10 +65,10 @@ pub struct StretchPeak {
 /// What a trajectory asks of its motors.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MotorDemand {
-    /// Peak `|q̇_j|` of joints 1 and 2, rad/s.
-    pub peak_speed_rad_s: [Peak; 2],
-    /// Peak `|τ_j q̇_j|` of joints 1 and 2, W.
-    pub peak_power_w: [Peak; 2],
+    /// Peak `|q̇_j|` of each joint coordinate (joints 1 and 2, and the spherical joint's 3), rad/s.
+    pub peak_speed_rad_s: Vec<Peak>,
+    /// Peak `|τ_j q̇_j|` of each joint coordinate, W.
+    pub peak_power_w: Vec<Peak>,
     /// Each limit's worst usage, joint 1's limits first; empty with ideal motors.
     pub limits: Vec<LimitUse>,
     /// The largest stretch; none with ideal motors.
@@ -133,7 +133,8 @@ impl MotorDemand {
         "within_motors",
     ];
 
-    /// The motor-sizing figures as CSV fields (the last three empty with ideal motors).
+    /// The motor-sizing figures as CSV fields (the last three empty with ideal motors): joints 1
+    /// and 2 (a spherical joint's third motor is in [`MotorDemand::peak_speed_rad_s`]).
     pub fn csv_fields(&self) -> [String; 7] {
         let w = self.worst();
         [
@@ -149,12 +150,12 @@ impl MotorDemand {
 
     /// The larger joint's peak speed, rad/s.
     pub fn max_speed(&self) -> f64 {
-        self.peak_speed_rad_s[0].value.max(self.peak_speed_rad_s[1].value)
+        self.peak_speed_rad_s.iter().map(|p| p.value).fold(0.0, f64::max)
     }
 
     /// The larger joint's peak power, W.
     pub fn max_power(&self) -> f64 {
-        self.peak_power_w[0].value.max(self.peak_power_w[1].value)
+        self.peak_power_w.iter().map(|p| p.value).fold(0.0, f64::max)
     }
 }
 
@@ -358,5 +359,5 @@ fn demand_of(
             _ => {}
         }
     }
-    MotorDemand { peak_speed_rad_s: [peak(0), peak(1)], peak_power_w: [peak(2), peak(3)], limits, stretch }
+    MotorDemand { peak_speed_rad_s: vec![peak(0), peak(1)], peak_power_w: vec![peak(2), peak(3)], limits, stretch }
 }

@@ -568,7 +568,7 @@ pub(crate) fn piece_peaks_sampled(
 
 /// The refined maximum `(s, value)` of samples `v` (spacing `h`, at least 3) of `f`
 /// ([`peak_torques_on`]).
-fn refine_peak(v: &[f64], h: f64, f: &impl Fn(f64) -> f64) -> (f64, f64) {
+pub(crate) fn refine_peak(v: &[f64], h: f64, f: &impl Fn(f64) -> f64) -> (f64, f64) {
     let n = v.len() - 1;
     // Second difference at k (one-sided at the ends), times h²/8: the most a smooth function
     // can exceed its samples near k.

@@ -61,9 +61,9 @@ pub struct WholeReport {
     /// The drop height of that fall, `g T²/2`, m.
     pub drop_height_m: Option<f64>,
     /// Peak joint speeds of joints 1 and 2, rad/s.
-    pub peak_speed_rad_s: Option<[f64; 2]>,
+    pub peak_speed_rad_s: Option<Vec<f64>>,
     /// Peak mechanical powers `|τ q̇|` of joints 1 and 2, W.
-    pub peak_power_w: Option<[f64; 2]>,
+    pub peak_power_w: Option<Vec<f64>>,
     /// The motor limits the optimum reaches (usage within [`ACTIVE_RATIO`] of 1), where and when.
     pub active_limits: Vec<LimitUse>,
     /// The motors' verdict on the optimum, in words ("ideal motors" without `[actuator]`).
@@ -152,8 +152,8 @@ pub fn whole(r: &Resolved) -> Result<WholeReport, WholeError> {
         bend_turns: best.map(|b| b.bend_turns),
         fall_time_s: fall,
         drop_height_m: fall.map(|t| p.drop.height_for(t)),
-        peak_speed_rad_s: e.map(|e| e.motors.peak_speed_rad_s.map(|x| x.value)),
-        peak_power_w: e.map(|e| e.motors.peak_power_w.map(|x| x.value)),
+        peak_speed_rad_s: e.map(|e| e.motors.peak_speed_rad_s.iter().map(|x| x.value).collect()),
+        peak_power_w: e.map(|e| e.motors.peak_power_w.iter().map(|x| x.value).collect()),
         active_limits: e
             .map(|e| e.motors.limits.iter().copied().filter(|l| l.ratio >= 1.0 - ACTIVE_RATIO).collect())
             .unwrap_or_default(),

@@ -219,8 +219,8 @@ impl MotorReport {
     /// From the exact engine's measurement.
     pub fn new(m: &MotorDemand) -> Self {
         MotorReport {
-            peak_speed_rad_s: m.peak_speed_rad_s.map(|p| p.value),
-            peak_power_w: m.peak_power_w.map(|p| p.value),
+            peak_speed_rad_s: std::array::from_fn(|j| m.peak_speed_rad_s[j].value),
+            peak_power_w: std::array::from_fn(|j| m.peak_power_w[j].value),
             limits: m.limits.clone(),
             within: m.within(),
             verdict: m.verdict(),

@@ -184,8 +184,8 @@ impl MotorNumbers {
     /// The figures of a measured demand.
     pub fn new(demand: &MotorDemand) -> MotorNumbers {
         MotorNumbers {
-            peak_speed_rad_s: demand.peak_speed_rad_s.map(|p| p.value),
-            peak_power_w: demand.peak_power_w.map(|p| p.value),
+            peak_speed_rad_s: std::array::from_fn(|j| demand.peak_speed_rad_s[j].value),
+            peak_power_w: std::array::from_fn(|j| demand.peak_power_w[j].value),
             worst: demand.worst().map(|w| WorstLimit { limit: w.limit, joint: w.joint, ratio: w.ratio }),
         }
     }

@@ -1,5 +1,5 @@
-//! The cat the whole-manoeuvre optimiser plans for: one seam for the paper's cat and every other
-//! two-motor model (DESIGN.md §10).
+//! The cat the whole-manoeuvre optimiser plans for: one seam for the paper's cat, every other
+//! two-motor model and the spherical joint (DESIGN.md §10).
 //!
 //! [`WholeCat::Paper`] is the paper's cat (two equal halves on the universal joint), which runs
 //! through exactly the functions the optimiser was written with: [`super::dynamics`] for the
@@ -8,25 +8,34 @@
 //! results are bit-identical to the optimiser before the seam. [`WholeCat::Model`] is any other
 //! two-motor [`Cat`] (unequal halves, the no-twist joint): [`super::model_dynamics`] for the model,
 //! the general core [`TwoMotorCat`] for the flip, the torques and the calibration.
-//! [`WholeCat::new`] chooses the branch by [`Cat::paper`].
+//! [`WholeCat::new`] chooses the branch by [`Cat::paper`]. [`WholeCat::Spherical`] is a cat on
+//! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model, the
+//! general core on every coordinate for the flip and the torques ([`super::torques`]), and its
+//! starts are those of the same halves on the no-twist joint with the relative twist held at zero
+//! ([`WholeCat::twist_held`]); [`WholeCat::spherical`] builds it, for ideal motors and a release
+//! without spin ([`super::spherical_supported`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
 //! `cos β = e_z` for B's spine `e = R_AB ẑ`: `cos q1 cos q2` on the universal joint, `cos |q|` on
-//! the no-twist joint ([`WholeCat::bend_cosine`]).
+//! the no-twist joint and the spherical one (whose relative twist `q3` turns B about its own
+//! spine), [`WholeCat::bend_cosine`]. The derivatives the loop needs come from dual numbers seeded
+//! on every coordinate ([`WholeCat::rate_partials`], [`WholeCat::torque_partials`]).
 
 use nalgebra::Vector3;
 
-use super::dual::{Real, V3};
+use super::dual::{Dual, Real, V3};
 use super::dynamics;
 use super::model_dynamics::{self, ExpSeries};
 use super::settings::WholeError;
+use super::spline::{BSpline, SplineShape};
+use super::torques::ExactTorques;
 use crate::engines::calibrate::{calibrate_model, calibrate_spinning, Calibration};
 use crate::engines::exact::{self, Flip};
-use crate::engines::models::TwoMotorCat;
+use crate::engines::models::{self, TwoMotorCat};
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::TorqueSource;
 use crate::model::{Cat, Cylinder, Joint};
-use crate::schedule::{paper_circulation, Schedule, ScheduleError, Trajectory};
+use crate::schedule::{paper_circulation, Schedule, ScheduleError};
 
 /// The optimiser's cat: the paper's, or another two-motor model (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -35,6 +44,52 @@ pub enum WholeCat {
     Paper(Cylinder),
     /// Any other two-motor model (the general core).
     Model(TwoMotorCat),
+    /// A cat on the spherical joint: three coordinates and motors ([`WholeCat::spherical`]). The
+    /// successive-convexification loop plans it ([`super::scvx`]); the re-measurement, the
+    /// starts' calibration and the reports are two-motor still, so [`WholeCat::new`] refuses it.
+    Spherical(Cat),
+}
+
+/// The most shape coordinates the optimiser plans: the spherical joint's three.
+pub const MAX_JOINTS: usize = 3;
+
+/// A quantity of the shape's motion and its partial derivatives: `d[0][j]`, `d[1][j]`, `d[2][j]`
+/// with respect to coordinate `j`'s angle, rate and acceleration (the first
+/// [`WholeCat::joints`] entries of each; the rest zero).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Partials {
+    /// The value.
+    pub value: f64,
+    /// `[∂/∂q, ∂/∂q̇, ∂/∂q̈]`, one entry per coordinate.
+    pub d: [[f64; MAX_JOINTS]; 3],
+}
+
+/// The first two of `N` values (the two-motor models' coordinates).
+fn two<T: Copy, const N: usize>(x: [T; N]) -> [T; 2] {
+    assert_eq!(N, 2, "the paper's dynamics take two coordinates, not {N}");
+    [x[0], x[1]]
+}
+
+/// The `(value, partials)` of `f` at `x`, seeded as dual numbers: `D = K·N` inputs, `K` the
+/// orders given (angle, rate, acceleration), `N` the coordinates.
+fn seeded<const N: usize, const D: usize, const M: usize>(
+    x: [&[f64]; 3],
+    orders: usize,
+    f: impl Fn([[Dual<D>; N]; 3]) -> [Dual<D>; M],
+) -> [Partials; M] {
+    assert_eq!(D, orders * N, "{D} dual directions for {orders} orders of {N} coordinates");
+    let input: [[Dual<D>; N]; 3] = std::array::from_fn(|k| {
+        std::array::from_fn(|j| if k < orders { Dual::input(x[k][j], k * N + j) } else { Dual::cst(0.0) })
+    });
+    f(input).map(|y| {
+        let mut p = Partials { value: y.re, ..Partials::default() };
+        for k in 0..orders {
+            for j in 0..N {
+                p.d[k][j] = y.eps[k * N + j];
+            }
+        }
+        p
+    })
 }
 
 impl From<Cylinder> for WholeCat {
@@ -80,12 +135,38 @@ impl WholeCat {
         Ok(WholeCat::from(&model))
     }
 
+    /// A cat on the spherical joint for the successive-convexification loop alone
+    /// ([`WholeCat::Spherical`]); `None` for another joint.
+    pub fn spherical(cat: Cat) -> Option<WholeCat> {
+        (cat.joint == Joint::Spherical).then_some(WholeCat::Spherical(cat))
+    }
+
+    /// A spherical joint's cat with its relative twist held at zero, which is exactly the same
+    /// halves on the no-twist joint (DESIGN.md §10): the two-motor model its starts are built and
+    /// calibrated on. `None` for a two-motor model.
+    pub fn twist_held(&self) -> Option<WholeCat> {
+        match self {
+            WholeCat::Spherical(cat) => {
+                let bent =
+                    TwoMotorCat::new(Cat { joint: Joint::NoTwist, ..*cat }).expect("the no-twist joint has two motors");
+                Some(WholeCat::Model(bent))
+            }
+            _ => None,
+        }
+    }
+
     /// The model as a [`Cat`].
     pub fn cat(&self) -> Cat {
         match self {
             WholeCat::Paper(half) => Cat::from(*half),
             WholeCat::Model(m) => *m.cat(),
+            WholeCat::Spherical(cat) => *cat,
         }
+    }
+
+    /// Number of shape coordinates (and motors): 2, or 3 on the spherical joint.
+    pub fn joints(&self) -> usize {
+        self.joint().dof()
     }
 
     /// The model in words ([`Cat::describe`]).
@@ -98,30 +179,62 @@ impl WholeCat {
         match self {
             WholeCat::Paper(_) => Joint::Universal,
             WholeCat::Model(m) => m.cat().joint,
+            WholeCat::Spherical(_) => Joint::Spherical,
         }
     }
 
-    /// A's angular velocity (A's frame) through `(q, q̇)` at zero momentum.
-    pub fn body_rate<T: Real>(&self, q: [T; 2], qd: [T; 2]) -> V3<T> {
+    /// A's angular velocity (A's frame) through `(q, q̇)` at zero momentum; `N` is
+    /// [`WholeCat::joints`].
+    pub fn body_rate<T: Real, const N: usize>(&self, q: [T; N], qd: [T; N]) -> V3<T> {
         match self {
-            WholeCat::Paper(c) => dynamics::body_rate(c, q, qd),
+            WholeCat::Paper(c) => dynamics::body_rate(c, two(q), two(qd)),
             WholeCat::Model(m) => model_dynamics::body_rate(m.cat(), q, qd),
+            WholeCat::Spherical(cat) => model_dynamics::body_rate(cat, q, qd),
         }
     }
 
-    /// A's angular velocity with the total momentum `λ = Rᵀ L` in A's frame.
+    /// A's angular velocity with the total momentum `λ = Rᵀ L` in A's frame (the two-motor
+    /// models: a release with spin is not planned on the spherical joint).
     pub fn body_rate_spinning<T: Real>(&self, q: [T; 2], qd: [T; 2], lambda: V3<T>) -> V3<T> {
         match self {
             WholeCat::Paper(c) => dynamics::body_rate_spinning(c, q, qd, lambda),
             WholeCat::Model(m) => model_dynamics::body_rate_spinning(m.cat(), q, qd, lambda),
+            WholeCat::Spherical(cat) => model_dynamics::body_rate_spinning(cat, q, qd, lambda),
         }
     }
 
-    /// The motor torques `(τ1, τ2)`, N·m, through `(q, q̇, q̈)` at zero momentum.
-    pub fn motor_torques<T: Real>(&self, q: [T; 2], qd: [T; 2], qdd: [T; 2]) -> [T; 2] {
+    /// The motor torques `(τ1, …, τ_N)`, N·m, through `(q, q̇, q̈)` at zero momentum; `N` is
+    /// [`WholeCat::joints`].
+    pub fn motor_torques<T: Real, const N: usize>(&self, q: [T; N], qd: [T; N], qdd: [T; N]) -> [T; N] {
         match self {
-            WholeCat::Paper(c) => dynamics::motor_torques(c, q, qd, qdd),
+            WholeCat::Paper(c) => {
+                let t = dynamics::motor_torques(c, two(q), two(qd), two(qdd));
+                std::array::from_fn(|j| t[j])
+            }
             WholeCat::Model(m) => model_dynamics::motor_torques(m.cat(), q, qd, qdd),
+            WholeCat::Spherical(cat) => model_dynamics::motor_torques(cat, q, qd, qdd),
+        }
+    }
+
+    /// A's angular velocity at `(q, q̇)` (zero momentum) and its partials in the shape, from dual
+    /// numbers: one [`Partials`] per component (no `q̈` partials).
+    pub fn rate_partials(&self, q: &[f64], qd: &[f64]) -> [Partials; 3] {
+        let x = [q, qd, &[][..]];
+        match q.len() {
+            2 => seeded::<2, 4, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
+            3 => seeded::<3, 6, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
+            n => panic!("a shape of {n} coordinates"),
+        }
+    }
+
+    /// The motor torques at `(q, q̇, q̈)` (zero momentum) and their partials in the shape, from
+    /// dual numbers: one [`Partials`] per motor, [`WholeCat::joints`] of them.
+    pub fn torque_partials(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> Vec<Partials> {
+        let x = [q, qd, qdd];
+        match q.len() {
+            2 => seeded::<2, 6, 2>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
+            3 => seeded::<3, 9, 3>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
+            n => panic!("a shape of {n} coordinates"),
         }
     }
 
@@ -130,52 +243,70 @@ impl WholeCat {
         match self {
             WholeCat::Paper(c) => dynamics::motor_torques_spinning(c, q, qd, qdd, lambda),
             WholeCat::Model(m) => model_dynamics::motor_torques_spinning(m.cat(), q, qd, qdd, lambda),
+            WholeCat::Spherical(cat) => model_dynamics::motor_torques_spinning(cat, q, qd, qdd, lambda),
         }
     }
 
-    /// B's spine `e = R_AB ẑ` in A's frame at `q`.
-    pub fn spine(&self, q: [f64; 2]) -> [f64; 3] {
-        model_dynamics::spine(self.joint(), q)
+    /// The joint whose bend is this cat's: the spherical joint bends as the no-twist joint (its
+    /// relative twist turns B about its own axis, which moves neither spine).
+    fn bend_joint(&self) -> Joint {
+        match self.joint() {
+            Joint::Spherical => Joint::NoTwist,
+            joint => joint,
+        }
     }
 
-    /// The cosine of the bend, `cos β = e_z`, and its gradient in `q`: `cos q1 cos q2` on the
-    /// universal joint, `cos |q|` (gradient `−(sin θ/θ) q`) on the no-twist joint.
-    pub fn bend_cosine(&self, q: [f64; 2]) -> (f64, [f64; 2]) {
-        match self.joint() {
+    /// B's spine `e = R_AB ẑ` in A's frame at `q` (its first two coordinates).
+    pub fn spine(&self, q: &[f64]) -> [f64; 3] {
+        model_dynamics::spine(self.bend_joint(), [q[0], q[1]])
+    }
+
+    /// The cosine of the bend, `cos β = e_z`, and its gradient in `q` (zero in a spherical joint's
+    /// twist): `cos q1 cos q2` on the universal joint, `cos |q|` (gradient `−(sin θ/θ) q`) on the
+    /// no-twist and spherical joints.
+    pub fn bend_cosine(&self, q: &[f64]) -> (f64, [f64; MAX_JOINTS]) {
+        match self.bend_joint() {
             Joint::Universal => {
                 let (s1, c1) = q[0].sin_cos();
                 let (s2, c2) = q[1].sin_cos();
-                (c1 * c2, [-s1 * c2, -c1 * s2])
+                (c1 * c2, [-s1 * c2, -c1 * s2, 0.0])
             }
             Joint::NoTwist | Joint::Spherical => {
                 let s = q[0] * q[0] + q[1] * q[1];
                 let k = ExpSeries::at(s);
-                (1.0 - k.a * s, [-k.sinc * q[0], -k.sinc * q[1]])
+                (1.0 - k.a * s, [-k.sinc * q[0], -k.sinc * q[1], 0.0])
             }
         }
     }
 
-    /// The flip of `traj` at zero momentum, to `tolerance` rad.
-    pub fn flip(&self, traj: &impl Trajectory, tolerance: f64) -> Flip {
+    /// The flip of `spline` at zero momentum, to `tolerance` rad.
+    pub fn flip(&self, spline: &BSpline, tolerance: f64) -> Flip {
+        self.flip_spinning(spline, &Vector3::zeros(), tolerance)
+    }
+
+    /// The flip of `spline` released with total angular momentum `spin` (N·m·s, world frame).
+    pub fn flip_spinning(&self, spline: &BSpline, spin: &Vector3<f64>, tolerance: f64) -> Flip {
         match self {
-            WholeCat::Paper(c) => exact::flip(c, traj, tolerance),
-            WholeCat::Model(m) => m.flip(traj, tolerance),
+            WholeCat::Paper(c) => exact::flip_spinning(c, spline, spin, tolerance),
+            WholeCat::Model(m) => m.flip_released(spline, spin, tolerance),
+            WholeCat::Spherical(cat) => models::flip_spinning(cat, &SplineShape(spline), spin, tolerance)
+                .unwrap_or_else(|e| panic!("a spherical cat's spline: {e}")),
         }
     }
 
-    /// The flip of `traj` released with total angular momentum `spin` (N·m·s, world frame).
-    pub fn flip_spinning(&self, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> Flip {
+    /// The two-motor model, for what is two-motor still ([`WholeCat::Spherical`]).
+    fn two_motor(&self, what: &str) -> &TwoMotorCat {
         match self {
-            WholeCat::Paper(c) => exact::flip_spinning(c, traj, spin, tolerance),
-            WholeCat::Model(m) => m.flip_released(traj, spin, tolerance),
+            WholeCat::Model(m) => m,
+            _ => panic!("{what} of a cat on the spherical joint: not built (two motors only)"),
         }
     }
 
     /// The flip released with `spin` and the orientations its torques need.
-    pub fn spin_history(&self, traj: &impl Trajectory, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
+    pub fn spin_history(&self, spline: &BSpline, spin: &Vector3<f64>, tolerance: f64) -> (Flip, SpinHistory) {
         match self {
-            WholeCat::Paper(c) => SpinHistory::new(c, traj, spin, tolerance),
-            WholeCat::Model(m) => m.flip_spinning(traj, spin, tolerance),
+            WholeCat::Paper(c) => SpinHistory::new(c, spline, spin, tolerance),
+            _ => self.two_motor("the spin history").flip_spinning(spline, spin, tolerance),
         }
     }
 
@@ -184,8 +315,17 @@ impl WholeCat {
         match (self, history) {
             (WholeCat::Paper(c), None) => TorqueSource::zero_momentum(c),
             (WholeCat::Paper(c), Some(h)) => TorqueSource::spinning(c, h),
-            (WholeCat::Model(m), None) => TorqueSource::model(m),
-            (WholeCat::Model(m), Some(h)) => TorqueSource::model_spinning(m, h),
+            (_, None) => TorqueSource::model(self.two_motor("the torque source")),
+            (_, Some(h)) => TorqueSource::model_spinning(self.two_motor("the torque source"), h),
+        }
+    }
+
+    /// Where a spline's exact torques come from ([`ExactTorques`]): the two-motor models'
+    /// [`WholeCat::torque_source`], the general core on the spherical joint (without spin).
+    pub fn exact_torques<'a>(&'a self, history: Option<&'a SpinHistory>) -> ExactTorques<'a> {
+        match self {
+            WholeCat::Spherical(cat) => ExactTorques::General(cat),
+            _ => ExactTorques::TwoMotor(self.torque_source(history)),
         }
     }
 
@@ -193,7 +333,7 @@ impl WholeCat {
     pub fn calibrate(&self, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
         match self {
             WholeCat::Paper(c) => calibrate_spinning(c, schedule, spin, tolerance),
-            WholeCat::Model(m) => calibrate_model(m, schedule, spin, tolerance),
+            _ => calibrate_model(self.two_motor("the calibration"), schedule, spin, tolerance),
         }
     }
 
@@ -202,7 +342,7 @@ impl WholeCat {
     pub fn paper_circulation(&self, theta: f64) -> Result<f64, ScheduleError> {
         match self {
             WholeCat::Paper(c) => paper_circulation(c, theta),
-            WholeCat::Model(m) => paper_circulation(&m.cat().mean_half(), theta),
+            _ => paper_circulation(&self.cat().mean_half(), theta),
         }
     }
 }
@@ -224,21 +364,29 @@ mod tests {
 
     #[test]
     fn the_bend_is_the_angle_between_the_spines_with_its_gradient() {
-        for joint in [Joint::Universal, Joint::NoTwist] {
-            let cat = WholeCat::new(Cat::equal(HALF, joint)).unwrap_or_else(|e| panic!("{e}"));
-            for q in [[0.0, 0.0], [1e-3, -2e-3], [0.4, -0.9], [1.7, 0.6]] {
-                let (c, g) = cat.bend_cosine(q);
-                assert!((c - cat.spine(q)[2]).abs() < 1e-15, "{joint}: {c} at {q:?}");
-                if joint == Joint::NoTwist {
-                    assert!((c - q[0].hypot(q[1]).cos()).abs() < 1e-15, "the no-twist bend is |q|");
+        let spherical = WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("a spherical cat");
+        let cats = [Joint::Universal, Joint::NoTwist]
+            .map(|joint| WholeCat::new(Cat::equal(HALF, joint)).unwrap_or_else(|e| panic!("{e}")));
+        for cat in cats.iter().chain([&spherical]) {
+            let joint = cat.joint();
+            for bend in [[0.0, 0.0], [1e-3, -2e-3], [0.4, -0.9], [1.7, 0.6]] {
+                // The spherical joint's relative twist turns B about its own spine: no bend.
+                let q: Vec<f64> = bend.iter().copied().chain([0.7]).take(cat.joints()).collect();
+                let (c, g) = cat.bend_cosine(&q);
+                let e = joint.rotation(&q) * nalgebra::Vector3::z();
+                assert!((cat.spine(&q)[2] - e.z).abs() < 1e-15, "{joint}: the spine at {q:?}");
+                assert!((c - e.z).abs() < 1e-15, "{joint}: {c} at {q:?}");
+                if joint != Joint::Universal {
+                    assert!((c - q[0].hypot(q[1]).cos()).abs() < 1e-15, "the {joint} bend is |(q1, q2)|");
                 }
-                for k in 0..2 {
+                for k in 0..q.len() {
                     let step = 1e-6;
-                    let mut p = q;
-                    p[k] += step;
-                    let mut m = q;
-                    m[k] -= step;
-                    let fd = (cat.bend_cosine(p).0 - cat.bend_cosine(m).0) / (2.0 * step);
+                    let shifted = |sign: f64| {
+                        let mut p = q.clone();
+                        p[k] += sign * step;
+                        cat.bend_cosine(&p).0
+                    };
+                    let fd = (shifted(1.0) - shifted(-1.0)) / (2.0 * step);
                     assert!((g[k] - fd).abs() < 1e-9, "{joint}: ∂/∂q{k} {} against {fd}", g[k]);
                 }
             }

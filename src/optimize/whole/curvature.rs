@@ -59,9 +59,9 @@ const DAMPING: f64 = 0.2;
 pub fn energy_gradient(samples: &[TorqueSample], n: usize) -> DVector<f64> {
     let mut g = DVector::zeros(n);
     for s in samples {
-        for j in 0..2 {
-            for &(v, c) in &s.gradient[j] {
-                g[v] += 2.0 * s.weight * s.tau[j] * c;
+        for (tau, gradient) in s.tau.iter().zip(&s.gradient) {
+            for &(v, c) in gradient {
+                g[v] += 2.0 * s.weight * tau * c;
             }
         }
     }

@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::cat::WholeCat;
 use super::spline::BSpline;
+use super::torques::ExactTorques;
 use nalgebra::Vector3;
 
 use crate::engines::exact::Flip;
@@ -50,18 +51,18 @@ pub struct Measurement {
 /// samples per knot span: a minimum-peak optimum should ride `±τ_max` and cross between them,
 /// as an independent collocation does (`tests/reference/mintime.py`); a dip or spike between
 /// the arcs is chatter a motor would be commanded.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Chatter {
     /// Switches of `τ_j` from below `−τ_max/2` to above `τ_max/2` or back (`τ_max` the peak of
-    /// both joints).
-    pub switches: [usize; 2],
+    /// every joint), one per motor.
+    pub switches: Vec<usize>,
     /// The total variation of `τ_j` over the fall divided by that of a clean bang-bang profile
     /// with the same switches and end values, `2 τ_max n + (τ_max − |τ_j(0)|) + (τ_max − |τ_j(T)|)`,
     /// minus one: 0 for a clean profile.
-    pub excess_variation: [f64; 2],
+    pub excess_variation: Vec<f64>,
     /// The least `|τ_j|/τ_max` farther than [`CHATTER_GUARD`] of the fall from `τ_j`'s own
     /// switches: the deepest dip of a saturated arc (1 for a clean profile).
-    pub deepest_dip: [f64; 2],
+    pub deepest_dip: Vec<f64>,
 }
 
 /// Samples per knot span of [`Chatter`].
@@ -71,13 +72,15 @@ pub const CHATTER_SAMPLES: usize = 16;
 pub const CHATTER_GUARD: f64 = 0.01;
 
 /// The [`Chatter`] of the torques `tau` sampled at `times` (in order) over a fall of `duration` s.
-pub fn chatter(times: &[f64], tau: &[[f64; 2]], duration: f64) -> Chatter {
-    let peak = tau.iter().flat_map(|t| t.map(f64::abs)).fold(0.0, f64::max);
-    let mut out = Chatter::default();
+pub fn chatter(times: &[f64], tau: &[Vec<f64>], duration: f64) -> Chatter {
+    let peak = tau.iter().flatten().map(|t| t.abs()).fold(0.0, f64::max);
+    let motors = tau.first().map_or(0, Vec::len);
+    let mut out =
+        Chatter { switches: vec![0; motors], excess_variation: vec![0.0; motors], deepest_dip: vec![0.0; motors] };
     if peak <= 0.0 || tau.is_empty() {
         return out;
     }
-    for j in 0..2 {
+    for j in 0..motors {
         let x: Vec<f64> = tau.iter().map(|t| t[j]).collect();
         // The side (above +τ_max/2 or below −τ_max/2) last visited, none at first.
         let (mut side, mut switch_times): (Option<bool>, _) = (None, Vec::new());
@@ -127,16 +130,28 @@ pub fn measure_spinning(
     } else {
         (cat.flip(spline, tolerance), None)
     };
-    let source = cat.torque_source(history.as_ref());
-    let torque = |piece: usize, s: f64| source.at(spline, piece, s, &spline.piece_state(piece, s)).tau;
-    let peaks = peak_torques_from(&source, spline, &vec![PEAK_SAMPLES_PER_SPAN; spline.piece_durations().len()]);
-    let (peak, peak_time) = peaks.per_piece.iter().flatten().map(|p| (p.value, p.time)).fold((0.0, 0.0), |best, p| {
-        if p.0 > best.0 {
-            p
-        } else {
-            best
+    let torques = cat.exact_torques(history.as_ref());
+    let torque = |piece: usize, s: f64| torques.at(spline, piece, s);
+    let (peak, peak_time, demand) = match &torques {
+        ExactTorques::TwoMotor(source) => {
+            let peaks = peak_torques_from(source, spline, &vec![PEAK_SAMPLES_PER_SPAN; spline.piece_durations().len()]);
+            let (peak, time) =
+                peaks.per_piece.iter().flatten().map(|p| (p.value, p.time)).fold((0.0, 0.0), |best, p| {
+                    if p.0 > best.0 {
+                        p
+                    } else {
+                        best
+                    }
+                });
+            let samples = piece_samples(spline, PEAK_SAMPLES_PER_SPAN);
+            (peak, time, motor_demand_from(source, spline, &samples, motors))
         }
-    });
+        ExactTorques::General(_) => {
+            assert!(motors.is_ideal(), "motor limits on a spherical joint are refused before the optimiser");
+            let p = torques.peak(spline, PEAK_SAMPLES_PER_SPAN);
+            (p.value, p.time, torques.ideal_demand(spline, PEAK_SAMPLES_PER_SPAN))
+        }
+    };
     // Five-point Gauss–Legendre on four parts of every span.
     let (a, b) = ((245.0 - 14.0 * 70f64.sqrt()).sqrt() / 21.0, (245.0 + 14.0 * 70f64.sqrt()).sqrt() / 21.0);
     let (wa, wb) = ((322.0 + 13.0 * 70f64.sqrt()) / 900.0, (322.0 - 13.0 * 70f64.sqrt()) / 900.0);
@@ -148,14 +163,14 @@ pub fn measure_spinning(
             for &(x, w) in &rule {
                 let s = h * (part as f64 + 0.5 * (1.0 + x));
                 let tau = torque(piece, s);
-                energy += 0.5 * h * w * (tau[0] * tau[0] + tau[1] * tau[1]);
+                energy += 0.5 * h * w * tau.iter().map(|t| t * t).sum::<f64>();
             }
         }
     }
     let (mut max_bend, mut turned, mut last): (f64, f64, Option<f64>) = (0.0, 0.0, None);
     let n = 64 * spline.spans();
     for k in 0..=n {
-        let axis = cat.spine(spline.state(spline.duration() * k as f64 / n as f64).q);
+        let axis = cat.spine(&spline.angles(spline.duration() * k as f64 / n as f64));
         let bend = axis[2].clamp(-1.0, 1.0).acos();
         max_bend = max_bend.max(bend);
         if bend > 1f64.to_radians() {
@@ -168,21 +183,20 @@ pub fn measure_spinning(
             last = Some(dir);
         }
     }
-    let (mut times, mut torques) = (Vec::new(), Vec::new());
+    let (mut times, mut samples) = (Vec::new(), Vec::new());
     let mut offset = 0.0;
     for (piece, d) in spline.piece_durations().into_iter().enumerate() {
         for k in 0..CHATTER_SAMPLES {
             let s = d * k as f64 / CHATTER_SAMPLES as f64;
             times.push(offset + s);
-            torques.push(torque(piece, s));
+            samples.push(torque(piece, s));
         }
         offset += d;
     }
     times.push(spline.duration());
-    let last = spline.piece_durations().len() - 1;
-    torques.push(source.at(spline, last, spline.piece_durations()[last], &spline.state(spline.duration())).tau);
+    samples.push(torques.at_end(spline));
     Measurement {
-        chatter: chatter(&times, &torques, spline.duration()),
+        chatter: chatter(&times, &samples, spline.duration()),
         twist_error: (flip.twist.abs() - PI).abs(),
         flip,
         peak,
@@ -190,7 +204,7 @@ pub fn measure_spinning(
         energy,
         max_bend,
         bend_turns: turned / TAU,
-        motors: motor_demand_from(&source, spline, &piece_samples(spline, PEAK_SAMPLES_PER_SPAN), motors),
+        motors: demand,
     }
 }
 
@@ -205,10 +219,10 @@ mod tests {
         let ramp = |t: f64, at: f64| ((t - at) / 0.005).clamp(-1.0, 1.0);
         let clean = |t: f64| ramp(t, 0.3) - ramp(t, 0.7) - 1.0;
         let times: Vec<f64> = (0..=10_000).map(|k| k as f64 / 10_000.0).collect();
-        let tau: Vec<[f64; 2]> =
-            times.iter().map(|&t| [clean(t), clean(t) + if (t - 0.5).abs() < 0.02 { -0.6 } else { 0.0 }]).collect();
+        let tau: Vec<Vec<f64>> =
+            times.iter().map(|&t| vec![clean(t), clean(t) + if (t - 0.5).abs() < 0.02 { -0.6 } else { 0.0 }]).collect();
         let c = chatter(&times, &tau, 1.0);
-        assert_eq!(c.switches, [2, 2]);
+        assert_eq!(c.switches, vec![2, 2]);
         assert!(c.excess_variation[0].abs() < 1e-12, "{c:?}");
         assert!((c.deepest_dip[0] - 1.0).abs() < 1e-12, "{c:?}");
         assert!((c.excess_variation[1] - 1.2 / 4.0).abs() < 1e-12, "{c:?}");

@@ -3,8 +3,9 @@
 //! convexification with exact derivatives (DESIGN.md §5; issue 13 §2).
 //!
 //! ## Problem
-//! Variables: the control points of two clamped cubic B-splines `q1(t), q2(t)` on `[0, T]`
-//! ([`spline`]), the first and last two of each held at zero so that the cat is straight and at
+//! Variables: the control points of one clamped cubic B-spline per joint coordinate, `q1(t), q2(t)`
+//! (and `q3(t)` on the spherical joint) on `[0, T]` ([`spline`]), the first and last two of each
+//! held at zero so that the cat is straight and at
 //! rest at both ends (three with `optimize.zero_end_acceleration`). With `R(T)` A's final
 //! orientation from the zero-momentum dynamics ([`crate::engines::exact`]):
 //!
@@ -23,8 +24,10 @@
 //! [`dynamics`] and the two-cylinder engine, unchanged to the last bit, or any other two-motor
 //! model (unequal halves, the no-twist joint) through [`model_dynamics`] and the general core
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
-//! A release with spin is planned on every model through the same seam (the spinning dynamics
-//! of [`model_dynamics`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
+//! A release with spin is planned on every two-motor model through the same seam (the spinning
+//! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) is
+//! planned on its three coordinates by the same loop, re-measured by the general core on every
+//! coordinate ([`torques`]), with ideal motors and without spin ([`spherical_supported`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
 //! controls cannot reach the swing's directions of the flip error: the subproblems and the Newton
 //! steps work on the reachable ones ([`reach`]).
 //!
@@ -109,6 +112,7 @@ pub mod spin;
 pub mod spline;
 pub mod starts;
 pub mod subproblem;
+pub mod torques;
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -183,6 +187,7 @@ pub fn optimize_whole_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
+    spherical_supported(cat, motors, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -227,6 +232,30 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
     Ok(())
 }
 
+/// Refuses what the optimiser does not plan on the spherical joint ([`WholeCat::Spherical`]):
+/// motor limits (their usage is measured for two motors) and a release with spin (the spinning
+/// model is built for two coordinates).
+pub fn spherical_supported(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if cat.joints() == 2 {
+        return Ok(());
+    }
+    let refuse = |field: &'static str, value: String, what: &str| {
+        Err(WholeError::BadFieldValue {
+            field,
+            value,
+            reason: format!("the whole optimiser plans the spherical joint's three motors {what}"),
+        })
+    };
+    if spin.norm_squared() > 0.0 {
+        let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
+        return refuse("drop.angular_momentum", value, "for a release without spin only: set it to [0, 0, 0]");
+    }
+    if !motors.is_ideal() {
+        return refuse("actuator", "limits".into(), "as ideal motors only: remove the [actuator] limits");
+    }
+    Ok(())
+}
+
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
@@ -253,6 +282,7 @@ pub fn optimize_from_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
+    spherical_supported(cat, motors, spin)?;
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.
@@ -294,20 +324,20 @@ pub fn optimize_start(
         });
     }
     let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
-    let (duration, degree, fixed) = (start.spline.duration(), WholeSettings::DEGREE, s.fixed());
+    let (duration, fixed) = (start.spline.duration(), s.fixed());
     let mut spline = start.spline.clone();
     let quarter = (s.max_iterations / 4).max(1);
     if let Some(n) = s.coarse_control_points.filter(|&n| n < s.control_points) {
         let coarse_settings = WholeSettings { control_points: n, ..s.clone() };
         let coarse = ScvxProblem { settings: &coarse_settings, ..problem.clone() };
         let steps = run.steps;
-        let fitted = coarse.polish(BSpline::fit(duration, n, degree, fixed, |t| spline.state(t).q), steps, 8).0;
+        let fitted = coarse.polish(spline.refit(n, fixed), steps, 8).0;
         let it = coarse.evaluate(fitted, Objective::Energy, steps);
         let solved = coarse
             .stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, quarter, steps, &mut run.log)?
             .iterate
             .spline;
-        spline = BSpline::fit(duration, s.control_points, degree, fixed, |t| solved.state(t).q);
+        spline = solved.refit(s.control_points, fixed);
     }
     spline = problem.polish(spline, run.steps, 8).0;
     if s.homotopy && s.objective != Objective::Energy {
@@ -375,7 +405,7 @@ pub fn refine_solution(
     for _ in 0..s.switch_refinements {
         let spans = if problem.spins() {
             let (_, history) = problem.cat.spin_history(&end.spline, &problem.spin, run.flip_tolerance());
-            refine::switching_spans_from(&problem.cat.torque_source(Some(&history)), &end.spline)
+            refine::switching_spans_from(&problem.cat.exact_torques(Some(&history)), &end.spline)
         } else {
             refine::switching_spans(problem.cat, &end.spline)
         };

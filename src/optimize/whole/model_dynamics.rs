@@ -1,7 +1,8 @@
-//! The dynamics of any two-motor cat ([`Cat`]: unequal halves, the universal or the no-twist
-//! joint) written once over a [`Real`], so that the optimiser gets values at `f64` and exact
-//! derivatives at [`Dual`](super::dual::Dual) for every model, as [`super::dynamics`] gives them
-//! for the paper's cat.
+//! The dynamics of any cat of two halves ([`Cat`]: unequal halves, the universal, no-twist or
+//! spherical joint) written once over a [`Real`], so that the optimiser gets values at `f64` and
+//! exact derivatives at [`Dual`](super::dual::Dual) for every model, as [`super::dynamics`] gives
+//! them for the paper's cat. The joint's coordinates come as arrays of [`Joint::dof`] numbers,
+//! `q: [T; N]` (two, or three on the spherical joint), so that nothing is allocated.
 //!
 //! ## Joint kinematics
 //! Only the joint differs between the models. With B's spine `e(q) = R_AB ẑ` (A's frame),
@@ -16,7 +17,12 @@
 //!   `ḃ = 2 b_s (v·v̇)`; motors on A's `x̂` and `ŷ`. The coefficients are functions of `s`:
 //!   `σ = sin θ/θ`, `a = (1 − cos θ)/θ²`, `b = (θ − sin θ)/θ³`, `a_s = da/ds = (σ − 2a)/(2s)`,
 //!   `b_s = db/ds = (a − 3b)/(2s)`; below `s = 1` they are their Taylor series in `s`
-//!   ([`ExpSeries`]), so that dual numbers stay finite at the straight cat `q = 0`.
+//!   ([`ExpSeries`]), so that dual numbers stay finite at the straight cat `q = 0`;
+//! - **spherical**, `R_AB = exp([v]×) Rz(q3)`: the no-twist joint followed by a relative twist
+//!   `q3` about B's spine. B is axisymmetric, so `R I_B Rᵀ` depends on `e` alone, and `e` is the
+//!   no-twist joint's (independent of `q3`); `ω_rel = J_l(v) v̇ + q̇3 e`,
+//!   `ω̇_rel = (the no-twist joint's) + q̈3 e + q̇3 (J_l(v) v̇) × e`; motors on A's `x̂`, `ŷ` and
+//!   on `e`.
 //!
 //! ## Mass properties and Newton–Euler
 //! B's centre from A's is `p = −(l_A/2) ẑ − (l_B/2) e`, the reduced mass `μ = m_A m_B/M`,
@@ -31,8 +37,9 @@
 //! about the joint point is `T = I'_B α_B + ω_B × I'_B ω_B − (l_B/2) e × m_B a_B`
 //! (`ω_B = Ω + ω_rel`, `α_B = Ω̇ + ω̇_rel + Ω × ω_rel`), projected on the motor axes.
 //!
-//! Tests check at `f64` against [`crate::engines::models::TwoMotorCat`] (the general core), on
-//! the paper's cat against [`super::dynamics`], and at dual numbers against central differences.
+//! Tests check at `f64` against the general core ([`crate::engines::models`],
+//! [`crate::engines::reduction`]) and [`Joint`]'s own kinematics, on the paper's cat against
+//! [`super::dynamics`], and at dual numbers against central differences.
 //! All vectors in A's frame, SI units.
 //!
 //! ## References
@@ -99,22 +106,32 @@ impl<T: Real> ExpSeries<T> {
     }
 }
 
-/// The joint's motion at one instant (A's frame).
+/// The joint's motion at one instant (A's frame), `N` its number of coordinates.
 #[derive(Clone, Copy, Debug)]
-pub struct JointMotion<T> {
+pub struct JointMotion<T, const N: usize> {
     /// B's spine `e = R_AB ẑ`.
     pub spine: V3<T>,
     /// `ω_rel`.
     pub rate: V3<T>,
     /// `ω̇_rel` (zero when no accelerations were given).
     pub accel: V3<T>,
-    /// The two motor axes.
-    pub axes: [V3<T>; 2],
+    /// The motor axes, one per coordinate.
+    pub axes: [V3<T>; N],
 }
 
-/// B's spine `e(q) = R_AB ẑ` on `joint` (a two-motor joint; the spherical joint's twist held at
-/// zero is the no-twist joint).
-pub fn spine<T: Real>(joint: Joint, q: [T; 2]) -> V3<T> {
+/// Panics unless `joint` has `N` coordinates: the caller chose the array size, so a mismatch is a
+/// programming error.
+fn check_dof<const N: usize>(joint: Joint) {
+    assert_eq!(N, joint.dof(), "the {joint} joint has {} coordinates, not {N}", joint.dof());
+}
+
+/// B's spine `e(q) = R_AB ẑ` on `joint` (the spherical joint's is the no-twist joint's, whatever
+/// its twist `q3`).
+///
+/// # Panics
+/// When `N` is not `joint`'s number of coordinates ([`Joint::dof`]).
+pub fn spine<T: Real, const N: usize>(joint: Joint, q: [T; N]) -> V3<T> {
+    check_dof::<N>(joint);
     match joint {
         Joint::Universal => {
             let (s1, c1) = q[0].sin_cos();
@@ -130,7 +147,16 @@ pub fn spine<T: Real>(joint: Joint, q: [T; 2]) -> V3<T> {
 }
 
 /// The joint's motion through `(q, q̇)` and, when given, `q̈` (module docs).
-pub fn joint_motion<T: Real>(joint: Joint, q: [T; 2], qd: [T; 2], qdd: Option<[T; 2]>) -> JointMotion<T> {
+///
+/// # Panics
+/// When `N` is not `joint`'s number of coordinates ([`Joint::dof`]).
+pub fn joint_motion<T: Real, const N: usize>(
+    joint: Joint,
+    q: [T; N],
+    qd: [T; N],
+    qdd: Option<[T; N]>,
+) -> JointMotion<T, N> {
+    check_dof::<N>(joint);
     let (zero, one) = (T::cst(0.0), T::cst(1.0));
     let x = [one, zero, zero];
     match joint {
@@ -141,7 +167,8 @@ pub fn joint_motion<T: Real>(joint: Joint, q: [T; 2], qd: [T; 2], qdd: Option<[T
             let accel = qdd.map_or([zero; 3], |dd| {
                 add(add(scale(dd[0], x), scale(dd[1], a2)), scale(qd[0] * qd[1], [zero, -s1, c1]))
             });
-            JointMotion { spine: spine(joint, q), rate, accel, axes: [x, a2] }
+            let axes = std::array::from_fn(|i| [x, a2][i]);
+            JointMotion { spine: spine(joint, q), rate, accel, axes }
         }
         Joint::NoTwist | Joint::Spherical => {
             let (v, vd) = ([q[0], q[1], zero], [qd[0], qd[1], zero]);
@@ -151,14 +178,23 @@ pub fn joint_motion<T: Real>(joint: Joint, q: [T; 2], qd: [T; 2], qdd: Option<[T
                 let c = cross(v, u);
                 add(add(u, scale(k.a, c)), scale(k.b, cross(v, c)))
             };
+            let spine = [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * dot(v, v)) + 1.0];
+            let bend = jl(vd);
+            let twisting = joint == Joint::Spherical;
             let c = cross(v, vd);
             let accel = qdd.map_or([zero; 3], |dd| {
                 let along = dot(v, vd) * 2.0;
                 let d = add(scale(along * k.a_s, c), scale(along * k.b_s, cross(v, c)));
-                add(add(jl([dd[0], dd[1], zero]), d), scale(k.b, cross(vd, c)))
+                let bent = add(add(jl([dd[0], dd[1], zero]), d), scale(k.b, cross(vd, c)));
+                if twisting {
+                    add(add(bent, scale(dd[2], spine)), scale(qd[2], cross(bend, spine)))
+                } else {
+                    bent
+                }
             });
-            let spine = [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * dot(v, v)) + 1.0];
-            JointMotion { spine, rate: jl(vd), accel, axes: [x, [zero, one, zero]] }
+            let rate = if twisting { add(bend, scale(qd[2], spine)) } else { bend };
+            let axes = std::array::from_fn(|i| [x, [zero, one, zero], spine][i]);
+            JointMotion { spine, rate, accel, axes }
         }
     }
 }
@@ -224,15 +260,19 @@ impl MassProperties {
 }
 
 /// What the base does along the motion: `Ω`, and `Ω̇` when accelerations were given.
-struct BaseMotion<T> {
-    joint: JointMotion<T>,
+struct BaseMotion<T, const N: usize> {
+    joint: JointMotion<T, N>,
     offset: V3<T>,
     offset_rate: V3<T>,
     omega: V3<T>,
 }
 
 /// `Ω = I_lock⁻¹(λ − h)` with the joint's motion (module docs).
-fn base<T: Real>(m: &MassProperties, joint: JointMotion<T>, lambda: Option<V3<T>>) -> (BaseMotion<T>, [V3<T>; 3]) {
+fn base<T: Real, const N: usize>(
+    m: &MassProperties,
+    joint: JointMotion<T, N>,
+    lambda: Option<V3<T>>,
+) -> (BaseMotion<T, N>, [V3<T>; 3]) {
     let e = joint.spine;
     let offset = m.offset(e);
     let offset_rate = scale_by(-m.rear_half, cross(joint.rate, e));
@@ -244,31 +284,50 @@ fn base<T: Real>(m: &MassProperties, joint: JointMotion<T>, lambda: Option<V3<T>
 }
 
 /// A's angular velocity (A's frame) through `(q, q̇)` at zero momentum.
-pub fn body_rate<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2]) -> V3<T> {
+///
+/// # Panics
+/// When `N` is not `cat.joint`'s number of coordinates ([`Joint::dof`]).
+pub fn body_rate<T: Real, const N: usize>(cat: &Cat, q: [T; N], qd: [T; N]) -> V3<T> {
     let m = MassProperties::of(cat);
     base(&m, joint_motion(cat.joint, q, qd, None), None).0.omega
 }
 
 /// A's angular velocity `Ω = I_lock⁻¹(λ − h)` (A's frame) with the total momentum `λ = Rᵀ L` in
 /// A's frame.
-pub fn body_rate_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], lambda: V3<T>) -> V3<T> {
+///
+/// # Panics
+/// When `N` is not `cat.joint`'s number of coordinates ([`Joint::dof`]).
+pub fn body_rate_spinning<T: Real, const N: usize>(cat: &Cat, q: [T; N], qd: [T; N], lambda: V3<T>) -> V3<T> {
     let m = MassProperties::of(cat);
     base(&m, joint_motion(cat.joint, q, qd, None), Some(lambda)).0.omega
 }
 
-/// The motor torques `(τ1, τ2)`, N·m, through `(q, q̇, q̈)` at zero momentum.
-pub fn motor_torques<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2]) -> [T; 2] {
+/// The motor torques, one per coordinate (`τ1, τ2`, and `τ3` about B's spine on the spherical
+/// joint), N·m, through `(q, q̇, q̈)` at zero momentum.
+///
+/// # Panics
+/// When `N` is not `cat.joint`'s number of coordinates ([`Joint::dof`]).
+pub fn motor_torques<T: Real, const N: usize>(cat: &Cat, q: [T; N], qd: [T; N], qdd: [T; N]) -> [T; N] {
     torques(cat, [q, qd, qdd], None)
 }
 
-/// The motor torques `(τ1, τ2)`, N·m, with the total momentum `λ = Rᵀ L` in A's frame
+/// The motor torques, one per coordinate, N·m, with the total momentum `λ = Rᵀ L` in A's frame
 /// (`λ̇ = λ × Ω`).
-pub fn motor_torques_spinning<T: Real>(cat: &Cat, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: V3<T>) -> [T; 2] {
+///
+/// # Panics
+/// When `N` is not `cat.joint`'s number of coordinates ([`Joint::dof`]).
+pub fn motor_torques_spinning<T: Real, const N: usize>(
+    cat: &Cat,
+    q: [T; N],
+    qd: [T; N],
+    qdd: [T; N],
+    lambda: V3<T>,
+) -> [T; N] {
     torques(cat, [q, qd, qdd], Some(lambda))
 }
 
 /// Newton–Euler on B about the joint point (module docs).
-fn torques<T: Real>(cat: &Cat, [q, qd, qdd]: [[T; 2]; 3], lambda: Option<V3<T>>) -> [T; 2] {
+fn torques<T: Real, const N: usize>(cat: &Cat, [q, qd, qdd]: [[T; N]; 3], lambda: Option<V3<T>>) -> [T; N] {
     let m = MassProperties::of(cat);
     let (b, locked) = base(&m, joint_motion(cat.joint, q, qd, Some(qdd)), lambda);
     let (j, p, pd, w) = (b.joint, b.offset, b.offset_rate, b.omega);
@@ -287,61 +346,104 @@ fn torques<T: Real>(cat: &Cat, [q, qd, qdd]: [[T; 2]; 3], lambda: Option<V3<T>>)
     let alpha_b = add(add(w_dot, j.accel), cross(w, j.rate));
     let spin_rate = add(m.rear(e, alpha_b), cross(w_b, m.rear(e, w_b)));
     let couple = sub(spin_rate, cross(scale_by(m.rear_half, e), force));
-    [dot(couple, j.axes[0]), dot(couple, j.axes[1])]
+    j.axes.map(|axis| dot(couple, axis))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engines::models::TwoMotorCat;
+    use crate::engines::{models, reduction};
+    use crate::model::shape::ShapeState;
     use crate::model::Cylinder;
     use crate::optimize::whole::dual::Dual;
     use crate::optimize::whole::dynamics;
-    use crate::schedule::JointState;
     use nalgebra::Vector3;
+
+    /// A state `(q, q̇, q̈)` of a joint of `N` coordinates.
+    type Point<const N: usize> = ([f64; N], [f64; N], [f64; N]);
 
     const FRONT: Cylinder = Cylinder { mass: 0.8, length: 0.8, radius: 0.1 };
     const REAR: Cylinder = Cylinder { mass: 1.2, length: 1.1, radius: 0.13 };
     /// States at the straight cat, small bends (the series), and large ones (the closed forms).
-    const POINTS: [([f64; 2], [f64; 2], [f64; 2]); 5] = [
+    const POINTS: [Point<2>; 5] = [
         ([0.0, 0.0], [1.1, -0.4], [-2.0, 3.0]),
         ([1e-3, -2e-3], [0.7, 0.9], [1.5, -0.5]),
         ([0.3, -0.7], [1.1, 0.4], [-2.0, 3.0]),
         ([2.2, 0.9], [-0.6, 1.7], [0.5, -1.5]),
         ([-1.0, 1.3], [0.2, -2.4], [4.0, 0.7]),
     ];
+    /// [`POINTS`] on the spherical joint, each with a nonzero twist `q3`, `q̇3` and `q̈3`.
+    const TWISTED_POINTS: [Point<3>; 5] = [
+        ([0.0, 0.0, 0.4], [1.1, -0.4, 0.8], [-2.0, 3.0, 1.2]),
+        ([1e-3, -2e-3, -0.9], [0.7, 0.9, -1.3], [1.5, -0.5, 2.5]),
+        ([0.3, -0.7, 1.7], [1.1, 0.4, 0.6], [-2.0, 3.0, -0.8]),
+        ([2.2, 0.9, -2.6], [-0.6, 1.7, 2.1], [0.5, -1.5, -3.0]),
+        ([-1.0, 1.3, 3.0], [0.2, -2.4, -0.5], [4.0, 0.7, 1.1]),
+    ];
     const LAMBDA: [f64; 3] = [0.03, -0.02, 0.05];
 
+    /// The unequal halves on `joint`.
+    fn cat(joint: Joint) -> Cat {
+        Cat { front: FRONT, rear: REAR, joint }
+    }
+
+    /// The unequal halves on the two-coordinate joints.
     fn cats() -> [Cat; 2] {
-        [Joint::Universal, Joint::NoTwist].map(|joint| Cat { front: FRONT, rear: REAR, joint })
+        [Joint::Universal, Joint::NoTwist].map(cat)
+    }
+
+    /// The general core's shape state at `point`.
+    fn shape<const N: usize>((q, qd, qdd): Point<N>) -> ShapeState {
+        ShapeState { q: q.to_vec(), qd: qd.to_vec(), qdd: qdd.to_vec() }
+    }
+
+    /// A two-coordinate point on the spherical joint with no twist.
+    fn untwisted((q, qd, qdd): Point<2>) -> Point<3> {
+        let z = |a: [f64; 2]| [a[0], a[1], 0.0];
+        (z(q), z(qd), z(qdd))
+    }
+
+    /// The largest magnitude in `a`.
+    fn largest(a: &[f64]) -> f64 {
+        a.iter().fold(0.0, |m, x| m.max(x.abs()))
     }
 
     /// `|a − b| ≤ 1e-12 max(|b|, scale)` componentwise, `scale` the size of the quantity.
     fn close(a: &[f64], b: &[f64], scale: f64, what: &str) {
+        assert_eq!(a.len(), b.len(), "{what}: {a:?} against {b:?}");
         for (x, y) in a.iter().zip(b) {
             assert!((x - y).abs() <= 1e-12 * y.abs().max(scale), "{what}: {a:?} against {b:?}");
         }
     }
 
-    #[test]
-    fn agrees_with_the_general_core_on_unequal_halves_and_both_joints() {
+    /// The general core's answer (which refuses a state of another size than the joint's).
+    fn core<T>(answer: Result<T, models::ModelError>) -> T {
+        answer.unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// Ω, Ω with λ, τ and τ with λ of `cat` at `points` against the general core.
+    fn check_against_core<const N: usize>(cat: &Cat, points: &[Point<N>]) {
         let lambda = Vector3::from(LAMBDA);
-        for cat in cats() {
-            let core = TwoMotorCat::new(cat).unwrap_or_else(|e| panic!("{e}"));
-            for (q, qd, qdd) in POINTS {
-                let st = JointState { q, qd, qdd };
-                let w = core.body_rate(&st);
-                close(&body_rate(&cat, q, qd), w.as_slice(), w.norm(), "Ω");
-                let w = core.body_rate_spinning(&st, &lambda);
-                close(&body_rate_spinning(&cat, q, qd, LAMBDA), w.as_slice(), w.norm(), "Ω with λ");
-                let t = core.joint_torques(&st).tau;
-                let size = t[0].abs().max(t[1].abs());
-                close(&motor_torques(&cat, q, qd, qdd), &t, size, "τ");
-                let t = core.joint_torques_spinning(&st, &lambda).tau;
-                let size = t[0].abs().max(t[1].abs());
-                close(&motor_torques_spinning(&cat, q, qd, qdd, LAMBDA), &t, size, "τ with λ");
-            }
+        for &(q, qd, qdd) in points {
+            let st = shape((q, qd, qdd));
+            let at = |what: &str| format!("{}: {what} at {q:?}", cat.joint);
+            let w = core(models::body_rate(cat, &st));
+            close(&body_rate(cat, q, qd), w.as_slice(), w.norm(), &at("Ω"));
+            let w = reduction::body_rate(&cat.tree(), &st, &lambda);
+            close(&body_rate_spinning(cat, q, qd, LAMBDA), w.as_slice(), w.norm(), &at("Ω with λ"));
+            let t = core(models::joint_torques(cat, &st)).tau;
+            close(&motor_torques(cat, q, qd, qdd), &t, largest(&t), &at("τ"));
+            let t = core(models::joint_torques_spinning(cat, &st, &lambda)).tau;
+            close(&motor_torques_spinning(cat, q, qd, qdd, LAMBDA), &t, largest(&t), &at("τ with λ"));
         }
+    }
+
+    #[test]
+    fn agrees_with_the_general_core_on_unequal_halves_and_every_joint() {
+        for cat in cats() {
+            check_against_core(&cat, &POINTS);
+        }
+        check_against_core(&cat(Joint::Spherical), &TWISTED_POINTS);
     }
 
     #[test]
@@ -356,14 +458,72 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_spine_is_the_joint_rotation_of_the_axis() {
-        for cat in cats() {
-            for (q, _, _) in POINTS {
-                let e = cat.joint.rotation(&q) * Vector3::z();
-                close(&spine(cat.joint, q), e.as_slice(), 1.0, "e");
+    /// `joint`'s spine, motion and axes at `points` against [`Joint`]'s own (`f64`, nalgebra).
+    fn check_joint<const N: usize>(joint: Joint, points: &[Point<N>]) {
+        for &(q, qd, qdd) in points {
+            let at = |what: &str| format!("{joint}: {what} at {q:?}");
+            let e = joint.rotation(&q) * Vector3::z();
+            close(&spine(joint, q), e.as_slice(), 1.0, &at("e"));
+            let motion = joint_motion(joint, q, qd, Some(qdd));
+            close(&motion.spine, e.as_slice(), 1.0, &at("the motion's e"));
+            let rate = joint.relative_rate(&q, &qd);
+            close(&motion.rate, rate.as_slice(), rate.norm(), &at("ω_rel"));
+            let accel = joint.relative_accel(&q, &qd, &qdd);
+            close(&motion.accel, accel.as_slice(), accel.norm(), &at("ω̇_rel"));
+            let axes = joint.motor_axes(&q);
+            assert_eq!(axes.len(), N, "{}", at("the number of motor axes"));
+            for (axis, expected) in motion.axes.iter().zip(&axes) {
+                close(axis, expected.as_slice(), 1.0, &at("a motor axis"));
             }
+            close(&joint_motion(joint, q, qd, None).accel, &[0.0; 3], 0.0, &at("ω̇_rel without q̈"));
         }
+    }
+
+    #[test]
+    fn the_joint_motion_is_the_joints() {
+        for cat in cats() {
+            check_joint(cat.joint, &POINTS);
+        }
+        check_joint(Joint::Spherical, &TWISTED_POINTS);
+    }
+
+    #[test]
+    fn the_spherical_joint_without_twist_is_the_no_twist_joint() {
+        // The same motion of B: Ω and the first two torques agree, and the third is the couple
+        // the no-twist joint's constraint transmits about B's spine.
+        let (spherical, no_twist) = (cat(Joint::Spherical), cat(Joint::NoTwist));
+        for point in POINTS {
+            let (q, qd, qdd) = point;
+            let (q3, qd3, qdd3) = untwisted(point);
+            let at = |what: &str| format!("{what} at {q:?}");
+            let w = body_rate(&no_twist, q, qd);
+            close(&body_rate(&spherical, q3, qd3), &w, Vector3::from(w).norm(), &at("Ω"));
+            let w = body_rate_spinning(&no_twist, q, qd, LAMBDA);
+            close(&body_rate_spinning(&spherical, q3, qd3, LAMBDA), &w, Vector3::from(w).norm(), &at("Ω with λ"));
+            let (e, st) = (Vector3::from(spine(Joint::NoTwist, q)), shape(point));
+            let tau = motor_torques(&spherical, q3, qd3, qdd3);
+            let t = motor_torques(&no_twist, q, qd, qdd);
+            close(&tau[..2], &t, largest(&t), &at("τ1, τ2"));
+            let couple = core(models::joint_torques(&no_twist, &st)).couple;
+            close(&tau[2..], &[couple.dot(&e)], couple.norm(), &at("τ3 against the no-twist joint's couple·e"));
+            let tau = motor_torques_spinning(&spherical, q3, qd3, qdd3, LAMBDA);
+            let t = motor_torques_spinning(&no_twist, q, qd, qdd, LAMBDA);
+            close(&tau[..2], &t, largest(&t), &at("τ1, τ2 with λ"));
+            let couple = core(models::joint_torques_spinning(&no_twist, &st, &Vector3::from(LAMBDA))).couple;
+            close(&tau[2..], &[couple.dot(&e)], couple.norm(), &at("τ3 against the no-twist joint's couple·e with λ"));
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "the spherical joint has 3 coordinates, not 2")]
+    fn two_coordinates_on_the_spherical_joint_are_refused() {
+        body_rate(&cat(Joint::Spherical), [0.1, 0.2], [0.3, 0.4]);
+    }
+
+    #[test]
+    #[should_panic(expected = "the no-twist joint has 2 coordinates, not 3")]
+    fn three_coordinates_on_the_no_twist_joint_are_refused() {
+        motor_torques(&cat(Joint::NoTwist), [0.1, 0.2, 0.3], [0.0; 3], [0.0; 3]);
     }
 
     #[test]
@@ -374,38 +534,46 @@ mod tests {
         close(&below, &above, 0.0, "the coefficients either side of the switch");
     }
 
-    #[test]
-    fn dual_derivatives_match_central_differences() {
-        // As dynamics.rs's test: step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute.
-        // The outputs `(τ1, τ2, Ω)` of the inputs `(q, q̇, q̈)`, at any `Real`.
-        fn outputs<T: Real>(cat: &Cat, x: [T; 6]) -> [T; 5] {
-            let tau = motor_torques_spinning(cat, [x[0], x[1]], [x[2], x[3]], [x[4], x[5]], LAMBDA.map(T::cst));
-            let w = body_rate(cat, [x[0], x[1]], [x[2], x[3]]);
-            [tau[0], tau[1], w[0], w[1], w[2]]
-        }
+    /// The outputs `(τ, Ω)` of the inputs `x = (q, q̇, q̈)`, `M = 3N` of them, at any `Real`.
+    fn outputs<T: Real, const N: usize, const M: usize>(cat: &Cat, x: [T; M]) -> Vec<T> {
+        let part = |k: usize| -> [T; N] { std::array::from_fn(|i| x[k * N + i]) };
+        let tau = motor_torques_spinning(cat, part(0), part(1), part(2), LAMBDA.map(T::cst));
+        tau.into_iter().chain(body_rate(cat, part(0), part(1))).collect()
+    }
+
+    /// The dual derivatives of [`outputs`] at `points` against central differences. As
+    /// dynamics.rs's test: step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute.
+    fn check_derivatives<const N: usize, const M: usize>(cat: &Cat, points: &[Point<N>]) {
+        assert_eq!(M, 3 * N, "one direction per input");
         let step = 1e-6;
-        for cat in cats() {
-            for (q, qd, qdd) in POINTS {
-                let x = [q[0], q[1], qd[0], qd[1], qdd[0], qdd[1]];
-                let dual = outputs(&cat, std::array::from_fn::<Dual<6>, 6, _>(|k| Dual::input(x[k], k)));
-                for k in 0..6 {
-                    let shifted = |sign: f64| {
-                        let mut y = x;
-                        y[k] += sign * step;
-                        outputs(&cat, y)
-                    };
-                    let (plus, minus) = (shifted(1.0), shifted(-1.0));
-                    for (o, d) in dual.iter().enumerate() {
-                        let fd = (plus[o] - minus[o]) / (2.0 * step);
-                        assert!(
-                            (d.eps[k] - fd).abs() <= 1e-7,
-                            "{}: output {o}, input {k}: {} against {fd}",
-                            cat.joint,
-                            d.eps[k]
-                        );
-                    }
+        for &(q, qd, qdd) in points {
+            let x: [f64; M] = std::array::from_fn(|k| [q, qd, qdd][k / N][k % N]);
+            let dual = outputs::<_, N, M>(cat, std::array::from_fn(|k| Dual::<M>::input(x[k], k)));
+            for k in 0..M {
+                let shifted = |sign: f64| {
+                    let mut y = x;
+                    y[k] += sign * step;
+                    outputs::<f64, N, M>(cat, y)
+                };
+                let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                for (o, d) in dual.iter().enumerate() {
+                    let fd = (plus[o] - minus[o]) / (2.0 * step);
+                    assert!(
+                        (d.eps[k] - fd).abs() <= 1e-7,
+                        "{}: output {o}, input {k} at {q:?}: {} against {fd}",
+                        cat.joint,
+                        d.eps[k]
+                    );
                 }
             }
         }
+    }
+
+    #[test]
+    fn dual_derivatives_match_central_differences() {
+        for cat in cats() {
+            check_derivatives::<2, 6>(&cat, &POINTS);
+        }
+        check_derivatives::<3, 9>(&cat(Joint::Spherical), &TWISTED_POINTS);
     }
 }

@@ -16,7 +16,7 @@
 
 use super::cat::WholeCat;
 use super::spline::BSpline;
-use crate::engines::torque::TorqueSource;
+use super::torques::ExactTorques;
 use crate::schedule::Trajectory;
 
 /// The swing of a torque across one span, as a fraction of the peak, that marks a switch.
@@ -46,28 +46,28 @@ const SAMPLES: usize = 8;
 
 /// The spans across which a torque switches (module docs), in order.
 pub fn switching_spans(cat: &WholeCat, spline: &BSpline) -> Vec<usize> {
-    switching_spans_from(&cat.torque_source(None), spline)
+    switching_spans_from(&cat.exact_torques(None), spline)
 }
 
 /// [`switching_spans`] with the torques of `source` (a release with spin).
-pub fn switching_spans_from(source: &TorqueSource, spline: &BSpline) -> Vec<usize> {
+pub fn switching_spans_from(source: &ExactTorques, spline: &BSpline) -> Vec<usize> {
     let durations = spline.piece_durations();
-    let torques: Vec<Vec<[f64; 2]>> = durations
+    let torques: Vec<Vec<Vec<f64>>> = durations
         .iter()
         .enumerate()
         .map(|(span, &d)| {
             (0..=SAMPLES)
                 .map(|k| {
                     let s = d * k as f64 / SAMPLES as f64;
-                    source.at(spline, span, s, &spline.piece_state(span, s)).tau
+                    source.at(spline, span, s)
                 })
                 .collect()
         })
         .collect();
-    let peak = torques.iter().flatten().flat_map(|t| t.map(f64::abs)).fold(0.0, f64::max);
+    let peak = torques.iter().flatten().flatten().map(|t| t.abs()).fold(0.0, f64::max);
     (0..durations.len())
         .filter(|&span| {
-            (0..2).any(|j| {
+            (0..spline.joints()).any(|j| {
                 let (lo, hi) = torques[span]
                     .iter()
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), t| (lo.min(t[j]), hi.max(t[j])));

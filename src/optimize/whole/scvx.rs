@@ -130,7 +130,7 @@ pub(crate) struct StageEnd {
 
 impl ScvxProblem<'_> {
     fn layout(&self) -> Layout {
-        Layout { control_points: self.settings.control_points, fixed: self.settings.fixed() }
+        Layout { control_points: self.settings.control_points, fixed: self.settings.fixed(), joints: self.cat.joints() }
     }
 
     /// Evaluates torques (and their gradients), bend and orientation at `spline`.
@@ -166,10 +166,10 @@ impl ScvxProblem<'_> {
             Some(o) => Some(o),
             None => self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t)),
         };
-        let peak = samples.iter().flat_map(|s| s.tau.map(f64::abs)).fold(0.0, f64::max);
+        let peak = samples.iter().flat_map(|s| s.tau.iter().map(|t| t.abs())).fold(0.0, f64::max);
         let value = match objective {
             Objective::Peak => peak,
-            Objective::Energy => samples.iter().map(|s| s.weight * (s.tau[0].powi(2) + s.tau[1].powi(2))).sum(),
+            Objective::Energy => samples.iter().map(|s| s.weight * s.tau.iter().map(|t| t.powi(2)).sum::<f64>()).sum(),
             Objective::MinTime => limit_max,
         };
         let violation = orientation.as_ref().map_or(0.0, |o| o.error.abs().sum());
@@ -468,6 +468,52 @@ mod tests {
     fn peaks(fall: f64) -> Vec<f64> {
         let now = 0.3;
         (0..=5).map(|k| now * (1.0 + fall * (5 - k) as f64 / 5.0)).collect()
+    }
+
+    /// The spherical joint (issue 22): from the no-twist joint's energy optimum with the relative
+    /// twist held at zero (`q3 = 0`, where its third motor holds what the no-twist joint's
+    /// constraint held), the loop plans all three motors: the stage converges, the relative twist
+    /// moves, the effort falls, and the general core's adaptive engine confirms the flip.
+    #[test]
+    fn the_loop_plans_the_spherical_joints_three_motors_to_an_exact_flip() {
+        use crate::model::motor::Motors;
+        use crate::model::{Cat, Cylinder, Joint};
+        use crate::optimize::whole::{build_start, flipped, StartKind};
+        use crate::problem::Manoeuvre;
+        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
+        let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
+        let motors = Motors::ideal();
+        let problem = |cat| ScvxProblem {
+            cat,
+            settings: &settings,
+            motors: &motors,
+            target: Some(flipped()),
+            qp: QpSettings::default(),
+            spin: Vector3::zeros(),
+        };
+        let solve = |p: &ScvxProblem<'_>, spline: BSpline| {
+            let steps = settings.steps_per_span;
+            let it = p.evaluate(spline, Objective::Energy, steps);
+            let end = p.stage(it, Objective::Energy, None, None, 1e-7, 300, steps, &mut Vec::new());
+            let end = end.unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(end.status, WholeStatus::Converged, "{}", end.reason);
+            let energy = end.iterate.objective;
+            (p.polish(end.iterate.spline, steps, 8).0, energy)
+        };
+        let no_twist = WholeCat::new(Cat::equal(half, Joint::NoTwist)).unwrap_or_else(|e| panic!("{e}"));
+        let start = build_start(&no_twist, fall, &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
+        let (bent, _) = solve(&problem(&no_twist), start.unwrap_or_else(|e| panic!("{e}")).spline);
+        let spherical = WholeCat::spherical(Cat::equal(half, Joint::Spherical)).expect("a spherical cat");
+        let held =
+            problem(&spherical).evaluate(bent.clone().with_joints(3), Objective::Energy, settings.steps_per_span);
+        let (planned, energy) = solve(&problem(&spherical), bent.with_joints(3));
+        assert!(energy < held.objective, "the third motor's freedom lowers the effort: {energy} ≥ {}", held.objective);
+        let twist = planned.coefficients[2].iter().fold(0.0, |m: f64, c| m.max(c.abs()));
+        assert!(twist > 1e-3, "the relative twist moves: its largest control point is {twist} rad");
+        let flip = spherical.flip(&planned, 1e-12);
+        assert!((flip.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", flip.twist);
+        assert!(flip.swing < 1e-8, "swing {}", flip.swing);
     }
 
     #[test]

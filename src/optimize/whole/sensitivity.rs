@@ -19,8 +19,9 @@
 //! `J_l⁻¹(φ) = 𝟙 − ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ))[φ]×²`).
 //!
 //! ## Torques
-//! `τ(q, q̇, q̈)` from [`WholeCat::motor_torques`] at `Dual<6>` seeded on `(q, q̇, q̈)`, chained through
-//! `N_i, N'_i, N''_i`.
+//! `τ(q, q̇, q̈)` from [`WholeCat::motor_torques`] at dual numbers seeded on `(q, q̇, q̈)` of every
+//! coordinate ([`WholeCat::torque_partials`]: `Dual<6>` on two coordinates, `Dual<9>` on the
+//! spherical joint's three), chained through `N_i, N'_i, N''_i`.
 //!
 //! ## References
 //! - J. Solà, J. Deray, D. Atchuthan, *A micro Lie theory for state estimation in robotics*
@@ -30,7 +31,7 @@
 use nalgebra::{DMatrix, Matrix3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
-use super::cat::WholeCat;
+use super::cat::{Partials, WholeCat, MAX_JOINTS};
 use super::dual::Dual;
 use super::dynamics::magnus6;
 use super::spline::{BSpline, Basis};
@@ -43,6 +44,8 @@ pub struct Layout {
     pub control_points: usize,
     /// Control points held at zero at each end of each joint.
     pub fixed: usize,
+    /// Number of joint coordinates (curves): 2, or 3 on the spherical joint.
+    pub joints: usize,
 }
 
 impl Layout {
@@ -51,9 +54,9 @@ impl Layout {
         self.control_points - 2 * self.fixed
     }
 
-    /// Number of variables (both joints).
+    /// Number of variables (every joint coordinate's).
     pub fn variables(&self) -> usize {
-        2 * self.free()
+        self.joints * self.free()
     }
 
     /// The variable of control point `i` of joint `j`, if it is free.
@@ -71,7 +74,7 @@ impl Layout {
         let widest = widths.iter().copied().fold(0.0, f64::max);
         let p = spline.degree;
         let mut scales = vec![1.0; self.variables()];
-        for j in 0..2 {
+        for j in 0..self.joints {
             for i in self.fixed..self.control_points - self.fixed {
                 if let Some(v) = self.variable(j, i) {
                     // Control point i's support is spans i − p ..= i (those that exist).
@@ -87,13 +90,15 @@ impl Layout {
 
     /// The current value of every variable.
     pub fn values(&self, spline: &BSpline) -> Vec<f64> {
-        (0..2).flat_map(|j| spline.coefficients[j][self.fixed..self.control_points - self.fixed].to_vec()).collect()
+        (0..self.joints)
+            .flat_map(|j| spline.coefficients[j][self.fixed..self.control_points - self.fixed].to_vec())
+            .collect()
     }
 
     /// The spline moved by `step` on the free control points.
     pub fn moved(&self, spline: &BSpline, step: &[f64]) -> BSpline {
         let mut out = spline.clone();
-        for j in 0..2 {
+        for j in 0..self.joints {
             for i in self.fixed..self.control_points - self.fixed {
                 if let Some(v) = self.variable(j, i) {
                     out.coefficients[j][i] += step[v];
@@ -104,9 +109,9 @@ impl Layout {
     }
 
     /// `(variable, ∂x/∂c)` for a quantity with partials `dq[j]`, `dqd[j]`, `dqdd[j]` with respect to
-    /// joint `j`'s angle, rate and acceleration, chained through `basis`.
-    fn chain(&self, basis: &Basis, dq: [f64; 2], dqd: [f64; 2], dqdd: [f64; 2], out: &mut Vec<(usize, f64)>) {
-        for j in 0..2 {
+    /// joint `j`'s angle, rate and acceleration (one per joint coordinate), chained through `basis`.
+    fn chain(&self, basis: &Basis, dq: &[f64], dqd: &[f64], dqdd: &[f64], out: &mut Vec<(usize, f64)>) {
+        for j in 0..self.joints {
             for (m, ((n, nd), ndd)) in basis.values[0].iter().zip(&basis.values[1]).zip(&basis.values[2]).enumerate() {
                 if let Some(v) = self.variable(j, basis.first + m) {
                     out.push((v, dq[j] * n + dqd[j] * nd + dqdd[j] * ndd));
@@ -150,7 +155,7 @@ pub fn left_jacobian_inverse(phi: &Vector3<f64>) -> Matrix3<f64> {
 }
 
 /// The basis at a Magnus node and the body rate there with its partials in `(q, q̇)`.
-type NodeRate = (Basis, [Dual<4>; 3]);
+type NodeRate = (Basis, [Partials; 3]);
 
 /// Integrates the orientation with `steps` Magnus steps per knot span (on the widest span; fewer
 /// on narrower ones, [`BSpline::by_width`]), as
@@ -187,10 +192,10 @@ pub fn final_orientation(
                 h,
                 nodes.map(|c| {
                     let basis = spline.basis(span, t0 + (n as f64 + c) * h);
-                    let st = spline.state_from(&basis);
-                    let d: [Dual<4>; 4] =
-                        std::array::from_fn(|k| Dual::input([st.q[0], st.q[1], st.qd[0], st.qd[1]][k], k));
-                    (basis, cat.body_rate([d[0], d[1]], [d[2], d[3]]))
+                    let [q, qd, _] = spline.values::<MAX_JOINTS>(&basis);
+                    let joints = layout.joints;
+                    let rate = cat.rate_partials(&q[..joints], &qd[..joints]);
+                    (basis, rate)
                 }),
             )
         })
@@ -198,7 +203,7 @@ pub fn final_orientation(
     for (h, at) in &rates {
         let h = *h;
         let w: [[Dual<9>; 3]; 3] =
-            std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].re, 3 * k + i)));
+            std::array::from_fn(|k| std::array::from_fn(|i| Dual::input(at[k].1[i].value, 3 * k + i)));
         let sigma = magnus6(h, w[0], w[1], w[2]);
         let sigma_re = Vector3::new(sigma[0].re, sigma[1].re, sigma[2].re);
         r = UnitQuaternion::new_normalize(*(r * UnitQuaternion::from_scaled_axis(sigma_re)).quaternion());
@@ -209,9 +214,8 @@ pub fn final_orientation(
             // Column of ∂Ω/∂c for each free control point touching this node.
             for comp in 0..3 {
                 columns.clear();
-                let dq = [omega[comp].eps[0], omega[comp].eps[1]];
-                let dqd = [omega[comp].eps[2], omega[comp].eps[3]];
-                layout.chain(basis, dq, dqd, [0.0; 2], &mut columns);
+                let [dq, dqd, dqdd] = &omega[comp].d;
+                layout.chain(basis, dq, dqd, dqdd, &mut columns);
                 for &(v, g) in &columns {
                     for row in 0..3 {
                         eta[(row, v)] += p[(row, comp)] * g;
@@ -232,14 +236,14 @@ pub struct TorqueSample {
     pub time: f64,
     /// Quadrature weight for `∫ τ·τ dt`, s (zero on a peak grid).
     pub weight: f64,
-    /// `(τ1, τ2)`, N·m.
-    pub tau: [f64; 2],
-    /// `∂τ_j/∂x` as `(variable, value)`, N·m per rad.
-    pub gradient: [Vec<(usize, f64)>; 2],
-    /// `(q̇1, q̇2)`, rad/s.
-    pub rate: [f64; 2],
-    /// `∂q̇_j/∂x`, in the same entries as `gradient` (zero for the other joint's points), 1/s.
-    pub rate_gradient: [Vec<(usize, f64)>; 2],
+    /// `(τ1, …)`, one per motor, N·m.
+    pub tau: Vec<f64>,
+    /// `∂τ_j/∂x` as `(variable, value)`, one list per motor, N·m per rad.
+    pub gradient: Vec<Vec<(usize, f64)>>,
+    /// `(q̇1, …)`, rad/s.
+    pub rate: Vec<f64>,
+    /// `∂q̇_j/∂x`, in the same entries as `gradient` (zero for the other joints' points), 1/s.
+    pub rate_gradient: Vec<Vec<(usize, f64)>>,
 }
 
 /// The cosine of the bend, `e_z` (B's axis on A's; [`WholeCat::bend_cosine`]), with its gradient.
@@ -287,22 +291,31 @@ pub fn torque_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &
         .with_min_len(16)
         .map(|&(span, time, weight)| {
             let basis = spline.basis(span, time);
-            let st = spline.state_from(&basis);
-            let x = [st.q[0], st.q[1], st.qd[0], st.qd[1], st.qdd[0], st.qdd[1]];
-            let d: [Dual<6>; 6] = std::array::from_fn(|k| Dual::input(x[k], k));
-            let tau = cat.motor_torques([d[0], d[1]], [d[2], d[3]], [d[4], d[5]]);
-            let gradient = tau.map(|t| {
-                let mut g = Vec::with_capacity(2 * basis.values[0].len());
-                let e = t.eps;
-                layout.chain(&basis, [e[0], e[1]], [e[2], e[3]], [e[4], e[5]], &mut g);
-                g
-            });
-            let rate_gradient = [[1.0, 0.0], [0.0, 1.0]].map(|unit| {
-                let mut g = Vec::with_capacity(2 * basis.values[0].len());
-                layout.chain(&basis, [0.0; 2], unit, [0.0; 2], &mut g);
-                g
-            });
-            TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient, rate: st.qd, rate_gradient }
+            let joints = layout.joints;
+            let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&basis);
+            let tau = cat.torque_partials(&q[..joints], &qd[..joints], &qdd[..joints]);
+            let width = joints * basis.values[0].len();
+            let gradient = tau
+                .iter()
+                .map(|t| {
+                    let mut g = Vec::with_capacity(width);
+                    let [dq, dqd, dqdd] = &t.d;
+                    layout.chain(&basis, dq, dqd, dqdd, &mut g);
+                    g
+                })
+                .collect();
+            let zero = [0.0; MAX_JOINTS];
+            let rate_gradient = (0..joints)
+                .map(|j| {
+                    let mut unit = zero;
+                    unit[j] = 1.0;
+                    let mut g = Vec::with_capacity(width);
+                    layout.chain(&basis, &zero, &unit, &zero, &mut g);
+                    g
+                })
+                .collect();
+            let tau = tau.iter().map(|t| t.value).collect();
+            TorqueSample { time, weight, tau, gradient, rate: qd[..joints].to_vec(), rate_gradient }
         })
         .collect()
 }
@@ -312,9 +325,11 @@ pub fn bend_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[G
     grid.iter()
         .map(|&(span, time, _)| {
             let basis = spline.basis(span, time);
-            let (cos_bend, dq) = cat.bend_cosine(spline.state_from(&basis).q);
+            let [q, _, _] = spline.values::<MAX_JOINTS>(&basis);
+            let (cos_bend, dq) = cat.bend_cosine(&q[..layout.joints]);
+            let zero = [0.0; MAX_JOINTS];
             let mut gradient = Vec::new();
-            layout.chain(&basis, dq, [0.0; 2], [0.0; 2], &mut gradient);
+            layout.chain(&basis, &dq, &zero, &zero, &mut gradient);
             BendSample { cos_bend, gradient }
         })
         .collect()

@@ -213,6 +213,7 @@ pub fn spin_pass(
     spin: &Vector3<f64>,
     grid: &[GridPoint],
 ) -> SpinPass {
+    assert_eq!(layout.joints, 2, "a release with spin is planned for the two-motor cats only");
     let n = layout.variables();
     let mut lift = Lift { offset: n, transitions: Vec::with_capacity(spline.spans()) };
     let mut psi = DMatrix::<f64>::zeros(3, n);
@@ -313,5 +314,12 @@ fn torque_sample(
         }
         g
     });
-    TorqueSample { time, weight, tau: tau.map(|t| t.re), gradient, rate: [st.qd[0].re, st.qd[1].re], rate_gradient }
+    TorqueSample {
+        time,
+        weight,
+        tau: tau.map(|t| t.re).to_vec(),
+        gradient: gradient.to_vec(),
+        rate: vec![st.qd[0].re, st.qd[1].re],
+        rate_gradient: rate_gradient.to_vec(),
+    }
 }

@@ -1,7 +1,8 @@
 //! Clamped B-spline joint trajectories on `[0, T]`, the variables of the whole-manoeuvre
 //! optimisation.
 //!
-//! Each joint is `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the
+//! One curve per shape coordinate of the joint (two on the universal and no-twist joints, three on
+//! the spherical one, [`crate::model::Joint::dof`]). Each coordinate is `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the
 //! clamped uniform knot vector (`p + 1` knots at `0` and at `T`, `n − p − 1` equally spaced
 //! inside), so that `q(0) = c_0`, `q̇(0) = p (c_1 − c_0)/u_{p+1}` and likewise at `T`. Fixing the
 //! first and last two control points at zero makes the cat straight and at rest at both ends;
@@ -20,17 +21,19 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
+use crate::engines::shape::ShapeTrajectory;
+use crate::model::shape::ShapeState;
 use crate::schedule::{JointState, Trajectory};
 
-/// Both joints' clamped B-splines over the whole fall.
+/// Every joint coordinate's clamped B-spline over the whole fall.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BSpline {
     /// Degree `p`.
     pub degree: usize,
     /// Knot vector `u_0 … u_{n+p}`, s.
     pub knots: Vec<f64>,
-    /// Control points `c_{j,i}` of joint `j`, rad.
-    pub coefficients: [Vec<f64>; 2],
+    /// Control points `c_{j,i}` of coordinate `j`, rad: one list per coordinate, all as long.
+    pub coefficients: Vec<Vec<f64>>,
 }
 
 /// The highest degree a [`BSpline`] may have: its [`Basis`] lives on the stack, in arrays of
@@ -73,7 +76,8 @@ pub struct Basis {
 }
 
 impl BSpline {
-    /// The straight cat at rest: `n` zero control points of degree `p` on `[0, duration]`.
+    /// The straight cat at rest on a two-coordinate joint: `n` zero control points of degree `p`
+    /// on `[0, duration]` per coordinate (more coordinates: [`BSpline::with_joints`]).
     /// Needs `n ≥ p + 1`, `p ≥ 1` and a positive duration (checked by the settings).
     ///
     /// # Panics
@@ -85,7 +89,19 @@ impl BSpline {
         let mut knots = vec![0.0; degree + 1];
         knots.extend((1..spans).map(|k| duration * k as f64 / spans as f64));
         knots.extend(std::iter::repeat_n(duration, degree + 1));
-        Self { degree, knots, coefficients: [vec![0.0; control_points], vec![0.0; control_points]] }
+        Self { degree, knots, coefficients: vec![vec![0.0; control_points]; 2] }
+    }
+
+    /// The same curves with `joints` coordinates: those added held at zero, those beyond dropped.
+    pub fn with_joints(mut self, joints: usize) -> Self {
+        let n = self.control_points();
+        self.coefficients.resize(joints, vec![0.0; n]);
+        self
+    }
+
+    /// Number of shape coordinates (curves).
+    pub fn joints(&self) -> usize {
+        self.coefficients.len()
     }
 
     /// Number of control points per joint.
@@ -172,23 +188,55 @@ impl BSpline {
         Basis { first: mu - p, values: [row(levels[p]), row(first_derivative), row(second_derivative)] }
     }
 
-    /// The joint state at `t` in span `s` from a basis already evaluated there.
-    pub fn state_from(&self, basis: &Basis) -> JointState {
-        let mut st = JointState::default();
-        for j in 0..2 {
+    /// `[q, q̇, q̈]` of the first `N` coordinates from a basis already evaluated at an instant
+    /// (zero beyond the spline's own).
+    pub fn values<const N: usize>(&self, basis: &Basis) -> [[f64; N]; 3] {
+        let mut out = [[0.0; N]; 3];
+        for j in 0..N.min(self.joints()) {
             let c = &self.coefficients[j][basis.first..];
-            let sum = |d: usize| basis.values[d].iter().zip(c).map(|(n, c)| n * c).sum::<f64>();
-            st.q[j] = sum(0);
-            st.qd[j] = sum(1);
-            st.qdd[j] = sum(2);
+            for (d, row) in out.iter_mut().enumerate() {
+                row[j] = basis.values[d].iter().zip(c).map(|(n, c)| n * c).sum::<f64>();
+            }
         }
-        st
+        out
     }
 
-    /// The joint state at global time `t`.
+    /// The joint state of a two-coordinate spline from a basis already evaluated at an instant.
+    ///
+    /// # Panics
+    /// On a spline of another number of coordinates (a programming error: the two-coordinate
+    /// consumers would drop the others silently).
+    pub fn state_from(&self, basis: &Basis) -> JointState {
+        assert_eq!(self.joints(), 2, "a two-coordinate state of a spline of {} coordinates", self.joints());
+        let [q, qd, qdd] = self.values::<2>(basis);
+        JointState { q, qd, qdd }
+    }
+
+    /// The joint state of a two-coordinate spline at global time `t` ([`BSpline::state_from`]).
     pub fn state(&self, t: f64) -> JointState {
         let s = self.span_of(t);
         self.state_from(&self.basis(s, t))
+    }
+
+    /// Every coordinate's angle, rate and acceleration from a basis already evaluated at an
+    /// instant.
+    pub fn shape_from(&self, basis: &Basis) -> ShapeState {
+        let sum = |j: usize, d: usize| {
+            let c = &self.coefficients[j][basis.first..];
+            basis.values[d].iter().zip(c).map(|(n, c)| n * c).sum::<f64>()
+        };
+        let all = |d: usize| (0..self.joints()).map(|j| sum(j, d)).collect();
+        ShapeState { q: all(0), qd: all(1), qdd: all(2) }
+    }
+
+    /// Every coordinate's angle at global time `t`, rad.
+    pub fn angles(&self, t: f64) -> Vec<f64> {
+        self.shape_from(&self.basis(self.span_of(t), t)).q
+    }
+
+    /// The same curves fitted on `control_points` control points ([`BSpline::fit`]).
+    pub fn refit(&self, control_points: usize, fixed: usize) -> Self {
+        Self::fit(self.duration(), control_points, self.degree, fixed, self.joints(), |t| self.angles(t))
     }
 
     /// The same curve with `knot` inserted (Boehm's algorithm; de Boor ch. XI): one more control
@@ -203,7 +251,7 @@ impl BSpline {
         // u_k ≤ knot < u_{k+1}
         let k = p + self.span_of(knot);
         let u = &self.knots;
-        let coefficients = self.coefficients.clone().map(|c| {
+        let coefficients = self.coefficients.iter().map(|c| {
             let mut out = Vec::with_capacity(c.len() + 1);
             out.extend_from_slice(&c[..=k - p]);
             for i in k - p + 1..=k {
@@ -213,28 +261,30 @@ impl BSpline {
             out.extend_from_slice(&c[k..]);
             out
         });
+        let coefficients = coefficients.collect();
         let mut knots = self.knots.clone();
         knots.insert(k + 1, knot);
         Self { degree: p, knots, coefficients }
     }
 
-    /// The least-squares fit of `target(t)` (joint angles, rad) on `20` points per span, with the
-    /// first and last `fixed` control points of each joint held at zero.
+    /// The least-squares fit of `target(t)` (the `joints` coordinates' angles, rad) on `20` points
+    /// per span, with the first and last `fixed` control points of each coordinate held at zero.
     pub fn fit(
         duration: f64,
         control_points: usize,
         degree: usize,
         fixed: usize,
-        target: impl Fn(f64) -> [f64; 2],
+        joints: usize,
+        target: impl Fn(f64) -> Vec<f64>,
     ) -> Self {
-        let mut spline = Self::zero(duration, control_points, degree);
+        let mut spline = Self::zero(duration, control_points, degree).with_joints(joints);
         let free = control_points.saturating_sub(2 * fixed);
         if free == 0 {
             return spline;
         }
         let points = 20 * spline.spans();
         let mut normal = DMatrix::<f64>::zeros(free, free);
-        let mut rhs = [DVector::<f64>::zeros(free), DVector::<f64>::zeros(free)];
+        let mut rhs = vec![DVector::<f64>::zeros(free); joints];
         for k in 0..=points {
             let t = duration * k as f64 / points as f64;
             let basis = spline.basis(spline.span_of(t), t);
@@ -249,8 +299,8 @@ impl BSpline {
                 for &(b, nb) in &cols {
                     normal[(a, b)] += na * nb;
                 }
-                for j in 0..2 {
-                    rhs[j][a] += na * y[j];
+                for (rhs, y) in rhs.iter_mut().zip(&y) {
+                    rhs[a] += na * y;
                 }
             }
         }
@@ -265,14 +315,39 @@ impl BSpline {
     }
 }
 
+/// A two-coordinate spline as a schedule ([`BSpline::state_from`] refuses any other).
 impl Trajectory for BSpline {
     fn piece_durations(&self) -> Vec<f64> {
         (0..self.spans()).map(|s| self.span_bounds(s)).map(|(a, b)| b - a).collect()
     }
 
     fn piece_state(&self, piece: usize, s: f64) -> JointState {
+        self.state_from(&self.piece_basis(piece, s))
+    }
+}
+
+impl BSpline {
+    /// The basis at local time `s` of span `piece` (clamped to its end).
+    fn piece_basis(&self, piece: usize, s: f64) -> Basis {
         let (a, b) = self.span_bounds(piece);
-        self.state_from(&self.basis(piece, (a + s).min(b)))
+        self.basis(piece, (a + s).min(b))
+    }
+}
+
+/// A spline of any number of coordinates as a shape trajectory (each knot span a piece), as the
+/// general core runs it ([`crate::engines::models`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SplineShape<'a>(pub &'a BSpline);
+
+impl ShapeTrajectory for SplineShape<'_> {
+    fn piece_durations(&self) -> Vec<f64> {
+        Trajectory::piece_durations(self.0)
+    }
+    fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
+        self.0.shape_from(&self.0.piece_basis(piece, s))
+    }
+    fn acceleration_jumps(&self, _piece: usize) -> Vec<f64> {
+        Vec::new()
     }
 }
 
@@ -283,8 +358,10 @@ mod tests {
 
     fn sample() -> BSpline {
         let mut s = BSpline::zero(1.7, 9, 3);
-        s.coefficients =
-            [vec![0.0, 0.0, 0.4, -0.3, 1.1, 0.2, -0.5, 0.0, 0.0], vec![0.0, 0.0, -0.2, 0.9, 0.1, -0.7, 0.3, 0.0, 0.0]];
+        s.coefficients = vec![
+            vec![0.0, 0.0, 0.4, -0.3, 1.1, 0.2, -0.5, 0.0, 0.0],
+            vec![0.0, 0.0, -0.2, 0.9, 0.1, -0.7, 0.3, 0.0, 0.0],
+        ];
         s
     }
 
@@ -341,7 +418,7 @@ mod tests {
     #[test]
     fn fit_reproduces_a_spline() {
         let s = sample();
-        let fit = BSpline::fit(1.7, 9, 3, 2, |t| s.state(t).q);
+        let fit = s.refit(9, 2);
         for j in 0..2 {
             for (a, b) in fit.coefficients[j].iter().zip(&s.coefficients[j]) {
                 assert_relative_eq!(a, b, epsilon = 1e-10);

@@ -151,6 +151,11 @@ pub fn build_start_spinning(
     spin: &Vector3<f64>,
 ) -> Result<NamedStart, String> {
     let cat = &cat.into();
+    // A spherical joint starts on its no-twist path, its relative twist held at zero.
+    if let Some(bent) = cat.twist_held() {
+        let start = build_start_spinning(bent, duration, manoeuvre, kind, settings, spin)?;
+        return Ok(NamedStart { spline: start.spline.with_joints(cat.joints()), ..start });
+    }
     let schedule = start_schedule_spinning(
         cat,
         duration,
@@ -161,9 +166,9 @@ pub fn build_start_spinning(
         spin,
     )?;
     let sign = if mirrored(kind) { -1.0 } else { 1.0 };
-    let mut spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), |t| {
+    let mut spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), 2, |t| {
         let q = schedule.state(t.min(duration)).q;
-        [q[0], sign * q[1]]
+        vec![q[0], sign * q[1]]
     });
     // The fit may overshoot the path a little: the joint limit holds on the control points (and so
     // on the whole curve, by the convex-hull property) from the start.

@@ -117,14 +117,16 @@ impl Subproblem<'_> {
             Objective::Peak => {
                 self.samples
                     .iter()
-                    .flat_map(|s| [0, 1].map(|j| lin_full(s.tau[j], &s.gradient[j]).abs()))
+                    .flat_map(|s| s.tau.iter().zip(&s.gradient).map(|(&t, g)| lin_full(t, g).abs()))
                     .fold(0.0, f64::max)
                     / self.scale
             }
             Objective::Energy => {
                 self.samples
                     .iter()
-                    .map(|s| s.weight * (0..2).map(|j| lin_full(s.tau[j], &s.gradient[j]).powi(2)).sum::<f64>())
+                    .map(|s| {
+                        s.weight * s.tau.iter().zip(&s.gradient).map(|(&t, g)| lin_full(t, g).powi(2)).sum::<f64>()
+                    })
                     .sum::<f64>()
                     / self.scale
             }
@@ -206,7 +208,8 @@ impl Subproblem<'_> {
                 asm.linear_cost(bound, 1.0);
                 // Only the sides that can be active (exact; the trust box bounds every step).
                 // (sample, joint) of each row.
-                let rows: Vec<(usize, usize)> = (0..self.samples.len()).flat_map(|k| [(k, 0), (k, 1)]).collect();
+                let rows: Vec<(usize, usize)> =
+                    self.samples.iter().enumerate().flat_map(|(k, s)| (0..s.tau.len()).map(move |j| (k, j))).collect();
                 let spans: Vec<(f64, f64)> = rows
                     .iter()
                     .map(|&(k, j)| (self.samples[k].tau[j], self.reach(&self.samples[k].gradient[j])))
@@ -222,7 +225,7 @@ impl Subproblem<'_> {
             Objective::Energy => {
                 let mut linear = vec![0.0; if self.lift.is_some() { total } else { n }];
                 for s in self.samples {
-                    for j in 0..2 {
+                    for j in 0..s.tau.len() {
                         let w = s.weight * unit;
                         let g = mapped(&s.gradient[j]);
                         asm.square_cost(&g, w);
