@@ -4,7 +4,8 @@
 //!   engine (`engines::exact`, `engines::torque`) to round-off;
 //! - physical laws for every model: zero momentum, action = reaction, a rigid cat does not turn;
 //! - the spherical joint with its twist held at zero is the no-twist joint, bit for bit; the
-//!   no-twist joint circle keeps the bend;
+//!   no-twist joint circle keeps the bend; a tail held still on the rear half is a rigid part of
+//!   it (a three-body tree against the two-body cat of the union, by hand);
 //! - every derivative (joint rates, body motion, `Ω̇`) against central finite differences.
 #![deny(clippy::float_cmp)]
 
@@ -15,6 +16,7 @@ use catflip::engines::models::{self, ModelError};
 use catflip::engines::shape::{AsSpherical, ShapeTrajectory, TwistHeld};
 use catflip::engines::{exact, reduction, torque};
 use catflip::model::shape::ShapeState;
+use catflip::model::tree::{Body, Link, Tree};
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::problem::manoeuvre::{BendPath, ProfileKind};
 use catflip::problem::Problem;
@@ -256,6 +258,61 @@ fn straight_unequal_halves_lock_into_one_rod() {
     let (m, h) = reduction::locked_and_shape_momentum(&tree, &tree.motion(&straight));
     assert_relative_eq!(m, want, max_relative = 1e-14);
     assert!(h.norm() == 0.0);
+}
+
+/// Issue 22: a tail held still reproduces the two-body cat. A rod hung from the rear half's end
+/// by a universal joint (two more coordinates), held bent and at rest, is a rigid part of the rear
+/// half: the three-body tree's base rate (without and with spin) and the cat joint's torques, couple
+/// and force (on the subtree it carries, half and tail) equal those of the two-body cat whose rear
+/// half is the union of half and tail. The union by hand: centre `c = m_T c_T/(m_B + m_T)` from
+/// B's centre, inertia `I_B + R I_T Rᵀ + Σ m (|d|² 𝟙 − d dᵀ)` about it (parallel axes).
+#[test]
+fn a_tail_held_still_is_a_rigid_part_of_the_rear_half() {
+    let tail = Cylinder { mass: 0.3, length: 0.9, radius: 0.02 };
+    let held = [0.4, -0.7];
+    let parallel = |m: f64, d: Vector3<f64>| (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * m;
+    for cat in every_model() {
+        let rear = cat.rear;
+        let hang = Link {
+            parent: 1,
+            joint: Joint::Universal,
+            at_parent: Vector3::new(0.0, 0.0, -0.5 * rear.length),
+            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
+        };
+        let three = cat.tree().attach(hang, Body::from(&tail)).expect("the rear half is body 1");
+        let r = Joint::Universal.rotation(&held);
+        let tail_centre = hang.at_parent - r * hang.at_child;
+        let mass = rear.mass + tail.mass;
+        let c = tail_centre * (tail.mass / mass);
+        let inertia = rear.inertia()
+            + parallel(rear.mass, -c)
+            + r * tail.inertia() * r.transpose()
+            + parallel(tail.mass, tail_centre - c);
+        let joint = cat.tree().links()[0];
+        let two =
+            Tree::two(Body::from(&cat.front), Link { at_child: joint.at_child - c, ..joint }, Body { mass, inertia });
+        for t in TIMES {
+            let s = path_for(&cat).at(t);
+            let with_tail = ShapeState {
+                q: s.q.iter().copied().chain(held).collect(),
+                qd: s.qd.iter().copied().chain([0.0; 2]).collect(),
+                qdd: s.qdd.iter().copied().chain([0.0; 2]).collect(),
+            };
+            for lambda in [Vector3::zeros(), Vector3::new(0.3, -0.2, 0.5)] {
+                let (a, b) =
+                    (reduction::body_rate(&three, &with_tail, &lambda), reduction::body_rate(&two, &s, &lambda));
+                assert!((a - b).norm() <= 1e-12 * b.norm().max(1.0), "{:?} at {t}: Ω {a} against {b}", cat.joint);
+                let a = &reduction::joint_torques(&three, &with_tail, &lambda)[0];
+                let b = &reduction::joint_torques(&two, &s, &lambda)[0];
+                let scale = b.couple.norm().max(b.force.norm()).max(1.0);
+                assert!((a.couple - b.couple).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
+                assert!((a.force - b.force).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
+                for (x, y) in a.tau.iter().zip(&b.tau) {
+                    assert!((x - y).abs() <= 1e-12 * scale, "{:?} at {t}: τ {x} against {y}", cat.joint);
+                }
+            }
+        }
+    }
 }
 
 /// `(f(t + H) − f(t − H)) / 2H` of a vector function along a path.

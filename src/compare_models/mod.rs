@@ -7,7 +7,9 @@
 //! When the problem's halves differ, the same two joints also join two equal halves of their
 //! mean half ([`crate::model::Cat::mean_half`]: the means of the masses, lengths and radii, so
 //! the same total mass and length): four models, the first two of equal halves. The spherical
-//! joint needs a third motor no optimiser drives yet and is left out, saying so.
+//! joint is left out, saying so: the optimiser plans its three motors
+//! ([`crate::optimize::whole::WholeCat::Spherical`]), but the rig every row is measured on and
+//! rapier's scene take two.
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
 //! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist
