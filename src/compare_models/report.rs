@@ -119,7 +119,7 @@ impl ModelComparison {
         }
         let _ = writeln!(
             s,
-            "\nThe models run in parallel (their times overlap); the comparison took {:.1} s in all. The spherical joint (a third motor, the relative twist) is not compared: the optimiser plans it (`cargo run --release --example spherical_whole`), but the measurement every row is made by and rapier's scene take two motors.",
+            "\nThe models run in parallel (their times overlap); the comparison took {:.1} s in all. The spherical joint (a third motor, the relative twist) is not compared: the optimiser plans it (`cargo run --release --example more_motors`), but the measurement every row is made by and rapier's scene take two motors.",
             self.seconds
         );
         let _ = writeln!(s, "\nThe cats:\n");

@@ -127,6 +127,12 @@ pub fn flip_spinning(
     Ok(adaptive_on(&ModelField { tree: &tree, traj }, Stepper::for_spin(spin), tolerance, None))
 }
 
+/// [`flip_spinning`] on any `tree` of bodies (a cat with a tail), `traj` giving its
+/// [`Tree::dof`] coordinates (not checked: the caller's own tree and trajectory).
+pub fn flip_on(tree: &Tree, traj: &impl ShapeTrajectory, spin: &Vector3<f64>, tolerance: f64) -> Flip {
+    adaptive_on(&ModelField { tree, traj }, Stepper::for_spin(spin), tolerance, None)
+}
+
 /// The orientation history with `steps` steps per piece ([`crate::engines::exact::history`]).
 pub fn history(
     cat: &Cat,

@@ -9,11 +9,13 @@
 //! two-motor [`Cat`] (unequal halves, the no-twist joint): [`super::model_dynamics`] for the model,
 //! the general core [`TwoMotorCat`] for the flip, the torques and the calibration.
 //! [`WholeCat::new`] chooses the branch by [`Cat::paper`]. [`WholeCat::Spherical`] is a cat on
-//! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model, the
-//! general core on every coordinate for the flip and the torques ([`super::torques`]), and its
-//! starts are those of the same halves on the no-twist joint with the relative twist held at zero
-//! ([`WholeCat::twist_held`]); [`WholeCat::spherical`] builds it, for ideal motors and a release
-//! without spin ([`super::spherical_supported`]).
+//! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model;
+//! [`WholeCat::Tailed`] a two-motor cat with a tail on a two-motor joint, four: the general tree's
+//! [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
+//! ([`super::torques`]), and start from a two-motor cat's starts ([`WholeCat::start_cat`]: the
+//! same halves on the no-twist joint with the relative twist held at zero; the cat with its tail
+//! held straight behind it), for ideal motors and a release without spin
+//! ([`super::beyond_two_motors`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
 //! `cos β = e_z` for B's spine `e = R_AB ẑ`: `cos q1 cos q2` on the universal joint, `cos |q|` on
@@ -29,11 +31,13 @@ use super::model_dynamics::{self, ExpSeries};
 use super::settings::WholeError;
 use super::spline::{BSpline, SplineShape};
 use super::torques::ExactTorques;
+use super::tree_dynamics;
 use crate::engines::calibrate::{calibrate_model, calibrate_spinning, Calibration};
 use crate::engines::exact::{self, Flip};
 use crate::engines::models::{self, TwoMotorCat};
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::TorqueSource;
+use crate::model::tree::{Body, Link, Tree};
 use crate::model::{Cat, Cylinder, Joint};
 use crate::schedule::{paper_circulation, Schedule, ScheduleError};
 
@@ -48,10 +52,26 @@ pub enum WholeCat {
     /// successive-convexification loop plans it ([`super::scvx`]); the re-measurement, the
     /// starts' calibration and the reports are two-motor still, so [`WholeCat::new`] refuses it.
     Spherical(Cat),
+    /// A two-motor cat with a tail ([`WholeCat::tailed`]): a tree of three bodies and four motors,
+    /// planned by the loop through [`super::tree_dynamics`], for ideal motors and without spin.
+    Tailed(Tailed),
 }
 
-/// The most shape coordinates the optimiser plans: the spherical joint's three.
-pub const MAX_JOINTS: usize = 3;
+/// A cat with a tail: the cat (its halves and joint, link 0) and the tree of the three bodies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tailed {
+    /// The cat without its tail.
+    pub cat: Cat,
+    /// The tail: a rod.
+    pub tail: Cylinder,
+    /// The tail's joint at the rear half's end.
+    pub joint: Joint,
+    /// Front half, rear half and tail.
+    pub tree: Tree,
+}
+
+/// The most shape coordinates the optimiser plans: a tailed cat's four.
+pub const MAX_JOINTS: usize = 4;
 
 /// A quantity of the shape's motion and its partial derivatives: `d[0][j]`, `d[1][j]`, `d[2][j]`
 /// with respect to coordinate `j`'s angle, rate and acceleration (the first
@@ -141,16 +161,35 @@ impl WholeCat {
         (cat.joint == Joint::Spherical).then_some(WholeCat::Spherical(cat))
     }
 
-    /// A spherical joint's cat with its relative twist held at zero, which is exactly the same
-    /// halves on the no-twist joint (DESIGN.md §10): the two-motor model its starts are built and
-    /// calibrated on. `None` for a two-motor model.
-    pub fn twist_held(&self) -> Option<WholeCat> {
+    /// `cat` with a tail: a rod `tail` hung from the rear half's end (`(0, 0, −l_B/2)` in B's
+    /// frame) by its own front end on `joint`, straight behind the cat at `q = 0`. `None` unless
+    /// both joints have two motors (the universal or no-twist joint).
+    pub fn tailed(cat: Cat, tail: Cylinder, joint: Joint) -> Option<WholeCat> {
+        if cat.dof() != 2 || joint.dof() != 2 {
+            return None;
+        }
+        let link = Link {
+            parent: 1,
+            joint,
+            at_parent: Vector3::new(0.0, 0.0, -0.5 * cat.rear.length),
+            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
+        };
+        let tree = cat.tree().attach(link, Body::from(&tail))?;
+        Some(WholeCat::Tailed(Tailed { cat, tail, joint, tree }))
+    }
+
+    /// The two-motor cat this one's starts are built and calibrated on, `None` for a two-motor
+    /// cat itself: a spherical joint's halves on the no-twist joint (its twist held at zero, which
+    /// is exactly that joint, DESIGN.md §10); a tailed cat without its tail (the tail then held
+    /// straight behind it).
+    pub fn start_cat(&self) -> Option<WholeCat> {
         match self {
             WholeCat::Spherical(cat) => {
                 let bent =
                     TwoMotorCat::new(Cat { joint: Joint::NoTwist, ..*cat }).expect("the no-twist joint has two motors");
                 Some(WholeCat::Model(bent))
             }
+            WholeCat::Tailed(t) => Some(WholeCat::from(&TwoMotorCat::new(t.cat).expect("a tailed cat has two motors"))),
             _ => None,
         }
     }
@@ -161,17 +200,31 @@ impl WholeCat {
             WholeCat::Paper(half) => Cat::from(*half),
             WholeCat::Model(m) => *m.cat(),
             WholeCat::Spherical(cat) => *cat,
+            WholeCat::Tailed(t) => t.cat,
         }
     }
 
-    /// Number of shape coordinates (and motors): 2, or 3 on the spherical joint.
+    /// Number of shape coordinates (and motors): 2, 3 on the spherical joint, 4 with a tail.
     pub fn joints(&self) -> usize {
-        self.joint().dof()
+        match self {
+            WholeCat::Tailed(t) => t.tree.dof(),
+            _ => self.joint().dof(),
+        }
     }
 
-    /// The model in words ([`Cat::describe`]).
+    /// The model in words ([`Cat::describe`], and the tail's).
     pub fn describe(&self) -> String {
-        self.cat().describe()
+        match self {
+            WholeCat::Tailed(t) => format!(
+                "{}, with a tail of {} kg, {} m long, radius {} m on a {} joint",
+                t.cat.describe(),
+                t.tail.mass,
+                t.tail.length,
+                t.tail.radius,
+                t.joint
+            ),
+            _ => self.cat().describe(),
+        }
     }
 
     /// The joint.
@@ -180,6 +233,7 @@ impl WholeCat {
             WholeCat::Paper(_) => Joint::Universal,
             WholeCat::Model(m) => m.cat().joint,
             WholeCat::Spherical(_) => Joint::Spherical,
+            WholeCat::Tailed(t) => t.cat.joint,
         }
     }
 
@@ -190,6 +244,7 @@ impl WholeCat {
             WholeCat::Paper(c) => dynamics::body_rate(c, two(q), two(qd)),
             WholeCat::Model(m) => model_dynamics::body_rate(m.cat(), q, qd),
             WholeCat::Spherical(cat) => model_dynamics::body_rate(cat, q, qd),
+            WholeCat::Tailed(t) => tree_dynamics::body_rate(&t.tree, &q, &qd, [T::cst(0.0); 3]),
         }
     }
 
@@ -200,6 +255,7 @@ impl WholeCat {
             WholeCat::Paper(c) => dynamics::body_rate_spinning(c, q, qd, lambda),
             WholeCat::Model(m) => model_dynamics::body_rate_spinning(m.cat(), q, qd, lambda),
             WholeCat::Spherical(cat) => model_dynamics::body_rate_spinning(cat, q, qd, lambda),
+            WholeCat::Tailed(t) => tree_dynamics::body_rate(&t.tree, &q, &qd, lambda),
         }
     }
 
@@ -213,6 +269,10 @@ impl WholeCat {
             }
             WholeCat::Model(m) => model_dynamics::motor_torques(m.cat(), q, qd, qdd),
             WholeCat::Spherical(cat) => model_dynamics::motor_torques(cat, q, qd, qdd),
+            WholeCat::Tailed(t) => {
+                let tau = tree_dynamics::motor_torques(&t.tree, &q, &qd, &qdd, [T::cst(0.0); 3]);
+                std::array::from_fn(|j| tau[j])
+            }
         }
     }
 
@@ -223,6 +283,7 @@ impl WholeCat {
         match q.len() {
             2 => seeded::<2, 4, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
             3 => seeded::<3, 6, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
+            4 => seeded::<4, 8, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
             n => panic!("a shape of {n} coordinates"),
         }
     }
@@ -234,6 +295,7 @@ impl WholeCat {
         match q.len() {
             2 => seeded::<2, 6, 2>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
             3 => seeded::<3, 9, 3>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
+            4 => seeded::<4, 12, 4>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
             n => panic!("a shape of {n} coordinates"),
         }
     }
@@ -244,6 +306,10 @@ impl WholeCat {
             WholeCat::Paper(c) => dynamics::motor_torques_spinning(c, q, qd, qdd, lambda),
             WholeCat::Model(m) => model_dynamics::motor_torques_spinning(m.cat(), q, qd, qdd, lambda),
             WholeCat::Spherical(cat) => model_dynamics::motor_torques_spinning(cat, q, qd, qdd, lambda),
+            WholeCat::Tailed(t) => {
+                let tau = tree_dynamics::motor_torques(&t.tree, &q, &qd, &qdd, lambda);
+                [tau[0], tau[1]]
+            }
         }
     }
 
@@ -262,19 +328,19 @@ impl WholeCat {
     }
 
     /// The cosine of the bend, `cos β = e_z`, and its gradient in `q` (zero in a spherical joint's
-    /// twist): `cos q1 cos q2` on the universal joint, `cos |q|` (gradient `−(sin θ/θ) q`) on the
+    /// twist and in a tail's coordinates): `cos q1 cos q2` on the universal joint, `cos |q|` (gradient `−(sin θ/θ) q`) on the
     /// no-twist and spherical joints.
     pub fn bend_cosine(&self, q: &[f64]) -> (f64, [f64; MAX_JOINTS]) {
         match self.bend_joint() {
             Joint::Universal => {
                 let (s1, c1) = q[0].sin_cos();
                 let (s2, c2) = q[1].sin_cos();
-                (c1 * c2, [-s1 * c2, -c1 * s2, 0.0])
+                (c1 * c2, [-s1 * c2, -c1 * s2, 0.0, 0.0])
             }
             Joint::NoTwist | Joint::Spherical => {
                 let s = q[0] * q[0] + q[1] * q[1];
                 let k = ExpSeries::at(s);
-                (1.0 - k.a * s, [-k.sinc * q[0], -k.sinc * q[1], 0.0])
+                (1.0 - k.a * s, [-k.sinc * q[0], -k.sinc * q[1], 0.0, 0.0])
             }
         }
     }
@@ -289,8 +355,18 @@ impl WholeCat {
         match self {
             WholeCat::Paper(c) => exact::flip_spinning(c, spline, spin, tolerance),
             WholeCat::Model(m) => m.flip_released(spline, spin, tolerance),
-            WholeCat::Spherical(cat) => models::flip_spinning(cat, &SplineShape(spline), spin, tolerance)
-                .unwrap_or_else(|e| panic!("a spherical cat's spline: {e}")),
+            WholeCat::Spherical(_) | WholeCat::Tailed(_) => {
+                assert_eq!(spline.joints(), self.joints(), "a spline of the cat's coordinates");
+                models::flip_on(&self.tree(), &SplineShape(spline), spin, tolerance)
+            }
+        }
+    }
+
+    /// The model's tree of bodies.
+    pub fn tree(&self) -> Tree {
+        match self {
+            WholeCat::Tailed(t) => t.tree.clone(),
+            _ => self.cat().tree(),
         }
     }
 
@@ -324,7 +400,7 @@ impl WholeCat {
     /// [`WholeCat::torque_source`], the general core on the spherical joint (without spin).
     pub fn exact_torques<'a>(&'a self, history: Option<&'a SpinHistory>) -> ExactTorques<'a> {
         match self {
-            WholeCat::Spherical(cat) => ExactTorques::General(cat),
+            WholeCat::Spherical(_) | WholeCat::Tailed(_) => ExactTorques::General(self.tree()),
             _ => ExactTorques::TwoMotor(self.torque_source(history)),
         }
     }

@@ -25,9 +25,10 @@
 //! model (unequal halves, the no-twist joint) through [`model_dynamics`] and the general core
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
 //! A release with spin is planned on every two-motor model through the same seam (the spinning
-//! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) is
-//! planned on its three coordinates by the same loop, re-measured by the general core on every
-//! coordinate ([`torques`]), with ideal motors and without spin ([`spherical_supported`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
+//! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) and a
+//! cat with a tail ([`WholeCat::Tailed`], the tree's dynamics of [`tree_dynamics`]) are planned on
+//! their three and four coordinates by the same loop, re-measured by the general core on every
+//! coordinate ([`torques`]), with ideal motors and without spin ([`beyond_two_motors`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
 //! controls cannot reach the swing's directions of the flip error: the subproblems and the Newton
 //! steps work on the reachable ones ([`reach`]).
 //!
@@ -113,6 +114,7 @@ pub mod spline;
 pub mod starts;
 pub mod subproblem;
 pub mod torques;
+pub mod tree_dynamics;
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -187,7 +189,7 @@ pub fn optimize_whole_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    spherical_supported(cat, motors, spin)?;
+    beyond_two_motors(cat, motors, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -232,10 +234,10 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
     Ok(())
 }
 
-/// Refuses what the optimiser does not plan on the spherical joint ([`WholeCat::Spherical`]):
-/// motor limits (their usage is measured for two motors) and a release with spin (the spinning
-/// model is built for two coordinates).
-pub fn spherical_supported(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+/// Refuses what the optimiser does not plan for a cat of more than two motors (the spherical joint,
+/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): motor limits (their usage is measured
+/// for two motors) and a release with spin (the spinning model is built for two coordinates).
+pub fn beyond_two_motors(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
     if cat.joints() == 2 {
         return Ok(());
     }
@@ -243,7 +245,7 @@ pub fn spherical_supported(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>)
         Err(WholeError::BadFieldValue {
             field,
             value,
-            reason: format!("the whole optimiser plans the spherical joint's three motors {what}"),
+            reason: format!("the whole optimiser plans a cat of {} motors {what}", cat.joints()),
         })
     };
     if spin.norm_squared() > 0.0 {
@@ -282,7 +284,7 @@ pub fn optimize_from_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    spherical_supported(cat, motors, spin)?;
+    beyond_two_motors(cat, motors, spin)?;
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.

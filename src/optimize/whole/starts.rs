@@ -151,8 +151,9 @@ pub fn build_start_spinning(
     spin: &Vector3<f64>,
 ) -> Result<NamedStart, String> {
     let cat = &cat.into();
-    // A spherical joint starts on its no-twist path, its relative twist held at zero.
-    if let Some(bent) = cat.twist_held() {
+    // A spherical joint starts on its no-twist path (its relative twist held at zero), a tailed
+    // cat on its own path (the tail held straight behind it).
+    if let Some(bent) = cat.start_cat() {
         let start = build_start_spinning(bent, duration, manoeuvre, kind, settings, spin)?;
         return Ok(NamedStart { spline: start.spline.with_joints(cat.joints()), ..start });
     }

@@ -1,23 +1,27 @@
 //! The exact motor torques of a spline on any model, as the re-measurement and the knot
 //! refinement read them: a two-motor [`TorqueSource`] (the paper's cat through the two-cylinder
 //! engine, any other two-motor model through the general core, either released with spin), or
-//! the general core's Newton–Euler on every coordinate of a spherical joint's spline
-//! ([`crate::engines::models::joint_torques`] on [`SplineShape`]), one torque per motor.
+//! the general core's Newton–Euler on every coordinate of a tree's spline (the spherical joint, a
+//! tail: [`crate::engines::reduction::joint_torques`] on [`SplineShape`]), one torque per motor.
 
 use super::spline::{BSpline, SplineShape};
-use crate::engines::models;
+use nalgebra::Vector3;
+
 use crate::engines::motors::MotorDemand;
+use crate::engines::reduction;
 use crate::engines::shape::ShapeTrajectory;
 use crate::engines::torque::{refine_peak, Peak, TorqueSource};
-use crate::model::Cat;
+use crate::model::shape::ShapeState;
+use crate::model::tree::Tree;
 use crate::schedule::Trajectory;
 
 /// Where a spline's exact torques come from.
 pub enum ExactTorques<'a> {
     /// A two-motor model's source.
     TwoMotor(TorqueSource<'a>),
-    /// The general core on every coordinate (the spherical joint), at zero angular momentum.
-    General(&'a Cat),
+    /// The general core on every coordinate of a tree (the spherical joint, a tail), every
+    /// joint's motors in link order, at zero angular momentum.
+    General(Tree),
 }
 
 impl ExactTorques<'_> {
@@ -25,10 +29,7 @@ impl ExactTorques<'_> {
     pub fn at(&self, spline: &BSpline, span: usize, s: f64) -> Vec<f64> {
         match self {
             ExactTorques::TwoMotor(source) => source.at(spline, span, s, &spline.piece_state(span, s)).tau.to_vec(),
-            ExactTorques::General(cat) => {
-                let shape = SplineShape(spline).piece_shape(span, s);
-                models::joint_torques(cat, &shape).unwrap_or_else(|e| panic!("a spline of the cat's joint: {e}")).tau
-            }
+            ExactTorques::General(tree) => general(tree, &SplineShape(spline).piece_shape(span, s)),
         }
     }
 
@@ -40,10 +41,7 @@ impl ExactTorques<'_> {
                 let d = Trajectory::piece_durations(spline)[last];
                 source.at(spline, last, d, &spline.state(end)).tau.to_vec()
             }
-            ExactTorques::General(cat) => {
-                let shape = spline.shape_from(&spline.basis(spline.span_of(end), end));
-                models::joint_torques(cat, &shape).unwrap_or_else(|e| panic!("a spline of the cat's joint: {e}")).tau
-            }
+            ExactTorques::General(tree) => general(tree, &spline.shape_from(&spline.basis(spline.span_of(end), end))),
         }
     }
 
@@ -75,6 +73,11 @@ impl ExactTorques<'_> {
             stretch: None,
         }
     }
+}
+
+/// Every joint's motor torques of `tree` at `shape` (zero angular momentum), in link order.
+fn general(tree: &Tree, shape: &ShapeState) -> Vec<f64> {
+    reduction::joint_torques(tree, shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau).collect()
 }
 
 /// The peak of `f(span, s) ≥ 0` over `spline` from `samples + 1` points per span, every sampled

@@ -1,0 +1,78 @@
+//! Whole optima of cats with more than two motors (issue 22), through the library: the problem's
+//! cat (two motors), its halves on the spherical joint (three: the bend's two and the relative
+//! twist, which now a motor must hold or use) and the cat with a tail (four: a rod a tenth of the
+//! cat's mass, as long as a half, on a universal joint at the rear half's end), each optimised
+//! over the problem's fall and re-measured here by the general core's adaptive engine,
+//! independently of the optimiser.
+//!
+//! `cargo run --release --example more_motors [PROBLEM.toml]` (default problems/kane-scher.toml).
+//!
+//! These optima are not yet measured by the one rig every command reports from, nor verified in
+//! rapier, nor exported: `catflip` refuses `cat.joint = "spherical"` and has no `[cat.tail]` until
+//! they are.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use nalgebra::Vector3;
+
+use catflip::engines::models;
+use catflip::model::motor::Motors;
+use catflip::model::{Cat, Cylinder, Joint};
+use catflip::optimize::whole::spline::SplineShape;
+use catflip::optimize::whole::{optimize_whole, WholeCat};
+use catflip::problem::Problem;
+
+fn main() -> anyhow::Result<()> {
+    let path = std::env::args().nth(1).unwrap_or_else(|| "problems/kane-scher.toml".to_string());
+    let problem = Problem::load(Path::new(&path), &[])?;
+    let halves = problem.cat.model();
+    let settings = &problem.optimize.whole;
+    let fall = problem.drop.fall_time();
+    println!(
+        "{}: {} over a fall of {fall:.6} s, objective {}",
+        problem.name,
+        halves.describe(),
+        settings.objective.name()
+    );
+    let tail =
+        Cylinder { mass: 0.1 * (halves.front.mass + halves.rear.mass), length: halves.rear.length, radius: 0.02 };
+    let cats = [
+        WholeCat::new(halves)?,
+        WholeCat::spherical(Cat { joint: Joint::Spherical, ..halves }).expect("a spherical cat"),
+        WholeCat::tailed(halves, tail, Joint::Universal).expect("a two-motor cat and tail"),
+    ];
+    for cat in cats {
+        let tree = cat.tree();
+        let outcome =
+            optimize_whole(&cat, fall, &problem.manoeuvre, settings, &Motors::ideal(), problem.exact.tolerance)?;
+        let Some(best) = outcome.best() else {
+            println!("{}: {}", cat.describe(), outcome.no_optimum(settings, problem.exact.tolerance));
+            continue;
+        };
+        // Re-measured here: the general core on every coordinate of the spline.
+        let flip = models::flip_on(&tree, &SplineShape(&best.spline), &Vector3::zeros(), 1e-12);
+        let duration = best.spline.duration();
+        // The third coordinate: the spherical joint's relative twist, or the tail's first angle.
+        let third = (0..=2000)
+            .filter_map(|k| best.spline.angles(duration * k as f64 / 2000.0).get(2).copied())
+            .fold(0.0, |m: f64, x| m.max(x.abs()));
+        println!(
+            "{}\n  {} ({}, {} iterations, {:.2} s); flip {:+.9}° (| |twist| − 180° | = {:.1e}°), swing {:.1e}°; peak {:.6} N·m, energy {:.6} N²·m²·s, largest bend {:.2}°, third coordinate up to {:.2}°; peak speed per motor {:?} rad/s",
+            cat.describe(),
+            best.status,
+            best.start,
+            best.iterations,
+            best.seconds,
+            flip.twist.to_degrees(),
+            (flip.twist.abs() - PI).abs().to_degrees(),
+            flip.swing.to_degrees(),
+            best.peak_torque_nm,
+            best.energy,
+            best.max_bend_deg,
+            third.to_degrees(),
+            best.motors.peak_speed_rad_s.iter().map(|p| (p.value * 1e4).round() / 1e4).collect::<Vec<_>>(),
+        );
+    }
+    Ok(())
+}
