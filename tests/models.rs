@@ -273,13 +273,8 @@ fn a_tail_held_still_is_a_rigid_part_of_the_rear_half() {
     let parallel = |m: f64, d: Vector3<f64>| (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * m;
     for cat in every_model() {
         let rear = cat.rear;
-        let hang = Link {
-            parent: 1,
-            joint: Joint::Universal,
-            at_parent: Vector3::new(0.0, 0.0, -0.5 * rear.length),
-            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
-        };
-        let three = cat.tree().attach(hang, Body::from(&tail)).expect("the rear half is body 1");
+        let three = cat.tree_with_tail(&tail, Joint::Universal);
+        let hang = three.links()[1];
         let r = Joint::Universal.rotation(&held);
         let tail_centre = hang.at_parent - r * hang.at_child;
         let mass = rear.mass + tail.mass;

@@ -12,8 +12,8 @@ use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
 use catflip::optimize::whole::spline::SplineShape;
 use catflip::optimize::whole::{
-    build_start, flipped, optimize_start, optimize_whole, BSpline, Objective, ScvxProblem, StartKind, WholeCat,
-    WholeSettings, WholeStatus,
+    build_start, flipped, optimize_from, optimize_start, optimize_whole, optimize_whole_spinning, BSpline, NamedStart,
+    Objective, ScvxProblem, StartKind, WholeCat, WholeSettings, WholeStatus,
 };
 use catflip::problem::Manoeuvre;
 use std::f64::consts::PI;
@@ -230,6 +230,44 @@ fn a_tailed_cat_plans_its_four_motors_to_an_exact_flip() {
     assert_eq!(sampled.len(), 4);
     assert_peak_is_the_motors(&sampled, best.peak_torque_nm);
     assert!(swung.to_degrees() > 1.0, "the tail swings by {}°", swung.to_degrees());
+}
+
+/// Issue 22: the loop's derivatives on a tailed cat's four coordinates (the cat's two and the
+/// tail's) against central differences, on a path whose tail swings.
+#[test]
+fn tailed_cat_derivatives_match_central_differences() {
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let fixed = settings.fixed();
+    let layout = Layout { control_points: 12, fixed, joints: 4 };
+    let mut spline = paper_start(&settings).with_joints(4);
+    for (j, curve) in spline.coefficients.iter_mut().enumerate().skip(2) {
+        for (i, c) in curve.iter_mut().enumerate().take(12 - fixed).skip(fixed) {
+            *c = 0.5 * (1.3 * i as f64 + j as f64).sin();
+        }
+    }
+    let tail = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
+    let cat = WholeCat::tailed(Cat::from(PAPER), tail, Joint::Universal).expect("a two-motor cat and tail");
+    assert_derivatives_match_central_differences(&cat, &spline, &layout);
+}
+
+/// Beyond two motors the optimiser refuses what it does not plan, naming the field: motor limits
+/// and a release with spin; and a start of another number of coordinates than the cat's.
+#[test]
+fn beyond_two_motors_limits_spin_and_a_start_of_the_wrong_size_are_refused() {
+    let settings = WholeSettings { control_points: 12, ..WholeSettings::default() };
+    let cat = WholeCat::spherical(Cat::equal(PAPER, Joint::Spherical)).expect("a spherical cat");
+    let mut limited = Motors::ideal();
+    limited.joints[0].torque = Some(1.0);
+    let e = optimize_whole(&cat, FALL, &Manoeuvre::default(), &settings, &limited, FLIP).map(|_| ()).unwrap_err();
+    assert!(e.to_string().starts_with("actuator"), "{e}");
+    let spin = nalgebra::Vector3::new(0.0, 0.0, 0.01);
+    let e = optimize_whole_spinning(&cat, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP, &spin)
+        .map(|_| ())
+        .unwrap_err();
+    assert!(e.to_string().starts_with("drop.angular_momentum"), "{e}");
+    let two = NamedStart { name: "two".into(), spline: paper_start(&settings) };
+    let e = optimize_from(&cat, &[two], &settings, &Motors::ideal(), FLIP).map(|_| ()).unwrap_err();
+    assert!(e.to_string().contains("has 2 joint coordinates; the cat"), "{e}");
 }
 
 /// Flip tolerance of the issue's target, rad.

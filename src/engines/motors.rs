@@ -65,7 +65,7 @@ pub struct StretchPeak {
 /// What a trajectory asks of its motors.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MotorDemand {
-    /// Peak `|q̇_j|` of each joint coordinate (joints 1 and 2, and the spherical joint's 3), rad/s.
+    /// Peak `|q̇_j|` of each joint coordinate (joints 1 and 2; beyond two motors, every motor's), rad/s.
     pub peak_speed_rad_s: Vec<Peak>,
     /// Peak `|τ_j q̇_j|` of each joint coordinate, W.
     pub peak_power_w: Vec<Peak>,
@@ -134,7 +134,7 @@ impl MotorDemand {
     ];
 
     /// The motor-sizing figures as CSV fields (the last three empty with ideal motors): joints 1
-    /// and 2 (a spherical joint's third motor is in [`MotorDemand::peak_speed_rad_s`]).
+    /// and 2 (more motors' are in [`MotorDemand::peak_speed_rad_s`] and [`MotorDemand::peak_power_w`]).
     pub fn csv_fields(&self) -> [String; 7] {
         let w = self.worst();
         [

@@ -99,4 +99,17 @@ impl Cat {
         };
         Tree::two(Body::from(&self.front), link, Body::from(&self.rear))
     }
+
+    /// The cat with a tail: the rod `tail` hung from the rear half's end (`(0, 0, −l_B/2)` in B's
+    /// frame) by its own front end (`(0, 0, +l_T/2)` in its frame) on `joint`, straight behind the
+    /// cat at zero: three bodies, the tail's coordinates after the cat's.
+    pub fn tree_with_tail(&self, tail: &Cylinder, joint: Joint) -> Tree {
+        let link = Link {
+            parent: 1,
+            joint,
+            at_parent: Vector3::new(0.0, 0.0, -0.5 * self.rear.length),
+            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
+        };
+        self.tree().attach(link, Body::from(tail)).expect("a cat's tree has its rear half as body 1")
+    }
 }

@@ -37,37 +37,39 @@ use crate::engines::exact::{self, Flip};
 use crate::engines::models::{self, TwoMotorCat};
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::TorqueSource;
-use crate::model::tree::{Body, Link, Tree};
+use crate::model::tree::Tree;
 use crate::model::{Cat, Cylinder, Joint};
 use crate::schedule::{paper_circulation, Schedule, ScheduleError};
 
-/// The optimiser's cat: the paper's, or another two-motor model (module docs).
+/// The optimiser's cat: the paper's, another two-motor model, or one of more motors (module docs).
 #[derive(Clone, Debug, PartialEq)]
 pub enum WholeCat {
     /// The paper's cat, one of its two equal halves (the two-cylinder engine).
     Paper(Cylinder),
     /// Any other two-motor model (the general core).
     Model(TwoMotorCat),
-    /// A cat on the spherical joint: three coordinates and motors ([`WholeCat::spherical`]). The
-    /// successive-convexification loop plans it ([`super::scvx`]); the re-measurement, the
-    /// starts' calibration and the reports are two-motor still, so [`WholeCat::new`] refuses it.
-    Spherical(Cat),
+    /// A cat on the spherical joint: three coordinates and motors ([`WholeCat::spherical`]),
+    /// re-measured by the general core on every coordinate ([`super::torques`]), for ideal motors
+    /// and without spin; the command line's measurement and rapier's scene take two motors, so
+    /// [`WholeCat::new`] refuses it.
+    Spherical(SphericalCat),
     /// A two-motor cat with a tail ([`WholeCat::tailed`]): a tree of three bodies and four motors,
     /// planned by the loop through [`super::tree_dynamics`], for ideal motors and without spin.
     Tailed(Tailed),
 }
 
-/// A cat with a tail: the cat (its halves and joint, link 0) and the tree of the three bodies.
+/// A cat on the spherical joint ([`WholeCat::spherical`] builds it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphericalCat(Cat);
+
+/// A cat with a tail ([`WholeCat::tailed`] builds it): the cat (its halves and joint, link 0), the
+/// tail and its joint, and the tree of the three bodies.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tailed {
-    /// The cat without its tail.
-    pub cat: Cat,
-    /// The tail: a rod.
-    pub tail: Cylinder,
-    /// The tail's joint at the rear half's end.
-    pub joint: Joint,
-    /// Front half, rear half and tail.
-    pub tree: Tree,
+    cat: Cat,
+    tail: Cylinder,
+    joint: Joint,
+    tree: Tree,
 }
 
 /// The most shape coordinates the optimiser plans: a tailed cat's four.
@@ -150,7 +152,9 @@ impl WholeCat {
         let model = TwoMotorCat::new(cat).map_err(|e| WholeError::BadFieldValue {
             field: "cat.joint",
             value: format!("\"{}\"", cat.joint),
-            reason: format!("the whole optimiser plans two motors ({e}): use \"universal\" or \"no-twist\""),
+            reason: format!(
+                "WholeCat::new takes the two-motor cats ({e}): use \"universal\" or \"no-twist\", or WholeCat::spherical"
+            ),
         })?;
         Ok(WholeCat::from(&model))
     }
@@ -158,7 +162,7 @@ impl WholeCat {
     /// A cat on the spherical joint for the successive-convexification loop alone
     /// ([`WholeCat::Spherical`]); `None` for another joint.
     pub fn spherical(cat: Cat) -> Option<WholeCat> {
-        (cat.joint == Joint::Spherical).then_some(WholeCat::Spherical(cat))
+        (cat.joint == Joint::Spherical).then_some(WholeCat::Spherical(SphericalCat(cat)))
     }
 
     /// `cat` with a tail: a rod `tail` hung from the rear half's end (`(0, 0, −l_B/2)` in B's
@@ -168,14 +172,7 @@ impl WholeCat {
         if cat.dof() != 2 || joint.dof() != 2 {
             return None;
         }
-        let link = Link {
-            parent: 1,
-            joint,
-            at_parent: Vector3::new(0.0, 0.0, -0.5 * cat.rear.length),
-            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
-        };
-        let tree = cat.tree().attach(link, Body::from(&tail))?;
-        Some(WholeCat::Tailed(Tailed { cat, tail, joint, tree }))
+        Some(WholeCat::Tailed(Tailed { cat, tail, joint, tree: cat.tree_with_tail(&tail, joint) }))
     }
 
     /// The two-motor cat this one's starts are built and calibrated on, `None` for a two-motor
@@ -184,7 +181,7 @@ impl WholeCat {
     /// straight behind it).
     pub fn start_cat(&self) -> Option<WholeCat> {
         match self {
-            WholeCat::Spherical(cat) => {
+            WholeCat::Spherical(SphericalCat(cat)) => {
                 let bent =
                     TwoMotorCat::new(Cat { joint: Joint::NoTwist, ..*cat }).expect("the no-twist joint has two motors");
                 Some(WholeCat::Model(bent))
@@ -199,7 +196,7 @@ impl WholeCat {
         match self {
             WholeCat::Paper(half) => Cat::from(*half),
             WholeCat::Model(m) => *m.cat(),
-            WholeCat::Spherical(cat) => *cat,
+            WholeCat::Spherical(SphericalCat(cat)) => *cat,
             WholeCat::Tailed(t) => t.cat,
         }
     }
@@ -243,19 +240,18 @@ impl WholeCat {
         match self {
             WholeCat::Paper(c) => dynamics::body_rate(c, two(q), two(qd)),
             WholeCat::Model(m) => model_dynamics::body_rate(m.cat(), q, qd),
-            WholeCat::Spherical(cat) => model_dynamics::body_rate(cat, q, qd),
+            WholeCat::Spherical(SphericalCat(cat)) => model_dynamics::body_rate(cat, q, qd),
             WholeCat::Tailed(t) => tree_dynamics::body_rate(&t.tree, &q, &qd, [T::cst(0.0); 3]),
         }
     }
 
     /// A's angular velocity with the total momentum `λ = Rᵀ L` in A's frame (the two-motor
-    /// models: a release with spin is not planned on the spherical joint).
+    /// models: a release with spin is not planned beyond two motors, [`super::beyond_two_motors`]).
     pub fn body_rate_spinning<T: Real>(&self, q: [T; 2], qd: [T; 2], lambda: V3<T>) -> V3<T> {
         match self {
             WholeCat::Paper(c) => dynamics::body_rate_spinning(c, q, qd, lambda),
             WholeCat::Model(m) => model_dynamics::body_rate_spinning(m.cat(), q, qd, lambda),
-            WholeCat::Spherical(cat) => model_dynamics::body_rate_spinning(cat, q, qd, lambda),
-            WholeCat::Tailed(t) => tree_dynamics::body_rate(&t.tree, &q, &qd, lambda),
+            _ => unreachable!("a release with spin is planned for two motors only (beyond_two_motors refuses it)"),
         }
     }
 
@@ -268,7 +264,7 @@ impl WholeCat {
                 std::array::from_fn(|j| t[j])
             }
             WholeCat::Model(m) => model_dynamics::motor_torques(m.cat(), q, qd, qdd),
-            WholeCat::Spherical(cat) => model_dynamics::motor_torques(cat, q, qd, qdd),
+            WholeCat::Spherical(SphericalCat(cat)) => model_dynamics::motor_torques(cat, q, qd, qdd),
             WholeCat::Tailed(t) => {
                 let tau = tree_dynamics::motor_torques(&t.tree, &q, &qd, &qdd, [T::cst(0.0); 3]);
                 std::array::from_fn(|j| tau[j])
@@ -305,11 +301,7 @@ impl WholeCat {
         match self {
             WholeCat::Paper(c) => dynamics::motor_torques_spinning(c, q, qd, qdd, lambda),
             WholeCat::Model(m) => model_dynamics::motor_torques_spinning(m.cat(), q, qd, qdd, lambda),
-            WholeCat::Spherical(cat) => model_dynamics::motor_torques_spinning(cat, q, qd, qdd, lambda),
-            WholeCat::Tailed(t) => {
-                let tau = tree_dynamics::motor_torques(&t.tree, &q, &qd, &qdd, lambda);
-                [tau[0], tau[1]]
-            }
+            _ => unreachable!("a release with spin is planned for two motors only (beyond_two_motors refuses it)"),
         }
     }
 
@@ -328,8 +320,8 @@ impl WholeCat {
     }
 
     /// The cosine of the bend, `cos β = e_z`, and its gradient in `q` (zero in a spherical joint's
-    /// twist and in a tail's coordinates): `cos q1 cos q2` on the universal joint, `cos |q|` (gradient `−(sin θ/θ) q`) on the
-    /// no-twist and spherical joints.
+    /// twist and in a tail's coordinates): `cos q1 cos q2` on the universal joint, `cos |q|`
+    /// (gradient `−(sin θ/θ) q`) on the no-twist and spherical joints.
     pub fn bend_cosine(&self, q: &[f64]) -> (f64, [f64; MAX_JOINTS]) {
         match self.bend_joint() {
             Joint::Universal => {
@@ -370,11 +362,12 @@ impl WholeCat {
         }
     }
 
-    /// The two-motor model, for what is two-motor still ([`WholeCat::Spherical`]).
+    /// The two-motor model, for what is two-motor still (a spin history, a torque source, a
+    /// calibration: never asked of a cat of more motors, whose starts are a two-motor cat's).
     fn two_motor(&self, what: &str) -> &TwoMotorCat {
         match self {
             WholeCat::Model(m) => m,
-            _ => panic!("{what} of a cat on the spherical joint: not built (two motors only)"),
+            _ => panic!("{what} of a cat of {} motors: not built (two motors only)", self.joints()),
         }
     }
 
@@ -397,7 +390,7 @@ impl WholeCat {
     }
 
     /// Where a spline's exact torques come from ([`ExactTorques`]): the two-motor models'
-    /// [`WholeCat::torque_source`], the general core on the spherical joint (without spin).
+    /// [`WholeCat::torque_source`], the general core on a cat of more motors (without spin).
     pub fn exact_torques<'a>(&'a self, history: Option<&'a SpinHistory>) -> ExactTorques<'a> {
         match self {
             WholeCat::Spherical(_) | WholeCat::Tailed(_) => ExactTorques::General(self.tree()),

@@ -147,7 +147,10 @@ pub fn measure_spinning(
             (peak, time, motor_demand_from(source, spline, &samples, motors))
         }
         ExactTorques::General(_) => {
-            assert!(motors.is_ideal(), "motor limits on a spherical joint are refused before the optimiser");
+            assert!(
+                motors.is_ideal(),
+                "motor limits beyond two motors are refused before the optimiser (beyond_two_motors)"
+            );
             let p = torques.peak(spline, PEAK_SAMPLES_PER_SPAN);
             (p.value, p.time, torques.ideal_demand(spline, PEAK_SAMPLES_PER_SPAN))
         }

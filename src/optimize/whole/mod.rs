@@ -28,9 +28,10 @@
 //! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) and a
 //! cat with a tail ([`WholeCat::Tailed`], the tree's dynamics of [`tree_dynamics`]) are planned on
 //! their three and four coordinates by the same loop, re-measured by the general core on every
-//! coordinate ([`torques`]), with ideal motors and without spin ([`beyond_two_motors`]). On Kane and Scher's symmetric cat (equal halves, no-twist joint) the
-//! controls cannot reach the swing's directions of the flip error: the subproblems and the Newton
-//! steps work on the reachable ones ([`reach`]).
+//! coordinate ([`torques`]), with ideal motors and without spin ([`beyond_two_motors`]). On Kane
+//! and Scher's symmetric cat (equal halves, no-twist joint) the controls cannot reach the swing's
+//! directions of the flip error: the subproblems and the Newton steps work on the reachable ones
+//! ([`reach`]).
 //!
 //! ## Why cubic B-splines
 //! The torques need `q̈`; a cubic's `q̈` is continuous and piecewise linear, so the torque is
@@ -105,6 +106,7 @@ pub mod measure;
 pub mod model_dynamics;
 pub mod reach;
 pub mod refine;
+pub mod scope;
 pub mod scvx;
 pub mod sensitivity;
 pub mod settings;
@@ -123,6 +125,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 pub use cat::WholeCat;
+pub use scope::{beyond_two_motors, spin_supported};
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
@@ -208,56 +211,6 @@ pub fn optimize_whole_spinning(
     Ok(outcome)
 }
 
-/// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
-/// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
-/// limits' feasibility stage is that least fall time; at a fixed fall the limits would need the
-/// spinning torques' rows, which are not built.
-pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
-    if spin.norm_squared() == 0.0 {
-        return Ok(());
-    }
-    let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
-    if settings.objective == Objective::MinTime {
-        return Err(WholeError::BadFieldValue {
-            field: "drop.angular_momentum",
-            value,
-            reason: "optimize.whole.objective = \"min-time\" assumes a release without spin (slowing a path changes a spinning cat's flip): use \"peak\" or \"energy\", or set drop.angular_momentum to [0, 0, 0]".into(),
-        });
-    }
-    if !motors.is_ideal() {
-        return Err(WholeError::BadFieldValue {
-            field: "drop.angular_momentum",
-            value,
-            reason: "the whole optimiser does not take [actuator] limits (torque_limit_nm, speed_limit_rad_s, stall_torque_nm, free_speed_rad_s, power_limit_w) with a release with spin: remove them, or set drop.angular_momentum to [0, 0, 0]".into(),
-        });
-    }
-    Ok(())
-}
-
-/// Refuses what the optimiser does not plan for a cat of more than two motors (the spherical joint,
-/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): motor limits (their usage is measured
-/// for two motors) and a release with spin (the spinning model is built for two coordinates).
-pub fn beyond_two_motors(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
-    if cat.joints() == 2 {
-        return Ok(());
-    }
-    let refuse = |field: &'static str, value: String, what: &str| {
-        Err(WholeError::BadFieldValue {
-            field,
-            value,
-            reason: format!("the whole optimiser plans a cat of {} motors {what}", cat.joints()),
-        })
-    };
-    if spin.norm_squared() > 0.0 {
-        let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
-        return refuse("drop.angular_momentum", value, "for a release without spin only: set it to [0, 0, 0]");
-    }
-    if !motors.is_ideal() {
-        return refuse("actuator", "limits".into(), "as ideal motors only: remove the [actuator] limits");
-    }
-    Ok(())
-}
-
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
 /// with the ends fixed as `settings` says), driven by `motors`.
 pub fn optimize_from(
@@ -323,6 +276,18 @@ pub fn optimize_start(
             field: "start",
             value: start.name.clone(),
             reason: format!("needs {} cubic control points per joint", s.control_points),
+        });
+    }
+    if start.spline.joints() != problem.cat.joints() {
+        return Err(WholeError::BadFieldValue {
+            field: "start",
+            value: start.name.clone(),
+            reason: format!(
+                "has {} joint coordinates; the cat ({}) has {}",
+                start.spline.joints(),
+                problem.cat.describe(),
+                problem.cat.joints()
+            ),
         });
     }
     let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };

@@ -74,7 +74,7 @@ const MIN_RADIUS: f64 = 1e-10;
 /// One whole-manoeuvre problem: the cat, the settings and the target orientation.
 #[derive(Clone, Debug)]
 pub struct ScvxProblem<'a> {
-    /// The cat (the paper's, or another two-motor model).
+    /// The cat (the paper's, another two-motor model, or one of more motors).
     pub cat: &'a WholeCat,
     /// The settings.
     pub settings: &'a WholeSettings,

@@ -1,9 +1,10 @@
 //! Clamped B-spline joint trajectories on `[0, T]`, the variables of the whole-manoeuvre
 //! optimisation.
 //!
-//! One curve per shape coordinate of the joint (two on the universal and no-twist joints, three on
-//! the spherical one, [`crate::model::Joint::dof`]). Each coordinate is `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the
-//! clamped uniform knot vector (`p + 1` knots at `0` and at `T`, `n − p − 1` equally spaced
+//! One curve per shape coordinate: two on the universal and no-twist joints, three on the
+//! spherical one ([`crate::model::Joint::dof`]), four on a cat with a tail. Each coordinate is
+//! `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the clamped uniform
+//! knot vector (`p + 1` knots at `0` and at `T`, `n − p − 1` equally spaced
 //! inside), so that `q(0) = c_0`, `q̇(0) = p (c_1 − c_0)/u_{p+1}` and likewise at `T`. Fixing the
 //! first and last two control points at zero makes the cat straight and at rest at both ends;
 //! fixing three also zeroes the end accelerations (and so the end torques).

@@ -155,7 +155,9 @@ pub fn build_start_spinning(
     // cat on its own path (the tail held straight behind it).
     if let Some(bent) = cat.start_cat() {
         let start = build_start_spinning(bent, duration, manoeuvre, kind, settings, spin)?;
-        return Ok(NamedStart { spline: start.spline.with_joints(cat.joints()), ..start });
+        let spline = start.spline.with_joints(cat.joints());
+        // The tail's inertia moves the flip: the guard below on the cat itself.
+        return near_a_flip(cat, &spline, spin).map(|()| NamedStart { spline, ..start });
     }
     let schedule = start_schedule_spinning(
         cat,
@@ -178,10 +180,16 @@ pub fn build_start_spinning(
             *c = c.clamp(-limit, limit);
         }
     }
-    // The orientation error log(R_zᵀ(π) R) is singular at a half-turn from the target.
-    let f = cat.flip_spinning(&spline, spin, 1e-6);
+    near_a_flip(cat, &spline, spin)?;
+    Ok(NamedStart { name: kind.name().to_string(), spline })
+}
+
+/// Refuses a start that lands with a swing above 90°: the orientation error `log(R_zᵀ(π) R)` is
+/// singular at a half-turn from the target.
+fn near_a_flip(cat: &WholeCat, spline: &BSpline, spin: &Vector3<f64>) -> Result<(), String> {
+    let f = cat.flip_spinning(spline, spin, 1e-6);
     if f.swing > 0.5 * std::f64::consts::PI {
         return Err(format!("the fitted start lands with swing {:.1}°, too far from a flip", f.swing.to_degrees()));
     }
-    Ok(NamedStart { name: kind.name().to_string(), spline })
+    Ok(())
 }

@@ -3,6 +3,12 @@
 //! engine, any other two-motor model through the general core, either released with spin), or
 //! the general core's Newton–Euler on every coordinate of a tree's spline (the spherical joint, a
 //! tail: [`crate::engines::reduction::joint_torques`] on [`SplineShape`]), one torque per motor.
+//!
+//! ## References
+//! - R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), ch. 4 (kinematic trees), for the
+//!   general core's Newton–Euler on a tree;
+//! - J. Kiefer, *Sequential minimax search for a maximum*, Proc. AMS 4 (1953) 502–506, for the
+//!   golden-section refinement of the sampled peaks.
 
 use super::spline::{BSpline, SplineShape};
 use nalgebra::Vector3;
@@ -49,49 +55,47 @@ impl ExactTorques<'_> {
     /// sampled local maximum that could be the peak refined by golden section, as
     /// [`crate::engines::torque::peak_torques_on`] refines them.
     pub fn peak(&self, spline: &BSpline, samples: usize) -> Peak {
-        let motors = self.at(spline, 0, 0.0).len();
-        (0..motors)
-            .map(|j| spline_peak(spline, samples, |span, s| self.at(spline, span, s)[j].abs()))
-            .fold(Peak { value: 0.0, time: 0.0 }, |best, p| if p.value > best.value { p } else { best })
+        let peaks = spline_peaks(spline, samples, |span, s| self.at(spline, span, s).iter().map(|t| t.abs()).collect());
+        peaks.into_iter().fold(Peak { value: 0.0, time: 0.0 }, |best, p| if p.value > best.value { p } else { best })
     }
 
     /// What `spline` asks of ideal motors, one entry per motor: the peaks of `|q̇_j|` and
     /// `|τ_j q̇_j|`, found as [`ExactTorques::peak`] finds the torque's (the motor limits' usage
     /// is the two-motor [`crate::engines::motors::motor_demand_from`]'s).
     pub fn ideal_demand(&self, spline: &BSpline, samples: usize) -> MotorDemand {
-        let rate = |span: usize, s: f64, j: usize| SplineShape(spline).piece_shape(span, s).qd[j];
-        let joints = 0..spline.joints();
-        MotorDemand {
-            peak_speed_rad_s: joints
-                .clone()
-                .map(|j| spline_peak(spline, samples, |span, s| rate(span, s, j).abs()))
-                .collect(),
-            peak_power_w: joints
-                .map(|j| spline_peak(spline, samples, |span, s| (self.at(spline, span, s)[j] * rate(span, s, j)).abs()))
-                .collect(),
-            limits: Vec::new(),
-            stretch: None,
-        }
+        let joints = spline.joints();
+        let mut peaks = spline_peaks(spline, samples, |span, s| {
+            let qd = SplineShape(spline).piece_shape(span, s).qd;
+            let tau = self.at(spline, span, s);
+            qd.iter().map(|w| w.abs()).chain(tau.iter().zip(&qd).map(|(t, w)| (t * w).abs())).collect()
+        });
+        let peak_power_w = peaks.split_off(joints);
+        MotorDemand { peak_speed_rad_s: peaks, peak_power_w, limits: Vec::new(), stretch: None }
     }
 }
 
-/// Every joint's motor torques of `tree` at `shape` (zero angular momentum), in link order.
+/// Every torque of `tree` at `shape` (zero angular momentum): each joint's motors in link order.
 fn general(tree: &Tree, shape: &ShapeState) -> Vec<f64> {
     reduction::joint_torques(tree, shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau).collect()
 }
 
-/// The peak of `f(span, s) ≥ 0` over `spline` from `samples + 1` points per span, every sampled
-/// local maximum that could be the peak refined by golden section, as
-/// [`crate::engines::torque::peak_torques_on`] refines them; its time global, s.
-fn spline_peak(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> f64) -> Peak {
-    let mut best = Peak { value: 0.0, time: 0.0 };
+/// The peak of each channel of `f(span, s)` (all `≥ 0`) over `spline`: every channel sampled at
+/// once on `samples + 1` points per span, each sampled local maximum that could be its peak
+/// refined by golden section on that channel, as [`crate::engines::torque::peak_torques_on`]
+/// refines them; the times global, s.
+fn spline_peaks(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> Vec<f64>) -> Vec<Peak> {
+    let mut best: Vec<Peak> = Vec::new();
     let mut t0 = 0.0;
     for (span, d) in Trajectory::piece_durations(spline).into_iter().enumerate() {
         let h = d / samples as f64;
-        let values: Vec<f64> = (0..=samples).map(|k| f(span, h * k as f64)).collect();
-        let (s, value) = refine_peak(&values, h, &|s| f(span, s));
-        if value > best.value {
-            best = Peak { value, time: t0 + s };
+        let rows: Vec<Vec<f64>> = (0..=samples).map(|k| f(span, h * k as f64)).collect();
+        best.resize(rows[0].len(), Peak { value: 0.0, time: 0.0 });
+        for (c, peak) in best.iter_mut().enumerate() {
+            let values: Vec<f64> = rows.iter().map(|r| r[c]).collect();
+            let (s, value) = refine_peak(&values, h, &|s| f(span, s)[c]);
+            if value > peak.value {
+                *peak = Peak { value, time: t0 + s };
+            }
         }
         t0 += d;
     }

@@ -5,7 +5,7 @@
 //! The equations are the general core's ([`crate::model::tree`] for the bodies' motion relative to
 //! the base, [`crate::engines::reduction`] for the base's), here over dual numbers:
 //!
-//! - link by link, with `J, ω_rel, ω̇_rel` the joint's ([`joint_rotation`],
+//! - link by link, with `J, ω_rel, ω̇_rel` the joint's ([`rotation_of`],
 //!   [`super::model_dynamics::joint_motion`]): `R_k = R_p J`, `w_k = w_p + R_p ω_rel`,
 //!   `ẇ_k = ẇ_p + w_p × R_p ω_rel + R_p ω̇_rel`, `c_k = c_p + R_p a − R_k b` and its two
 //!   derivatives; positions then from the centre of mass, `r_k = c_k − c̄`;
@@ -18,6 +18,10 @@
 //!
 //! Tests check at `f64` against the general core (to 1e-12) and at dual numbers against central
 //! differences. All vectors in the base's frame (A's), SI units.
+//!
+//! ## References
+//! - R. Featherstone, *Rigid Body Dynamics Algorithms* (2008), ch. 4 (kinematic trees);
+//! - A. Griewank, A. Walther, *Evaluating Derivatives* (2nd ed., SIAM 2008), ch. 3 (forward mode).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -58,7 +62,7 @@ fn constant3<T: Real>(v: &Vector3<f64>) -> V3<T> {
 /// The joint's rotation `J(q)` of the child's frame in the parent's ([`Joint::rotation`]):
 /// `Rx(q1) Ry(q2)`, `exp([v]×) = 𝟙 + σ [v]× + a [v]×²` with `v = (q1, q2, 0)`, and that times
 /// `Rz(q3)` on the spherical joint.
-pub fn joint_rotation<T: Real>(joint: Joint, q: &[T]) -> M3<T> {
+pub fn rotation_of<T: Real>(joint: Joint, q: &[T]) -> M3<T> {
     let (zero, one) = (T::cst(0.0), T::cst(1.0));
     match joint {
         Joint::Universal => {
@@ -132,7 +136,7 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T]) -> (Vec<Moving<T>>
         let p = bodies[l.parent];
         let range = tree.coordinates(i);
         let (jq, jqd, jqdd) = (&q[range.clone()], &qd[range.clone()], &qdd[range]);
-        let rotation = product(&p.rotation, &joint_rotation(l.joint, jq));
+        let rotation = product(&p.rotation, &rotation_of(l.joint, jq));
         let (rel, rel_dot, axes) = joint_kinematics(l.joint, jq, jqd, jqdd);
         let w_rel = apply(&p.rotation, rel);
         let rate = add(p.rate, w_rel);
@@ -240,7 +244,6 @@ mod tests {
     use super::*;
     use crate::engines::reduction;
     use crate::model::shape::ShapeState;
-    use crate::model::tree::{Body, Link};
     use crate::model::{Cat, Cylinder};
     use crate::optimize::whole::dual::Dual;
 
@@ -251,23 +254,12 @@ mod tests {
 
     /// Unequal halves on `joint` with a tail on `tail`'s joint hung from the rear half's end.
     fn tailed(joint: Joint, tail: Joint) -> Tree {
-        let link = Link {
-            parent: 1,
-            joint: tail,
-            at_parent: Vector3::new(0.0, 0.0, -0.5 * REAR.length),
-            at_child: Vector3::new(0.0, 0.0, 0.5 * TAIL.length),
-        };
-        Cat { front: FRONT, rear: REAR, joint }.tree().attach(link, Body::from(&TAIL)).expect("body 1 exists")
+        Cat { front: FRONT, rear: REAR, joint }.tree_with_tail(&TAIL, tail)
     }
 
+    /// Every joint for the cat and every joint for the tail.
     fn trees() -> Vec<Tree> {
-        let mut out = Vec::new();
-        for joint in Joint::ALL {
-            for tail in [Joint::Universal, Joint::Spherical] {
-                out.push(tailed(joint, tail));
-            }
-        }
-        out
+        Joint::ALL.iter().flat_map(|&joint| Joint::ALL.map(|tail| tailed(joint, tail))).collect()
     }
 
     /// A shape of `n` coordinates: bends up to ~1.5 rad, rates and accelerations of a few per s.
@@ -303,13 +295,16 @@ mod tests {
 
     #[test]
     fn the_rotation_is_the_joints() {
+        // Below a bend of 1 rad the no-twist coefficients are series, above closed forms: both.
+        // Entries of order one, the same formula up to rounding: 1e-15.
         for joint in Joint::ALL {
-            let q = [0.4, -1.1, 0.8];
-            let ours = joint_rotation(joint, &q[..joint.dof()]);
-            let want = joint.rotation(&q[..joint.dof()]);
-            for (i, row) in ours.iter().enumerate() {
-                for (j, x) in row.iter().enumerate() {
-                    assert!((x - want[(i, j)]).abs() < 1e-15, "{joint}: {ours:?} against {want}");
+            for q in [[0.4, -1.1, 0.8], [1e-3, 2e-3, -0.3]] {
+                let ours = rotation_of(joint, &q[..joint.dof()]);
+                let want = joint.rotation(&q[..joint.dof()]);
+                for (i, row) in ours.iter().enumerate() {
+                    for (j, x) in row.iter().enumerate() {
+                        assert!((x - want[(i, j)]).abs() < 1e-15, "{joint}: {ours:?} against {want}");
+                    }
                 }
             }
         }
@@ -318,31 +313,39 @@ mod tests {
     #[test]
     fn dual_derivatives_match_central_differences() {
         // Step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute, as model_dynamics.rs.
-        let tree = tailed(Joint::NoTwist, Joint::Universal);
-        let n = tree.dof();
-        let s = shape(n, 0.5);
-        let x: Vec<f64> = s.q.iter().chain(&s.qd).chain(&s.qdd).copied().collect();
-        let outputs = |x: &[Dual<12>]| {
-            let (q, rest) = x.split_at(n);
-            let (qd, qdd) = rest.split_at(n);
-            let lambda = LAMBDA.map(Dual::cst);
-            let mut out = motor_torques(&tree, q, qd, qdd, lambda);
-            out.extend(body_rate(&tree, q, qd, lambda));
-            out
-        };
-        let seeded: Vec<Dual<12>> = x.iter().enumerate().map(|(k, &v)| Dual::input(v, k)).collect();
-        let dual = outputs(&seeded);
-        let step = 1e-6;
-        for k in 0..3 * n {
-            let shifted = |sign: f64| {
-                let y: Vec<Dual<12>> =
-                    x.iter().enumerate().map(|(j, &v)| Dual::cst(if j == k { v + sign * step } else { v })).collect();
-                outputs(&y)
+        // Bent past 1 rad (the closed forms) and nearly straight (the series), on two trees.
+        for (tree, bend) in
+            [(tailed(Joint::NoTwist, Joint::Universal), 1.2), (tailed(Joint::Spherical, Joint::NoTwist), 1e-3)]
+        {
+            let n = tree.dof();
+            let mut s = shape(n, 0.5);
+            s.q.iter_mut().for_each(|q| *q *= bend);
+            let x: Vec<f64> = s.q.iter().chain(&s.qd).chain(&s.qdd).copied().collect();
+            let outputs = |x: &[Dual<15>]| {
+                let (q, rest) = x.split_at(n);
+                let (qd, qdd) = rest.split_at(n);
+                let lambda = LAMBDA.map(Dual::cst);
+                let mut out = motor_torques(&tree, q, qd, qdd, lambda);
+                out.extend(body_rate(&tree, q, qd, lambda));
+                out
             };
-            let (plus, minus) = (shifted(1.0), shifted(-1.0));
-            for (o, d) in dual.iter().enumerate() {
-                let fd = (plus[o].re - minus[o].re) / (2.0 * step);
-                assert!((d.eps[k] - fd).abs() <= 1e-7, "output {o}, input {k}: {} against {fd}", d.eps[k]);
+            let seeded: Vec<Dual<15>> = x.iter().enumerate().map(|(k, &v)| Dual::input(v, k)).collect();
+            let dual = outputs(&seeded);
+            let step = 1e-6;
+            for k in 0..3 * n {
+                let shifted = |sign: f64| {
+                    let y: Vec<Dual<15>> = x
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &v)| Dual::cst(if j == k { v + sign * step } else { v }))
+                        .collect();
+                    outputs(&y)
+                };
+                let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                for (o, d) in dual.iter().enumerate() {
+                    let fd = (plus[o].re - minus[o].re) / (2.0 * step);
+                    assert!((d.eps[k] - fd).abs() <= 1e-7, "output {o}, input {k}: {} against {fd}", d.eps[k]);
+                }
             }
         }
     }

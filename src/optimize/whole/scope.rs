@@ -1,0 +1,60 @@
+//! What the whole optimiser plans and what it refuses, before anything runs: a release with spin
+//! takes neither motor limits nor the least fall time ([`spin_supported`]), and a cat of more than
+//! two motors (the spherical joint, a tail) takes neither motor limits nor spin
+//! ([`beyond_two_motors`]). Each refusal names the problem file's field.
+
+use nalgebra::Vector3;
+
+use super::cat::WholeCat;
+use super::settings::{Objective, WholeError, WholeSettings};
+use crate::model::motor::Motors;
+
+/// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
+/// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
+/// limits' feasibility stage is that least fall time; at a fixed fall the limits would need the
+/// spinning torques' rows, which are not built.
+pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if spin.norm_squared() == 0.0 {
+        return Ok(());
+    }
+    let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
+    if settings.objective == Objective::MinTime {
+        return Err(WholeError::BadFieldValue {
+            field: "drop.angular_momentum",
+            value,
+            reason: "optimize.whole.objective = \"min-time\" assumes a release without spin (slowing a path changes a spinning cat's flip): use \"peak\" or \"energy\", or set drop.angular_momentum to [0, 0, 0]".into(),
+        });
+    }
+    if !motors.is_ideal() {
+        return Err(WholeError::BadFieldValue {
+            field: "drop.angular_momentum",
+            value,
+            reason: "the whole optimiser does not take [actuator] limits (torque_limit_nm, speed_limit_rad_s, stall_torque_nm, free_speed_rad_s, power_limit_w) with a release with spin: remove them, or set drop.angular_momentum to [0, 0, 0]".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Refuses what the optimiser does not plan for a cat of more than two motors (the spherical joint,
+/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): motor limits (their usage is measured
+/// for two motors) and a release with spin (the spinning model is built for two coordinates).
+pub fn beyond_two_motors(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+    if cat.joints() == 2 {
+        return Ok(());
+    }
+    let refuse = |field: &'static str, value: String, what: &str| {
+        Err(WholeError::BadFieldValue {
+            field,
+            value,
+            reason: format!("the whole optimiser plans a cat of {} motors {what}", cat.joints()),
+        })
+    };
+    if spin.norm_squared() > 0.0 {
+        let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
+        return refuse("drop.angular_momentum", value, "for a release without spin only: set it to [0, 0, 0]");
+    }
+    if !motors.is_ideal() {
+        return refuse("actuator", "limits".into(), "as ideal motors only: remove the [actuator] limits");
+    }
+    Ok(())
+}
