@@ -3,13 +3,14 @@
 //! twist, which now a motor must hold or use) and the cat with a tail (four: a rod a tenth of the
 //! cat's mass, as long as a half, on a universal joint at the rear half's end), each optimised
 //! over the problem's fall; each flip is re-measured here at 1e-12 rad by the general core's
-//! adaptive engine on the cat's tree of bodies.
+//! adaptive engine on the cat's tree of bodies, and verified in rapier's tree scene
+//! (`engines::rapier::tree_run::verify_tree`: the problem's `[rapier]` tolerances, the step
+//! refinement and the verdict of every verification).
 //!
 //! `cargo run --release --example more_motors [PROBLEM.toml]` (default problems/kane-scher.toml).
 //!
-//! These optima are not yet measured by the one rig every command reports from, nor verified in
-//! rapier, nor exported: `catflip` refuses `cat.joint = "spherical"` and has no `[cat.tail]` until
-//! they are.
+//! These optima are not yet measured by the one rig every command reports from, nor exported:
+//! `catflip` refuses `cat.joint = "spherical"` and has no `[cat.tail]` until they are.
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -17,6 +18,8 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use catflip::engines::models;
+use catflip::engines::rapier::tree_run::verify_tree;
+use catflip::engines::rapier::{Quantity, RapierOptions, Reference};
 use catflip::model::motor::Motors;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::whole::spline::SplineShape;
@@ -77,6 +80,23 @@ fn main() -> anyhow::Result<()> {
             third.to_degrees(),
             best.motors.peak_speed_rad_s.iter().map(|p| (p.value * 1e4).round() / 1e4).collect::<Vec<_>>(),
         );
+        let reference = Reference { twist: flip.twist, swing: flip.swing, peak_torque: best.peak_torque_nm };
+        let rapier =
+            verify_tree(&tree, &SplineShape(&best.spline), &problem.rapier, &reference, &RapierOptions::default())?;
+        println!("  rapier (the tree scene): {}", rapier.verdict);
+        let quantity = |q: Quantity| rapier.quantity(q).and_then(|c| c.value.zip(c.gap));
+        if let (Some((twist, twist_gap)), Some((swing, _)), Some((peak, peak_gap)), Some(last)) =
+            (quantity(Quantity::Twist), quantity(Quantity::Swing), quantity(Quantity::PeakTorque), rapier.runs.last())
+        {
+            println!(
+                "    {} runs down to dt {:.3e} s, extrapolated: twist {twist:+.4}° ({twist_gap:.4}° from the exact), swing {swing:.4}°, peak {peak:.6} N·m ({:.2} % from the exact); finest run: tracking ≤ {:.1e} rad, momentum drift {:.1e}",
+                rapier.runs.len(),
+                last.dt,
+                100.0 * peak_gap,
+                last.tracking_error_rad.iter().copied().fold(0.0, f64::max),
+                last.momentum_drift,
+            );
+        }
     }
     Ok(())
 }

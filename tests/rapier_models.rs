@@ -120,7 +120,7 @@ fn kane_and_schers_cat_is_verified_on_the_ball_joint() {
     let reference = Reference { twist: e.flip.twist, swing: e.flip.swing, peak_torque: e.peaks.max };
     let v = verify(r.model(), &r.schedule, &r.problem.rapier, &reference).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, v.to_text());
-    let tracking = v.tracking_error_rad.unwrap_or([f64::NAN; 2]);
+    let tracking = v.tracking_error_rad.unwrap_or(vec![f64::NAN; 2]);
     assert!(tracking.iter().all(|t| *t < 1e-4), "tracking error {tracking:?} rad");
 
     let universal = TwoMotorCat::paper(r.model().cat().front);

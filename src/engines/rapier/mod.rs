@@ -48,8 +48,8 @@
 //! projected on A's `x` and `y` (DESIGN.md §10). With motor limits the bounds go to the motors
 //! about `x` and `y`, at the joint's coordinate rates `q̇` (least squares from `ω_rel`); the one
 //! about `z` is the joint's constraint, not a motor, and stays unbounded, so a clipped motor
-//! leaves the halves untwisted (to `O(h²)`). The spherical joint's third motor is not built
-//! ([`RapierError::UnsupportedJoint`]).
+//! leaves the halves untwisted (to `O(h²)`). This scene does not build the spherical joint's
+//! third motor ([`RapierError::UnsupportedJoint`]): the tree scene does (below).
 //!
 //! # Motors
 //!
@@ -136,6 +136,17 @@
 //! meets the tolerances of [`crate::problem::settings::RapierSettings`], and ends in a [`Verdict`]
 //! (`verified`, `not verified` with the quantity and the gap, or `inconclusive` with why).
 //!
+//! # Trees of bodies
+//!
+//! The cats beyond two motors (the spherical joint's three, a tail's two more) run in the tree
+//! scene ([`tree_scene`]): any [`crate::model::tree::Tree`] in one multibody, every link built as
+//! this scene builds its joint (two revolutes and a cross, or a ball welded to the child, all
+//! three of its motors aimed on the spherical joint), driven along a shape trajectory of any
+//! number of coordinates and measured and verified as here ([`tree_run`]: the same step
+//! refinement and verdict, each motor's torque from Newton–Euler on the bodies it drives). On a
+//! two-body cat it runs as this scene does (`tests/rapier_tree.rs`). So far it runs ideal motors,
+//! no spin and smoothly joined trajectories (the whole optimiser's splines).
+//!
 //! # Tracked runs
 //!
 //! The verification drives the joints with rapier's motors. A tracked run ([`mod@track`]) instead
@@ -168,6 +179,8 @@ pub mod scene;
 mod spin;
 mod timescale;
 pub mod track;
+pub mod tree_run;
+pub mod tree_scene;
 mod verify;
 mod verify_text;
 
@@ -184,8 +197,8 @@ pub use saturation::{available_torque, MotorSaturation, SATURATION_TOLERANCE};
 pub use scene::{CatScene, MotorGains};
 pub use spin::{spin_free, SpinRun, SpinTest};
 pub use timescale::{
-    time_scales, time_scales_within, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE, STEPS_PER_PIECE,
-    STEPS_PER_TORQUE_TIME,
+    time_scales, time_scales_within, tree_time_scales, StepLimit, TimeScales, ANGLE_PER_STEP, SAMPLES_PER_PIECE,
+    STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
 pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
 pub use verify::{
@@ -230,6 +243,12 @@ pub enum RapierError {
     /// no-twist joints, and only the universal joint's scene takes applied joint torques.
     #[error("cat.joint = \"{0}\": rapier's scene builds the universal joint (two revolute joints and a cross) and the no-twist joint (a ball joint) for tracked schedules, not this joint or this use of it, so far; the exact engine runs it (`simulate --engine exact`)")]
     UnsupportedJoint(crate::model::Joint),
+    /// A body of a tree whose inertia is not diagonal in its own frame ([`tree_scene`]).
+    #[error("body {0} of the tree has an inertia that is not diagonal in its own frame: rapier's tree scene takes bodies with their principal axes along their frames (cylinders, rods)")]
+    NotPrincipal(usize),
+    /// What the tree scene does not run so far ([`tree_run`]).
+    #[error("rapier's scene of a tree of bodies {0}")]
+    TreeScope(String),
     /// Rapier refused to build a joint.
     #[error("rapier refused {0}")]
     JointRejected(&'static str),

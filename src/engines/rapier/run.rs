@@ -202,6 +202,16 @@ fn two(tau: &[f64]) -> [f64; 2] {
     [tau[0], tau[1]]
 }
 
+/// The steps of a run of `duration` s at the `requested` step (at least one), or
+/// [`RapierError::TooManySteps`].
+pub(super) fn step_count(duration: f64, requested: f64) -> Result<usize, RapierError> {
+    let steps = (duration / requested).ceil();
+    if steps.is_nan() || steps > MAX_STEPS as f64 {
+        return Err(RapierError::TooManySteps { dt: requested, duration, steps, max: MAX_STEPS });
+    }
+    Ok((steps as usize).max(1))
+}
+
 /// Runs a trajectory in rapier (module docs: scene, motors, measurements) on `cat`: the paper's
 /// cat or any other on the universal joint (unequal halves); another joint is refused
 /// ([`RapierError::UnsupportedJoint`]).
@@ -222,10 +232,7 @@ pub fn simulate_with(
         TimeStep::Fixed(dt) => dt,
         TimeStep::Auto => super::time_scales_within(cat, traj, &opts.motors).first_step,
     };
-    let steps_f = (duration / requested).ceil();
-    if steps_f.is_nan() || steps_f > MAX_STEPS as f64 {
-        return Err(RapierError::TooManySteps { dt: requested, duration, steps: steps_f, max: MAX_STEPS });
-    }
+    let n = step_count(duration, requested)?;
     // Boundaries where the motion is smooth (a spline's knots) are not the servo's business.
     let rough = pieces.rough(ACCEL_JUMP_FRACTION);
     let shortest = pieces.shortest_smooth(&rough);
@@ -237,7 +244,6 @@ pub fn simulate_with(
             min: MIN_STEPS_PER_PHASE,
         });
     }
-    let n = (steps_f as usize).max(1);
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);

@@ -66,6 +66,20 @@ pub struct CatScene {
     layout: Layout,
 }
 
+/// An empty world without gravity (the falling frame) stepping by `dt` with one solver substep of
+/// `pgs_iterations` Gauss–Seidel sweeps.
+pub(super) fn falling_world(dt: f64, pgs_iterations: usize) -> PhysicsWorld {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::ZERO;
+    world.integration_parameters = IntegrationParameters {
+        dt,
+        num_solver_iterations: 1,
+        num_internal_pgs_iterations: pgs_iterations.max(1),
+        ..IntegrationParameters::default()
+    };
+    world
+}
+
 pub(super) fn to_na(v: Vector) -> Vector3<f64> {
     Vector3::new(v.x, v.y, v.z)
 }
@@ -74,16 +88,16 @@ pub(super) fn from_na(v: &Vector3<f64>) -> Vector {
     Vector::new(v.x, v.y, v.z)
 }
 
-fn rot_to_na(r: Rotation) -> UnitQuaternion<f64> {
+pub(super) fn rot_to_na(r: Rotation) -> UnitQuaternion<f64> {
     UnitQuaternion::from_quaternion(Quaternion::new(r.w, r.x, r.y, r.z))
 }
 
-fn rot_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
+pub(super) fn rot_from_matrix(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
     UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(*m))
 }
 
 /// The ball joint's three motor axes, its angular coordinates in A's frame.
-const BALL_AXES: [JointAxis; 3] = [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ];
+pub(super) const BALL_AXES: [JointAxis; 3] = [JointAxis::AngX, JointAxis::AngY, JointAxis::AngZ];
 
 /// The ball joint's relative rate `ω_rel` (A's frame), its generalized velocities.
 fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
@@ -102,7 +116,7 @@ fn ball_rate(snap: &Snapshot) -> Vector3<f64> {
 /// the present rate of a motor held back by its bound: the constraint then lags one step, and
 /// the twist it leaves, `O(h²)` per step, goes at the next).
 /// `None` when the halves are folded flat (`1 + e_z` below 1e-9), where the twist is undefined.
-fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> Option<f64> {
+pub(super) fn untwisting_rate(now: &UnitQuaternion<f64>, rate: &Vector3<f64>, h: f64) -> Option<f64> {
     let e = now * Vector3::z();
     (1.0 + e.z > 1e-9).then(|| -(rate.x * e.x + rate.y * e.y) / (1.0 + e.z) - swing_twist(now).twist / h)
 }
@@ -117,7 +131,7 @@ fn no_twist_rates(q: [f64; 2], w: &Vector3<f64>) -> Option<[f64; 2]> {
     Some([x.x, x.y])
 }
 
-fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
+pub(super) fn rot_from_na(r: &UnitQuaternion<f64>) -> Rotation {
     Rotation::from_xyzw(r.i, r.j, r.k, r.w)
 }
 
@@ -141,14 +155,7 @@ impl CatScene {
         };
         let masses = MassModel::new(cat, cross_mass_fraction);
         let [h_a, h_b] = masses.half_lengths;
-        let mut world = PhysicsWorld::new();
-        world.gravity = Vector::ZERO;
-        world.integration_parameters = IntegrationParameters {
-            dt,
-            num_solver_iterations: 1,
-            num_internal_pgs_iterations: pgs_iterations.max(1),
-            ..IntegrationParameters::default()
-        };
+        let mut world = falling_world(dt, pgs_iterations);
 
         // Initial poses at q0: A at the origin, the cross (turned by Rx(q1)) or the ball (turned
         // with B) at the joint point, B beyond it.

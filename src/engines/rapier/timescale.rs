@@ -38,7 +38,10 @@ use super::pieces::Pieces;
 use super::pieces::ACCEL_JUMP_FRACTION;
 use super::saturation::bounds_torque;
 use crate::engines::models::TwoMotorCat;
+use crate::engines::reduction;
+use crate::engines::shape::ShapeTrajectory;
 use crate::model::motor::Motors;
+use crate::model::tree::Tree;
 use crate::schedule::{JointState, Trajectory};
 
 /// Sampling intervals per piece when the scales are measured.
@@ -133,28 +136,64 @@ fn scales_of(
     join_smooth: bool,
     motion: impl Fn(&JointState) -> (Vector3<f64>, Vector3<f64>, [f64; 2]),
 ) -> TimeScales {
-    let (mut qd_max, mut w_max, mut wd_max, mut tau_max, mut taud_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let durations = traj.piece_durations();
-    for (piece, &d) in durations.iter().enumerate().filter(|(_, d)| **d > 0.0) {
-        let h = d / SAMPLES_PER_PIECE as f64;
-        let mut prev: Option<[f64; 2]> = None;
-        for k in 0..=SAMPLES_PER_PIECE {
-            let st = traj.piece_state(piece, k as f64 * h);
-            let (omega, omega_dot, tau) = motion(&st);
-            qd_max = qd_max.max(st.qd[0].hypot(st.qd[1]));
-            w_max = w_max.max(omega.norm());
-            wd_max = wd_max.max(omega_dot.norm());
-            tau_max = tau_max.max(tau[0].hypot(tau[1]));
-            if let Some(p) = prev {
-                taud_max = taud_max.max((tau[0] - p[0]).hypot(tau[1] - p[1]) / h);
-            }
-            prev = Some(tau);
-        }
-    }
     let pieces = Pieces::new(traj);
     let rough =
         if join_smooth { pieces.rough(ACCEL_JUMP_FRACTION) } else { vec![true; durations.len().saturating_sub(1)] };
-    let shortest = pieces.shortest_smooth(&rough);
+    sampled(&durations, pieces.shortest_smooth(&rough), |piece, s| {
+        let st = traj.piece_state(piece, s);
+        let (omega, omega_dot, tau) = motion(&st);
+        Sample { qd: st.qd.to_vec(), omega, omega_dot, tau: tau.to_vec() }
+    })
+}
+
+/// The time scales of a shape trajectory on a tree of bodies (any number of coordinates and
+/// motors), from the exact zero-momentum motion of `tree` ([`crate::engines::reduction`]): the
+/// table's bounds with `‖q̇‖` and `‖τ‖` over every coordinate and motor. Its pieces must join
+/// smoothly (the whole optimiser's splines do): the shortest piece is the whole duration.
+pub fn tree_time_scales(tree: &Tree, traj: &impl ShapeTrajectory) -> TimeScales {
+    let durations = traj.piece_durations();
+    let zero = Vector3::zeros();
+    sampled(&durations, durations.iter().sum(), |piece, s| {
+        let shape = traj.piece_shape(piece, s);
+        let d = reduction::dynamics(tree, &shape, &zero);
+        let tau = reduction::joint_torques(tree, &shape, &zero).into_iter().flat_map(|l| l.tau).collect();
+        Sample { qd: shape.qd, omega: d.omega, omega_dot: d.omega_dot, tau }
+    })
+}
+
+/// One sample of a trajectory's motion: the joint rates, A's `Ω` and `Ω̇`, the motor torques.
+struct Sample {
+    qd: Vec<f64>,
+    omega: Vector3<f64>,
+    omega_dot: Vector3<f64>,
+    tau: Vec<f64>,
+}
+
+/// Euclidean norm (by `hypot`, as the two-motor scales always were).
+fn norm(v: impl Iterator<Item = f64>) -> f64 {
+    v.fold(0.0, f64::hypot)
+}
+
+/// The time scales from [`SAMPLES_PER_PIECE`] samples of every piece of `durations` and the
+/// shortest smooth stretch `shortest`.
+fn sampled(durations: &[f64], shortest: f64, sample: impl Fn(usize, f64) -> Sample) -> TimeScales {
+    let (mut qd_max, mut w_max, mut wd_max, mut tau_max, mut taud_max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (piece, &d) in durations.iter().enumerate().filter(|(_, d)| **d > 0.0) {
+        let h = d / SAMPLES_PER_PIECE as f64;
+        let mut prev: Option<Vec<f64>> = None;
+        for k in 0..=SAMPLES_PER_PIECE {
+            let st = sample(piece, k as f64 * h);
+            qd_max = qd_max.max(norm(st.qd.iter().copied()));
+            w_max = w_max.max(st.omega.norm());
+            wd_max = wd_max.max(st.omega_dot.norm());
+            tau_max = tau_max.max(norm(st.tau.iter().copied()));
+            if let Some(p) = &prev {
+                taud_max = taud_max.max(norm(st.tau.iter().zip(p).map(|(a, b)| a - b)) / h);
+            }
+            prev = Some(st.tau);
+        }
+    }
     let torque_time = if taud_max > 0.0 { tau_max / taud_max } else { f64::INFINITY };
     let over = |scale: f64, rate: f64| if rate > 0.0 { scale / rate } else { f64::INFINITY };
     let bounds = [

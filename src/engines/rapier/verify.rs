@@ -323,8 +323,9 @@ pub struct RunRecord {
     pub swing_deg: f64,
     /// Peak torque (per-piece peaks), N·m.
     pub peak_torque_nm: f64,
-    /// Largest tracking error per joint, rad.
-    pub tracking_error_rad: [f64; 2],
+    /// Largest tracking error per joint coordinate (a two-motor cat), or per link as the angle
+    /// between the reached and the planned relative rotation (a tree of bodies, [`super::tree_run`]), rad.
+    pub tracking_error_rad: Vec<f64>,
     /// Largest angular-momentum drift relative to `I* · max|q̇|`.
     pub momentum_drift: f64,
     /// Wall-clock time, s.
@@ -393,8 +394,8 @@ pub struct Verification {
     pub failures: Vec<Failure>,
     /// Twist, swing, peak torque.
     pub quantities: Vec<Convergence>,
-    /// Tracking error of the finest run per joint, rad.
-    pub tracking_error_rad: Option<[f64; 2]>,
+    /// Tracking error of the finest run ([`RunRecord::tracking_error_rad`]), rad.
+    pub tracking_error_rad: Option<Vec<f64>>,
     /// Momentum drift of the finest run, relative to `I* · max|q̇|`.
     pub momentum_drift: Option<f64>,
     /// Time spent in rapier, s.
@@ -449,8 +450,6 @@ pub fn verify_with(
         TimeStep::Fixed(dt) => (dt, StepSource::Fixed),
         TimeStep::Auto => (scales.first_step, StepSource::Auto),
     };
-    // Step counts double exactly: n_k = n_0 2^k, dt_k = T / n_k.
-    let mut steps = (duration / first).ceil().max(1.0);
     // The exact engine's view of the motors, sampled as its reports sample peaks.
     let demand = (!opts.motors.is_ideal()).then(|| {
         let samples = piece_samples(traj, ExactSettings::default().torque_samples);
@@ -460,7 +459,94 @@ pub fn verify_with(
             (opts.spin.norm_squared() > 0.0).then(|| released_on(cat, traj, &opts.spin, tolerance).1).flatten();
         motor_demand_from(&released_torques(cat, history.as_ref()), traj, &samples, &opts.motors)
     });
-    let (mut runs, mut kept, mut failures) = (Vec::<RunRecord>::new(), Vec::<RapierRun>::new(), Vec::new());
+    let mut refined = refine(settings, reference, duration, first, |dt| {
+        let run = super::simulate_with(cat, traj, &settings.with_dt(dt), opts)?;
+        Ok((record(&run), run))
+    })?;
+    let (runs, finest) = (&refined.runs, refined.finest.take());
+    let mut quantities = convergences(runs, reference, settings);
+    let verdict = match (&finest, &demand) {
+        (Some(run), _) if !run.saturation.is_empty() => {
+            // Not extrapolated (module docs): only the raw values stand.
+            for c in &mut quantities {
+                c.extrapolated.clear();
+                (c.observed_order, c.value, c.estimate, c.gap) = (None, None, None, None);
+            }
+            let n = runs.len();
+            Verdict::Saturated {
+                motors: run.saturation.clone(),
+                twist_deg: run.twist.to_degrees(),
+                swing_deg: run.swing.to_degrees(),
+                twist_change_deg: (n >= 2).then(|| runs[n - 1].twist_deg - runs[n - 2].twist_deg),
+                planned_twist_deg: reference.twist.to_degrees(),
+                planned_swing_deg: reference.swing.to_degrees(),
+                dt: run.dt,
+            }
+        }
+        (Some(_), Some(d)) if !d.within() => Verdict::BeyondMotors { exceeded: d.verdict() },
+        _ => judge(&quantities, reference, runs.len(), &refined.why_stopped, &refined.failures),
+    };
+    let verification = refined.verification(verdict, quantities, (source, scales), settings, demand);
+    Ok(Verification { finest, ..verification })
+}
+
+/// What the step refinement leaves: the runs kept (an unbroken halving sequence), the finest
+/// run in full, the failures, the time and steps spent, and why it stopped short (empty when the
+/// estimates met the tolerances).
+pub(super) struct Refined<R> {
+    pub runs: Vec<RunRecord>,
+    pub finest: Option<R>,
+    pub failures: Vec<Failure>,
+    pub spent: f64,
+    pub attempted: f64,
+    pub why_stopped: String,
+}
+
+impl<R> Refined<R> {
+    /// The verification of these runs: the `verdict` on their `quantities`, where the first step
+    /// came from and the time scales, the budget of `settings`, the exact engine's motor demand;
+    /// without the finest run in full.
+    pub(super) fn verification(
+        self,
+        verdict: Verdict,
+        quantities: Vec<Convergence>,
+        (first_step, time_scales): (StepSource, TimeScales),
+        settings: &RapierSettings,
+        motor_demand: Option<MotorDemand>,
+    ) -> Verification {
+        Verification {
+            status: verdict.status(),
+            verdict,
+            first_step,
+            time_scales,
+            dt_sequence: self.runs.iter().map(|r| r.dt).collect(),
+            tracking_error_rad: self.runs.last().map(|r| r.tracking_error_rad.clone()),
+            momentum_drift: self.runs.last().map(|r| r.momentum_drift),
+            runs: self.runs,
+            failures: self.failures,
+            quantities,
+            run_time_s: self.spent,
+            steps_taken: self.attempted as usize,
+            step_budget: settings.step_budget,
+            motor_demand,
+            finest: None,
+        }
+    }
+}
+
+/// The step refinement (module docs) of a trajectory lasting `duration` s from the first step
+/// `first`: `simulate(dt)` runs it at `dt` and returns its record (its `run_time_s` is filled
+/// here) and the run in full.
+pub(super) fn refine<R>(
+    settings: &RapierSettings,
+    reference: &Reference,
+    duration: f64,
+    first: f64,
+    mut simulate: impl FnMut(f64) -> Result<(RunRecord, R), RapierError>,
+) -> Result<Refined<R>, RapierError> {
+    // Step counts double exactly: n_k = n_0 2^k, dt_k = T / n_k.
+    let mut steps = (duration / first).ceil().max(1.0);
+    let (mut runs, mut finest, mut failures) = (Vec::<RunRecord>::new(), None, Vec::new());
     let mut spent = 0.0;
     let mut why_stopped = String::new();
     let mut last_attempt: Option<(f64, f64)> = None;
@@ -493,20 +579,20 @@ pub fn verify_with(
         }
         let dt = duration / steps * (1.0 + 1e-12);
         let start = Instant::now();
-        let result = super::simulate_with(cat, traj, &settings.with_dt(dt), opts);
+        let result = simulate(dt);
         let elapsed = start.elapsed().as_secs_f64();
         spent += elapsed;
         last_attempt = Some((elapsed, steps));
         attempted += steps;
         match result {
-            Ok(run) => {
-                runs.push(record(&run, elapsed));
-                kept.push(run);
+            Ok((record, run)) => {
+                runs.push(RunRecord { run_time_s: elapsed, ..record });
+                finest = Some(run);
             }
             Err(e @ (RapierError::Diverged(_) | RapierError::TooCoarse { .. })) => {
                 failures.push(Failure { dt, reason: e.to_string() });
                 runs.clear();
-                kept.clear();
+                finest = None;
                 if failures.len() > 12 {
                     why_stopped = format!("rapier failed {} times in a row ({e})", failures.len());
                     break;
@@ -529,66 +615,57 @@ pub fn verify_with(
         }
         steps *= 2.0;
     }
-    let mut quantities = convergences(&runs, reference, settings);
-    let finest = kept.pop();
-    let verdict = match (&finest, &demand) {
-        (Some(run), _) if !run.saturation.is_empty() => {
-            // Not extrapolated (module docs): only the raw values stand.
-            for c in &mut quantities {
-                c.extrapolated.clear();
-                (c.observed_order, c.value, c.estimate, c.gap) = (None, None, None, None);
-            }
-            let n = runs.len();
-            Verdict::Saturated {
-                motors: run.saturation.clone(),
-                twist_deg: run.twist.to_degrees(),
-                swing_deg: run.swing.to_degrees(),
-                twist_change_deg: (n >= 2).then(|| runs[n - 1].twist_deg - runs[n - 2].twist_deg),
-                planned_twist_deg: reference.twist.to_degrees(),
-                planned_swing_deg: reference.swing.to_degrees(),
-                dt: run.dt,
-            }
-        }
-        (Some(_), Some(d)) if !d.within() => Verdict::BeyondMotors { exceeded: d.verdict() },
-        _ => judge(&quantities, reference, runs.len(), &why_stopped, &failures),
-    };
-    Ok(Verification {
-        status: verdict.status(),
-        verdict,
-        first_step: source,
-        time_scales: scales,
-        dt_sequence: runs.iter().map(|r| r.dt).collect(),
-        tracking_error_rad: runs.last().map(|r| r.tracking_error_rad),
-        momentum_drift: runs.last().map(|r| r.momentum_drift),
-        runs,
-        failures,
-        quantities,
-        run_time_s: spent,
-        steps_taken: attempted as usize,
-        step_budget: settings.step_budget,
-        motor_demand: demand,
-        finest,
-    })
+    Ok(Refined { runs, finest, failures, spent, attempted, why_stopped })
 }
 
-fn record(run: &RapierRun, run_time_s: f64) -> RunRecord {
+fn record(run: &RapierRun) -> RunRecord {
     RunRecord {
-        dt: run.dt,
-        steps: run.steps,
-        twist_deg: run.twist.to_degrees(),
-        swing_deg: run.swing.to_degrees(),
-        peak_torque_nm: run.peak_torque.max,
-        tracking_error_rad: run.tracking_error,
-        momentum_drift: run.momentum.max_rel,
-        run_time_s,
         saturation: run.saturation.clone(),
         spine_twist_max_deg: run.spine_twist_max.map(f64::to_degrees),
-        swing_vector: super::swing_vector(&run.orientation, run.twist).map(f64::to_degrees),
+        ..RunRecord::new(
+            run.dt,
+            run.steps,
+            [run.twist, run.swing],
+            &run.orientation,
+            run.peak_torque.max,
+            run.tracking_error.to_vec(),
+            run.momentum.max_rel,
+        )
+    }
+}
+
+impl RunRecord {
+    /// The record of a run at step `dt` of `steps` steps that ends with A at `orientation`
+    /// (its twist and swing, rad), with the peak torque `peak` (N·m), the tracking errors (rad) and
+    /// the relative momentum drift; no saturation, no spine twist, no time yet.
+    pub(super) fn new(
+        dt: f64,
+        steps: usize,
+        [twist, swing]: [f64; 2],
+        orientation: &nalgebra::UnitQuaternion<f64>,
+        peak: f64,
+        tracking_error_rad: Vec<f64>,
+        momentum_drift: f64,
+    ) -> Self {
+        let swing_vector = super::swing_vector(orientation, twist);
+        RunRecord {
+            dt,
+            steps,
+            twist_deg: twist.to_degrees(),
+            swing_deg: swing.to_degrees(),
+            peak_torque_nm: peak,
+            tracking_error_rad,
+            momentum_drift,
+            run_time_s: 0.0,
+            saturation: Vec::new(),
+            spine_twist_max_deg: None,
+            swing_vector: swing_vector.map(f64::to_degrees),
+        }
     }
 }
 
 /// Each quantity's extrapolations, order, estimate and gap from the runs so far.
-fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
+pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
     let ratio = |w: &[RunRecord]| w[0].dt / w[1].dt;
     let ref_peak = if reference.peak_torque > 0.0 { reference.peak_torque } else { 1.0 };
     Quantity::ALL
@@ -641,7 +718,7 @@ struct Judged {
 }
 
 /// The verdict from the convergence records (module docs).
-fn judge(
+pub(super) fn judge(
     quantities: &[Convergence],
     reference: &Reference,
     runs: usize,
