@@ -72,8 +72,9 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// The whole-manoeuvre optimum of each cat model (equal or unequal halves, universal or
-    /// no-twist joint) on the problem's cat and fall, side by side: which body flips most cheaply.
+    /// The whole-manoeuvre optimum of each cat model (equal or unequal halves; universal, no-twist
+    /// or spherical joint; with `[cat.tail]` the cat with its tail) on the problem's cat and fall,
+    /// side by side: which body flips most cheaply.
     CompareModels {
         #[command(flatten)]
         common: Common,

@@ -215,7 +215,8 @@ fn rapier_verifies_unequal_halves_and_the_no_twist_joint() {
 
 /// `compare-models` with no model able to converge (two iterations): the table says so, nothing
 /// is written, and the command exits non-zero naming why; with enough iterations it exits 0,
-/// writes its folder and its JSON carries one row per model.
+/// writes its folder and its JSON carries one row per model (the universal, no-twist and
+/// spherical joints).
 #[test]
 fn compare_models_says_when_no_model_has_an_optimum() {
     let out = scratch("compare-models");
@@ -234,7 +235,7 @@ fn compare_models_says_when_no_model_has_an_optimum() {
     let (code, json, err) = catflip(&args);
     assert_eq!(code, 0, "{err}");
     let v: serde_json::Value = serde_json::from_str(&json).expect("one JSON object");
-    assert_eq!(v["rows"].as_array().map(Vec::len), Some(2), "{json}");
+    assert_eq!(v["rows"].as_array().map(Vec::len), Some(3), "{json}");
     assert!(v["cheapest"].as_str().is_some(), "{json}");
     assert!(out.join("kane-scher-models").join("models.md").is_file());
     let _ = std::fs::remove_dir_all(&out);
@@ -359,4 +360,28 @@ fn a_diverged_robust_trial_is_named_with_the_step_to_shorten() {
     assert!(err.contains("(open loop) diverged in rapier"), "{err}");
     assert!(err.contains("with robust.dt_s = 1e-3 s"), "{err}");
     assert!(!out.exists(), "a stopped run writes nothing");
+}
+
+/// Issue 22: `[cat.tail]` is compared by `compare-models` alone; every command that measures two
+/// bodies refuses it with one error naming `cat.tail`, a non-zero exit and no results.
+#[test]
+fn a_tail_is_refused_by_the_commands_that_measure_two_bodies() {
+    let out = scratch("tail-refused");
+    let out_arg = out.to_string_lossy().to_string();
+    for args in [
+        vec!["simulate", "problems/tail.toml"],
+        vec!["compare", "problems/tail.toml"],
+        vec!["optimize", "problems/tail.toml", "--whole"],
+        vec!["run", "problems/tail.toml", "--out", &out_arg],
+    ] {
+        let (code, _, stderr) = catflip(&args);
+        assert_ne!(code, 0, "{args:?}");
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+        assert_eq!(errors.len(), 1, "{args:?}: {stderr}");
+        assert!(
+            errors[0].starts_with("error: cat.tail:") && errors[0].contains("compare-models"),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(!out.join("tail").exists(), "no results are written");
 }

@@ -16,7 +16,7 @@ fn error_of(text: &str, overrides: &[&str]) -> String {
 
 #[test]
 fn shipped_problems_load_and_round_trip() {
-    for path in ["problems/paper.toml", "problems/script-defaults.toml"] {
+    for path in ["problems/paper.toml", "problems/script-defaults.toml", "problems/tail.toml"] {
         let p = Problem::load(std::path::Path::new(path), &[]).expect(path);
         let text = toml::to_string(&p).expect("serialises");
         let back = Problem::from_toml(&text, path, &[]).expect("round trip");
@@ -92,7 +92,7 @@ fn bad_phases_are_refused() {
 fn unknown_keys_and_profiles_are_refused() {
     assert_eq!(
         error_of(PAPER, &["cat.colour=3"]),
-        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius`, `joint`, `front`, `rear` in `cat`"
+        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius`, `joint`, `front`, `rear`, `tail` in `cat`"
     );
     let e = error_of(PAPER, &["manoeuvre.profile=wobble"]);
     assert!(
@@ -186,4 +186,27 @@ fn readme_problem_file_shows_the_defaults() {
     let close = open + block[open..].find("```").expect("block end");
     let p = Problem::from_toml(&block[open..close], "README.md", &[]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(p, Problem::default());
+}
+
+/// `[cat.tail]` (issue 22): each bad number names its field, the tail's joint has two motors, and
+/// a missing or unknown field is named.
+#[test]
+fn a_bad_tail_is_refused_naming_its_field() {
+    let tail = |body: &str| format!("{PAPER}\n[cat.tail]\n{body}\n");
+    let good = "mass = 0.2\nlength = 1.0\nradius = 0.02";
+    let p = Problem::from_toml(&tail(good), "test.toml", &[]).expect("a valid tail");
+    assert_eq!(p.cat.tail.map(|t| t.joint), Some(catflip::model::Joint::Universal), "the joint defaults to universal");
+    for (body, field) in [
+        ("mass = -0.2\nlength = 1.0\nradius = 0.02", "cat.tail.mass"),
+        ("mass = 0.2\nlength = 0.0\nradius = 0.02", "cat.tail.length"),
+        ("mass = 0.2\nlength = 1.0\nradius = 5.0", "cat.tail.radius"),
+        ("mass = 0.2\nlength = 1.0\nradius = 0.02\njoint = \"spherical\"", "cat.tail.joint"),
+    ] {
+        let e = error_of(&tail(body), &[]);
+        assert!(e.starts_with(field), "{body:?}: {e}");
+    }
+    let e = error_of(&tail("mass = 0.2\nlength = 1.0"), &[]);
+    assert!(e.contains("missing field `radius`") && e.contains("cat.tail"), "{e}");
+    let e = error_of(&tail(&format!("{good}\ncolour = 1")), &[]);
+    assert!(e.contains("unknown field `colour`"), "{e}");
 }

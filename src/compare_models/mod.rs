@@ -6,17 +6,21 @@
 //! `R_AB = Rx(q1) Ry(q2)`) and on Kane and Scher's no-twist joint (`R_AB = exp([q1, q2, 0]×)`).
 //! When the problem's halves differ, the same two joints also join two equal halves of their
 //! mean half ([`crate::model::Cat::mean_half`]: the means of the masses, lengths and radii, so
-//! the same total mass and length): four models, the first two of equal halves. The spherical
-//! joint is left out, saying so: the optimiser plans its three motors
-//! ([`crate::optimize::whole::WholeCat::Spherical`]), but the rig every row is measured on and
-//! rapier's scene take two.
+//! the same total mass and length): four models, the first two of equal halves. Each set of
+//! halves is also joined by the spherical joint (three motors: the bend's two and the relative
+//! twist, [`crate::optimize::whole::WholeCat::Spherical`]), and with `[cat.tail]` the problem's
+//! own cat gets its tail ([`crate::optimize::whole::WholeCat::Tailed`]). These models
+//! ([`Beyond`]) are planned on every motor, re-measured by the general core on their tree of
+//! bodies and verified in rapier's tree scene; they take ideal motors and no spin, and a row says
+//! so otherwise; the library schedule drives two coordinates, so they have no schedule's column.
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
 //! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist
 //! joint, where the joint circle is the cone (it keeps the bend `|q|` exactly).
 //!
 //! ## What each row is
-//! The optimum of [`crate::measure::whole::whole`] on that model, every number re-measured by the
+//! The optimum of [`crate::measure::whole::whole`] on that model (beyond two motors, of
+//! [`crate::optimize::whole::optimize_whole`] on every motor), every number re-measured by the
 //! model's exact engine (the general core on any cat but the paper's): peak torque, energy
 //! `∫τ·τ dt`, the largest bend and the turns of the bend direction; beside it the problem's own
 //! library schedule on that model ([`crate::engines::resolved::Resolved::evaluate`]), and with
@@ -36,9 +40,11 @@ pub use run::{compare_models, CompareModelsError};
 use serde::Serialize;
 
 use crate::engines::rapier::Verification;
+use crate::model::tree::Tree;
 use crate::model::Joint;
+use crate::numeric::numfmt::echo;
 use crate::optimize::whole::{BSpline, Objective};
-use crate::problem::cat::CatSection;
+use crate::problem::cat::{CatSection, TailSection};
 use crate::problem::manoeuvre::BendPath;
 use crate::problem::{Problem, ProblemError};
 
@@ -46,12 +52,30 @@ use crate::problem::{Problem, ProblemError};
 /// problem's fall and settings with this model's cat).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Variant {
-    /// `universal`, `no-twist`, `unequal-universal` or `unequal-no-twist`.
+    /// `universal`, `no-twist`, `spherical`, their `mean-…` and `unequal-…`, and the problem's
+    /// own cat with its tail, `…-tail`.
     pub key: String,
     /// The model in words, e.g. "equal halves, no-twist joint (Kane and Scher's)".
     pub label: String,
-    /// The problem with this model's `[cat]` (validated).
+    /// The problem with this model's `[cat]` (validated; the no-twist joint's for the spherical
+    /// joint, whose starts are that joint's).
     pub problem: Problem,
+    /// What the model has beyond two halves on a two-motor joint.
+    pub beyond: Beyond,
+}
+
+/// What a model has beyond two halves on a two-motor joint: such models are planned by the whole
+/// optimiser on every motor, re-measured by the general core and verified in rapier's tree scene
+/// ([`crate::engines::rapier::tree_run`]); the one rig the other rows are measured on has two
+/// motors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Beyond {
+    /// Nothing: two halves on the universal or the no-twist joint.
+    TwoMotors,
+    /// The halves on the spherical joint: a third motor, the relative twist.
+    Spherical,
+    /// The problem's cat with its `[cat.tail]`.
+    Tail(TailSection),
 }
 
 /// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
@@ -76,7 +100,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     for (prefix, halves_label, section) in halves {
         for joint in [Joint::Universal, Joint::NoTwist] {
             let mut p = problem.clone();
-            p.cat = CatSection { joint, ..section };
+            p.cat = CatSection { joint, tail: None, ..section };
             if joint == Joint::NoTwist && p.manoeuvre.bend_path == BendPath::Cone {
                 p.manoeuvre.bend_path = BendPath::JointCircle;
             }
@@ -90,8 +114,37 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
                 key: format!("{prefix}{}", joint.name()),
                 label: format!("{halves_label}, {} joint{whose}", joint.name()),
                 problem: p,
+                beyond: Beyond::TwoMotors,
             });
         }
+        // The spherical joint: its starts are the no-twist joint's, its problem that joint's.
+        let no_twist = out.last().map(|v| v.problem.clone()).expect("the no-twist variant was just pushed");
+        out.push(Variant {
+            key: format!("{prefix}spherical"),
+            label: format!("{halves_label}, spherical joint (three motors)"),
+            problem: no_twist,
+            beyond: Beyond::Spherical,
+        });
+    }
+    if let Some(tail) = problem.cat.tail {
+        // The problem's own cat with its tail; its starts are the same cat's without it.
+        let own = if equal { String::new() } else { "unequal-".to_string() };
+        let key = format!("{own}{}", problem.cat.joint.name());
+        let base = out.iter().find(|v| v.key == key).expect("the problem's own cat is a variant");
+        let mut p = base.problem.clone();
+        p.cat.tail = Some(tail);
+        out.push(Variant {
+            key: format!("{key}-tail"),
+            label: format!(
+                "{}, with a tail of {} kg, {} m on a {} joint",
+                base.label,
+                echo(tail.mass),
+                echo(tail.length),
+                tail.joint.name()
+            ),
+            problem: p,
+            beyond: Beyond::Tail(tail),
+        });
     }
     Ok(out)
 }
@@ -153,8 +206,10 @@ pub struct ModelRow {
     pub key: String,
     /// [`Variant::label`].
     pub label: String,
-    /// The joint.
+    /// The joint of the halves.
     pub joint: Joint,
+    /// Its motors: two, three on the spherical joint, two more with a tail.
+    pub motors: usize,
     /// The cat in words ([`crate::model::Cat::describe`]).
     pub cat: String,
     /// `converged`, or why there is no optimum.
@@ -175,6 +230,9 @@ pub struct ModelRow {
     /// The optimum's trajectory.
     #[serde(skip)]
     pub spline: Option<BSpline>,
+    /// Beyond two motors, the model's tree of bodies (its pictures place every body on it).
+    #[serde(skip)]
+    pub tree: Option<Tree>,
     /// The optimum's bend (angle between the spine axes) over the fall, `(t s, degrees)`,
     /// sampled densely (for the plot).
     #[serde(skip)]

@@ -7,8 +7,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::{ModelComparison, ModelRow};
+use crate::optimize::whole::spline::SplineShape;
 use crate::optimize::whole::Objective;
-use crate::report::plot::{flip_filmstrip, line_plot, LinePlot, Series};
+use crate::report::plot::{flip_filmstrip, line_plot, tree_filmstrip, LinePlot, Series};
 use crate::report::results_dir::{Staging, WriteError};
 
 /// An absent number: an empty CSV cell, a dash in a table.
@@ -119,12 +120,18 @@ impl ModelComparison {
         }
         let _ = writeln!(
             s,
-            "\nThe models run in parallel (their times overlap); the comparison took {:.1} s in all. The spherical joint (a third motor, the relative twist) is not compared: the optimiser plans it (`cargo run --release --example more_motors`), but the measurement every row is made by and rapier's scene take two motors.",
+            "\nThe models run in parallel (their times overlap); the comparison took {:.1} s in all.",
             self.seconds
         );
+        if self.rows.iter().any(|r| r.motors > 2) {
+            let _ = writeln!(
+                s,
+                "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; the library schedule drives two coordinates, so those rows have none. Their filmstrips place every body by the general core on the tree of bodies."
+            );
+        }
         let _ = writeln!(s, "\nThe cats:\n");
         for r in &self.rows {
-            let _ = writeln!(s, "- {}: {}.", r.label, r.cat);
+            let _ = writeln!(s, "- {}: {}; {} motors.", r.label, r.cat, r.motors);
         }
         s
     }
@@ -161,17 +168,18 @@ impl ModelComparison {
 
     /// One row per model; absent numbers are empty cells.
     pub fn to_csv(&self) -> String {
-        let mut out = String::from("problem,model,joint,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,drop_height_m,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
+        let mut out = String::from("problem,model,joint,motors,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,drop_height_m,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
         for r in &self.rows {
             let o = r.optimum.as_ref();
             let f = r.schedule.as_ref();
             let halves = if r.key.starts_with("unequal-") { "unequal" } else { "equal" };
             let _ = writeln!(
                 out,
-                "{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 self.problem,
                 r.key,
                 r.joint.name(),
+                r.motors,
                 if o.is_some() { "converged" } else { "no-optimum" },
                 o.map_or_else(String::new, |o| o.start.clone()),
                 o.map_or_else(String::new, |o| o.iterations.to_string()),
@@ -224,11 +232,13 @@ impl ModelComparison {
             line_plot(staging.dir(), &self.bend_plot())?;
         }
         for r in &self.rows {
-            if let Some(spline) = &r.spline {
-                let path = staging.dir().join(format!("{}_filmstrip.png", r.key));
-                let name = format!("{}, whole optimum", r.label);
-                flip_filmstrip(&path, &r.problem, &name, spline)?;
-            }
+            let Some(spline) = &r.spline else { continue };
+            let path = staging.dir().join(format!("{}_filmstrip.png", r.key));
+            let name = format!("{}, whole optimum", r.label);
+            match &r.tree {
+                Some(tree) => tree_filmstrip(&path, &r.problem, &name, tree, &SplineShape(spline), spline)?,
+                None => flip_filmstrip(&path, &r.problem, &name, spline)?,
+            };
         }
         Ok(staging.commit()?)
     }

@@ -5,11 +5,15 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{variants, ModelComparison, ModelRow, OptimumFigures, ScheduleFigures, Variant};
-use crate::engines::rapier::RapierError;
+use super::{variants, Beyond, ModelComparison, ModelRow, OptimumFigures, ScheduleFigures, Variant};
+use crate::engines::models;
+use crate::engines::rapier::tree_run::verify_tree;
+use crate::engines::rapier::{RapierError, RapierOptions, Reference};
 use crate::engines::resolved::Resolved;
 use crate::measure::whole::whole;
-use crate::optimize::whole::{WholeCat, WholeError};
+use crate::model::{Cat, Joint};
+use crate::optimize::whole::spline::SplineShape;
+use crate::optimize::whole::{optimize_whole, BSpline, WholeCat, WholeError};
 use crate::problem::{Problem, ProblemError};
 
 /// Instants per second of fall at which the optimum's bend is sampled for the plot.
@@ -60,12 +64,18 @@ pub fn compare_models(problem: &Problem, verify: bool, command: &str) -> Result<
 /// One model's row.
 fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
     let clock = Instant::now();
-    let cat = v.problem.cat.model();
+    let cat = match v.beyond {
+        Beyond::TwoMotors => None,
+        Beyond::Spherical => WholeCat::spherical(Cat { joint: Joint::Spherical, ..v.problem.cat.model() }),
+        Beyond::Tail(tail) => WholeCat::tailed(v.problem.cat.model(), tail.rod(), tail.joint),
+    };
+    let joint = if v.beyond == Beyond::Spherical { Joint::Spherical } else { v.problem.cat.joint };
     let mut row = ModelRow {
         key: v.key,
         label: v.label,
-        joint: cat.joint,
-        cat: cat.describe(),
+        joint,
+        motors: cat.as_ref().map_or(2, WholeCat::joints),
+        cat: cat.as_ref().map_or_else(|| v.problem.cat.model().describe(), WholeCat::describe),
         status: String::new(),
         optimum: None,
         schedule: None,
@@ -73,8 +83,23 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         seconds: 0.0,
         problem: v.problem,
         spline: None,
+        tree: None,
         bend: Vec::new(),
     };
+    match (v.beyond, cat) {
+        (Beyond::TwoMotors, _) => {}
+        (_, Some(cat)) => {
+            beyond_two_motors(&mut row, &cat, verify)?;
+            row.seconds = clock.elapsed().as_secs_f64();
+            return Ok(row);
+        }
+        (_, None) => {
+            row.status =
+                "not run: the tail's joint must have two motors (cat.tail.joint = \"universal\" or \"no-twist\")"
+                    .into();
+            return Ok(row);
+        }
+    }
     let r = match Resolved::new(&row.problem) {
         Ok(r) => r,
         Err(e) => {
@@ -106,17 +131,65 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             fall_time_s: b.fall_time_s,
             drop_height_m: r.problem.drop.height_for(b.fall_time_s),
         });
-        let n = ((BEND_SAMPLES_PER_S * b.fall_time_s).ceil() as usize).max(64);
-        let cat = WholeCat::from(r.model());
-        row.bend = (0..=n)
-            .map(|k| {
-                let t = b.fall_time_s * k as f64 / n as f64;
-                (t, cat.bend_cosine(&b.spline.angles(t)).0.clamp(-1.0, 1.0).acos().to_degrees())
-            })
-            .collect();
+        row.bend = bend_samples(&WholeCat::from(r.model()), &b.spline, b.fall_time_s);
         row.spline = Some(b.spline.clone());
         row.rapier = report.verification().cloned();
     }
     row.seconds = clock.elapsed().as_secs_f64();
     Ok(row)
+}
+
+/// The row of a model beyond two motors ([`Beyond`]): its whole optimum on every motor, the flip
+/// re-measured by the general core's adaptive engine on its tree of bodies, and with `verify`
+/// rapier's tree scene; ideal motors and no spin ([`crate::optimize::whole::beyond_two_motors`],
+/// its refusal the row's status).
+fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result<(), CompareModelsError> {
+    let p = &row.problem;
+    let (spin, motors) = (p.drop.spin(), p.actuator.motors());
+    if let Err(e) = crate::optimize::whole::beyond_two_motors(cat, &motors, &spin) {
+        row.status = format!("not run: {e}");
+        return Ok(());
+    }
+    let (settings, tolerance, fall) = (&p.optimize.whole, p.exact.tolerance, p.drop.fall_time());
+    let outcome = optimize_whole(cat, fall, &p.manoeuvre, settings, &motors, tolerance)?;
+    let Some(b) = outcome.best() else {
+        row.status = outcome.no_optimum(settings, tolerance);
+        return Ok(());
+    };
+    let tree = cat.tree();
+    let flip = models::flip_on(&tree, &SplineShape(&b.spline), &spin, tolerance);
+    row.status = b.status.to_string();
+    row.optimum = Some(OptimumFigures {
+        start: b.start.clone(),
+        iterations: b.iterations,
+        twist_deg: flip.twist.to_degrees(),
+        swing_deg: flip.swing.to_degrees(),
+        peak_torque_nm: b.peak_torque_nm,
+        peak_time_s: b.peak_time,
+        energy: b.energy,
+        max_bend_deg: b.max_bend_deg,
+        bend_turns: b.bend_turns,
+        fall_time_s: b.fall_time_s,
+        drop_height_m: p.drop.height_for(b.fall_time_s),
+    });
+    row.bend = bend_samples(cat, &b.spline, b.fall_time_s);
+    if verify {
+        let reference = Reference { twist: flip.twist, swing: flip.swing, peak_torque: b.peak_torque_nm };
+        let shape = SplineShape(&b.spline);
+        row.rapier = Some(verify_tree(&tree, &shape, &p.rapier, &reference, &RapierOptions::default())?);
+    }
+    row.spline = Some(b.spline.clone());
+    row.tree = Some(tree);
+    Ok(())
+}
+
+/// The bend (angle between the spine axes, degrees) of `spline` on `cat` over `fall` s, densely.
+fn bend_samples(cat: &WholeCat, spline: &BSpline, fall: f64) -> Vec<(f64, f64)> {
+    let n = ((BEND_SAMPLES_PER_S * fall).ceil() as usize).max(64);
+    (0..=n)
+        .map(|k| {
+            let t = fall * k as f64 / n as f64;
+            (t, cat.bend_cosine(&spline.angles(t)).0.clamp(-1.0, 1.0).acos().to_degrees())
+        })
+        .collect()
 }

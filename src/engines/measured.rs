@@ -40,8 +40,12 @@ pub struct Rig {
 }
 
 impl Rig {
-    /// The problem's rig; refused when its cat has not two motors.
+    /// The problem's rig; refused when its cat has not two motors, or has a tail
+    /// ([`ModelError::Tail`]).
     pub fn new(problem: &Problem) -> Result<Rig, ModelError> {
+        if problem.cat.tail.is_some() {
+            return Err(ModelError::Tail);
+        }
         Ok(Rig {
             model: TwoMotorCat::new(problem.cat.model())?,
             spin: problem.drop.spin(),

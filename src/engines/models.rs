@@ -39,6 +39,9 @@ pub enum ModelError {
         /// The trajectory's.
         got: usize,
     },
+    /// A command that measures two bodies met a problem with `[cat.tail]`.
+    #[error("cat.tail: a cat with a tail is planned and verified by `catflip compare-models` only, so far; this command measures the two halves (the schedules, their tables and the model files have two bodies): remove [cat.tail] here")]
+    Tail,
 }
 
 /// Whether `shape` has the cat's number of coordinates.
@@ -293,10 +296,22 @@ impl TwoMotorCat {
     /// least [`MIN_HISTORY_PIECE_STEPS`] each), as [`crate::engines::exact::fall_history`] on the
     /// paper's cat: the samples a picture of the fall is interpolated from.
     pub fn fall_history(&self, traj: &impl Trajectory, spin: &Vector3<f64>, steps: usize) -> Vec<OrientationSample> {
-        let pieces = traj.piece_durations().len().max(1);
-        let per_piece = steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS);
-        let mut out = Vec::with_capacity(pieces * per_piece + 1);
-        integrate_on(&self.field(traj), Stepper::for_spin(spin), per_piece, |s| out.push(*s));
-        out
+        fall_history_on(&self.tree, traj, spin, steps)
     }
+}
+
+/// A's orientation history along `traj` on any `tree` of bodies, as [`TwoMotorCat::fall_history`]
+/// takes it on a two-motor cat: about `steps` fixed steps over the whole trajectory, shared
+/// equally between its pieces (at least [`MIN_HISTORY_PIECE_STEPS`] each).
+pub fn fall_history_on(
+    tree: &Tree,
+    traj: &impl ShapeTrajectory,
+    spin: &Vector3<f64>,
+    steps: usize,
+) -> Vec<OrientationSample> {
+    let pieces = traj.piece_durations().len().max(1);
+    let per_piece = steps.div_ceil(pieces).max(MIN_HISTORY_PIECE_STEPS);
+    let mut out = Vec::with_capacity(pieces * per_piece + 1);
+    integrate_on(&ModelField { tree, traj }, Stepper::for_spin(spin), per_piece, |s| out.push(*s));
+    out
 }

@@ -23,6 +23,19 @@ pub trait ShapeTrajectory {
     fn piece_shape(&self, piece: usize, s: f64) -> ShapeState;
     /// Local times inside a piece where `q̈` may jump ([`Trajectory::acceleration_jumps`]).
     fn acceleration_jumps(&self, piece: usize) -> Vec<f64>;
+
+    /// The shape at global time `t`, clamped to the trajectory (the later piece at a boundary).
+    fn shape_at(&self, t: f64) -> ShapeState {
+        let durations = self.piece_durations();
+        let mut start = 0.0;
+        for (i, d) in durations.iter().enumerate() {
+            if t < start + d || i + 1 == durations.len() {
+                return self.piece_shape(i, (t - start).clamp(0.0, *d));
+            }
+            start += d;
+        }
+        ShapeState::default()
+    }
 }
 
 impl<T: Trajectory> ShapeTrajectory for T {

@@ -6,6 +6,8 @@
 //! is `"universal"` (the paper's `R_AB = Rx(q1) Ry(q2)`, the default), `"no-twist"` (Kane and
 //! Scher's `R_AB = exp([q1, q2, 0]×)`) or `"spherical"` (three coordinates, the relative twist
 //! the third; refused until a schedule drives it: the library schedules give two coordinates).
+//! `[cat.tail]` hangs a rod from the rear half ([`TailSection`]): `catflip compare-models` plans
+//! the cat with it; every other command refuses it ([`crate::engines::measured::Rig::new`]).
 //!
 //! The model the engines run is [`CatSection::model`]. The paper's cat (equal halves on the
 //! universal joint) runs every command; any other two-motor model runs the exact engine's
@@ -39,6 +41,9 @@ pub struct CatSection {
     /// The rear half B, where it differs from the shorthand.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rear: Option<HalfSection>,
+    /// A tail on the rear half ([`TailSection`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tail: Option<TailSection>,
 }
 
 fn is_universal(j: &Joint) -> bool {
@@ -60,6 +65,31 @@ pub struct HalfSection {
     pub radius: Option<f64>,
 }
 
+/// `[cat.tail]`: a rod hung from the rear half's end by its own front end, straight behind the
+/// cat at zero ([`Cat::tree_with_tail`]), with two motors (`joint = "universal"` or
+/// `"no-twist"`) or three (`"spherical"`). `catflip compare-models` plans and verifies the cat
+/// with it beside the cat without; every other command measures two bodies and refuses it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TailSection {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Length, m.
+    pub length: f64,
+    /// Radius, m.
+    pub radius: f64,
+    /// How it is joined to the rear half.
+    #[serde(default)]
+    pub joint: Joint,
+}
+
+impl TailSection {
+    /// The rod.
+    pub fn rod(&self) -> Cylinder {
+        Cylinder { mass: self.mass, length: self.length, radius: self.radius }
+    }
+}
+
 impl Default for CatSection {
     fn default() -> Self {
         CatSection::from(Cylinder::default())
@@ -76,6 +106,7 @@ impl From<Cylinder> for CatSection {
             joint: Joint::Universal,
             front: None,
             rear: None,
+            tail: None,
         }
     }
 }
@@ -118,6 +149,9 @@ impl CatSection {
 
     /// The field a reader should look at for what makes this cat not the paper's, with its value.
     pub fn departure(&self) -> Option<(String, String)> {
+        if self.tail.is_some() {
+            return Some(("cat.tail".into(), "a tail".into()));
+        }
         if self.joint != Joint::Universal {
             return Some(("cat.joint".into(), format!("\"{}\"", self.joint.name())));
         }
@@ -145,6 +179,16 @@ impl CatSection {
         for (name, own, half) in [("cat.front", self.front, self.front()), ("cat.rear", self.rear, self.rear())] {
             if own.is_some() {
                 validate_half(name, &half)?;
+            }
+        }
+        if let Some(tail) = &self.tail {
+            validate_half("cat.tail", &tail.rod())?;
+            if tail.joint == Joint::Spherical {
+                return Err(bad(
+                    "cat.tail.joint",
+                    "\"spherical\"",
+                    "the tail's joint has two motors so far: \"universal\" or \"no-twist\"",
+                ));
             }
         }
         if self.joint == Joint::Spherical {

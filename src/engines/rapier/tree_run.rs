@@ -74,16 +74,9 @@ impl<'a, T: ShapeTrajectory> Clock<'a, T> {
         self.durations.iter().sum()
     }
 
-    /// The shape at global time `t` (the later piece at a boundary).
+    /// The shape at global time `t` ([`ShapeTrajectory::shape_at`]).
     fn shape(&self, t: f64) -> ShapeState {
-        let mut start = 0.0;
-        for (i, d) in self.durations.iter().enumerate() {
-            if t < start + d || i + 1 == self.durations.len() {
-                return self.traj.piece_shape(i, (t - start).clamp(0.0, *d));
-            }
-            start += d;
-        }
-        ShapeState::default()
+        self.traj.shape_at(t)
     }
 
     /// The first join (global time) where `q`, `q̇` or `q̈` jumps, if any.

@@ -17,12 +17,14 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::gif::RgbFrames;
-use super::pose::{cat_poses_spinning, BodyPose, CatPose};
+use super::pose::{cat_poses_spinning, tree_poses, BodyPose, CatPose};
 use super::raster::Raster;
 use super::style::{bold, create_dir, ensure_fonts, failed, png_written, save_failed, text, GUIDE};
 use super::PlotError;
 use crate::engines::models::TwoMotorCat;
+use crate::engines::shape::ShapeTrajectory;
 use crate::model::legs::{legs, Half, Leg, PAW_RADIUS};
+use crate::model::tree::Tree;
 use crate::problem::Problem;
 use crate::schedule::{Phase, Trajectory};
 
@@ -114,6 +116,28 @@ pub fn flip_filmstrip(
     let poses = cat_poses_spinning(&cat, &problem.drop.spin(), schedule, &spaced(total, FILMSTRIP_PANELS));
     let caption = format!("the flip at {} instants", poses.len());
     pose_filmstrip(path, problem, name, schedule, &poses, &caption)
+}
+
+/// The PNG filmstrip of a model beyond two motors ([`FILMSTRIP_PANELS`] instants, released
+/// without spin): the tree of bodies `tree` (the halves, and the problem's `[cat.tail]` as body
+/// 2) along the shape trajectory `shape`, placed by [`super::pose::tree_poses`]; `timeline` gives
+/// the timeline's pieces (the same trajectory as a [`Trajectory`]).
+pub fn tree_filmstrip(
+    path: &Path,
+    problem: &Problem,
+    name: &str,
+    tree: &Tree,
+    shape: &impl ShapeTrajectory,
+    timeline: &impl Trajectory,
+) -> Result<PathBuf, PlotError> {
+    let total = timeline.total_duration();
+    if !(total.is_finite() && total > 0.0) {
+        let reason = format!("the schedule lasts {total} s; it must last a positive, finite time");
+        return Err(PlotError::BadArgument { path: path.to_path_buf(), reason });
+    }
+    let poses = tree_poses(tree, shape, &spaced(total, FILMSTRIP_PANELS));
+    let caption = format!("the flip at {} instants", poses.len());
+    pose_filmstrip(path, problem, name, timeline, &poses, &caption)
 }
 
 /// The problem's cat as the engines run it, or why a picture of it cannot be drawn.
@@ -228,6 +252,8 @@ struct Scene {
     sizes: [(f64, f64); 2],
     /// The legs of A and of B, each in its half's body frame.
     legs: [[Leg; 2]; 2],
+    /// Half-length and radius of the problem's `[cat.tail]`, m, drawn where a pose has one.
+    tail: Option<(f64, f64)>,
     title: String,
     /// The timeline's segments: the three phases, or the whole manoeuvre in one.
     segments: Vec<(&'static str, f64)>,
@@ -341,6 +367,7 @@ impl Scene {
             camera: Camera::new(),
             sizes: [(0.5 * front.length, front.radius), (0.5 * rear.length, rear.radius)],
             legs: [legs(&front, Half::A), legs(&rear, Half::B)],
+            tail: problem.cat.tail.map(|t| (0.5 * t.length, t.radius)),
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -368,16 +395,22 @@ impl Scene {
             layer: HEAD,
             mark: Mark::Disc { centre, radius: 1.5 * r, fill: A_FILL, edge: A_EDGE },
         });
-        // The tail from B's rear end, curling up to its back.
-        let tail = (0..=12).map(|k| {
-            let s = 0.7 * h_b * k as f64 / 12.0;
-            cam.project(&pose.b.point(Vector3::new(0.0, -1.2 * s * s / h_b, -h_b - s)))
-        });
-        out.push(Layered {
-            depth: db,
-            layer: FEATURE,
-            mark: Mark::Line { points: tail.collect(), colour: B_EDGE, width: 4.0 },
-        });
+        match (self.tail, &pose.tail) {
+            // A real tail (a rod of the model): drawn as the halves are, without legs.
+            (Some(size), Some(tail)) => self.cylinder(tail, size, B_FILL, B_EDGE, &[], &mut out),
+            // Otherwise a drawn one from B's rear end, curling up to its back.
+            _ => {
+                let tail = (0..=12).map(|k| {
+                    let s = 0.7 * h_b * k as f64 / 12.0;
+                    cam.project(&pose.b.point(Vector3::new(0.0, -1.2 * s * s / h_b, -h_b - s)))
+                });
+                out.push(Layered {
+                    depth: db,
+                    layer: FEATURE,
+                    mark: Mark::Line { points: tail.collect(), colour: B_EDGE, width: 4.0 },
+                });
+            }
+        }
         // The joint, painted with the nearer half.
         let joint = cam.project(&pose.a.point(Vector3::new(0.0, 0.0, -h)));
         out.push(Layered {
@@ -389,14 +422,15 @@ impl Scene {
         out
     }
 
-    /// One half: silhouette, axis, visible outline, belly stripe and its two legs.
+    /// One half: silhouette, axis, visible outline, belly stripe and its two legs (a tail: no
+    /// legs, no stripe).
     fn cylinder(
         &self,
         body: &BodyPose,
         (h, r): (f64, f64),
         fill: RGBColor,
         edge: RGBColor,
-        legs: &[Leg; 2],
+        legs: &[Leg],
         out: &mut Vec<Layered>,
     ) {
         let cam = &self.camera;
@@ -449,7 +483,7 @@ impl Scene {
             }
         }
         let belly = body.rotation * Vector3::y();
-        if cam.faces(&belly) {
+        if cam.faces(&belly) && !legs.is_empty() {
             push(
                 out,
                 FEATURE,

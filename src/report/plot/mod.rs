@@ -41,7 +41,7 @@ mod style;
 
 use std::path::PathBuf;
 
-pub use animation::{flip_animation, flip_filmstrip, pose_filmstrip, FILMSTRIP_PANELS};
+pub use animation::{flip_animation, flip_filmstrip, pose_filmstrip, tree_filmstrip, FILMSTRIP_PANELS};
 pub use chart::{line_plot, Band, LinePlot, RefLine, Scale};
 pub use curves::{
     error_vs_time_plot, flip_plot, plot_profiles, profiles_plot, torques_plot, trajectory_torques_plot, TORQUE_SAMPLES,

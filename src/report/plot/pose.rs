@@ -11,7 +11,9 @@
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 use crate::engines::exact::OrientationSample;
-use crate::engines::models::TwoMotorCat;
+use crate::engines::models::{fall_history_on, TwoMotorCat};
+use crate::engines::shape::ShapeTrajectory;
+use crate::model::tree::Tree;
 use crate::schedule::{Phase, Trajectory};
 
 /// Magnus steps over the whole fall of the orientation history the poses are interpolated from
@@ -49,6 +51,8 @@ pub struct CatPose {
     pub a: BodyPose,
     /// The rear half.
     pub b: BodyPose,
+    /// A tail, when the model has one ([`tree_poses`]).
+    pub tail: Option<BodyPose>,
 }
 
 /// The cat's pose at each of `times` (s, clamped to the manoeuvre), released without spin.
@@ -86,6 +90,39 @@ pub fn cat_poses_spinning(
                 swing,
                 a: BodyPose { centre: -share_a * p, rotation: r_a },
                 b: BodyPose { centre: share_b * p, rotation: r_a * r_ab },
+                tail: None,
+            }
+        })
+        .collect()
+}
+
+/// The poses of a tree of bodies at each of `times` (s, clamped to the trajectory), released
+/// without spin: the cat's halves (bodies 0 and 1) and, as body 2, a tail. A's orientation comes
+/// from the general core on the tree ([`crate::engines::models::fall_history_on`]); every body is
+/// placed by the tree's relative motion at `traj`'s shape ([`Tree::motion`]: its rotation in A's
+/// frame and its centre from the whole tree's centre of mass), turned by A's orientation.
+pub fn tree_poses(tree: &Tree, traj: &impl ShapeTrajectory, times: &[f64]) -> Vec<CatPose> {
+    let samples = fall_history_on(tree, traj, &Vector3::zeros(), HISTORY_STEPS);
+    let total: f64 = traj.piece_durations().iter().sum();
+    times
+        .iter()
+        .map(|&t| {
+            let t = t.clamp(0.0, total);
+            let (orientation, twist, swing) = interpolate(&samples, t);
+            let r_a = orientation.to_rotation_matrix().into_inner();
+            let motion = tree.motion(&traj.shape_at(t));
+            let body = |k: usize| BodyPose {
+                centre: r_a * motion.bodies[k].position,
+                rotation: r_a * motion.bodies[k].rotation,
+            };
+            CatPose {
+                time: t,
+                phase: None,
+                twist,
+                swing,
+                a: body(0),
+                b: body(1),
+                tail: (tree.bodies().len() > 2).then(|| body(2)),
             }
         })
         .collect()
