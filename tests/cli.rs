@@ -372,6 +372,7 @@ fn a_tail_is_refused_by_the_commands_that_measure_two_bodies() {
         vec!["simulate", "problems/tail.toml"],
         vec!["compare", "problems/tail.toml"],
         vec!["optimize", "problems/tail.toml", "--whole"],
+        vec!["audit", "problems/tail.toml"],
         vec!["run", "problems/tail.toml", "--out", &out_arg],
     ] {
         let (code, _, stderr) = catflip(&args);

@@ -210,3 +210,14 @@ fn a_bad_tail_is_refused_naming_its_field() {
     let e = error_of(&tail(&format!("{good}\ncolour = 1")), &[]);
     assert!(e.contains("unknown field `colour`"), "{e}");
 }
+
+/// A command for the paper's cat alone (a sweep, the audit) refuses `[cat.tail]` naming it and
+/// saying where a tail is compared, not as if it were the paper's cat with another joint.
+#[test]
+fn a_tail_is_refused_where_the_papers_cat_is_required() {
+    let text = format!("{PAPER}\n[cat.tail]\nmass = 0.2\nlength = 1.0\nradius = 0.02\n");
+    let p = Problem::from_toml(&text, "test.toml", &[]).expect("a valid tail");
+    let e = p.require_paper_cat("a sweep").err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(e.starts_with("cat.tail = { mass = 0.2, length = 1, radius = 0.02, joint = \"universal\" }: "), "{e}");
+    assert!(e.contains("`catflip compare-models` only"), "{e}");
+}

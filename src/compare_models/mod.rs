@@ -79,9 +79,9 @@ pub enum Beyond {
 }
 
 /// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
-/// they differ) on the universal and the no-twist joint, then, when the problem's halves differ,
-/// those halves on both joints. Each variant's problem is validated, so a field the new model
-/// refuses is named.
+/// they differ) on the universal, the no-twist and the spherical joint, then, when the problem's
+/// halves differ, those halves on the three joints, and with `[cat.tail]` the problem's own cat
+/// with its tail. Each variant's problem is validated, so a field the new model refuses is named.
 pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     let cat = problem.cat.model();
     let equal = cat.has_equal_halves();
@@ -118,33 +118,31 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
             });
         }
         // The spherical joint: its starts are the no-twist joint's, its problem that joint's.
-        let no_twist = out.last().map(|v| v.problem.clone()).expect("the no-twist variant was just pushed");
-        out.push(Variant {
-            key: format!("{prefix}spherical"),
-            label: format!("{halves_label}, spherical joint (three motors)"),
-            problem: no_twist,
-            beyond: Beyond::Spherical,
-        });
+        if let Some(no_twist) = out.last().map(|v: &Variant| v.problem.clone()) {
+            out.push(Variant {
+                key: format!("{prefix}spherical"),
+                label: format!("{halves_label}, spherical joint (three motors)"),
+                problem: no_twist,
+                beyond: Beyond::Spherical,
+            });
+        }
     }
     if let Some(tail) = problem.cat.tail {
         // The problem's own cat with its tail; its starts are the same cat's without it.
         let own = if equal { String::new() } else { "unequal-".to_string() };
         let key = format!("{own}{}", problem.cat.joint.name());
-        let base = out.iter().find(|v| v.key == key).expect("the problem's own cat is a variant");
-        let mut p = base.problem.clone();
-        p.cat.tail = Some(tail);
-        out.push(Variant {
-            key: format!("{key}-tail"),
-            label: format!(
+        if let Some(base) = out.iter().find(|v| v.key == key) {
+            let mut p = base.problem.clone();
+            p.cat.tail = Some(tail);
+            let label = format!(
                 "{}, with a tail of {} kg, {} m on a {} joint",
                 base.label,
                 echo(tail.mass),
                 echo(tail.length),
                 tail.joint.name()
-            ),
-            problem: p,
-            beyond: Beyond::Tail(tail),
-        });
+            );
+            out.push(Variant { key: format!("{key}-tail"), label, problem: p, beyond: Beyond::Tail(tail) });
+        }
     }
     Ok(out)
 }
@@ -210,7 +208,8 @@ pub struct ModelRow {
     pub joint: Joint,
     /// Its motors: two, three on the spherical joint, two more with a tail.
     pub motors: usize,
-    /// The cat in words ([`crate::model::Cat::describe`]).
+    /// The cat in words ([`crate::model::Cat::describe`]; beyond two motors
+    /// [`crate::optimize::whole::WholeCat::describe`], the tail's too).
     pub cat: String,
     /// `converged`, or why there is no optimum.
     pub status: String,

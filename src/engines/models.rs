@@ -40,7 +40,7 @@ pub enum ModelError {
         got: usize,
     },
     /// A command that measures two bodies met a problem with `[cat.tail]`.
-    #[error("cat.tail: a cat with a tail is planned and verified by `catflip compare-models` only, so far; this command measures the two halves (the schedules, their tables and the model files have two bodies): remove [cat.tail] here")]
+    #[error("cat.tail: {}", crate::problem::cat::TAIL_REFUSED)]
     Tail,
 }
 

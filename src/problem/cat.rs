@@ -65,10 +65,13 @@ pub struct HalfSection {
     pub radius: Option<f64>,
 }
 
+/// Why a command other than `compare-models` refuses `[cat.tail]` ([`TailSection`]).
+pub const TAIL_REFUSED: &str = "a cat with a tail is planned and verified by `catflip compare-models` only, so far; this command measures the two halves (the schedules, their tables and the model files have two bodies): remove [cat.tail] here";
+
 /// `[cat.tail]`: a rod hung from the rear half's end by its own front end, straight behind the
-/// cat at zero ([`Cat::tree_with_tail`]), with two motors (`joint = "universal"` or
-/// `"no-twist"`) or three (`"spherical"`). `catflip compare-models` plans and verifies the cat
-/// with it beside the cat without; every other command measures two bodies and refuses it.
+/// cat at zero ([`Cat::tree_with_tail`]), with two motors (`joint = "universal"`, the default,
+/// or `"no-twist"`). `catflip compare-models` plans and verifies the cat with it beside the cat
+/// without; every other command measures two bodies and refuses it ([`TAIL_REFUSED`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TailSection {
@@ -87,6 +90,17 @@ impl TailSection {
     /// The rod.
     pub fn rod(&self) -> Cylinder {
         Cylinder { mass: self.mass, length: self.length, radius: self.radius }
+    }
+
+    /// The section as the problem file writes it, for messages.
+    pub fn shown(&self) -> String {
+        format!(
+            "{{ mass = {}, length = {}, radius = {}, joint = \"{}\" }}",
+            echo(self.mass),
+            echo(self.length),
+            echo(self.radius),
+            self.joint.name()
+        )
     }
 }
 
@@ -149,9 +163,6 @@ impl CatSection {
 
     /// The field a reader should look at for what makes this cat not the paper's, with its value.
     pub fn departure(&self) -> Option<(String, String)> {
-        if self.tail.is_some() {
-            return Some(("cat.tail".into(), "a tail".into()));
-        }
         if self.joint != Joint::Universal {
             return Some(("cat.joint".into(), format!("\"{}\"", self.joint.name())));
         }

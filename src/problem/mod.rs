@@ -305,6 +305,9 @@ impl Problem {
     /// computation that models the paper's cat only (`what` names it in the message), naming the
     /// field that departs from it.
     pub fn require_paper_cat(&self, what: &str) -> Result<(), ProblemError> {
+        if let Some(tail) = &self.cat.tail {
+            return Err(bad("cat.tail", tail.shown(), cat::TAIL_REFUSED));
+        }
         let Some((field, value)) = self.cat.departure() else { return Ok(()) };
         Err(bad(
             &field,

@@ -80,7 +80,10 @@ pub fn verification_row(name: &str, exact: &Reference, v: &Verification) -> Stri
     let dash = || "—".to_string();
     let value = |q: Quantity| v.quantity(q).and_then(|c| c.value).map_or_else(dash, |x| format!("{x:.4}"));
     let raw = |x: Option<f64>, d: usize| x.map_or_else(dash, |x| format!("{x:.d$}"));
-    let tr = v.tracking_error_rad.as_ref().map_or_else(dash, |t| format!("{:.1e}, {:.1e}", t[0], t[1]));
+    let tr = v
+        .tracking_error_rad
+        .as_ref()
+        .map_or_else(dash, |t| t.iter().map(|x| format!("{x:.1e}")).collect::<Vec<_>>().join(", "));
     let diff = run
         .filter(|_| exact.peak_torque > 0.0)
         .map_or_else(dash, |x| format!("{:+.2}%", 100.0 * (x.peak_torque.max / exact.peak_torque - 1.0)));

@@ -173,6 +173,7 @@ pub mod feedback;
 pub mod ground;
 mod measure;
 mod pieces;
+mod refinement;
 mod run;
 pub mod saturation;
 pub mod scene;
@@ -181,6 +182,7 @@ mod timescale;
 pub mod track;
 pub mod tree_run;
 pub mod tree_scene;
+mod verdict;
 mod verify;
 mod verify_text;
 
@@ -201,10 +203,11 @@ pub use timescale::{
     STEPS_PER_PIECE, STEPS_PER_TORQUE_TIME,
 };
 pub use track::{track, AttitudeSensor, TrackOptions, TrackedRun};
-pub use verify::{
-    verify, verify_with, Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict,
-    Verification, ASYMPTOTIC, MIN_RUNS,
+pub use verdict::{
+    Convergence, Failure, Quantity, Reference, RunRecord, Status, StepSource, Verdict, Verification, ASYMPTOTIC,
+    MIN_RUNS,
 };
+pub use verify::{verify, verify_with};
 
 use nalgebra::Vector3;
 

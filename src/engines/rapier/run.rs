@@ -212,6 +212,20 @@ pub(super) fn step_count(duration: f64, requested: f64) -> Result<usize, RapierE
     Ok((steps as usize).max(1))
 }
 
+/// Refuses a `requested` step that leaves fewer than [`MIN_STEPS_PER_PHASE`] steps in the
+/// `shortest` smooth stretch of a trajectory, s ([`RapierError::TooCoarse`]).
+pub(super) fn resolves(shortest: f64, requested: f64) -> Result<(), RapierError> {
+    if shortest / requested < MIN_STEPS_PER_PHASE as f64 {
+        return Err(RapierError::TooCoarse {
+            dt: requested,
+            phase: shortest,
+            steps: shortest / requested,
+            min: MIN_STEPS_PER_PHASE,
+        });
+    }
+    Ok(())
+}
+
 /// Runs a trajectory in rapier (module docs: scene, motors, measurements) on `cat`: the paper's
 /// cat or any other on the universal joint (unequal halves); another joint is refused
 /// ([`RapierError::UnsupportedJoint`]).
@@ -235,15 +249,7 @@ pub fn simulate_with(
     let n = step_count(duration, requested)?;
     // Boundaries where the motion is smooth (a spline's knots) are not the servo's business.
     let rough = pieces.rough(ACCEL_JUMP_FRACTION);
-    let shortest = pieces.shortest_smooth(&rough);
-    if shortest / requested < MIN_STEPS_PER_PHASE as f64 {
-        return Err(RapierError::TooCoarse {
-            dt: requested,
-            phase: shortest,
-            steps: shortest / requested,
-            min: MIN_STEPS_PER_PHASE,
-        });
-    }
+    resolves(pieces.shortest_smooth(&rough), requested)?;
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);

@@ -16,16 +16,19 @@
 //!   `P`: `τ = a · (Ḣ_P + v_P × p)`, by central differences of the momenta at the second-order
 //!   velocities `(v_k + v_{k+1})/2`, as the two-body run's.
 //!
-//! So far the scene runs ideal motors without spin, and trajectories whose pieces join smoothly
-//! (`q`, `q̇`, `q̈` continuous, as the whole optimiser's splines are): a jump would need the
-//! two-body run's exclusion windows ([`RapierError::TreeScope`] otherwise).
+//! So far the scene runs ideal motors without spin, and smooth trajectories (`q`, `q̇`, `q̈`
+//! continuous at the joins and inside the pieces, as the whole optimiser's splines are): a jump
+//! would need the two-body run's exclusion windows ([`RapierError::TreeScope`] otherwise). A step
+//! that leaves fewer than [`super::MIN_STEPS_PER_PHASE`] steps in the trajectory is refused
+//! ([`RapierError::TooCoarse`]), as the two-body run refuses one in its shortest phase.
 
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
+use super::refinement::{convergences, judge, refine};
 use super::run::MomentumDrift;
 use super::tree_scene::{momenta, TreeScene, TreeSnapshot};
-use super::verify::{convergences, judge, refine, RunRecord, StepSource, Verification};
+use super::verdict::{RunRecord, StepSource, Verification};
 use super::{MotorGains, RapierError, RapierOptions, Reference};
 use crate::engines::reduction::locked_and_shape_momentum;
 use crate::engines::shape::ShapeTrajectory;
@@ -79,19 +82,25 @@ impl<'a, T: ShapeTrajectory> Clock<'a, T> {
         self.traj.shape_at(t)
     }
 
-    /// The first join (global time) where `q`, `q̇` or `q̈` jumps, if any.
+    /// The first instant (global time) where `q`, `q̇` or `q̈` jumps, if any: at a join, or inside
+    /// a piece where the trajectory says `q̈` may jump.
     fn first_jump(&self) -> Option<f64> {
         let mut start = 0.0;
-        for i in 1..self.durations.len() {
-            start += self.durations[i - 1];
-            let (a, b) = (self.traj.piece_shape(i - 1, self.durations[i - 1]), self.traj.piece_shape(i, 0.0));
-            let jumps = [(&a.q, &b.q), (&a.qd, &b.qd), (&a.qdd, &b.qdd)].iter().any(|(x, y)| {
-                let scale = x.iter().chain(y.iter()).fold(1.0f64, |m, v| m.max(v.abs()));
-                x.iter().zip(y.iter()).any(|(u, v)| (u - v).abs() > SMOOTH * scale)
-            });
-            if jumps || !self.traj.acceleration_jumps(i).is_empty() {
-                return Some(start);
+        for (i, d) in self.durations.iter().enumerate() {
+            if i > 0 {
+                let (a, b) = (self.traj.piece_shape(i - 1, self.durations[i - 1]), self.traj.piece_shape(i, 0.0));
+                let jumps = [(&a.q, &b.q), (&a.qd, &b.qd), (&a.qdd, &b.qdd)].iter().any(|(x, y)| {
+                    let scale = x.iter().chain(y.iter()).fold(1.0f64, |m, v| m.max(v.abs()));
+                    x.iter().zip(y.iter()).any(|(u, v)| (u - v).abs() > SMOOTH * scale)
+                });
+                if jumps {
+                    return Some(start);
+                }
             }
+            if let Some(s) = self.traj.acceleration_jumps(i).first() {
+                return Some(start + s);
+            }
+            start += d;
         }
         None
     }
@@ -105,6 +114,10 @@ fn in_scope(tree: &Tree, clock: &Clock<impl ShapeTrajectory>, opts: &RapierOptio
     if opts.spin.norm_squared() > 0.0 {
         return Err(RapierError::TreeScope("runs a release without spin only, so far".into()));
     }
+    let duration = clock.duration();
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(RapierError::BadDuration(duration));
+    }
     let shape = clock.shape(0.0);
     if shape.len() != tree.dof() {
         return Err(RapierError::TreeScope(format!(
@@ -115,12 +128,8 @@ fn in_scope(tree: &Tree, clock: &Clock<impl ShapeTrajectory>, opts: &RapierOptio
     }
     if let Some(t) = clock.first_jump() {
         return Err(RapierError::TreeScope(format!(
-            "runs trajectories whose pieces join smoothly, so far: q, q̇ or q̈ jumps at t = {t} s"
+            "runs smooth trajectories only, so far: q, q̇ or q̈ jumps at t = {t} s"
         )));
-    }
-    let duration = clock.duration();
-    if !(duration.is_finite() && duration > 0.0) {
-        return Err(RapierError::BadDuration(duration));
     }
     Ok(())
 }
@@ -164,6 +173,8 @@ pub fn simulate_tree(
         TimeStep::Auto => super::tree_time_scales(tree, traj).first_step,
     };
     let n = super::run::step_count(duration, requested)?;
+    // The trajectory is smooth: its shortest phase is the whole of it.
+    super::run::resolves(duration, requested)?;
     let dt = duration / n as f64;
     let time = |k: usize| if k == n { duration } else { k as f64 * dt };
     let gains = MotorGains::new(opts.bandwidth_per_step / dt, opts.damping_ratio);

@@ -92,6 +92,14 @@ pub struct TreeScene {
     gains: MotorGains,
 }
 
+/// Refuses a shape of `len` coordinates that is not `tree`'s.
+fn sized(tree: &Tree, len: usize) -> Result<(), RapierError> {
+    if len == tree.dof() {
+        return Ok(());
+    }
+    Err(RapierError::TreeScope(format!("has {} joint coordinates; the shape given has {len}", tree.dof())))
+}
+
 /// The principal moments of a body whose inertia is diagonal in its own frame.
 fn principal(body: &Body, index: usize) -> Result<Vector3<f64>, RapierError> {
     let i = body.inertia;
@@ -114,6 +122,7 @@ impl TreeScene {
         gains: MotorGains,
         q0: &[f64],
     ) -> Result<Self, RapierError> {
+        sized(tree, q0.len())?;
         let n = tree.bodies().len();
         let mut masses = Vec::with_capacity(n + tree.links().len());
         for (k, b) in tree.bodies().iter().enumerate() {
@@ -353,6 +362,7 @@ impl TreeScene {
     /// that makes its linear and angular momentum zero (`ω = −I_lock⁻¹ H` about the centre of
     /// mass, its velocity `−p/M`).
     pub fn start_at_zero_momentum(&mut self, q: &[f64], qd: &[f64]) -> Result<(), RapierError> {
+        sized(&self.tree, q.len().min(qd.len()))?;
         let mut snap = self.snapshot()?;
         let v = &mut snap.velocities;
         v.fill(0.0);
@@ -388,6 +398,7 @@ impl TreeScene {
     /// a revolute's spring at `q − h q̇` with velocity `q̇`; a ball's motors at the rate that
     /// carries its present relative rotation onto `R(q)` over the step.
     pub fn aim(&mut self, target: &ShapeState) -> Result<(), RapierError> {
+        sized(&self.tree, target.q.len().min(target.qd.len()))?;
         let h = self.dt();
         let g = self.gains;
         let snap = self.snapshot()?;

@@ -2,7 +2,7 @@
 //! and the run summary's line of verdicts. Gaps and estimates read as degrees (twist, swing) or
 //! percent of the exact peak (peak torque), steps in seconds with four significant digits.
 
-use super::verify::{Convergence, Quantity, Status, StepSource, Verification};
+use super::verdict::{Convergence, Quantity, Status, StepSource, Verification};
 
 impl Verification {
     /// The steps of the runs kept, s: `7.14e-4, 3.57e-4, 1.79e-4` (`—` when no run was kept).

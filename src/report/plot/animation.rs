@@ -120,7 +120,7 @@ pub fn flip_filmstrip(
 
 /// The PNG filmstrip of a model beyond two motors ([`FILMSTRIP_PANELS`] instants, released
 /// without spin): the tree of bodies `tree` (the halves, and the problem's `[cat.tail]` as body
-/// 2) along the shape trajectory `shape`, placed by [`super::pose::tree_poses`]; `timeline` gives
+/// 2) along the shape trajectory `shape`, placed by the general core on the tree (`tree_poses`); `timeline` gives
 /// the timeline's pieces (the same trajectory as a [`Trajectory`]).
 pub fn tree_filmstrip(
     path: &Path,

@@ -51,7 +51,7 @@ pub struct CatPose {
     pub a: BodyPose,
     /// The rear half.
     pub b: BodyPose,
-    /// A tail, when the model has one ([`tree_poses`]).
+    /// A tail, when the model has one (`tree_poses`).
     pub tail: Option<BodyPose>,
 }
 
