@@ -126,8 +126,9 @@ def compare(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
 
 def compare_models(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
     """``catflip compare-models --json``: the whole-manoeuvre optimum of each cat model (the
-    problem's halves, and their mean half when they differ, on the universal and the no-twist
-    joint) on the problem's fall: ``["rows"]``, one record per model (``optimum`` is ``None``
+    problem's halves, and their mean half when they differ, on the universal, the no-twist and
+    the spherical joint; with ``[cat.tail]`` the problem's cat with its tail) on the problem's
+    fall: ``["rows"]``, one record per model (``optimum`` is ``None``
     and ``status`` says why when a model has none), ``["cheapest"]`` the key of the cheapest
     model (``None`` without any optimum); with ``verify`` each optimum's rapier verification."""
     return _report(_catflip.compare_models(problem, verify))
