@@ -107,35 +107,56 @@ class Cat:
             Rd = Xd @ Y + X @ Yd
             Rdd = Xdd @ Y + 2 * Xd @ Yd + X @ Ydd
             return R, Rd, Rdd
-        elif self.joint == "no-twist":
-            z = np.zeros((N, 1))
-            v, vd, vdd = (np.hstack([x, z]) for x in (q, qd, qdd))
-            s = np.sum(v * v, -1)
-            sd = 2 * np.sum(v * vd, -1)
-            sdd = 2 * (np.sum(vd * vd, -1) + np.sum(v * vdd, -1))
-            A0, A1, A2 = _series(_ka, s)
-            B0, B1, B2 = _series(_kb, s)
-            a, ad, add = A0, A1 * sd, A2 * sd ** 2 + A1 * sdd
-            b, bd, bdd = B0, B1 * sd, B2 * sd ** 2 + B1 * sdd
-            K, Kd, Kdd = hat(v), hat(vd), hat(vdd)
-            K2 = K @ K
-            K2d = Kd @ K + K @ Kd
-            K2dd = Kdd @ K + 2 * Kd @ Kd + K @ Kdd
+        elif self.joint == "spherical":
+            # exp([q1, q2, 0]x) Rz(q3): the no-twist joint's bend, then the relative twist.
+            S, Sd, Sdd = self._no_twist(q[:, :2], qd[:, :2], qdd[:, :2])
+            c, s = np.cos(q[:, 2]), np.sin(q[:, 2])
+            o, z = np.ones(N), np.zeros(N)
+            Z = np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
+            Z1 = np.stack([np.stack([-s, -c, z], -1), np.stack([c, -s, z], -1), np.stack([z, z, z], -1)], -2)
+            Z2 = np.stack([np.stack([-c, s, z], -1), np.stack([-s, -c, z], -1), np.stack([z, z, z], -1)], -2)
             e = lambda x: x[:, None, None]
-            R = np.eye(3) + e(a) * K + e(b) * K2
-            Rd = e(ad) * K + e(a) * Kd + e(bd) * K2 + e(b) * K2d
-            Rdd = e(add) * K + 2 * e(ad) * Kd + e(a) * Kdd + e(bdd) * K2 + 2 * e(bd) * K2d + e(b) * K2dd
-            return R, Rd, Rdd
+            Zd = Z1 * e(qd[:, 2])
+            Zdd = Z2 * e(qd[:, 2] ** 2) + Z1 * e(qdd[:, 2])
+            return S @ Z, Sd @ Z + S @ Zd, Sdd @ Z + 2 * Sd @ Zd + S @ Zdd
+        elif self.joint == "no-twist":
+            return self._no_twist(q, qd, qdd)
         raise ValueError(self.joint)
 
+    def _no_twist(self, q, qd, qdd):
+        """exp([q1, q2, 0]x) and its first two time derivatives."""
+        N = q.shape[0]
+        z = np.zeros((N, 1))
+        v, vd, vdd = (np.hstack([x, z]) for x in (q, qd, qdd))
+        s = np.sum(v * v, -1)
+        sd = 2 * np.sum(v * vd, -1)
+        sdd = 2 * (np.sum(vd * vd, -1) + np.sum(v * vdd, -1))
+        A0, A1, A2 = _series(_ka, s)
+        B0, B1, B2 = _series(_kb, s)
+        a, ad, add = A0, A1 * sd, A2 * sd ** 2 + A1 * sdd
+        b, bd, bdd = B0, B1 * sd, B2 * sd ** 2 + B1 * sdd
+        K, Kd, Kdd = hat(v), hat(vd), hat(vdd)
+        K2 = K @ K
+        K2d = Kd @ K + K @ Kd
+        K2dd = Kdd @ K + 2 * Kd @ Kd + K @ Kdd
+        e = lambda x: x[:, None, None]
+        R = np.eye(3) + e(a) * K + e(b) * K2
+        Rd = e(ad) * K + e(a) * Kd + e(bd) * K2 + e(b) * K2d
+        Rdd = e(add) * K + 2 * e(ad) * Kd + e(a) * Kdd + e(bdd) * K2 + 2 * e(bd) * K2d + e(b) * K2dd
+        return R, Rd, Rdd
+
     def motor_axes(self, q):
-        """joint axes in A's frame, shape (N, 2, 3)."""
+        """joint axes in A's frame, shape (N, 2, 3), or (N, 3, 3) on the spherical joint, whose
+        third motor acts about B's spine (DESIGN.md section 10)."""
         N = q.shape[0]
         ax1 = np.tile([1.0, 0.0, 0.0], (N, 1))
         if self.joint == "universal":
             ax2 = np.stack([np.zeros(N), np.cos(q[:, 0]), np.sin(q[:, 0])], -1)   # Rx(q1) y
         else:
             ax2 = np.tile([0.0, 1.0, 0.0], (N, 1))
+        if self.joint == "spherical":
+            R, _, _ = self.rotation(q, np.zeros_like(q), np.zeros_like(q))
+            return np.stack([ax1, ax2, R[:, :, 2]], 1)
         return np.stack([ax1, ax2], 1)
 
     def state(self, q, qd, qdd, check=False):

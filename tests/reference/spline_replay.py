@@ -67,7 +67,7 @@ def peaks(cat, knots, curves, per_span=40):
     tt = np.unique(np.concatenate([np.linspace(a, b, per_span + 1) for a, b in zip(breaks[:-1], breaks[1:])]))
     st = cat.state(*state(curves, tt), check=True)
     out = []
-    for j in range(2):
+    for j in range(len(curves)):
         a = np.abs(st['tau'][:, j])
         k = int(np.argmax(a))
         best = a[k]
@@ -84,7 +84,7 @@ def main():
     ap.add_argument('json')
     ap.add_argument('--front', required=True, help='mass,length,radius of the front half A')
     ap.add_argument('--rear', required=True, help='mass,length,radius of the rear half B')
-    ap.add_argument('--joint', required=True, choices=['universal', 'no-twist'])
+    ap.add_argument('--joint', required=True, choices=['universal', 'no-twist', 'spherical'])
     ap.add_argument('--npz', default='', help='write the optimum at --N + 1 nodes here')
     ap.add_argument('--N', type=int, default=200)
     a = ap.parse_args()
@@ -98,11 +98,11 @@ def main():
     if a.npz:
         q, qd, qdd = state(curves, nodes)
         np.savez(a.npz, T=knots[-1], Q=q.T, QD=qd.T, A=qdd.T, U=U / np.linalg.norm(U, axis=0))
-    (p1, p2), reaction, momentum = peaks(cat, knots, curves)
+    per_motor, reaction, momentum = peaks(cat, knots, curves)
     print(json.dumps(dict(
         catflip=dict(start=sol['start'], status=sol['status'], twist_deg=math.degrees(sol['twist']), swing_deg=math.degrees(sol['swing']),
                      peak_nm=sol['peak_torque_nm']),
-        replay=dict(twist_deg=math.degrees(twist), swing_deg=math.degrees(swing), peak_nm=[p1, p2],
+        replay=dict(twist_deg=math.degrees(twist), swing_deg=math.degrees(swing), peak_nm=per_motor,
                     reaction_residual=reaction, momentum=momentum)), indent=1))
 
 
