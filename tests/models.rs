@@ -13,7 +13,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use catflip::engines::models::{self, ModelError};
-use catflip::engines::shape::{AsSpherical, ShapeTrajectory, TwistHeld};
+use catflip::engines::shape::{AsSpherical, Held, ShapeTrajectory};
 use catflip::engines::{exact, reduction, torque};
 use catflip::model::shape::ShapeState;
 use catflip::model::tree::{Body, Link, Tree};
@@ -191,7 +191,7 @@ fn spherical_with_its_twist_held_at_zero_is_the_no_twist_joint_exactly() {
     for half in [p.cat.half(), unequal(Joint::NoTwist).rear] {
         let no_twist = Cat::equal(half, Joint::NoTwist);
         let spherical = Cat::equal(half, Joint::Spherical);
-        let held = TwistHeld(&s);
+        let held = Held(&s, 1);
         for (piece, d) in ShapeTrajectory::piece_durations(&s).into_iter().enumerate() {
             for f in [0.0, 0.3, 0.7, 1.0] {
                 let two = ShapeTrajectory::piece_shape(&s, piece, f * d);

@@ -12,7 +12,8 @@
 //! own cat gets its tail ([`crate::optimize::whole::WholeCat::Tailed`]). These models
 //! ([`Beyond`]) are planned on every motor, re-measured by the general core on their tree of
 //! bodies and verified in rapier's tree scene; they take ideal motors and no spin, and a row says
-//! so otherwise; the library schedule drives two coordinates, so they have no schedule's column.
+//! so otherwise; their library schedule is the problem's with the further coordinates held at
+//! zero (the twist, the tail straight).
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
 //! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist

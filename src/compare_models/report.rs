@@ -126,7 +126,7 @@ impl ModelComparison {
         if self.rows.iter().any(|r| r.motors > 2) {
             let _ = writeln!(
                 s,
-                "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; the library schedule drives two coordinates, so those rows have none. Their filmstrips place every body by the general core on the tree of bodies."
+                "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; their library schedule is the problem's with the further coordinates held at zero (the spherical joint's relative twist, the tail straight behind the cat), its peak over every motor sampled at 4001 instants per phase. Their filmstrips place every body by the general core on the tree of bodies."
             );
         }
         let _ = writeln!(s, "\nThe cats:\n");

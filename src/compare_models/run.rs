@@ -3,17 +3,22 @@
 
 use std::time::Instant;
 
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::{variants, Beyond, ModelComparison, ModelRow, OptimumFigures, ScheduleFigures, Variant};
 use crate::engines::models;
 use crate::engines::rapier::tree_run::verify_tree;
 use crate::engines::rapier::{RapierError, RapierOptions, Reference};
+use crate::engines::reduction;
 use crate::engines::resolved::Resolved;
+use crate::engines::shape::{Held, ShapeTrajectory};
 use crate::measure::whole::whole;
+use crate::model::tree::Tree;
 use crate::model::{Cat, Joint};
 use crate::optimize::whole::spline::SplineShape;
 use crate::optimize::whole::{optimize_whole, BSpline, WholeCat, WholeError};
+use crate::problem::cat::CatSection;
 use crate::problem::{Problem, ProblemError};
 
 /// Instants per second of fall at which the optimum's bend is sampled for the plot.
@@ -150,13 +155,14 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
         row.status = format!("not run: {e}");
         return Ok(());
     }
+    let tree = cat.tree();
+    row.schedule = held_schedule(p, &tree);
     let (settings, tolerance, fall) = (&p.optimize.whole, p.exact.tolerance, p.drop.fall_time());
     let outcome = optimize_whole(cat, fall, &p.manoeuvre, settings, &motors, tolerance)?;
     let Some(b) = outcome.best() else {
         row.status = outcome.no_optimum(settings, tolerance);
         return Ok(());
     };
-    let tree = cat.tree();
     let flip = models::flip_on(&tree, &SplineShape(&b.spline), &spin, tolerance);
     row.status = b.status.to_string();
     row.optimum = Some(OptimumFigures {
@@ -181,6 +187,34 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
     row.spline = Some(b.spline.clone());
     row.tree = Some(tree);
     Ok(())
+}
+
+/// Instants per phase at which [`held_schedule`] samples the motors' torques.
+const HELD_SAMPLES: usize = 4000;
+
+/// The problem's library schedule on a model beyond two motors, its further coordinates held at
+/// zero ([`Held`]: the spherical joint's relative twist, a tail straight behind the cat): its flip
+/// by the general core on `tree`, and its peak over every motor, sampled at [`HELD_SAMPLES`] + 1
+/// instants of each phase (each phase's own formula at its ends). `None` when the schedule's
+/// circulation cannot be resolved on the cat's two-motor halves.
+fn held_schedule(p: &Problem, tree: &Tree) -> Option<ScheduleFigures> {
+    let halves = Problem { cat: CatSection { tail: None, ..p.cat }, ..p.clone() };
+    let r = Resolved::new(&halves).ok()?;
+    let held = Held(&r.schedule, tree.dof().saturating_sub(2));
+    let zero = Vector3::zeros();
+    let flip = models::flip_on(tree, &held, &zero, p.exact.tolerance);
+    let peak = ShapeTrajectory::piece_durations(&held)
+        .into_iter()
+        .enumerate()
+        .flat_map(|(piece, d)| (0..=HELD_SAMPLES).map(move |k| (piece, d * k as f64 / HELD_SAMPLES as f64)))
+        .flat_map(|(piece, s)| reduction::joint_torques(tree, &held.piece_shape(piece, s), &zero))
+        .flat_map(|link| link.tau)
+        .fold(0.0, |m: f64, t| m.max(t.abs()));
+    Some(ScheduleFigures {
+        twist_deg: flip.twist.to_degrees(),
+        swing_deg: flip.swing.to_degrees(),
+        peak_torque_nm: peak,
+    })
 }
 
 /// The bend (angle between the spine axes, degrees) of `spline` on `cat` over `fall` s, densely.

@@ -11,7 +11,7 @@
 //!
 //! A trajectory must give the joint's number of coordinates ([`crate::model::Joint::dof`]): a
 //! library schedule (`q1, q2`) drives the universal and no-twist joints, and
-//! [`crate::engines::shape::TwistHeld`] a spherical one with its relative twist held at zero.
+//! [`crate::engines::shape::Held`] a spherical one with its relative twist held at zero.
 
 use nalgebra::{Matrix2, Vector3};
 

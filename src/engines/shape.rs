@@ -3,7 +3,7 @@
 //!
 //! Every two-coordinate [`Trajectory`] (the library schedules, whose paths and profiles are
 //! defined on `(q1, q2)` for every two-coordinate joint, DESIGN.md §10) is a shape trajectory;
-//! [`TwistHeld`] adds a spherical joint's third coordinate held at zero, and [`AsSpherical`]
+//! [`Held`] adds coordinates held at zero (a spherical joint's twist, a tail), and [`AsSpherical`]
 //! expresses a universal-joint trajectory in the spherical joint's coordinates.
 
 use crate::model::shape::ShapeState;
@@ -50,22 +50,20 @@ impl<T: Trajectory> ShapeTrajectory for T {
     }
 }
 
-/// A two-coordinate trajectory driving a spherical joint with its relative twist `q3` held at
-/// zero: `(q1, q2, 0)`.
+/// A two-coordinate trajectory driving a model of more coordinates with the rest held at zero:
+/// `(q1, q2, 0, …)`, `.1` zeros. With one, a spherical joint's relative twist held (exactly the
+/// no-twist joint, DESIGN.md §10); with a tail's two, the tail held straight behind the cat.
 #[derive(Clone, Copy, Debug)]
-pub struct TwistHeld<'a, T: Trajectory>(pub &'a T);
+pub struct Held<'a, T: Trajectory>(pub &'a T, pub usize);
 
-impl<T: Trajectory> ShapeTrajectory for TwistHeld<'_, T> {
+impl<T: Trajectory> ShapeTrajectory for Held<'_, T> {
     fn piece_durations(&self) -> Vec<f64> {
         self.0.piece_durations()
     }
     fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
         let st = self.0.piece_state(piece, s);
-        ShapeState {
-            q: vec![st.q[0], st.q[1], 0.0],
-            qd: vec![st.qd[0], st.qd[1], 0.0],
-            qdd: vec![st.qdd[0], st.qdd[1], 0.0],
-        }
+        let held = |two: [f64; 2]| two.into_iter().chain(std::iter::repeat_n(0.0, self.1)).collect();
+        ShapeState { q: held(st.q), qd: held(st.qd), qdd: held(st.qdd) }
     }
     fn acceleration_jumps(&self, piece: usize) -> Vec<f64> {
         self.0.acceleration_jumps(piece)
