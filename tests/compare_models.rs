@@ -268,7 +268,7 @@ fn assert_beyond_row(r: &ModelRow, tree: &Tree) {
     assert!((flip.twist.to_degrees() - o.twist_deg).abs() < 1e-7, "{}: {} vs {}", r.key, flip.twist, o.twist_deg);
     let total = spline.duration();
     let sampled = (0..=20_000)
-        .map(|k| spline.shape_from(&spline.basis(spline.span_of(total * k as f64 / 2e4), total * k as f64 / 2e4)))
+        .map(|k| spline.shape(total * k as f64 / 2e4))
         .flat_map(|shape| reduction::joint_torques(tree, &shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau))
         .fold(0.0, |m: f64, t| m.max(t.abs()));
     assert!(o.peak_torque_nm >= sampled * (1.0 - 1e-9), "{}: row {} below {sampled}", r.key, o.peak_torque_nm);

@@ -129,7 +129,7 @@ fn a_tail_on_every_joint_is_verified_against_the_general_core() {
         }
         let flip = flip_on(&tree, &SplineShape(&path), &Vector3::zeros(), 1e-12);
         let peak = (0..=6000)
-            .map(|k| path.shape_from(&path.basis(path.span_of(1.2 * k as f64 / 6000.0), 1.2 * k as f64 / 6000.0)))
+            .map(|k| path.shape(1.2 * k as f64 / 6000.0))
             .flat_map(|shape| {
                 reduction::joint_torques(&tree, &shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau)
             })
@@ -179,7 +179,7 @@ fn velocity_mismatch(h: f64) -> f64 {
     let (mut worst, mut fastest) = (0.0f64, 0.0f64);
     for k in 1..=(0.4 / h).round() as usize {
         let t = k as f64 * h;
-        scene.aim(&path.shape_from(&path.basis(path.span_of(t), t))).unwrap_or_else(|e| panic!("{e}"));
+        scene.aim(&path.shape(t)).unwrap_or_else(|e| panic!("{e}"));
         scene.step();
         let now = scene.snapshot().unwrap_or_else(|e| panic!("{e}"));
         for (a, b) in before.bodies.iter().zip(&now.bodies) {

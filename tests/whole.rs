@@ -188,7 +188,7 @@ fn dense_peaks(tree: &Tree, spline: &BSpline) -> (Vec<f64>, f64) {
     let (mut sampled, mut beyond) = (vec![0.0f64; tree.dof()], 0.0f64);
     for k in 0..=n {
         let t = FALL * k as f64 / n as f64;
-        let shape = spline.shape_from(&spline.basis(spline.span_of(t), t));
+        let shape = spline.shape(t);
         beyond = shape.q[2..].iter().fold(beyond, |m, x| m.max(x.abs()));
         let zero = nalgebra::Vector3::zeros();
         let tau = reduction::joint_torques(tree, &shape, &zero).into_iter().flat_map(|l| l.tau);

@@ -126,8 +126,7 @@ pub fn flip_spinning(
     spin: &Vector3<f64>,
     tolerance: f64,
 ) -> Result<Flip, ModelError> {
-    let tree = checked_tree(cat, traj)?;
-    Ok(adaptive_on(&ModelField { tree: &tree, traj }, Stepper::for_spin(spin), tolerance, None))
+    Ok(flip_on(&checked_tree(cat, traj)?, traj, spin, tolerance))
 }
 
 /// [`flip_spinning`] on any `tree` of bodies (a cat with a tail), `traj` giving its

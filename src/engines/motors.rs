@@ -148,12 +148,12 @@ impl MotorDemand {
         ]
     }
 
-    /// The larger joint's peak speed, rad/s.
+    /// The largest motor's peak speed, rad/s.
     pub fn max_speed(&self) -> f64 {
         self.peak_speed_rad_s.iter().map(|p| p.value).fold(0.0, f64::max)
     }
 
-    /// The larger joint's peak power, W.
+    /// The largest motor's peak power, W.
     pub fn max_power(&self) -> f64 {
         self.peak_power_w.iter().map(|p| p.value).fold(0.0, f64::max)
     }

@@ -116,7 +116,12 @@ pub struct LinkTorques {
 
 /// Every joint's torques at `shape` with total momentum `λ` in A's frame, link by link.
 pub fn joint_torques(tree: &Tree, shape: &ShapeState, lambda: &Vector3<f64>) -> Vec<LinkTorques> {
-    let d = dynamics(tree, shape, lambda);
+    torques_on(tree, &dynamics(tree, shape, lambda))
+}
+
+/// Every joint's torques, link by link, from the tree's dynamics `d` at a shape ([`dynamics`]),
+/// for a caller that needs `Ω` and `Ω̇` too.
+pub fn torques_on(tree: &Tree, d: &Dynamics) -> Vec<LinkTorques> {
     let (w, wd) = (d.omega, d.omega_dot);
     // Each body's momentum rate about a point, and its inertial force.
     let per_body: Vec<(Vector3<f64>, Vector3<f64>, Vector3<f64>)> = tree

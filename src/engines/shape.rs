@@ -24,18 +24,29 @@ pub trait ShapeTrajectory {
     /// Local times inside a piece where `q̈` may jump ([`Trajectory::acceleration_jumps`]).
     fn acceleration_jumps(&self, piece: usize) -> Vec<f64>;
 
-    /// The shape at global time `t`, clamped to the trajectory (the later piece at a boundary).
+    /// The shape at global time `t`, clamped to the trajectory (the later piece at a boundary;
+    /// [`locate`] on [`ShapeTrajectory::piece_durations`]).
     fn shape_at(&self, t: f64) -> ShapeState {
         let durations = self.piece_durations();
-        let mut start = 0.0;
-        for (i, d) in durations.iter().enumerate() {
-            if t < start + d || i + 1 == durations.len() {
-                return self.piece_shape(i, (t - start).clamp(0.0, *d));
-            }
-            start += d;
+        if durations.is_empty() {
+            return ShapeState::default();
         }
-        ShapeState::default()
+        let (piece, s) = locate(&durations, t);
+        self.piece_shape(piece, s)
     }
+}
+
+/// The piece of `durations` (s) holding global time `t` (the later one at a boundary, the last
+/// beyond the end) and the local time there, clamped to the piece.
+pub fn locate(durations: &[f64], t: f64) -> (usize, f64) {
+    let mut start = 0.0;
+    for (i, d) in durations.iter().enumerate() {
+        if t < start + d || i + 1 == durations.len() {
+            return (i, (t - start).clamp(0.0, *d));
+        }
+        start += d;
+    }
+    (0, 0.0)
 }
 
 impl<T: Trajectory> ShapeTrajectory for T {

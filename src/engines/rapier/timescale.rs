@@ -157,7 +157,7 @@ pub fn tree_time_scales(tree: &Tree, traj: &impl ShapeTrajectory) -> TimeScales 
     sampled(&durations, durations.iter().sum(), |piece, s| {
         let shape = traj.piece_shape(piece, s);
         let d = reduction::dynamics(tree, &shape, &zero);
-        let tau = reduction::joint_torques(tree, &shape, &zero).into_iter().flat_map(|l| l.tau).collect();
+        let tau = reduction::torques_on(tree, &d).into_iter().flat_map(|l| l.tau).collect();
         Sample { qd: shape.qd, omega: d.omega, omega_dot: d.omega_dot, tau }
     })
 }

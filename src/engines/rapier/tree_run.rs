@@ -31,7 +31,7 @@ use super::tree_scene::{momenta, TreeScene, TreeSnapshot};
 use super::verdict::{RunRecord, StepSource, Verification};
 use super::{MotorGains, RapierError, RapierOptions, Reference};
 use crate::engines::reduction::locked_and_shape_momentum;
-use crate::engines::shape::ShapeTrajectory;
+use crate::engines::shape::{locate, ShapeTrajectory};
 use crate::model::orientation::TwistTracker;
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
@@ -77,9 +77,10 @@ impl<'a, T: ShapeTrajectory> Clock<'a, T> {
         self.durations.iter().sum()
     }
 
-    /// The shape at global time `t` ([`ShapeTrajectory::shape_at`]).
+    /// The shape at global time `t` ([`ShapeTrajectory::shape_at`], on the durations kept).
     fn shape(&self, t: f64) -> ShapeState {
-        self.traj.shape_at(t)
+        let (piece, s) = locate(&self.durations, t);
+        self.traj.piece_shape(piece, s)
     }
 
     /// The first instant (global time) where `q`, `q̇` or `q̈` jumps, if any: at a join, or inside

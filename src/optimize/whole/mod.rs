@@ -4,7 +4,7 @@
 //!
 //! ## Problem
 //! Variables: the control points of one clamped cubic B-spline per joint coordinate, `q1(t), q2(t)`
-//! (and `q3(t)` on the spherical joint) on `[0, T]` ([`spline`]), the first and last two of each
+//! (three on the spherical joint, four with a tail) on `[0, T]` ([`spline`]), the first and last two of each
 //! held at zero so that the cat is straight and at
 //! rest at both ends (three with `optimize.zero_end_acceleration`). With `R(T)` A's final
 //! orientation from the zero-momentum dynamics ([`crate::engines::exact`]):

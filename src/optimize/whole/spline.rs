@@ -230,9 +230,14 @@ impl BSpline {
         ShapeState { q: all(0), qd: all(1), qdd: all(2) }
     }
 
+    /// Every coordinate's angle, rate and acceleration at global time `t` ([`BSpline::shape_from`]).
+    pub fn shape(&self, t: f64) -> ShapeState {
+        self.shape_from(&self.basis(self.span_of(t), t))
+    }
+
     /// Every coordinate's angle at global time `t`, rad.
     pub fn angles(&self, t: f64) -> Vec<f64> {
-        self.shape_from(&self.basis(self.span_of(t), t)).q
+        self.shape(t).q
     }
 
     /// The same curves fitted on `control_points` control points ([`BSpline::fit`]).

@@ -33,9 +33,18 @@ pub enum ExactTorques<'a> {
 impl ExactTorques<'_> {
     /// The motor torques at local time `s` of span `span`, one per motor, N·m.
     pub fn at(&self, spline: &BSpline, span: usize, s: f64) -> Vec<f64> {
-        match self {
-            ExactTorques::TwoMotor(source) => source.at(spline, span, s, &spline.piece_state(span, s)).tau.to_vec(),
-            ExactTorques::General(tree) => general(tree, &SplineShape(spline).piece_shape(span, s)),
+        self.at_shape(spline, span, s, None)
+    }
+
+    /// [`ExactTorques::at`], given the shape there when the caller has it already (the general
+    /// core uses it; the two-motor source evaluates its own state).
+    fn at_shape(&self, spline: &BSpline, span: usize, s: f64, shape: Option<&ShapeState>) -> Vec<f64> {
+        match (self, shape) {
+            (ExactTorques::General(tree), Some(shape)) => general(tree, shape),
+            (ExactTorques::General(tree), None) => general(tree, &SplineShape(spline).piece_shape(span, s)),
+            (ExactTorques::TwoMotor(source), _) => {
+                source.at(spline, span, s, &spline.piece_state(span, s)).tau.to_vec()
+            }
         }
     }
 
@@ -47,7 +56,7 @@ impl ExactTorques<'_> {
                 let d = Trajectory::piece_durations(spline)[last];
                 source.at(spline, last, d, &spline.state(end)).tau.to_vec()
             }
-            ExactTorques::General(tree) => general(tree, &spline.shape_from(&spline.basis(spline.span_of(end), end))),
+            ExactTorques::General(tree) => general(tree, &spline.shape(end)),
         }
     }
 
@@ -65,9 +74,10 @@ impl ExactTorques<'_> {
     pub fn ideal_demand(&self, spline: &BSpline, samples: usize) -> MotorDemand {
         let joints = spline.joints();
         let mut peaks = spline_peaks(spline, samples, |span, s| {
-            let qd = SplineShape(spline).piece_shape(span, s).qd;
-            let tau = self.at(spline, span, s);
-            qd.iter().map(|w| w.abs()).chain(tau.iter().zip(&qd).map(|(t, w)| (t * w).abs())).collect()
+            let shape = SplineShape(spline).piece_shape(span, s);
+            let tau = self.at_shape(spline, span, s, Some(&shape));
+            let qd = &shape.qd;
+            qd.iter().map(|w| w.abs()).chain(tau.iter().zip(qd).map(|(t, w)| (t * w).abs())).collect()
         });
         let peak_power_w = peaks.split_off(joints);
         MotorDemand { peak_speed_rad_s: peaks, peak_power_w, limits: Vec::new(), stretch: None }
