@@ -274,4 +274,12 @@ fn assert_beyond_row(r: &ModelRow, tree: &Tree) {
     assert!(o.peak_torque_nm >= sampled * (1.0 - 1e-9), "{}: row {} below {sampled}", r.key, o.peak_torque_nm);
     assert!((o.peak_torque_nm - sampled) / sampled < 1e-3, "{}: row {} vs {sampled}", r.key, o.peak_torque_nm);
     assert!(r.schedule.is_some(), "{}: the library schedule held", r.key);
+    // Its files: the model files and the schedule file, whose last row is the flip.
+    let names: Vec<&str> = r.files.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["model.urdf", "model.xml", "whole-optimum.json", "whole-optimum.csv"], "{}", r.key);
+    let csv = &r.files[3].1;
+    let header: Vec<&str> = csv.lines().next().expect("a header").split(',').collect();
+    let last: Vec<&str> = csv.lines().last().expect("rows").split(',').collect();
+    let twist: f64 = last[header.iter().position(|h| *h == "twist_deg").expect("twist_deg")].parse().expect("a number");
+    assert!((twist - o.twist_deg).abs() < 1e-7, "{}: the file's last row {twist} against {}", r.key, o.twist_deg);
 }

@@ -72,10 +72,11 @@ if ball:
 worst_relative_twist = 0.0
 for k in range(round(T[-1] / dt)):
     at = interpolator(S, k * dt)
+    mid = interpolator(S, (k + 0.5) * dt)  # the torques held over the step: its midpoint's
     if ball:
         # The joint's couple on B in A's frame (motors about x and y, the constraint about z),
         # turned into B's frame.
-        couple = np.array([at(c) for c in ("tau1_nm", "tau2_nm", "tauz_nm")])
+        couple = np.array([mid(c) for c in ("tau1_nm", "tau2_nm", "tauz_nm")])
         now = d.qpos[7:11].copy()
         goal = np.array([at(c) for c in ("rel_qw", "rel_qx", "rel_qy", "rel_qz")])
         goal /= np.linalg.norm(goal)
@@ -85,7 +86,7 @@ for k in range(round(T[-1] / dt)):
         d.ctrl[:] = rotation(now).T @ couple + KP * error + KD * (rate - d.qvel[6:9])
         worst_relative_twist = max(worst_relative_twist, abs(twist_swing(*now)[0]))
     else:
-        d.ctrl[:] = [at(f"tau{j}_nm")
+        d.ctrl[:] = [mid(f"tau{j}_nm")
                      + KP * (at(f"q{j}_rad") - d.qpos[6 + j]) + KD * (at(f"qd{j}_rad_s") - d.qvel[5 + j]) for j in (1, 2)]
     mujoco.mj_step(m, d)
 

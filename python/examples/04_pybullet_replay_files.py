@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-from exported_folder import folder_from, interpolator, read_rows, report, twist_swing
+from exported_folder import folder_from, interpolator, read_rows, report, rotation_vector, twist_swing
 
 try:
     import pybullet as p
@@ -111,15 +111,6 @@ def check_spherical_readings():
           f"kinetic energy {change:+.6e} J")
     assert abs(work_b - change) <= 1e-4 * abs(change) < abs(work_a - change)
     p.removeBody(probe)
-
-
-def rotation_vector(xyzw):
-    """The rotation vector of a unit quaternion (x, y, z, w), its shorter way round."""
-    v, w = np.array(xyzw[:3]), xyzw[3]
-    if w < 0:
-        v, w = -v, -w
-    s = np.linalg.norm(v)
-    return v * (2 * np.arctan2(s, w) / s) if s > 1e-15 else 2 * v
 
 
 if ball:

@@ -40,12 +40,30 @@ def read_rows(folder):
 
 def interpolator(rows, t):
     """Column name → its value at time ``t``: cubic (four-row Lagrange) interpolation, O(h⁴),
-    where a straight line between rows a few milliseconds apart would cost the flip about 1e-2°."""
+    where a straight line between rows a few milliseconds apart would cost the flip about 1e-2°.
+    When the piece holding ``t`` (from its 'start' row to the next) has four rows or more, the
+    four are taken inside it: across a piece boundary the torques kink (a spline's knot, where
+    the jerk jumps), and a cubic through rows on both sides would smear the kink."""
     times = rows["t_s"]
     i = min(max(np.searchsorted(times, t, side="right") - 2, 0), len(times) - 4)
+    starts = np.flatnonzero(rows["boundary"] == "start")  # the 'end' rows are gone (read_rows)
+    k = np.searchsorted(times[starts], t, side="right")
+    lo = starts[k - 1] if k > 0 else 0
+    hi = starts[k] if k < len(starts) else len(times) - 1
+    if hi - lo >= 3:
+        i = min(max(i, lo), hi - 3)
     x = times[i:i + 4]
     weights = [np.prod([(t - x[b]) / (x[a] - x[b]) for b in range(4) if b != a]) for a in range(4)]
     return lambda column: np.dot(weights, rows[column][i:i + 4])
+
+
+def rotation_vector(xyzw):
+    """The rotation vector of a unit quaternion (x, y, z, w), its shorter way round."""
+    v, w = np.array(xyzw[:3]), xyzw[3]
+    if w < 0:
+        v, w = -v, -w
+    s = np.linalg.norm(v)
+    return v * (2 * np.arctan2(s, w) / s) if s > 1e-15 else 2 * v
 
 
 def twist_swing(w, x, y, z):

@@ -237,6 +237,10 @@ pub struct ModelRow {
     /// sampled densely (for the plot).
     #[serde(skip)]
     pub bend: Vec<(f64, f64)>,
+    /// Beyond two motors, the optimum's model and schedule files ([`crate::exchange::tree_files`]),
+    /// `(file name, contents)`, written into `<key>/`.
+    #[serde(skip)]
+    pub files: Vec<(String, String)>,
 }
 
 impl ModelRow {

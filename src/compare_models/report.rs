@@ -126,7 +126,7 @@ impl ModelComparison {
         if self.rows.iter().any(|r| r.motors > 2) {
             let _ = writeln!(
                 s,
-                "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; their library schedule is the problem's with the further coordinates held at zero (the spherical joint's relative twist, the tail straight behind the cat), its peak over every motor sampled at 4001 instants per phase. Their filmstrips place every body by the general core on the tree of bodies."
+                "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; their library schedule is the problem's with the further coordinates held at zero (the spherical joint's relative twist, the tail straight behind the cat), its peak over every motor sampled at 4001 instants per phase. Their filmstrips place every body by the general core on the tree of bodies; with `--out` each one's model and schedule files are in `<model>/` (`model.xml`, `model.urdf`, `whole-optimum.csv` and `.json`, replayed in MuJoCo by `python/examples/05_mujoco_replay_tree.py`)."
             );
         }
         let _ = writeln!(s, "\nThe cats:\n");
@@ -217,8 +217,10 @@ impl ModelComparison {
         )
     }
 
-    /// Writes `models.md`, `models.csv`, `models.json`, the bend plot and one filmstrip per
-    /// optimum (`<key>_filmstrip.png`) into `<out>/<problem>-models/`, all or nothing.
+    /// Writes `models.md`, `models.csv`, `models.json`, the bend plot, one filmstrip per optimum
+    /// (`<key>_filmstrip.png`) and, for each model beyond two motors with an optimum, its model
+    /// and schedule files (`<key>/model.xml`, `model.urdf`, `whole-optimum.csv`, `.json`) into
+    /// `<out>/<problem>-models/`, all or nothing.
     pub fn write(&self, out: &Path) -> Result<PathBuf, WriteError> {
         let staging = Staging::begin(out, &format!("{}-models", self.problem))?;
         let json = serde_json::to_string_pretty(self)
@@ -230,6 +232,15 @@ impl ModelComparison {
         }
         if self.rows.iter().any(|r| !r.bend.is_empty()) {
             line_plot(staging.dir(), &self.bend_plot())?;
+        }
+        for r in self.rows.iter().filter(|r| !r.files.is_empty()) {
+            let folder = staging.dir().join(&r.key);
+            std::fs::create_dir_all(&folder)
+                .map_err(|source| WriteError::Io { path: staging.shown(&folder), source })?;
+            for (name, text) in &r.files {
+                let path = folder.join(name);
+                std::fs::write(&path, text).map_err(|source| WriteError::Io { path: staging.shown(&path), source })?;
+            }
         }
         for r in &self.rows {
             let Some(spline) = &r.spline else { continue };

@@ -13,6 +13,9 @@ use crate::engines::rapier::{RapierError, RapierOptions, Reference};
 use crate::engines::reduction;
 use crate::engines::resolved::Resolved;
 use crate::engines::shape::{Held, ShapeTrajectory};
+use crate::exchange::tree_file::STEPS_PER_SPAN;
+use crate::exchange::tree_model::NamedTree;
+use crate::exchange::{tree_files, ExchangeError, ExportOptions};
 use crate::measure::whole::whole;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Joint};
@@ -30,6 +33,9 @@ pub enum CompareModelsError {
     /// A model's problem is refused (its field named).
     #[error("compare-models")]
     Problem(#[from] ProblemError),
+    /// A model's files cannot be written.
+    #[error("compare-models: the model files")]
+    Exchange(#[from] ExchangeError),
     /// The whole optimiser refuses the problem's settings.
     #[error("compare-models: the whole optimiser")]
     Whole(#[from] WholeError),
@@ -90,6 +96,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         spline: None,
         tree: None,
         bend: Vec::new(),
+        files: Vec::new(),
     };
     match (v.beyond, cat) {
         (Beyond::TwoMotors, _) => {}
@@ -179,6 +186,14 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
         drop_height_m: p.drop.height_for(b.fall_time_s),
     });
     row.bend = bend_samples(cat, &b.spline, b.fall_time_s);
+    let named = NamedTree::of(cat, p.rapier.cross_mass_fraction)?;
+    row.files = tree_files(
+        p,
+        &named,
+        &SplineShape(&b.spline),
+        &flip,
+        &ExportOptions { rate_hz: None, steps_per_piece: STEPS_PER_SPAN },
+    )?;
     if verify {
         let reference = Reference { twist: flip.twist, swing: flip.swing, peak_torque: b.peak_torque_nm };
         let shape = SplineShape(&b.spline);

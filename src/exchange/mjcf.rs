@@ -85,11 +85,38 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         }
     };
     let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; {relation}. -->"
-    );
-    let _ = writeln!(s, "<mujoco model=\"{}\">", xml_escape(name));
+    let comment = format!("the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; {relation}.");
+    open_model(&mut s, &comment, name, "A", options);
+    inertial(&mut s, links.mass[0], links.inertia[0], 6);
+    geom(&mut s, "A", &size(0), 6);
+    let motors: &[(&str, &str, &str)] = if links.has_cross() {
+        let _ = writeln!(s, "      <body name=\"cross\" pos=\"{}\">", vec3([0.0, 0.0, -half_a]));
+        joint(&mut s, "joint1", "hinge", Some([1.0, 0.0, 0.0]), [0.0, 0.0, 0.0], 8);
+        inertial(&mut s, links.mass[1], links.inertia[1], 8);
+        let _ = writeln!(s, "        <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -half_b]));
+        joint(&mut s, "joint2", "hinge", Some([0.0, 1.0, 0.0]), [0.0, 0.0, half_b], 10);
+        inertial(&mut s, links.mass[2], links.inertia[2], 10);
+        geom(&mut s, "B", &size(1), 10);
+        let _ = writeln!(s, "        </body>");
+        let _ = writeln!(s, "      </body>");
+        &[("tau1", "joint1", "1"), ("tau2", "joint2", "1")]
+    } else {
+        let _ = writeln!(s, "      <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -(half_a + half_b)]));
+        joint(&mut s, "joint", "ball", None, [0.0, 0.0, half_b], 8);
+        inertial(&mut s, links.mass[2], links.inertia[2], 8);
+        geom(&mut s, "B", &size(1), 8);
+        let _ = writeln!(s, "      </body>");
+        &[("tau_bx", "joint", "1 0 0 0 0 0"), ("tau_by", "joint", "0 1 0 0 0 0"), ("tau_bz", "joint", "0 0 1 0 0 0")]
+    };
+    close_model(&mut s, motors);
+    s
+}
+
+/// The file's head: the comment, `<mujoco>` named `model`, its compiler and option, the world
+/// and the root body `root` with its free joint, left open (at indent 6 within it).
+pub(crate) fn open_model(s: &mut String, comment: &str, model: &str, root: &str, options: &MjcfOptions) {
+    let _ = writeln!(s, "<!-- catflip: {comment} -->");
+    let _ = writeln!(s, "<mujoco model=\"{}\">", xml_escape(model));
     let _ = writeln!(s, "  <compiler angle=\"radian\" inertiafromgeom=\"false\" autolimits=\"true\"/>");
     let _ = writeln!(
         s,
@@ -99,29 +126,12 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         num(options.timestep)
     );
     let _ = writeln!(s, "  <worldbody>");
-    let _ = writeln!(s, "    <body name=\"A\" pos=\"0 0 0\">");
+    let _ = writeln!(s, "    <body name=\"{root}\" pos=\"0 0 0\">");
     let _ = writeln!(s, "      <freejoint name=\"base\"/>");
-    inertial(&mut s, links, 0, 6);
-    geom(&mut s, "A", &size(0), 6);
-    let motors: &[(&str, &str, &str)] = if links.has_cross() {
-        let _ = writeln!(s, "      <body name=\"cross\" pos=\"{}\">", vec3([0.0, 0.0, -half_a]));
-        joint(&mut s, "joint1", "hinge", Some([1.0, 0.0, 0.0]), [0.0, 0.0, 0.0], 8);
-        inertial(&mut s, links, 1, 8);
-        let _ = writeln!(s, "        <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -half_b]));
-        joint(&mut s, "joint2", "hinge", Some([0.0, 1.0, 0.0]), [0.0, 0.0, half_b], 10);
-        inertial(&mut s, links, 2, 10);
-        geom(&mut s, "B", &size(1), 10);
-        let _ = writeln!(s, "        </body>");
-        let _ = writeln!(s, "      </body>");
-        &[("tau1", "joint1", "1"), ("tau2", "joint2", "1")]
-    } else {
-        let _ = writeln!(s, "      <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -(half_a + half_b)]));
-        joint(&mut s, "joint", "ball", None, [0.0, 0.0, half_b], 8);
-        inertial(&mut s, links, 2, 8);
-        geom(&mut s, "B", &size(1), 8);
-        let _ = writeln!(s, "      </body>");
-        &[("tau_bx", "joint", "1 0 0 0 0 0"), ("tau_by", "joint", "0 1 0 0 0 0"), ("tau_bz", "joint", "0 0 1 0 0 0")]
-    };
+}
+
+/// The file's tail: closes the root body and the world, then the `motors` (name, joint, gear).
+pub(crate) fn close_model(s: &mut String, motors: &[(&str, &str, &str)]) {
     let _ = writeln!(s, "    </body>");
     let _ = writeln!(s, "  </worldbody>");
     let _ = writeln!(s, "  <actuator>");
@@ -130,20 +140,16 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
     }
     let _ = writeln!(s, "  </actuator>");
     let _ = writeln!(s, "</mujoco>");
-    s
 }
 
-fn inertial(s: &mut String, links: &Links, index: usize, indent: usize) {
-    let _ = writeln!(
-        s,
-        "{:indent$}<inertial pos=\"0 0 0\" mass=\"{}\" diaginertia=\"{}\"/>",
-        "",
-        num(links.mass[index]),
-        vec3(links.inertia[index])
-    );
+/// An `<inertial>` of `mass` and principal `moments` at the body frame's origin.
+pub(crate) fn inertial(s: &mut String, mass: f64, moments: [f64; 3], indent: usize) {
+    let _ =
+        writeln!(s, "{:indent$}<inertial pos=\"0 0 0\" mass=\"{}\" diaginertia=\"{}\"/>", "", num(mass), vec3(moments));
 }
 
-fn geom(s: &mut String, name: &str, size: &str, indent: usize) {
+/// A massless cylinder to look at, `size` MJCF's `"radius half-length"`.
+pub(crate) fn geom(s: &mut String, name: &str, size: &str, indent: usize) {
     let _ = writeln!(
         s,
         "{:indent$}<geom name=\"{name}\" type=\"cylinder\" size=\"{size}\" mass=\"0\" contype=\"0\" conaffinity=\"0\"/>",
@@ -152,7 +158,7 @@ fn geom(s: &mut String, name: &str, size: &str, indent: usize) {
 }
 
 /// A joint of MJCF `kind` (`hinge` with its `axis`, or `ball`) through `pos` in its body's frame.
-fn joint(s: &mut String, name: &str, kind: &str, axis: Option<[f64; 3]>, pos: [f64; 3], indent: usize) {
+pub(crate) fn joint(s: &mut String, name: &str, kind: &str, axis: Option<[f64; 3]>, pos: [f64; 3], indent: usize) {
     let axis = axis.map(|a| format!(" axis=\"{}\"", vec3(a))).unwrap_or_default();
     let _ = writeln!(
         s,

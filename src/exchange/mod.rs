@@ -9,6 +9,8 @@
 //!   columns to the exact engine's tolerance;
 //! - [`import`] and [`interp`]: a CSV of `t, q1, q2` (optionally `q̇`, `q̈`) read into a
 //!   [`crate::schedule::Trajectory`], interpolated by a stated scheme;
+//! - [`tree_model`] and [`tree_file`]: the same for a cat beyond two motors (the spherical
+//!   joint, a tail), any tree of cylinders: its model files and its whole optimum's schedule file;
 //! - [`table`]: every tidy CSV table, written with the `csv` crate;
 //! - [`arrays`]: a schedule given as columns of numbers (the Python package's numpy arrays),
 //!   read by the same parser;
@@ -30,6 +32,8 @@ pub mod mjcf;
 pub mod schedule_file;
 pub mod sidecar;
 pub mod table;
+pub mod tree_file;
+pub mod tree_model;
 pub mod urdf;
 
 pub use arrays::schedule_from_columns;
@@ -121,4 +125,24 @@ pub fn schedule_files(
         })
         .collect::<Result<Vec<_>, ExchangeError>>()?;
     Ok(files.into_iter().flatten().collect())
+}
+
+/// The files of a cat beyond two motors' whole optimum `traj` (its flip `flip` on the tree), as
+/// `(file name, contents)`: [`URDF_FILE`], [`MJCF_FILE`] and `whole-optimum.csv` with its sidecar
+/// ([`tree_file`]).
+pub fn tree_files(
+    problem: &Problem,
+    model: &tree_model::NamedTree,
+    traj: &impl crate::engines::shape::ShapeTrajectory,
+    flip: &crate::engines::exact::Flip,
+    options: &ExportOptions,
+) -> Result<Vec<(String, String)>, ExchangeError> {
+    let file = tree_file::write_tree_optimum(problem, model, traj, flip, options)?;
+    let name = format!("catflip-{}", problem.name);
+    Ok(vec![
+        (URDF_FILE.to_string(), tree_model::tree_urdf(model, &name)),
+        (MJCF_FILE.to_string(), tree_model::tree_mjcf(model, &name, &MjcfOptions::default())),
+        (format!("{}.json", tree_file::TREE_SCHEDULE), file.sidecar_json()?),
+        (format!("{}.csv", tree_file::TREE_SCHEDULE), file.csv),
+    ])
 }

@@ -297,8 +297,11 @@ fn write_file<T: Trajectory>(
     let h_max: Vec<f64> =
         file.origins.iter().map(|&o| measured_durations[o] / e.flip.steps_per_phase.max(1) as f64).collect();
     let max_step = h_max.iter().copied().fold(0.0, f64::max);
-    let rate = |st: &JointState| paper.map_or_else(|| model.body_rate(st), |cat| body_rate(&cat, st.q, st.qd));
-    let attitude = orientations(rate, traj, &plan, &h_max);
+    let rate = |piece: usize, s: f64| {
+        let st = traj.piece_state(piece, s);
+        paper.map_or_else(|| model.body_rate(&st), |cat| body_rate(&cat, st.q, st.qd))
+    };
+    let attitude = orientations(rate, &plan, &h_max);
     // The measured jumps, at the file's piece boundaries: after the last file piece of each
     // measured piece.
     let last_piece_of = |o: usize| file.origins.iter().rposition(|&x| x == o).unwrap_or(o);
@@ -309,8 +312,7 @@ fn write_file<T: Trajectory>(
     let columns = columns(joint);
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(columns.iter().map(|c| c.0)).map_err(csv_error)?;
-    let mut pieces: Vec<PieceInfo> = Vec::new();
-    for (i, (row, (q, angles))) in plan.iter().zip(&attitude).enumerate() {
+    for (row, (q, angles)) in plan.iter().zip(&attitude) {
         let st = traj.piece_state(row.piece, row.local);
         let torques = source.at(traj, row.piece, row.local, &st);
         let tau = torques.tau;
@@ -347,20 +349,6 @@ fn write_file<T: Trajectory>(
             record.extend(ball_columns(joint, &st, torques.couple.z, impulse_z).map(num));
         }
         w.write_record(&record).map_err(csv_error)?;
-        let same_piece = pieces.len() == row.piece + 1;
-        match pieces.last_mut() {
-            Some(p) if same_piece => {
-                p.last_row = i;
-                p.end_s = row.time;
-            }
-            _ => pieces.push(PieceInfo {
-                name: piece_name(row.piece),
-                start_s: row.time,
-                end_s: row.time,
-                first_row: i,
-                last_row: i,
-            }),
-        }
     }
     let bytes = w.into_inner().map_err(|e| ExchangeError::Csv(e.to_string()))?;
     let csv = String::from_utf8(bytes).map_err(|e| ExchangeError::Csv(e.to_string()))?;
@@ -384,7 +372,7 @@ fn write_file<T: Trajectory>(
             rows: plan.len(),
             duration_s: durations.iter().sum(),
         },
-        pieces,
+        pieces: piece_infos(&plan, piece_name),
         jumps: jumps.iter().map(JumpRecord::from).collect(),
         orientation: OrientationInfo {
             engine: "exact".into(),
@@ -401,15 +389,45 @@ fn write_file<T: Trajectory>(
     Ok(ScheduleFile { csv, sidecar })
 }
 
+/// The pieces of a file of rows `plan`, piece `k` named `name(k)`.
+pub(crate) fn piece_infos(plan: &[Row], name: impl Fn(usize) -> String) -> Vec<PieceInfo> {
+    let mut pieces: Vec<PieceInfo> = Vec::new();
+    for (i, row) in plan.iter().enumerate() {
+        let same_piece = pieces.len() == row.piece + 1;
+        match pieces.last_mut() {
+            Some(p) if same_piece => {
+                p.last_row = i;
+                p.end_s = row.time;
+            }
+            _ => pieces.push(PieceInfo {
+                name: name(row.piece),
+                start_s: row.time,
+                end_s: row.time,
+                first_row: i,
+                last_row: i,
+            }),
+        }
+    }
+    pieces
+}
+
 /// The no-twist joint's [`NO_TWIST_COLUMNS`] at `st`: the couple's and the jump impulse's
 /// components about A's `z`, B's orientation relative to A as a quaternion `(w, x, y, z)` with
 /// `w ≥ 0`, and B's angular velocity relative to A in B's frame.
 fn ball_columns(joint: Joint, st: &JointState, tau_z: f64, impulse_z: f64) -> [f64; 9] {
-    let r = joint.rotation(&st.q);
+    let [w, x, y, z, wx, wy, wz] = relative_motion(joint, &st.q, &st.qd);
+    [tau_z, impulse_z, w, x, y, z, wx, wy, wz]
+}
+
+/// A ball joint's reading of `joint` at coordinates `q`, rates `qd`: the child's orientation
+/// relative to its parent as a unit quaternion `(w, x, y, z)` with `w ≥ 0`, then the child's
+/// angular velocity relative to its parent in the child's frame (MuJoCo's ball `qpos`, `qvel`).
+pub(crate) fn relative_motion(joint: Joint, q: &[f64], qd: &[f64]) -> [f64; 7] {
+    let r = joint.rotation(q);
     let rel = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
     let rel = if rel.w < 0.0 { UnitQuaternion::new_unchecked(-rel.into_inner()) } else { rel };
-    let w = r.transpose() * joint.relative_rate(&st.q, &st.qd);
-    [tau_z, impulse_z, rel.w, rel.i, rel.j, rel.k, w.x, w.y, w.z]
+    let w = r.transpose() * joint.relative_rate(q, qd);
+    [rel.w, rel.i, rel.j, rel.k, w.x, w.y, w.z]
 }
 
 /// The motor-sizing figures of a measured trajectory: each joint's peak with when, and what the
@@ -432,7 +450,7 @@ fn motor_sizing(e: &Evaluation) -> MotorSizing {
     }
 }
 
-fn csv_error(e: csv::Error) -> ExchangeError {
+pub(crate) fn csv_error(e: csv::Error) -> ExchangeError {
     ExchangeError::Csv(e.to_string())
 }
 
@@ -448,7 +466,7 @@ fn interpolation_advice(jumps: &[VelocityJump]) -> String {
 
 /// The boundary marker of a row.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Marker {
+pub(crate) enum Marker {
     /// An ordinary row.
     Plain,
     /// The last row of a piece followed by another at the same time.
@@ -458,7 +476,7 @@ enum Marker {
 }
 
 impl Marker {
-    fn text(self) -> &'static str {
+    pub(crate) fn text(self) -> &'static str {
         match self {
             Marker::Plain => "",
             Marker::End => "end",
@@ -469,17 +487,17 @@ impl Marker {
 
 /// Where a row is: piece, local time in it, global time, marker.
 #[derive(Clone, Copy, Debug)]
-struct Row {
-    piece: usize,
-    local: f64,
-    time: f64,
-    marker: Marker,
+pub(crate) struct Row {
+    pub(crate) piece: usize,
+    pub(crate) local: f64,
+    pub(crate) time: f64,
+    pub(crate) marker: Marker,
 }
 
 /// The rows of the file: each piece from its start to its end, boundary times twice. The grid
 /// is `t = k / rate` or, per phase (consecutive pieces with the same label), `steps` equal
 /// intervals of the phase; grid points within `10⁻⁶` of a grid step of a boundary are dropped.
-fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> Vec<Row> {
+pub(crate) fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> Vec<Row> {
     let n = durations.len();
     let starts: Vec<f64> = durations.iter().scan(0.0, |t, &d| Some(std::mem::replace(t, *t + d))).collect();
     let same = |a: usize, b: usize| labels.get(a).is_some() && labels.get(a) == labels.get(b);
@@ -512,10 +530,10 @@ fn plan_rows(durations: &[f64], labels: &[String], options: &ExportOptions) -> V
     rows
 }
 
-/// A's orientation at every row: Magnus steps no longer than `h_max[piece]` from row to row.
-fn orientations(
-    body_rate: impl Fn(&JointState) -> Vector3<f64>,
-    traj: &impl Trajectory,
+/// A's orientation at every row: Magnus steps no longer than `h_max[piece]` from row to row,
+/// `body_rate(piece, s)` A's angular velocity (A's frame) at local time `s` of `piece`.
+pub(crate) fn orientations(
+    body_rate: impl Fn(usize, f64) -> Vector3<f64>,
     rows: &[Row],
     h_max: &[f64],
 ) -> Vec<(UnitQuaternion<f64>, SwingTwist)> {
@@ -531,7 +549,7 @@ fn orientations(
             let span = row.local - p.local;
             let n = ((span / h_max) * (1.0 - 1e-12)).ceil().max(1.0) as usize;
             let h = span / n as f64;
-            let rate = |s: f64| body_rate(&traj.piece_state(row.piece, s));
+            let rate = |s: f64| body_rate(row.piece, s);
             for k in 0..n {
                 let s = p.local + k as f64 * h;
                 let sigma = magnus6(h, rate(s + (0.5 - c) * h), rate(s + 0.5 * h), rate(s + (0.5 + c) * h));

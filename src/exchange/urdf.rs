@@ -55,27 +55,27 @@ pub fn urdf(links: &Links, name: &str) -> String {
         "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is {relative}. -->"
     );
     let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
-    link(&mut s, links, "A", 0, [0.0, 0.0, 0.0], Some((a.length, a.radius)));
+    link(&mut s, "A", links.mass[0], links.inertia[0], [0.0, 0.0, 0.0], Some((a.length, a.radius)));
     if links.has_cross() {
-        link(&mut s, links, "cross", 1, [0.0, 0.0, 0.0], None);
-        link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        link(&mut s, "cross", links.mass[1], links.inertia[1], [0.0, 0.0, 0.0], None);
+        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius)));
         joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], Some([1.0, 0.0, 0.0]));
         joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], Some([0.0, 1.0, 0.0]));
     } else {
-        link(&mut s, links, "B", 2, [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius)));
         joint(&mut s, "joint", "A", "B", [0.0, 0.0, -half_a], None);
     }
     let _ = writeln!(s, "</robot>");
     s
 }
 
-/// One link with its inertial at `com` (link frame) and, for a half, a cylinder visual there.
-fn link(s: &mut String, links: &Links, name: &str, index: usize, com: [f64; 3], cylinder: Option<(f64, f64)>) {
-    let i = links.inertia[index];
+/// One link of `mass` and principal `moments` with its inertial at `com` (link frame) and, for a
+/// body, a cylinder visual `(length, radius)` there.
+pub(crate) fn link(s: &mut String, name: &str, mass: f64, i: [f64; 3], com: [f64; 3], cylinder: Option<(f64, f64)>) {
     let _ = writeln!(s, "  <link name=\"{name}\">");
     let _ = writeln!(s, "    <inertial>");
     let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(com));
-    let _ = writeln!(s, "      <mass value=\"{}\"/>", num(links.mass[index]));
+    let _ = writeln!(s, "      <mass value=\"{}\"/>", num(mass));
     let _ = writeln!(
         s,
         "      <inertia ixx=\"{}\" ixy=\"0\" ixz=\"0\" iyy=\"{}\" iyz=\"0\" izz=\"{}\"/>",
@@ -96,7 +96,7 @@ fn link(s: &mut String, links: &Links, name: &str, index: usize, com: [f64; 3], 
 
 /// One joint at `origin` in the parent's frame: continuous about `axis`, or pyBullet's
 /// `spherical` without one.
-fn joint(s: &mut String, name: &str, parent: &str, child: &str, origin: [f64; 3], axis: Option<[f64; 3]>) {
+pub(crate) fn joint(s: &mut String, name: &str, parent: &str, child: &str, origin: [f64; 3], axis: Option<[f64; 3]>) {
     let kind = if axis.is_some() { "continuous" } else { "spherical" };
     let _ = writeln!(s, "  <joint name=\"{name}\" type=\"{kind}\">");
     let _ = writeln!(s, "    <parent link=\"{parent}\"/>");

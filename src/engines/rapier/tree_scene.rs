@@ -110,6 +110,18 @@ fn principal(body: &Body, index: usize) -> Result<Vector3<f64>, RapierError> {
     Ok(i.diagonal())
 }
 
+/// The mass and the isotropic moment (kg, kg·m²) of every joint body of `tree`'s scene (module
+/// docs): `fraction` of the bodies' mean mass and of their mean smallest principal moment. The
+/// model files of a tree ([`crate::exchange::tree_model`]) give the universal joint's cross the same.
+pub fn joint_body(tree: &Tree, fraction: f64) -> Result<(f64, f64), RapierError> {
+    let n = tree.bodies().len() as f64;
+    let mut smallest = 0.0;
+    for (k, b) in tree.bodies().iter().enumerate() {
+        smallest += principal(b, k)?.min();
+    }
+    Ok((fraction * tree.mass() / n, fraction * smallest / n))
+}
+
 impl TreeScene {
     /// Builds the scene at rest at `shape.q` (the tree's [`Tree::dof`] coordinates), with time
     /// step `dt`, one solver substep and `pgs_iterations` Gauss–Seidel sweeps, the motors holding
@@ -128,10 +140,9 @@ impl TreeScene {
         for (k, b) in tree.bodies().iter().enumerate() {
             masses.push((b.mass, principal(b, k)?));
         }
-        let mean_mass = tree.mass() / n as f64;
-        let mean_moment = masses.iter().map(|(_, i)| i.min()).sum::<f64>() / n as f64;
+        let (mass, moment) = joint_body(tree, fraction)?;
         for _ in tree.links() {
-            masses.push((fraction * mean_mass, Vector3::repeat(fraction * mean_moment)));
+            masses.push((mass, Vector3::repeat(moment)));
         }
         let mut world = falling_world(dt, pgs_iterations);
         // Straight poses (every coordinate zero): the joints then turn them to q0.

@@ -201,6 +201,17 @@ impl WholeCat {
         }
     }
 
+    /// Each body of the model's tree ([`WholeCat::tree`]) in its order, named: the front half
+    /// `A`, the rear half `B` and, with a tail, the `tail`.
+    pub fn named_bodies(&self) -> Vec<(&'static str, Cylinder)> {
+        let cat = self.cat();
+        let mut out = vec![("A", cat.front), ("B", cat.rear)];
+        if let WholeCat::Tailed(t) = self {
+            out.push(("tail", t.tail));
+        }
+        out
+    }
+
     /// Number of shape coordinates (and motors): 2, 3 on the spherical joint, 4 with a tail.
     pub fn joints(&self) -> usize {
         match self {
