@@ -10,9 +10,9 @@
 //! `cargo run --release --example more_motors [PROBLEM.toml]` (default problems/kane-scher.toml).
 //!
 //! On the command line these cats are `catflip compare-models`' rows (`[cat.tail]` in the problem
-//! file), which also writes each optimum's model and schedule files for MuJoCo and pyBullet; the
-//! one rig the other commands report from takes two motors, and they refuse the spherical joint
-//! and `[cat.tail]` by name.
+//! file), which with `--out` also writes each optimum's model and schedule files for MuJoCo and
+//! pyBullet; the one rig the other commands report from takes two motors, and they refuse the
+//! spherical joint and `[cat.tail]` by name.
 
 use std::f64::consts::PI;
 use std::path::Path;

@@ -33,6 +33,7 @@ fn circulation(joints: usize) -> BSpline {
         [0.0, 0.0, 0.1, -0.4, 0.5, 0.9, 0.6, -0.2, -0.7, -0.2, 0.0, 0.0],
         [0.0, 0.0, 0.2, 0.4, -0.3, -0.5, 0.1, 0.4, 0.2, -0.1, 0.0, 0.0],
         [0.0, 0.0, -0.3, 0.2, 0.6, 0.1, -0.4, -0.3, 0.2, 0.1, 0.0, 0.0],
+        [0.0, 0.0, 0.4, -0.2, -0.5, 0.3, 0.5, -0.1, -0.3, 0.1, 0.0, 0.0],
     ];
     s.coefficients = rows[..joints].iter().map(|r| r.to_vec()).collect();
     s
@@ -94,10 +95,10 @@ fn on_the_papers_cat_the_tree_file_is_the_two_cylinder_engines() {
     assert!(file.sidecar.jumps.is_empty());
 }
 
-/// What a replay reads: on the spherical joint with a tail, each ball's relative rotation and
-/// rate are the joint's at the row's coordinates, and its couple (child's frame) turned into A's
-/// frame projects on the motor axes (A's x, A's y, B's spine) as the motors' torque columns; the
-/// last row's twist is the flip's (to 1e-7°).
+/// What a replay reads on the spherical joint: the ball's relative rotation is the joint's at the
+/// row's coordinates, and its couple (B's frame) turned into A's frame projects on the motor axes
+/// (A's x, A's y, B's spine) as the motors' torque columns; the last row's twist is the flip's
+/// (to 1e-7°).
 #[test]
 fn a_replay_reads_the_motors_from_the_balls_couple() {
     let cat = Cat::equal(HALF, Joint::Spherical);
@@ -179,9 +180,125 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
     let motors: Vec<&str> =
         doc.descendants().filter(|n| n.has_tag_name("motor")).map(|n| n.attribute("name").expect("name")).collect();
     assert_eq!(motors, ["B_bx", "B_by", "B_bz", "tau3", "tau4"]);
+    // Every joint's anchor relative to A (its body's position plus its `pos`) is the tree's joint
+    // point, and the hinges' axes are the universal joint's.
+    for (i, point) in motion.links.iter().map(|l| l.point - motion.bodies[0].position).enumerate() {
+        let names: Vec<String> = match i {
+            0 => vec!["B_ball".into()],
+            _ => vec!["tail_1".into(), "tail_2".into()],
+        };
+        for name in names {
+            let node = doc
+                .descendants()
+                .find(|n| n.has_tag_name("joint") && n.attribute("name") == Some(&name))
+                .expect("joint");
+            let mut anchor = Vector3::from_vec(numbers(node.attribute("pos").expect("pos")));
+            for b in node.ancestors().filter(|n| n.has_tag_name("body") && n.attribute("name") != Some("A")) {
+                anchor += Vector3::from_vec(numbers(b.attribute("pos").expect("pos")));
+            }
+            assert!((anchor - point).amax() < 1e-15, "{name}: {anchor} against {point}");
+            let axis = node.attribute("axis").map(numbers);
+            let expected = match name.as_str() {
+                "tail_1" => Some(vec![1.0, 0.0, 0.0]),
+                "tail_2" => Some(vec![0.0, 1.0, 0.0]),
+                _ => None,
+            };
+            assert_eq!(axis, expected, "{name}");
+        }
+    }
+    // The URDF: each link's frame is placed by its joints' origins, and each body's centre of
+    // mass (its inertial origin) lands where the tree puts it.
     let urdf = tree_urdf(&model, "tailed");
     let doc = roxmltree::Document::parse(&urdf).expect("well-formed URDF");
     let kinds: Vec<&str> =
         doc.descendants().filter(|n| n.has_tag_name("joint")).map(|n| n.attribute("type").expect("type")).collect();
     assert_eq!(kinds, ["spherical", "continuous", "continuous"]);
+    let origin_of = |n: roxmltree::Node| -> Vector3<f64> {
+        let o = n.children().find(|c| c.has_tag_name("origin")).expect("origin");
+        Vector3::from_vec(numbers(o.attribute("xyz").expect("xyz")))
+    };
+    let frame = |link: &str| -> Vector3<f64> {
+        let mut at = Vector3::zeros();
+        let mut name = link.to_string();
+        while let Some(j) = doc.descendants().find(|n| {
+            n.has_tag_name("joint")
+                && n.children().any(|c| c.has_tag_name("child") && c.attribute("link") == Some(&name))
+        }) {
+            at += origin_of(j);
+            name = j
+                .children()
+                .find(|c| c.has_tag_name("parent"))
+                .and_then(|c| c.attribute("link"))
+                .expect("parent")
+                .to_string();
+        }
+        at
+    };
+    for (k, (name, _)) in model.bodies.iter().enumerate() {
+        let link = doc.descendants().find(|n| n.has_tag_name("link") && n.attribute("name") == Some(name)).expect(name);
+        let inertial = link.children().find(|n| n.has_tag_name("inertial")).expect("inertial");
+        let centre = frame(name) + origin_of(inertial);
+        let expected = motion.bodies[k].position - motion.bodies[0].position;
+        assert!((centre - expected).amax() < 1e-15, "{name}: {centre} against {expected}");
+    }
+}
+
+/// A ball inside the tree (a tail on a no-twist joint hanging from the spherical cat's rear half):
+/// each ball's relative rotation and rate are its joint's at the row's coordinates (the rate in
+/// the child's frame), and its couple, turned from the child's frame into A's by the child's
+/// orientation relative to A (the product of the joints' rotations), projects on that joint's
+/// motor axes (in A's frame) as its motors' torque columns.
+#[test]
+fn every_ball_of_a_tree_reads_in_its_childs_frame() {
+    let cat = Cat::equal(HALF, Joint::Spherical);
+    let tree = cat.tree_with_tail(&TAIL, Joint::NoTwist);
+    let model = NamedTree { tree, bodies: vec![("A", HALF), ("B", HALF), ("tail", TAIL)], cross: (0.0, 0.0) };
+    let path = circulation(5);
+    let flip = flip_on(&model.tree, &SplineShape(&path), &Vector3::zeros(), 1e-11);
+    let file =
+        write_tree_optimum(&paper(), &model, &SplineShape(&path), &flip, &ExportOptions::default()).expect("written");
+    let (header, rows) = table(&file.csv);
+    let c = |name: &str| at(&header, name);
+    let quaternion = |row: &[f64], child: &str| {
+        let part = |p: &str| row[c(&format!("{child}_rel_q{p}"))];
+        UnitQuaternion::from_quaternion(Quaternion::new(part("w"), part("x"), part("y"), part("z")))
+            .to_rotation_matrix()
+            .into_inner()
+    };
+    let vector = |row: &[f64], name: &dyn Fn(&str) -> String| {
+        Vector3::new(row[c(&name("x"))], row[c(&name("y"))], row[c(&name("z"))])
+    };
+    for row in rows.iter().step_by(11) {
+        let q: Vec<f64> = (1..=5).map(|k| row[c(&format!("q{k}_rad"))]).collect();
+        let qd: Vec<f64> = (1..=5).map(|k| row[c(&format!("qd{k}_rad_s"))]).collect();
+        let tau: Vec<f64> = (1..=5).map(|k| row[c(&format!("tau{k}_nm"))]).collect();
+        let (r_b, r_tail) = (quaternion(row, "B"), quaternion(row, "tail"));
+        assert!((r_b - Joint::Spherical.rotation(&q[..3])).amax() < 1e-12, "t = {}", row[0]);
+        assert!((r_tail - Joint::NoTwist.rotation(&q[3..])).amax() < 1e-12, "t = {}", row[0]);
+        let rate_b = r_b.transpose() * Joint::Spherical.relative_rate(&q[..3], &qd[..3]);
+        let rate_tail = r_tail.transpose() * Joint::NoTwist.relative_rate(&q[3..], &qd[3..]);
+        assert!((vector(row, &|p| format!("B_rel_w{p}_rad_s")) - rate_b).amax() < 1e-12, "t = {}", row[0]);
+        assert!((vector(row, &|p| format!("tail_rel_w{p}_rad_s")) - rate_tail).amax() < 1e-12, "t = {}", row[0]);
+        // Each couple in A's frame, against the motor axes in A's frame (the tail's are B's x, y).
+        let in_a = [
+            r_b * vector(row, &|p| format!("B_couple_{p}_nm")),
+            r_b * r_tail * vector(row, &|p| format!("tail_couple_{p}_nm")),
+        ];
+        let axes: Vec<Vector3<f64>> = Joint::Spherical
+            .motor_axes(&q[..3])
+            .into_iter()
+            .chain(Joint::NoTwist.motor_axes(&q[3..]).into_iter().map(|a| r_b * a))
+            .collect();
+        for (k, axis) in axes.iter().enumerate() {
+            let couple = in_a[usize::from(k >= 3)];
+            assert!(
+                (couple.dot(axis) - tau[k]).abs() < 1e-12,
+                "t = {}: motor {}: {} against {}",
+                row[0],
+                k + 1,
+                couple.dot(axis),
+                tau[k]
+            );
+        }
+    }
 }

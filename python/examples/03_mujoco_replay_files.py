@@ -83,7 +83,9 @@ for k in range(round(T[-1] / dt)):
         error = np.zeros(3)
         mujoco.mju_subQuat(error, goal, now)  # now · exp(error) = goal, error in B's frame
         rate = np.array([at(c) for c in ("rel_wx_rad_s", "rel_wy_rad_s", "rel_wz_rad_s")])
-        d.ctrl[:] = rotation(now).T @ couple + KP * error + KD * (rate - d.qvel[6:9])
+        # Turned into B's frame by the relative rotation the step's midpoint should have.
+        halfway = np.array([mid(c) for c in ("rel_qw", "rel_qx", "rel_qy", "rel_qz")])
+        d.ctrl[:] = rotation(halfway / np.linalg.norm(halfway)).T @ couple + KP * error + KD * (rate - d.qvel[6:9])
         worst_relative_twist = max(worst_relative_twist, abs(twist_swing(*now)[0]))
     else:
         d.ctrl[:] = [mid(f"tau{j}_nm")

@@ -21,9 +21,8 @@ described). Each joint is replayed as the model file builds it (README, "Replay 
 
 The cat's final orientation in MuJoCo is compared with the CSV's last row (catflip's exact
 engine on the tree of bodies). The PD's correction is printed too: what the feedback adds to the
-torques catflip computed, which is mostly the rows' interpolation (the file has 400 intervals
-over the fall; the optimum's spline has knots a few milliseconds apart, and its torques kink
-at each, where the jerk jumps).
+torques catflip computed (the file's rows are four to a span of the optimum's spline, and the
+interpolation stays inside a span, where every column is smooth).
 """
 
 import json

@@ -32,10 +32,12 @@ except ImportError:
 
 KP, KD = 200.0, 20.0  # the PD's stiffness (N·m/rad) and damping (N·m·s/rad), as in the README
 DT = 1e-5  # s; first order, so the twist's error is proportional to it
+FORMAT = "catflip-tree-schedule/1"
 
 
 def replay(folder):
     sidecar = json.loads((folder / "whole-optimum.json").read_text())
+    assert sidecar["format"] == FORMAT, f"{folder}: not a tree's schedule file ({sidecar['format']})"
     rows = read_rows(folder)
     p.connect(p.DIRECT)
     p.setGravity(0, 0, 0)  # the falling frame
@@ -46,15 +48,16 @@ def replay(folder):
         p.changeDynamics(cat, link, linearDamping=0, angularDamping=0)
     drives = []
     for link in sidecar["model"]["links"]:
-        ball = f"{link['child']}_ball"
-        if ball in index:
-            j = index[ball]
+        # The URDF names its joints as the MJCF does (the sidecar's mjcf_joints): one ball, or two hinges.
+        names = link["mjcf_joints"]
+        if p.getJointInfo(cat, index[names[0]])[2] == p.JOINT_SPHERICAL:
+            j = index[names[0]]
             # Free the joint: pyBullet's default motor would hold it.
             p.setJointMotorControlMultiDof(cat, j, p.POSITION_CONTROL, targetPosition=[0, 0, 0, 1],
                                            targetVelocity=[0, 0, 0], force=[0, 0, 0])
             drives.append(("ball", link["child"], j))
         else:
-            hinges = [(k, index[f"{link['child']}_{h}"]) for h, k in enumerate(link["coordinates"], start=1)]
+            hinges = [(k, index[name]) for k, name in zip(link["coordinates"], names)]
             p.setJointMotorControlArray(cat, [j for _, j in hinges], p.VELOCITY_CONTROL, forces=[0] * len(hinges))
             drives.append(("hinges", hinges, None))
     steps = round(rows["t_s"][-1] / DT)

@@ -1,5 +1,6 @@
 """What the replays of an exported folder (``03_mujoco_replay_files.py``,
-``04_pybullet_replay_files.py``) share: finding the folder, reading its schedule file, the
+``04_pybullet_replay_files.py``, and for a cat beyond two motors ``05_mujoco_replay_tree.py``,
+``06_pybullet_replay_tree.py``) share: finding the folder, reading its schedule file, the
 interpolation between its rows, and twist and swing. Only ``numpy``; run on its own it does
 nothing.
 """

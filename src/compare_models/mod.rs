@@ -11,8 +11,9 @@
 //! twist, [`crate::optimize::whole::WholeCat::Spherical`]), and with `[cat.tail]` the problem's
 //! own cat gets its tail ([`crate::optimize::whole::WholeCat::Tailed`]). These models
 //! ([`Beyond`]) are planned on every motor, re-measured by the general core on their tree of
-//! bodies and verified in rapier's tree scene; they take ideal motors and no spin, and a row says
-//! so otherwise; their library schedule is the problem's with the further coordinates held at
+//! bodies and verified in rapier's tree scene; they take no spin, and ideal motors or one torque
+//! limit on every motor ([`crate::optimize::whole::torque_limited`]), and a row says so otherwise;
+//! their library schedule is the problem's with the further coordinates held at
 //! zero (the twist, the tail straight).
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and

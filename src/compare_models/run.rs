@@ -153,12 +153,12 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
 
 /// The row of a model beyond two motors ([`Beyond`]): its whole optimum on every motor, the flip
 /// re-measured by the general core's adaptive engine on its tree of bodies, and with `verify`
-/// rapier's tree scene; ideal motors and no spin ([`crate::optimize::whole::beyond_two_motors`],
-/// its refusal the row's status).
+/// rapier's tree scene; ideal motors or one torque limit on every motor, and no spin
+/// ([`crate::optimize::whole::beyond_two_motors`], its refusal the row's status).
 fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result<(), CompareModelsError> {
     let p = &row.problem;
     let (spin, motors) = (p.drop.spin(), p.actuator.motors());
-    if let Err(e) = crate::optimize::whole::beyond_two_motors(cat, &motors, &spin) {
+    if let Err(e) = crate::optimize::whole::beyond_two_motors(cat, p.optimize.whole.objective, &motors, &spin) {
         row.status = format!("not run: {e}");
         return Ok(());
     }

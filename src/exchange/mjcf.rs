@@ -26,8 +26,12 @@
 //!   constraint's `tauz_nm` about A's `z`; a replay turns it into B's frame,
 //!   `τ_B = R_ABᵀ (τ1, τ2, τz)`, and sets the three controls to it;
 //! - why the constraint's torque is fed forward: a ball joint has three rotational freedoms and
-//!   the no-twist joint two; what keeps the relative twist at zero is a couple the joint's
-//!   structure supplies (no motor does work against it), and on the exact motion it is `tauz_nm`.
+//!   the no-twist joint two; what keeps the relative twist at zero is the couple's part about
+//!   A's `z`, which in DESIGN.md §10's split (the motors about A's `x` and `y`) the joint's
+//!   structure supplies, and on the exact motion it is `tauz_nm`. That part is not workless: the
+//!   relative rate has a component about A's `z` wherever the bend direction turns (on Kane and
+//!   Scher's optimum it exchanges up to 0.28 W against the two motors' 1.7 W, netting zero over
+//!   the fall; the joint's workless direction is the bisector of the two spines).
 //!   With all three components given, the ball follows the no-twist motion exactly up to the
 //!   integration error, and the replay's stiff PD on the relative rotation (towards `rel_q…`, at
 //!   the rate `rel_w…`) holds the drift, twist included. MuJoCo's equality constraints cannot lock

@@ -14,7 +14,7 @@
 //! MuJoCo's ball `qpos`), `c_rel_wx_rad_s … c_rel_wz_rad_s`, its angular velocity relative to the
 //! parent in its own frame (the ball's `qvel`), and `c_couple_x_nm … c_couple_z_nm`, the joint's
 //! whole couple on the child's side about the joint point in the child's frame: what the ball's
-//! three motors apply (on the no-twist joint its third part is the constraint's, no motor's).
+//! three motors apply (on the no-twist joint, motors and the joint's structure together).
 //!
 //! # What it carries
 //!
@@ -41,8 +41,9 @@ use crate::exchange::schedule_file::{
     csv_error, orientations, piece_infos, plan_rows, relative_motion, ExportOptions, COLUMNS,
 };
 use crate::exchange::sidecar::{Column, JumpRecord, OrientationInfo, PieceInfo, Sampling, Source};
-use crate::exchange::tree_model::NamedTree;
+use crate::exchange::tree_model::{arr, NamedTree};
 use crate::exchange::{ExchangeError, MJCF_FILE, URDF_FILE};
+use crate::model::Joint;
 use crate::problem::Problem;
 
 /// The sidecar's format tag.
@@ -127,7 +128,7 @@ pub struct LinkInfo {
     /// The child body's name.
     pub child: String,
     /// `universal`, `no-twist` or `spherical`.
-    pub joint: String,
+    pub joint: Joint,
     /// Its coordinates' numbers `k` in the CSV (`q<k>_rad`, `tau<k>_nm`).
     pub coordinates: Vec<usize>,
     /// Each coordinate's motor axis in words.
@@ -162,7 +163,11 @@ impl TreeFile {
 pub fn tree_columns(model: &NamedTree) -> Vec<Column> {
     let col = |name: String, unit: &str, meaning: String| Column { name, unit: unit.into(), meaning };
     let (named, tree) = (&model.bodies, &model.tree);
-    let mut out: Vec<Column> = COLUMNS[..3].iter().map(|c| col(c.0.into(), c.1, c.2.into())).collect();
+    // The columns every schedule file has, by name.
+    let common = |names: &[&str]| -> Vec<Column> {
+        COLUMNS.iter().filter(|c| names.contains(&c.0)).map(|c| col(c.0.into(), c.1, c.2.into())).collect()
+    };
+    let mut out = common(&["t_s", "phase", "boundary"]);
     let mut coordinates: Vec<(usize, String, String)> = Vec::new();
     for (i, l) in tree.links().iter().enumerate() {
         let (parent, child) = (named[l.parent].0, named[i + 1].0);
@@ -186,7 +191,7 @@ pub fn tree_columns(model: &NamedTree) -> Vec<Column> {
             format!("motor {k}'s torque: the joint's couple on its child's side about {axis}"),
         ));
     }
-    out.extend(COLUMNS[13..].iter().map(|c| col(c.0.into(), c.1, c.2.into())));
+    out.extend(common(&["qw", "qx", "qy", "qz", "twist_deg", "swing_deg"]));
     for i in (0..tree.links().len()).filter(|&i| model.is_ball(i)) {
         let c = named[i + 1].0;
         let p = named[tree.links()[i].parent].0;
@@ -299,7 +304,6 @@ const CONVENTIONS: &str = "SI units (s, rad, rad/s, rad/s², N·m), twist and sw
 
 /// The sidecar's model (module docs).
 fn tree_info(model: &NamedTree) -> TreeInfo {
-    let arr = |v: &Vector3<f64>| [v.x, v.y, v.z];
     let tree = &model.tree;
     let bodies = model
         .bodies
@@ -325,7 +329,7 @@ fn tree_info(model: &NamedTree) -> TreeInfo {
             LinkInfo {
                 parent: parent.into(),
                 child: child.into(),
-                joint: l.joint.name().into(),
+                joint: l.joint,
                 coordinates: tree.coordinates(i).map(|k| k + 1).collect(),
                 motor_axes: model.motor_axes(i),
                 joint_point_in_parent_m: arr(&l.at_parent),

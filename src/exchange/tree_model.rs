@@ -12,14 +12,17 @@
 //!   parent's `a` with hinge `c_1` about `x` through its origin, and the child at the cross's
 //!   `−b` with hinge `c_2` about `y` through the child's `b`; motors `tau<k>` (gear 1) on each
 //!   hinge, `k` the coordinate's number over the whole tree (its CSV column). The cross's mass and
-//!   isotropic moment are those of rapier's joint body ([`joint_body`]);
+//!   isotropic moment are those of rapier's tree scene ([`joint_body`]: `f` times the bodies'
+//!   mean mass and mean smallest moment; the two-body files' cross,
+//!   [`crate::exchange::links::Links`], is a solid sphere of the halves' mean radius: on the
+//!   paper's cat 4e-9 against 5e-9 kg·m² at `f = 10⁻⁶`);
 //! - a **no-twist** or **spherical** joint is a `ball` joint `c_ball` through the child's `b`,
 //!   the child at the parent's `a − b`; three motors `c_bx`, `c_by`, `c_bz` (gear `1 0 0`, …) apply
 //!   a couple about the child's own axes. The spherical joint *is* a ball joint with a motor on
-//!   every freedom; on the no-twist joint the couple about the third freedom is the constraint's
-//!   (the two-body file's recipe, [`mod@crate::exchange::mjcf`]): a replay gives the ball the
-//!   joint's whole couple on the child, which the schedule file writes in the child's frame
-//!   ([`crate::exchange::tree_file`]).
+//!   every freedom; the no-twist joint has two, and its structure holds the third (the two-body
+//!   file's recipe, [`mod@crate::exchange::mjcf`]): a replay gives the ball the joint's whole
+//!   couple on the child, motors and structure together, which the schedule file writes in the
+//!   child's frame ([`crate::exchange::tree_file`]).
 //!
 //! The URDF has one link per body and per cross, each non-root link's frame at its joint point
 //! with the axes of its body frame (the centre of mass at `−b` in it): two `continuous` joints for
@@ -79,11 +82,13 @@ impl NamedTree {
     pub fn motor_axes(&self, i: usize) -> Vec<String> {
         let l = self.tree.links()[i];
         let (parent, child) = (self.name(l.parent), self.name(i + 1));
-        // The names are the two-body cat's (A the parent, B the child), replaced in one pass.
+        // The names are the two-body cat's (A the parent, B the child, the cross the link's own),
+        // replaced in one pass.
         let own = |a: &&str| {
             a.strip_prefix("A's")
                 .map(|rest| format!("{parent}'s{rest}"))
                 .or_else(|| a.strip_prefix("B's").map(|rest| format!("{child}'s{rest}")))
+                .or_else(|| a.strip_prefix("the cross's").map(|rest| format!("cross_{child}'s{rest}")))
                 .unwrap_or_else(|| a.to_string())
         };
         l.joint.motor_axis_names().iter().map(own).collect()
@@ -158,7 +163,7 @@ fn moments(model: &NamedTree, k: usize) -> [f64; 3] {
 }
 
 /// The components, `−0` written as `0`.
-fn arr(x: &Vector3<f64>) -> [f64; 3] {
+pub(crate) fn arr(x: &Vector3<f64>) -> [f64; 3] {
     [x.x + 0.0, x.y + 0.0, x.z + 0.0]
 }
 

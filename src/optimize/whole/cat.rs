@@ -14,8 +14,8 @@
 //! [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
 //! ([`super::torques`]), and start from a two-motor cat's starts ([`WholeCat::start_cat`]: the
 //! same halves on the no-twist joint with the relative twist held at zero; the cat with its tail
-//! held straight behind it), for ideal motors and a release without spin
-//! ([`super::beyond_two_motors`]).
+//! held straight behind it), for a release without spin and ideal motors or one torque limit on
+//! every motor ([`super::beyond_two_motors`], [`super::torque_limited`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
 //! `cos β = e_z` for B's spine `e = R_AB ẑ`: `cos q1 cos q2` on the universal joint, `cos |q|` on

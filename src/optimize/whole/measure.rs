@@ -11,6 +11,7 @@ use std::f64::consts::{PI, TAU};
 use serde::Serialize;
 
 use super::cat::WholeCat;
+use super::scope::{motors_beyond, MotorsBeyond};
 use super::spline::BSpline;
 use super::torques::ExactTorques;
 use nalgebra::Vector3;
@@ -147,12 +148,15 @@ pub fn measure_spinning(
             (peak, time, motor_demand_from(source, spline, &samples, motors))
         }
         ExactTorques::General(_) => {
-            assert!(
-                motors.is_ideal(),
-                "motor limits beyond two motors are refused before the optimiser (beyond_two_motors)"
-            );
+            let limit = match motors_beyond(motors) {
+                MotorsBeyond::Ideal => None,
+                MotorsBeyond::TorqueLimit(limit) => Some(limit),
+                MotorsBeyond::Other => {
+                    unreachable!("other limits beyond two motors are refused before the optimiser (beyond_two_motors)")
+                }
+            };
             let p = torques.peak(spline, PEAK_SAMPLES_PER_SPAN);
-            (p.value, p.time, torques.ideal_demand(spline, PEAK_SAMPLES_PER_SPAN))
+            (p.value, p.time, torques.demand(spline, PEAK_SAMPLES_PER_SPAN, limit))
         }
     };
     // Five-point Gauss–Legendre on four parts of every span.

@@ -115,6 +115,7 @@ pub mod spin;
 pub mod spline;
 pub mod starts;
 pub mod subproblem;
+pub mod torque_limited;
 pub mod torques;
 pub mod tree_dynamics;
 
@@ -125,7 +126,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 pub use cat::WholeCat;
-pub use scope::{beyond_two_motors, spin_supported};
+pub use scope::{beyond_two_motors, motors_beyond, spin_supported, MotorsBeyond};
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
@@ -192,7 +193,7 @@ pub fn optimize_whole_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    beyond_two_motors(cat, motors, spin)?;
+    beyond_two_motors(cat, settings.objective, motors, spin)?;
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -237,7 +238,13 @@ pub fn optimize_from_spinning(
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
-    beyond_two_motors(cat, motors, spin)?;
+    beyond_two_motors(cat, settings.objective, motors, spin)?;
+    if let (true, MotorsBeyond::TorqueLimit(limit)) = (cat.joints() > 2, motors_beyond(motors)) {
+        // Planned for the least peak with ideal motors, then held to the limit (torque_limited).
+        let planning = WholeSettings { objective: Objective::Peak, ..settings.clone() };
+        let outcome = optimize_from_spinning(cat, starts, &planning, &Motors::ideal(), tolerance, spin)?;
+        return Ok(torque_limited::within(cat, outcome, settings.objective, motors, limit, tolerance));
+    }
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
     // The starts are independent: solved in parallel, reported in the order given.

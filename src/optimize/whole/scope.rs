@@ -1,13 +1,13 @@
 //! What the whole optimiser plans and what it refuses, before anything runs: a release with spin
 //! takes neither motor limits nor the least fall time ([`spin_supported`]), and a cat of more than
-//! two motors (the spherical joint, a tail) takes neither motor limits nor spin
-//! ([`beyond_two_motors`]). Each refusal names the problem file's field.
+//! two motors (the spherical joint, a tail) takes no spin and no motor limits but one torque limit
+//! on every motor ([`beyond_two_motors`]). Each refusal names the problem file's field.
 
 use nalgebra::Vector3;
 
 use super::cat::WholeCat;
 use super::settings::{Objective, WholeError, WholeSettings};
-use crate::model::motor::Motors;
+use crate::model::motor::{Motor, Motors};
 
 /// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
 /// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
@@ -36,9 +36,16 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
 }
 
 /// Refuses what the optimiser does not plan for a cat of more than two motors (the spherical joint,
-/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): motor limits (their usage is measured
-/// for two motors) and a release with spin (the spinning model is built for two coordinates).
-pub fn beyond_two_motors(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -> Result<(), WholeError> {
+/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): a release with spin (the spinning model
+/// is built for two coordinates), and motor limits other than one torque limit on every motor
+/// ([`motors_beyond`]), which it plans with the objective `peak` or `min-time` only (the
+/// energy's limit rows are built for two motors).
+pub fn beyond_two_motors(
+    cat: &WholeCat,
+    objective: Objective,
+    motors: &Motors,
+    spin: &Vector3<f64>,
+) -> Result<(), WholeError> {
     if cat.joints() == 2 {
         return Ok(());
     }
@@ -53,8 +60,44 @@ pub fn beyond_two_motors(cat: &WholeCat, motors: &Motors, spin: &Vector3<f64>) -
         let value = format!("[{}, {}, {}]", spin.x, spin.y, spin.z);
         return refuse("drop.angular_momentum", value, "for a release without spin only: set it to [0, 0, 0]");
     }
-    if !motors.is_ideal() {
-        return refuse("actuator", "limits".into(), "as ideal motors only: remove the [actuator] limits");
+    match motors_beyond(motors) {
+        MotorsBeyond::Other => refuse(
+            "actuator",
+            "limits".into(),
+            "with ideal motors or one torque limit on every motor (actuator.torque_limit_nm alone, the same for both joints): remove the speed, envelope and power limits, or give both joints the same torque limit",
+        ),
+        MotorsBeyond::TorqueLimit(_) if objective == Objective::Energy => refuse(
+            "optimize.whole.objective",
+            "\"energy\"".into(),
+            "within a torque limit for the objective \"peak\" or \"min-time\" only: use one of them, or remove actuator.torque_limit_nm",
+        ),
+        _ => Ok(()),
     }
-    Ok(())
+}
+
+/// The motors a cat beyond two motors is planned with ([`motors_beyond`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorsBeyond {
+    /// Ideal motors.
+    Ideal,
+    /// One torque limit on every motor, N·m: the problem's `actuator.torque_limit_nm`, its only
+    /// limit and the same for both of its joints.
+    TorqueLimit(f64),
+    /// Any other limits (not planned beyond two motors).
+    Other,
+}
+
+/// How the problem's two motors `motors` extend to every motor of a cat beyond two motors.
+pub fn motors_beyond(motors: &Motors) -> MotorsBeyond {
+    if motors.is_ideal() {
+        return MotorsBeyond::Ideal;
+    }
+    let [a, b] = motors.joints;
+    let torque_only = |m: Motor| m.speed.is_none() && m.envelope.is_none() && m.power.is_none();
+    match (a.torque, b.torque) {
+        (Some(x), Some(y)) if x.total_cmp(&y).is_eq() && torque_only(a) && torque_only(b) => {
+            MotorsBeyond::TorqueLimit(x)
+        }
+        _ => MotorsBeyond::Other,
+    }
 }

@@ -13,10 +13,11 @@
 use super::spline::{BSpline, SplineShape};
 use nalgebra::Vector3;
 
-use crate::engines::motors::MotorDemand;
+use crate::engines::motors::{LimitUse, MotorDemand, StretchPeak};
 use crate::engines::reduction;
 use crate::engines::shape::ShapeTrajectory;
 use crate::engines::torque::{refine_peak, Peak, TorqueSource};
+use crate::model::motor::Limit;
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
 use crate::schedule::Trajectory;
@@ -68,19 +69,41 @@ impl ExactTorques<'_> {
         peaks.into_iter().fold(Peak { value: 0.0, time: 0.0 }, |best, p| if p.value > best.value { p } else { best })
     }
 
-    /// What `spline` asks of ideal motors, one entry per motor: the peaks of `|q̇_j|` and
-    /// `|τ_j q̇_j|`, found as [`ExactTorques::peak`] finds the torque's (the motor limits' usage
-    /// is the two-motor [`crate::engines::motors::motor_demand_from`]'s).
-    pub fn ideal_demand(&self, spline: &BSpline, samples: usize) -> MotorDemand {
+    /// What `spline` asks of its motors, one entry per motor: the peaks of `|q̇_j|` and
+    /// `|τ_j q̇_j|`, found as [`ExactTorques::peak`] finds the torque's, and with `torque_limit`
+    /// (one limit on every motor, a cat beyond two motors) each motor's torque usage
+    /// `max |τ_j| / τ_max` and the largest stretch `√(max |τ_j| / τ_max)` (the two-motor models'
+    /// usage is [`crate::engines::motors::motor_demand_from`]'s).
+    pub fn demand(&self, spline: &BSpline, samples: usize, torque_limit: Option<f64>) -> MotorDemand {
         let joints = spline.joints();
         let mut peaks = spline_peaks(spline, samples, |span, s| {
             let shape = SplineShape(spline).piece_shape(span, s);
             let tau = self.at_shape(spline, span, s, Some(&shape));
             let qd = &shape.qd;
-            qd.iter().map(|w| w.abs()).chain(tau.iter().zip(qd).map(|(t, w)| (t * w).abs())).collect()
+            let power = tau.iter().zip(qd).map(|(t, w)| (t * w).abs());
+            let torque = tau.iter().map(|t| t.abs()).take(if torque_limit.is_some() { joints } else { 0 });
+            qd.iter().map(|w| w.abs()).chain(power).chain(torque).collect()
         });
+        let torque = peaks.split_off(2 * joints);
         let peak_power_w = peaks.split_off(joints);
-        MotorDemand { peak_speed_rad_s: peaks, peak_power_w, limits: Vec::new(), stretch: None }
+        let limits: Vec<LimitUse> = torque_limit
+            .map(|limit| {
+                let usage = |(j, p): (usize, &Peak)| LimitUse {
+                    limit: Limit::Torque,
+                    joint: j + 1,
+                    ratio: p.value / limit,
+                    time: p.time,
+                };
+                torque.iter().enumerate().map(usage).collect()
+            })
+            .unwrap_or_default();
+        let stretch = limits.iter().max_by(|a, b| a.ratio.total_cmp(&b.ratio)).map(|w| StretchPeak {
+            value: w.ratio.sqrt(),
+            time: w.time,
+            joint: w.joint,
+            limit: Limit::Torque,
+        });
+        MotorDemand { peak_speed_rad_s: peaks, peak_power_w, limits, stretch }
     }
 }
 
