@@ -16,7 +16,9 @@ fn error_of(text: &str, overrides: &[&str]) -> String {
 
 #[test]
 fn shipped_problems_load_and_round_trip() {
-    for path in ["problems/paper.toml", "problems/script-defaults.toml", "problems/tail.toml"] {
+    for path in
+        ["problems/paper.toml", "problems/script-defaults.toml", "problems/tail.toml", "problems/tail-robot.toml"]
+    {
         let p = Problem::load(std::path::Path::new(path), &[]).expect(path);
         let text = toml::to_string(&p).expect("serialises");
         let back = Problem::from_toml(&text, path, &[]).expect("round trip");
