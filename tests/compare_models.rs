@@ -218,6 +218,28 @@ fn least_fall_times_are_compared_with_their_drop_heights() {
     }
 }
 
+/// Beyond two motors only one torque limit on every motor is planned: with a speed limit too the
+/// spherical joint's row is "not run" and names `[actuator]`, while the two-motor rows plan within
+/// both limits.
+#[test]
+fn beyond_two_motors_other_limits_are_a_row_that_says_why() {
+    let extra = [
+        "actuator.torque_limit_nm=0.5",
+        "actuator.speed_limit_rad_s=10.0",
+        "optimize.whole.objective=\"min-time\"",
+        "optimize.whole.control_points=30",
+    ];
+    let c = compare_models(&preset("kane-scher", &extra), false, "test").unwrap_or_else(|e| panic!("{e}"));
+    for r in &c.rows {
+        if r.motors > 2 {
+            assert!(r.optimum.is_none() && r.status.starts_with("not run: actuator"), "{}: {}", r.key, r.status);
+            assert!(r.files.is_empty(), "{}: no files without an optimum", r.key);
+        } else {
+            assert!(r.optimum.is_some(), "{}: {}", r.key, r.status);
+        }
+    }
+}
+
 /// Issue 22: the models beyond two motors, on the paper's cat with a tail (`[cat.tail]`, a tenth of
 /// its mass on a universal joint; 30 control points): the spherical joint and the tailed cat are
 /// rows of their own, each optimum re-measured here by the general core on its tree of bodies (its

@@ -129,11 +129,10 @@ impl ModelComparison {
                 "\nBeyond two motors (the spherical joint's third, a tail's two more) the optimiser plans every motor, the general core re-measures the flip on the tree of bodies and rapier's tree scene verifies it; their library schedule is the problem's with the further coordinates held at zero (the spherical joint's relative twist, the tail straight behind the cat), its peak over every motor sampled at 4001 instants per phase. Their filmstrips place every body by the general core on the tree of bodies; with `--out` each one's model and schedule files are in `<model>/` (`model.xml`, `model.urdf`, `whole-optimum.csv` and `.json`, replayed in MuJoCo by `python/examples/05_mujoco_replay_tree.py`)."
             );
             let limited = self.rows.iter().find(|r| r.motors > 2).map(|r| motors_beyond(&r.problem.actuator.motors()));
-            if let Some(MotorsBeyond::TorqueLimit(limit)) = limited {
+            if let (Some(MotorsBeyond::TorqueLimit(limit)), false) = (limited, self.objective == Objective::Energy) {
                 let _ = writeln!(
                     s,
-                    "
-Beyond two motors the torque limit ({limit} N·m) holds on every motor: each optimum is the least-peak path, at the problem's fall when its peak is within the limit, or (objective `min-time`) slowed by √(peak/τ_max) to fly at the limit, which leaves a zero-momentum flip unchanged and is exact for a torque limit alone (DESIGN.md §9). Rapier's tree scene runs its motors unbounded: it verifies the flight (its flip and peak), not a motor held at its limit."
+                    "\nBeyond two motors the torque limit ({limit} N·m) holds on every motor: each optimum is the least-peak path, at the problem's fall when its peak is within the limit, or (objective `min-time`) with its duration scaled by √(peak/τ_max) to fly at the limit, which leaves a zero-momentum flip unchanged and is exact for a torque limit alone (DESIGN.md §9). Rapier's tree scene runs its motors unbounded: it verifies the flight (its flip and peak), not a motor held at its limit."
                 );
             }
         }

@@ -29,7 +29,7 @@ pub const RATIO_TOLERANCE: f64 = 1e-9;
 pub struct LimitUse {
     /// Which limit.
     pub limit: Limit,
-    /// Which joint, 1 or 2.
+    /// Which joint coordinate (its motor): 1 or 2; beyond two motors 1 to their number.
     pub joint: usize,
     /// `max ρ`, dimensionless (at most 1 within the limit).
     pub ratio: f64,
@@ -56,7 +56,7 @@ pub struct StretchPeak {
     pub value: f64,
     /// When, s.
     pub time: f64,
-    /// Which joint, 1 or 2.
+    /// Which joint coordinate (its motor): 1 or 2; beyond two motors 1 to their number.
     pub joint: usize,
     /// Which limit.
     pub limit: Limit,

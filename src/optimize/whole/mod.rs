@@ -28,7 +28,8 @@
 //! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) and a
 //! cat with a tail ([`WholeCat::Tailed`], the tree's dynamics of [`tree_dynamics`]) are planned on
 //! their three and four coordinates by the same loop, re-measured by the general core on every
-//! coordinate ([`torques`]), with ideal motors and without spin ([`beyond_two_motors`]). On Kane
+//! coordinate ([`torques`]), without spin and with ideal motors or one torque limit on every motor
+//! ([`beyond_two_motors`], [`torque_limited`]). On Kane
 //! and Scher's symmetric cat (equal halves, no-twist joint) the controls cannot reach the swing's
 //! directions of the flip error: the subproblems and the Newton steps work on the reachable ones
 //! ([`reach`]).
@@ -75,7 +76,9 @@
 //! this fall and the start ends infeasible with the least fall time found; else the objective is
 //! minimised with the usage ratios `ρ ≤ 1` as elastic constraints, and the samples' bound is
 //! tightened while the dense re-measurement ([`measure`]) finds a limit exceeded between them.
-//! Starts are built within the joint limit and the bend limit ([`starts`]).
+//! Starts are built within the joint limit and the bend limit ([`starts`]). A cat beyond two
+//! motors takes one torque limit on every motor only, planned as the least peak and then scaled
+//! in time ([`torque_limited`]).
 //!
 //! ## Release with spin (DESIGN.md §9)
 //! With total angular momentum `L ≠ 0` ([`optimize_whole_spinning`]) A's body rate
@@ -224,6 +227,12 @@ pub fn optimize_from(
     optimize_from_spinning(cat, starts, settings, motors, tolerance, &Vector3::zeros())
 }
 
+/// The tolerance of a result's flip re-measurement for a result tolerance `tolerance`, rad: a
+/// hundred times finer, and at most 1e-10.
+pub(crate) fn flip_tolerance(tolerance: f64) -> f64 {
+    (1e-2 * tolerance).min(1e-10)
+}
+
 /// [`optimize_from`] for a release with total angular momentum `spin` ([`optimize_whole_spinning`]).
 pub fn optimize_from_spinning(
     cat: impl Into<WholeCat>,
@@ -250,10 +259,7 @@ pub fn optimize_from_spinning(
     // The starts are independent: solved in parallel, reported in the order given.
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
-    let value = |i: usize| solutions[i].value(settings.objective);
-    let best = (0..solutions.len())
-        .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
-        .min_by(|&a, &b| value(a).total_cmp(&value(b)));
+    let best = solution::best_of(&solutions, settings.objective, tolerance);
     let mut solutions = solutions;
     if let Some(b) = best.filter(|_| settings.objective != Objective::Energy && settings.switch_refinements > 0) {
         let refined = refine_solution(&problem, &solutions[b], tolerance)?;
@@ -520,9 +526,9 @@ impl Run {
         }
     }
 
-    /// The tolerance of the final flip's re-measurement, rad.
+    /// The tolerance of the final flip's re-measurement, rad ([`flip_tolerance`]).
     fn flip_tolerance(&self) -> f64 {
-        (1e-2 * self.tolerance).min(1e-10)
+        flip_tolerance(self.tolerance)
     }
 
     /// One stage of `objective` (with `bound` on the limit rows, ending early at `enough`,

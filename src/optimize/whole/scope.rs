@@ -64,7 +64,7 @@ pub fn beyond_two_motors(
         MotorsBeyond::Other => refuse(
             "actuator",
             "limits".into(),
-            "with ideal motors or one torque limit on every motor (actuator.torque_limit_nm alone, the same for both joints): remove the speed, envelope and power limits, or give both joints the same torque limit",
+            "with ideal motors or one torque limit on every motor (actuator.torque_limit_nm alone, one number or a pair of equal numbers): remove the speed, envelope and power limits, or give one torque limit",
         ),
         MotorsBeyond::TorqueLimit(_) if objective == Objective::Energy => refuse(
             "optimize.whole.objective",

@@ -123,6 +123,15 @@ impl WholeSolution {
     }
 }
 
+/// Index of the lowest `objective` among `solutions` that converged and flip the cat within
+/// `tolerance` (none when none did).
+pub fn best_of(solutions: &[WholeSolution], objective: Objective, tolerance: f64) -> Option<usize> {
+    let value = |i: usize| solutions[i].value(objective);
+    (0..solutions.len())
+        .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
+        .min_by(|&a, &b| value(a).total_cmp(&value(b)))
+}
+
 /// `objective`'s value with its name and unit, as a sentence fragment: "peak 0.464684 N·m".
 fn valued(objective: Objective, value: f64) -> String {
     match objective {
