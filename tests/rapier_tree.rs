@@ -69,7 +69,8 @@ fn the_tree_scene_runs_a_two_body_cat_as_the_two_body_scene_does() {
     }
 }
 
-/// What the tree scene does not run is refused with the reason: motor limits, spin, a path of
+/// What the tree scene does not run is refused with the reason: a torque limit on the spherical
+/// joint (its motors are not its ball's axes), limits other than one torque limit, spin, a path of
 /// the wrong size, a schedule whose phases join with a jump (the paper's own), and a step too
 /// coarse to measure torques (fewer than ten steps in the trajectory).
 #[test]
@@ -83,7 +84,16 @@ fn the_tree_scene_refuses_what_it_does_not_run() {
     let spinning = RapierOptions { spin: Vector3::new(0.0, 0.0, 0.1), ..RapierOptions::default() };
     let (_, paper) = common::paper();
     let cases: Vec<(Result<_, RapierError>, &str)> = vec![
-        (simulate_tree(&tree, &three, &settings, &limited), "ideal motors only"),
+        (simulate_tree(&tree, &three, &settings, &limited), "the spherical joint's motors are not its ball's axes"),
+        (
+            simulate_tree(
+                &tree,
+                &three,
+                &settings,
+                &RapierOptions::within(Motors { joints: [Motor { speed: Some(5.0), ..limit }; 2] }),
+            ),
+            "one torque limit on every motor only",
+        ),
         (simulate_tree(&tree, &three, &settings, &spinning), "without spin"),
         (
             simulate_tree(&tree, &circulation(), &settings, &RapierOptions::default()),
@@ -192,4 +202,45 @@ fn velocity_mismatch(h: f64) -> f64 {
     }
     assert!(fastest > 1.0, "the bodies move ({fastest})");
     worst / fastest
+}
+
+/// With one torque limit on every motor the tree scene bounds the universal and no-twist joints'
+/// motors by it, as the two-body scene bounds its own: on the smooth circulation path, a limit a
+/// fifth above the plan's peak never binds (the run is the unbounded one, bit for bit), and one a
+/// fifth below it saturates the motors, which the run and rapier's verdict say.
+#[test]
+fn the_tree_scene_bounds_its_motors_by_one_torque_limit() {
+    let path = circulation();
+    let settings = RapierSettings { dt: TimeStep::Fixed(6e-4), ..RapierSettings::default() };
+    let within =
+        |limit: f64| RapierOptions::within(Motors { joints: [Motor { torque: Some(limit), ..Motor::default() }; 2] });
+    for joint in [Joint::Universal, Joint::NoTwist] {
+        let tree = Cat::equal(HALF, joint).tree();
+        let peak = (0..=4000)
+            .map(|k| path.shape(1.2 * k as f64 / 4000.0))
+            .flat_map(|shape| {
+                reduction::joint_torques(&tree, &shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau)
+            })
+            .fold(0.0, |m: f64, t| m.max(t.abs()));
+        let free = simulate_tree(&tree, &path, &settings, &RapierOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let loose = simulate_tree(&tree, &path, &settings, &within(1.2 * peak)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(loose.saturation.is_empty(), "{joint}: {:?}", loose.saturation);
+        assert_eq!((loose.twist, loose.swing), (free.twist, free.swing), "{joint}: a bound that never binds");
+        let tight = simulate_tree(&tree, &path, &settings, &within(0.8 * peak)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!tight.saturation.is_empty(), "{joint}: no motor saturated below the peak {peak} N·m");
+        assert!(
+            tight.saturation.iter().all(|s| s.fraction > 0.0 && s.shortfall_nm > 0.0),
+            "{joint}: {:?}",
+            tight.saturation
+        );
+        let reference = Reference {
+            twist: flip_on(&tree, &path, &Vector3::zeros(), 1e-11).twist,
+            swing: flip_on(&tree, &path, &Vector3::zeros(), 1e-11).swing,
+            peak_torque: peak,
+        };
+        let verdict =
+            verify_tree(&tree, &path, &settings, &reference, &within(0.8 * peak)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(verdict.status, Status::NotVerified, "{joint}: {}", verdict.verdict);
+        assert!(verdict.verdict.to_string().contains("saturated"), "{joint}: {}", verdict.verdict);
+    }
 }

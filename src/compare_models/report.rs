@@ -132,7 +132,7 @@ impl ModelComparison {
             if let (Some(MotorsBeyond::TorqueLimit(limit)), false) = (limited, self.objective == Objective::Energy) {
                 let _ = writeln!(
                     s,
-                    "\nBeyond two motors the torque limit ({limit} N·m) holds on every motor: each optimum is the least-peak path, at the problem's fall when its peak is within the limit, or (objective `min-time`) with its duration scaled by √(peak/τ_max) to fly at the limit, which leaves a zero-momentum flip unchanged and is exact for a torque limit alone (DESIGN.md §9). Rapier's tree scene runs its motors unbounded: it verifies the flight (its flip and peak), not a motor held at its limit."
+                    "\nBeyond two motors the torque limit ({limit} N·m) holds on every motor: each optimum is the least-peak path, at the problem's fall when its peak is within the limit, or (objective `min-time`) with its duration scaled by √(peak/τ_max) to fly at the limit, which leaves a zero-momentum flip unchanged and is exact for a torque limit alone (DESIGN.md §9). Rapier's tree scene bounds the universal and no-twist joints' motors by the limit, as the two-motor scene does (a verdict says when a motor saturates); the spherical joint's motors (the parent's x, y and the child's spine) are not its ball's axes there and run unbounded, so its verdict is the flight's (flip and peak), not a motor's at its limit."
                 );
             }
         }

@@ -17,6 +17,7 @@ use crate::exchange::tree_file::STEPS_PER_SPAN;
 use crate::exchange::tree_model::NamedTree;
 use crate::exchange::{tree_files, ExchangeError, ExportOptions};
 use crate::measure::whole::whole;
+use crate::model::motor::Motors;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Joint};
 use crate::optimize::whole::spline::SplineShape;
@@ -197,7 +198,11 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
     if verify {
         let reference = Reference { twist: flip.twist, swing: flip.swing, peak_torque: b.peak_torque_nm };
         let shape = SplineShape(&b.spline);
-        row.rapier = Some(verify_tree(&tree, &shape, &p.rapier, &reference, &RapierOptions::default())?);
+        // Rapier bounds the universal and no-twist joints' motors by the torque limit; the
+        // spherical joint's motors are not its ball's axes there, and run unbounded.
+        let bounded = cat.joint() != Joint::Spherical;
+        let opts = RapierOptions { motors: if bounded { motors } else { Motors::ideal() }, ..RapierOptions::default() };
+        row.rapier = Some(verify_tree(&tree, &shape, &p.rapier, &reference, &opts)?);
     }
     row.spline = Some(b.spline.clone());
     row.tree = Some(tree);

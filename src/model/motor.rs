@@ -183,6 +183,34 @@ impl Motors {
     }
 }
 
+/// The motors a cat beyond two motors (the spherical joint, a tail) is planned, measured and
+/// verified with ([`motors_beyond`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorsBeyond {
+    /// Ideal motors.
+    Ideal,
+    /// One torque limit on every motor, N·m: the problem's `actuator.torque_limit_nm`, its only
+    /// limit and the same for both of its joints.
+    TorqueLimit(f64),
+    /// Any other limits (not planned beyond two motors).
+    Other,
+}
+
+/// How the problem's two motors `motors` extend to every motor of a cat beyond two motors.
+pub fn motors_beyond(motors: &Motors) -> MotorsBeyond {
+    if motors.is_ideal() {
+        return MotorsBeyond::Ideal;
+    }
+    let [a, b] = motors.joints;
+    let torque_only = |m: Motor| m.speed.is_none() && m.envelope.is_none() && m.power.is_none();
+    match (a.torque, b.torque) {
+        (Some(x), Some(y)) if x.total_cmp(&y).is_eq() && torque_only(a) && torque_only(b) => {
+            MotorsBeyond::TorqueLimit(x)
+        }
+        _ => MotorsBeyond::Other,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use nalgebra::Vector3;
 
+use super::saturation::MotorSaturation;
 use super::verdict::{
     Convergence, Failure, Quantity, Reference, RunRecord, StepSource, Verdict, Verification, ASYMPTOTIC, MIN_RUNS,
 };
@@ -194,6 +195,32 @@ struct Judged {
     estimate: f64,
     tolerance: f64,
     asymptotic: bool,
+}
+
+/// The verdict on a finest run whose motors saturated (its `saturation`, twist and swing in rad,
+/// step `dt`): the raw values only, its quantities not extrapolated (a saturated run is not on the
+/// plan, so the step refinement has nothing to converge to), and the planned flip of `reference`.
+pub(super) fn saturated(
+    quantities: &mut [Convergence],
+    runs: &[RunRecord],
+    saturation: &[MotorSaturation],
+    [twist, swing, dt]: [f64; 3],
+    reference: &Reference,
+) -> Verdict {
+    for c in quantities.iter_mut() {
+        c.extrapolated.clear();
+        (c.observed_order, c.value, c.estimate, c.gap) = (None, None, None, None);
+    }
+    let n = runs.len();
+    Verdict::Saturated {
+        motors: saturation.to_vec(),
+        twist_deg: twist.to_degrees(),
+        swing_deg: swing.to_degrees(),
+        twist_change_deg: (n >= 2).then(|| runs[n - 1].twist_deg - runs[n - 2].twist_deg),
+        planned_twist_deg: reference.twist.to_degrees(),
+        planned_swing_deg: reference.swing.to_degrees(),
+        dt,
+    }
 }
 
 /// The verdict from the convergence records (module docs).

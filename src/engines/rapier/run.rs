@@ -321,7 +321,7 @@ pub fn simulate_with(
             scene.set_plan(&target, reaching)?;
             if let Some((bound, need)) = limited {
                 scene.set_max_forces(bound)?;
-                saturation.step(t, bound, need);
+                saturation.step(t, &bound, &need);
             }
             scene.step();
         }

@@ -62,7 +62,7 @@ pub fn bounds_torque(motors: &Motors) -> bool {
 /// How one joint's motor saturated in a run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct MotorSaturation {
-    /// The joint, 1 or 2.
+    /// The joint coordinate (its motor): 1 or 2; on a tree's scene 1 to the number of motors.
     pub joint: usize,
     /// Fraction of the run's steps in which the schedule needed more than the motor's bound.
     pub fraction: f64,
@@ -87,22 +87,27 @@ impl MotorSaturation {
     }
 }
 
-/// Counts the saturated steps of one run, per joint.
+/// Counts the saturated steps of one run, per motor (two on the two-body scene, every motor of a
+/// tree's).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct SaturationTracker {
     steps: usize,
-    saturated: [usize; 2],
-    first: [Option<f64>; 2],
-    shortfall: [(f64, f64); 2],
+    saturated: Vec<usize>,
+    first: Vec<Option<f64>>,
+    shortfall: Vec<(f64, f64)>,
 }
 
 impl SaturationTracker {
-    /// One step ending at `t`: the bounds it ran with and the schedule's torques.
-    pub fn step(&mut self, t: f64, bound: [Option<f64>; 2], need: [f64; 2]) {
+    /// One step ending at `t`: the bounds it ran with and the schedule's torques, one per motor.
+    pub fn step(&mut self, t: f64, bound: &[Option<f64>], need: &[f64]) {
         self.steps += 1;
-        for j in 0..2 {
-            let Some(b) = bound[j] else { continue };
-            let short = need[j].abs() - b;
+        let n = bound.len().max(self.saturated.len());
+        self.saturated.resize(n, 0);
+        self.first.resize(n, None);
+        self.shortfall.resize(n, (0.0, 0.0));
+        for (j, (b, need)) in bound.iter().zip(need).enumerate() {
+            let Some(b) = *b else { continue };
+            let short = need.abs() - b;
             if short > SATURATION_TOLERANCE * b.max(f64::MIN_POSITIVE) {
                 self.saturated[j] += 1;
                 self.first[j].get_or_insert(t);
@@ -113,9 +118,9 @@ impl SaturationTracker {
         }
     }
 
-    /// The joints that saturated.
+    /// The motors that saturated.
     pub fn finish(&self) -> Vec<MotorSaturation> {
-        (0..2)
+        (0..self.saturated.len())
             .filter_map(|j| {
                 let first_time = self.first[j]?;
                 Some(MotorSaturation {

@@ -16,7 +16,13 @@
 //!   `P`: `τ = a · (Ḣ_P + v_P × p)`, by central differences of the momenta at the second-order
 //!   velocities `(v_k + v_{k+1})/2`, as the two-body run's.
 //!
-//! So far the scene runs ideal motors without spin, and smooth trajectories (`q`, `q̇`, `q̈`
+//! With one torque limit on every motor ([`crate::model::motor::MotorsBeyond::TorqueLimit`]) the
+//! universal and no-twist joints' motors are bounded by it ([`TreeScene::bound_motors`]) and each
+//! step where the plan's torque (the general core's at the step's end) exceeds it counts as
+//! saturated ([`super::saturation`]); the verdict then says so, as the two-body verification does.
+//! A spherical joint's motors are not its ball's axes in rapier, and are not bounded: refused.
+//!
+//! So far the scene runs no spin, and smooth trajectories (`q`, `q̇`, `q̈`
 //! continuous at the joins and inside the pieces, as the whole optimiser's splines are): a jump
 //! would need the two-body run's exclusion windows ([`RapierError::TreeScope`] otherwise). A step
 //! that leaves fewer than [`super::MIN_STEPS_PER_PHASE`] steps in the trajectory is refused
@@ -25,16 +31,19 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
-use super::refinement::{convergences, judge, refine};
+use super::refinement::{convergences, judge, refine, saturated};
 use super::run::MomentumDrift;
+use super::saturation::{MotorSaturation, SaturationTracker};
 use super::tree_scene::{momenta, TreeScene, TreeSnapshot};
 use super::verdict::{RunRecord, StepSource, Verification};
 use super::{MotorGains, RapierError, RapierOptions, Reference};
-use crate::engines::reduction::locked_and_shape_momentum;
+use crate::engines::reduction::{self, locked_and_shape_momentum};
 use crate::engines::shape::{locate, ShapeTrajectory};
+use crate::model::motor::{motors_beyond, MotorsBeyond};
 use crate::model::orientation::TwistTracker;
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
+use crate::model::Joint;
 use crate::problem::settings::{RapierSettings, TimeStep};
 
 /// Continuity asked of a trajectory's joins, relative to the largest `|q|`, `|q̇|`, `|q̈|` there.
@@ -58,6 +67,9 @@ pub struct TreeRun {
     pub peak_torque: Vec<f64>,
     /// Each link's largest tracking error, rad.
     pub tracking_error: Vec<f64>,
+    /// With a torque limit, the motors whose bound fell short of the plan's torque (DESIGN.md §9,
+    /// [`super::saturation`]); empty with ideal motors.
+    pub saturation: Vec<MotorSaturation>,
     /// Angular-momentum drift, relative to the shape motion's largest momentum.
     pub momentum: MomentumDrift,
 }
@@ -109,8 +121,18 @@ impl<'a, T: ShapeTrajectory> Clock<'a, T> {
 
 /// Refuses what the tree scene does not run (module docs).
 fn in_scope(tree: &Tree, clock: &Clock<impl ShapeTrajectory>, opts: &RapierOptions) -> Result<(), RapierError> {
-    if !opts.motors.is_ideal() {
-        return Err(RapierError::TreeScope("runs ideal motors only, so far: remove the [actuator] limits".into()));
+    match motors_beyond(&opts.motors) {
+        MotorsBeyond::Other => {
+            return Err(RapierError::TreeScope(
+                "runs ideal motors or one torque limit on every motor only, so far: remove the other [actuator] limits".into(),
+            ))
+        }
+        MotorsBeyond::TorqueLimit(_) if tree.links().iter().any(|l| l.joint == Joint::Spherical) => {
+            return Err(RapierError::TreeScope(
+                "bounds the universal and no-twist joints' motors only: the spherical joint's motors are not its ball's axes in rapier".into(),
+            ))
+        }
+        _ => {}
     }
     if opts.spin.norm_squared() > 0.0 {
         return Err(RapierError::TreeScope("runs a release without spin only, so far".into()));
@@ -182,6 +204,12 @@ pub fn simulate_tree(
     let start = clock.shape(0.0);
     let mut scene = TreeScene::new(tree, settings.cross_mass_fraction, dt, opts.pgs_iterations, gains, &start.q)?;
     scene.start_at_zero_momentum(&start.q, &start.qd)?;
+    // With a torque limit, every motor bounded by it, and the steps where the plan needs more.
+    let bounds = match motors_beyond(&opts.motors) {
+        MotorsBeyond::TorqueLimit(limit) => Some(scene.bound_motors(limit)?),
+        _ => None,
+    };
+    let mut saturation = SaturationTracker::default();
 
     let motors = tree.dof();
     let mut tracker = TwistTracker::default();
@@ -198,6 +226,13 @@ pub fn simulate_tree(
         reference = reference.max(locked_and_shape_momentum(tree, &tree.motion(&target)).1.norm());
         if k > 0 {
             scene.aim(&target)?;
+            if let Some(bound) = &bounds {
+                let need: Vec<f64> = reduction::joint_torques(tree, &target, &Vector3::zeros())
+                    .into_iter()
+                    .flat_map(|l| l.tau)
+                    .collect();
+                saturation.step(t, bound, &need);
+            }
             scene.step();
         }
         let snap = scene.snapshot()?;
@@ -242,6 +277,7 @@ pub fn simulate_tree(
         swing: angles.swing,
         peak_torque: peaks,
         tracking_error: tracking,
+        saturation: saturation.finish(),
         momentum: MomentumDrift {
             max_abs: drift,
             reference,
@@ -270,17 +306,25 @@ pub fn verify_tree(
         TimeStep::Fixed(dt) => (dt, StepSource::Fixed),
         TimeStep::Auto => (scales.first_step, StepSource::Auto),
     };
-    let refined = refine(settings, reference, clock.duration(), first, |dt| {
+    let mut refined = refine(settings, reference, clock.duration(), first, |dt| {
         let run = simulate_tree(tree, traj, &settings.with_dt(dt), opts)?;
-        Ok((record(&run), ()))
+        Ok((record(&run), run))
     })?;
-    let quantities = convergences(&refined.runs, reference, settings);
-    let verdict = judge(&quantities, reference, refined.runs.len(), &refined.why_stopped, &refined.failures);
+    let finest = refined.finest.take();
+    let mut quantities = convergences(&refined.runs, reference, settings);
+    let verdict = match &finest {
+        // A bounded motor fell short of the plan's torque (with a torque limit): as the two-body
+        // verification says it.
+        Some(run) if !run.saturation.is_empty() => {
+            saturated(&mut quantities, &refined.runs, &run.saturation, [run.twist, run.swing, run.dt], reference)
+        }
+        _ => judge(&quantities, reference, refined.runs.len(), &refined.why_stopped, &refined.failures),
+    };
     Ok(refined.verification(verdict, quantities, (source, scales), settings, None))
 }
 
 fn record(run: &TreeRun) -> RunRecord {
-    RunRecord::new(
+    let mut record = RunRecord::new(
         run.dt,
         run.steps,
         [run.twist, run.swing],
@@ -288,5 +332,7 @@ fn record(run: &TreeRun) -> RunRecord {
         run.peak_torque.iter().fold(0.0, |m: f64, p| m.max(*p)),
         run.tracking_error.clone(),
         run.momentum.max_rel,
-    )
+    );
+    record.saturation = run.saturation.clone();
+    record
 }

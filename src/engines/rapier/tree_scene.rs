@@ -405,6 +405,35 @@ impl TreeScene {
         self.set_velocities(&v)
     }
 
+    /// Bounds every motor's torque by `limit` N·m (one torque limit on every motor,
+    /// [`crate::model::motor::MotorsBeyond::TorqueLimit`]) and returns each coordinate's bound:
+    /// a universal joint's revolutes, and a no-twist joint's ball about the parent's `x` and `y`
+    /// (its motors' axes; the motor about `z` holds the joint's constraint, the structure's, and
+    /// stays unbounded). A spherical joint's motors (the parent's `x`, `y` and the child's spine)
+    /// are not its ball's axes in rapier: refused.
+    pub fn bound_motors(&mut self, limit: f64) -> Result<Vec<Option<f64>>, RapierError> {
+        if self.built.iter().any(|b| b.joint == Joint::Spherical) {
+            return Err(RapierError::TreeScope(
+                "bounds the universal and no-twist joints' motors only: the spherical joint's motors (the parent's x, y and the child's spine) are not its ball's axes".into(),
+            ));
+        }
+        let built = self.built.clone();
+        let mb = self.multibody_mut()?;
+        for b in &built {
+            let (ids, axes): (&[usize], &[JointAxis]) = match b.joint {
+                Joint::Universal => (&b.link_ids, &[JointAxis::AngX]),
+                _ => (&b.link_ids[..1], &[JointAxis::AngX, JointAxis::AngY]),
+            };
+            for id in ids {
+                let link = mb.link_mut(*id).ok_or(RapierError::Missing("a link"))?;
+                for axis in axes {
+                    link.joint.data.set_motor_max_force(*axis, limit);
+                }
+            }
+        }
+        Ok(vec![Some(limit); self.tree.dof()])
+    }
+
     /// Aims every joint's motors at the shape `target` at the end of the next step (module docs):
     /// a revolute's spring at `q − h q̇` with velocity `q̇`; a ball's motors at the rate that
     /// carries its present relative rotation onto `R(q)` over the step.

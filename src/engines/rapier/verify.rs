@@ -58,7 +58,7 @@
 //! Nothing here panics or returns a NaN as a result: a number that could not be had is a reason
 //! in the verdict.
 
-use super::refinement::{convergences, judge, refine};
+use super::refinement::{convergences, judge, refine, saturated};
 use super::verdict::{Reference, RunRecord, StepSource, Verdict, Verification};
 use super::{RapierError, RapierOptions, RapierRun};
 use crate::engines::evaluate::{released_on, released_torques};
@@ -117,20 +117,7 @@ pub fn verify_with(
     let verdict = match (&finest, &demand) {
         (Some(run), _) if !run.saturation.is_empty() => {
             // Not extrapolated (module docs): only the raw values stand.
-            for c in &mut quantities {
-                c.extrapolated.clear();
-                (c.observed_order, c.value, c.estimate, c.gap) = (None, None, None, None);
-            }
-            let n = runs.len();
-            Verdict::Saturated {
-                motors: run.saturation.clone(),
-                twist_deg: run.twist.to_degrees(),
-                swing_deg: run.swing.to_degrees(),
-                twist_change_deg: (n >= 2).then(|| runs[n - 1].twist_deg - runs[n - 2].twist_deg),
-                planned_twist_deg: reference.twist.to_degrees(),
-                planned_swing_deg: reference.swing.to_degrees(),
-                dt: run.dt,
-            }
+            saturated(&mut quantities, runs, &run.saturation, [run.twist, run.swing, run.dt], reference)
         }
         (Some(_), Some(d)) if !d.within() => Verdict::BeyondMotors { exceeded: d.verdict() },
         _ => judge(&quantities, reference, runs.len(), &refined.why_stopped, &refined.failures),

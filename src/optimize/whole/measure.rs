@@ -11,9 +11,9 @@ use std::f64::consts::{PI, TAU};
 use serde::Serialize;
 
 use super::cat::WholeCat;
-use super::scope::{motors_beyond, MotorsBeyond};
 use super::spline::BSpline;
 use super::torques::ExactTorques;
+use crate::model::motor::{motors_beyond, MotorsBeyond};
 use nalgebra::Vector3;
 
 use crate::engines::exact::Flip;

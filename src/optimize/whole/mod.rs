@@ -128,8 +128,9 @@ use std::time::Instant;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
+pub use crate::model::motor::{motors_beyond, MotorsBeyond};
 pub use cat::WholeCat;
-pub use scope::{beyond_two_motors, motors_beyond, spin_supported, MotorsBeyond};
+pub use scope::{beyond_two_motors, spin_supported};
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};

@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use super::cat::WholeCat;
 use super::settings::{Objective, WholeError, WholeSettings};
-use crate::model::motor::{Motor, Motors};
+use crate::model::motor::{motors_beyond, Motors, MotorsBeyond};
 
 /// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
 /// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
@@ -72,32 +72,5 @@ pub fn beyond_two_motors(
             "within a torque limit for the objective \"peak\" or \"min-time\" only: use one of them, or remove actuator.torque_limit_nm",
         ),
         _ => Ok(()),
-    }
-}
-
-/// The motors a cat beyond two motors is planned with ([`motors_beyond`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MotorsBeyond {
-    /// Ideal motors.
-    Ideal,
-    /// One torque limit on every motor, N·m: the problem's `actuator.torque_limit_nm`, its only
-    /// limit and the same for both of its joints.
-    TorqueLimit(f64),
-    /// Any other limits (not planned beyond two motors).
-    Other,
-}
-
-/// How the problem's two motors `motors` extend to every motor of a cat beyond two motors.
-pub fn motors_beyond(motors: &Motors) -> MotorsBeyond {
-    if motors.is_ideal() {
-        return MotorsBeyond::Ideal;
-    }
-    let [a, b] = motors.joints;
-    let torque_only = |m: Motor| m.speed.is_none() && m.envelope.is_none() && m.power.is_none();
-    match (a.torque, b.torque) {
-        (Some(x), Some(y)) if x.total_cmp(&y).is_eq() && torque_only(a) && torque_only(b) => {
-            MotorsBeyond::TorqueLimit(x)
-        }
-        _ => MotorsBeyond::Other,
     }
 }

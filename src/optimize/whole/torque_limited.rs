@@ -1,5 +1,5 @@
 //! A cat beyond two motors (the spherical joint, a tail) within one torque limit on every motor
-//! ([`super::scope::MotorsBeyond::TorqueLimit`]): planned for the least peak torque with ideal
+//! ([`crate::model::motor::MotorsBeyond::TorqueLimit`]): planned for the least peak torque with ideal
 //! motors, then held to the limit by the exact time scaling of a zero-momentum flip (DESIGN.md §9).
 //!
 //! Giving a path the duration `k T` (`q(t/k)`) leaves its flip unchanged at zero angular momentum
