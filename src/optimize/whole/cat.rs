@@ -50,11 +50,12 @@ pub enum WholeCat {
     Model(TwoMotorCat),
     /// A cat on the spherical joint: three coordinates and motors ([`WholeCat::spherical`]),
     /// re-measured by the general core on every coordinate ([`super::torques`]), for ideal motors
-    /// and without spin; the command line's measurement and rapier's scene take two motors, so
-    /// [`WholeCat::new`] refuses it.
+    /// or one torque limit on every motor ([`super::torque_limited`]) and without spin; the command
+    /// line's one measurement takes two motors, so [`WholeCat::new`] refuses it.
     Spherical(SphericalCat),
     /// A two-motor cat with a tail ([`WholeCat::tailed`]): a tree of three bodies and four motors,
-    /// planned by the loop through [`super::tree_dynamics`], for ideal motors and without spin.
+    /// planned by the loop through [`super::tree_dynamics`], for ideal motors or one torque limit
+    /// on every motor and without spin.
     Tailed(Tailed),
 }
 
