@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use super::{variants, Beyond, ModelComparison, ModelRow, OptimumFigures, ScheduleFigures, Variant};
 use crate::engines::models;
 use crate::engines::rapier::tree_run::verify_tree;
+use crate::engines::rapier::tree_scene::bounds_motors;
 use crate::engines::rapier::{RapierError, RapierOptions, Reference};
 use crate::engines::reduction;
 use crate::engines::resolved::Resolved;
@@ -200,7 +201,7 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
         let shape = SplineShape(&b.spline);
         // Rapier bounds the universal and no-twist joints' motors by the torque limit; the
         // spherical joint's motors are not its ball's axes there, and run unbounded.
-        let bounded = cat.joint() != Joint::Spherical;
+        let bounded = bounds_motors(&tree);
         let opts = RapierOptions { motors: if bounded { motors } else { Motors::ideal() }, ..RapierOptions::default() };
         row.rapier = Some(verify_tree(&tree, &shape, &p.rapier, &reference, &opts)?);
     }

@@ -350,8 +350,7 @@ fn write_file<T: Trajectory>(
         }
         w.write_record(&record).map_err(csv_error)?;
     }
-    let bytes = w.into_inner().map_err(|e| ExchangeError::Csv(e.to_string()))?;
-    let csv = String::from_utf8(bytes).map_err(|e| ExchangeError::Csv(e.to_string()))?;
+    let csv = csv_text(w)?;
     let links = Links::new(model.cat(), problem.rapier.cross_mass_fraction);
     let sidecar = Sidecar {
         format: FORMAT.into(),
@@ -448,6 +447,12 @@ fn motor_sizing(e: &Evaluation) -> MotorSizing {
         verdict: e.motors.verdict(),
         demand: e.motors.clone(),
     }
+}
+
+/// The text a CSV writer wrote.
+pub(crate) fn csv_text(w: csv::Writer<Vec<u8>>) -> Result<String, ExchangeError> {
+    let bytes = w.into_inner().map_err(|e| ExchangeError::Csv(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| ExchangeError::Csv(e.to_string()))
 }
 
 pub(crate) fn csv_error(e: csv::Error) -> ExchangeError {

@@ -38,7 +38,7 @@ use crate::engines::shape::ShapeTrajectory;
 use crate::engines::torque::Peak;
 use crate::exchange::links::num;
 use crate::exchange::schedule_file::{
-    csv_error, orientations, piece_infos, plan_rows, relative_motion, ExportOptions, COLUMNS,
+    csv_error, csv_text, orientations, piece_infos, plan_rows, relative_motion, ExportOptions, COLUMNS,
 };
 use crate::exchange::sidecar::{Column, JumpRecord, OrientationInfo, PieceInfo, Sampling, Source};
 use crate::exchange::tree_model::{arr, NamedTree};
@@ -262,8 +262,7 @@ pub fn write_tree_optimum(
         record.extend(numbers.into_iter().map(num));
         w.write_record(&record).map_err(csv_error)?;
     }
-    let bytes = w.into_inner().map_err(|e| ExchangeError::Csv(e.to_string()))?;
-    let csv = String::from_utf8(bytes).map_err(|e| ExchangeError::Csv(e.to_string()))?;
+    let csv = csv_text(w)?;
     let sidecar = TreeSidecar {
         format: TREE_FORMAT.into(),
         csv: format!("{TREE_SCHEDULE}.csv"),

@@ -34,7 +34,7 @@ use serde::Serialize;
 use super::refinement::{convergences, judge, refine, saturated};
 use super::run::MomentumDrift;
 use super::saturation::{MotorSaturation, SaturationTracker};
-use super::tree_scene::{momenta, TreeScene, TreeSnapshot};
+use super::tree_scene::{bounds_motors, momenta, TreeScene, TreeSnapshot, UNBOUNDED_SPHERICAL};
 use super::verdict::{RunRecord, StepSource, Verification};
 use super::{MotorGains, RapierError, RapierOptions, Reference};
 use crate::engines::reduction::{self, locked_and_shape_momentum};
@@ -43,7 +43,6 @@ use crate::model::motor::{motors_beyond, MotorsBeyond};
 use crate::model::orientation::TwistTracker;
 use crate::model::shape::ShapeState;
 use crate::model::tree::Tree;
-use crate::model::Joint;
 use crate::problem::settings::{RapierSettings, TimeStep};
 
 /// Continuity asked of a trajectory's joins, relative to the largest `|q|`, `|q̇|`, `|q̈|` there.
@@ -124,13 +123,12 @@ fn in_scope(tree: &Tree, clock: &Clock<impl ShapeTrajectory>, opts: &RapierOptio
     match motors_beyond(&opts.motors) {
         MotorsBeyond::Other => {
             return Err(RapierError::TreeScope(
-                "runs ideal motors or one torque limit on every motor only, so far: remove the other [actuator] limits".into(),
+                "runs ideal motors or one torque limit on every motor only, so far: remove the other [actuator] limits"
+                    .into(),
             ))
         }
-        MotorsBeyond::TorqueLimit(_) if tree.links().iter().any(|l| l.joint == Joint::Spherical) => {
-            return Err(RapierError::TreeScope(
-                "bounds the universal and no-twist joints' motors only: the spherical joint's motors are not its ball's axes in rapier".into(),
-            ))
+        MotorsBeyond::TorqueLimit(_) if !bounds_motors(tree) => {
+            return Err(RapierError::TreeScope(UNBOUNDED_SPHERICAL.into()))
         }
         _ => {}
     }

@@ -92,6 +92,21 @@ pub struct TreeScene {
     gains: MotorGains,
 }
 
+/// Whether rapier can bound `tree`'s motors by a torque limit ([`TreeScene::bound_motors`]): its
+/// universal and no-twist joints' motors are their joints' axes in rapier, a spherical joint's are
+/// not.
+pub fn bounds_motors(tree: &Tree) -> bool {
+    tree.links().iter().all(|l| l.joint != Joint::Spherical)
+}
+
+/// Why a tree with a spherical joint runs no motor limit ([`bounds_motors`]).
+pub const UNBOUNDED_SPHERICAL: &str = "bounds the universal and no-twist joints' motors only: the spherical joint's motors are not its ball's axes in rapier (they are the parent's x, y and the child's spine)";
+
+/// The multibody of `world` that `joint` belongs to.
+fn multibody_in(world: &mut PhysicsWorld, joint: MultibodyJointHandle) -> Result<&mut Multibody, RapierError> {
+    world.multibody_joints.get_mut(joint).map(|(mb, _)| mb).ok_or(RapierError::Missing("the multibody"))
+}
+
 /// Refuses a shape of `len` coordinates that is not `tree`'s.
 fn sized(tree: &Tree, len: usize) -> Result<(), RapierError> {
     if len == tree.dof() {
@@ -229,11 +244,7 @@ impl TreeScene {
     }
 
     fn multibody_mut(&mut self) -> Result<&mut Multibody, RapierError> {
-        self.world
-            .multibody_joints
-            .get_mut(self.any_joint)
-            .map(|(mb, _)| mb)
-            .ok_or(RapierError::Missing("the multibody"))
+        multibody_in(&mut self.world, self.any_joint)
     }
 
     /// Turns the joints from zero to `q` (a revolute by its angle, a ball by the rotation vector
@@ -412,14 +423,11 @@ impl TreeScene {
     /// stays unbounded). A spherical joint's motors (the parent's `x`, `y` and the child's spine)
     /// are not its ball's axes in rapier: refused.
     pub fn bound_motors(&mut self, limit: f64) -> Result<Vec<Option<f64>>, RapierError> {
-        if self.built.iter().any(|b| b.joint == Joint::Spherical) {
-            return Err(RapierError::TreeScope(
-                "bounds the universal and no-twist joints' motors only: the spherical joint's motors (the parent's x, y and the child's spine) are not its ball's axes".into(),
-            ));
+        if !bounds_motors(&self.tree) {
+            return Err(RapierError::TreeScope(UNBOUNDED_SPHERICAL.into()));
         }
-        let built = self.built.clone();
-        let mb = self.multibody_mut()?;
-        for b in &built {
+        let mb = multibody_in(&mut self.world, self.any_joint)?;
+        for b in &self.built {
             let (ids, axes): (&[usize], &[JointAxis]) = match b.joint {
                 Joint::Universal => (&b.link_ids, &[JointAxis::AngX]),
                 _ => (&b.link_ids[..1], &[JointAxis::AngX, JointAxis::AngY]),
@@ -442,10 +450,9 @@ impl TreeScene {
         let h = self.dt();
         let g = self.gains;
         let snap = self.snapshot()?;
-        let tree = self.tree.clone();
-        let built = self.built.clone();
-        let mb = self.multibody_mut()?;
-        for (i, (l, b)) in tree.links().iter().zip(&built).enumerate() {
+        let (tree, built) = (&self.tree, &self.built);
+        let mb = multibody_in(&mut self.world, self.any_joint)?;
+        for (i, (l, b)) in tree.links().iter().zip(built).enumerate() {
             let range = tree.coordinates(i);
             let (q, qd) = (&target.q[range.clone()], &target.qd[range]);
             match b.joint {
