@@ -73,7 +73,7 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// The whole-manoeuvre optimum of each cat model (equal or unequal halves; universal, no-twist
-    /// or spherical joint; with `[cat.tail]` the cat with its tail) on the problem's cat and fall,
+    /// or spherical joint; with `[cat.tail]`, `[cat.legs]` the cat with them) on the problem's cat and fall,
     /// side by side: which body flips most cheaply.
     CompareModels {
         #[command(flatten)]

@@ -362,27 +362,31 @@ fn a_diverged_robust_trial_is_named_with_the_step_to_shorten() {
     assert!(!out.exists(), "a stopped run writes nothing");
 }
 
-/// Issue 22: `[cat.tail]` is compared by `compare-models` alone; every command that measures two
-/// bodies refuses it with one error naming `cat.tail`, a non-zero exit and no results.
+/// Issue 22: `[cat.tail]` and `[cat.legs]` are compared by `compare-models` alone; every command
+/// that measures two bodies refuses them with one error naming the section, a non-zero exit and
+/// no results.
 #[test]
-fn a_tail_is_refused_by_the_commands_that_measure_two_bodies() {
-    let out = scratch("tail-refused");
+fn a_tail_or_legs_are_refused_by_the_commands_that_measure_two_bodies() {
+    let out = scratch("appendage-refused");
     let out_arg = out.to_string_lossy().to_string();
-    for args in [
-        vec!["simulate", "problems/tail.toml"],
-        vec!["compare", "problems/tail.toml"],
-        vec!["optimize", "problems/tail.toml", "--whole"],
-        vec!["audit", "problems/tail.toml"],
-        vec!["run", "problems/tail.toml", "--out", &out_arg],
-    ] {
-        let (code, _, stderr) = catflip(&args);
-        assert_ne!(code, 0, "{args:?}");
-        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
-        assert_eq!(errors.len(), 1, "{args:?}: {stderr}");
-        assert!(
-            errors[0].starts_with("error: cat.tail:") && errors[0].contains("compare-models"),
-            "{args:?}: {stderr}"
-        );
+    for (name, field) in [("tail", "cat.tail"), ("legs", "cat.legs")] {
+        let problem = format!("problems/{name}.toml");
+        for args in [
+            vec!["simulate", &problem],
+            vec!["compare", &problem],
+            vec!["optimize", &problem, "--whole"],
+            vec!["audit", &problem],
+            vec!["run", &problem, "--out", &out_arg],
+        ] {
+            let (code, _, stderr) = catflip(&args);
+            assert_ne!(code, 0, "{args:?}");
+            let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+            assert_eq!(errors.len(), 1, "{args:?}: {stderr}");
+            assert!(
+                errors[0].starts_with(&format!("error: {field}:")) && errors[0].contains("compare-models"),
+                "{args:?}: {stderr}"
+            );
+        }
+        assert!(!out.join(name).exists(), "no results are written");
     }
-    assert!(!out.join("tail").exists(), "no results are written");
 }

@@ -303,3 +303,32 @@ fn assert_beyond_row(r: &ModelRow, tree: &Tree) {
     let twist: f64 = last[header.iter().position(|h| *h == "twist_deg").expect("twist_deg")].parse().expect("a number");
     assert!((twist - o.twist_deg).abs() < 1e-7, "{}: the file's last row {twist} against {}", r.key, o.twist_deg);
 }
+
+/// Issue 22: legs (`problems/legs.toml`: Kane and Scher's cat with a pair of legs on each half, a
+/// hinge at the hips; coarse spline, one start): the cat with its legs is a row of its own, four
+/// motors, re-measured by the general core on its tree ([`assert_beyond_row`]) and verified in
+/// rapier's tree scene; its legs never swing past their fold (90°, flat along the belly) on the
+/// whole curve, and with them the cat needs a lower peak than without.
+#[test]
+fn a_cat_with_legs_is_planned_within_the_fold_and_verified() {
+    let p = preset("legs", &COARSE);
+    let c = compare_models(&p, true, "test").unwrap_or_else(|e| panic!("{e}"));
+    let keys: Vec<(&str, usize)> = c.rows.iter().map(|r| (r.key.as_str(), r.motors)).collect();
+    assert_eq!(keys, [("universal", 2), ("no-twist", 2), ("spherical", 3), ("no-twist-legs", 4)]);
+    let legs = &c.rows[3];
+    let tree = p.cat.model().tree_with(&p.cat.appendages());
+    assert_eq!(tree.links().iter().map(|l| l.joint).collect::<Vec<_>>(), [Joint::NoTwist, Joint::Hinge, Joint::Hinge]);
+    assert_beyond_row(legs, &tree);
+    let v = legs.rapier.as_ref().unwrap_or_else(|| panic!("not verified"));
+    assert_eq!(v.status, Status::Verified, "{}", v.verdict);
+    let spline = legs.spline.as_ref().expect("an optimum");
+    let fold = catflip::model::cat::LEG_FOLD_LIMIT_DEG.to_radians();
+    let widest = (0..=20_000)
+        .map(|k| spline.shape(spline.duration() * k as f64 / 2e4))
+        .flat_map(|s| [s.q[2], s.q[3]])
+        .fold(0.0, |m: f64, q| m.max(q.abs()));
+    assert!(widest <= fold * (1.0 + 1e-12), "the legs swing to {}°", widest.to_degrees());
+    let peak =
+        |key: &str| c.rows.iter().find(|r| r.key == key).and_then(|r| r.optimum.as_ref()).expect(key).peak_torque_nm;
+    assert!(peak("no-twist-legs") < peak("no-twist"), "{}", c.to_markdown());
+}

@@ -1,7 +1,8 @@
 //! The files of a cat beyond two motors (issue 22: exported and replayable): the schedule file of
 //! any tree of bodies agrees with the two-cylinder engine on the paper's cat, its columns are what
 //! a replay reads (the ball's couple turned back gives the motors' torques), its last row is the
-//! flip, and the MJCF puts every body, joint and motor where the tree has them.
+//! flip, and the MJCF and URDF put every body, joint and motor where the tree has them (a tail's
+//! and legs' too).
 
 use catflip::engines::exact;
 use catflip::engines::models::flip_on;
@@ -9,15 +10,17 @@ use catflip::engines::torque;
 use catflip::exchange::tree_file::{tree_columns, write_tree_optimum, TREE_FORMAT};
 use catflip::exchange::tree_model::{tree_mjcf, tree_urdf, NamedTree};
 use catflip::exchange::{ExportOptions, MjcfOptions};
+use catflip::model::cat::Appendages;
 use catflip::model::shape::ShapeState;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::whole::spline::SplineShape;
-use catflip::optimize::whole::{BSpline, WholeCat};
+use catflip::optimize::whole::{BSpline, NamedBody, WholeCat};
 use catflip::problem::Problem;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 const HALF: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
 const TAIL: Cylinder = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
+const LEG: Cylinder = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
 
 fn paper() -> Problem {
     let text = std::fs::read_to_string("problems/paper.toml").expect("the paper's problem");
@@ -143,19 +146,36 @@ fn a_replay_reads_the_motors_from_the_balls_couple() {
     );
 }
 
-/// The MJCF of a no-twist cat with a tail on a universal joint: a ball for the halves, two hinges
-/// through a cross for the tail, one motor per hinge and three for the ball; every body's mass,
-/// moments and (at `q = 0`) position relative to A are the tree's.
+/// The MJCF of a no-twist cat with a tail on a universal joint and legs: a ball for the halves,
+/// two hinges through a cross for the tail, one hinge about its half's `x` for each pair of legs,
+/// one motor per hinge and three for the ball; every body's mass, moments and (at `q = 0`)
+/// position relative to A are the tree's; the legs' cylinders are drawn along their `y`.
 #[test]
-fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
-    let cat = WholeCat::tailed(Cat::equal(HALF, Joint::NoTwist), TAIL, Joint::Universal).expect("two-motor joints");
+fn the_mjcf_of_a_cat_with_a_tail_and_legs_builds_the_trees_bodies_and_joints() {
+    let appendages = Appendages { tail: Some((TAIL, Joint::Universal)), legs: Some(LEG) };
+    let cat = WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), appendages).expect("two-motor joints");
     let model = NamedTree::of(&cat, 1e-6).expect("cylinders");
     let text = tree_mjcf(&model, "tailed", &MjcfOptions::default());
     let doc = roxmltree::Document::parse(&text).expect("well-formed XML");
-    let zero = ShapeState { q: vec![0.0; 4], qd: vec![0.0; 4], qdd: vec![0.0; 4] };
+    let zero = ShapeState { q: vec![0.0; 6], qd: vec![0.0; 6], qdd: vec![0.0; 6] };
     let motion = model.tree.motion(&zero);
     let numbers = |s: &str| -> Vec<f64> { s.split(' ').map(|x| x.parse().expect("a number")).collect() };
-    for (k, (name, _)) in model.bodies.iter().enumerate() {
+    let zaxes: Vec<(&str, Option<&str>)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("geom"))
+        .map(|n| (n.attribute("name").expect("name"), n.attribute("zaxis")))
+        .collect();
+    assert_eq!(
+        zaxes,
+        [
+            ("A", Some("0.0 0.0 1.0")),
+            ("B", Some("0.0 0.0 1.0")),
+            ("tail", Some("0.0 0.0 1.0")),
+            ("hind-legs", Some("0.0 1.0 0.0")),
+            ("front-legs", Some("0.0 1.0 0.0"))
+        ]
+    );
+    for (k, NamedBody { name, .. }) in model.bodies.iter().enumerate() {
         let node = doc.descendants().find(|n| n.has_tag_name("body") && n.attribute("name") == Some(name)).expect(name);
         // Its position relative to A: the sum of the body positions up to A (A itself excluded).
         let mut position = Vector3::zeros();
@@ -176,16 +196,27 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
         .filter(|n| n.has_tag_name("joint"))
         .map(|n| (n.attribute("name").expect("name"), n.attribute("type").expect("type")))
         .collect();
-    assert_eq!(joints, [("B_ball", "ball"), ("tail_1", "hinge"), ("tail_2", "hinge")]);
+    assert_eq!(
+        joints,
+        [
+            ("B_ball", "ball"),
+            ("tail_1", "hinge"),
+            ("tail_2", "hinge"),
+            ("hind-legs_1", "hinge"),
+            ("front-legs_1", "hinge")
+        ]
+    );
     let motors: Vec<&str> =
         doc.descendants().filter(|n| n.has_tag_name("motor")).map(|n| n.attribute("name").expect("name")).collect();
-    assert_eq!(motors, ["B_bx", "B_by", "B_bz", "tau3", "tau4"]);
+    assert_eq!(motors, ["B_bx", "B_by", "B_bz", "tau3", "tau4", "tau5", "tau6"]);
     // Every joint's anchor relative to A (its body's position plus its `pos`) is the tree's joint
     // point, and the hinges' axes are the universal joint's.
     for (i, point) in motion.links.iter().map(|l| l.point - motion.bodies[0].position).enumerate() {
         let names: Vec<String> = match i {
             0 => vec!["B_ball".into()],
-            _ => vec!["tail_1".into(), "tail_2".into()],
+            1 => vec!["tail_1".into(), "tail_2".into()],
+            2 => vec!["front-legs_1".into()],
+            _ => vec!["hind-legs_1".into()],
         };
         for name in names {
             let node = doc
@@ -199,7 +230,7 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
             assert!((anchor - point).amax() < 1e-15, "{name}: {anchor} against {point}");
             let axis = node.attribute("axis").map(numbers);
             let expected = match name.as_str() {
-                "tail_1" => Some(vec![1.0, 0.0, 0.0]),
+                "tail_1" | "front-legs_1" | "hind-legs_1" => Some(vec![1.0, 0.0, 0.0]),
                 "tail_2" => Some(vec![0.0, 1.0, 0.0]),
                 _ => None,
             };
@@ -212,7 +243,19 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
     let doc = roxmltree::Document::parse(&urdf).expect("well-formed URDF");
     let kinds: Vec<&str> =
         doc.descendants().filter(|n| n.has_tag_name("joint")).map(|n| n.attribute("type").expect("type")).collect();
-    assert_eq!(kinds, ["spherical", "continuous", "continuous"]);
+    assert_eq!(kinds, ["spherical", "continuous", "continuous", "continuous", "continuous"]);
+    // The legs' visuals lie along their links' y: URDF's cylinder (along z) turned by Rx(−π/2).
+    for name in ["front-legs", "hind-legs"] {
+        let link = doc.descendants().find(|n| n.has_tag_name("link") && n.attribute("name") == Some(name)).expect(name);
+        let visual = link.descendants().find(|n| n.has_tag_name("visual")).expect("a visual");
+        let rpy = numbers(
+            visual.children().find(|c| c.has_tag_name("origin")).and_then(|o| o.attribute("rpy")).expect("rpy"),
+        );
+        assert!(
+            (rpy[0] + std::f64::consts::FRAC_PI_2).abs() < 1e-15 && rpy[1].abs() < 1e-15 && rpy[2].abs() < 1e-15,
+            "{name}: {rpy:?}"
+        );
+    }
     let origin_of = |n: roxmltree::Node| -> Vector3<f64> {
         let o = n.children().find(|c| c.has_tag_name("origin")).expect("origin");
         Vector3::from_vec(numbers(o.attribute("xyz").expect("xyz")))
@@ -234,7 +277,7 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
         }
         at
     };
-    for (k, (name, _)) in model.bodies.iter().enumerate() {
+    for (k, NamedBody { name, .. }) in model.bodies.iter().enumerate() {
         let link = doc.descendants().find(|n| n.has_tag_name("link") && n.attribute("name") == Some(name)).expect(name);
         let inertial = link.children().find(|n| n.has_tag_name("inertial")).expect("inertial");
         let centre = frame(name) + origin_of(inertial);
@@ -252,7 +295,9 @@ fn the_mjcf_of_a_tailed_cat_builds_the_trees_bodies_and_joints() {
 fn every_ball_of_a_tree_reads_in_its_childs_frame() {
     let cat = Cat::equal(HALF, Joint::Spherical);
     let tree = cat.tree_with_tail(&TAIL, Joint::NoTwist);
-    let model = NamedTree { tree, bodies: vec![("A", HALF), ("B", HALF), ("tail", TAIL)], cross: (0.0, 0.0) };
+    let named = |name, cylinder| NamedBody { name, cylinder, axis: Vector3::z() };
+    let model =
+        NamedTree { tree, bodies: vec![named("A", HALF), named("B", HALF), named("tail", TAIL)], cross: (0.0, 0.0) };
     let path = circulation(5);
     let flip = flip_on(&model.tree, &SplineShape(&path), &Vector3::zeros(), 1e-11);
     let file =

@@ -5,7 +5,8 @@
 //! - physical laws for every model: zero momentum, action = reaction, a rigid cat does not turn;
 //! - the spherical joint with its twist held at zero is the no-twist joint, bit for bit; the
 //!   no-twist joint circle keeps the bend; a tail held still on the rear half is a rigid part of
-//!   it (a three-body tree against the two-body cat of the union, by hand);
+//!   it, and legs held still are rigid parts of their halves (trees against the two-body cat of
+//!   the unions, by hand); a tree of every appendage keeps zero momentum, action = reaction;
 //! - every derivative (joint rates, body motion, `Ω̇`) against central finite differences.
 #![deny(clippy::float_cmp)]
 
@@ -15,6 +16,7 @@ use approx::assert_relative_eq;
 use catflip::engines::models::{self, ModelError};
 use catflip::engines::shape::{AsSpherical, Held, ShapeTrajectory};
 use catflip::engines::{exact, reduction, torque};
+use catflip::model::cat::Appendages;
 use catflip::model::shape::ShapeState;
 use catflip::model::tree::{Body, Link, Tree};
 use catflip::model::{Cat, Cylinder, Joint};
@@ -48,7 +50,8 @@ impl Cubic {
     /// A generic path with `n` coordinates, bends up to ~2 rad, rates of a few rad/s.
     fn generic(n: usize) -> Cubic {
         let base = [[0.3, 1.1, -0.7, 0.4], [-0.2, 0.8, 0.9, -0.5], [0.1, -1.3, 0.6, 0.3]];
-        Cubic(base[..n].to_vec())
+        // Beyond three coordinates (appendages), the same curves again, scaled and shifted.
+        Cubic((0..n).map(|i| base[i % 3].map(|c| c * (1.0 - 0.2 * (i / 3) as f64) + 0.05 * (i / 3) as f64)).collect())
     }
 
     fn at(&self, t: f64) -> ShapeState {
@@ -260,50 +263,132 @@ fn straight_unequal_halves_lock_into_one_rod() {
     assert!(h.norm() == 0.0);
 }
 
+/// A half (`half`, centred at the origin of its frame) with `parts` held still on it, each
+/// `(mass, centre, inertia about its centre)` in the half's frame, as one body: its centre `c`
+/// and the union's mass and inertia about `c` (`Σ I_k + m_k (|d_k|² 𝟙 − d_k d_kᵀ)`, `d_k` from
+/// `c`: the parallel axes), by hand.
+fn union(half: &Cylinder, parts: &[(f64, Vector3<f64>, Matrix3<f64>)]) -> (Vector3<f64>, Body) {
+    let parallel = |m: f64, d: Vector3<f64>| (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * m;
+    let mass = half.mass + parts.iter().map(|p| p.0).sum::<f64>();
+    let c = parts.iter().map(|p| p.1 * p.0).sum::<Vector3<f64>>() / mass;
+    let inertia = half.inertia()
+        + parallel(half.mass, -c)
+        + parts.iter().map(|p| p.2 + parallel(p.0, p.1 - c)).sum::<Matrix3<f64>>();
+    (c, Body { mass, inertia })
+}
+
+/// The part hung by `link` from its parent's frame at coordinates `q`: its mass, centre and
+/// inertia in the parent's frame.
+fn held_part(link: &Link, body: &Body, q: &[f64]) -> (f64, Vector3<f64>, Matrix3<f64>) {
+    let r = link.joint.rotation(q);
+    (body.mass, link.at_parent - r * link.at_child, r * body.inertia * r.transpose())
+}
+
+/// `s` with `held` appended: further coordinates held still.
+fn with_held(s: &ShapeState, held: &[f64]) -> ShapeState {
+    let zero = vec![0.0; held.len()];
+    ShapeState {
+        q: s.q.iter().chain(held).copied().collect(),
+        qd: s.qd.iter().chain(&zero).copied().collect(),
+        qdd: s.qdd.iter().chain(&zero).copied().collect(),
+    }
+}
+
+/// Asserts that `tree` at `held` (its further coordinates) moves as the two-body cat `two`
+/// along `cat`'s path: the base rate (without and with spin) and the cat joint's torques, couple
+/// and force.
+fn assert_same_as_two_bodies(cat: &Cat, tree: &Tree, held: &[f64], two: &Tree) {
+    for t in TIMES {
+        let s = path_for(cat).at(t);
+        let full = with_held(&s, held);
+        for lambda in [Vector3::zeros(), Vector3::new(0.3, -0.2, 0.5)] {
+            let (a, b) = (reduction::body_rate(tree, &full, &lambda), reduction::body_rate(two, &s, &lambda));
+            assert!((a - b).norm() <= 1e-12 * b.norm().max(1.0), "{:?} at {t}: Ω {a} against {b}", cat.joint);
+            let a = &reduction::joint_torques(tree, &full, &lambda)[0];
+            let b = &reduction::joint_torques(two, &s, &lambda)[0];
+            let scale = b.couple.norm().max(b.force.norm()).max(1.0);
+            assert!((a.couple - b.couple).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
+            assert!((a.force - b.force).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
+            for (x, y) in a.tau.iter().zip(&b.tau) {
+                assert!((x - y).abs() <= 1e-12 * scale, "{:?} at {t}: τ {x} against {y}", cat.joint);
+            }
+        }
+    }
+}
+
 /// Issue 22: a tail held still reproduces the two-body cat. A rod hung from the rear half's end
 /// by a universal joint (two more coordinates), held bent and at rest, is a rigid part of the rear
 /// half: the three-body tree's base rate (without and with spin) and the cat joint's torques, couple
 /// and force (on the subtree it carries, half and tail) equal those of the two-body cat whose rear
-/// half is the union of half and tail. The union by hand: centre `c = m_T c_T/(m_B + m_T)` from
-/// B's centre, inertia `I_B + R I_T Rᵀ + Σ m (|d|² 𝟙 − d dᵀ)` about it (parallel axes).
+/// half is the union of half and tail ([`union`], by hand).
 #[test]
 fn a_tail_held_still_is_a_rigid_part_of_the_rear_half() {
     let tail = Cylinder { mass: 0.3, length: 0.9, radius: 0.02 };
     let held = [0.4, -0.7];
-    let parallel = |m: f64, d: Vector3<f64>| (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * m;
     for cat in every_model() {
-        let rear = cat.rear;
         let three = cat.tree_with_tail(&tail, Joint::Universal);
-        let hang = three.links()[1];
-        let r = Joint::Universal.rotation(&held);
-        let tail_centre = hang.at_parent - r * hang.at_child;
-        let mass = rear.mass + tail.mass;
-        let c = tail_centre * (tail.mass / mass);
-        let inertia = rear.inertia()
-            + parallel(rear.mass, -c)
-            + r * tail.inertia() * r.transpose()
-            + parallel(tail.mass, tail_centre - c);
+        let (c, rear) = union(&cat.rear, &[held_part(&three.links()[1], &three.bodies()[2], &held)]);
         let joint = cat.tree().links()[0];
-        let two =
-            Tree::two(Body::from(&cat.front), Link { at_child: joint.at_child - c, ..joint }, Body { mass, inertia });
-        for t in TIMES {
-            let s = path_for(&cat).at(t);
-            let with_tail = ShapeState {
-                q: s.q.iter().copied().chain(held).collect(),
-                qd: s.qd.iter().copied().chain([0.0; 2]).collect(),
-                qdd: s.qdd.iter().copied().chain([0.0; 2]).collect(),
-            };
-            for lambda in [Vector3::zeros(), Vector3::new(0.3, -0.2, 0.5)] {
-                let (a, b) =
-                    (reduction::body_rate(&three, &with_tail, &lambda), reduction::body_rate(&two, &s, &lambda));
-                assert!((a - b).norm() <= 1e-12 * b.norm().max(1.0), "{:?} at {t}: Ω {a} against {b}", cat.joint);
-                let a = &reduction::joint_torques(&three, &with_tail, &lambda)[0];
-                let b = &reduction::joint_torques(&two, &s, &lambda)[0];
-                let scale = b.couple.norm().max(b.force.norm()).max(1.0);
-                assert!((a.couple - b.couple).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
-                assert!((a.force - b.force).norm() <= 1e-12 * scale, "{:?} at {t}: {a:?} against {b:?}", cat.joint);
-                for (x, y) in a.tau.iter().zip(&b.tau) {
-                    assert!((x - y).abs() <= 1e-12 * scale, "{:?} at {t}: τ {x} against {y}", cat.joint);
+        let two = Tree::two(Body::from(&cat.front), Link { at_child: joint.at_child - c, ..joint }, rear);
+        assert_same_as_two_bodies(&cat, &three, &held, &two);
+    }
+}
+
+/// Issue 22: legs held still reproduce the two-body cat. Each half's legs (a rod on a hinge at its
+/// hips, [`Cat::tree_with`]), held swung and at rest, are a rigid part of their half: the
+/// four-body tree moves as the two-body cat of the unions (each half with its legs, [`union`];
+/// the base's frame moves to the front union's centre, the joint's points with it). The legs'
+/// own geometry by hand: the hips on the belly at `±0.55` of a half's half-length, each rod
+/// standing out along `+y` from its top end at zero.
+#[test]
+fn legs_held_still_are_rigid_parts_of_their_halves() {
+    let leg = Cylinder { mass: 0.15, length: 0.4, radius: 0.03 };
+    let held = [0.5, -1.2];
+    for cat in every_model().into_iter().filter(|c| c.dof() == 2) {
+        let tree = cat.tree_with(&Appendages { tail: None, legs: Some(leg) });
+        assert_eq!((tree.bodies().len(), tree.dof()), (4, 4));
+        let rod = Matrix3::from_diagonal(&Vector3::new(leg.transverse(), leg.axial(), leg.transverse()));
+        let part = |half: &Cylinder, side: f64, q: f64| {
+            let hip = Vector3::new(0.0, half.radius, side * 0.55 * 0.5 * half.length);
+            let r = Joint::Hinge.rotation(&[q]);
+            (leg.mass, hip + r * Vector3::new(0.0, 0.5 * leg.length, 0.0), r * rod * r.transpose())
+        };
+        for (k, (half, side, q)) in [(&cat.front, 1.0, held[0]), (&cat.rear, -1.0, held[1])].into_iter().enumerate() {
+            // The tree's own hanging of each leg agrees with the geometry by hand.
+            let by_tree = held_part(&tree.links()[k + 1], &tree.bodies()[k + 2], &[q]);
+            let by_hand = part(half, side, q);
+            assert!((by_tree.1 - by_hand.1).norm() < 1e-15 && (by_tree.2 - by_hand.2).norm() < 1e-15);
+        }
+        let (c_a, front) = union(&cat.front, &[part(&cat.front, 1.0, held[0])]);
+        let (c_b, rear) = union(&cat.rear, &[part(&cat.rear, -1.0, held[1])]);
+        let joint = cat.tree().links()[0];
+        let link = Link { at_parent: joint.at_parent - c_a, at_child: joint.at_child - c_b, ..joint };
+        assert_same_as_two_bodies(&cat, &tree, &held, &Tree::two(front, link, rear));
+    }
+}
+
+/// Issue 22: a cat with every appendage (a tail on each of its joints, legs) keeps zero momentum
+/// and action = reaction at every joint along a generic path of all its coordinates.
+#[test]
+fn a_cat_with_tail_and_legs_keeps_zero_momentum_and_action_equals_reaction() {
+    let tail = Cylinder { mass: 0.3, length: 0.9, radius: 0.02 };
+    let leg = Cylinder { mass: 0.15, length: 0.4, radius: 0.03 };
+    for cat in every_model().into_iter().filter(|c| c.dof() == 2) {
+        for tail_joint in [Joint::Universal, Joint::NoTwist, Joint::Hinge] {
+            let tree = cat.tree_with(&Appendages { tail: Some((tail, tail_joint)), legs: Some(leg) });
+            let path = Cubic::generic(tree.dof());
+            for t in TIMES {
+                let s = path.at(t);
+                let (locked, h) = reduction::locked_and_shape_momentum(&tree, &tree.motion(&s));
+                let omega = reduction::body_rate(&tree, &s, &Vector3::zeros());
+                let momentum = locked * omega + h;
+                assert!(momentum.norm() <= 1e-12 * h.norm().max(1.0), "{tail_joint} at {t}: momentum {momentum}");
+                for (i, l) in reduction::joint_torques(&tree, &s, &Vector3::zeros()).iter().enumerate() {
+                    assert_eq!(l.tau.len(), tree.links()[i].joint.dof());
+                    let scale = l.couple.norm().max(1.0);
+                    for (a, b) in l.tau.iter().zip(&l.from_base_side) {
+                        assert!((a - b).abs() <= 1e-12 * scale, "{tail_joint} link {i} at {t}: {a} against {b}");
+                    }
                 }
             }
         }
@@ -322,7 +407,7 @@ fn assert_fd(what: &str, analytic: Vector3<f64>, numeric: Vector3<f64>) {
 
 #[test]
 fn joint_rates_and_their_derivatives_match_finite_differences() {
-    for joint in Joint::ALL {
+    for joint in Joint::ALL.into_iter().chain([Joint::Hinge]) {
         let path = Cubic::generic(joint.dof());
         for t in TIMES {
             let s = path.at(t);

@@ -16,9 +16,13 @@ fn error_of(text: &str, overrides: &[&str]) -> String {
 
 #[test]
 fn shipped_problems_load_and_round_trip() {
-    for path in
-        ["problems/paper.toml", "problems/script-defaults.toml", "problems/tail.toml", "problems/tail-robot.toml"]
-    {
+    for path in [
+        "problems/paper.toml",
+        "problems/script-defaults.toml",
+        "problems/tail.toml",
+        "problems/tail-robot.toml",
+        "problems/legs.toml",
+    ] {
         let p = Problem::load(std::path::Path::new(path), &[]).expect(path);
         let text = toml::to_string(&p).expect("serialises");
         let back = Problem::from_toml(&text, path, &[]).expect("round trip");
@@ -94,7 +98,7 @@ fn bad_phases_are_refused() {
 fn unknown_keys_and_profiles_are_refused() {
     assert_eq!(
         error_of(PAPER, &["cat.colour=3"]),
-        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius`, `joint`, `front`, `rear`, `tail` in `cat`"
+        "--set cat.colour=3: unknown field `colour`, expected one of `mass`, `length`, `radius`, `joint`, `front`, `rear`, `tail`, `legs` in `cat`"
     );
     let e = error_of(PAPER, &["manoeuvre.profile=wobble"]);
     assert!(
@@ -211,6 +215,30 @@ fn a_bad_tail_is_refused_naming_its_field() {
     assert!(e.contains("missing field `radius`") && e.contains("cat.tail"), "{e}");
     let e = error_of(&tail(&format!("{good}\ncolour = 1")), &[]);
     assert!(e.contains("unknown field `colour`"), "{e}");
+}
+
+/// `[cat.legs]` (issue 22): each bad number names its field; a hinge is an appendage's joint, the
+/// tail's (one motor) but never the halves'.
+#[test]
+fn bad_legs_and_a_hinge_between_the_halves_are_refused_naming_their_field() {
+    let legs = |body: &str| format!("{PAPER}\n[cat.legs]\n{body}\n");
+    let p = Problem::from_toml(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03"), "test.toml", &[]).expect("legs");
+    assert_eq!(p.cat.appendages().dof(), 2, "one hinge a pair");
+    for (body, field) in [
+        ("mass = 0.0\nlength = 0.45\nradius = 0.03", "cat.legs.mass"),
+        ("mass = 0.2\nlength = -1.0\nradius = 0.03", "cat.legs.length"),
+        ("mass = 0.2\nlength = 0.45\nradius = 0.9", "cat.legs.radius"),
+    ] {
+        let e = error_of(&legs(body), &[]);
+        assert!(e.starts_with(field), "{body:?}: {e}");
+    }
+    let e = error_of(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03\njoint = \"hinge\""), &[]);
+    assert!(e.contains("unknown field `joint`"), "{e}");
+    let e = error_of(PAPER, &["cat.joint=\"hinge\""]);
+    assert!(e.starts_with("cat.joint = \"hinge\": a hinge is an appendage's joint"), "{e}");
+    let hinged = format!("{PAPER}\n[cat.tail]\nmass = 0.2\nlength = 1.0\nradius = 0.02\njoint = \"hinge\"\n");
+    let p = Problem::from_toml(&hinged, "test.toml", &[]).expect("a tail on a hinge");
+    assert_eq!(p.cat.appendages().dof(), 1);
 }
 
 /// A command for the paper's cat alone (a sweep, the audit) refuses `[cat.tail]` naming it and

@@ -6,7 +6,9 @@ use catflip::engines::rapier::tree_run::{simulate_tree, verify_tree};
 use catflip::engines::rapier::tree_scene::TreeScene;
 use catflip::engines::rapier::{simulate_with, MotorGains, RapierError, RapierOptions, Reference, Status};
 use catflip::engines::reduction;
+use catflip::model::cat::Appendages;
 use catflip::model::motor::{Motor, Motors};
+use catflip::model::tree::Tree;
 use catflip::model::{Cat, Cylinder, Joint};
 use catflip::optimize::whole::spline::SplineShape;
 use catflip::optimize::whole::BSpline;
@@ -119,24 +121,40 @@ fn the_tree_scene_refuses_what_it_does_not_run() {
     }
 }
 
-/// A cat with a tail on each joint (universal, no-twist, spherical: four, four and five motors)
-/// along a smooth path that moves every coordinate, verified in rapier against the general core:
-/// its flip (the adaptive engine on the three-body tree, 1e-12 rad) and its peak torque (its
-/// Newton–Euler, sampled at 6001 instants), within the default tolerances (0.5°, 2 %).
-#[test]
-fn a_tail_on_every_joint_is_verified_against_the_general_core() {
-    let cat = Cat::equal(HALF, Joint::NoTwist);
-    let tail = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
-    for joint in Joint::ALL {
-        let tree = cat.tree_with_tail(&tail, joint);
-        let mut path = circulation().with_joints(tree.dof());
-        for (k, c) in path.coefficients.iter_mut().enumerate().skip(2) {
-            // The tail's coordinates: a swing and, on the spherical joint, a twist.
-            let phase = k as f64;
-            for (i, x) in c.iter_mut().enumerate().take(10).skip(2) {
-                *x = 0.5 * (0.7 * i as f64 + phase).sin();
-            }
+/// The appendages' coordinates of `path` from its third on: smooth swings of `amplitude` rad.
+fn swing_appendages(path: &mut BSpline, amplitude: f64) {
+    for (k, c) in path.coefficients.iter_mut().enumerate().skip(2) {
+        let phase = k as f64;
+        for (i, x) in c.iter_mut().enumerate().take(10).skip(2) {
+            *x = amplitude * (0.7 * i as f64 + phase).sin();
         }
+    }
+}
+
+/// The cat with legs (a hinge at each pair's hips) and, when given, a tail on `tail`.
+fn legged(tail: Option<Joint>) -> Tree {
+    let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some(LEG) };
+    Cat::equal(HALF, Joint::NoTwist).tree_with(&appendages)
+}
+
+const TAIL: Cylinder = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
+const LEG: Cylinder = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
+
+/// A cat with a tail on each joint (universal, no-twist, spherical, hinge: four, four, five and
+/// three motors), and with legs (four motors; six with a tail too), along a smooth path that moves
+/// every coordinate, verified in rapier against the general core: its flip (the adaptive engine on
+/// the tree, 1e-12 rad) and its peak torque (its Newton–Euler, sampled at 6001 instants), within
+/// the default tolerances (0.5°, 2 %).
+#[test]
+fn a_tail_on_every_joint_and_legs_are_verified_against_the_general_core() {
+    let cat = Cat::equal(HALF, Joint::NoTwist);
+    let tails =
+        Joint::ALL.into_iter().chain([Joint::Hinge]).map(|joint| (joint.to_string(), cat.tree_with_tail(&TAIL, joint)));
+    let legs = [("legs".to_string(), legged(None)), ("legs and a tail".to_string(), legged(Some(Joint::Universal)))];
+    for (joint, tree) in tails.chain(legs) {
+        let mut path = circulation().with_joints(tree.dof());
+        // The tail's coordinates (a swing and, on the spherical joint, a twist), the legs'.
+        swing_appendages(&mut path, 0.5);
         let flip = flip_on(&tree, &SplineShape(&path), &Vector3::zeros(), 1e-12);
         let peak = (0..=6000)
             .map(|k| path.shape(1.2 * k as f64 / 6000.0))
@@ -243,4 +261,44 @@ fn the_tree_scene_bounds_its_motors_by_one_torque_limit() {
         assert_eq!(verdict.status, Status::NotVerified, "{joint}: {}", verdict.verdict);
         assert!(verdict.verdict.to_string().contains("saturated"), "{joint}: {}", verdict.verdict);
     }
+}
+
+/// The legs' hinges are bounded as the joints' motors are: on the cat held straight while its
+/// legs swing fast (the halves' motors only hold them straight), a limit between the halves'
+/// peak and the legs' saturates the legs' hinges alone, and the run departs from the unbounded
+/// one (the bound acts in rapier, not only in the count).
+#[test]
+fn the_legs_hinges_are_bounded_by_the_limit() {
+    let tree = legged(None);
+    let mut path = circulation().with_joints(tree.dof());
+    path.coefficients[..2].iter_mut().flatten().for_each(|c| *c = 0.0);
+    swing_appendages(&mut path, 1.2);
+    let settings = RapierSettings { dt: TimeStep::Fixed(6e-4), ..RapierSettings::default() };
+    let mut peaks = vec![0.0f64; tree.dof()];
+    for k in 0..=4000 {
+        let shape = path.shape(1.2 * k as f64 / 4000.0);
+        let tau: Vec<f64> =
+            reduction::joint_torques(&tree, &shape, &Vector3::zeros()).into_iter().flat_map(|l| l.tau).collect();
+        for (p, t) in peaks.iter_mut().zip(tau) {
+            *p = p.max(t.abs());
+        }
+    }
+    let (halves, legs) = (peaks[0].max(peaks[1]), peaks[2].min(peaks[3]));
+    assert!(legs > 1.25 * halves, "the legs need the most: peaks {peaks:?}");
+    let bound = 0.5 * (halves + legs);
+    let options = RapierOptions::within(Motors { joints: [Motor { torque: Some(bound), ..Motor::default() }; 2] });
+    let run = simulate_tree(&tree, &SplineShape(&path), &settings, &options).unwrap_or_else(|e| panic!("{e}"));
+    let saturated: Vec<usize> = run.saturation.iter().map(|s| s.joint).collect();
+    assert_eq!(saturated, [3, 4], "peaks {peaks:?}, bound {bound}");
+    let free = simulate_tree(&tree, &SplineShape(&path), &settings, &RapierOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(free.saturation.is_empty());
+    assert!(
+        (run.twist - free.twist).abs() + (run.swing - free.swing).abs() > 1e-6,
+        "{} {} against {} {}",
+        run.twist,
+        run.swing,
+        free.twist,
+        free.swing
+    );
 }

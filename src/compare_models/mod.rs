@@ -8,13 +8,13 @@
 //! mean half ([`crate::model::Cat::mean_half`]: the means of the masses, lengths and radii, so
 //! the same total mass and length): four models, the first two of equal halves. Each set of
 //! halves is also joined by the spherical joint (three motors: the bend's two and the relative
-//! twist, [`crate::optimize::whole::WholeCat::Spherical`]), and with `[cat.tail]` the problem's
-//! own cat gets its tail ([`crate::optimize::whole::WholeCat::Tailed`]). These models
+//! twist, [`crate::optimize::whole::WholeCat::Spherical`]), and with `[cat.tail]` or `[cat.legs]`
+//! the problem's own cat gets them ([`crate::optimize::whole::WholeCat::Appended`]). These models
 //! ([`Beyond`]) are planned on every motor, re-measured by the general core on their tree of
 //! bodies and verified in rapier's tree scene; they take no spin, and ideal motors or one torque
 //! limit on every motor ([`crate::optimize::whole::torque_limited`]), and a row says so otherwise;
 //! their library schedule is the problem's with the further coordinates held at
-//! zero (the twist, the tail straight).
+//! zero (the twist, the tail straight, the legs standing out).
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
 //! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist
@@ -42,11 +42,12 @@ pub use run::{compare_models, CompareModelsError};
 use serde::Serialize;
 
 use crate::engines::rapier::Verification;
+use crate::model::cat::Appendages;
 use crate::model::tree::Tree;
 use crate::model::Joint;
 use crate::numeric::numfmt::echo;
 use crate::optimize::whole::{BSpline, Objective};
-use crate::problem::cat::{CatSection, TailSection};
+use crate::problem::cat::CatSection;
 use crate::problem::manoeuvre::BendPath;
 use crate::problem::{Problem, ProblemError};
 
@@ -76,8 +77,8 @@ pub enum Beyond {
     TwoMotors,
     /// The halves on the spherical joint: a third motor, the relative twist.
     Spherical,
-    /// The problem's cat with its `[cat.tail]`.
-    Tail(TailSection),
+    /// The problem's cat with its `[cat.tail]` and `[cat.legs]`.
+    Appendages(Appendages),
 }
 
 /// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
@@ -102,7 +103,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     for (prefix, halves_label, section) in halves {
         for joint in [Joint::Universal, Joint::NoTwist] {
             let mut p = problem.clone();
-            p.cat = CatSection { joint, tail: None, ..section };
+            p.cat = CatSection { joint, tail: None, legs: None, ..section };
             if joint == Joint::NoTwist && p.manoeuvre.bend_path == BendPath::Cone {
                 p.manoeuvre.bend_path = BendPath::JointCircle;
             }
@@ -129,21 +130,30 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
             });
         }
     }
-    if let Some(tail) = problem.cat.tail {
-        // The problem's own cat with its tail; its starts are the same cat's without it.
+    let appendages = problem.cat.appendages();
+    if !appendages.is_empty() {
+        // The problem's own cat with its tail and legs; its starts are the same cat's without them.
         let own = if equal { String::new() } else { "unequal-".to_string() };
         let key = format!("{own}{}", problem.cat.joint.name());
         if let Some(base) = out.iter().find(|v| v.key == key) {
             let mut p = base.problem.clone();
-            p.cat.tail = Some(tail);
-            let label = format!(
-                "{}, with a tail of {} kg, {} m on a {} joint",
-                base.label,
-                echo(tail.mass),
-                echo(tail.length),
-                tail.joint.name()
-            );
-            out.push(Variant { key: format!("{key}-tail"), label, problem: p, beyond: Beyond::Tail(tail) });
+            (p.cat.tail, p.cat.legs) = (problem.cat.tail, problem.cat.legs);
+            let mut label = base.label.clone();
+            let mut key = key.clone();
+            if let Some(tail) = problem.cat.tail {
+                label += &format!(
+                    ", with a tail of {} kg, {} m on a {} joint",
+                    echo(tail.mass),
+                    echo(tail.length),
+                    tail.joint.name()
+                );
+                key += "-tail";
+            }
+            if let Some(legs) = problem.cat.legs {
+                label += &format!(", with legs of {} kg a pair, {} m", echo(legs.mass), echo(legs.length));
+                key += "-legs";
+            }
+            out.push(Variant { key, label, problem: p, beyond: Beyond::Appendages(appendages) });
         }
     }
     Ok(out)

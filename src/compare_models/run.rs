@@ -80,7 +80,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
     let cat = match v.beyond {
         Beyond::TwoMotors => None,
         Beyond::Spherical => WholeCat::spherical(Cat { joint: Joint::Spherical, ..v.problem.cat.model() }),
-        Beyond::Tail(tail) => WholeCat::tailed(v.problem.cat.model(), tail.rod(), tail.joint),
+        Beyond::Appendages(appendages) => WholeCat::appended(v.problem.cat.model(), appendages),
     };
     let joint = if v.beyond == Beyond::Spherical { Joint::Spherical } else { v.problem.cat.joint };
     let mut row = ModelRow {
@@ -108,9 +108,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             return Ok(row);
         }
         (_, None) => {
-            row.status =
-                "not run: the tail's joint must have two motors (cat.tail.joint = \"universal\" or \"no-twist\")"
-                    .into();
+            row.status = "not run: an appendage's joint must have one or two motors (cat.tail.joint = \"universal\", \"no-twist\" or \"hinge\")".into();
             return Ok(row);
         }
     }
@@ -214,12 +212,13 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
 const HELD_SAMPLES: usize = 4000;
 
 /// The problem's library schedule on a model beyond two motors, its further coordinates held at
-/// zero ([`Held`]: the spherical joint's relative twist, a tail straight behind the cat): its flip
+/// zero ([`Held`]: the spherical joint's relative twist, a tail straight behind the cat, the legs
+/// standing out): its flip
 /// by the general core on `tree`, and its peak over every motor, sampled at [`HELD_SAMPLES`] + 1
 /// instants of each phase (each phase's own formula at its ends). `None` when the schedule's
 /// circulation cannot be resolved on the cat's two-motor halves.
 fn held_schedule(p: &Problem, tree: &Tree) -> Option<ScheduleFigures> {
-    let halves = Problem { cat: CatSection { tail: None, ..p.cat }, ..p.clone() };
+    let halves = Problem { cat: CatSection { tail: None, legs: None, ..p.cat }, ..p.clone() };
     let r = Resolved::new(&halves).ok()?;
     let held = Held(&r.schedule, tree.dof().saturating_sub(2));
     let zero = Vector3::zeros();

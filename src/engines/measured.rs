@@ -41,10 +41,10 @@ pub struct Rig {
 
 impl Rig {
     /// The problem's rig; refused when its cat has not two motors, or has a tail
-    /// ([`ModelError::Tail`]).
+    /// or legs ([`ModelError::Appendage`]).
     pub fn new(problem: &Problem) -> Result<Rig, ModelError> {
-        if problem.cat.tail.is_some() {
-            return Err(ModelError::Tail);
+        if let Some((field, _)) = problem.cat.appendage() {
+            return Err(ModelError::Appendage(field));
         }
         Ok(Rig {
             model: TwoMotorCat::new(problem.cat.model())?,

@@ -39,9 +39,9 @@ pub enum ModelError {
         /// The trajectory's.
         got: usize,
     },
-    /// A command that measures two bodies met a problem with `[cat.tail]`.
-    #[error("cat.tail: {}", crate::problem::cat::TAIL_REFUSED)]
-    Tail,
+    /// A command that measures two bodies met a problem with `[cat.tail]` or `[cat.legs]` (the field).
+    #[error("{field}: {reason}", field = .0, reason = crate::problem::cat::appendage_refused(.0))]
+    Appendage(&'static str),
 }
 
 /// Whether `shape` has the cat's number of coordinates.

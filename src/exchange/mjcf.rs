@@ -87,12 +87,13 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         Joint::NoTwist | Joint::Spherical => {
             "B relative to A is exp([q1, q2, 0]×), a ball joint whose relative twist the replay holds at zero"
         }
+        Joint::Hinge => unreachable!("the two-body files' links have two motors (Links::new refuses a hinge)"),
     };
     let mut s = String::new();
     let comment = format!("the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; {relation}.");
     open_model(&mut s, &comment, name, "A", options);
     inertial(&mut s, links.mass[0], links.inertia[0], 6);
-    geom(&mut s, "A", &size(0), 6);
+    geom(&mut s, "A", &size(0), None, 6);
     let motors: &[(&str, &str, &str)] = if links.has_cross() {
         let _ = writeln!(s, "      <body name=\"cross\" pos=\"{}\">", vec3([0.0, 0.0, -half_a]));
         joint(&mut s, "joint1", "hinge", Some([1.0, 0.0, 0.0]), [0.0, 0.0, 0.0], 8);
@@ -100,7 +101,7 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         let _ = writeln!(s, "        <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -half_b]));
         joint(&mut s, "joint2", "hinge", Some([0.0, 1.0, 0.0]), [0.0, 0.0, half_b], 10);
         inertial(&mut s, links.mass[2], links.inertia[2], 10);
-        geom(&mut s, "B", &size(1), 10);
+        geom(&mut s, "B", &size(1), None, 10);
         let _ = writeln!(s, "        </body>");
         let _ = writeln!(s, "      </body>");
         &[("tau1", "joint1", "1"), ("tau2", "joint2", "1")]
@@ -108,7 +109,7 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         let _ = writeln!(s, "      <body name=\"B\" pos=\"{}\">", vec3([0.0, 0.0, -(half_a + half_b)]));
         joint(&mut s, "joint", "ball", None, [0.0, 0.0, half_b], 8);
         inertial(&mut s, links.mass[2], links.inertia[2], 8);
-        geom(&mut s, "B", &size(1), 8);
+        geom(&mut s, "B", &size(1), None, 8);
         let _ = writeln!(s, "      </body>");
         &[("tau_bx", "joint", "1 0 0 0 0 0"), ("tau_by", "joint", "0 1 0 0 0 0"), ("tau_bz", "joint", "0 0 1 0 0 0")]
     };
@@ -152,11 +153,13 @@ pub(crate) fn inertial(s: &mut String, mass: f64, moments: [f64; 3], indent: usi
         writeln!(s, "{:indent$}<inertial pos=\"0 0 0\" mass=\"{}\" diaginertia=\"{}\"/>", "", num(mass), vec3(moments));
 }
 
-/// A massless cylinder to look at, `size` MJCF's `"radius half-length"`.
-pub(crate) fn geom(s: &mut String, name: &str, size: &str, indent: usize) {
+/// A massless cylinder to look at, `size` MJCF's `"radius half-length"`, along `axis` of its
+/// body's frame when given (MJCF's `zaxis`; MuJoCo's default is `z`).
+pub(crate) fn geom(s: &mut String, name: &str, size: &str, axis: Option<[f64; 3]>, indent: usize) {
+    let zaxis = axis.map(|a| format!(" zaxis=\"{}\"", vec3(a))).unwrap_or_default();
     let _ = writeln!(
         s,
-        "{:indent$}<geom name=\"{name}\" type=\"cylinder\" size=\"{size}\" mass=\"0\" contype=\"0\" conaffinity=\"0\"/>",
+        "{:indent$}<geom name=\"{name}\" type=\"cylinder\" size=\"{size}\"{zaxis} mass=\"0\" contype=\"0\" conaffinity=\"0\"/>",
         ""
     );
 }

@@ -118,6 +118,9 @@ pub struct BodyInfo {
     pub radius_m: f64,
     /// Principal moments about its centre of mass `(I_x, I_y, I_z)`, kg·m².
     pub inertia_kg_m2: [f64; 3],
+    /// Its cylinder's axis in its frame: `z` for the halves and a tail, `y` for legs (drawing
+    /// only: the inertia above is the body's).
+    pub axis: [f64; 3],
 }
 
 /// One joint.
@@ -170,7 +173,7 @@ pub fn tree_columns(model: &NamedTree) -> Vec<Column> {
     let mut out = common(&["t_s", "phase", "boundary"]);
     let mut coordinates: Vec<(usize, String, String)> = Vec::new();
     for (i, l) in tree.links().iter().enumerate() {
-        let (parent, child) = (named[l.parent].0, named[i + 1].0);
+        let (parent, child) = (named[l.parent].name, named[i + 1].name);
         for ((k, h), axis) in tree.coordinates(i).zip(1..).zip(model.motor_axes(i)) {
             coordinates.push((k + 1, format!("coordinate {h} of the {} joint of {child} on {parent}", l.joint), axis));
         }
@@ -193,8 +196,8 @@ pub fn tree_columns(model: &NamedTree) -> Vec<Column> {
     }
     out.extend(common(&["qw", "qx", "qy", "qz", "twist_deg", "swing_deg"]));
     for i in (0..tree.links().len()).filter(|&i| model.is_ball(i)) {
-        let c = named[i + 1].0;
-        let p = named[tree.links()[i].parent].0;
+        let c = named[i + 1].name;
+        let p = named[tree.links()[i].parent].name;
         for part in ["w", "x", "y", "z"] {
             out.push(col(
                 format!("{c}_rel_q{part}"),
@@ -299,7 +302,7 @@ pub fn write_tree_optimum(
     Ok(TreeFile { csv, sidecar })
 }
 
-const CONVENTIONS: &str = "SI units (s, rad, rad/s, rad/s², N·m), twist and swing in degrees, each column's name ending with its unit; every body's frame at its centre of mass, z along its axis towards the head; the world frame falls with the centre of mass, aligned with A's frame at t = 0; quaternions scalar first (w, x, y, z); twist of A about its initial +z (continued), swing of its spine axis; a torque is the joint's couple on the child's side (the child and what hangs from it) about the joint point.";
+const CONVENTIONS: &str = "SI units (s, rad, rad/s, rad/s², N·m), twist and swing in degrees, each column's name ending with its unit; every body's frame at its centre of mass, z along its axis towards the head (a leg's axis is its frame's y, towards the paw: its frame is its half's with the legs standing out); the world frame falls with the centre of mass, aligned with A's frame at t = 0; quaternions scalar first (w, x, y, z); twist of A about its initial +z (continued), swing of its spine axis; a torque is the joint's couple on the child's side (the child and what hangs from it) about the joint point.";
 
 /// The sidecar's model (module docs).
 fn tree_info(model: &NamedTree) -> TreeInfo {
@@ -308,12 +311,13 @@ fn tree_info(model: &NamedTree) -> TreeInfo {
         .bodies
         .iter()
         .zip(tree.bodies())
-        .map(|((name, c), b)| BodyInfo {
-            name: (*name).into(),
+        .map(|(named, b)| BodyInfo {
+            name: named.name.into(),
             mass_kg: b.mass,
-            length_m: c.length,
-            radius_m: c.radius,
+            length_m: named.cylinder.length,
+            radius_m: named.cylinder.radius,
             inertia_kg_m2: arr(&b.inertia.diagonal()),
+            axis: arr(&named.axis),
         })
         .collect();
     let links = tree

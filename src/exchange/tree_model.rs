@@ -1,4 +1,4 @@
-//! The model files of a cat beyond two motors (the spherical joint's third motor, a tail): any
+//! The model files of a cat beyond two motors (the spherical joint's third motor, a tail, legs): any
 //! tree of cylinders ([`crate::model::tree::Tree`]) as MJCF for MuJoCo and as URDF, each joint
 //! as the simulators have it.
 //!
@@ -36,7 +36,7 @@
 
 use std::fmt::Write as _;
 
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::engines::rapier::tree_scene::joint_body;
 use crate::engines::rapier::RapierError;
@@ -44,8 +44,8 @@ use crate::exchange::links::{num, vec3, xml_escape};
 use crate::exchange::mjcf::{close_model, geom, inertial, joint, open_model, MjcfOptions};
 use crate::exchange::urdf;
 use crate::model::tree::Tree;
-use crate::model::{Cylinder, Joint};
-use crate::optimize::whole::WholeCat;
+use crate::model::Joint;
+use crate::optimize::whole::{NamedBody, WholeCat};
 
 /// A tree of cylinders with a name for every body: what the model files of a cat beyond two
 /// motors are written from.
@@ -53,8 +53,8 @@ use crate::optimize::whole::WholeCat;
 pub struct NamedTree {
     /// The tree (its bodies are the cylinders').
     pub tree: Tree,
-    /// Each body's name and cylinder, in the tree's order.
-    pub bodies: Vec<(&'static str, Cylinder)>,
+    /// Each body's name, cylinder and its axis, in the tree's order.
+    pub bodies: Vec<NamedBody>,
     /// Mass (kg) and isotropic moment (kg·m²) of each universal joint's cross.
     pub cross: (f64, f64),
 }
@@ -70,12 +70,12 @@ impl NamedTree {
 
     /// The name of body `k`.
     pub fn name(&self, k: usize) -> &'static str {
-        self.bodies[k].0
+        self.bodies[k].name
     }
 
     /// Whether link `i`'s joint is a ball in the model files (no-twist, spherical).
     pub fn is_ball(&self, i: usize) -> bool {
-        self.tree.links()[i].joint != Joint::Universal
+        matches!(self.tree.links()[i].joint, Joint::NoTwist | Joint::Spherical)
     }
 
     /// Link `i`'s motor axes in words ([`Joint::motor_axis_names`] with its own bodies' names).
@@ -131,15 +131,19 @@ pub fn tree_mjcf(model: &NamedTree, name: &str, options: &MjcfOptions) -> String
 
 /// Body `k`'s inertial and cylinder, then its children, at `indent`.
 fn mjcf_body(s: &mut String, model: &NamedTree, k: usize, indent: usize) {
-    let (name, c) = model.bodies[k];
+    let NamedBody { name, cylinder: c, axis } = model.bodies[k];
     inertial(s, model.tree.bodies()[k].mass, moments(model, k), indent);
-    geom(s, name, &format!("{} {}", num(c.radius), num(0.5 * c.length)), indent);
+    geom(s, name, &format!("{} {}", num(c.radius), num(0.5 * c.length)), Some(arr(&axis)), indent);
     for (i, l) in model.tree.links().iter().enumerate().filter(|(_, l)| l.parent == k) {
         let child = model.name(i + 1);
         let (a, b) = (l.at_parent, l.at_child);
-        if model.is_ball(i) {
+        if l.joint != Joint::Universal {
             let _ = writeln!(s, "{:indent$}<body name=\"{child}\" pos=\"{}\">", "", v(&(a - b)));
-            joint(s, &format!("{child}_ball"), "ball", None, arr(&b), indent + 2);
+            if model.is_ball(i) {
+                joint(s, &format!("{child}_ball"), "ball", None, arr(&b), indent + 2);
+            } else {
+                joint(s, &format!("{child}_1"), "hinge", Some([1.0, 0.0, 0.0]), arr(&b), indent + 2);
+            }
             mjcf_body(s, model, i + 1, indent + 2);
             let _ = writeln!(s, "{:indent$}</body>", "");
         } else {
@@ -167,6 +171,13 @@ pub(crate) fn arr(x: &Vector3<f64>) -> [f64; 3] {
     [x.x + 0.0, x.y + 0.0, x.z + 0.0]
 }
 
+/// URDF's `rpy` (fixed-axis roll, pitch, yaw) that turns a cylinder along `z` onto `axis`.
+fn rpy(axis: &Vector3<f64>) -> [f64; 3] {
+    let turn = UnitQuaternion::rotation_between(&Vector3::z(), axis).unwrap_or_else(UnitQuaternion::identity);
+    let (roll, pitch, yaw) = turn.euler_angles();
+    arr(&Vector3::new(roll, pitch, yaw))
+}
+
 fn v(x: &Vector3<f64>) -> String {
     vec3(arr(x))
 }
@@ -185,15 +196,18 @@ pub fn tree_urdf(model: &NamedTree, name: &str) -> String {
     // Where each body's link frame sits in its body frame: the root's at its centre, the others'
     // at their joint point.
     let origin = |k: usize| if k == 0 { Vector3::zeros() } else { links[k - 1].at_child };
-    for (k, (body_name, c)) in model.bodies.iter().enumerate() {
+    for (k, b) in model.bodies.iter().enumerate() {
         let com = arr(&-origin(k));
-        urdf::link(&mut s, body_name, model.tree.bodies()[k].mass, moments(model, k), com, Some((c.length, c.radius)));
+        let visual = Some((b.cylinder.length, b.cylinder.radius, Some(rpy(&b.axis))));
+        urdf::link(&mut s, b.name, model.tree.bodies()[k].mass, moments(model, k), com, visual);
     }
     for (i, l) in links.iter().enumerate() {
         let (parent, child) = (model.name(l.parent), model.name(i + 1));
         let at = arr(&(l.at_parent - origin(l.parent)));
         if model.is_ball(i) {
             urdf::joint(&mut s, &format!("{child}_ball"), parent, child, at, None);
+        } else if l.joint == Joint::Hinge {
+            urdf::joint(&mut s, &format!("{child}_1"), parent, child, at, Some([1.0, 0.0, 0.0]));
         } else {
             let cross = format!("cross_{child}");
             let (mass, moment) = model.cross;

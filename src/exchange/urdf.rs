@@ -55,14 +55,14 @@ pub fn urdf(links: &Links, name: &str) -> String {
         "<!-- catflip: the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; B relative to A is {relative}. -->"
     );
     let _ = writeln!(s, "<robot name=\"{}\">", xml_escape(name));
-    link(&mut s, "A", links.mass[0], links.inertia[0], [0.0, 0.0, 0.0], Some((a.length, a.radius)));
+    link(&mut s, "A", links.mass[0], links.inertia[0], [0.0, 0.0, 0.0], Some((a.length, a.radius, None)));
     if links.has_cross() {
         link(&mut s, "cross", links.mass[1], links.inertia[1], [0.0, 0.0, 0.0], None);
-        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius, None)));
         joint(&mut s, "joint1", "A", "cross", [0.0, 0.0, -half_a], Some([1.0, 0.0, 0.0]));
         joint(&mut s, "joint2", "cross", "B", [0.0, 0.0, 0.0], Some([0.0, 1.0, 0.0]));
     } else {
-        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius)));
+        link(&mut s, "B", links.mass[2], links.inertia[2], [0.0, 0.0, -half_b], Some((b.length, b.radius, None)));
         joint(&mut s, "joint", "A", "B", [0.0, 0.0, -half_a], None);
     }
     let _ = writeln!(s, "</robot>");
@@ -70,8 +70,16 @@ pub fn urdf(links: &Links, name: &str) -> String {
 }
 
 /// One link of `mass` and principal `moments` with its inertial at `com` (link frame) and, for a
-/// body, a cylinder visual `(length, radius)` there.
-pub(crate) fn link(s: &mut String, name: &str, mass: f64, i: [f64; 3], com: [f64; 3], cylinder: Option<(f64, f64)>) {
+/// body, a cylinder visual `(length, radius, rpy)` there (URDF's cylinder lies along `z`, turned
+/// by `rpy` when given).
+pub(crate) fn link(
+    s: &mut String,
+    name: &str,
+    mass: f64,
+    i: [f64; 3],
+    com: [f64; 3],
+    cylinder: Option<(f64, f64, Option<[f64; 3]>)>,
+) {
     let _ = writeln!(s, "  <link name=\"{name}\">");
     let _ = writeln!(s, "    <inertial>");
     let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(com));
@@ -84,9 +92,10 @@ pub(crate) fn link(s: &mut String, name: &str, mass: f64, i: [f64; 3], com: [f64
         num(i[2])
     );
     let _ = writeln!(s, "    </inertial>");
-    if let Some((length, radius)) = cylinder {
+    if let Some((length, radius, rpy)) = cylinder {
         let _ = writeln!(s, "    <visual>");
-        let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"0 0 0\"/>", vec3(com));
+        let rpy = rpy.map_or_else(|| "0 0 0".to_string(), vec3);
+        let _ = writeln!(s, "      <origin xyz=\"{}\" rpy=\"{rpy}\"/>", vec3(com));
         let _ =
             writeln!(s, "      <geometry><cylinder radius=\"{}\" length=\"{}\"/></geometry>", num(radius), num(length));
         let _ = writeln!(s, "    </visual>");

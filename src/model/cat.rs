@@ -11,9 +11,10 @@
 //! - T. R. Kane and M. P. Scher (1969), for the two-body model and the no-twist joint;
 //! - the paper, §2 (the spherical joint) and §7 (the worked example's halves).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
+use crate::model::legs::LEG_STATION;
 use crate::model::tree::{Body, Link, Tree};
 use crate::model::{Cylinder, Joint};
 
@@ -100,16 +101,102 @@ impl Cat {
         Tree::two(Body::from(&self.front), link, Body::from(&self.rear))
     }
 
-    /// The cat with a tail: the rod `tail` hung from the rear half's end (`(0, 0, −l_B/2)` in B's
-    /// frame) by its own front end (`(0, 0, +l_T/2)` in its frame) on `joint`, straight behind the
-    /// cat at zero: three bodies, the tail's coordinates after the cat's.
+    /// The cat with a tail: the rod `tail` hung from the rear half's end on `joint`
+    /// ([`Cat::tree_with`]).
     pub fn tree_with_tail(&self, tail: &Cylinder, joint: Joint) -> Tree {
-        let link = Link {
-            parent: 1,
-            joint,
-            at_parent: Vector3::new(0.0, 0.0, -0.5 * self.rear.length),
-            at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
-        };
-        self.tree().attach(link, Body::from(tail)).expect("a cat's tree has its rear half as body 1")
+        self.tree_with(&Appendages { tail: Some((*tail, joint)), legs: None })
+    }
+
+    /// The cat's tree with its appendages: the halves (bodies 0 and 1), then
+    /// - a tail: the rod hung from the rear half's end (`(0, 0, −l_B/2)` in B's frame) by its own
+    ///   front end (`(0, 0, +l_T/2)` in its frame) on its joint, straight behind the cat at zero;
+    /// - legs: on each half one rod for its pair of legs (the pair's mass, on the belly's midline),
+    ///   hung by its top end from the hip `(0, r, ±s l/2)` (the belly's surface at the legs'
+    ///   station `s` = [`LEG_STATION`], `+` on A, `−` on B) on a [`Joint::Hinge`] about the half's
+    ///   `x`: at zero the legs stand out along the belly's `+y` (the rod's axis is its own `y`,
+    ///   its frame the half's at zero), and `q` swings them towards the head (`q > 0`) or the
+    ///   tail, at most [`LEG_FOLD_LIMIT_DEG`] either way (flat along the belly), front legs first;
+    ///
+    /// the coordinates in that order after the cat's.
+    pub fn tree_with(&self, appendages: &Appendages) -> Tree {
+        let mut tree = self.tree();
+        if let Some((tail, joint)) = appendages.tail {
+            let link = Link {
+                parent: 1,
+                joint,
+                at_parent: Vector3::new(0.0, 0.0, -0.5 * self.rear.length),
+                at_child: Vector3::new(0.0, 0.0, 0.5 * tail.length),
+            };
+            tree = tree.attach(link, Body::from(&tail)).expect("a cat's tree has its rear half as body 1");
+        }
+        if let Some(leg) = appendages.legs {
+            for (parent, half, side) in [(0, &self.front, 1.0), (1, &self.rear, -1.0)] {
+                let link = Link {
+                    parent,
+                    joint: Joint::Hinge,
+                    at_parent: Vector3::new(0.0, half.radius, side * LEG_STATION * 0.5 * half.length),
+                    at_child: Vector3::new(0.0, -0.5 * leg.length, 0.0),
+                };
+                let (transverse, axial) = (leg.transverse(), leg.axial());
+                let body = Body {
+                    mass: leg.mass,
+                    inertia: Matrix3::from_diagonal(&Vector3::new(transverse, axial, transverse)),
+                };
+                tree = tree.attach(link, body).expect("a cat's tree has both halves");
+            }
+        }
+        tree
+    }
+}
+
+/// How far the legs swing from standing out along the belly, either way, degrees: flat along it.
+pub const LEG_FOLD_LIMIT_DEG: f64 = 90.0;
+
+/// What hangs from the cat beyond its halves (DESIGN.md §10, [`Cat::tree_with`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Appendages {
+    /// A rod hung from the rear half's end, and its joint (two motors, or one on a
+    /// [`Joint::Hinge`]).
+    pub tail: Option<(Cylinder, Joint)>,
+    /// Each half's pair of legs as one rod (the pair's mass), each on a hinge at its hips.
+    pub legs: Option<Cylinder>,
+}
+
+impl Appendages {
+    /// Whether there is nothing beyond the halves.
+    pub fn is_empty(&self) -> bool {
+        self.tail.is_none() && self.legs.is_none()
+    }
+
+    /// The appendages' shape coordinates (and motors), after the cat's.
+    pub fn dof(&self) -> usize {
+        self.tail.map_or(0, |(_, j)| j.dof()) + if self.legs.is_some() { 2 } else { 0 }
+    }
+
+    /// Each appendage's coordinates' limit, rad (none for the tail's), in the tree's order.
+    pub fn limits(&self) -> Vec<Option<f64>> {
+        let tail = self.tail.map_or(0, |(_, j)| j.dof());
+        let legs = if self.legs.is_some() { 2 } else { 0 };
+        std::iter::repeat_n(None, tail)
+            .chain(std::iter::repeat_n(Some(LEG_FOLD_LIMIT_DEG.to_radians()), legs))
+            .collect()
+    }
+
+    /// The appendages in words (`, with a tail of … on a … joint, with legs of …`).
+    pub fn describe(&self) -> String {
+        let mut out = String::new();
+        if let Some((tail, joint)) = self.tail {
+            out += &format!(
+                ", with a tail of {} kg, {} m long, radius {} m on a {joint} joint",
+                tail.mass, tail.length, tail.radius
+            );
+        }
+        if let Some(leg) = self.legs {
+            out += &format!(
+                ", with legs of {} kg a pair, {} m long, radius {} m on hinges at the hips",
+                leg.mass, leg.length, leg.radius
+            );
+        }
+        out
     }
 }

@@ -15,6 +15,10 @@
 //!   `ω̇_rel = J v̈ + ȧ v × v̇ + ḃ v × (v × v̇) + b v̇ × (v × v̇)`, `ȧ = (a'/θ)(v·v̇)`,
 //!   `ḃ = (b'/θ)(v·v̇)`. The child's spine `R ẑ` makes the angle `θ` with the parent's, and the
 //!   halves never twist relative to each other. Motors on the parent's `x̂` and `ŷ`.
+//! - **hinge** (an appendage's, one motor), `q = (q1)`: `R = Rx(q1)`, `ω_rel = q̇1 x̂`,
+//!   `ω̇_rel = q̈1 x̂`; its motor on `x̂`. Not a joint between the halves (a cat bent in one plane
+//!   cannot turn over at zero momentum): the legs' hips ([`crate::model::cat::Appendages`]) and a
+//!   one-motor tail.
 //! - **spherical** (the paper's words), `q = (q1, q2, q3)`: `R = exp([v]×) Rz(q3)`, the no-twist
 //!   joint followed by a relative twist `q3` about the child's spine `e = exp([v]×) ẑ`:
 //!   `ω_rel = J(v) v̇ + q̇3 e`, `ω̇_rel = (no-twist) + q̈3 e + q̇3 (J v̇) × e`. Motors on `x̂`,
@@ -45,26 +49,31 @@ pub enum Joint {
     NoTwist,
     /// `R = exp([q1, q2, 0]×) Rz(q3)`: bend and relative twist about the child's spine.
     Spherical,
+    /// `R = Rx(q1)`: one motor about the parent's `x` (an appendage's joint, never the halves').
+    Hinge,
 }
 
 impl Joint {
-    /// Every joint, in the order of the problem file's documentation.
+    /// Every joint between the halves, in the order of the problem file's documentation
+    /// ([`Joint::Hinge`] is an appendage's alone).
     pub const ALL: [Joint; 3] = [Joint::Universal, Joint::NoTwist, Joint::Spherical];
 
-    /// The name in problem files: `universal`, `no-twist`, `spherical`.
+    /// The name in problem files: `universal`, `no-twist`, `spherical`, `hinge`.
     pub fn name(self) -> &'static str {
         match self {
             Joint::Universal => "universal",
             Joint::NoTwist => "no-twist",
             Joint::Spherical => "spherical",
+            Joint::Hinge => "hinge",
         }
     }
 
-    /// Number of shape coordinates (and motors): 2, 2, 3.
+    /// Number of shape coordinates (and motors): 2, 2, 3, 1.
     pub fn dof(self) -> usize {
         match self {
             Joint::Universal | Joint::NoTwist => 2,
             Joint::Spherical => 3,
+            Joint::Hinge => 1,
         }
     }
 
@@ -74,6 +83,7 @@ impl Joint {
             Joint::Universal => joint_rotation([q[0], q[1]]),
             Joint::NoTwist => exp_so3(&bend_vector(q)),
             Joint::Spherical => exp_so3(&bend_vector(q)) * rot_z(q[2]),
+            Joint::Hinge => rot_x(q[0]),
         }
     }
 
@@ -89,6 +99,7 @@ impl Joint {
                 let v = bend_vector(q);
                 exp_rate(&v, &bend_vector(qd)) + spine(&v) * qd[2]
             }
+            Joint::Hinge => Vector3::x() * qd[0],
         }
     }
 
@@ -105,6 +116,7 @@ impl Joint {
                 let e = spine(&v);
                 exp_accel(&v, &vd, &bend_vector(qdd)) + e * qdd[2] + exp_rate(&v, &vd).cross(&e) * qd[2]
             }
+            Joint::Hinge => Vector3::x() * qdd[0],
         }
     }
 
@@ -115,6 +127,7 @@ impl Joint {
             Joint::Universal => vec![Vector3::x(), rot_x(q[0]) * Vector3::y()],
             Joint::NoTwist => vec![Vector3::x(), Vector3::y()],
             Joint::Spherical => vec![Vector3::x(), Vector3::y(), spine(&bend_vector(q))],
+            Joint::Hinge => vec![Vector3::x()],
         }
     }
 
@@ -125,6 +138,7 @@ impl Joint {
             Joint::Universal => &["A's x", "the cross's y"],
             Joint::NoTwist => &["A's x", "A's y"],
             Joint::Spherical => &["A's x", "A's y", "B's spine"],
+            Joint::Hinge => &["A's x"],
         }
     }
 }

@@ -183,7 +183,7 @@ impl Motors {
     }
 }
 
-/// The motors a cat beyond two motors (the spherical joint, a tail) is planned, measured and
+/// The motors a cat beyond two motors (the spherical joint, a tail, legs) is planned, measured and
 /// verified with ([`motors_beyond`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MotorsBeyond {

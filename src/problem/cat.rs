@@ -6,8 +6,9 @@
 //! is `"universal"` (the paper's `R_AB = Rx(q1) Ry(q2)`, the default), `"no-twist"` (Kane and
 //! Scher's `R_AB = exp([q1, q2, 0]×)`) or `"spherical"` (three coordinates, the relative twist
 //! the third; refused until a schedule drives it: the library schedules give two coordinates).
-//! `[cat.tail]` hangs a rod from the rear half ([`TailSection`]): `catflip compare-models` plans
-//! the cat with it; every other command refuses it ([`crate::engines::measured::Rig::new`]).
+//! `[cat.tail]` hangs a rod from the rear half ([`TailSection`]) and `[cat.legs]` a pair of legs
+//! from each half ([`LegsSection`]): `catflip compare-models` plans the cat with them; every other
+//! command refuses them ([`crate::engines::measured::Rig::new`], [`appendage_refused`]).
 //!
 //! The model the engines run is [`CatSection::model`]. The paper's cat (equal halves on the
 //! universal joint) runs every command; any other two-motor model runs the exact engine's
@@ -17,6 +18,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::model::cat::Appendages;
 use crate::model::{Cat, Cylinder, Joint};
 use crate::numeric::numfmt::echo;
 use crate::problem::error::{bad, positive, ProblemError};
@@ -44,6 +46,9 @@ pub struct CatSection {
     /// A tail on the rear half ([`TailSection`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tail: Option<TailSection>,
+    /// Legs on both halves ([`LegsSection`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub legs: Option<LegsSection>,
 }
 
 fn is_universal(j: &Joint) -> bool {
@@ -65,13 +70,17 @@ pub struct HalfSection {
     pub radius: Option<f64>,
 }
 
-/// Why a command other than `compare-models` refuses `[cat.tail]` ([`TailSection`]).
-pub const TAIL_REFUSED: &str = "a cat with a tail is planned and verified by `catflip compare-models` only, so far; this command measures the two halves (the schedules, their tables and the model files have two bodies): remove [cat.tail] here";
+/// Why a command other than `compare-models` refuses the appendage `[section]` (`cat.tail`,
+/// `cat.legs`).
+pub fn appendage_refused(section: &str) -> String {
+    format!("a cat with a tail or legs is planned and verified by `catflip compare-models` only, so far; this command measures the two halves (the schedules, their tables and the model files have two bodies): remove [{section}] here")
+}
 
 /// `[cat.tail]`: a rod hung from the rear half's end by its own front end, straight behind the
-/// cat at zero ([`Cat::tree_with_tail`]), with two motors (`joint = "universal"`, the default,
-/// or `"no-twist"`). `catflip compare-models` plans and verifies the cat with it beside the cat
-/// without; every other command measures two bodies and refuses it ([`TAIL_REFUSED`]).
+/// cat at zero ([`Cat::tree_with`]), with two motors (`joint = "universal"`, the default, or
+/// `"no-twist"`) or one (`"hinge"`, about the rear half's `x`). `catflip compare-models` plans and
+/// verifies the cat with it beside the cat without; every other command measures two bodies and
+/// refuses it ([`appendage_refused`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TailSection {
@@ -84,6 +93,34 @@ pub struct TailSection {
     /// How it is joined to the rear half.
     #[serde(default)]
     pub joint: Joint,
+}
+
+/// `[cat.legs]`: each half's pair of legs as one rod of the pair's mass, hung by its top end from
+/// the hips on the belly's midline at the drawn legs' station, on a hinge about the half's `x` (one
+/// motor a pair): at zero the legs stand out along the belly, and they swing towards the head or
+/// the tail by at most 90° (flat along the belly; [`Cat::tree_with`]). Refused as `[cat.tail]`
+/// is by every command but `compare-models`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LegsSection {
+    /// Mass of each pair, kg.
+    pub mass: f64,
+    /// Length of a leg, m.
+    pub length: f64,
+    /// Radius of a leg, m.
+    pub radius: f64,
+}
+
+impl LegsSection {
+    /// One pair's rod.
+    pub fn rod(&self) -> Cylinder {
+        Cylinder { mass: self.mass, length: self.length, radius: self.radius }
+    }
+
+    /// The section as the problem file writes it, for messages.
+    pub fn shown(&self) -> String {
+        format!("{{ mass = {}, length = {}, radius = {} }}", echo(self.mass), echo(self.length), echo(self.radius))
+    }
 }
 
 impl TailSection {
@@ -121,11 +158,22 @@ impl From<Cylinder> for CatSection {
             front: None,
             rear: None,
             tail: None,
+            legs: None,
         }
     }
 }
 
 impl CatSection {
+    /// The appendages as the model's ([`Appendages`]).
+    pub fn appendages(&self) -> Appendages {
+        Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.rod()) }
+    }
+
+    /// The first appendage section present, `(field, as written)`, for refusals.
+    pub fn appendage(&self) -> Option<(&'static str, String)> {
+        self.tail.map(|t| ("cat.tail", t.shown())).or_else(|| self.legs.map(|l| ("cat.legs", l.shown())))
+    }
+
     /// The shorthand's half: both halves of the paper's cat. A command that models the paper's
     /// cat only uses it after [`crate::problem::Problem::require_paper_cat`].
     pub fn half(&self) -> Cylinder {
@@ -198,9 +246,19 @@ impl CatSection {
                 return Err(bad(
                     "cat.tail.joint",
                     "\"spherical\"",
-                    "the tail's joint has two motors so far: \"universal\" or \"no-twist\"",
+                    "the tail's joint has one or two motors so far: \"universal\", \"no-twist\" or \"hinge\"",
                 ));
             }
+        }
+        if let Some(legs) = &self.legs {
+            validate_half("cat.legs", &legs.rod())?;
+        }
+        if self.joint == Joint::Hinge {
+            return Err(bad(
+                "cat.joint",
+                "\"hinge\"",
+                "a hinge is an appendage's joint (one motor): halves bent in one plane cannot turn over at zero momentum; use \"universal\", \"no-twist\" or \"spherical\"",
+            ));
         }
         if self.joint == Joint::Spherical {
             return Err(bad(

@@ -305,8 +305,8 @@ impl Problem {
     /// computation that models the paper's cat only (`what` names it in the message), naming the
     /// field that departs from it.
     pub fn require_paper_cat(&self, what: &str) -> Result<(), ProblemError> {
-        if let Some(tail) = &self.cat.tail {
-            return Err(bad("cat.tail", tail.shown(), cat::TAIL_REFUSED));
+        if let Some((field, shown)) = self.cat.appendage() {
+            return Err(bad(field, shown, &cat::appendage_refused(field)));
         }
         let Some((field, value)) = self.cat.departure() else { return Ok(()) };
         Err(bad(

@@ -67,7 +67,7 @@ pub struct WholeSettings {
     pub min_angle_deg: Option<f64>,
     /// Bound on `|q1|` and `|q2|`, degrees, imposed on the control points (so on the whole
     /// curve, by the convex-hull property); none when absent. Beyond two motors (the library's
-    /// [`crate::optimize::whole::WholeCat::Spherical`] and [`crate::optimize::whole::WholeCat::Tailed`])
+    /// [`crate::optimize::whole::WholeCat::Spherical`] and [`crate::optimize::whole::WholeCat::Appended`])
     /// it bounds every coordinate alike: the spherical joint's twist and a tail's two angles too
     /// (nothing keeps a tail from passing through the rear half).
     pub joint_limit_deg: Option<f64>,

@@ -409,7 +409,7 @@ fn pose_of(t: f64, snap: &Snapshot) -> CatPose {
         centre: snap.positions[i] - mid,
         rotation: snap.rotations[i].to_rotation_matrix().into_inner(),
     };
-    CatPose { time: t, phase: None, twist: st.twist, swing: st.swing, a: body(0), b: body(2), tail: None }
+    CatPose { time: t, phase: None, twist: st.twist, swing: st.swing, a: body(0), b: body(2), tail: None, legs: None }
 }
 
 /// The filmstrips of one tracked check: `robust_worst_filmstrip.png` and

@@ -14,9 +14,10 @@ and checks them from the physics contract alone (written without catflip's dynam
 
 Conventions: every body frame at its centre of mass; a link hangs child c from parent p at the
 joint point a (in p) = b (in c): x_c = x_p + R_p a - R_c b, R_c = R_p J(q); universal
-J = Rx(q1) Ry(q2), no-twist J = exp([q1, q2, 0]x), spherical J = exp([q1, q2, 0]x) Rz(q3). A
-torque is the joint's couple on the child's subtree about the joint point, projected on the
-motor axes: universal p's x and Rx(q1) y; no-twist p's x, y; spherical p's x, y and c's z.
+J = Rx(q1) Ry(q2), no-twist J = exp([q1, q2, 0]x), spherical J = exp([q1, q2, 0]x) Rz(q3), hinge
+(an appendage's, e.g. legs) J = Rx(q1). A torque is the joint's couple on the child's subtree
+about the joint point, projected on the motor axes: universal p's x and Rx(q1) y; no-twist p's
+x, y; spherical p's x, y and c's z; hinge p's x.
 Kinematics are in A's frame; the dynamics use the inertial frame that coincides with A's frame
 at the instant and falls with the centre of mass.
 
@@ -99,6 +100,8 @@ def joint_rotation(joint, q):
     """J(q) as a jet; q a jet of the link's own coordinates (N, n)."""
     if joint == "universal":
         return jmul(axis_rotation(EX, [x[:, 0] for x in q]), axis_rotation(EY, [x[:, 1] for x in q]))
+    if joint == "hinge":                            # an appendage's: Rx(q1)
+        return axis_rotation(EX, [x[:, 0] for x in q])
     bend = rotvec_exp(tuple(np.stack([x[:, 0], x[:, 1], 0 * x[:, 0]], -1) for x in q))
     if joint == "no-twist":
         return bend
@@ -193,7 +196,7 @@ def torques(model, q, qd, qdd):
         rest = sum(moment(k) for k in range(len(L)) if k not in l["sub"])
         reaction = max(reaction, np.max(np.abs(T + rest)))
         qj = q[:, l["cols"]]
-        axes = [Qp @ EX, Qp @ EY]
+        axes = [Qp @ EX] if l["joint"] == "hinge" else [Qp @ EX, Qp @ EY]
         if l["joint"] == "universal":
             axes[1] = MV(Qp, np.stack([0 * qj[:, 0], np.cos(qj[:, 0]), np.sin(qj[:, 0])], -1))
         if l["joint"] == "spherical":

@@ -151,7 +151,7 @@ impl CatScene {
         let layout = match cat.joint {
             Joint::Universal => Layout::Universal,
             Joint::NoTwist => Layout::Ball,
-            Joint::Spherical => return Err(RapierError::UnsupportedJoint(cat.joint)),
+            Joint::Spherical | Joint::Hinge => return Err(RapierError::UnsupportedJoint(cat.joint)),
         };
         let masses = MassModel::new(cat, cross_mass_fraction);
         let [h_a, h_b] = masses.half_lengths;

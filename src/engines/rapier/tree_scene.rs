@@ -1,5 +1,5 @@
 //! The rapier3d scene of any tree of rigid bodies ([`crate::model::tree::Tree`]): the cats beyond two
-//! motors (the spherical joint's third motor, a tail) in one multibody.
+//! motors (the spherical joint's third motor, a tail, legs) in one multibody.
 //!
 //! Body 0 (the front half A) is the floating root; each link hangs its child from its parent as
 //! the two-body scene ([`super::scene`]) hangs B from A, through a tiny **joint body** at the joint
@@ -13,13 +13,15 @@
 //!   `w = log(R(q(t_{k+1})) R_relᵀ)/h`, the relative rate that carries the present relative
 //!   rotation onto the schedule's over the step, as the two-body scene's ball does; on the
 //!   spherical joint all three aim there (its relative twist is the third motor's), on the
-//!   no-twist joint the one about `z` holds the joint's constraint instead (as the two-body scene's does, [`super::scene`]).
+//!   no-twist joint the one about `z` holds the joint's constraint instead (as the two-body scene's does, [`super::scene`]);
+//! - a hinge (an appendage's) is a revolute about the parent's `x` to the joint body, which is
+//!   welded to the child.
 //!
 //! Bodies' velocities are mapped from the multibody's generalized velocities at the present poses
 //! (rapier leaves the rigid bodies' own copies at the start of the last substep): for a link with
 //! parent `p`, joint body `j` and child `c` at the joint point `P`,
 //! `ω_j = ω_p + q̇1 a1` and `ω_c = ω_j + q̇2 a2` (universal: `a1` the parent's `x`, `a2` the cross's
-//! `y`), or `ω_j = ω_c = ω_p + R_p ω_rel` (ball); `v_j = v_p + ω_p × (P − x_p)`,
+//! `y`), `ω_j = ω_c = ω_p + R_p ω_rel` (ball), or `ω_j = ω_c = ω_p + q̇1 a1` (hinge); `v_j = v_p + ω_p × (P − x_p)`,
 //! `v_c = v_j + ω_c × (x_c − P)`. The scene has no colliders and no gravity (the falling frame,
 //! as the two-body scene), and rapier's default damping of the multibody's DoFs is zeroed.
 
@@ -203,6 +205,10 @@ impl TreeScene {
                     motor(SphericalJointBuilder::new().local_anchor1(a).build().into(), &BALL_AXES),
                     FixedJointBuilder::new().local_anchor2(b).build().into(),
                 ),
+                Joint::Hinge => (
+                    motor(RevoluteJointBuilder::new(Vector::X).local_anchor1(a).build().into(), &[JointAxis::AngX]),
+                    FixedJointBuilder::new().local_anchor2(b).build().into(),
+                ),
             };
             world
                 .multibody_joints
@@ -265,6 +271,7 @@ impl TreeScene {
                     let v = rot_from_matrix(&b.joint.rotation(qi)).scaled_axis();
                     disp[b.dofs[0]..b.dofs[0] + 3].copy_from_slice(v.as_slice());
                 }
+                Joint::Hinge => disp[b.dofs[0]] = qi[0],
             }
         }
         mb.apply_displacements(&disp);
@@ -333,6 +340,10 @@ impl TreeScene {
                     let w = bodies[p].angvel + bodies[p].rotation * Vector3::new(v[at], v[at + 1], v[at + 2]);
                     (w, w)
                 }
+                Joint::Hinge => {
+                    let w = bodies[p].angvel + v[b.dofs[0]] * (bodies[p].rotation * Vector3::x());
+                    (w, w)
+                }
             };
             let point = bodies[j].position;
             let v_j = bodies[p].linvel + bodies[p].angvel.cross(&(point - bodies[p].position));
@@ -345,7 +356,7 @@ impl TreeScene {
     /// The motor axes of link `i` in the world at `snap`'s poses ([`Joint::motor_axes`]): the
     /// parent's `x` and the cross's `y` (universal), the parent's `x` and `y` (no-twist), and the
     /// child's spine (spherical); and which bodies each motor drives (the child's subtree with
-    /// the link's joint body, without it for the cross's `y`).
+    /// the link's joint body, without it for the cross's `y`); a hinge's, the parent's `x`.
     pub fn motors_of(&self, i: usize, snap: &TreeSnapshot) -> Vec<(Vector3<f64>, Vec<bool>)> {
         let n = self.tree.bodies().len();
         let l = self.tree.links()[i];
@@ -367,6 +378,7 @@ impl TreeScene {
                 (r(l.parent) * Vector3::y(), driven.clone()),
                 (r(i + 1) * Vector3::z(), driven),
             ],
+            Joint::Hinge => vec![(r(l.parent) * Vector3::x(), driven)],
         }
     }
 
@@ -399,6 +411,7 @@ impl TreeScene {
                     let w = b.joint.relative_rate(&q[range.clone()], &qd[range]);
                     v[b.dofs[0]..b.dofs[0] + 3].copy_from_slice(w.as_slice());
                 }
+                Joint::Hinge => v[b.dofs[0]] = qd[range.start],
             }
         }
         self.map_velocities(&mut snap);
@@ -418,7 +431,7 @@ impl TreeScene {
 
     /// Bounds every motor's torque by `limit` N·m (one torque limit on every motor,
     /// [`crate::model::motor::MotorsBeyond::TorqueLimit`]) and returns each coordinate's bound:
-    /// a universal joint's revolutes, and a no-twist joint's ball about the parent's `x` and `y`
+    /// a universal joint's revolutes, a hinge's, and a no-twist joint's ball about the parent's `x` and `y`
     /// (its motors' axes; the motor about `z` holds the joint's constraint, the structure's, and
     /// stays unbounded). A spherical joint's motors (the parent's `x`, `y` and the child's spine)
     /// are not its ball's axes in rapier: refused.
@@ -430,6 +443,7 @@ impl TreeScene {
         for b in &self.built {
             let (ids, axes): (&[usize], &[JointAxis]) = match b.joint {
                 Joint::Universal => (&b.link_ids, &[JointAxis::AngX]),
+                Joint::Hinge => (&b.link_ids[..1], &[JointAxis::AngX]),
                 _ => (&b.link_ids[..1], &[JointAxis::AngX, JointAxis::AngY]),
             };
             for id in ids {
@@ -456,8 +470,8 @@ impl TreeScene {
             let range = tree.coordinates(i);
             let (q, qd) = (&target.q[range.clone()], &target.qd[range]);
             match b.joint {
-                Joint::Universal => {
-                    for (k, id) in b.link_ids.iter().enumerate() {
+                Joint::Universal | Joint::Hinge => {
+                    for (k, id) in b.link_ids[..l.joint.dof()].iter().enumerate() {
                         let link = mb.link_mut(*id).ok_or(RapierError::Missing("a link"))?;
                         link.joint.data.set_motor(JointAxis::AngX, q[k] - h * qd[k], qd[k], g.stiffness, g.damping);
                     }

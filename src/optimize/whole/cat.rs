@@ -10,11 +10,11 @@
 //! the general core [`TwoMotorCat`] for the flip, the torques and the calibration.
 //! [`WholeCat::new`] chooses the branch by [`Cat::paper`]. [`WholeCat::Spherical`] is a cat on
 //! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model;
-//! [`WholeCat::Tailed`] a two-motor cat with a tail on a two-motor joint, four: the general tree's
-//! [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
+//! [`WholeCat::Appended`] a two-motor cat with appendages (a tail on a one- or two-motor joint, legs
+//! on hinges; up to six coordinates): the general tree's [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
 //! ([`super::torques`]), and start from a two-motor cat's starts ([`WholeCat::start_cat`]: the
 //! same halves on the no-twist joint with the relative twist held at zero; the cat with its tail
-//! held straight behind it), for a release without spin and ideal motors or one torque limit on
+//! held straight behind it and its legs standing out), for a release without spin and ideal motors or one torque limit on
 //! every motor ([`super::beyond_two_motors`], [`super::torque_limited`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
@@ -37,6 +37,7 @@ use crate::engines::exact::{self, Flip};
 use crate::engines::models::{self, TwoMotorCat};
 use crate::engines::spin::SpinHistory;
 use crate::engines::torque::TorqueSource;
+use crate::model::cat::Appendages;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Cylinder, Joint};
 use crate::schedule::{paper_circulation, Schedule, ScheduleError};
@@ -53,28 +54,38 @@ pub enum WholeCat {
     /// or one torque limit on every motor ([`super::torque_limited`]) and without spin; the command
     /// line's one measurement takes two motors, so [`WholeCat::new`] refuses it.
     Spherical(SphericalCat),
-    /// A two-motor cat with a tail ([`WholeCat::tailed`]): a tree of three bodies and four motors,
+    /// A two-motor cat with appendages ([`WholeCat::appended`]: a tail, legs), a tree of bodies
     /// planned by the loop through [`super::tree_dynamics`], for ideal motors or one torque limit
     /// on every motor and without spin.
-    Tailed(Tailed),
+    Appended(Appended),
 }
 
 /// A cat on the spherical joint ([`WholeCat::spherical`] builds it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SphericalCat(Cat);
 
-/// A cat with a tail ([`WholeCat::tailed`] builds it): the cat (its halves and joint, link 0), the
-/// tail and its joint, and the tree of the three bodies.
+/// A cat with appendages ([`WholeCat::appended`] builds it): the cat (its halves and joint, link
+/// 0), its appendages and the tree of all the bodies ([`Cat::tree_with`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Tailed {
+pub struct Appended {
     cat: Cat,
-    tail: Cylinder,
-    joint: Joint,
+    appendages: Appendages,
     tree: Tree,
 }
 
-/// The most shape coordinates the optimiser plans: a tailed cat's four.
-pub const MAX_JOINTS: usize = 4;
+/// The most shape coordinates the optimiser plans: a cat's two, a tail's two and the legs' two.
+pub const MAX_JOINTS: usize = 6;
+
+/// One body of a cat's tree with its name and its cylinder ([`WholeCat::named_bodies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NamedBody {
+    /// `A`, `B`, `tail`, `front-legs`, `hind-legs`.
+    pub name: &'static str,
+    /// Its mass, length and radius.
+    pub cylinder: Cylinder,
+    /// Its cylinder's axis in its own frame (unit).
+    pub axis: Vector3<f64>,
+}
 
 /// A quantity of the shape's motion and its partial derivatives: `d[0][j]`, `d[1][j]`, `d[2][j]`
 /// with respect to coordinate `j`'s angle, rate and acceleration (the first
@@ -167,19 +178,51 @@ impl WholeCat {
     }
 
     /// `cat` with a tail: a rod `tail` hung from the rear half's end (`(0, 0, −l_B/2)` in B's
-    /// frame) by its own front end on `joint`, straight behind the cat at `q = 0`. `None` unless
-    /// both joints have two motors (the universal or no-twist joint).
+    /// frame) by its own front end on `joint`, straight behind the cat at `q = 0`
+    /// ([`WholeCat::appended`]).
     pub fn tailed(cat: Cat, tail: Cylinder, joint: Joint) -> Option<WholeCat> {
-        if cat.dof() != 2 || joint.dof() != 2 {
+        WholeCat::appended(cat, Appendages { tail: Some((tail, joint)), legs: None })
+    }
+
+    /// `cat` with `appendages` ([`Cat::tree_with`]). `None` unless the cat's joint has two motors
+    /// (the universal or no-twist joint), the tail's is one of those or a hinge, and there is an
+    /// appendage.
+    pub fn appended(cat: Cat, appendages: Appendages) -> Option<WholeCat> {
+        let tail_ok =
+            appendages.tail.is_none_or(|(_, j)| matches!(j, Joint::Universal | Joint::NoTwist | Joint::Hinge));
+        if cat.dof() != 2 || cat.joint == Joint::Hinge || !tail_ok || appendages.is_empty() {
             return None;
         }
-        Some(WholeCat::Tailed(Tailed { cat, tail, joint, tree: cat.tree_with_tail(&tail, joint) }))
+        Some(WholeCat::Appended(Appended { cat, appendages, tree: cat.tree_with(&appendages) }))
+    }
+
+    /// The appendages (none but on [`WholeCat::Appended`]).
+    pub fn appendages(&self) -> Appendages {
+        match self {
+            WholeCat::Appended(a) => a.appendages,
+            _ => Appendages::default(),
+        }
+    }
+
+    /// Each coordinate's limit on its control points, rad: `joint_limit_deg`
+    /// (`optimize.whole.joint_limit_deg`, on every coordinate) and the coordinate's own (the
+    /// legs' fold, [`Appendages::limits`]), the smaller where both hold.
+    pub fn control_limits(&self, joint_limit_deg: Option<f64>) -> Vec<Option<f64>> {
+        let cat = self.joint().dof().min(self.joints());
+        let every = joint_limit_deg.map(f64::to_radians);
+        std::iter::repeat_n(None, cat)
+            .chain(self.appendages().limits())
+            .map(|own| match (own, every) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            })
+            .collect()
     }
 
     /// The two-motor cat this one's starts are built and calibrated on, `None` for a two-motor
     /// cat itself: a spherical joint's halves on the no-twist joint (its twist held at zero, which
-    /// is exactly that joint, DESIGN.md §10); a tailed cat without its tail (the tail then held
-    /// straight behind it).
+    /// is exactly that joint, DESIGN.md §10); a cat with appendages without them (the tail then
+    /// held straight behind it, the legs standing out).
     pub fn start_cat(&self) -> Option<WholeCat> {
         match self {
             WholeCat::Spherical(SphericalCat(cat)) => {
@@ -187,7 +230,9 @@ impl WholeCat {
                     TwoMotorCat::new(Cat { joint: Joint::NoTwist, ..*cat }).expect("the no-twist joint has two motors");
                 Some(WholeCat::Model(bent))
             }
-            WholeCat::Tailed(t) => Some(WholeCat::from(&TwoMotorCat::new(t.cat).expect("a tailed cat has two motors"))),
+            WholeCat::Appended(a) => {
+                Some(WholeCat::from(&TwoMotorCat::new(a.cat).expect("a cat with appendages has two motors")))
+            }
             _ => None,
         }
     }
@@ -198,42 +243,41 @@ impl WholeCat {
             WholeCat::Paper(half) => Cat::from(*half),
             WholeCat::Model(m) => *m.cat(),
             WholeCat::Spherical(SphericalCat(cat)) => *cat,
-            WholeCat::Tailed(t) => t.cat,
+            WholeCat::Appended(a) => a.cat,
         }
     }
 
-    /// Each body of the model's tree ([`WholeCat::tree`]) in its order, named: the front half
-    /// `A`, the rear half `B` and, with a tail, the `tail`.
-    pub fn named_bodies(&self) -> Vec<(&'static str, Cylinder)> {
+    /// Each body of the model's tree ([`WholeCat::tree`]) in its order, named, with the axis of
+    /// its cylinder in its own frame: the front half `A`, the rear half `B`, with a tail the
+    /// `tail` (each along `z`), with legs the `front-legs` and `hind-legs` (along `y`).
+    pub fn named_bodies(&self) -> Vec<NamedBody> {
         let cat = self.cat();
-        let mut out = vec![("A", cat.front), ("B", cat.rear)];
-        if let WholeCat::Tailed(t) = self {
-            out.push(("tail", t.tail));
+        let along_z = |name, cylinder| NamedBody { name, cylinder, axis: Vector3::z() };
+        let mut out = vec![along_z("A", cat.front), along_z("B", cat.rear)];
+        let appendages = self.appendages();
+        if let Some((tail, _)) = appendages.tail {
+            out.push(along_z("tail", tail));
+        }
+        if let Some(leg) = appendages.legs {
+            for name in ["front-legs", "hind-legs"] {
+                out.push(NamedBody { name, cylinder: leg, axis: Vector3::y() });
+            }
         }
         out
     }
 
-    /// Number of shape coordinates (and motors): 2, 3 on the spherical joint, 4 with a tail.
+    /// Number of shape coordinates (and motors): 2, 3 on the spherical joint, and the
+    /// appendages' beyond the cat's.
     pub fn joints(&self) -> usize {
         match self {
-            WholeCat::Tailed(t) => t.tree.dof(),
+            WholeCat::Appended(a) => a.tree.dof(),
             _ => self.joint().dof(),
         }
     }
 
-    /// The model in words ([`Cat::describe`], and the tail's).
+    /// The model in words ([`Cat::describe`], and the appendages', [`Appendages::describe`]).
     pub fn describe(&self) -> String {
-        match self {
-            WholeCat::Tailed(t) => format!(
-                "{}, with a tail of {} kg, {} m long, radius {} m on a {} joint",
-                t.cat.describe(),
-                t.tail.mass,
-                t.tail.length,
-                t.tail.radius,
-                t.joint
-            ),
-            _ => self.cat().describe(),
-        }
+        format!("{}{}", self.cat().describe(), self.appendages().describe())
     }
 
     /// The joint.
@@ -242,7 +286,7 @@ impl WholeCat {
             WholeCat::Paper(_) => Joint::Universal,
             WholeCat::Model(m) => m.cat().joint,
             WholeCat::Spherical(_) => Joint::Spherical,
-            WholeCat::Tailed(t) => t.cat.joint,
+            WholeCat::Appended(a) => a.cat.joint,
         }
     }
 
@@ -253,7 +297,7 @@ impl WholeCat {
             WholeCat::Paper(c) => dynamics::body_rate(c, two(q), two(qd)),
             WholeCat::Model(m) => model_dynamics::body_rate(m.cat(), q, qd),
             WholeCat::Spherical(SphericalCat(cat)) => model_dynamics::body_rate(cat, q, qd),
-            WholeCat::Tailed(t) => tree_dynamics::body_rate(&t.tree, &q, &qd, [T::cst(0.0); 3]),
+            WholeCat::Appended(a) => tree_dynamics::body_rate(&a.tree, &q, &qd, [T::cst(0.0); 3]),
         }
     }
 
@@ -277,8 +321,8 @@ impl WholeCat {
             }
             WholeCat::Model(m) => model_dynamics::motor_torques(m.cat(), q, qd, qdd),
             WholeCat::Spherical(SphericalCat(cat)) => model_dynamics::motor_torques(cat, q, qd, qdd),
-            WholeCat::Tailed(t) => {
-                let tau = tree_dynamics::motor_torques(&t.tree, &q, &qd, &qdd, [T::cst(0.0); 3]);
+            WholeCat::Appended(a) => {
+                let tau = tree_dynamics::motor_torques(&a.tree, &q, &qd, &qdd, [T::cst(0.0); 3]);
                 std::array::from_fn(|j| tau[j])
             }
         }
@@ -292,6 +336,8 @@ impl WholeCat {
             2 => seeded::<2, 4, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
             3 => seeded::<3, 6, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
             4 => seeded::<4, 8, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
+            5 => seeded::<5, 10, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
+            6 => seeded::<6, 12, 3>(x, 2, |[q, qd, _]| self.body_rate(q, qd)),
             n => panic!("a shape of {n} coordinates"),
         }
     }
@@ -304,6 +350,8 @@ impl WholeCat {
             2 => seeded::<2, 6, 2>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
             3 => seeded::<3, 9, 3>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
             4 => seeded::<4, 12, 4>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
+            5 => seeded::<5, 15, 5>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
+            6 => seeded::<6, 18, 6>(x, 3, |[q, qd, qdd]| self.motor_torques(q, qd, qdd)).to_vec(),
             n => panic!("a shape of {n} coordinates"),
         }
     }
@@ -339,13 +387,18 @@ impl WholeCat {
             Joint::Universal => {
                 let (s1, c1) = q[0].sin_cos();
                 let (s2, c2) = q[1].sin_cos();
-                (c1 * c2, [-s1 * c2, -c1 * s2, 0.0, 0.0])
+                let mut g = [0.0; MAX_JOINTS];
+                g[..2].copy_from_slice(&[-s1 * c2, -c1 * s2]);
+                (c1 * c2, g)
             }
             Joint::NoTwist | Joint::Spherical => {
                 let s = q[0] * q[0] + q[1] * q[1];
                 let k = ExpSeries::at(s);
-                (1.0 - k.a * s, [-k.sinc * q[0], -k.sinc * q[1], 0.0, 0.0])
+                let mut g = [0.0; MAX_JOINTS];
+                g[..2].copy_from_slice(&[-k.sinc * q[0], -k.sinc * q[1]]);
+                (1.0 - k.a * s, g)
             }
+            Joint::Hinge => unreachable!("the halves are never on a hinge (WholeCat's constructors refuse it)"),
         }
     }
 
@@ -359,7 +412,7 @@ impl WholeCat {
         match self {
             WholeCat::Paper(c) => exact::flip_spinning(c, spline, spin, tolerance),
             WholeCat::Model(m) => m.flip_released(spline, spin, tolerance),
-            WholeCat::Spherical(_) | WholeCat::Tailed(_) => {
+            WholeCat::Spherical(_) | WholeCat::Appended(_) => {
                 assert_eq!(spline.joints(), self.joints(), "a spline of the cat's coordinates");
                 models::flip_on(&self.tree(), &SplineShape(spline), spin, tolerance)
             }
@@ -369,7 +422,7 @@ impl WholeCat {
     /// The model's tree of bodies.
     pub fn tree(&self) -> Tree {
         match self {
-            WholeCat::Tailed(t) => t.tree.clone(),
+            WholeCat::Appended(a) => a.tree.clone(),
             _ => self.cat().tree(),
         }
     }
@@ -405,7 +458,7 @@ impl WholeCat {
     /// [`WholeCat::torque_source`], the general core on a cat of more motors (without spin).
     pub fn exact_torques<'a>(&'a self, history: Option<&'a SpinHistory>) -> ExactTorques<'a> {
         match self {
-            WholeCat::Spherical(_) | WholeCat::Tailed(_) => ExactTorques::General(self.tree()),
+            WholeCat::Spherical(_) | WholeCat::Appended(_) => ExactTorques::General(self.tree()),
             _ => ExactTorques::TwoMotor(self.torque_source(history)),
         }
     }

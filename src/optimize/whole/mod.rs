@@ -4,7 +4,7 @@
 //!
 //! ## Problem
 //! Variables: the control points of one clamped cubic B-spline per joint coordinate, `q1(t), q2(t)`
-//! (three on the spherical joint, four with a tail) on `[0, T]` ([`spline`]), the first and last two of each
+//! (three on the spherical joint, up to six with a tail and legs) on `[0, T]` ([`spline`]), the first and last two of each
 //! held at zero so that the cat is straight and at
 //! rest at both ends (three with `optimize.zero_end_acceleration`). With `R(T)` A's final
 //! orientation from the zero-momentum dynamics ([`crate::engines::exact`]):
@@ -26,7 +26,7 @@
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
 //! A release with spin is planned on every two-motor model through the same seam (the spinning
 //! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) and a
-//! cat with a tail ([`WholeCat::Tailed`], the tree's dynamics of [`tree_dynamics`]) are planned on
+//! cat with a tail ([`WholeCat::Appended`], the tree's dynamics of [`tree_dynamics`]) are planned on
 //! their three and four coordinates by the same loop, re-measured by the general core on every
 //! coordinate ([`torques`]), without spin and with ideal motors or one torque limit on every motor
 //! ([`beyond_two_motors`], [`torque_limited`]). On Kane
@@ -129,7 +129,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 pub use crate::model::motor::{motors_beyond, MotorsBeyond};
-pub use cat::WholeCat;
+pub use cat::{NamedBody, WholeCat};
 pub use scope::{beyond_two_motors, spin_supported};
 pub use scvx::ScvxProblem;
 pub use settings::{Objective, StartKind, WholeError, WholeSettings};
@@ -566,9 +566,11 @@ impl Run {
         }
         // The Newton steps move every control point, those on the joint limit too (by ~1e-11 rad
         // on refined knots): the limit is held on the control points, as in the subproblems.
-        if let Some(limit) = p.settings.joint_limit_deg.map(f64::to_radians) {
-            for c in spline.coefficients.iter_mut().flatten() {
-                *c = c.clamp(-limit, limit);
+        for (curve, limit) in spline.coefficients.iter_mut().zip(p.cat.control_limits(p.settings.joint_limit_deg)) {
+            if let Some(limit) = limit {
+                for c in curve.iter_mut() {
+                    *c = c.clamp(-limit, limit);
+                }
             }
         }
         let m = measure::measure_spinning(p.cat, &spline, p.motors, flip_tolerance, &p.spin);

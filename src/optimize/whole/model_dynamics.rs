@@ -143,6 +143,10 @@ pub fn spine<T: Real, const N: usize>(joint: Joint, q: [T; N]) -> V3<T> {
             let k = ExpSeries::at(s);
             [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * s) + 1.0]
         }
+        Joint::Hinge => {
+            let (s1, c1) = q[0].sin_cos();
+            [T::cst(0.0), -s1, c1]
+        }
     }
 }
 
@@ -195,6 +199,11 @@ pub fn joint_motion<T: Real, const N: usize>(
             let rate = if twisting { add(bend, scale(qd[2], spine)) } else { bend };
             let axes = std::array::from_fn(|i| [x, [zero, one, zero], spine][i]);
             JointMotion { spine, rate, accel, axes }
+        }
+        Joint::Hinge => {
+            let rate = scale(qd[0], x);
+            let accel = qdd.map_or([zero; 3], |dd| scale(dd[0], x));
+            JointMotion { spine: spine(joint, q), rate, accel, axes: std::array::from_fn(|_| x) }
         }
     }
 }

@@ -1,6 +1,6 @@
 //! What the whole optimiser plans and what it refuses, before anything runs: a release with spin
 //! takes neither motor limits nor the least fall time ([`spin_supported`]), and a cat of more than
-//! two motors (the spherical joint, a tail) takes no spin and no motor limits but one torque limit
+//! two motors (the spherical joint, a tail, legs) takes no spin and no motor limits but one torque limit
 //! on every motor ([`beyond_two_motors`]). Each refusal names the problem file's field.
 
 use nalgebra::Vector3;
@@ -36,7 +36,7 @@ pub fn spin_supported(settings: &WholeSettings, motors: &Motors, spin: &Vector3<
 }
 
 /// Refuses what the optimiser does not plan for a cat of more than two motors (the spherical joint,
-/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Tailed`]): a release with spin (the spinning model
+/// [`WholeCat::Spherical`]; a tail, [`WholeCat::Appended`]): a release with spin (the spinning model
 /// is built for two coordinates), and motor limits other than one torque limit on every motor
 /// ([`motors_beyond`]), which it plans with the objective `peak` or `min-time` only (the
 /// energy's limit rows are built for two motors).

@@ -237,6 +237,10 @@ impl ScvxProblem<'_> {
         // A floor for the unit so that an objective driven to zero stays a number.
         let floor = 1e-12 * it.objective.max(1e-300);
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
+        // Each variable's limit: its coordinate's (variable v is coordinate v / free's).
+        let coordinate_limits = self.cat.control_limits(s.joint_limit_deg);
+        let joint_limits: Vec<Option<f64>> =
+            (0..layout.variables()).map(|v| coordinate_limits[v / layout.free()]).collect();
         let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
         // The curvature the energy's and the peak's models leave out, learnt from the accepted
         // steps ([`super::curvature`]).
@@ -265,7 +269,7 @@ impl ScvxProblem<'_> {
                 trust_radius: radius,
                 trust_scales: &it.trust_scales,
                 values: &it.values,
-                joint_limit: s.joint_limit_deg.map(f64::to_radians),
+                joint_limits: &joint_limits,
                 bend: bend_floor.map(|f| (it.bend.as_slice(), f)),
                 limits: &it.limits,
                 limit_bound: bound,

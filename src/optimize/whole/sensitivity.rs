@@ -21,7 +21,7 @@
 //! ## Torques
 //! `τ(q, q̇, q̈)` from [`WholeCat::motor_torques`] at dual numbers seeded on `(q, q̇, q̈)` of every
 //! coordinate ([`WholeCat::torque_partials`]: `Dual<6>` on two coordinates, `Dual<9>` on the
-//! spherical joint's three, `Dual<12>` on a tailed cat's four), chained through `N_i, N'_i, N''_i`.
+//! spherical joint's three, `Dual<12>` on four coordinates, up to `Dual<18>` on a cat with a tail and legs), chained through `N_i, N'_i, N''_i`.
 //!
 //! ## References
 //! - J. Solà, J. Deray, D. Atchuthan, *A micro Lie theory for state estimation in robotics*
@@ -44,7 +44,7 @@ pub struct Layout {
     pub control_points: usize,
     /// Control points held at zero at each end of each joint.
     pub fixed: usize,
-    /// Number of joint coordinates (curves): 2, 3 on the spherical joint, 4 on a tailed cat.
+    /// Number of joint coordinates (curves): 2, 3 on the spherical joint, up to 6 with appendages.
     pub joints: usize,
 }
 

@@ -2,7 +2,7 @@
 //! optimisation.
 //!
 //! One curve per shape coordinate: two on the universal and no-twist joints, three on the
-//! spherical one ([`crate::model::Joint::dof`]), four on a cat with a tail. Each coordinate is
+//! spherical one ([`crate::model::Joint::dof`]), four on a cat with a tail or legs, up to six. Each coordinate is
 //! `q_j(t) = Σ_i c_{j,i} N_{i,p}(t)` with `n` control points, degree `p` and the clamped uniform
 //! knot vector (`p + 1` knots at `0` and at `T`, `n − p − 1` equally spaced
 //! inside), so that `q(0) = c_0`, `q̇(0) = p (c_1 − c_0)/u_{p+1}` and likewise at `T`. Fixing the

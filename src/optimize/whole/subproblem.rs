@@ -15,8 +15,8 @@
 //! subject to `|e_i + J_i δ| ≤ s_i` (or, for an iterate already on the constraint,
 //! `e + Jδ = 0` exactly and no `s`: an exact penalty weighted far above the multiplier turns
 //! Clarabel's residuals into noise of the model's size), the trust box `|δ_v| ≤ Δ s_v` (`s_v = 1` on
-//! uniform knots, smaller where the knots are refined), the joint limit on the
-//! control points `|c + δ| ≤ q_max` and the linearised bend limit
+//! uniform knots, smaller where the knots are refined), the joint limits on the
+//! control points `|c + δ| ≤ q_max` (each coordinate's) and the linearised bend limit
 //! `cos β_k + g_kᵀ δ + σ ≥ cos β_max` on every sample, with one elastic variable `σ ≥ 0`
 //! weighted by [`BEND_PENALTY`] (so that a start bent beyond the limit can come back to it), and at
 //! a fixed fall with motor limits the rows `ρ_r + ∇ρ_r δ − σ_m ≤ b` with one elastic `σ_m ≥ 0`
@@ -68,8 +68,9 @@ pub struct Subproblem<'a> {
     pub trust_scales: &'a [f64],
     /// Current free control points, rad.
     pub values: &'a [f64],
-    /// Joint limit, rad; none when absent.
-    pub joint_limit: Option<f64>,
+    /// Each variable's limit `|c + δ| ≤ q_max`, rad (its coordinate's,
+    /// [`super::WholeCat::control_limits`]); none where absent.
+    pub joint_limits: &'a [Option<f64>],
     /// Bend samples and `cos β_max`; none without a bend limit.
     pub bend: Option<(&'a [BendSample], f64)>,
     /// The motor-limit rows ([`super::limits`]): `k²`, the objective of `min-time`, or `ρ`,
@@ -293,7 +294,7 @@ impl Subproblem<'_> {
         for (v, &c) in self.values.iter().enumerate() {
             let radius = self.trust_radius * self.trust_scales[v];
             let (mut lower, mut upper) = (-radius, radius);
-            if let Some(limit) = self.joint_limit {
+            if let Some(limit) = self.joint_limits[v] {
                 lower = lower.max(-limit - c);
                 upper = upper.min(limit - c).max(lower);
             }

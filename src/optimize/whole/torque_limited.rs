@@ -1,4 +1,4 @@
-//! A cat beyond two motors (the spherical joint, a tail) within one torque limit on every motor
+//! A cat beyond two motors (the spherical joint, a tail, legs) within one torque limit on every motor
 //! ([`crate::model::motor::MotorsBeyond::TorqueLimit`]): planned for the least peak torque with ideal
 //! motors, then held to the limit by the exact time scaling of a zero-momentum flip (DESIGN.md §9).
 //!

@@ -26,7 +26,7 @@ use crate::schedule::Trajectory;
 pub enum ExactTorques<'a> {
     /// A two-motor model's source.
     TwoMotor(TorqueSource<'a>),
-    /// The general core on every coordinate of a tree (the spherical joint, a tail), every
+    /// The general core on every coordinate of a tree (the spherical joint, a tail, legs), every
     /// joint's motors in link order, at zero angular momentum.
     General(Tree),
 }

@@ -1,4 +1,4 @@
-//! The zero-momentum dynamics of any tree of rigid bodies ([`Tree`]: a cat with a tail) written
+//! The zero-momentum dynamics of any tree of rigid bodies ([`Tree`]: a cat with a tail, legs) written
 //! once over a [`Real`], so that the optimiser plans every joint of it with exact derivatives, as
 //! [`super::model_dynamics`] does for the two-body cats.
 //!
@@ -86,6 +86,10 @@ pub fn rotation_of<T: Real>(joint: Joint, q: &[T]) -> M3<T> {
             let (s3, c3) = q[2].sin_cos();
             product(&bend, &[[c3, -s3, zero], [s3, c3, zero], [zero, zero, one]])
         }
+        Joint::Hinge => {
+            let (s1, c1) = q[0].sin_cos();
+            [[one, zero, zero], [zero, c1, -s1], [zero, s1, c1]]
+        }
     }
 }
 
@@ -98,6 +102,7 @@ fn joint_kinematics<T: Real>(joint: Joint, q: &[T], qd: &[T], qdd: &[T]) -> (V3<
         (m.rate, m.accel, m.axes.to_vec())
     }
     match joint.dof() {
+        1 => on::<T, 1>(joint, q, qd, qdd),
         2 => on::<T, 2>(joint, q, qd, qdd),
         _ => on::<T, 3>(joint, q, qd, qdd),
     }
@@ -243,6 +248,7 @@ pub fn motor_torques<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T], lambda:
 mod tests {
     use super::*;
     use crate::engines::reduction;
+    use crate::model::cat::Appendages;
     use crate::model::shape::ShapeState;
     use crate::model::{Cat, Cylinder};
     use crate::optimize::whole::dual::Dual;
@@ -257,9 +263,22 @@ mod tests {
         Cat { front: FRONT, rear: REAR, joint }.tree_with_tail(&TAIL, tail)
     }
 
-    /// Every joint for the cat and every joint for the tail.
+    const LEG: Cylinder = Cylinder { mass: 0.1, length: 0.4, radius: 0.03 };
+
+    /// Unequal halves on `joint` with legs, and with a tail on `tail`'s joint when given.
+    fn legged(joint: Joint, tail: Option<Joint>) -> Tree {
+        let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some(LEG) };
+        Cat { front: FRONT, rear: REAR, joint }.tree_with(&appendages)
+    }
+
+    /// Every joint for the cat and every joint for the tail (the hinge too), and legs with and
+    /// without a tail.
     fn trees() -> Vec<Tree> {
-        Joint::ALL.iter().flat_map(|&joint| Joint::ALL.map(|tail| tailed(joint, tail))).collect()
+        let tails = Joint::ALL.into_iter().chain([Joint::Hinge]);
+        let mut out: Vec<Tree> =
+            Joint::ALL.iter().flat_map(|&joint| tails.clone().map(move |tail| tailed(joint, tail))).collect();
+        out.extend([legged(Joint::NoTwist, None), legged(Joint::Universal, Some(Joint::Hinge))]);
+        out
     }
 
     /// A shape of `n` coordinates: bends up to ~1.5 rad, rates and accelerations of a few per s.
@@ -297,7 +316,7 @@ mod tests {
     fn the_rotation_is_the_joints() {
         // Below a bend of 1 rad the no-twist coefficients are series, above closed forms: both.
         // Entries of order one, the same formula up to rounding: 1e-15.
-        for joint in Joint::ALL {
+        for joint in Joint::ALL.into_iter().chain([Joint::Hinge]) {
             for q in [[0.4, -1.1, 0.8], [1e-3, 2e-3, -0.3]] {
                 let ours = rotation_of(joint, &q[..joint.dof()]);
                 let want = joint.rotation(&q[..joint.dof()]);
@@ -313,10 +332,13 @@ mod tests {
     #[test]
     fn dual_derivatives_match_central_differences() {
         // Step 1e-6, truncation ~1e-12, round-off ~1e-10: 1e-7 absolute, as model_dynamics.rs.
-        // Bent past 1 rad (the closed forms) and nearly straight (the series), on two trees.
-        for (tree, bend) in
-            [(tailed(Joint::NoTwist, Joint::Universal), 1.2), (tailed(Joint::Spherical, Joint::NoTwist), 1e-3)]
-        {
+        // Bent past 1 rad (the closed forms) and nearly straight (the series), on three trees
+        // (one with legs: 4 coordinates, 12 of the 15 directions).
+        for (tree, bend) in [
+            (tailed(Joint::NoTwist, Joint::Universal), 1.2),
+            (tailed(Joint::Spherical, Joint::NoTwist), 1e-3),
+            (legged(Joint::NoTwist, None), 1.2),
+        ] {
             let n = tree.dof();
             let mut s = shape(n, 0.5);
             s.q.iter_mut().for_each(|q| *q *= bend);

@@ -119,8 +119,8 @@ pub fn flip_filmstrip(
 }
 
 /// The PNG filmstrip of a model beyond two motors ([`FILMSTRIP_PANELS`] instants, released
-/// without spin): the tree of bodies `tree` (the halves, and the problem's `[cat.tail]` as body
-/// 2) along the shape trajectory `shape`, placed by the general core on the tree (`tree_poses`); `timeline` gives
+/// without spin): the tree of bodies `tree` (the halves, then the problem's `[cat.tail]` and
+/// `[cat.legs]`, [`crate::model::Cat::tree_with`]) along the shape trajectory `shape`, placed by the general core on the tree (`tree_poses`); `timeline` gives
 /// the timeline's pieces (the same trajectory as a [`Trajectory`]).
 pub fn tree_filmstrip(
     path: &Path,
@@ -135,7 +135,7 @@ pub fn tree_filmstrip(
         let reason = format!("the schedule lasts {total} s; it must last a positive, finite time");
         return Err(PlotError::BadArgument { path: path.to_path_buf(), reason });
     }
-    let poses = tree_poses(tree, shape, &spaced(total, FILMSTRIP_PANELS));
+    let poses = tree_poses(tree, &problem.cat.appendages(), shape, &spaced(total, FILMSTRIP_PANELS));
     let caption = format!("the flip at {} instants", poses.len());
     pose_filmstrip(path, problem, name, timeline, &poses, &caption)
 }
@@ -254,6 +254,9 @@ struct Scene {
     legs: [[Leg; 2]; 2],
     /// Half-length and radius of the problem's `[cat.tail]`, m, drawn where a pose has one.
     tail: Option<(f64, f64)>,
+    /// Half-length and radius of the problem's `[cat.legs]`, m: drawn as rods (in place of the
+    /// drawn legs) where a pose has them.
+    leg_rods: Option<(f64, f64)>,
     title: String,
     /// The timeline's segments: the three phases, or the whole manoeuvre in one.
     segments: Vec<(&'static str, f64)>,
@@ -368,6 +371,7 @@ impl Scene {
             sizes: [(0.5 * front.length, front.radius), (0.5 * rear.length, rear.radius)],
             legs: [legs(&front, Half::A), legs(&rear, Half::B)],
             tail: problem.cat.tail.map(|t| (0.5 * t.length, t.radius)),
+            leg_rods: problem.cat.legs.map(|l| (0.5 * l.length, l.radius)),
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -378,8 +382,19 @@ impl Scene {
         let cam = &self.camera;
         let [(h, r), (h_b, _)] = self.sizes;
         let mut out = Vec::new();
-        self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &self.legs[0], &mut out);
-        self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &self.legs[1], &mut out);
+        match (self.leg_rods, &pose.legs) {
+            // The model's legs (rods of their own): drawn as the halves are, in their halves' colours.
+            (Some(size), Some([front, hind])) => {
+                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &[], &mut out);
+                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &[], &mut out);
+                self.cylinder(front, size, A_FILL, A_EDGE, &[], &mut out);
+                self.cylinder(hind, size, B_FILL, B_EDGE, &[], &mut out);
+            }
+            _ => {
+                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &self.legs[0], &mut out);
+                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &self.legs[1], &mut out);
+            }
+        }
         let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
         // The head on A's front end, ears on its back (−y, away from the belly).
         let head = Vector3::new(0.0, 0.0, h + 1.3 * r);

@@ -13,6 +13,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use crate::engines::exact::OrientationSample;
 use crate::engines::models::{fall_history_on, TwoMotorCat};
 use crate::engines::shape::ShapeTrajectory;
+use crate::model::cat::Appendages;
 use crate::model::tree::Tree;
 use crate::schedule::{Phase, Trajectory};
 
@@ -53,6 +54,9 @@ pub struct CatPose {
     pub b: BodyPose,
     /// A tail, when the model has one (`tree_poses`).
     pub tail: Option<BodyPose>,
+    /// The front and hind legs' rods, when the model has them (`tree_poses`), each turned so that
+    /// its `z` is the rod's axis.
+    pub legs: Option<[BodyPose; 2]>,
 }
 
 /// The cat's pose at each of `times` (s, clamped to the manoeuvre), released without spin.
@@ -91,6 +95,7 @@ pub fn cat_poses_spinning(
                 a: BodyPose { centre: -share_a * p, rotation: r_a },
                 b: BodyPose { centre: share_b * p, rotation: r_a * r_ab },
                 tail: None,
+                legs: None,
             }
         })
         .collect()
@@ -101,7 +106,11 @@ pub fn cat_poses_spinning(
 /// from the general core on the tree ([`crate::engines::models::fall_history_on`]); every body is
 /// placed by the tree's relative motion at `traj`'s shape ([`Tree::motion`]: its rotation in A's
 /// frame and its centre from the whole tree's centre of mass), turned by A's orientation.
-pub fn tree_poses(tree: &Tree, traj: &impl ShapeTrajectory, times: &[f64]) -> Vec<CatPose> {
+pub fn tree_poses(tree: &Tree, appendages: &Appendages, traj: &impl ShapeTrajectory, times: &[f64]) -> Vec<CatPose> {
+    // Bodies 0 and 1 are the halves, then the tail, then the legs (Cat::tree_with); a leg's
+    // rod lies along its frame's y, turned onto z by Rx(−90°).
+    let leg_axis = Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0);
+    let n = tree.bodies().len();
     let samples = fall_history_on(tree, traj, &Vector3::zeros(), HISTORY_STEPS);
     let total: f64 = traj.piece_durations().iter().sum();
     times
@@ -122,7 +131,10 @@ pub fn tree_poses(tree: &Tree, traj: &impl ShapeTrajectory, times: &[f64]) -> Ve
                 swing,
                 a: body(0),
                 b: body(1),
-                tail: (tree.bodies().len() > 2).then(|| body(2)),
+                tail: appendages.tail.map(|_| body(2)),
+                legs: appendages
+                    .legs
+                    .map(|_| [n - 2, n - 1].map(|k| BodyPose { rotation: body(k).rotation * leg_axis, ..body(k) })),
             }
         })
         .collect()
