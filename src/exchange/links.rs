@@ -37,7 +37,13 @@ pub struct Links {
 impl Links {
     /// The links of `cat` with a cross of mass `cross_mass_fraction · m̄` (as in the rapier
     /// scene; written on the universal joint only).
+    ///
+    /// # Panics
+    /// On a [`Joint::Hinge`] between the halves, which no cat has (the problem file refuses
+    /// `cat.joint = "hinge"`): the two-body files join the halves by the universal joint's two
+    /// hinges or a ball.
     pub fn new(cat: &Cat, cross_mass_fraction: f64) -> Links {
+        assert!(cat.joint != Joint::Hinge, "the halves are never joined by a hinge (an appendage's joint)");
         let masses = MassModel::new(cat, cross_mass_fraction);
         Links { halves: [cat.front, cat.rear], joint: cat.joint, mass: masses.mass, inertia: masses.inertia }
     }

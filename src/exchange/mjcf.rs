@@ -87,7 +87,7 @@ pub fn mjcf(links: &Links, name: &str, options: &MjcfOptions) -> String {
         Joint::NoTwist | Joint::Spherical => {
             "B relative to A is exp([q1, q2, 0]×), a ball joint whose relative twist the replay holds at zero"
         }
-        Joint::Hinge => unreachable!("the two-body files' links have two motors (Links::new refuses a hinge)"),
+        Joint::Hinge => unreachable!("the halves are never joined by a hinge (Links::new panics on one)"),
     };
     let mut s = String::new();
     let comment = format!("the two-cylinder cat (README.md, section \"Replay elsewhere\"). SI units; {relation}.");

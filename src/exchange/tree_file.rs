@@ -140,7 +140,7 @@ pub struct LinkInfo {
     pub joint_point_in_parent_m: [f64; 3],
     /// The joint point in the child's body frame, m.
     pub joint_point_in_child_m: [f64; 3],
-    /// Its joints in the MJCF (two hinges, or a ball).
+    /// Its joints in the MJCF (two hinges, a ball, or one hinge).
     pub mjcf_joints: Vec<String>,
     /// Its motors in the MJCF.
     pub mjcf_motors: Vec<String>,

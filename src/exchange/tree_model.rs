@@ -2,10 +2,11 @@
 //! tree of cylinders ([`crate::model::tree::Tree`]) as MJCF for MuJoCo and as URDF, each joint
 //! as the simulators have it.
 //!
-//! Every body is named (`A`, `B`, `tail`, [`NamedTree`]) and has its true mass and inertia about
-//! its centre of mass (an explicit `<inertial>`; its cylinder is drawn, never collides, and has
-//! no mass). Its frame in the MJCF is its body frame: centre of mass, `z` along its axis towards
-//! the head. A link hangs child `c` from parent `p` at the joint point, `a` in the parent's frame
+//! Every body is named (`A`, `B`, `tail`, `front-legs`, `hind-legs`, [`NamedTree`]) and has its
+//! true mass and inertia about its centre of mass (an explicit `<inertial>`; its cylinder is drawn,
+//! never collides, and has no mass). Its frame in the MJCF is its body frame: centre of mass, `z`
+//! along its axis towards the head (a leg's frame is its half's with the legs standing out, its
+//! cylinder along `y`: the geom's `zaxis`). A link hangs child `c` from parent `p` at the joint point, `a` in the parent's frame
 //! and `b` in the child's ([`crate::model::tree::Link`]); in the MJCF:
 //!
 //! - a **universal** joint (`R = Rx(q1) Ry(q2)`) is the two-body file's: a body `cross_c` at the
@@ -22,12 +23,14 @@
 //!   every freedom; the no-twist joint has two, and its structure holds the third (the two-body
 //!   file's recipe, [`mod@crate::exchange::mjcf`]): a replay gives the ball the joint's whole
 //!   couple on the child, motors and structure together, which the schedule file writes in the
-//!   child's frame ([`crate::exchange::tree_file`]).
+//!   child's frame ([`crate::exchange::tree_file`]);
+//! - a **hinge** (a leg pair's, a one-motor tail's; `R = Rx(q1)`) is a `hinge` joint `c_1` about
+//!   `x` through the child's `b`, the child at the parent's `a − b`; its motor `tau<k>`.
 //!
 //! The URDF has one link per body and per cross, each non-root link's frame at its joint point
 //! with the axes of its body frame (the centre of mass at `−b` in it): two `continuous` joints for
-//! a universal joint, pyBullet's non-standard `spherical` joint for a ball (other URDF tools refuse
-//! it, [`mod@crate::exchange::urdf`]). The MJCF's gravity is zero (the falling frame).
+//! a universal joint, one for a hinge, pyBullet's non-standard `spherical` joint for a ball (other
+//! URDF tools refuse it, [`mod@crate::exchange::urdf`]). The MJCF's gravity is zero (the falling frame).
 //!
 //! ## References
 //! - MuJoCo, *XML Reference* (body, joint, inertial, motor),
@@ -117,8 +120,13 @@ impl NamedTree {
 /// The MJCF text of `model`, model name `name` (module docs).
 pub fn tree_mjcf(model: &NamedTree, name: &str, options: &MjcfOptions) -> String {
     let mut s = String::new();
+    let legs = if model.bodies.iter().all(|b| along_z(&b.axis)) {
+        ""
+    } else {
+        " (a leg's cylinder along its frame's y, towards the paw: its frame is its half's with the legs standing out)"
+    };
     let comment = format!(
-        "a cat of {} bodies (README.md, section \"Replay elsewhere\"). SI units; body frames at the centres of mass, z towards the head.",
+        "a cat of {} bodies (README.md, section \"Replay elsewhere\"). SI units; body frames at the centres of mass, z towards the head{legs}.",
         model.bodies.len()
     );
     open_model(&mut s, &comment, name, model.name(0), options);
@@ -133,7 +141,8 @@ pub fn tree_mjcf(model: &NamedTree, name: &str, options: &MjcfOptions) -> String
 fn mjcf_body(s: &mut String, model: &NamedTree, k: usize, indent: usize) {
     let NamedBody { name, cylinder: c, axis } = model.bodies[k];
     inertial(s, model.tree.bodies()[k].mass, moments(model, k), indent);
-    geom(s, name, &format!("{} {}", num(c.radius), num(0.5 * c.length)), Some(arr(&axis)), indent);
+    let zaxis = (!along_z(&axis)).then(|| arr(&axis));
+    geom(s, name, &format!("{} {}", num(c.radius), num(0.5 * c.length)), zaxis, indent);
     for (i, l) in model.tree.links().iter().enumerate().filter(|(_, l)| l.parent == k) {
         let child = model.name(i + 1);
         let (a, b) = (l.at_parent, l.at_child);
@@ -171,6 +180,12 @@ pub(crate) fn arr(x: &Vector3<f64>) -> [f64; 3] {
     [x.x + 0.0, x.y + 0.0, x.z + 0.0]
 }
 
+/// Whether a body's cylinder lies along its frame's `z` (the halves, a tail): its files then say
+/// nothing of the axis (MJCF's and URDF's default).
+fn along_z(axis: &Vector3<f64>) -> bool {
+    (axis - Vector3::z()).norm() < 1e-12
+}
+
 /// URDF's `rpy` (fixed-axis roll, pitch, yaw) that turns a cylinder along `z` onto `axis`.
 fn rpy(axis: &Vector3<f64>) -> [f64; 3] {
     let turn = UnitQuaternion::rotation_between(&Vector3::z(), axis).unwrap_or_else(UnitQuaternion::identity);
@@ -198,7 +213,7 @@ pub fn tree_urdf(model: &NamedTree, name: &str) -> String {
     let origin = |k: usize| if k == 0 { Vector3::zeros() } else { links[k - 1].at_child };
     for (k, b) in model.bodies.iter().enumerate() {
         let com = arr(&-origin(k));
-        let visual = Some((b.cylinder.length, b.cylinder.radius, Some(rpy(&b.axis))));
+        let visual = Some((b.cylinder.length, b.cylinder.radius, (!along_z(&b.axis)).then(|| rpy(&b.axis))));
         urdf::link(&mut s, b.name, model.tree.bodies()[k].mass, moments(model, k), com, visual);
     }
     for (i, l) in links.iter().enumerate() {

@@ -115,7 +115,8 @@ impl Cat {
     ///   station `s` = [`LEG_STATION`], `+` on A, `−` on B) on a [`Joint::Hinge`] about the half's
     ///   `x`: at zero the legs stand out along the belly's `+y` (the rod's axis is its own `y`,
     ///   its frame the half's at zero), and `q` swings them towards the head (`q > 0`) or the
-    ///   tail, at most [`LEG_FOLD_LIMIT_DEG`] either way (flat along the belly), front legs first;
+    ///   tail, at most [`LEG_FOLD_LIMIT_DEG`] either way (parallel to the spine; the rods do not
+    ///   collide, so a long leg folded towards the nearer end passes it), front legs first;
     ///
     /// the coordinates in that order after the cat's.
     pub fn tree_with(&self, appendages: &Appendages) -> Tree {
@@ -149,7 +150,8 @@ impl Cat {
     }
 }
 
-/// How far the legs swing from standing out along the belly, either way, degrees: flat along it.
+/// How far the legs swing from standing out along the belly, either way, degrees: parallel to the
+/// spine.
 pub const LEG_FOLD_LIMIT_DEG: f64 = 90.0;
 
 /// What hangs from the cat beyond its halves (DESIGN.md §10, [`Cat::tree_with`]).

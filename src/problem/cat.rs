@@ -98,7 +98,7 @@ pub struct TailSection {
 /// `[cat.legs]`: each half's pair of legs as one rod of the pair's mass, hung by its top end from
 /// the hips on the belly's midline at the drawn legs' station, on a hinge about the half's `x` (one
 /// motor a pair): at zero the legs stand out along the belly, and they swing towards the head or
-/// the tail by at most 90° (flat along the belly; [`Cat::tree_with`]). Refused as `[cat.tail]`
+/// the tail by at most 90° (parallel to the spine; [`Cat::tree_with`]). Refused as `[cat.tail]`
 /// is by every command but `compare-models`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -68,8 +68,9 @@ pub struct WholeSettings {
     /// Bound on `|q1|` and `|q2|`, degrees, imposed on the control points (so on the whole
     /// curve, by the convex-hull property); none when absent. Beyond two motors (the library's
     /// [`crate::optimize::whole::WholeCat::Spherical`] and [`crate::optimize::whole::WholeCat::Appended`])
-    /// it bounds every coordinate alike: the spherical joint's twist and a tail's two angles too
-    /// (nothing keeps a tail from passing through the rear half).
+    /// it bounds every coordinate alike: the spherical joint's twist and a tail's angles too
+    /// (nothing keeps a tail from passing through the rear half), and the legs' swing where it is
+    /// below their own 90° fold (the smaller of the two limits holds).
     pub joint_limit_deg: Option<f64>,
     /// Control points per joint, ends included.
     pub control_points: usize,

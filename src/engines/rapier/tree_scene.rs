@@ -95,14 +95,14 @@ pub struct TreeScene {
 }
 
 /// Whether rapier can bound `tree`'s motors by a torque limit ([`TreeScene::bound_motors`]): its
-/// universal and no-twist joints' motors are their joints' axes in rapier, a spherical joint's are
-/// not.
+/// universal, no-twist and hinge joints' motors are their joints' axes in rapier, a spherical
+/// joint's are not.
 pub fn bounds_motors(tree: &Tree) -> bool {
     tree.links().iter().all(|l| l.joint != Joint::Spherical)
 }
 
 /// Why a tree with a spherical joint runs no motor limit ([`bounds_motors`]).
-pub const UNBOUNDED_SPHERICAL: &str = "bounds the universal and no-twist joints' motors only: the spherical joint's motors are not its ball's axes in rapier (they are the parent's x, y and the child's spine)";
+pub const UNBOUNDED_SPHERICAL: &str = "bounds the universal, no-twist and hinge joints' motors only: the spherical joint's motors are not its ball's axes in rapier (they are the parent's x, y and the child's spine)";
 
 /// The multibody of `world` that `joint` belongs to.
 fn multibody_in(world: &mut PhysicsWorld, joint: MultibodyJointHandle) -> Result<&mut Multibody, RapierError> {

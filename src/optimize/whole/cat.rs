@@ -40,6 +40,7 @@ use crate::engines::torque::TorqueSource;
 use crate::model::cat::Appendages;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Cylinder, Joint};
+use crate::numeric::numfmt::echo;
 use crate::schedule::{paper_circulation, Schedule, ScheduleError};
 
 /// The optimiser's cat: the paper's, another two-motor model, or one of more motors (module docs).
@@ -275,9 +276,15 @@ impl WholeCat {
         }
     }
 
-    /// The model in words ([`Cat::describe`], and the appendages', [`Appendages::describe`]).
+    /// The model in words ([`Cat::describe`], and the appendages', [`Appendages::describe`], with
+    /// the whole cat's mass: heavier than the cat without them).
     pub fn describe(&self) -> String {
-        format!("{}{}", self.cat().describe(), self.appendages().describe())
+        match self {
+            WholeCat::Appended(a) => {
+                format!("{}{}; {} kg in all", a.cat.describe(), a.appendages.describe(), echo(a.tree.mass()))
+            }
+            _ => self.cat().describe(),
+        }
     }
 
     /// The joint.
@@ -484,6 +491,7 @@ impl WholeCat {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::shape::ShapeState;
 
     const HALF: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
 
@@ -494,6 +502,74 @@ mod tests {
         assert!(matches!(kane, WholeCat::Model(_)), "{kane:?}");
         let e = WholeCat::new(Cat::equal(HALF, Joint::Spherical)).map(|_| ()).unwrap_err();
         assert!(e.to_string().starts_with("cat.joint = \"spherical\""), "{e}");
+    }
+
+    /// The partials through the seeded dual numbers, on cats of three to six coordinates (a
+    /// hinged tail; legs; legs and a hinged tail; legs and a universal tail), against central
+    /// differences (step 1e-6: truncation ~1e-12, round-off ~1e-10; 1e-7 absolute, as the dual
+    /// tests of the dynamics), and their values against the general core's.
+    #[test]
+    fn the_partials_of_every_size_match_central_differences() {
+        let cat = Cat::equal(HALF, Joint::NoTwist);
+        let (tail, leg) =
+            (Cylinder { mass: 0.2, length: 1.0, radius: 0.02 }, Cylinder { mass: 0.2, length: 0.45, radius: 0.03 });
+        let cats = [
+            Appendages { tail: Some((tail, Joint::Hinge)), legs: None },
+            Appendages { tail: None, legs: Some(leg) },
+            Appendages { tail: Some((tail, Joint::Hinge)), legs: Some(leg) },
+            Appendages { tail: Some((tail, Joint::Universal)), legs: Some(leg) },
+        ];
+        for appendages in cats {
+            let whole = WholeCat::appended(cat, appendages).expect("a cat with appendages");
+            let n = whole.joints();
+            let f = |a: f64, b: f64| -> Vec<f64> { (0..n).map(|j| a * ((j as f64 + 1.0) * b + 0.3).sin()).collect() };
+            let x = [f(1.1, 0.7), f(2.1, 1.3), f(3.4, 0.4)];
+            let rates = whole.rate_partials(&x[0], &x[1]);
+            let torques = whole.torque_partials(&x[0], &x[1], &x[2]);
+            assert_eq!((torques.len(), n), (appendages.dof() + 2, n));
+            let tree = whole.tree();
+            let shape = |x: &[Vec<f64>; 3]| ShapeState { q: x[0].clone(), qd: x[1].clone(), qdd: x[2].clone() };
+            let rate = |x: &[Vec<f64>; 3]| crate::engines::reduction::body_rate(&tree, &shape(x), &Vector3::zeros());
+            let tau = |x: &[Vec<f64>; 3]| -> Vec<f64> {
+                crate::engines::reduction::joint_torques(&tree, &shape(x), &Vector3::zeros())
+                    .into_iter()
+                    .flat_map(|l| l.tau)
+                    .collect()
+            };
+            let (w, t) = (rate(&x), tau(&x));
+            for i in 0..3 {
+                assert!((rates[i].value - w[i]).abs() <= 1e-12 * w.norm().max(1.0), "{n}: Ω {i}");
+            }
+            for (p, want) in torques.iter().zip(&t) {
+                assert!((p.value - want).abs() <= 1e-12, "{n}: τ {} against {want}", p.value);
+            }
+            let step = 1e-6;
+            for order in 0..3 {
+                for j in 0..n {
+                    let shifted = |sign: f64| {
+                        let mut y = x.clone();
+                        y[order][j] += sign * step;
+                        y
+                    };
+                    let (plus, minus) = (shifted(1.0), shifted(-1.0));
+                    let dw = (rate(&plus) - rate(&minus)) / (2.0 * step);
+                    if order < 2 {
+                        for i in 0..3 {
+                            assert!((rates[i].d[order][j] - dw[i]).abs() <= 1e-7, "{n}: ∂Ω{i}/∂x{order},{j}");
+                        }
+                    }
+                    let (tp, tm) = (tau(&plus), tau(&minus));
+                    for (k, p) in torques.iter().enumerate() {
+                        let fd = (tp[k] - tm[k]) / (2.0 * step);
+                        assert!(
+                            (p.d[order][j] - fd).abs() <= 1e-7,
+                            "{n}: ∂τ{k}/∂x{order},{j}: {} against {fd}",
+                            p.d[order][j]
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

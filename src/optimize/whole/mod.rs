@@ -26,8 +26,9 @@
 //! [`crate::engines::models::TwoMotorCat`] for the re-measurement and the starts' calibration.
 //! A release with spin is planned on every two-motor model through the same seam (the spinning
 //! dynamics of [`model_dynamics`]). A cat on the spherical joint ([`WholeCat::Spherical`]) and a
-//! cat with a tail ([`WholeCat::Appended`], the tree's dynamics of [`tree_dynamics`]) are planned on
-//! their three and four coordinates by the same loop, re-measured by the general core on every
+//! cat with a tail or legs ([`WholeCat::Appended`], the tree's dynamics of [`tree_dynamics`]) are
+//! planned on their three to six coordinates by the same loop (the legs' within their fold,
+//! [`WholeCat::control_limits`]), re-measured by the general core on every
 //! coordinate ([`torques`]), without spin and with ideal motors or one torque limit on every motor
 //! ([`beyond_two_motors`], [`torque_limited`]). On Kane
 //! and Scher's symmetric cat (equal halves, no-twist joint) the controls cannot reach the swing's
@@ -547,7 +548,12 @@ impl Run {
         let optimality = p.settings.optimality;
         let it = p.evaluate(spline, objective, self.steps);
         let end = p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?;
-        let (mut spline, k) = p.polish(end.iterate.spline, self.steps, 8);
+        // The loop's projections move every control point, those on a limit too (by ~1e-11 rad on
+        // refined knots): back within the limits, as in the subproblems, before the Newton phase
+        // (which holds them there, ScvxProblem::polish).
+        let mut last = end.iterate.spline;
+        p.clamp_to_limits(&mut last);
+        let (mut spline, k) = p.polish(last, self.steps, 8);
         self.polish_steps += k;
         let flip_tolerance = self.flip_tolerance();
         if p.target.is_some() {
@@ -562,15 +568,6 @@ impl Run {
                 let (next, k) = p.polish(spline, self.steps, 8);
                 spline = next;
                 self.polish_steps += k;
-            }
-        }
-        // The Newton steps move every control point, those on the joint limit too (by ~1e-11 rad
-        // on refined knots): the limit is held on the control points, as in the subproblems.
-        for (curve, limit) in spline.coefficients.iter_mut().zip(p.cat.control_limits(p.settings.joint_limit_deg)) {
-            if let Some(limit) = limit {
-                for c in curve.iter_mut() {
-                    *c = c.clamp(-limit, limit);
-                }
             }
         }
         let m = measure::measure_spinning(p.cat, &spline, p.motors, flip_tolerance, &p.spin);

@@ -237,10 +237,7 @@ impl ScvxProblem<'_> {
         // A floor for the unit so that an objective driven to zero stays a number.
         let floor = 1e-12 * it.objective.max(1e-300);
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
-        // Each variable's limit: its coordinate's (variable v is coordinate v / free's).
-        let coordinate_limits = self.cat.control_limits(s.joint_limit_deg);
-        let joint_limits: Vec<Option<f64>> =
-            (0..layout.variables()).map(|v| coordinate_limits[v / layout.free()]).collect();
+        let joint_limits = self.variable_limits(&layout);
         let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
         // The curvature the energy's and the peak's models leave out, learnt from the accepted
         // steps ([`super::curvature`]).
@@ -411,22 +408,59 @@ impl ScvxProblem<'_> {
         }
     }
 
+    /// Each variable's limit on its control point, rad ([`WholeCat::control_limits`]: variable
+    /// `v` is coordinate `v / free`'s).
+    fn variable_limits(&self, layout: &Layout) -> Vec<Option<f64>> {
+        let coordinates = self.cat.control_limits(self.settings.joint_limit_deg);
+        (0..layout.variables()).map(|v| coordinates[v / layout.free()]).collect()
+    }
+
+    /// Every control point within its coordinate's limit ([`WholeCat::control_limits`]).
+    pub(crate) fn clamp_to_limits(&self, spline: &mut BSpline) {
+        for (curve, limit) in spline.coefficients.iter_mut().zip(self.cat.control_limits(self.settings.joint_limit_deg))
+        {
+            if let Some(limit) = limit {
+                for c in curve.iter_mut() {
+                    *c = c.clamp(-limit, limit);
+                }
+            }
+        }
+    }
+
     /// Minimum-norm Newton steps on the orientation error until `max |e_i| ≤ 1e-13` rad (at most
-    /// `most`, each kept only if it lowers `|e|`); returns the spline and the steps kept.
+    /// `most`, each kept only if it lowers `|e|`); returns the spline and the steps kept. A control
+    /// point on its limit (within 1e-12 rad) is held there and the steps move the others, each
+    /// clamped to its limit: every step kept is within the limits, so no clamp undoes part of
+    /// the correction afterwards (as one did on a cat with a tail and legs, its legs folded to
+    /// their limit for much of the fall: the flip missed by 1.7e-10 rad).
     pub(crate) fn polish(&self, spline: BSpline, steps: usize, most: usize) -> (BSpline, usize) {
         let Some(target) = self.target else { return (spline, 0) };
         let layout = self.layout();
+        let limits = self.variable_limits(&layout);
         let mut best = (self.orientation(&spline, &layout, steps, &target), spline);
         for k in 0..most {
             let (o, spline) = &best;
             if o.error.amax() <= 1e-13 {
                 return (best.1, k);
             }
-            let j = &o.jacobian;
+            let values = layout.values(spline);
+            let held: Vec<bool> =
+                limits.iter().zip(&values).map(|(l, c)| l.is_some_and(|l| c.abs() >= l - 1e-12)).collect();
+            let mut free_jacobian;
+            let j = if held.contains(&true) {
+                free_jacobian = o.jacobian.clone();
+                for (v, _) in held.iter().enumerate().filter(|(_, h)| **h) {
+                    free_jacobian.column_mut(v).fill(0.0);
+                }
+                &free_jacobian
+            } else {
+                &o.jacobian
+            };
             let Some(y) = Reach::of(j).newton_multipliers(j, &o.error) else { return (best.1, k) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
-            let next = layout.moved(spline, &step);
+            let mut next = layout.moved(spline, &step);
+            self.clamp_to_limits(&mut next);
             let at = self.orientation(&next, &layout, steps, &target);
             if at.error.norm() >= o.error.norm() {
                 return (best.1, k);
@@ -518,6 +552,58 @@ mod tests {
         let flip = spherical.flip(&planned, 1e-12);
         assert!((flip.twist.abs() - std::f64::consts::PI).abs() < 1e-8, "twist {}", flip.twist);
         assert!(flip.swing < 1e-8, "swing {}", flip.swing);
+    }
+
+    /// The Newton phase holds a control point on its limit: on a cat with legs whose control
+    /// points lie on their 90° fold over a span (the no-twist start with the legs folded there),
+    /// the polish lowers the flip error with the other control points alone; every leg point on
+    /// the fold stays on it bit for bit, and none passes it.
+    #[test]
+    fn the_newton_phase_holds_control_points_on_their_limit() {
+        use crate::model::cat::Appendages;
+        use crate::model::motor::Motors;
+        use crate::model::{Cat, Cylinder, Joint};
+        use crate::optimize::whole::{build_start, flipped, StartKind};
+        use crate::problem::Manoeuvre;
+        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+        let leg = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
+        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
+        let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
+        let motors = Motors::ideal();
+        let cat = WholeCat::appended(Cat::equal(half, Joint::NoTwist), Appendages { tail: None, legs: Some(leg) })
+            .expect("a cat with legs");
+        let p = ScvxProblem {
+            cat: &cat,
+            settings: &settings,
+            motors: &motors,
+            target: Some(flipped()),
+            qp: QpSettings::default(),
+            spin: Vector3::zeros(),
+        };
+        let start = build_start(&cat, fall, &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
+        let mut spline = start.unwrap_or_else(|e| panic!("{e}")).spline;
+        let fold = crate::model::cat::LEG_FOLD_LIMIT_DEG.to_radians();
+        for (j, sign) in [(2, 1.0), (3, -1.0)] {
+            spline.coefficients[j][10..20].fill(sign * fold);
+        }
+        let layout = p.layout();
+        let steps = settings.steps_per_span;
+        let before = p.orientation(&spline, &layout, steps, &flipped()).error.norm();
+        let (polished, kept) = p.polish(spline.clone(), steps, 8);
+        let after = p.orientation(&polished, &layout, steps, &flipped()).error.norm();
+        assert!(kept > 0 && after < 1e-3 * before, "the error fell from {before} to {after} in {kept} steps");
+        for j in [2, 3] {
+            for (i, (c, was)) in polished.coefficients[j].iter().zip(&spline.coefficients[j]).enumerate() {
+                assert!(c.abs() <= fold, "leg {j}'s control point {i} past the fold: {c}");
+                if was.abs().to_bits() == fold.to_bits() {
+                    assert_eq!(c.to_bits(), was.to_bits(), "leg {j}'s control point {i} left the fold");
+                }
+            }
+        }
+        let moved = (0..2).any(|j| {
+            polished.coefficients[j].iter().zip(&spline.coefficients[j]).any(|(a, b)| a.to_bits() != b.to_bits())
+        });
+        assert!(moved, "the cat's own control points carry the correction");
     }
 
     #[test]

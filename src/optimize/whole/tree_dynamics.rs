@@ -38,15 +38,20 @@ fn apply<T: Real>(m: &M3<T>, v: V3<T>) -> V3<T> {
     [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
 }
 
-/// `A B`.
+/// `A B` (written out: `array::from_fn` moved every dual number through a copy, a seventh of a
+/// tailed cat's optimisation).
 fn product<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    let column = |j: usize| [b[0][j], b[1][j], b[2][j]];
-    std::array::from_fn(|i| std::array::from_fn(|j| dot(a[i], column(j))))
+    let c = transpose(b);
+    [
+        [dot(a[0], c[0]), dot(a[0], c[1]), dot(a[0], c[2])],
+        [dot(a[1], c[0]), dot(a[1], c[1]), dot(a[1], c[2])],
+        [dot(a[2], c[0]), dot(a[2], c[1]), dot(a[2], c[2])],
+    ]
 }
 
 /// `Aᵀ`.
 fn transpose<T: Real>(a: &M3<T>) -> M3<T> {
-    std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
+    [[a[0][0], a[1][0], a[2][0]], [a[0][1], a[1][1], a[2][1]], [a[0][2], a[1][2], a[2][2]]]
 }
 
 /// A constant matrix.
@@ -93,12 +98,12 @@ pub fn rotation_of<T: Real>(joint: Joint, q: &[T]) -> M3<T> {
     }
 }
 
-/// A joint's relative rate and acceleration (parent frame) and motor axes over a slice of its
-/// coordinates.
-fn joint_kinematics<T: Real>(joint: Joint, q: &[T], qd: &[T], qdd: &[T]) -> (V3<T>, V3<T>, Vec<V3<T>>) {
-    fn on<T: Real, const N: usize>(joint: Joint, q: &[T], qd: &[T], qdd: &[T]) -> (V3<T>, V3<T>, Vec<V3<T>>) {
+/// A joint's relative rate and, given `qdd`, acceleration (parent frame; zero without) and motor
+/// axes over a slice of its coordinates.
+fn joint_kinematics<T: Real>(joint: Joint, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (V3<T>, V3<T>, Vec<V3<T>>) {
+    fn on<T: Real, const N: usize>(joint: Joint, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (V3<T>, V3<T>, Vec<V3<T>>) {
         let take = |x: &[T]| -> [T; N] { std::array::from_fn(|j| x[j]) };
-        let m = joint_motion(joint, take(q), take(qd), Some(take(qdd)));
+        let m = joint_motion(joint, take(q), take(qd), qdd.map(take));
         (m.rate, m.accel, m.axes.to_vec())
     }
     match joint.dof() {
@@ -123,8 +128,9 @@ struct Moving<T> {
 /// A joint's point and motor axes (base frame, the point from the centre of mass).
 type JointPoint<T> = (V3<T>, Vec<V3<T>>);
 
-/// The bodies' motion and each joint's point and motor axes.
-fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T]) -> (Vec<Moving<T>>, Vec<JointPoint<T>>) {
+/// The bodies' motion and each joint's point and motor axes; without `qdd` (A's rate needs none)
+/// the accelerations are left at zero, every other quantity the same to the last bit.
+fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (Vec<Moving<T>>, Vec<JointPoint<T>>) {
     let zero = [T::cst(0.0); 3];
     let identity = constant(&Matrix3::identity());
     let mut bodies = vec![Moving {
@@ -140,20 +146,29 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T]) -> (Vec<Moving<T>>
     for (i, l) in tree.links().iter().enumerate() {
         let p = bodies[l.parent];
         let range = tree.coordinates(i);
-        let (jq, jqd, jqdd) = (&q[range.clone()], &qd[range.clone()], &qdd[range]);
+        let (jq, jqd) = (&q[range.clone()], &qd[range.clone()]);
+        let jqdd = qdd.map(|x| &x[range]);
         let rotation = product(&p.rotation, &rotation_of(l.joint, jq));
         let (rel, rel_dot, axes) = joint_kinematics(l.joint, jq, jqd, jqdd);
         let w_rel = apply(&p.rotation, rel);
         let rate = add(p.rate, w_rel);
-        let rate_dot = add(add(p.rate_dot, cross(p.rate, w_rel)), apply(&p.rotation, rel_dot));
         let (a, b) = (apply(&p.rotation, constant3(&l.at_parent)), apply(&rotation, constant3(&l.at_child)));
         let point = add(p.position, a);
         let inertia = product(&product(&rotation, &constant(&tree.bodies()[i + 1].inertia)), &transpose(&rotation));
         let velocity = sub(add(p.velocity, cross(p.rate, a)), cross(rate, b));
-        let acceleration = sub(
-            sub(add(add(p.acceleration, cross(p.rate_dot, a)), cross(p.rate, cross(p.rate, a))), cross(rate_dot, b)),
-            cross(rate, cross(rate, b)),
-        );
+        let (rate_dot, acceleration) = if qdd.is_some() {
+            let rate_dot = add(add(p.rate_dot, cross(p.rate, w_rel)), apply(&p.rotation, rel_dot));
+            let acceleration = sub(
+                sub(
+                    add(add(p.acceleration, cross(p.rate_dot, a)), cross(p.rate, cross(p.rate, a))),
+                    cross(rate_dot, b),
+                ),
+                cross(rate, cross(rate, b)),
+            );
+            (rate_dot, acceleration)
+        } else {
+            (zero, zero)
+        };
         bodies.push(Moving { rotation, inertia, position: sub(point, b), velocity, acceleration, rate, rate_dot });
         links.push((point, axes.into_iter().map(|x| apply(&p.rotation, x)).collect()));
     }
@@ -161,7 +176,8 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T]) -> (Vec<Moving<T>>
     let mean = |f: fn(&Moving<T>) -> V3<T>| {
         bodies.iter().zip(tree.bodies()).fold(zero, |s, (m, b)| add(s, scale_by(b.mass / total, f(m))))
     };
-    let (c, cd, cdd) = (mean(|m| m.position), mean(|m| m.velocity), mean(|m| m.acceleration));
+    let (c, cd) = (mean(|m| m.position), mean(|m| m.velocity));
+    let cdd = if qdd.is_some() { mean(|m| m.acceleration) } else { zero };
     for m in &mut bodies {
         m.position = sub(m.position, c);
         m.velocity = sub(m.velocity, cd);
@@ -194,8 +210,7 @@ fn locked<T: Real>(tree: &Tree, bodies: &[Moving<T>]) -> (M3<T>, V3<T>) {
 /// A's angular velocity `Ω = I_lock⁻¹(λ − h)` (A's frame) through `(q, q̇)` with the total
 /// momentum `λ` in A's frame; `q` holds [`Tree::dof`] coordinates.
 pub fn body_rate<T: Real>(tree: &Tree, q: &[T], qd: &[T], lambda: V3<T>) -> V3<T> {
-    let zeros = vec![T::cst(0.0); q.len()];
-    let (bodies, _) = motion(tree, q, qd, &zeros);
+    let (bodies, _) = motion(tree, q, qd, None);
     let (m, h) = locked(tree, &bodies);
     solve3(m, sub(lambda, h))
 }
@@ -203,7 +218,7 @@ pub fn body_rate<T: Real>(tree: &Tree, q: &[T], qd: &[T], lambda: V3<T>) -> V3<T
 /// Every joint's motor torques, in link order, N·m, through `(q, q̇, q̈)` with the total momentum
 /// `λ` in A's frame (module docs).
 pub fn motor_torques<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T], lambda: V3<T>) -> Vec<T> {
-    let (bodies, links) = motion(tree, q, qd, qdd);
+    let (bodies, links) = motion(tree, q, qd, Some(qdd));
     let (m, h) = locked(tree, &bodies);
     let w = solve3(m, sub(lambda, h));
     // İ_lock Ω and ḣ, body by body: d/dt (R I Rᵀ) v = w × (R I Rᵀ v) − R I Rᵀ (w × v).
