@@ -63,7 +63,8 @@ impl<T: Trajectory> ShapeTrajectory for T {
 
 /// A two-coordinate trajectory driving a model of more coordinates with the rest held at zero:
 /// `(q1, q2, 0, …)`, `.1` zeros. With one, a spherical joint's relative twist held (exactly the
-/// no-twist joint, DESIGN.md §10); with a tail's two, the tail held straight behind the cat.
+/// no-twist joint, DESIGN.md §10); with a tail's and legs', the tail held straight behind the cat
+/// and the legs standing out.
 #[derive(Clone, Copy, Debug)]
 pub struct Held<'a, T: Trajectory>(pub &'a T, pub usize);
 

@@ -138,10 +138,11 @@
 //!
 //! # Trees of bodies
 //!
-//! The cats beyond two motors (the spherical joint's three, a tail's two more) run in the tree
-//! scene ([`tree_scene`]): any [`crate::model::tree::Tree`] in one multibody, every link built as
-//! this scene builds its joint (two revolutes and a cross, or a ball welded to the child, all
-//! three of its motors aimed on the spherical joint), driven along a shape trajectory of any
+//! The cats beyond two motors (the spherical joint's three, a tail's one or two more, the legs'
+//! hinges) run in the tree scene ([`tree_scene`]): any [`crate::model::tree::Tree`] in one
+//! multibody, every link built as this scene builds its joint (two revolutes and a cross, a ball
+//! welded to the child, all three of its motors aimed on the spherical joint, or a hinge's
+//! revolute welded to the child), driven along a shape trajectory of any
 //! number of coordinates and measured and verified as here ([`tree_run`]: the same step
 //! refinement and verdict, each motor's torque from Newton–Euler on the bodies it drives). On a
 //! two-body cat it runs as this scene does (`tests/rapier_tree.rs`). So far it runs ideal motors,
