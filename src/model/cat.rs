@@ -170,12 +170,14 @@ impl Appendages {
         self.tail.is_none() && self.legs.is_none()
     }
 
-    /// The appendages' shape coordinates (and motors), after the cat's.
+    /// The appendages' shape coordinates (and motors), after the cat's: one per
+    /// [`Appendages::limits`] entry.
     pub fn dof(&self) -> usize {
-        self.tail.map_or(0, |(_, j)| j.dof()) + if self.legs.is_some() { 2 } else { 0 }
+        self.limits().len()
     }
 
-    /// Each appendage's coordinates' limit, rad (none for the tail's), in the tree's order.
+    /// Each appendage coordinate's limit, rad (none for the tail's), in the tree's order: the
+    /// tail's joint's coordinates, then one per pair of legs.
     pub fn limits(&self) -> Vec<Option<f64>> {
         let tail = self.tail.map_or(0, |(_, j)| j.dof());
         let legs = if self.legs.is_some() { 2 } else { 0 };

@@ -191,7 +191,7 @@ impl WholeCat {
     pub fn appended(cat: Cat, appendages: Appendages) -> Option<WholeCat> {
         let tail_ok =
             appendages.tail.is_none_or(|(_, j)| matches!(j, Joint::Universal | Joint::NoTwist | Joint::Hinge));
-        if cat.dof() != 2 || cat.joint == Joint::Hinge || !tail_ok || appendages.is_empty() {
+        if cat.dof() != 2 || !tail_ok || appendages.is_empty() {
             return None;
         }
         Some(WholeCat::Appended(Appended { cat, appendages, tree: cat.tree_with(&appendages) }))
@@ -209,9 +209,8 @@ impl WholeCat {
     /// (`optimize.whole.joint_limit_deg`, on every coordinate) and the coordinate's own (the
     /// legs' fold, [`Appendages::limits`]), the smaller where both hold.
     pub fn control_limits(&self, joint_limit_deg: Option<f64>) -> Vec<Option<f64>> {
-        let cat = self.joint().dof().min(self.joints());
         let every = joint_limit_deg.map(f64::to_radians);
-        std::iter::repeat_n(None, cat)
+        std::iter::repeat_n(None, self.joint().dof())
             .chain(self.appendages().limits())
             .map(|own| match (own, every) {
                 (Some(a), Some(b)) => Some(a.min(b)),

@@ -443,19 +443,14 @@ impl ScvxProblem<'_> {
             if o.error.amax() <= 1e-13 {
                 return (best.1, k);
             }
-            let values = layout.values(spline);
-            let held: Vec<bool> =
-                limits.iter().zip(&values).map(|(l, c)| l.is_some_and(|l| c.abs() >= l - 1e-12)).collect();
-            let mut free_jacobian;
-            let j = if held.contains(&true) {
-                free_jacobian = o.jacobian.clone();
-                for (v, _) in held.iter().enumerate().filter(|(_, h)| **h) {
-                    free_jacobian.column_mut(v).fill(0.0);
+            // The Jacobian without the columns of the control points held on their limits.
+            let mut j = o.jacobian.clone();
+            for (v, (limit, c)) in limits.iter().zip(layout.values(spline)).enumerate() {
+                if limit.is_some_and(|l| c.abs() >= l - 1e-12) {
+                    j.column_mut(v).fill(0.0);
                 }
-                &free_jacobian
-            } else {
-                &o.jacobian
-            };
+            }
+            let j = &j;
             let Some(y) = Reach::of(j).newton_multipliers(j, &o.error) else { return (best.1, k) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
