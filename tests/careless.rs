@@ -88,6 +88,26 @@ fn values_in_the_wrong_unit_are_warned_of_naming_the_field_and_its_unit() {
     }
 }
 
+/// A tail's or the legs' length or mass in the wrong unit: outside the range any body meets, or
+/// (within it) several times the cat's whole body; the committed appendages are not warned of.
+#[test]
+fn appendages_in_the_wrong_unit_are_warned_of_naming_the_field() {
+    let cases = [
+        ("problems/legs.toml", "cat.legs.length=45", "cat.legs.length = 45 m is outside", "mm or cm"),
+        ("problems/legs.toml", "cat.legs.length=8", "cat.legs.length = 8 m is 4 times as long", "mm or cm"),
+        ("problems/legs.toml", "cat.legs.mass=200", "cat.legs.mass = 200 kg is 100 times as heavy", "in g?"),
+        ("problems/tail.toml", "cat.tail.mass=0.001", "cat.tail.mass = 0.001 kg is outside", "tonnes"),
+        ("problems/tail.toml", "cat.tail.mass=7", "cat.tail.mass = 7 kg is 3.5 times as heavy", "in g?"),
+    ];
+    for (file, set, field, unit) in cases {
+        let path = PathBuf::from(file);
+        let quiet = Problem::load(&path, &[]).expect("loads").warnings();
+        assert!(!quiet.iter().any(|w| w.contains("cat.legs") || w.contains("cat.tail")), "{file}: {quiet:?}");
+        let warnings = Problem::load(&path, &[set.into()]).expect(set).warnings();
+        assert!(warnings.iter().any(|w| w.contains(field) && w.contains(unit)), "{set}: {warnings:?}");
+    }
+}
+
 #[test]
 fn json_output_keeps_the_warnings_on_stderr() {
     let (code, out, err) =

@@ -15,6 +15,10 @@ const GRAVITY_M_S2: (f64, f64) = (1.0, 30.0);
 const LENGTH_M: (f64, f64) = (0.01, 10.0);
 /// Masses of a half, kg.
 const MASS_KG: (f64, f64) = (0.01, 500.0);
+/// An appendage (a tail, a pair of legs) longer than this many times the body (both halves end to
+/// end) or heavier than this many times it: a tail as long as the body is a long one (a gecko's, a
+/// tailed robot's), legs are shorter than a half.
+const APPENDAGE_TO_BODY: f64 = 3.0;
 /// Turns of the bend direction beyond which a given circulation is warned about (the paper's
 /// `π/C` is half a turn on its cat; a light tail on a heavy body needs a few).
 const CIRCULATION_TURNS: f64 = 10.0;
@@ -53,6 +57,32 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
         let Some(half) = half else { continue };
         out.extend(outside(&format!("{section}.length"), half.length, "m", LENGTH_M, "km", "mm or cm"));
         out.extend(outside(&format!("{section}.mass"), half.mass, "kg", MASS_KG, "tonnes", "g"));
+    }
+    let body = cat.model();
+    let appendages = [("cat.tail", cat.tail.map(|t| t.rod())), ("cat.legs", cat.legs.map(|l| l.rod()))];
+    for (section, rod) in appendages {
+        let Some(rod) = rod else { continue };
+        let (length, mass) = (format!("{section}.length"), format!("{section}.mass"));
+        let absolute = [
+            outside(&length, rod.length, "m", LENGTH_M, "km", "mm or cm"),
+            outside(&mass, rod.mass, "kg", MASS_KG, "tonnes", "g"),
+        ];
+        let relative = [
+            (length, rod.length, body.front.length + body.rear.length, "long", "m", "mm or cm"),
+            (mass, rod.mass, body.front.mass + body.rear.mass, "heavy", "kg", "g"),
+        ];
+        for (absolute, (field, value, whole, word, unit, guess)) in absolute.into_iter().zip(relative) {
+            if absolute.is_some() {
+                out.extend(absolute);
+            } else if value > APPENDAGE_TO_BODY * whole {
+                out.push(format!(
+                    "{field} = {} {unit} is {} times as {word} as the cat's body (both halves, {} {unit}): is it in {guess}? (the field is in {unit})",
+                    echo(value),
+                    num(value / whole),
+                    echo(whole)
+                ));
+            }
+        }
     }
     if let Circulation::Angle(d) = p.manoeuvre.circulation {
         let turns = d.abs() / std::f64::consts::TAU;

@@ -71,14 +71,39 @@ pub struct ExpSeries<T> {
     pub b_s: T,
 }
 
-/// `Σ_k (−s)^k / f(k)` by Horner's rule.
-fn alternating<T: Real>(s: T, f: impl Fn(f64) -> f64) -> T {
-    (0..SERIES_TERMS).rev().fold(T::cst(0.0), |acc, k| acc * -s + 1.0 / f(k as f64))
+/// `1/f(k)` for `k < SERIES_TERMS`, with `f(k) = (2k + offset)!`, divided by `k + 1` when
+/// `per_k` (computed once, at compile time: each evaluation of the series on dual numbers only
+/// multiplies and adds).
+const fn series(offset: u32, per_k: bool) -> [f64; SERIES_TERMS] {
+    let mut out = [0.0; SERIES_TERMS];
+    let mut k = 0;
+    while k < SERIES_TERMS {
+        let n = 2 * k as u32 + offset;
+        let mut f = 1.0;
+        let mut i = 1;
+        while i <= n {
+            f *= i as f64;
+            i += 1;
+        }
+        if per_k {
+            f /= (k + 1) as f64;
+        }
+        out[k] = 1.0 / f;
+        k += 1;
+    }
+    out
 }
 
-/// `n!` of a whole number given as a float.
-fn fact(n: f64) -> f64 {
-    (1..=n as u32).map(f64::from).product()
+/// `1/(2k+1)!`, `1/(2k+2)!`, `1/(2k+3)!`, `(k+1)/(2k+4)!`, `(k+1)/(2k+5)!`.
+const SINC: [f64; SERIES_TERMS] = series(1, false);
+const A: [f64; SERIES_TERMS] = series(2, false);
+const B: [f64; SERIES_TERMS] = series(3, false);
+const A_S: [f64; SERIES_TERMS] = series(4, true);
+const B_S: [f64; SERIES_TERMS] = series(5, true);
+
+/// `Σ_k c_k (−s)^k` by Horner's rule.
+fn alternating<T: Real>(s: T, c: &[f64; SERIES_TERMS]) -> T {
+    c.iter().rev().fold(T::cst(0.0), |acc, &ck| acc * -s + ck)
 }
 
 impl<T: Real> ExpSeries<T> {
@@ -88,11 +113,11 @@ impl<T: Real> ExpSeries<T> {
             // σ = Σ (−s)^k/(2k+1)!, a = Σ (−s)^k/(2k+2)!, b = Σ (−s)^k/(2k+3)!;
             // a_s = −Σ (k+1)(−s)^k/(2k+4)!, b_s = −Σ (k+1)(−s)^k/(2k+5)!.
             Self {
-                sinc: alternating(s, |k| fact(2.0 * k + 1.0)),
-                a: alternating(s, |k| fact(2.0 * k + 2.0)),
-                b: alternating(s, |k| fact(2.0 * k + 3.0)),
-                a_s: -alternating(s, |k| fact(2.0 * k + 4.0) / (k + 1.0)),
-                b_s: -alternating(s, |k| fact(2.0 * k + 5.0) / (k + 1.0)),
+                sinc: alternating(s, &SINC),
+                a: alternating(s, &A),
+                b: alternating(s, &B),
+                a_s: -alternating(s, &A_S),
+                b_s: -alternating(s, &B_S),
             }
         } else {
             let theta = s.sqrt();
