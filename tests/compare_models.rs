@@ -335,18 +335,22 @@ fn a_cat_with_legs_is_planned_within_the_fold_and_verified() {
 
 /// Issue 22: a cat with a tail and legs (six coordinates: `problems/legs.toml` with the tail of
 /// `problems/tail.toml`; coarse spline, one start) is planned and re-measured as the others: its
-/// legs within their fold, and the flip exact to 1e-9 rad.
-/// Rapier's tree scene does not verify this cat (README.md, "More motors": the rear half carries
-/// two branches), so the comparison runs without `--verify`.
+/// legs within their fold, and the flip exact to 1e-9 rad; and verified in rapier's tree scene.
+/// This optimum starts at its peak torque, where the servo's first steps overshoot (5.5 % on the
+/// cat joint's first motor at 0.2 ms), and a servo ripple lifts the cat joint's motors above the
+/// tail's, which peaks in the plan: measured with those first steps in and extrapolated as the
+/// largest of the motors, rapier said "not verified" (3.7 % off) and then "inconclusive" (2.0 %).
 #[test]
-fn a_cat_with_a_tail_and_legs_is_planned_and_remeasured() {
+fn a_cat_with_a_tail_and_legs_is_planned_remeasured_and_verified() {
     let text = std::fs::read_to_string("problems/legs.toml").expect("the legs problem")
         + "\n[cat.tail]\nmass = 0.2\nlength = 1.0\nradius = 0.02\njoint = \"universal\"\n";
     let overrides: Vec<String> = COARSE.map(String::from).to_vec();
     let p = Problem::from_toml(&text, "legs-and-tail.toml", &overrides).unwrap_or_else(|e| panic!("{e}"));
-    let c = compare_models(&p, false, "test").unwrap_or_else(|e| panic!("{e}"));
+    let c = compare_models(&p, true, "test").unwrap_or_else(|e| panic!("{e}"));
     let row = c.rows.iter().find(|r| r.key == "no-twist-tail-legs").unwrap_or_else(|| panic!("{}", c.to_markdown()));
     assert_eq!(row.motors, 6);
+    let v = row.rapier.as_ref().unwrap_or_else(|| panic!("not verified"));
+    assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, c.to_markdown());
     assert!(row.cat.ends_with("2.6 kg in all"), "{}", row.cat);
     assert_beyond_row(row, &p.cat.model().tree_with(&p.cat.appendages()));
     let spline = row.spline.as_ref().expect("an optimum");

@@ -107,8 +107,9 @@
 //!   `v̄_k = (v_k + v_{k+1})/2` (second order, as `v_k` belongs to `t_{k−½}`), body velocities
 //!   are mapped from it at `x_k`, and `Ḣ_P(t_k) = (H̄_{k+1} − H̄_{k−1}) / 2h`. A torque sample
 //!   thus depends on the motion over `[t_{k−2}, t_{k+2}]`. Samples within four steps of a phase
-//!   boundary (the stencil, and the servo settling after a jump of `q̈`) are kept out of the
-//!   per-phase peaks, which are thereby comparable with the exact engine's one-sided values.
+//!   boundary or of the start of the run (the stencil, and the servo settling after a jump of
+//!   `q̈`; the cat starts from rest: `run.rs`'s `settling`) are kept out of the per-phase peaks,
+//!   which are thereby comparable with the exact engine's one-sided values.
 //!   Inside a piece, a jump of `q̈` (a trajectory reports them, [`crate::schedule::Trajectory::acceleration_jumps`]:
 //!   the certified retiming's grid nodes) leaves the servo ringing for about eight steps, with
 //!   an overshoot of about a tenth of the torque jump at every step size (measured on the

@@ -259,6 +259,11 @@ pub struct RunRecord {
     pub swing_deg: f64,
     /// Peak torque (per-piece peaks), N·m.
     pub peak_torque_nm: f64,
+    /// Each motor's peak, N·m (a tree of bodies, [`super::tree_run`]; absent for the two-motor
+    /// run): extrapolated motor by motor, the largest of them then judged, since which motor
+    /// peaks can change with the step (`refinement.rs`'s `convergences`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub motor_peaks_nm: Vec<f64>,
     /// Largest tracking error per joint coordinate (a two-motor cat), or per link as the angle
     /// between the reached and the planned relative rotation (a tree of bodies, [`super::tree_run`]), rad.
     pub tracking_error_rad: Vec<f64>,
@@ -379,6 +384,7 @@ impl RunRecord {
             tracking_error_rad,
             momentum_drift,
             run_time_s: 0.0,
+            motor_peaks_nm: Vec::new(),
             saturation: Vec::new(),
             spine_twist_max_deg: None,
             swing_vector: swing_vector.map(f64::to_degrees),
