@@ -148,11 +148,12 @@ pub(super) fn refine<R>(
 pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
     let ratio = |w: &[RunRecord]| w[0].dt / w[1].dt;
     let ref_peak = if reference.peak_torque > 0.0 { reference.peak_torque } else { 1.0 };
-    // Runs that record each motor's peak (a tree of bodies) extrapolate each motor's and take the
-    // largest: the largest raw peak can pass from one motor to another as the step shrinks (a
-    // servo's ripple, first order in the step, lifting a motor that does not peak in the plan
-    // above one that does), and an extrapolation across that change lands on neither (a cat with
-    // a tail and legs: 2.0 % below the plan's peak by the largest, 0.005 % motor by motor).
+    // Each motor's peak is extrapolated on its own and the largest taken: the largest raw peak can
+    // pass from one motor to another as the step shrinks (a servo's ripple, first order in the
+    // step, lifting a motor that does not peak in the plan above one that does), and an
+    // extrapolation across that change lands on neither (a cat with a tail and legs: 2.0 % below
+    // the plan's peak by the largest, 0.005 % motor by motor). Runs without each motor's peak
+    // (none but a test's) extrapolate the largest.
     let motors = runs.first().map_or(0, |r| r.motor_peaks_nm.len());
     let by_motor = motors > 0 && runs.iter().all(|r| r.motor_peaks_nm.len() == motors);
     Quantity::ALL
@@ -307,11 +308,12 @@ mod tests {
     use std::f64::consts::PI;
 
     /// A run at step `dt` whose two motors peak at `peaks` (each the plan's plus a first-order
-    /// error), recorded motor by motor when `by_motor`.
+    /// error), recorded motor by motor unless `by_motor` is false (then its largest peak alone,
+    /// as a run that kept no motor's own would be judged).
     fn run(dt: f64, peaks: [f64; 2], by_motor: bool) -> RunRecord {
-        let mut r = RunRecord::new(dt, 1, [PI, 0.0], &UnitQuaternion::identity(), peaks[0].max(peaks[1]), vec![], 0.0);
-        if by_motor {
-            r.motor_peaks_nm = peaks.to_vec();
+        let mut r = RunRecord::new(dt, 1, [PI, 0.0], &UnitQuaternion::identity(), peaks.to_vec(), vec![], 0.0);
+        if !by_motor {
+            r.motor_peaks_nm.clear();
         }
         r
     }

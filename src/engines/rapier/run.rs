@@ -80,6 +80,11 @@ impl TorquePeaks {
         }
     }
 
+    /// Each joint's peak over the pieces (their largest is [`TorquePeaks::max`]).
+    pub fn per_motor(&self) -> Vec<f64> {
+        (0..2).map(|j| self.per_piece.iter().map(|p| p[j]).fold(0.0, f64::max)).collect()
+    }
+
     /// The peaks of one phase of a three-piece trajectory (a schedule); `None` for another
     /// number of pieces.
     pub fn phase(&self, phase: Phase) -> Option<[f64; 2]> {

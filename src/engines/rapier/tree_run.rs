@@ -331,11 +331,10 @@ fn record(run: &TreeRun) -> RunRecord {
         run.steps,
         [run.twist, run.swing],
         &run.orientation,
-        run.peak_torque.iter().fold(0.0, |m: f64, p| m.max(*p)),
+        run.peak_torque.clone(),
         run.tracking_error.clone(),
         run.momentum.max_rel,
     );
-    record.motor_peaks_nm = run.peak_torque.clone();
     record.saturation = run.saturation.clone();
     record
 }

@@ -259,9 +259,9 @@ pub struct RunRecord {
     pub swing_deg: f64,
     /// Peak torque (per-piece peaks), N·m.
     pub peak_torque_nm: f64,
-    /// Each motor's peak, N·m (a tree of bodies, [`super::tree_run`]; absent for the two-motor
-    /// run): extrapolated motor by motor, the largest of them then judged, since which motor
-    /// peaks can change with the step (`refinement.rs`'s `convergences`).
+    /// Each motor's peak (over the pieces), N·m: extrapolated motor by motor, the largest of them
+    /// then judged, since which motor peaks can change with the step (`refinement.rs`'s
+    /// `convergences`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub motor_peaks_nm: Vec<f64>,
     /// Largest tracking error per joint coordinate (a two-motor cat), or per link as the angle
@@ -363,14 +363,15 @@ impl Verification {
 
 impl RunRecord {
     /// The record of a run at step `dt` of `steps` steps that ends with A at `orientation`
-    /// (its twist and swing, rad), with the peak torque `peak` (N·m), the tracking errors (rad) and
-    /// the relative momentum drift; no saturation, no spine twist, no time yet.
+    /// (its twist and swing, rad), with each motor's peak torque `motor_peaks` (N·m; the peak is
+    /// their largest), the tracking errors (rad) and the relative momentum drift; no saturation,
+    /// no spine twist, no time yet.
     pub(super) fn new(
         dt: f64,
         steps: usize,
         [twist, swing]: [f64; 2],
         orientation: &nalgebra::UnitQuaternion<f64>,
-        peak: f64,
+        motor_peaks_nm: Vec<f64>,
         tracking_error_rad: Vec<f64>,
         momentum_drift: f64,
     ) -> Self {
@@ -380,11 +381,11 @@ impl RunRecord {
             steps,
             twist_deg: twist.to_degrees(),
             swing_deg: swing.to_degrees(),
-            peak_torque_nm: peak,
+            peak_torque_nm: motor_peaks_nm.iter().copied().fold(0.0, f64::max),
             tracking_error_rad,
             momentum_drift,
             run_time_s: 0.0,
-            motor_peaks_nm: Vec::new(),
+            motor_peaks_nm,
             saturation: Vec::new(),
             spine_twist_max_deg: None,
             swing_vector: swing_vector.map(f64::to_degrees),

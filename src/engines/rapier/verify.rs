@@ -135,7 +135,7 @@ fn record(run: &RapierRun) -> RunRecord {
             run.steps,
             [run.twist, run.swing],
             &run.orientation,
-            run.peak_torque.max,
+            run.peak_torque.per_motor(),
             run.tracking_error.to_vec(),
             run.momentum.max_rel,
         )
