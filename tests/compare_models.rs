@@ -349,7 +349,7 @@ fn a_cat_with_a_tail_and_legs_is_planned_remeasured_and_verified() {
     let c = compare_models(&p, true, "test").unwrap_or_else(|e| panic!("{e}"));
     let row = c.rows.iter().find(|r| r.key == "no-twist-tail-legs").unwrap_or_else(|| panic!("{}", c.to_markdown()));
     assert_eq!(row.motors, 6);
-    let v = row.rapier.as_ref().unwrap_or_else(|| panic!("not verified"));
+    let v = row.rapier.as_ref().unwrap_or_else(|| panic!("no rapier verification\n{}", c.to_markdown()));
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, c.to_markdown());
     assert!(row.cat.ends_with("2.6 kg in all"), "{}", row.cat);
     assert_beyond_row(row, &p.cat.model().tree_with(&p.cat.appendages()));

@@ -15,10 +15,11 @@ const GRAVITY_M_S2: (f64, f64) = (1.0, 30.0);
 const LENGTH_M: (f64, f64) = (0.01, 10.0);
 /// Masses of a half, kg.
 const MASS_KG: (f64, f64) = (0.01, 500.0);
-/// An appendage (a tail, a pair of legs) longer than this many times the body (both halves end to
-/// end) or heavier than this many times it: a tail as long as the body is a long one (a gecko's, a
-/// tailed robot's), legs are shorter than a half.
-const APPENDAGE_TO_BODY: f64 = 3.0;
+/// The sizes of an appendage (a tail, a pair of legs) relative to the cat's body (both halves end
+/// to end; their mass together) outside which a length or a mass is warned of: a tail as long as
+/// the body is a long one (a gecko's, a tailed robot's) and legs are shorter than a half, while a
+/// gecko's tail weighs grams against its body's tens, so the lower ends are far below any.
+const APPENDAGE_TO_BODY: (f64, f64) = (1e-3, 3.0);
 /// Turns of the bend direction beyond which a given circulation is warned about (the paper's
 /// `π/C` is half a turn on its cat; a light tail on a heavy body needs a few).
 const CIRCULATION_TURNS: f64 = 10.0;
@@ -60,28 +61,28 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
     }
     let body = cat.model();
     let appendages = [("cat.tail", cat.tail.map(|t| t.rod())), ("cat.legs", cat.legs.map(|l| l.rod()))];
+    // An appendage's length and mass against the body's: the cat's own scale, not any cat's.
     for (section, rod) in appendages {
         let Some(rod) = rod else { continue };
-        let (length, mass) = (format!("{section}.length"), format!("{section}.mass"));
-        let absolute = [
-            outside(&length, rod.length, "m", LENGTH_M, "km", "mm or cm"),
-            outside(&mass, rod.mass, "kg", MASS_KG, "tonnes", "g"),
+        let sizes = [
+            ("length", rod.length, body.front.length + body.rear.length, ("long", "short"), "m", ("mm or cm", "km")),
+            ("mass", rod.mass, body.front.mass + body.rear.mass, ("heavy", "light"), "kg", ("g", "tonnes")),
         ];
-        let relative = [
-            (length, rod.length, body.front.length + body.rear.length, "long", "m", "mm or cm"),
-            (mass, rod.mass, body.front.mass + body.rear.mass, "heavy", "kg", "g"),
-        ];
-        for (absolute, (field, value, whole, word, unit, guess)) in absolute.into_iter().zip(relative) {
-            if absolute.is_some() {
-                out.extend(absolute);
-            } else if value > APPENDAGE_TO_BODY * whole {
-                out.push(format!(
-                    "{field} = {} {unit} is {} times as {word} as the cat's body (both halves, {} {unit}): is it in {guess}? (the field is in {unit})",
-                    echo(value),
-                    num(value / whole),
-                    echo(whole)
-                ));
-            }
+        for (field, value, whole, (more, less), unit, (small_unit, large_unit)) in sizes {
+            let ratio = value / whole;
+            let (word, guess) = if ratio > APPENDAGE_TO_BODY.1 {
+                (more, small_unit)
+            } else if ratio < APPENDAGE_TO_BODY.0 {
+                (less, large_unit)
+            } else {
+                continue;
+            };
+            out.push(format!(
+                "{section}.{field} = {} {unit} is {} times the cat's body (both halves, {} {unit}): too {word} for an appendage; is it in {guess}? (the field is in {unit})",
+                echo(value),
+                num(ratio),
+                echo(whole)
+            ));
         }
     }
     if let Circulation::Angle(d) = p.manoeuvre.circulation {

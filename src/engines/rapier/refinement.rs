@@ -12,7 +12,7 @@ use super::saturation::MotorSaturation;
 use super::verdict::{
     Convergence, Failure, Quantity, Reference, RunRecord, StepSource, Verdict, Verification, ASYMPTOTIC, MIN_RUNS,
 };
-use super::{RapierError, TimeScales, MAX_STEPS};
+use super::{largest, RapierError, TimeScales, MAX_STEPS};
 use crate::engines::motors::MotorDemand;
 use crate::problem::settings::RapierSettings;
 
@@ -148,14 +148,11 @@ pub(super) fn refine<R>(
 pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
     let ratio = |w: &[RunRecord]| w[0].dt / w[1].dt;
     let ref_peak = if reference.peak_torque > 0.0 { reference.peak_torque } else { 1.0 };
-    // Each motor's peak is extrapolated on its own and the largest taken: the largest raw peak can
-    // pass from one motor to another as the step shrinks (a servo's ripple, first order in the
-    // step, lifting a motor that does not peak in the plan above one that does), and an
-    // extrapolation across that change lands on neither (a cat with a tail and legs: 2.0 % below
-    // the plan's peak by the largest, 0.005 % motor by motor). Runs without each motor's peak
-    // (none but a test's) extrapolate the largest.
-    let motors = runs.first().map_or(0, |r| r.motor_peaks_nm.len());
-    let by_motor = motors > 0 && runs.iter().all(|r| r.motor_peaks_nm.len() == motors);
+    // The peak's series, each extrapolated on its own (`richardson_peaks`); runs without them (none
+    // but a test's) extrapolate the largest raw peak as the other quantities are.
+    let series = runs.first().map_or(0, |r| r.motor_peaks_nm.len());
+    let by_series = series > 0 && runs.iter().all(|r| r.motor_peaks_nm.len() == series);
+    let peaks = by_series.then(|| PeakSeries::of(runs));
     Quantity::ALL
         .iter()
         .map(|&quantity| {
@@ -166,23 +163,22 @@ pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: 
                 Quantity::PeakTorque => Vector3::new(r.peak_torque_nm, 0.0, 0.0),
             };
             let scalar = |v: Vector3<f64>| if quantity == Quantity::Swing { v.norm() } else { v.x };
-            let ex: Vec<Vector3<f64>> = runs
-                .windows(2)
-                .map(|w| match quantity {
-                    Quantity::PeakTorque if by_motor => Vector3::new(
-                        w[0].motor_peaks_nm
-                            .iter()
-                            .zip(&w[1].motor_peaks_nm)
-                            .map(|(c, f)| super::richardson(*c, *f, ratio(w)))
-                            .fold(f64::NEG_INFINITY, f64::max),
-                        0.0,
-                        0.0,
-                    ),
-                    _ => super::richardson(vector(&w[0]), vector(&w[1]), ratio(w)),
-                })
-                .collect();
+            let ex: Vec<Vector3<f64>> = match (&peaks, quantity) {
+                (Some(p), Quantity::PeakTorque) => {
+                    p.limits.iter().map(|l| Vector3::new(largest(l), 0.0, 0.0)).collect()
+                }
+                _ => runs.windows(2).map(|w| super::richardson(vector(&w[0]), vector(&w[1]), ratio(w))).collect(),
+            };
+            // The order of the series whose extrapolation is the last value (the peak's), or of
+            // the quantity itself.
+            let lead = |r: &RunRecord| match (&peaks, quantity) {
+                (Some(p), Quantity::PeakTorque) => {
+                    Vector3::new(p.lead.map_or(f64::NAN, |i| r.motor_peaks_nm[i]), 0.0, 0.0)
+                }
+                _ => vector(r),
+            };
             let observed_order = runs.windows(3).last().and_then(|w| {
-                let (d1, d2) = ((vector(&w[0]) - vector(&w[1])).norm(), (vector(&w[1]) - vector(&w[2])).norm());
+                let (d1, d2) = ((lead(&w[0]) - lead(&w[1])).norm(), (lead(&w[1]) - lead(&w[2])).norm());
                 let p = (d1 / d2).ln() / ratio(&w[1..]).ln();
                 p.is_finite().then_some(p)
             });
@@ -192,7 +188,11 @@ pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: 
                 Quantity::PeakTorque => (reference.peak_torque, settings.peak_torque_tolerance, ref_peak),
             };
             let value = ex.last().map(|v| scalar(*v));
-            let estimate = ex.windows(2).last().map(|w| (w[1] - w[0]).norm() / scale).filter(|e| e.is_finite());
+            let estimate = match (&peaks, quantity) {
+                (Some(p), Quantity::PeakTorque) => p.estimate().map(|e| e / scale),
+                _ => ex.windows(2).last().map(|w| (w[1] - w[0]).norm() / scale),
+            }
+            .filter(|e| e.is_finite());
             Convergence {
                 quantity,
                 reference,
@@ -206,6 +206,37 @@ pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: 
             }
         })
         .collect()
+}
+
+/// The peak torque's series (each motor's peak, [`RunRecord::motor_peaks_nm`]) extrapolated one
+/// by one from each pair of successive runs.
+struct PeakSeries {
+    /// Per pair of runs, each series' extrapolation.
+    limits: Vec<Vec<f64>>,
+    /// The series whose extrapolation in the last pair is the largest (the value's).
+    lead: Option<usize>,
+}
+
+impl PeakSeries {
+    fn of(runs: &[RunRecord]) -> Self {
+        let limits: Vec<Vec<f64>> = runs
+            .windows(2)
+            .map(|w| super::richardson_peaks(&w[0].motor_peaks_nm, &w[1].motor_peaks_nm, w[0].dt / w[1].dt))
+            .collect();
+        let lead = limits.last().and_then(|l| (0..l.len()).max_by(|&a, &b| l[a].total_cmp(&l[b])));
+        PeakSeries { limits, lead }
+    }
+
+    /// The largest change between the last two pairs' extrapolations of any series that may be
+    /// the peak: one whose extrapolation in either pair reaches the smaller of the two pairs'
+    /// peaks (two series trading places would hide each other's change in the change of the
+    /// largest). None with fewer than two pairs.
+    fn estimate(&self) -> Option<f64> {
+        let [before, last] = self.limits.last_chunk::<2>()?;
+        let floor = largest(before).min(largest(last));
+        let contenders = before.iter().zip(last).filter(|(b, l)| b.max(**l) >= floor || b.is_nan() || l.is_nan());
+        Some(largest(&contenders.map(|(b, l)| (l - b).abs()).collect::<Vec<_>>()))
+    }
 }
 
 /// One quantity as the verdict sees it.
@@ -332,14 +363,36 @@ mod tests {
         let peak = |by_motor: bool| {
             let runs: Vec<RunRecord> = [1e-3, 5e-4, 2.5e-4].iter().map(|&dt| run(dt, peaks(dt), by_motor)).collect();
             let c = convergences(&runs, &reference, &settings);
-            let p = c.iter().find(|c| c.quantity == Quantity::PeakTorque).expect("a peak");
-            (p.value.expect("extrapolated"), p.raw.clone())
+            c.into_iter().find(|c| c.quantity == Quantity::PeakTorque).expect("a peak")
         };
-        let (largest, raw) = peak(false);
+        let largest = peak(false);
+        let raw = &largest.raw;
         assert!((raw[1] - 1.01).abs() < 1e-12 && (raw[2] - 1.0025).abs() < 1e-12, "{raw:?}");
-        assert!((largest - 0.995).abs() < 1e-12, "the largest raw peak extrapolates to {largest}");
-        let (by_motor, raw_by_motor) = peak(true);
-        assert_eq!(raw, raw_by_motor, "the raw peaks are the largest either way");
-        assert!((by_motor - 1.0).abs() < 1e-12, "motor by motor: {by_motor}");
+        let value = largest.value.expect("extrapolated");
+        assert!((value - 0.995).abs() < 1e-12, "the largest raw peak extrapolates to {value}");
+        // Its differences, 0.03 then 0.0075, read as an order of 2: neither motor's.
+        assert!((largest.observed_order.expect("an order") - 2.0).abs() < 1e-9, "{:?}", largest.observed_order);
+        let by_motor = peak(true);
+        assert_eq!(&by_motor.raw, raw, "the raw peaks are the largest either way");
+        let value = by_motor.value.expect("extrapolated");
+        assert!((value - 1.0).abs() < 1e-12, "motor by motor: {value}");
+        // Motor 0's order (the value's), and no change between the two pairs' extrapolations.
+        assert!((by_motor.observed_order.expect("an order") - 1.0).abs() < 1e-9, "{:?}", by_motor.observed_order);
+        assert!(by_motor.estimate.expect("an estimate") < 1e-12, "{:?}", by_motor.estimate);
+    }
+
+    /// Two series that trade places between the last two pairs of runs: the largest
+    /// extrapolation stays at 1.00, yet each series moved by 0.01, and the estimate says so; a
+    /// series far below the peak does not count, and one that is not a number makes the estimate
+    /// and the largest peak not numbers either.
+    #[test]
+    fn the_peak_estimate_counts_every_series_that_may_be_the_peak() {
+        let traded = PeakSeries { limits: vec![vec![1.0, 0.99, 0.5], vec![0.99, 1.0, 0.2]], lead: Some(1) };
+        let estimate = traded.estimate().expect("two pairs");
+        assert!((estimate - 0.01).abs() < 1e-12, "{estimate}");
+        let broken = PeakSeries { limits: vec![vec![1.0, 0.99], vec![1.0, f64::NAN]], lead: Some(0) };
+        assert!(broken.estimate().expect("two pairs").is_nan());
+        assert!(largest(&[1.0, f64::NAN]).is_nan() && largest(&[f64::NAN, 1.0]).is_nan());
+        assert!(PeakSeries { limits: vec![vec![1.0]], lead: Some(0) }.estimate().is_none());
     }
 }

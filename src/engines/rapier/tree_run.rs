@@ -34,8 +34,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde::Serialize;
 
 use super::refinement::{convergences, judge, refine, saturated};
-use super::run::settling;
-use super::run::MomentumDrift;
+use super::run::{settling, MomentumDrift};
 use super::saturation::{MotorSaturation, SaturationTracker};
 use super::tree_scene::{bounds_motors, momenta, TreeScene, TreeSnapshot, UNBOUNDED_SPHERICAL};
 use super::verdict::{RunRecord, StepSource, Verification};
@@ -261,9 +260,12 @@ pub fn simulate_tree(
             if window.len() > 3 {
                 window.remove(0);
             }
+            // The trajectory is smooth: only its start is rough.
             if let [(ta, a), (tm, m), (tb, b)] = &window[..] {
-                // The trajectory is smooth: only its start is rough.
-                for (j, peak) in peaks.iter_mut().enumerate().filter(|_| !settling(*tm, &[], dt)) {
+                if settling(*tm, &[], dt) {
+                    continue;
+                }
+                for (j, peak) in peaks.iter_mut().enumerate() {
                     let dh = (b[j].0 - a[j].0) / (tb - ta);
                     *peak = peak.max(m[j].2.dot(&(dh + m[j].1)).abs());
                 }
@@ -291,8 +293,9 @@ pub fn simulate_tree(
 
 /// Verifies `traj` on `tree` in rapier against the exact engine's `reference` (its flip and the
 /// largest of its motors' peaks): the step refinement and the verdict of [`super::verify`], on
-/// [`simulate_tree`]'s runs, each motor's peak extrapolated on its own and the largest judged. `Err` when the settings are invalid or the tree scene does not run
-/// the trajectory (module docs); every way a run can fail is a verdict.
+/// [`simulate_tree`]'s runs, each motor's peak extrapolated on its own and the largest judged.
+/// `Err` when the settings are invalid or the tree scene does not run the trajectory (module
+/// docs); every way a run can fail is a verdict.
 pub fn verify_tree(
     tree: &Tree,
     traj: &impl ShapeTrajectory,

@@ -257,11 +257,10 @@ pub struct RunRecord {
     pub twist_deg: f64,
     /// Final swing, degrees.
     pub swing_deg: f64,
-    /// Peak torque (per-piece peaks), N·m.
+    /// Peak torque, N·m: the largest of [`RunRecord::motor_peaks_nm`].
     pub peak_torque_nm: f64,
-    /// Each motor's peak (over the pieces), N·m: extrapolated motor by motor, the largest of them
-    /// then judged, since which motor peaks can change with the step (`refinement.rs`'s
-    /// `convergences`).
+    /// Each motor's peak, N·m: extrapolated motor by motor, the largest judged
+    /// ([`super::richardson_peaks`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub motor_peaks_nm: Vec<f64>,
     /// Largest tracking error per joint coordinate (a two-motor cat), or per link as the angle
@@ -303,13 +302,17 @@ pub struct Convergence {
     pub reference: f64,
     /// Rapier's value per run.
     pub raw: Vec<f64>,
-    /// Richardson extrapolation of each pair of successive runs.
+    /// Richardson extrapolation of each pair of successive runs (the peak torque's: the largest of
+    /// each series' own, [`super::richardson_peaks`], not of `raw`).
     pub extrapolated: Vec<f64>,
-    /// Observed order from the last three runs (`None` with fewer, or when it is undefined).
+    /// Observed order from the last three runs (`None` with fewer, or when it is undefined); the
+    /// peak torque's, of the series whose extrapolation is the last `value`.
     pub observed_order: Option<f64>,
     /// The last extrapolation.
     pub value: Option<f64>,
-    /// Its error estimate `|X₀⁽ᵏ⁾ − X₀⁽ᵏ⁻¹⁾|`.
+    /// Its error estimate `|X₀⁽ᵏ⁾ − X₀⁽ᵏ⁻¹⁾|`; the peak torque's, the largest such change of any
+    /// series that may be the peak (its extrapolation in either of the last two pairs at least the
+    /// smaller of their peaks): two series that trade places would otherwise hide each other's.
     pub estimate: Option<f64>,
     /// `|value − reference|`.
     pub gap: Option<f64>,
@@ -363,9 +366,9 @@ impl Verification {
 
 impl RunRecord {
     /// The record of a run at step `dt` of `steps` steps that ends with A at `orientation`
-    /// (its twist and swing, rad), with each motor's peak torque `motor_peaks` (N·m; the peak is
-    /// their largest), the tracking errors (rad) and the relative momentum drift; no saturation,
-    /// no spine twist, no time yet.
+    /// (its twist and swing, rad), with each motor's peak torque `motor_peaks_nm` (N·m;
+    /// the peak is their largest), the tracking errors (rad) and the relative momentum drift; no
+    /// saturation, no spine twist, no time yet.
     pub(super) fn new(
         dt: f64,
         steps: usize,
@@ -381,7 +384,7 @@ impl RunRecord {
             steps,
             twist_deg: twist.to_degrees(),
             swing_deg: swing.to_degrees(),
-            peak_torque_nm: motor_peaks_nm.iter().copied().fold(0.0, f64::max),
+            peak_torque_nm: super::largest(&motor_peaks_nm),
             tracking_error_rad,
             momentum_drift,
             run_time_s: 0.0,

@@ -22,6 +22,12 @@
 //! The swing is extrapolated as the rotation vector of the swing (its length, the swing angle,
 //! is not smooth where it passes through zero); its estimate is the change of that vector.
 //!
+//! The peak torque is extrapolated motor by motor: each motor's peak has its own `X₀`
+//! ([`super::richardson_peaks`]), and the peak at `dt → 0` is their largest (the largest raw
+//! peak can pass from one motor to another as the step shrinks, and an extrapolation across
+//! that change lands on neither); its observed order is that motor's, its estimate the largest
+//! change of any motor that may be the peak.
+//!
 //! # Verdict
 //!
 //! With `G = |X₀ − X_exact|` (degrees for twist and swing; relative to the exact peak for the

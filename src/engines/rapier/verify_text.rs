@@ -75,9 +75,11 @@ impl Verification {
                 v.iter().map(|x| format!("{x:.4}")).collect::<Vec<_>>().join(", ")
             };
             let opt = |x: Option<f64>| x.map_or("—".to_string(), |e| c.quantity.format_gap(e));
+            // The peak's raw values are the largest motor's; its limits each motor's on its own.
+            let limit = if c.quantity == Quantity::PeakTorque { "→ 0 motor by motor" } else { "→ 0" };
             let _ = writeln!(
                 s,
-                "  {:<16} raw {}{unit}; → 0: {}{unit}; order {}; estimate {}; gap to exact {} (exact {:.4}{unit})",
+                "  {:<16} raw {}{unit}; {limit}: {}{unit}; order {}; estimate {}; gap to exact {} (exact {:.4}{unit})",
                 c.quantity.to_string(),
                 list(&c.raw),
                 list(&c.extrapolated),

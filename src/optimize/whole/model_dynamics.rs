@@ -71,9 +71,9 @@ pub struct ExpSeries<T> {
     pub b_s: T,
 }
 
-/// `1/f(k)` for `k < SERIES_TERMS`, with `f(k) = (2k + offset)!`, divided by `k + 1` when
-/// `per_k` (computed once, at compile time: each evaluation of the series on dual numbers only
-/// multiplies and adds).
+/// `1/f(k)` for `k < SERIES_TERMS`, with `f(k) = (2k + offset)!`, or `f(k) = (2k + offset)!/(k + 1)`
+/// when `per_k` (computed once, at compile time: each evaluation of the series on dual numbers
+/// only multiplies and adds).
 const fn series(offset: u32, per_k: bool) -> [f64; SERIES_TERMS] {
     let mut out = [0.0; SERIES_TERMS];
     let mut k = 0;
@@ -94,11 +94,15 @@ const fn series(offset: u32, per_k: bool) -> [f64; SERIES_TERMS] {
     out
 }
 
-/// `1/(2k+1)!`, `1/(2k+2)!`, `1/(2k+3)!`, `(k+1)/(2k+4)!`, `(k+1)/(2k+5)!`.
+/// `σ`'s coefficients `1/(2k+1)!`.
 const SINC: [f64; SERIES_TERMS] = series(1, false);
+/// `a`'s, `1/(2k+2)!`.
 const A: [f64; SERIES_TERMS] = series(2, false);
+/// `b`'s, `1/(2k+3)!`.
 const B: [f64; SERIES_TERMS] = series(3, false);
+/// `−a_s`'s, `(k+1)/(2k+4)!`.
 const A_S: [f64; SERIES_TERMS] = series(4, true);
+/// `−b_s`'s, `(k+1)/(2k+5)!`.
 const B_S: [f64; SERIES_TERMS] = series(5, true);
 
 /// `Σ_k c_k (−s)^k` by Horner's rule.
