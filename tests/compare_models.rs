@@ -336,7 +336,7 @@ fn a_cat_with_legs_is_planned_within_the_fold_and_verified() {
 /// Issue 22: a cat with a tail and legs (six coordinates: `problems/legs.toml` with the tail of
 /// `problems/tail.toml`; coarse spline, one start) is planned and re-measured as the others: its
 /// legs within their fold, and the flip exact to 1e-9 rad; and verified in rapier's tree scene.
-/// This optimum starts at its peak torque, where the servo's first steps overshoot (5.5 % on the
+/// This optimum starts at its peak torque, where the servo's first steps overshoot (5.7 % on the
 /// cat joint's first motor at 0.2 ms), and a servo ripple lifts the cat joint's motors above the
 /// tail's, which peaks in the plan: measured with those first steps in and extrapolated as the
 /// largest of the motors, rapier said "not verified" (3.7 % off) and then "inconclusive" (2.0 %).

@@ -84,7 +84,8 @@ pub enum Beyond {
 /// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
 /// they differ) on the universal, the no-twist and the spherical joint, then, when the problem's
 /// halves differ, those halves on the three joints, and with `[cat.tail]`, `[cat.legs]` the
-/// problem's own cat with them. Each variant's problem is validated, so a field the new model refuses is named.
+/// problem's own cat with them. Each variant's problem is validated, so a field the new model
+/// refuses is named.
 pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     let cat = problem.cat.model();
     let equal = cat.has_equal_halves();

@@ -6,8 +6,9 @@
 //! true mass and inertia about its centre of mass (an explicit `<inertial>`; its cylinder is drawn,
 //! never collides, and has no mass). Its frame in the MJCF is its body frame: centre of mass, `z`
 //! along its axis towards the head (a leg's frame is its half's with the legs standing out, its
-//! cylinder along `y`: the geom's `zaxis`). A link hangs child `c` from parent `p` at the joint point, `a` in the parent's frame
-//! and `b` in the child's ([`crate::model::tree::Link`]); in the MJCF:
+//! cylinder along `y`: the geom's `zaxis`). A link hangs child `c` from parent `p` at the joint
+//! point, `a` in the parent's frame and `b` in the child's ([`crate::model::tree::Link`]); in the
+//! MJCF:
 //!
 //! - a **universal** joint (`R = Rx(q1) Ry(q2)`) is the two-body file's: a body `cross_c` at the
 //!   parent's `a` with hinge `c_1` about `x` through its origin, and the child at the cross's

@@ -226,11 +226,12 @@ where
 }
 
 /// Each motor's peak extrapolated on its own ([`richardson`]) from two runs' peaks `coarse` and
-/// `fine` (each motor's, in the same order; [`RunRecord::motor_peaks_nm`]), their steps `r` apart. The peak torque at `dt → 0` is the largest of them ([`largest`]): the largest raw peak
-/// can pass from one motor to another as the step shrinks (a servo's ripple, first
-/// order in the step, lifting a motor that does not peak in the plan above one that does), and
-/// an extrapolation across that change lands on neither (a cat with a tail and legs: 2.0 % below
-/// the plan's peak by the largest raw peak, 0.0075 % motor by motor).
+/// `fine` (each motor's, in the same order; [`RunRecord::motor_peaks_nm`]), their steps `r`
+/// apart. The peak torque at `dt → 0` is the largest of them ([`largest`]): the largest raw peak
+/// can pass from one motor to another as the step shrinks (a servo's ripple, first order in the
+/// step, lifting a motor that does not peak in the plan above one that does), and an
+/// extrapolation across that change lands on neither (a cat with a tail and legs: 2.0 % below the
+/// plan's peak by the largest raw peak, 0.0075 % motor by motor).
 pub fn richardson_peaks(coarse: &[f64], fine: &[f64], r: f64) -> Vec<f64> {
     coarse.iter().zip(fine).map(|(c, f)| richardson(*c, *f, r)).collect()
 }

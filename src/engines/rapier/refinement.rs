@@ -148,11 +148,11 @@ pub(super) fn refine<R>(
 pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: &RapierSettings) -> Vec<Convergence> {
     let ratio = |w: &[RunRecord]| w[0].dt / w[1].dt;
     let ref_peak = if reference.peak_torque > 0.0 { reference.peak_torque } else { 1.0 };
-    // The peak's series, each extrapolated on its own (`richardson_peaks`); runs without them (none
-    // but a test's) extrapolate the largest raw peak as the other quantities are.
-    let series = runs.first().map_or(0, |r| r.motor_peaks_nm.len());
-    let by_series = series > 0 && runs.iter().all(|r| r.motor_peaks_nm.len() == series);
-    let peaks = by_series.then(|| PeakSeries::of(runs));
+    // Each motor's peak extrapolated on its own (`richardson_peaks`); runs without them (none but
+    // a test's) extrapolate the largest raw peak as the other quantities are.
+    let motors = runs.first().map_or(0, |r| r.motor_peaks_nm.len());
+    let by_motor = motors > 0 && runs.iter().all(|r| r.motor_peaks_nm.len() == motors);
+    let peaks = by_motor.then(|| MotorPeaks::of(runs));
     Quantity::ALL
         .iter()
         .map(|&quantity| {
@@ -169,8 +169,8 @@ pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: 
                 }
                 _ => runs.windows(2).map(|w| super::richardson(vector(&w[0]), vector(&w[1]), ratio(w))).collect(),
             };
-            // The order of the series whose extrapolation is the last value (the peak's), or of
-            // the quantity itself.
+            // The order of the motor whose extrapolation is the last value (the peak's), or of the
+            // quantity itself.
             let lead = |r: &RunRecord| match (&peaks, quantity) {
                 (Some(p), Quantity::PeakTorque) => {
                     Vector3::new(p.lead.map_or(f64::NAN, |i| r.motor_peaks_nm[i]), 0.0, 0.0)
@@ -208,28 +208,28 @@ pub(super) fn convergences(runs: &[RunRecord], reference: &Reference, settings: 
         .collect()
 }
 
-/// The peak torque's series (each motor's peak, [`RunRecord::motor_peaks_nm`]) extrapolated one
-/// by one from each pair of successive runs.
-struct PeakSeries {
-    /// Per pair of runs, each series' extrapolation.
+/// Each motor's peak ([`RunRecord::motor_peaks_nm`]) extrapolated on its own from each pair of
+/// successive runs.
+struct MotorPeaks {
+    /// Per pair of runs, each motor's extrapolation.
     limits: Vec<Vec<f64>>,
-    /// The series whose extrapolation in the last pair is the largest (the value's).
+    /// The motor whose extrapolation in the last pair is the largest (the value's).
     lead: Option<usize>,
 }
 
-impl PeakSeries {
+impl MotorPeaks {
     fn of(runs: &[RunRecord]) -> Self {
         let limits: Vec<Vec<f64>> = runs
             .windows(2)
             .map(|w| super::richardson_peaks(&w[0].motor_peaks_nm, &w[1].motor_peaks_nm, w[0].dt / w[1].dt))
             .collect();
         let lead = limits.last().and_then(|l| (0..l.len()).max_by(|&a, &b| l[a].total_cmp(&l[b])));
-        PeakSeries { limits, lead }
+        MotorPeaks { limits, lead }
     }
 
-    /// The largest change between the last two pairs' extrapolations of any series that may be
+    /// The largest change between the last two pairs' extrapolations of any motor that may be
     /// the peak: one whose extrapolation in either pair reaches the smaller of the two pairs'
-    /// peaks (two series trading places would hide each other's change in the change of the
+    /// peaks (two motors trading places would hide each other's change in the change of the
     /// largest). None with fewer than two pairs.
     fn estimate(&self) -> Option<f64> {
         let [before, last] = self.limits.last_chunk::<2>()?;
@@ -381,18 +381,18 @@ mod tests {
         assert!(by_motor.estimate.expect("an estimate") < 1e-12, "{:?}", by_motor.estimate);
     }
 
-    /// Two series that trade places between the last two pairs of runs: the largest
-    /// extrapolation stays at 1.00, yet each series moved by 0.01, and the estimate says so; a
-    /// series far below the peak does not count, and one that is not a number makes the estimate
+    /// Two motors that trade places between the last two pairs of runs: the largest
+    /// extrapolation stays at 1.00, yet each motor's moved by 0.01, and the estimate says so; a
+    /// motor far below the peak does not count, and one that is not a number makes the estimate
     /// and the largest peak not numbers either.
     #[test]
-    fn the_peak_estimate_counts_every_series_that_may_be_the_peak() {
-        let traded = PeakSeries { limits: vec![vec![1.0, 0.99, 0.5], vec![0.99, 1.0, 0.2]], lead: Some(1) };
+    fn the_peak_estimate_counts_every_motor_that_may_be_the_peak() {
+        let traded = MotorPeaks { limits: vec![vec![1.0, 0.99, 0.5], vec![0.99, 1.0, 0.2]], lead: Some(1) };
         let estimate = traded.estimate().expect("two pairs");
         assert!((estimate - 0.01).abs() < 1e-12, "{estimate}");
-        let broken = PeakSeries { limits: vec![vec![1.0, 0.99], vec![1.0, f64::NAN]], lead: Some(0) };
+        let broken = MotorPeaks { limits: vec![vec![1.0, 0.99], vec![1.0, f64::NAN]], lead: Some(0) };
         assert!(broken.estimate().expect("two pairs").is_nan());
         assert!(largest(&[1.0, f64::NAN]).is_nan() && largest(&[f64::NAN, 1.0]).is_nan());
-        assert!(PeakSeries { limits: vec![vec![1.0]], lead: Some(0) }.estimate().is_none());
+        assert!(MotorPeaks { limits: vec![vec![1.0]], lead: Some(0) }.estimate().is_none());
     }
 }

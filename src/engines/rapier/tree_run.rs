@@ -262,12 +262,11 @@ pub fn simulate_tree(
             }
             // The trajectory is smooth: only its start is rough.
             if let [(ta, a), (tm, m), (tb, b)] = &window[..] {
-                if settling(*tm, &[], dt) {
-                    continue;
-                }
-                for (j, peak) in peaks.iter_mut().enumerate() {
-                    let dh = (b[j].0 - a[j].0) / (tb - ta);
-                    *peak = peak.max(m[j].2.dot(&(dh + m[j].1)).abs());
+                if !settling(*tm, &[], dt) {
+                    for (j, peak) in peaks.iter_mut().enumerate() {
+                        let dh = (b[j].0 - a[j].0) / (tb - ta);
+                        *peak = peak.max(m[j].2.dot(&(dh + m[j].1)).abs());
+                    }
                 }
             }
         }

@@ -303,16 +303,16 @@ pub struct Convergence {
     /// Rapier's value per run.
     pub raw: Vec<f64>,
     /// Richardson extrapolation of each pair of successive runs (the peak torque's: the largest of
-    /// each series' own, [`super::richardson_peaks`], not of `raw`).
+    /// each motor's own, [`super::richardson_peaks`], not of `raw`).
     pub extrapolated: Vec<f64>,
     /// Observed order from the last three runs (`None` with fewer, or when it is undefined); the
-    /// peak torque's, of the series whose extrapolation is the last `value`.
+    /// peak torque's, of the motor whose extrapolation is the last `value`.
     pub observed_order: Option<f64>,
     /// The last extrapolation.
     pub value: Option<f64>,
     /// Its error estimate `|X₀⁽ᵏ⁾ − X₀⁽ᵏ⁻¹⁾|`; the peak torque's, the largest such change of any
-    /// series that may be the peak (its extrapolation in either of the last two pairs at least the
-    /// smaller of their peaks): two series that trade places would otherwise hide each other's.
+    /// motor that may be the peak (its extrapolation in either of the last two pairs at least the
+    /// smaller of their peaks): two motors that trade places would otherwise hide each other's.
     pub estimate: Option<f64>,
     /// `|value − reference|`.
     pub gap: Option<f64>,
