@@ -121,7 +121,8 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
                 beyond: Beyond::TwoMotors,
             });
         }
-        // The spherical joint: its starts are the no-twist joint's, its problem that joint's.
+        // The spherical joint: its problem (the library schedule) the no-twist joint's; its
+        // starts also the universal joint's optimum (`optimize::whole::lift`).
         if let Some(no_twist) = out.last().map(|v: &Variant| v.problem.clone()) {
             out.push(Variant {
                 key: format!("{prefix}spherical"),
@@ -167,6 +168,10 @@ pub struct OptimumFigures {
     pub start: String,
     /// Trust-region iterations.
     pub iterations: usize,
+    /// How the optimiser ended, in its words (its stopping test; on the spherical joint also the
+    /// universal optimum it started from, and when its stage stopped at its budget still
+    /// descending, that its value is an upper bound on the model's optimum).
+    pub reason: String,
     /// Signed twist, degrees.
     pub twist_deg: f64,
     /// Swing, degrees.

@@ -111,6 +111,18 @@ impl ModelComparison {
                 r.seconds
             );
         }
+        if self.rows.iter().any(|r| r.optimum.is_some()) {
+            let _ = writeln!(s, "\nHow each optimum ended:\n");
+        }
+        for r in &self.rows {
+            if let Some(o) = &r.optimum {
+                let _ = writeln!(
+                    s,
+                    "- {}: from the start `{}`, {} iterations: {}",
+                    r.label, o.start, o.iterations, o.reason
+                );
+            }
+        }
         let missing: Vec<&ModelRow> = self.rows.iter().filter(|r| r.optimum.is_none()).collect();
         if !missing.is_empty() {
             let _ = writeln!(s, "\nWhy a model has no optimum:\n");

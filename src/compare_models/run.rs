@@ -133,6 +133,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         row.optimum = Some(OptimumFigures {
             start: b.start.clone(),
             iterations: b.iterations,
+            reason: b.reason.clone(),
             twist_deg: e.twist_deg(),
             swing_deg: e.swing_deg(),
             peak_torque_nm: e.peak(),
@@ -175,6 +176,7 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
     row.optimum = Some(OptimumFigures {
         start: b.start.clone(),
         iterations: b.iterations,
+        reason: b.reason.clone(),
         twist_deg: flip.twist.to_degrees(),
         swing_deg: flip.swing.to_degrees(),
         peak_torque_nm: b.peak_torque_nm,

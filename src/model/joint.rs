@@ -229,6 +229,24 @@ pub fn exp_so3(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() + x * k.sinc + x * x * k.a
 }
 
+/// The spherical joint's coordinates `(q1, q2, q3)` of the child's frame `r` in the parent's: the
+/// inverse of [`Joint::rotation`] for [`Joint::Spherical`], the swing that takes the parent's
+/// spine `ẑ` to the child's `e = r ẑ` along the shortest arc, then the twist about `e`. The bend
+/// `|(q1, q2)| = atan2(|ẑ × e|, e_z)` is below π unless the child's spine points straight back
+/// (there the swing's axis is undefined and `(q1, q2)` is zero); the twist `q3` is the one of its
+/// values `+ 2kπ` nearest `twist_near` (a path's previous value keeps it continuous).
+pub fn spherical_coordinates(r: &Matrix3<f64>, twist_near: f64) -> [f64; 3] {
+    let e = r * Vector3::z();
+    let across = e.x.hypot(e.y);
+    // atan2(|ẑ × e|, e_z)/|ẑ × e| → 1/e_z = 1 as the bend vanishes.
+    let per_unit = if across > 0.0 { across.atan2(e.z) / across } else { 1.0 };
+    let v = Vector3::new(-e.y, e.x, 0.0) * per_unit;
+    let twist = exp_so3(&-v) * r;
+    let q3 = twist[(1, 0)].atan2(twist[(0, 0)]);
+    let turns = ((twist_near - q3) / std::f64::consts::TAU).round();
+    [v.x, v.y, q3 + turns * std::f64::consts::TAU]
+}
+
 /// `J(v) v̇ = v̇ + a v × v̇ + b v × (v × v̇)`: the angular velocity, fixed frame, of `exp([v]×)`.
 pub fn exp_rate(v: &Vector3<f64>, vd: &Vector3<f64>) -> Vector3<f64> {
     let k = ExpCoefficients::at(v.norm());
@@ -264,6 +282,25 @@ mod tests {
             (below.db_over_theta, above.db_over_theta),
         ] {
             assert_relative_eq!(x, y, max_relative = 1e-13);
+        }
+    }
+
+    /// The spherical joint's coordinates of its own rotation are the coordinates (bends up to
+    /// 170°, a straight cat, a twist beyond π taken near its previous value), and of the universal
+    /// joint's rotation they give that rotation back.
+    #[test]
+    fn spherical_coordinates_invert_the_spherical_rotation() {
+        let cases = [[0.3, -1.2, 0.4], [1e-9, -2e-9, 1e-3], [0.0, 0.0, -0.7], [2.9, 0.4, 3.5], [-0.2, 0.1, -2.0]];
+        for q in cases {
+            let r = Joint::Spherical.rotation(&q);
+            let back = spherical_coordinates(&r, q[2] + 0.5);
+            for (b, q) in back.iter().zip(q) {
+                assert_relative_eq!(*b, q, epsilon = 1e-12);
+            }
+        }
+        for q in [[0.4, -0.9], [1.2, 0.7], [1e-7, 3e-7]] {
+            let r = Joint::Universal.rotation(&q);
+            assert_relative_eq!(Joint::Spherical.rotation(&spherical_coordinates(&r, 0.0)), r, epsilon = 1e-14);
         }
     }
 

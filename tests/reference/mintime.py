@@ -108,10 +108,10 @@ def qexp(v):
     return ca.vertcat(c, s * v)
 
 
-def interval_map(om, tau):
-    """Interval map of A's rate `om(q, qd)` and the torques `tau(q, qd, qdd)`: exact
-    piecewise-cubic joint path, midpoint values, quaternion step."""
-    q0, qd0, a0, q1, qd1, a1 = [ca.SX.sym(n, 2) for n in ('q0', 'qd0', 'a0', 'q1', 'qd1', 'a1')]
+def interval_map(om, tau, nq=2):
+    """Interval map of A's rate `om(q, qd)` and the torques `tau(q, qd, qdd)` for `nq` joint
+    coordinates: exact piecewise-cubic joint path, midpoint values, quaternion step."""
+    q0, qd0, a0, q1, qd1, a1 = [ca.SX.sym(n, nq) for n in ('q0', 'qd0', 'a0', 'q1', 'qd1', 'a1')]
     u0, u1 = ca.SX.sym('u0', 4), ca.SX.sym('u1', 4)
     h = ca.SX.sym('h')
     # continuity of the piecewise-cubic q with linear acceleration

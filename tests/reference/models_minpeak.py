@@ -20,8 +20,13 @@ Models (R_AB = B's attitude in A's frame):
   c  A 0.8 kg 0.8 m r 0.1, B 1.2 kg 1.0 m r 0.1; universal joint
   d  the halves of c; no-twist joint
   p  (validation only) mintime.py's paper cat: equal halves 1 kg, 1 m, r 0.1, universal
+  pu the paper cat on the universal joint (= p; the yardstick of ps)
+  ps the paper cat on a spherical joint, R_AB = exp([q1, q2, 0]x) Rz(q3) (the no-twist joint's
+     swing, then a relative twist q3 about B's own spine), three motors
 Motor torques: the torque the joint transmits to B about the joint point, projected on the motor
-axes (universal: A's x and the cross's y = Rx(q1) y; no-twist: A's x and y).
+axes (universal: A's x and the cross's y = Rx(q1) y; no-twist: A's x and y; spherical: A's x,
+A's y and B's spine e = R z).  On the spherical joint w_rel = J_l(v) v' + q3' R z, checked against
+vee(R' R^T) by the generic route, against models.py's spherical joint and the reduced Lagrangian.
 
 Dynamics (everything in A's frame; ' = A-frame time derivative; M = mA + mB, mu = mA mB / M):
   d = jA - R jB (B's centre from A's), J = R I_B R^T, w_rel = vee(R' R^T),
@@ -58,6 +63,15 @@ interpolated solution.  A case starts no new N0 solve after --budget seconds (de
 refines only the distinct optima after 2 x budget.  IPOPT: tol 1e-9, at most 3000 iterations
 and --max-wall seconds (default 300) per solve.
 
+Starts of the spherical joint: the cone starts with q3 = twist sin^2(pi s) (a fifth field of
+--starts, rad; 0 by default), and saved solutions (--map-from, refine --warm): a universal-joint
+solution is mapped onto the spherical coordinates of the same motion R_AB(t) by its swing-twist
+decomposition (e = R z, v = atan2(|z x e|, e_z) (z x e)/|z x e|, q3 = the angle of exp(-[v]x) R
+about z, unwrapped), rates by central differences; its attitude is kept.  --mu-init m restarts
+IPOPT from a (nearly) optimal point (mu_init m, warm_start_init_point): the min-peak problem at
+N >= 400 often hits its wall time from an interpolated start and then converges in under 100
+iterations from where it stopped.  --refine-best k refines only the k lowest distinct optima.
+
 Run (outside the repo's build; about 15-30 min per case on one core):
   python3 -m venv /tmp/ipopt-venv && /tmp/ipopt-venv/bin/pip install numpy scipy casadi
   cd tests/reference
@@ -66,6 +80,10 @@ Run (outside the repo's build; about 15-30 min per case on one core):
   (validation against mintime.py: solve p --starts 45:0.75:1:circle,45:1:1:circle --N 100,200)
   /tmp/ipopt-venv/bin/python models_minpeak.py summary --out /tmp/models_minpeak
   (a finer grid from a saved optimum: refine a --warm OUT/sol_a_N200_0.npz --N 400 --out DIR)
+  (the spherical joint: solve pu --starts 45:0.75:1:circle,60:1:-1 --N 100,200 --out OUT, then
+   solve ps --starts 45:0.75:1:cone:0.3,... --map-from OUT/sol_pu_N100_0.npz --N 100,200
+   --refine-best 3 --out OUT2, refine ps --warm OUT/sol_pu_N200_0.npz --N 200,400 --out OUT3,
+   refine ps --warm OUT3/refined_ps_N400.npz --N 400 --mu-init 1e-4 --out OUT4)
 Results: one JSON line per solve in OUT/results.jsonl, solutions as OUT/sol_<case>_N<N>_<k>.npz
 (<k> = the k-th distinct optimum at the first N, by increasing peak).
 """
@@ -86,6 +104,7 @@ from mintime import Rx, Ry, skew, qmul, qexp, path_eval, interval_map, reintegra
 G = 9.8
 T_FALL = math.sqrt(2 * 10 / G)          # 1.4285714 s
 MAX_WALL = 300.0                        # s per IPOPT solve (--max-wall)
+MU_INIT = None                          # IPOPT's initial barrier parameter (--mu-init; None: 0.1)
 
 CASES = {
     'a': dict(front=(1.0, 0.9, 0.1), rear=(1.0, 0.9, 0.1), joint='universal'),
@@ -93,7 +112,14 @@ CASES = {
     'c': dict(front=(0.8, 0.8, 0.1), rear=(1.2, 1.0, 0.1), joint='universal'),
     'd': dict(front=(0.8, 0.8, 0.1), rear=(1.2, 1.0, 0.1), joint='no-twist'),
     'p': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='universal'),
+    'pu': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='universal'),
+    'ps': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='spherical'),
 }
+
+
+def n_coords(joint):
+    """joint coordinates (= motors): 3 on the spherical joint, 2 otherwise."""
+    return 3 if joint == 'spherical' else 2
 
 
 # ============================================================================ symbolic model
@@ -118,20 +144,29 @@ _CA = [(-1.0) ** k / math.factorial(2 * k + 1) for k in range(_NSER)]   # sin(x)
 _CB = [(-1.0) ** k / math.factorial(2 * k + 2) for k in range(_NSER)]   # (1-cos x)/x^2
 
 
+def Rz(a):
+    c, s = ca.cos(a), ca.sin(a)
+    return ca.vertcat(ca.horzcat(c, -s, 0), ca.horzcat(s, c, 0), ca.horzcat(0, 0, 1))
+
+
 def joint_rotation(joint, q):
     if joint == 'universal':
         return Rx(q[0]) @ Ry(q[1])
-    if joint == 'no-twist':
+    if joint in ('no-twist', 'spherical'):
         v = ca.vertcat(q[0], q[1], 0)
         s = q[0] ** 2 + q[1] ** 2
         K = skew(v)
-        return ca.DM.eye(3) + _horner(_CA, s) * K + _horner(_CB, s) * (K @ K)
+        S = ca.DM.eye(3) + _horner(_CA, s) * K + _horner(_CB, s) * (K @ K)
+        # spherical: the no-twist joint's swing, then the relative twist q3 about B's own spine
+        return S if joint == 'no-twist' else S @ Rz(q[2])
     raise ValueError(joint)
 
 
 def motor_axes(joint, q):
     ax1 = ca.DM([1, 0, 0])
     ax2 = ca.vertcat(0, ca.cos(q[0]), ca.sin(q[0])) if joint == 'universal' else ca.DM([0, 1, 0])
+    if joint == 'spherical':               # the third motor about B's spine e = R z (in A)
+        return ca.horzcat(ax1, ax2, joint_rotation(joint, q) @ ca.DM([0, 0, 1])).T
     return ca.horzcat(ax1, ax2).T          # rows: the motor axes in A's frame
 
 
@@ -175,6 +210,8 @@ def model_exprs(front, rear, joint, q, qd, qdd, fast=True):
             sv = q[0] ** 2 + q[1] ** 2
             K = skew(v)
             w_rel = vd + _horner(_CB, sv) * (K @ vd) + _horner(_CC, sv) * (K @ (K @ vd))
+            if joint == 'spherical':       # + the twist rate about B's spine S z = R z
+                w_rel = w_rel + qd[2] * (R @ ca.DM([0, 0, 1]))
         wd_rel = tdot(w_rel)
         dd = -ca.cross(w_rel, rho)
         ddd = -ca.cross(wd_rel, rho) - ca.cross(w_rel, ca.cross(w_rel, rho))
@@ -225,7 +262,8 @@ class Model:
 
     def __init__(self, front, rear, joint):
         self.front, self.rear, self.joint = front, rear, joint
-        q, qd, qdd = ca.SX.sym('q', 2), ca.SX.sym('qd', 2), ca.SX.sym('qdd', 2)
+        self.nq = nq = n_coords(joint)
+        q, qd, qdd = ca.SX.sym('q', nq), ca.SX.sym('qd', nq), ca.SX.sym('qdd', nq)
         f = model_exprs(front, rear, joint, q, qd, qdd, fast=True)
         g = model_exprs(front, rear, joint, q, qd, qdd, fast=False)
         self.tau = ca.Function('tau', [q, qd, qdd], [ca.cse(f['tau'])])
@@ -234,11 +272,8 @@ class Model:
         self.checks = ca.Function('checks', [q, qd, qdd],
                                   [g['tauJ'], g['Qne'], g['Qlag'], g['react'], g['tau'],
                                    f['tau'], f['tauJ'], f['Om'], f['Omd'], g['Om'], g['Omd']])
-        self.step = self._build_step()
+        self.step = interval_map(self.Om, self.tau, self.nq)
         self.solvers = {}
-
-    def _build_step(self):
-        return interval_map(self.Om, self.tau)
 
 
 # ============================================================================ numerics
@@ -250,7 +285,7 @@ def analyse(model, T, Q, QD, A, U):
     tau = np.array(model.tau.map(len(tt))(q, qd, qdd))
     if model.joint == 'universal':
         bend = np.degrees(np.arccos(np.clip(np.cos(q[0]) * np.cos(q[1]), -1, 1)))
-    else:
+    else:                  # no-twist and spherical: the swing angle |(q1, q2)| is the bend
         bend = np.degrees(np.hypot(q[0], q[1]))
     sp = np.array(model.spine.map(len(tt))(q))
     spine_angle = np.degrees(np.arccos(np.clip(sp[2], -1, 1)))
@@ -264,11 +299,20 @@ def analyse(model, T, Q, QD, A, U):
     tw, sw = twist_swing(uq)
     twc, swc = twist_swing(U[:, -1])
     sign = 1 if tw > 0 else (-1 if tw < 0 else 0)
-    return dict(N=N, peak_dense=float(np.abs(tau).max()), peak_dense_j=np.abs(tau).max(1).tolist(),
-                twist_deg=tw, swing_deg=sw, twist_err_deg=tw - sign * 180.0,
-                twist_colloc_deg=twc, swing_colloc_deg=swc, twist_sign=sign,
-                max_bend_deg=float(bend.max()), max_spine_angle_deg=float(spine_angle.max()),
-                turns=turns, peak_qd=float(np.abs(qd).max()))
+    out = dict(N=N, peak_dense=float(np.abs(tau).max()), peak_dense_j=np.abs(tau).max(1).tolist(),
+               twist_deg=tw, swing_deg=sw, twist_err_deg=tw - sign * 180.0,
+               twist_colloc_deg=twc, swing_colloc_deg=swc, twist_sign=sign,
+               max_bend_deg=float(bend.max()), max_spine_angle_deg=float(spine_angle.max()),
+               turns=turns, peak_qd=float(np.abs(qd).max()))
+    if model.nq == 3:
+        # the relative twist, and the motors' peaks at the collocation points (nodes, midpoints)
+        out['max_q3_deg'] = float(np.degrees(np.abs(q[2]).max()))
+        h = T / N
+        tc = np.sort(np.concatenate([tk, tk[:-1] + h / 2]))
+        qc, qdc, qddc = path_eval(tc, tk, Q, QD, A)
+        tc_ = np.abs(np.array(model.tau.map(len(tc))(qc, qdc, qddc)))
+        out['peak_colloc_j'] = tc_.max(1).tolist()
+    return out
 
 
 # ============================================================================ starts
@@ -278,11 +322,12 @@ def spine_to_q(joint, beta, phi):
     if joint == 'universal':
         # Rx(q1) Ry(q2) z = (sin q2, -sin q1 cos q2, cos q1 cos q2)
         return np.stack([np.arctan2(-dy, dz), np.arcsin(np.clip(dx, -1, 1))])
-    # exp([v]x) z with v = beta (-sin phi, cos phi, 0)
+    # exp([v]x) z with v = beta (-sin phi, cos phi, 0) (no-twist; the spherical joint's swing)
     return np.stack([-beta * np.sin(phi), beta * np.cos(phi)])
 
 
-def guess(model, N, T, beta_deg, turns, sign, kind='cone'):
+def guess(model, N, T, beta_deg, turns, sign, kind='cone', twist=0.0):
+    """twist (spherical joint only): q3 = twist sin^2(pi s), rad."""
     s = np.linspace(0, 1, N + 1)
     b0 = math.radians(beta_deg)
     # the universal joint locks where B's spine meets joint 1's axis (A's x: bend 90 deg at
@@ -295,8 +340,12 @@ def guess(model, N, T, beta_deg, turns, sign, kind='cone'):
         beta = b0 * np.sin(np.pi * s) ** 2
         phi = phi0 + sign * 2 * np.pi * turns * (s - np.sin(2 * np.pi * s) / (2 * np.pi))
         if kind == 'circle':               # mintime.py's start: q = beta (cos phi, sin phi)
-            return np.stack([beta * np.cos(phi), beta * np.sin(phi)])
-        return spine_to_q(model.joint, beta, phi)
+            q = np.stack([beta * np.cos(phi), beta * np.sin(phi)])
+        else:
+            q = spine_to_q(model.joint, beta, phi)
+        if model.nq == 3:
+            q = np.vstack([q, twist * np.sin(np.pi * s) ** 2])
+        return q
     e = 1e-5
     Q = qf(s)
     QD = (qf(s + e) - qf(s - e)) / (2 * e) / T
@@ -306,8 +355,70 @@ def guess(model, N, T, beta_deg, turns, sign, kind='cone'):
     h = T / N
     for k in range(N):
         U[:, k + 1] = -np.array(model.step(Q[:, k], QD[:, k], A[:, k], Q[:, k + 1], QD[:, k + 1],
-                                           A[:, k + 1], U[:, k], np.zeros(4), h)[0][4:]).ravel()
+                                           A[:, k + 1], U[:, k], np.zeros(4), h)[0][2 * model.nq:]).ravel()
     return Q, QD, A, U
+
+
+def _np_exp(v):
+    """exp([v]x) for rotation vectors v of shape (n, 3) (Rodrigues, series near 0)."""
+    th = np.linalg.norm(v, axis=1)
+    small = th < 1e-6
+    ths = np.where(small, 1.0, th)
+    a = np.where(small, 1 - th ** 2 / 6, np.sin(ths) / ths)
+    b = np.where(small, 0.5 - th ** 2 / 24, (1 - np.cos(ths)) / ths ** 2)
+    K = np.zeros((len(v), 3, 3))
+    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
+    K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
+    return np.eye(3) + a[:, None, None] * K + b[:, None, None] * (K @ K)
+
+
+def universal_to_spherical(q):
+    """joint angles (2, n) of R = Rx(q1) Ry(q2) -> spherical coordinates (3, n) of the same R by
+    its swing-twist decomposition: e = R z, swing v = atan2(|z x e|, e_z) (z x e)/|z x e|,
+    exp([v]x) Rz(q3) = R, q3 = the angle of exp(-[v]x) R about z (unwrapped along the samples)."""
+    c1, s1, c2, s2 = np.cos(q[0]), np.sin(q[0]), np.cos(q[1]), np.sin(q[1])
+    n = q.shape[1]
+    R = np.zeros((n, 3, 3))                      # Rx(q1) Ry(q2)
+    R[:, 0, 0], R[:, 0, 1], R[:, 0, 2] = c2, 0.0, s2
+    R[:, 1, 0], R[:, 1, 1], R[:, 1, 2] = s1 * s2, c1, -s1 * c2
+    R[:, 2, 0], R[:, 2, 1], R[:, 2, 2] = -c1 * s2, s1, c1 * c2
+    e = R[:, :, 2]
+    c = np.stack([-e[:, 1], e[:, 0], np.zeros(n)], 1)          # z x e
+    sn = np.linalg.norm(c, axis=1)
+    th = np.arctan2(sn, e[:, 2])
+    f = np.where(sn < 1e-12, 1.0, th / np.where(sn < 1e-12, 1.0, sn))   # th / sin th
+    v = c * f[:, None]
+    M = np.swapaxes(_np_exp(v), 1, 2) @ R                      # = Rz(q3)
+    assert np.abs(M[:, 2, 2] - 1).max() < 1e-9
+    q3 = np.unwrap(np.arctan2(M[:, 1, 0], M[:, 0, 0]))
+    return np.stack([v[:, 0], v[:, 1], q3])
+
+
+def map_universal_solution(T, sol, N):
+    """a universal-joint solution (Q, QD, A, U) as a start of the spherical joint on N intervals:
+    the same motion R_AB(t) (so the same attitude U), its spherical coordinates at the nodes and
+    their rates by central differences (step 1e-5 s) along the exact piecewise-cubic path."""
+    Q, QD, A, U = sol
+    tk_old = np.linspace(0, T, Q.shape[1])
+    tk = np.linspace(0, T, N + 1)
+    e = 1e-5
+    tt = np.concatenate([tk - e, tk, tk + e])
+    qu = path_eval(np.clip(tt, 0, T), tk_old, Q, QD, A)[0]
+    qs = np.stack([universal_to_spherical(qu[:, i * (N + 1):(i + 1) * (N + 1)]) for i in range(3)])
+    # unwrap consistently across the three sample rows (same branch as the nodes)
+    for i in (0, 2):
+        qs[i, 2] += 2 * np.pi * np.round((qs[1, 2] - qs[i, 2]) / (2 * np.pi))
+    qm, q0, qp = qs
+    Qn, QDn, An = q0, (qp - qm) / (2 * e), (qp - 2 * q0 + qm) / e ** 2
+    # the ends: the one-sided samples (clipped) would spoil the differences; q = qd = 0 there
+    Qn[:, [0, -1]] = 0; QDn[:, [0, -1]] = 0
+    Aend = path_eval(np.array([0.0, T]), tk_old, Q, QD, A)[2]
+    # at q = 0 the map's Jacobian is the identity on (q1, q2) and q3 has zero slope: qdd maps
+    # as the linear part plus a quadratic term in qd = 0
+    An[:2, 0], An[:2, -1] = Aend[:, 0], Aend[:, 1]
+    An[2, [0, -1]] = 0
+    Un = np.stack([np.interp(tk, tk_old, U[i]) for i in range(4)])
+    return Qn, QDn, An, Un / np.linalg.norm(Un, axis=0)
 
 
 def interp_solution(T, sol, N):
@@ -326,8 +437,9 @@ def build_solver(model, N, T, max_iter, max_wall=None):
     key = (N, T, max_iter, max_wall)
     if key in model.solvers:
         return model.solvers[key]
-    Q = ca.MX.sym('Q', 2, N + 1); QD = ca.MX.sym('QD', 2, N + 1)
-    A = ca.MX.sym('A', 2, N + 1); U = ca.MX.sym('U', 4, N + 1)
+    nq = model.nq
+    Q = ca.MX.sym('Q', nq, N + 1); QD = ca.MX.sym('QD', nq, N + 1)
+    A = ca.MX.sym('A', nq, N + 1); U = ca.MX.sym('U', 4, N + 1)
     P = ca.MX.sym('P')
     h = T / N
     res, taum, _ = model.step.map(N, 'serial')(Q[:, :-1], QD[:, :-1], A[:, :-1], Q[:, 1:], QD[:, 1:],
@@ -335,7 +447,7 @@ def build_solver(model, N, T, max_iter, max_wall=None):
     TAU = ca.horzcat(model.tau.map(N + 1, 'serial')(Q, QD, A), taum)
     geq = ca.vertcat(ca.vec(res), Q[:, 0], QD[:, 0], Q[:, -1], QD[:, -1],
                      U[:, 0] - ca.DM([1, 0, 0, 0]), U[[0, 1, 2], -1])
-    n = 2 * (2 * N + 1)
+    n = nq * (2 * N + 1)
     gin = ca.vertcat(ca.vec(TAU - P), ca.vec(TAU + P))
     G_ = ca.vertcat(geq, gin)
     lbg = np.concatenate([np.zeros(geq.shape[0]), -np.inf * np.ones(n), np.zeros(n)])
@@ -346,6 +458,9 @@ def build_solver(model, N, T, max_iter, max_wall=None):
             'ipopt.tol': 1e-9, 'ipopt.constr_viol_tol': 1e-10, 'ipopt.acceptable_tol': 1e-7,
             'ipopt.mu_strategy': 'adaptive', 'ipopt.linear_solver': 'mumps', 'ipopt.sb': 'yes',
             'ipopt.max_wall_time': float(max_wall)}
+    if MU_INIT is not None:                # a warm restart from a (nearly) optimal point
+        opts.update({'ipopt.mu_init': MU_INIT, 'ipopt.warm_start_init_point': 'yes',
+                     'ipopt.warm_start_bound_push': 1e-9, 'ipopt.warm_start_mult_bound_push': 1e-9})
     S = ca.nlpsol('S', 'ipopt', dict(x=x, f=P, g=G_), opts)
     model.solvers[key] = (S, lbx, ubx, lbg, ubg)
     return model.solvers[key]
@@ -353,6 +468,7 @@ def build_solver(model, N, T, max_iter, max_wall=None):
 
 def solve(model, N, init, T=T_FALL, max_iter=3000):
     Q0, QD0, A0, U0 = init
+    nq = model.nq
     S, lbx, ubx, lbg, ubg = build_solver(model, N, T, max_iter)
     P0 = float(np.abs(np.array(model.tau.map(N + 1)(Q0, QD0, A0))).max())
     if not (np.isfinite(P0) and P0 < 1e3 and np.all(np.isfinite(U0))):
@@ -365,11 +481,13 @@ def solve(model, N, init, T=T_FALL, max_iter=3000):
     xs = np.array(sol['x']).ravel()
     k = 0
     parts = []
-    for rows in (2, 2, 2, 4):
+    for rows in (nq, nq, nq, 4):
         parts.append(xs[k:k + rows * (N + 1)].reshape((rows, N + 1), order='F')); k += rows * (N + 1)
     Qs, QDs, As, Us = parts
     out = analyse(model, T, Qs, QDs, As, Us)
     out.update(P=float(xs[-1]), status=st['return_status'], iters=st['iter_count'], wall_s=wall)
+    if 'peak_colloc_j' in out:             # motors whose bound is active (to 1e-6 of P)
+        out['n_motors_at_peak'] = int(sum(v >= out['P'] * (1 - 1e-6) for v in out['peak_colloc_j']))
     return out, (Qs, QDs, As, Us)
 
 
@@ -380,6 +498,7 @@ def fmt(o):
     keys = ['N', 'status', 'iters', 'wall_s', 'P', 'peak_dense', 'peak_dense_j', 'twist_sign',
             'twist_deg', 'twist_err_deg', 'swing_deg', 'twist_colloc_deg', 'max_bend_deg',
             'max_spine_angle_deg', 'turns', 'peak_qd']
+    keys += [k for k in ('max_q3_deg', 'peak_colloc_j', 'n_motors_at_peak') if k in o]
     r = {}
     for k in keys:
         v = o.get(k)
@@ -391,19 +510,41 @@ def fmt(o):
     return r
 
 
-def run_case(name, Ns, starts, budget, out_dir, max_iter, log):
+def load_start(model, path, N):
+    """a saved solution as a start on N intervals: interpolated, or (a universal-joint solution
+    for the spherical joint) mapped onto the spherical coordinates."""
+    z = np.load(path)
+    sol = (z['Q'], z['QD'], z['A'], z['U'])
+    if sol[0].shape[0] == 2 and model.nq == 3:
+        return map_universal_solution(float(z['T']), sol, N)
+    if sol[0].shape[0] != model.nq:
+        raise ValueError(f'{path}: {sol[0].shape[0]} joint coordinates, the case has {model.nq}')
+    return interp_solution(float(z['T']), sol, N)
+
+
+def run_case(name, Ns, starts, budget, out_dir, max_iter, log, refine_best=None):
     c = CASES[name]
     model = Model(c['front'], c['rear'], c['joint'])
     N0 = Ns[0]
     t_start = time.time()
     found = []
-    for i, (b, tn, sg, kind) in enumerate(starts):
+    for i, st in enumerate(starts):
         if time.time() - t_start > budget:
             log(dict(case=name, note=f'budget {budget:.0f} s spent: starts {i}.. skipped',
                      skipped=[list(s) for s in starts[i:]]))
             break
-        label = f'{kind} beta={b:g} turns={tn:g} sign={sg:+d}'
-        init = guess(model, N0, T_FALL, b, tn, sg, kind)
+        try:
+            if st[0] == 'map':             # a saved solution (universal -> spherical: mapped)
+                label = f'from {os.path.basename(st[1])}'
+                init = load_start(model, st[1], N0)
+            else:
+                b, tn, sg, kind = st[:4]
+                tw = st[4] if len(st) > 4 else 0.0
+                label = f'{kind} beta={b:g} turns={tn:g} sign={sg:+d}' + (f' twist={tw:g}' if tw else '')
+                init = guess(model, N0, T_FALL, b, tn, sg, kind, tw)
+        except Exception as e:  # noqa: BLE001
+            log(dict(case=name, N=N0, start=str(st), error=repr(e)))
+            continue
         try:
             o, sol = solve(model, N0, init, max_iter=max_iter)
         except Exception as e:  # noqa: BLE001
@@ -432,6 +573,8 @@ def run_case(name, Ns, starts, budget, out_dir, max_iter, log):
     todo = [(j, cl['o'], cl['sol'], cl['starts'][0], True) for j, cl in enumerate(clusters)]
     todo += [(j, o, sol, label, False) for j, cl in enumerate(clusters)
              for o, sol, label in found if label in cl['starts'][1:]]
+    if refine_best is not None:            # only the refine_best lowest distinct optima
+        todo = [t for t in todo if t[4] and t[0] < refine_best]
     for j, o0, sol, label, rep in todo:
         if not rep and time.time() - t_start > 2 * budget:
             log(dict(case=name, note=f'2 x budget spent: refinement of start {label} skipped'))
@@ -465,7 +608,8 @@ def check():
         m = Model(c['front'], c['rear'], c['joint'])
         cat = ref.Cat(*c['front'], *c['rear'], c['joint'])
         n = 8
-        q = rng.uniform(-1.6, 1.6, (n, 2)); qd = rng.uniform(-6, 6, (n, 2)); qdd = rng.uniform(-40, 40, (n, 2))
+        nq = m.nq
+        q = rng.uniform(-1.6, 1.6, (n, nq)); qd = rng.uniform(-6, 6, (n, nq)); qdd = rng.uniform(-40, 40, (n, nq))
         st = cat.state(q, qd, qdd, check=True)
         e_tau = e_om = e_q = e_r = e_tj = e_fg = e_omd = 0.0
         for i in range(n):
@@ -538,16 +682,25 @@ def main():
     ap.add_argument('--budget', type=float, default=900.0, help='seconds of starts per case')
     ap.add_argument('--max-iter', type=int, default=3000)
     ap.add_argument('--max-wall', type=float, default=300.0, help='seconds per IPOPT solve')
+    ap.add_argument('--mu-init', type=float, default=None,
+                    help="IPOPT's initial barrier parameter, with warm_start_init_point (refine from a near optimum)")
     ap.add_argument('--out', default='/tmp/models_minpeak')
-    ap.add_argument('--warm', default='', help='refine: a saved sol_*.npz of the (single) case')
+    ap.add_argument('--warm', default='', help='refine: a saved sol_*.npz of the (single) case '
+                    '(a universal-joint solution is mapped onto a spherical case)')
+    ap.add_argument('--map-from', default='',
+                    help='solve: saved solutions (comma-separated npz) as extra starts, after --starts; '
+                    'a universal-joint solution is mapped onto a spherical case')
+    ap.add_argument('--refine-best', type=int, default=None,
+                    help='solve: refine only the k lowest distinct optima (default: all, then the rest)')
     a = ap.parse_args()
     if a.what == 'check':
         sys.exit(0 if check() else 1)
     if a.what == 'summary':
         summary(os.path.join(a.out, 'results.jsonl'))
         return
-    global MAX_WALL
+    global MAX_WALL, MU_INIT
     MAX_WALL = a.max_wall
+    MU_INIT = a.mu_init
     os.makedirs(a.out, exist_ok=True)
     Ns = [int(x) for x in a.N.split(',')]
     starts = default_starts()
@@ -555,7 +708,8 @@ def main():
         starts = []
         for s in a.starts.split(','):
             f = s.split(':')
-            starts.append((float(f[0]), float(f[1]), int(float(f[2])), f[3] if len(f) > 3 else 'cone'))
+            starts.append((float(f[0]), float(f[1]), int(float(f[2])), f[3] if len(f) > 3 else 'cone')
+                          + ((float(f[4]),) if len(f) > 4 else ()))
     fh = open(os.path.join(a.out, 'results.jsonl'), 'a')
 
     def log(d):
@@ -569,15 +723,18 @@ def main():
         model = Model(c['front'], c['rear'], c['joint'])
         z = np.load(a.warm)
         sol = (z['Q'], z['QD'], z['A'], z['U'])
-        for N in Ns:
-            o, sol = solve(model, N, interp_solution(float(z['T']), sol, N), max_iter=a.max_iter)
+        for i, N in enumerate(Ns):
+            init = load_start(model, a.warm, N) if i == 0 else interp_solution(float(z['T']), sol, N)
+            o, sol = solve(model, N, init, max_iter=a.max_iter)
             log(dict(case=name, start='refine ' + os.path.basename(a.warm), **fmt(o)))
             np.savez(os.path.join(a.out, f'refined_{name}_N{N}.npz'), T=T_FALL,
                      **dict(zip(('Q', 'QD', 'A', 'U'), sol)))
             z = dict(T=T_FALL)
         return
+    if a.map_from:
+        starts = (starts if a.starts else []) + [('map', f) for f in a.map_from.split(',')]
     for name in a.cases:
-        run_case(name, Ns, starts, a.budget, a.out, a.max_iter, log)
+        run_case(name, Ns, starts, a.budget, a.out, a.max_iter, log, a.refine_best)
 
 
 if __name__ == '__main__':

@@ -105,6 +105,7 @@ pub mod cat;
 pub mod curvature;
 pub mod dual;
 pub mod dynamics;
+pub mod lift;
 pub mod limits;
 pub mod measure;
 pub mod model_dynamics;
@@ -199,6 +200,24 @@ pub fn optimize_whole_spinning(
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
     beyond_two_motors(cat, settings.objective, motors, spin)?;
+    if matches!(cat, WholeCat::Spherical(_)) {
+        return lift::optimize_spherical(&lift::Plan { cat, duration, manoeuvre, settings, motors, tolerance });
+    }
+    let (starts, skipped) = build_starts(cat, duration, manoeuvre, settings, spin);
+    let mut outcome = optimize_from_spinning(cat, &starts, settings, motors, tolerance, spin)?;
+    outcome.skipped = skipped;
+    Ok(outcome)
+}
+
+/// The starts named in `settings` for `cat` ([`build_start_spinning`]), and those that could not
+/// be built with the reason why.
+fn build_starts(
+    cat: &WholeCat,
+    duration: f64,
+    manoeuvre: &Manoeuvre,
+    settings: &WholeSettings,
+    spin: &Vector3<f64>,
+) -> (Vec<NamedStart>, Vec<SkippedStart>) {
     let built: Vec<_> = settings
         .starts
         .par_iter()
@@ -212,9 +231,7 @@ pub fn optimize_whole_spinning(
             Err(reason) => skipped.push(SkippedStart { start: kind.name().to_string(), reason }),
         }
     }
-    let mut outcome = optimize_from_spinning(cat, &starts, settings, motors, tolerance, spin)?;
-    outcome.skipped = skipped;
-    Ok(outcome)
+    (starts, skipped)
 }
 
 /// Optimises from given starts (each a spline of `settings.control_points` cubic control points
@@ -261,10 +278,21 @@ pub fn optimize_from_spinning(
     // The starts are independent: solved in parallel, reported in the order given.
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
+    outcome_of(&problem, solutions, tolerance)
+}
+
+/// The outcome of the starts' `solutions` of `problem`: the best converged flip
+/// ([`solution::best_of`]), refined where its torques switch ([`refine_solution`]; not for the
+/// energy, whose torques do not switch).
+fn outcome_of(
+    problem: &ScvxProblem<'_>,
+    mut solutions: Vec<WholeSolution>,
+    tolerance: f64,
+) -> Result<WholeOutcome, WholeError> {
+    let settings = problem.settings;
     let best = solution::best_of(&solutions, settings.objective, tolerance);
-    let mut solutions = solutions;
     if let Some(b) = best.filter(|_| settings.objective != Objective::Energy && settings.switch_refinements > 0) {
-        let refined = refine_solution(&problem, &solutions[b], tolerance)?;
+        let refined = refine_solution(problem, &solutions[b], tolerance)?;
         // A refinement that ended outside the tolerances leaves the best as it was.
         if refined.status == WholeStatus::Converged && refined.flips(tolerance) {
             solutions[b] = refined;

@@ -133,7 +133,7 @@ pub fn best_of(solutions: &[WholeSolution], objective: Objective, tolerance: f64
 }
 
 /// `objective`'s value with its name and unit, as a sentence fragment: "peak 0.464684 N·m".
-fn valued(objective: Objective, value: f64) -> String {
+pub(crate) fn valued(objective: Objective, value: f64) -> String {
     match objective {
         Objective::Peak => format!("peak {value:.6} N·m"),
         Objective::Energy => format!("energy {value:.6} N²·m²·s"),
@@ -158,7 +158,8 @@ pub struct WholeOutcome {
     /// Index in `solutions` of the lowest objective among those that converged and flip the
     /// cat; none when no start did.
     pub best: Option<usize>,
-    /// Starts that could not be built.
+    /// Starts that were not solved, and why: they could not be built, or (the spherical joint,
+    /// [`super::lift`]) their universal-joint solve found the same optimum as another start's.
     pub skipped: Vec<SkippedStart>,
 }
 
@@ -192,7 +193,7 @@ impl WholeOutcome {
     pub fn no_optimum(&self, settings: &WholeSettings, tolerance: f64) -> String {
         let objective = settings.objective;
         let mut why: Vec<String> = self.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect();
-        why.extend(self.skipped.iter().map(|s| format!("{} not built: {}", s.start, s.reason)));
+        why.extend(self.skipped.iter().map(|s| format!("{} not solved: {}", s.start, s.reason)));
         let mut line = if self.solutions.is_empty() {
             format!("no optimum: no start could be built ({})", why.join("; "))
         } else {

@@ -283,16 +283,45 @@ impl BSpline {
         joints: usize,
         target: impl Fn(f64) -> Vec<f64>,
     ) -> Self {
-        let mut spline = Self::zero(duration, control_points, degree).with_joints(joints);
+        let spline = Self::zero(duration, control_points, degree).with_joints(joints);
+        let points = 20 * spline.spans();
+        let times = (0..=points).map(|k| duration * k as f64 / points as f64);
+        spline.least_squares(fixed, times, target)
+    }
+
+    /// The least-squares fit of `target(t)` (the `joints` coordinates' angles, rad) on this
+    /// spline's knots, uniform or not, at 20 points in every span, with the first and last
+    /// `fixed` control points of each coordinate held at zero.
+    pub fn fit_on_knots(&self, fixed: usize, joints: usize, target: impl Fn(f64) -> Vec<f64>) -> Self {
+        let zeros = vec![vec![0.0; self.control_points()]; joints];
+        let template = Self { degree: self.degree, knots: self.knots.clone(), coefficients: zeros };
+        let times = (0..self.spans())
+            .flat_map(|s| {
+                let (a, b) = self.span_bounds(s);
+                (0..20).map(move |k| a + (b - a) * k as f64 / 20.0)
+            })
+            .chain(std::iter::once(self.duration()));
+        template.least_squares(fixed, times, target)
+    }
+
+    /// This spline's knots with the control points fitted to `target` at `times` by least
+    /// squares, the first and last `fixed` of each coordinate held at zero (the others' values
+    /// are replaced).
+    fn least_squares(
+        mut self,
+        fixed: usize,
+        times: impl Iterator<Item = f64>,
+        target: impl Fn(f64) -> Vec<f64>,
+    ) -> Self {
+        let (control_points, degree, joints) = (self.control_points(), self.degree, self.joints());
         let free = control_points.saturating_sub(2 * fixed);
         if free == 0 {
-            return spline;
+            return self;
         }
-        let points = 20 * spline.spans();
+        let spline = &self;
         let mut normal = DMatrix::<f64>::zeros(free, free);
         let mut rhs = vec![DVector::<f64>::zeros(free); joints];
-        for k in 0..=points {
-            let t = duration * k as f64 / points as f64;
+        for t in times {
             let basis = spline.basis(spline.span_of(t), t);
             let y = target(t);
             let cols: Vec<(usize, f64)> = (0..=degree)
@@ -313,11 +342,11 @@ impl BSpline {
         // The collocation matrix has full column rank (every free function has support holding
         // sample points), so the normal matrix is positive definite.
         if let Some(ch) = normal.cholesky() {
-            for (coefficients, rhs) in spline.coefficients.iter_mut().zip(&rhs) {
+            for (coefficients, rhs) in self.coefficients.iter_mut().zip(&rhs) {
                 coefficients[fixed..fixed + free].copy_from_slice(ch.solve(rhs).as_slice());
             }
         }
-        spline
+        self
     }
 }
 
