@@ -286,7 +286,7 @@ mod tests {
     }
 
     /// The spherical joint's coordinates of its own rotation are the coordinates (bends up to
-    /// 170°, a straight cat, a twist beyond π taken near its previous value), and of the universal
+    /// 168°, a straight cat, a twist beyond π taken near its previous value), and of the universal
     /// joint's rotation they give that rotation back.
     #[test]
     fn spherical_coordinates_invert_the_spherical_rotation() {

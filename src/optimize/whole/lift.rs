@@ -2,37 +2,41 @@
 //!
 //! A spherical joint holds every motion of the universal joint (`Rx(q1) Ry(q2)` is a swing
 //! followed by a twist, [`crate::model::joint::spherical_coordinates`]) and of the no-twist joint
-//! (its twist held at zero), so its least peak is at most theirs. Planned from the library starts
-//! alone (the no-twist joint's, the twist held at zero) it was not: on the paper's cat the peak
-//! stage crept down by `10⁻⁵` of the peak per step at trust radii near `7·10⁻⁴` rad until the
-//! progress test called it converged at 0.316462 N·m, above the universal joint's 0.316452.
-//! With three coordinates the least-peak optimum is not a vertex of the linearised problem (all
-//! three motors sit at the peak along arcs, and the relative twist is a nearly flat direction:
-//! an independent collocation finds ten optima within 0.1 % that differ mainly in their twist,
-//! `tests/reference/README.md`), and successive linear programming crawls there whatever its
-//! start; the start decides where the crawl begins.
+//! (its twist held at zero), so without a joint limit its least peak is at most theirs (the
+//! limit bounds different coordinates on each joint: a lifted start is clamped to the spherical
+//! joint's). Planned from the library starts alone (the no-twist joint's, the twist held at zero)
+//! it was not: on the paper's cat the peak stage crept down by `10⁻⁵` of the peak per step at trust
+//! radii near `7·10⁻⁴` rad until the progress test stopped it, and refined it ended at 0.316825
+//! N·m, above the universal joint's 0.316452. With three coordinates the least-peak optimum is not
+//! a vertex of the linearised problem (all three motors sit at the peak along arcs, and the
+//! relative twist is a nearly flat direction: an independent collocation finds ten optima within
+//! 0.1 % that differ mainly in their twist, `tests/reference/README.md`), and successive linear
+//! programming crawls there whatever its start; the start decides where the crawl begins.
 //!
 //! So the spherical joint is also started at the universal joint's optimum. The universal joint
 //! is solved from each of the settings' starts on the uniform knots, and its best optimum is
 //! lifted twice: as it is, its path expressed in the spherical joint's coordinates along the way
 //! and fitted on the same knots ([`lift`]), solved for the iteration budget of the settings; and
 //! refined where its torques switch, as the universal joint's own answer is
-//! ([`super::refine_solution`]), lifted on those knots and solved for a refined solve's budget
-//! ([`refine::BUDGET`]), which keeps the answer at or below the universal joint's own. Both start
-//! with the first trust radius of a refined solve ([`refine::TRUST_SHARE`]). They run beside the
-//! library starts, and the best of all is refined where its own torques switch, as every cat's
-//! optimum is. A lifted stage that stops at its budget still descending, lower than the universal
-//! optimum it started from, is kept, as a refined stage is, and its reason says that its value is
-//! an upper bound on the spherical joint's least peak. Each lifted solution's time, iterations
-//! and log count the universal joint's solve too.
+//! ([`super::refine_solution`]), lifted on those knots and solved as a refined solve is (its
+//! budget [`refine::BUDGET`] and optimality). Both start with the first trust radius of a refined
+//! solve ([`refine::TRUST_SHARE`]). They run beside the library starts, and the best of all is
+//! refined where its own torques switch, as every cat's optimum is. A lifted stage that stops at
+//! its budget below the universal optimum it started from, on a flip within the limits, is kept,
+//! as a refined stage is, and its reason says that its value is an upper bound on the spherical
+//! joint's least peak. Each lifted solution's time, iterations and log count its universal solve
+//! (the start it lifts) too.
 //!
-//! Measured (2 cores, the spherical cat's `optimize_whole` alone, 2026-12-05): on the paper's cat the
-//! library starts end at 0.318285 and 0.317192 N·m, the universal optimum lifted (0.318346 on the
-//! uniform knots) at 0.314330 after its 200 iterations and 0.311937 refined (1.4 % below the
-//! universal joint's 0.316452; an independent collocation finds 0.3054), the refined one lifted
-//! at 0.316165 after its 25; 10.0 s. On unequal halves (`problems/unequal-halves.toml`) the
-//! universal joint's optimum is 0.457 N·m and its lift ends at 0.288, while the library's
-//! `cone-mirrored` start ends at 0.282670 as before: neither start alone finds both; 13.2 s.
+//! Measured (2 cores, the spherical cat's `optimize_whole` alone, 2026-12-05): on the paper's
+//! cat the library starts end at 0.318285 and 0.317192 N·m, the universal optimum lifted
+//! (0.318346 on the uniform knots) at 0.314330 after its 200 iterations and 0.311937 refined
+//! (1.4 % below the universal joint's 0.316452; an independent collocation finds 0.3054), the
+//! refined one lifted at 0.316165 after its 25; 10.0 s. On 40 control points the refined lift is
+//! the best (0.318174 against the universal joint's 0.320227; the unrefined one's stage was
+//! stopped early by the progress test at 0.325765). On unequal halves
+//! (`problems/unequal-halves.toml`) the universal joint's optimum is 0.457 N·m and its lift ends
+//! at 0.288, while the library's `cone-mirrored` start ends at 0.282670 as before: neither start
+//! alone finds both; 13.2 s.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -43,7 +47,7 @@ use super::spline::BSpline;
 use super::starts::NamedStart;
 use super::{
     build_starts, flipped, optimize_start, optimize_whole, outcome_of, refine, refine_solution, torque_limited,
-    ScvxProblem, WholeCat,
+    ScvxProblem, WholeCat, BEND_SLACK_DEG,
 };
 use crate::model::joint::spherical_coordinates;
 use crate::model::motor::{motors_beyond, Motors, MotorsBeyond};
@@ -97,7 +101,7 @@ pub(super) fn optimize_spherical(plan: &Plan<'_>) -> Result<WholeOutcome, WholeE
     let (more, more_skipped) = lifted?;
     solutions.extend(more);
     skipped.extend(more_skipped);
-    let mut outcome = outcome_of(&spherical(cat, settings, motors), solutions, tolerance)?;
+    let mut outcome = outcome_of(&problem_of(cat, settings, motors), solutions, tolerance)?;
     outcome.skipped = skipped;
     Ok(outcome)
 }
@@ -106,7 +110,7 @@ pub(super) fn optimize_spherical(plan: &Plan<'_>) -> Result<WholeOutcome, WholeE
 /// starts that could not be built.
 fn library_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedStart>), WholeError> {
     let (starts, skipped) = build_starts(plan.cat, plan.duration, plan.manoeuvre, plan.settings, &Vector3::zeros());
-    let problem = spherical(plan.cat, plan.settings, plan.motors);
+    let problem = problem_of(plan.cat, plan.settings, plan.motors);
     let solutions = starts
         .par_iter()
         .map(|start| optimize_start(&problem, start, plan.tolerance))
@@ -120,38 +124,44 @@ fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedS
     let (cat, settings, motors, tolerance) = (plan.cat, plan.settings, plan.motors, plan.tolerance);
     let universal = WholeCat::new(Cat { joint: Joint::Universal, ..cat.cat() })?;
     let unrefined = WholeSettings { switch_refinements: 0, ..settings.clone() };
-    let sub = optimize_whole(&universal, plan.duration, plan.manoeuvre, &unrefined, motors, tolerance)?;
+    let sub = match optimize_whole(&universal, plan.duration, plan.manoeuvre, &unrefined, motors, tolerance) {
+        Ok(sub) => sub,
+        // The library starts do not need it: a start that could not be tried, said so.
+        Err(e) => {
+            let reason = format!("the universal joint's solve on these halves failed: {e}");
+            return Ok((Vec::new(), vec![SkippedStart { start: "universal optimum".into(), reason }]));
+        }
+    };
     let (froms, mut skipped) = lifted_optima(&sub, settings.objective);
-    // Each start: the universal solution it lifts, its name, its own settings (its layout and
-    // budget) and whether it is the refined optimum.
-    let own = |from: &WholeSolution, budget: usize| WholeSettings {
+    // Each start: the universal solution it lifts, its name, its own settings (the layout of
+    // its knots, the budget and optimality of its solve) and whether it is the refined optimum.
+    let layout = |from: &WholeSolution| WholeSettings {
         control_points: from.spline.control_points(),
         coarse_control_points: None,
         homotopy: false,
         trust_radius_deg: settings.trust_radius_deg * refine::TRUST_SHARE,
-        max_iterations: budget,
         ..settings.clone()
     };
-    let named = |from: &WholeSolution| format!("universal {} from {}", what(from), from.start);
     let mut starts: Vec<(WholeSolution, String, WholeSettings, bool)> =
-        froms.iter().map(|&f| (f.clone(), named(f), own(f, settings.max_iterations), false)).collect();
+        froms.iter().map(|&f| (f.clone(), lifted_name(f), layout(f), false)).collect();
     if let Some(refined) = refined_best(&universal, &sub, settings, motors, tolerance)? {
-        let name = format!("{}, refined", named(&refined));
-        let budget = own(&refined, refine::BUDGET);
-        starts.push((refined, name, budget, true));
+        let name = format!("{}, refined", lifted_name(&refined));
+        let own = WholeSettings {
+            max_iterations: refine::BUDGET,
+            optimality: settings.optimality.max(refine::OPTIMALITY),
+            ..layout(&refined)
+        };
+        starts.push((refined, name, own, true));
     }
-    let limit = settings.joint_limit_deg.map(f64::to_radians);
     let solutions = starts
         .par_iter()
         .map(|(from, name, own, refined)| {
+            let problem = problem_of(cat, own, motors);
             let mut spline = lift(&from.spline, own.fixed());
-            // The joint limit holds on the control points, as every start's does.
-            if let Some(limit) = limit {
-                spline.coefficients.iter_mut().flatten().for_each(|c| *c = c.clamp(-limit, limit));
-            }
+            // The limits hold on the control points, as every start's do.
+            problem.clamp_to_limits(&mut spline);
             let start = NamedStart { name: name.clone(), spline };
-            let solved = optimize_start(&spherical(cat, own, motors), &start, tolerance)?;
-            Ok(after(from, solved, own, *refined, tolerance))
+            Ok(after(from, optimize_start(&problem, &start, tolerance)?, own, *refined, tolerance))
         })
         .collect::<Result<Vec<_>, WholeError>>()?;
     skipped.extend(sub.skipped.into_iter().map(|s| SkippedStart {
@@ -159,6 +169,11 @@ fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedS
         reason: format!("its universal-joint start could not be built: {}", s.reason),
     }));
     Ok((solutions, skipped))
+}
+
+/// The name of the spherical joint's start lifted from the universal solution `from`.
+fn lifted_name(from: &WholeSolution) -> String {
+    format!("universal {} from {}", what(from), from.start)
 }
 
 /// What a universal solution lifted is: an optimum when it converged, else a path.
@@ -170,8 +185,8 @@ fn what(from: &WholeSolution) -> &'static str {
     }
 }
 
-/// The problem of the spherical `cat` with `settings`, without spin.
-fn spherical<'a>(cat: &'a WholeCat, settings: &'a WholeSettings, motors: &'a Motors) -> ScvxProblem<'a> {
+/// The problem of `cat` with `settings`, flipped, without spin.
+fn problem_of<'a>(cat: &'a WholeCat, settings: &'a WholeSettings, motors: &'a Motors) -> ScvxProblem<'a> {
     ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: Vector3::zeros() }
 }
 
@@ -190,7 +205,7 @@ fn refined_best(
     else {
         return Ok(None);
     };
-    let problem = ScvxProblem { cat: universal, ..spherical(universal, settings, motors) };
+    let problem = problem_of(universal, settings, motors);
     let refined = refine_solution(&problem, best, tolerance)?;
     let kept = refined.status == WholeStatus::Converged
         && refined.flips(tolerance)
@@ -208,9 +223,9 @@ fn lifted_optima(sub: &WholeOutcome, objective: Objective) -> (Vec<&WholeSolutio
         .iter()
         .filter(|s| !std::ptr::eq(*s, best))
         .map(|s| SkippedStart {
-            start: format!("universal optimum from {}", s.start),
+            start: lifted_name(s),
             reason: format!(
-                "its universal-joint solve ended {} at {}; the spherical joint starts from the lowest, {}'s {}",
+                "not lifted: its universal-joint solve ended {} at {}, and the spherical joint starts from the lowest, {}'s {}",
                 s.status,
                 valued(objective, s.value(objective)),
                 best.start,
@@ -223,11 +238,11 @@ fn lifted_optima(sub: &WholeOutcome, objective: Objective) -> (Vec<&WholeSolutio
 
 /// The spherical joint's solution `s` counted from the universal joint's solve `from` it started
 /// at (`refined`: the universal optimum refined where its torques switch, on a refined solve's
-/// budget): the time, iterations and log of both, and where it started in its reason. A stage that
-/// stopped at its iteration budget still descending from a converged universal optimum, on a
-/// flip and lower than that optimum, is kept as converged, as a refined stage is
-/// ([`super::refine_solution`]), and its reason says so: a flip below the universal joint's
-/// optimum, its value an upper bound on the spherical joint's.
+/// budget): the time, iterations and log of that solve and its own, and where it started in its
+/// reason. A stage that stopped at its iteration budget on a flip within the motors and the bend
+/// limit, below the converged universal optimum it started from (on the same knots), is kept as
+/// converged, as a refined stage is ([`super::refine_solution`]), and its reason says so: a flip
+/// below that optimum, its value an upper bound on the spherical joint's least.
 fn after(
     from: &WholeSolution,
     mut s: WholeSolution,
@@ -238,13 +253,14 @@ fn after(
     let objective = settings.objective;
     let mut reason = s.reason.clone();
     let improved = from.status == WholeStatus::Converged && s.value(objective) < from.value(objective);
-    if s.status == WholeStatus::MaxIterations && improved && s.flips(tolerance) && s.motors.within() {
+    let most_bend = settings.min_angle_deg.map_or(f64::INFINITY, |a| 180.0 - a + BEND_SLACK_DEG);
+    let within = s.flips(tolerance) && s.motors.within() && s.max_bend_deg <= most_bend;
+    if s.status == WholeStatus::MaxIterations && improved && within {
         s.status = WholeStatus::Converged;
         reason = format!(
-            "stopped at its {} iterations {:.3} % below it and still descending: a flip below the universal joint's optimum, not proved the spherical joint's{}",
-            settings.max_iterations,
+            "{reason}, {:.3} % below it: a flip below the universal joint's optimum on these knots, not proved the spherical joint's least (an upper bound on it{})",
             100.0 * (1.0 - s.value(objective) / from.value(objective)),
-            if refined { "" } else { " (raise optimize.whole.max_iterations to go on)" }
+            if refined { "" } else { "; optimize.whole.max_iterations goes further" }
         );
     }
     s.reason = format!(
@@ -269,6 +285,62 @@ fn after(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engines::motors::MotorDemand;
+
+    /// A solution that flips the cat exactly, at `peak` N·m and a largest bend of `bend_deg`,
+    /// after `iterations` iterations that ended `status`.
+    fn solution(status: WholeStatus, peak: f64, bend_deg: f64, iterations: usize) -> WholeSolution {
+        let motors = MotorDemand { peak_speed_rad_s: vec![], peak_power_w: vec![], limits: vec![], stretch: None };
+        WholeSolution {
+            start: "s".into(),
+            status,
+            reason: format!("{iterations} iterations used"),
+            twist: std::f64::consts::PI,
+            swing: 0.0,
+            twist_error: 0.0,
+            flip_error_estimate: 0.0,
+            peak_torque_nm: peak,
+            peak_time: 0.5,
+            energy: 1.0,
+            max_bend_deg: bend_deg,
+            bend_turns: 1.0,
+            fall_time_s: 1.0,
+            motors,
+            chatter: Default::default(),
+            iterations,
+            polish_steps: 0,
+            seconds: 1.0,
+            log: Vec::new(),
+            spline: BSpline::zero(1.0, 8, 3).with_joints(3),
+        }
+    }
+
+    /// A lifted stage at its budget is kept as converged only below the converged optimum it
+    /// started from, on a flip within the bend limit, and says it is an upper bound; either way
+    /// it counts the universal solve's iterations and time and names where it started.
+    #[test]
+    fn a_lifted_stage_at_its_budget_is_kept_only_below_its_start_and_within_the_limits() {
+        let settings = WholeSettings { min_angle_deg: Some(120.0), ..WholeSettings::default() };
+        let from = solution(WholeStatus::Converged, 0.32, 50.0, 40);
+        let kept = after(&from, solution(WholeStatus::MaxIterations, 0.31, 55.0, 200), &settings, false, 1e-8);
+        assert_eq!(kept.status, WholeStatus::Converged, "{}", kept.reason);
+        assert!(kept.reason.contains("upper bound") && kept.reason.contains("3.125 % below it"), "{}", kept.reason);
+        assert_eq!((kept.iterations, kept.seconds), (240, 2.0));
+        // Beyond the bend limit (60° here), above its start, or from a start that did not converge.
+        let bent = after(&from, solution(WholeStatus::MaxIterations, 0.31, 61.0, 200), &settings, false, 1e-8);
+        let higher = after(&from, solution(WholeStatus::MaxIterations, 0.33, 55.0, 200), &settings, false, 1e-8);
+        let unproved = solution(WholeStatus::MaxIterations, 0.32, 50.0, 200);
+        let after_unproved =
+            after(&unproved, solution(WholeStatus::MaxIterations, 0.31, 55.0, 200), &settings, false, 1e-8);
+        for s in [bent, higher, after_unproved] {
+            assert_eq!(s.status, WholeStatus::MaxIterations, "{}", s.reason);
+            assert!(
+                s.reason.starts_with("from the universal joint's") && !s.reason.contains("upper bound"),
+                "{}",
+                s.reason
+            );
+        }
+    }
 
     /// The largest angle between the universal joint's rotation along `path` and the spherical
     /// joint's along its lift, rad, at 2001 instants.
@@ -294,11 +366,15 @@ mod tests {
             let s = (std::f64::consts::PI * t).sin().powi(2);
             vec![1.75 * s * (6.0 * t).cos(), 1.75 * s * (6.0 * t).sin()]
         });
-        let coarse = lift(&path.refit(40, 2), 2);
-        let fine = lift(&path.refit(80, 2), 2);
-        let (e40, e80) = (largest_gap(&path, &coarse), largest_gap(&path, &fine));
+        let (on40, on80) = (path.refit(40, 2), path.refit(80, 2));
+        let (coarse, fine) = (lift(&on40, 2), lift(&on80, 2));
+        let (e40, e80) = (largest_gap(&on40, &coarse), largest_gap(&on80, &fine));
         assert!(e40 < 1e-3, "40 control points: {e40} rad");
         assert!(e80 < e40 / 8.0, "80 control points: {e80} rad against {e40}");
+        // On refined knots (two narrow spans) as on uniform ones.
+        let narrow = on40.with_knot(0.301).with_knot(0.302);
+        let gap = largest_gap(&narrow, &lift(&narrow, 2));
+        assert!(gap < 1e-3, "refined knots: {gap} rad");
         let twists: Vec<f64> = (0..=2000).map(|k| fine.angles(k as f64 / 2000.0)[2]).collect();
         let most = twists.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let jump = twists.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);

@@ -198,6 +198,7 @@ pub fn optimize_whole_spinning(
     settings::positive_input("drop duration", duration)?;
     settings::needs_limits(settings.objective, motors)?;
     spin_supported(settings, motors, spin)?;
+    settings::positive_input("tolerance", tolerance)?;
     let cat = &cat.into();
     beyond_two_motors(cat, settings.objective, motors, spin)?;
     if matches!(cat, WholeCat::Spherical(_)) {

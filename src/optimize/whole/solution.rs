@@ -16,7 +16,10 @@ use crate::optimize::conic::QpStatus;
 pub enum WholeStatus {
     /// A stationary point of the merit function that flips the cat within the tolerance (for the
     /// peak, also a stage whose progress fell below `3e-5` of the peak over five accepted steps,
-    /// which its reason says: [`super::scvx`]).
+    /// which its reason says: [`super::scvx`]); also a refined stage, or the spherical joint's
+    /// stage from the universal joint's optimum ([`super::lift`]), that stopped at its iteration
+    /// budget below the converged optimum it started from, on a flip within the limits: its
+    /// value an upper bound, which its reason says.
     Converged,
     /// The trust region collapsed (or the subproblems kept failing) before stationarity.
     Stalled,
@@ -159,7 +162,8 @@ pub struct WholeOutcome {
     /// cat; none when no start did.
     pub best: Option<usize>,
     /// Starts that were not solved, and why: they could not be built, or (the spherical joint,
-    /// [`super::lift`]) their universal-joint solve found the same optimum as another start's.
+    /// [`super::lift`]) the universal joint's solution from them was not lifted (another start's
+    /// was lower) or its solve failed.
     pub skipped: Vec<SkippedStart>,
 }
 
@@ -193,7 +197,7 @@ impl WholeOutcome {
     pub fn no_optimum(&self, settings: &WholeSettings, tolerance: f64) -> String {
         let objective = settings.objective;
         let mut why: Vec<String> = self.solutions.iter().map(|s| format!("{}: {}", s.start, s.reason)).collect();
-        why.extend(self.skipped.iter().map(|s| format!("{} not solved: {}", s.start, s.reason)));
+        why.extend(self.skipped.iter().map(|s| format!("{} not tried: {}", s.start, s.reason)));
         let mut line = if self.solutions.is_empty() {
             format!("no optimum: no start could be built ({})", why.join("; "))
         } else {

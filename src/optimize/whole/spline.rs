@@ -291,7 +291,9 @@ impl BSpline {
 
     /// The least-squares fit of `target(t)` (the `joints` coordinates' angles, rad) on this
     /// spline's knots, uniform or not, at 20 points in every span, with the first and last
-    /// `fixed` control points of each coordinate held at zero.
+    /// `fixed` control points of each coordinate held at zero. `target` is called once per
+    /// sample, in increasing time (a target that carries state along the path, as an unwrapped
+    /// angle, may rely on it).
     pub fn fit_on_knots(&self, fixed: usize, joints: usize, target: impl Fn(f64) -> Vec<f64>) -> Self {
         let zeros = vec![vec![0.0; self.control_points()]; joints];
         let template = Self { degree: self.degree, knots: self.knots.clone(), coefficients: zeros };
@@ -306,7 +308,11 @@ impl BSpline {
 
     /// This spline's knots with the control points fitted to `target` at `times` by least
     /// squares, the first and last `fixed` of each coordinate held at zero (the others' values
-    /// are replaced).
+    /// are replaced); `target` is called once per time, in their order.
+    ///
+    /// # Panics
+    /// If the normal matrix is not positive definite: the times must put samples in the support
+    /// of every free function (both callers sample every span), a programming error otherwise.
     fn least_squares(
         mut self,
         fixed: usize,
@@ -341,10 +347,9 @@ impl BSpline {
         }
         // The collocation matrix has full column rank (every free function has support holding
         // sample points), so the normal matrix is positive definite.
-        if let Some(ch) = normal.cholesky() {
-            for (coefficients, rhs) in self.coefficients.iter_mut().zip(&rhs) {
-                coefficients[fixed..fixed + free].copy_from_slice(ch.solve(rhs).as_slice());
-            }
+        let ch = normal.cholesky().expect("a fit's samples cover the support of every free function");
+        for (coefficients, rhs) in self.coefficients.iter_mut().zip(&rhs) {
+            coefficients[fixed..fixed + free].copy_from_slice(ch.solve(rhs).as_slice());
         }
         self
     }
