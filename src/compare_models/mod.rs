@@ -169,8 +169,8 @@ pub struct OptimumFigures {
     /// Trust-region iterations.
     pub iterations: usize,
     /// How the optimiser ended, in its words (its stopping test; on the spherical joint also the
-    /// universal optimum it started from, and when its stage stopped at its budget still
-    /// descending, that its value is an upper bound on the model's optimum).
+    /// universal optimum it started from, and when its stage stopped at its budget below that
+    /// optimum, that its value is an upper bound on the model's optimum).
     pub reason: String,
     /// Signed twist, degrees.
     pub twist_deg: f64,

@@ -27,16 +27,17 @@
 //! joint's least peak. Each lifted solution's time, iterations and log count its universal solve
 //! (the start it lifts) too.
 //!
-//! Measured (2 cores, the spherical cat's `optimize_whole` alone, 2026-12-05): on the paper's
-//! cat the library starts end at 0.318285 and 0.317192 N·m, the universal optimum lifted
-//! (0.318346 on the uniform knots) at 0.314330 after its 200 iterations and 0.311937 refined
-//! (1.4 % below the universal joint's 0.316452; an independent collocation finds 0.3054), the
-//! refined one lifted at 0.316165 after its 25; 10.0 s. On 40 control points the refined lift is
-//! the best (0.318174 against the universal joint's 0.320227; the unrefined one's stage was
-//! stopped early by the progress test at 0.325765). On unequal halves
+//! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
+//! 2026-12-05): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
+//! universal optimum lifted (0.318346 on the uniform knots) 1.263 % below it after its 200
+//! iterations and at 0.311937 refined (1.4 % below the universal joint's 0.316452; an
+//! independent collocation finds 0.3054), the refined one lifted at 0.316165 after its 25;
+//! 10.0 s in all. On 40 control points (`--set optimize.whole.control_points=40`) the refined
+//! lift is the best (0.318174 against the universal joint's 0.320227; the unrefined one's stage
+//! was stopped early by the progress test at 0.325765). On unequal halves
 //! (`problems/unequal-halves.toml`) the universal joint's optimum is 0.457 N·m and its lift ends
 //! at 0.288, while the library's `cone-mirrored` start ends at 0.282670 as before: neither start
-//! alone finds both; 13.2 s.
+//! alone finds both; 13.0 s.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -46,11 +47,11 @@ use super::solution::{valued, SkippedStart, WholeOutcome, WholeSolution, WholeSt
 use super::spline::BSpline;
 use super::starts::NamedStart;
 use super::{
-    build_starts, flipped, optimize_start, optimize_whole, outcome_of, refine, refine_solution, torque_limited,
-    ScvxProblem, WholeCat, BEND_SLACK_DEG,
+    build_starts, flipped, held_to_one_limit, kept_refinement, optimize_start, optimize_whole, outcome_of, refine,
+    refines, ScvxProblem, WholeCat, BEND_SLACK_DEG,
 };
 use crate::model::joint::spherical_coordinates;
-use crate::model::motor::{motors_beyond, Motors, MotorsBeyond};
+use crate::model::motor::Motors;
 use crate::model::{Cat, Joint};
 use crate::optimize::conic::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
@@ -85,14 +86,13 @@ pub(super) struct Plan<'a> {
 /// The whole optimum of `plan`'s cat on the spherical joint, from the library starts and from
 /// the universal joint's optimum on the same halves (the module's docs), driven by its motors
 /// (ideal, or one torque limit on every motor: then planned for the least peak with ideal motors
-/// and held to the limit, [`torque_limited::within`], as every cat of more than two motors is).
+/// and held to the limit, [`super::torque_limited::within`], as every cat of more than two motors is).
 pub(super) fn optimize_spherical(plan: &Plan<'_>) -> Result<WholeOutcome, WholeError> {
     let (cat, settings, motors, tolerance) = (plan.cat, plan.settings, plan.motors, plan.tolerance);
-    if let MotorsBeyond::TorqueLimit(limit) = motors_beyond(motors) {
-        let planning = WholeSettings { objective: Objective::Peak, ..settings.clone() };
-        let ideal = Plan { settings: &planning, motors: &Motors::ideal(), ..*plan };
-        let outcome = optimize_spherical(&ideal)?;
-        return Ok(torque_limited::within(cat, outcome, settings.objective, motors, limit, tolerance));
+    if let Some(held) = held_to_one_limit(cat, settings, motors, tolerance, |planning, ideal| {
+        optimize_spherical(&Plan { settings: planning, motors: ideal, ..*plan })
+    }) {
+        return held;
     }
     // The library starts (the no-twist joint's, the twist held at zero) beside the universal
     // joint's optimum, lifted: the one goes further on some cats, the other on others.
@@ -201,16 +201,9 @@ fn refined_best(
     motors: &Motors,
     tolerance: f64,
 ) -> Result<Option<WholeSolution>, WholeError> {
-    let Some(best) = sub.best().filter(|_| settings.switch_refinements > 0 && settings.objective != Objective::Energy)
-    else {
-        return Ok(None);
-    };
-    let problem = problem_of(universal, settings, motors);
-    let refined = refine_solution(&problem, best, tolerance)?;
-    let kept = refined.status == WholeStatus::Converged
-        && refined.flips(tolerance)
-        && refined.spline.control_points() != best.spline.control_points();
-    Ok(kept.then_some(refined))
+    let Some(best) = sub.best().filter(|_| refines(settings)) else { return Ok(None) };
+    let refined = kept_refinement(&problem_of(universal, settings, motors), best, tolerance)?;
+    Ok(refined.filter(|r| r.spline.control_points() != best.spline.control_points()))
 }
 
 /// The universal joint's solutions of `sub` that the spherical joint starts from on the uniform

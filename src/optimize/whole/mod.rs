@@ -268,11 +268,10 @@ pub fn optimize_from_spinning(
     spin_supported(settings, motors, spin)?;
     let cat = &cat.into();
     beyond_two_motors(cat, settings.objective, motors, spin)?;
-    if let (true, MotorsBeyond::TorqueLimit(limit)) = (cat.joints() > 2, motors_beyond(motors)) {
-        // Planned for the least peak with ideal motors, then held to the limit (torque_limited).
-        let planning = WholeSettings { objective: Objective::Peak, ..settings.clone() };
-        let outcome = optimize_from_spinning(cat, starts, &planning, &Motors::ideal(), tolerance, spin)?;
-        return Ok(torque_limited::within(cat, outcome, settings.objective, motors, limit, tolerance));
+    if let Some(held) = held_to_one_limit(cat, settings, motors, tolerance, |planning, ideal| {
+        optimize_from_spinning(cat, starts, planning, ideal, tolerance, spin)
+    }) {
+        return held;
     }
     let problem =
         ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: *spin };
@@ -280,6 +279,39 @@ pub fn optimize_from_spinning(
     let solutions =
         starts.par_iter().map(|start| optimize_start(&problem, start, tolerance)).collect::<Result<Vec<_>, _>>()?;
     outcome_of(&problem, solutions, tolerance)
+}
+
+/// Beyond two motors within one torque limit on every motor: the outcome of `plan` for the least
+/// peak with ideal motors (its settings and motors), held to the limit
+/// ([`torque_limited::within`]); none for other motors or two motors.
+fn held_to_one_limit(
+    cat: &WholeCat,
+    settings: &WholeSettings,
+    motors: &Motors,
+    tolerance: f64,
+    plan: impl FnOnce(&WholeSettings, &Motors) -> Result<WholeOutcome, WholeError>,
+) -> Option<Result<WholeOutcome, WholeError>> {
+    let (true, MotorsBeyond::TorqueLimit(limit)) = (cat.joints() > 2, motors_beyond(motors)) else { return None };
+    let planning = WholeSettings { objective: Objective::Peak, ..settings.clone() };
+    let outcome = plan(&planning, &Motors::ideal());
+    Some(outcome.map(|o| torque_limited::within(cat, o, settings.objective, motors, limit, tolerance)))
+}
+
+/// Whether the best of a solve with `settings` is refined where its torques switch: rounds
+/// asked, and not for the energy, whose torques do not switch.
+fn refines(settings: &WholeSettings) -> bool {
+    settings.objective != Objective::Energy && settings.switch_refinements > 0
+}
+
+/// `best` refined where its torques switch ([`refine_solution`]) when the refinement ends
+/// converged on a flip; none otherwise (the best then stays as it was).
+fn kept_refinement(
+    problem: &ScvxProblem<'_>,
+    best: &WholeSolution,
+    tolerance: f64,
+) -> Result<Option<WholeSolution>, WholeError> {
+    let refined = refine_solution(problem, best, tolerance)?;
+    Ok((refined.status == WholeStatus::Converged && refined.flips(tolerance)).then_some(refined))
 }
 
 /// The outcome of the starts' `solutions` of `problem`: the best converged flip
@@ -292,10 +324,8 @@ fn outcome_of(
 ) -> Result<WholeOutcome, WholeError> {
     let settings = problem.settings;
     let best = solution::best_of(&solutions, settings.objective, tolerance);
-    if let Some(b) = best.filter(|_| settings.objective != Objective::Energy && settings.switch_refinements > 0) {
-        let refined = refine_solution(problem, &solutions[b], tolerance)?;
-        // A refinement that ended outside the tolerances leaves the best as it was.
-        if refined.status == WholeStatus::Converged && refined.flips(tolerance) {
+    if let Some(b) = best.filter(|_| refines(settings)) {
+        if let Some(refined) = kept_refinement(problem, &solutions[b], tolerance)? {
             solutions[b] = refined;
         }
     }
