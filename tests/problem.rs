@@ -22,12 +22,45 @@ fn shipped_problems_load_and_round_trip() {
         "problems/tail.toml",
         "problems/tail-robot.toml",
         "problems/legs.toml",
+        "problems/real-cat.toml",
     ] {
         let p = Problem::load(std::path::Path::new(path), &[]).expect(path);
         let text = toml::to_string(&p).expect("serialises");
         let back = Problem::from_toml(&text, path, &[]).expect("round trip");
         assert_eq!(p, back, "{path} does not round-trip through serde");
     }
+}
+
+/// `problems/real-cat.toml` is the cat its comments cite: the mean of seven adult cats of
+/// Rahmati et al. 2024 (J. Physiol., doi:10.1113/JP287448; the authors' `MotionData.mat`,
+/// `GenericCat`: body 3.2014 kg, head and neck 0.410103 kg, trunk 1.751181 kg, one forelimb's
+/// segments 0.198312 kg and 0.271271 m, one hindlimb's 0.238558 kg and 0.267286 m), split and
+/// shaped as the file says it assumes (each half of water's density with Kane and Scher's ratio
+/// of axial to transverse inertia, 1/4); the sizes are rounded to four decimals, hence the
+/// tolerances.
+#[test]
+fn real_cat_is_the_cited_cat() {
+    let p = Problem::load(std::path::Path::new("problems/real-cat.toml"), &[]).expect("loads");
+    assert!(p.warnings().is_empty(), "{:?}", p.warnings());
+    let (body, head, trunk) = (3.2014286, 0.410103, 1.7511814);
+    let (fore, hind) = (2.0 * 0.1983124, 2.0 * 0.2385583);
+    let cat = p.cat.model();
+    let legs = p.cat.legs.expect("legs").rod();
+    let close = |what: &str, got: f64, want: f64, tol: f64| {
+        assert!((got - want).abs() <= tol, "{what}: {got} against {want}");
+    };
+    close("front half", cat.front.mass, head + 0.5 * trunk, 1e-4);
+    close("rear half", cat.rear.mass, body - head - 0.5 * trunk - fore - hind, 1e-4);
+    close("a pair of legs", legs.mass, 0.5 * (fore + hind), 1e-4);
+    close("a leg's length", legs.length, 0.5 * (0.2712714 + 0.2672857), 1e-4);
+    close("the whole cat", cat.front.mass + cat.rear.mass + 2.0 * legs.mass, body, 5e-4);
+    for (name, half) in [("front", cat.front), ("rear", cat.rear)] {
+        close(&format!("{name} half's axial over transverse inertia"), half.axial() / half.transverse(), 0.25, 2e-3);
+        let volume = std::f64::consts::PI * half.radius.powi(2) * half.length;
+        close(&format!("{name} half's density, kg/m³"), half.mass / volume, 1000.0, 5.0);
+    }
+    let volume = std::f64::consts::PI * legs.radius.powi(2) * legs.length;
+    close("the legs' density, kg/m³", legs.mass / volume, 1000.0, 5.0);
 }
 
 #[test]

@@ -40,6 +40,12 @@ except ImportError:
     sys.exit(0)
 
 KP, KD = 200.0, 20.0  # the PD's stiffness (N·m/rad) and damping (N·m·s/rad), as in the README
+# A ball's PD turns the lighter of its two bodies about any axis: on a small cat's halves (a
+# real cat's: 9e-4 kg·m² about the spine) the gains above would make each step's damping
+# KD·dt/I larger than one and the explicit step blow up, so there they are scaled down until
+# KD·dt is at most STABLE times the smaller body's least principal moment (the paper's halves,
+# 5e-3 kg·m², keep the gains above).
+STABLE = 0.5
 FORMAT = "catflip-tree-schedule/1"
 
 
@@ -73,7 +79,9 @@ def replay(folder):
         motors = [m.actuator(name).id for name in link["mjcf_motors"]]
         joints = [m.joint(name) for name in link["mjcf_joints"]]
         if len(joints) == 1 and m.jnt_type[joints[0].id] == mujoco.mjtJoint.mjJNT_BALL:
-            drives.append(("ball", link["child"], motors, joints[0].qposadr[0], joints[0].dofadr[0]))
+            least = min(float(np.min(m.body_inertia[m.body(link[b]).id])) for b in ("parent", "child"))
+            gain = min(1.0, STABLE * least / (KD * dt))
+            drives.append(("ball", (link["child"], gain), motors, joints[0].qposadr[0], joints[0].dofadr[0]))
         else:
             hinges = [(k, j.qposadr[0], j.dofadr[0]) for k, j in zip(link["coordinates"], joints)]
             drives.append(("hinges", hinges, motors, None, None))
@@ -85,14 +93,14 @@ def replay(folder):
         mid = interpolator(rows, (step + 0.5) * dt)
         for kind, what, motors, qadr, vadr in drives:
             if kind == "ball":
-                c = what
+                c, gain = what
                 now = d.qpos[qadr:qadr + 4].copy()
                 goal = np.array([at(f"{c}_rel_q{p}") for p in "wxyz"])
                 goal /= np.linalg.norm(goal)
                 error = np.zeros(3)
                 mujoco.mju_subQuat(error, goal, now)  # now · exp(error) = goal, in the child's frame
                 rate = np.array([at(f"{c}_rel_w{p}_rad_s") for p in "xyz"])
-                feedback = KP * error + KD * (rate - d.qvel[vadr:vadr + 3])
+                feedback = gain * (KP * error + KD * (rate - d.qvel[vadr:vadr + 3]))
                 d.ctrl[motors] = np.array([mid(f"{c}_couple_{p}_nm") for p in "xyz"]) + feedback
             else:
                 feedback = np.array([KP * (at(f"q{k}_rad") - d.qpos[qa]) + KD * (at(f"qd{k}_rad_s") - d.qvel[va])

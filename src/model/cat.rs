@@ -17,6 +17,7 @@ use serde::Serialize;
 use crate::model::legs::LEG_STATION;
 use crate::model::tree::{Body, Link, Tree};
 use crate::model::{Cylinder, Joint};
+use crate::numeric::numfmt::num;
 
 /// Two halves and a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -66,7 +67,7 @@ impl Cat {
 
     /// The model in words: its joint and its halves (`m kg, l m long, r m radius`).
     pub fn describe(&self) -> String {
-        let half = |c: &Cylinder| format!("{} kg, {} m long, radius {} m", c.mass, c.length, c.radius);
+        let half = |c: &Cylinder| format!("{} kg, {} m long, radius {} m", num(c.mass), num(c.length), num(c.radius));
         let halves = if self.has_equal_halves() {
             format!("two equal halves of {}", half(&self.front))
         } else {
@@ -192,13 +193,17 @@ impl Appendages {
         if let Some((tail, joint)) = self.tail {
             out += &format!(
                 ", with a tail of {} kg, {} m long, radius {} m on a {joint} joint",
-                tail.mass, tail.length, tail.radius
+                num(tail.mass),
+                num(tail.length),
+                num(tail.radius)
             );
         }
         if let Some(leg) = self.legs {
             out += &format!(
                 ", with legs of {} kg a pair, {} m long, radius {} m on hinges at the hips",
-                leg.mass, leg.length, leg.radius
+                num(leg.mass),
+                num(leg.length),
+                num(leg.radius)
             );
         }
         out
