@@ -54,7 +54,8 @@ fn main() -> anyhow::Result<()> {
         WholeCat::new(halves)?,
         WholeCat::spherical(Cat { joint: Joint::Spherical, ..halves }).expect("a spherical cat"),
         WholeCat::tailed(halves, tail, Joint::Universal).expect("a two-motor cat and tail"),
-        WholeCat::appended(halves, Appendages { tail: None, legs: Some(legs) }).expect("a two-motor cat with legs"),
+        WholeCat::appended(halves, Appendages { tail: None, legs: Some([legs; 2]) })
+            .expect("a two-motor cat with legs"),
     ];
     for cat in cats {
         let tree = cat.tree();

@@ -96,6 +96,7 @@ fn appendages_in_the_wrong_unit_are_warned_of_naming_the_field() {
         ("problems/legs.toml", "cat.legs.length=45", "cat.legs.length = 45 m is 22.5 times", "mm or cm"),
         ("problems/legs.toml", "cat.legs.length=8", "cat.legs.length = 8 m is 4 times", "too long"),
         ("problems/legs.toml", "cat.legs.mass=200", "cat.legs.mass = 200 kg is 100 times", "in g?"),
+        ("problems/real-cat.toml", "cat.legs.rear.length=27", "cat.legs.rear.length = 27 m is", "mm or cm"),
         ("problems/tail.toml", "cat.tail.mass=0.0002", "cat.tail.mass = 2e-4 kg is 1e-4 times", "tonnes"),
         ("problems/tail.toml", "cat.tail.mass=7", "cat.tail.mass = 7 kg is 3.5 times", "too heavy"),
     ];

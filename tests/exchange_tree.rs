@@ -152,7 +152,7 @@ fn a_replay_reads_the_motors_from_the_balls_couple() {
 /// position relative to A are the tree's; the legs' cylinders are drawn along their `y`.
 #[test]
 fn the_mjcf_of_a_cat_with_a_tail_and_legs_builds_the_trees_bodies_and_joints() {
-    let appendages = Appendages { tail: Some((TAIL, Joint::Universal)), legs: Some(LEG) };
+    let appendages = Appendages { tail: Some((TAIL, Joint::Universal)), legs: Some([LEG; 2]) };
     let cat = WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), appendages).expect("two-motor joints");
     let model = NamedTree::of(&cat, 1e-6).expect("cylinders");
     let text = tree_mjcf(&model, "tailed", &MjcfOptions::default());

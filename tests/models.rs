@@ -339,28 +339,31 @@ fn a_tail_held_still_is_a_rigid_part_of_the_rear_half() {
 /// four-body tree moves as the two-body cat of the unions (each half with its legs, [`union`];
 /// the base's frame moves to the front union's centre, the joint's points with it). The legs'
 /// own geometry by hand: the hips on the belly at `±0.55` of a half's half-length, each rod
-/// standing out along `+y` from its top end at zero.
+/// standing out along `+y` from its top end at zero. The two pairs differ (`[cat.legs.front]`,
+/// `[cat.legs.rear]`), so that each hangs from its own half.
 #[test]
 fn legs_held_still_are_rigid_parts_of_their_halves() {
-    let leg = Cylinder { mass: 0.15, length: 0.4, radius: 0.03 };
+    let legs = [Cylinder { mass: 0.15, length: 0.4, radius: 0.03 }, Cylinder { mass: 0.2, length: 0.35, radius: 0.04 }];
     let held = [0.5, -1.2];
     for cat in every_model().into_iter().filter(|c| c.dof() == 2) {
-        let tree = cat.tree_with(&Appendages { tail: None, legs: Some(leg) });
+        let tree = cat.tree_with(&Appendages { tail: None, legs: Some(legs) });
         assert_eq!((tree.bodies().len(), tree.dof()), (4, 4));
-        let rod = Matrix3::from_diagonal(&Vector3::new(leg.transverse(), leg.axial(), leg.transverse()));
-        let part = |half: &Cylinder, side: f64, q: f64| {
+        let part = |half: &Cylinder, leg: &Cylinder, side: f64, q: f64| {
+            let rod = Matrix3::from_diagonal(&Vector3::new(leg.transverse(), leg.axial(), leg.transverse()));
             let hip = Vector3::new(0.0, half.radius, side * 0.55 * 0.5 * half.length);
             let r = Joint::Hinge.rotation(&[q]);
             (leg.mass, hip + r * Vector3::new(0.0, 0.5 * leg.length, 0.0), r * rod * r.transpose())
         };
-        for (k, (half, side, q)) in [(&cat.front, 1.0, held[0]), (&cat.rear, -1.0, held[1])].into_iter().enumerate() {
+        let hung = [(&cat.front, 1.0, held[0]), (&cat.rear, -1.0, held[1])];
+        for (k, ((half, side, q), leg)) in hung.into_iter().zip(&legs).enumerate() {
             // The tree's own hanging of each leg agrees with the geometry by hand.
             let by_tree = held_part(&tree.links()[k + 1], &tree.bodies()[k + 2], &[q]);
-            let by_hand = part(half, side, q);
+            let by_hand = part(half, leg, side, q);
+            assert!((by_tree.0 - by_hand.0).abs() < 1e-15, "the pair's mass");
             assert!((by_tree.1 - by_hand.1).norm() < 1e-15 && (by_tree.2 - by_hand.2).norm() < 1e-15);
         }
-        let (c_a, front) = union(&cat.front, &[part(&cat.front, 1.0, held[0])]);
-        let (c_b, rear) = union(&cat.rear, &[part(&cat.rear, -1.0, held[1])]);
+        let (c_a, front) = union(&cat.front, &[part(&cat.front, &legs[0], 1.0, held[0])]);
+        let (c_b, rear) = union(&cat.rear, &[part(&cat.rear, &legs[1], -1.0, held[1])]);
         let joint = cat.tree().links()[0];
         let link = Link { at_parent: joint.at_parent - c_a, at_child: joint.at_child - c_b, ..joint };
         assert_same_as_two_bodies(&cat, &tree, &held, &Tree::two(front, link, rear));
@@ -375,7 +378,7 @@ fn a_cat_with_tail_and_legs_keeps_zero_momentum_and_action_equals_reaction() {
     let leg = Cylinder { mass: 0.15, length: 0.4, radius: 0.03 };
     for cat in every_model().into_iter().filter(|c| c.dof() == 2) {
         for tail_joint in [Joint::Universal, Joint::NoTwist, Joint::Hinge] {
-            let tree = cat.tree_with(&Appendages { tail: Some((tail, tail_joint)), legs: Some(leg) });
+            let tree = cat.tree_with(&Appendages { tail: Some((tail, tail_joint)), legs: Some([leg; 2]) });
             let path = Cubic::generic(tree.dof());
             for t in TIMES {
                 let s = path.at(t);

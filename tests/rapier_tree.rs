@@ -133,7 +133,7 @@ fn swing_appendages(path: &mut BSpline, amplitude: f64) {
 
 /// The cat with legs (a hinge at each pair's hips) and, when given, a tail on `tail`.
 fn legged(tail: Option<Joint>) -> Tree {
-    let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some(LEG) };
+    let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some([LEG; 2]) };
     Cat::equal(HALF, Joint::NoTwist).tree_with(&appendages)
 }
 

@@ -152,7 +152,18 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
                 key += "-tail";
             }
             if let Some(legs) = problem.cat.legs {
-                label += &format!(", with legs of {} kg a pair, {} m", echo(legs.mass), echo(legs.length));
+                let [front, rear] = legs.pairs();
+                label += &if front == rear {
+                    format!(", with legs of {} kg a pair, {} m", echo(front.mass), echo(front.length))
+                } else {
+                    format!(
+                        ", with front legs of {} kg a pair, {} m, hind legs of {} kg, {} m",
+                        echo(front.mass),
+                        echo(front.length),
+                        echo(rear.mass),
+                        echo(rear.length)
+                    )
+                };
                 key += "-legs";
             }
             out.push(Variant { key, label, problem: p, beyond: Beyond::Appendages(appendages) });

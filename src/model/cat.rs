@@ -131,8 +131,8 @@ impl Cat {
             };
             tree = tree.attach(link, Body::from(&tail)).expect("a cat's tree has its rear half as body 1");
         }
-        if let Some(leg) = appendages.legs {
-            for (parent, half, side) in [(0, &self.front, 1.0), (1, &self.rear, -1.0)] {
+        if let Some([front_legs, rear_legs]) = appendages.legs {
+            for (parent, half, side, leg) in [(0, &self.front, 1.0, front_legs), (1, &self.rear, -1.0, rear_legs)] {
                 let link = Link {
                     parent,
                     joint: Joint::Hinge,
@@ -161,8 +161,9 @@ pub struct Appendages {
     /// A rod hung from the rear half's end, and its joint (two motors, or one on a
     /// [`Joint::Hinge`]).
     pub tail: Option<(Cylinder, Joint)>,
-    /// Each half's pair of legs as one rod (the pair's mass), each on a hinge at its hips.
-    pub legs: Option<Cylinder>,
+    /// Each half's pair of legs as one rod (the pair's mass), each on a hinge at its hips: the
+    /// front half's pair, then the rear half's.
+    pub legs: Option<[Cylinder; 2]>,
 }
 
 impl Appendages {
@@ -198,13 +199,18 @@ impl Appendages {
                 num(tail.radius)
             );
         }
-        if let Some(leg) = self.legs {
-            out += &format!(
-                ", with legs of {} kg a pair, {} m long, radius {} m on hinges at the hips",
-                num(leg.mass),
-                num(leg.length),
-                num(leg.radius)
-            );
+        let rod = |leg: Cylinder| {
+            format!("{} kg a pair, {} m long, radius {} m", num(leg.mass), num(leg.length), num(leg.radius))
+        };
+        match self.legs {
+            Some([front, rear]) if front == rear => {
+                out += &format!(", with legs of {} on hinges at the hips", rod(front))
+            }
+            Some([front, rear]) => {
+                out +=
+                    &format!(", with front legs of {} and hind legs of {} on hinges at the hips", rod(front), rod(rear))
+            }
+            None => {}
         }
         out
     }

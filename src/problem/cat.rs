@@ -55,7 +55,8 @@ fn is_universal(j: &Joint) -> bool {
     *j == Joint::Universal
 }
 
-/// `[cat.front]` or `[cat.rear]`: a half's own numbers, each defaulting to `[cat]`'s.
+/// `[cat.front]` or `[cat.rear]`: a half's own numbers, each defaulting to `[cat]`'s; as
+/// `[cat.legs.front]` or `[cat.legs.rear]`, a pair of legs' own, each defaulting to `[cat.legs]`'s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct HalfSection {
@@ -98,8 +99,10 @@ pub struct TailSection {
 /// `[cat.legs]`: each half's pair of legs as one rod of the pair's mass, hung by its top end from
 /// the hips on the belly's midline at the drawn legs' station, on a hinge about the half's `x` (one
 /// motor a pair): at zero the legs stand out along the belly, and they swing towards the head or
-/// the tail by at most 90° (parallel to the spine; [`Cat::tree_with`]). Refused as `[cat.tail]`
-/// is by every command but `compare-models`.
+/// the tail by at most 90° (parallel to the spine; [`Cat::tree_with`]). Its numbers are both
+/// pairs' unless `[cat.legs.front]` or `[cat.legs.rear]` give a pair its own (as `[cat.front]`
+/// and `[cat.rear]` do for the halves). Refused as `[cat.tail]` is by every command but
+/// `compare-models`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LegsSection {
@@ -109,17 +112,56 @@ pub struct LegsSection {
     pub length: f64,
     /// Radius of a leg, m.
     pub radius: f64,
+    /// The front half's pair, where it differs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front: Option<HalfSection>,
+    /// The rear half's pair, where it differs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rear: Option<HalfSection>,
 }
 
 impl LegsSection {
-    /// One pair's rod.
+    /// The shorthand's rod: both pairs' unless a pair has its own.
     pub fn rod(&self) -> Cylinder {
         Cylinder { mass: self.mass, length: self.length, radius: self.radius }
     }
 
+    /// The front pair's rod and the rear pair's.
+    pub fn pairs(&self) -> [Cylinder; 2] {
+        [self.front, self.rear].map(|own| {
+            let own = own.unwrap_or_default();
+            Cylinder {
+                mass: own.mass.unwrap_or(self.mass),
+                length: own.length.unwrap_or(self.length),
+                radius: own.radius.unwrap_or(self.radius),
+            }
+        })
+    }
+
+    /// Each pair with its own section, `(field, rod)`: `cat.legs.front`, `cat.legs.rear`.
+    pub fn own_pairs(&self) -> impl Iterator<Item = (&'static str, Cylinder)> {
+        let [front, rear] = self.pairs();
+        [("cat.legs.front", self.front.map(|_| front)), ("cat.legs.rear", self.rear.map(|_| rear))]
+            .into_iter()
+            .filter_map(|(field, rod)| rod.map(|r| (field, r)))
+    }
+
     /// The section as the problem file writes it, for messages.
     pub fn shown(&self) -> String {
-        format!("{{ mass = {}, length = {}, radius = {} }}", echo(self.mass), echo(self.length), echo(self.radius))
+        let mut out =
+            format!("{{ mass = {}, length = {}, radius = {}", echo(self.mass), echo(self.length), echo(self.radius));
+        let [front, rear] = self.pairs();
+        for (name, own, r) in [("front", self.front, front), ("rear", self.rear, rear)] {
+            if own.is_some() {
+                out += &format!(
+                    ", {name} = {{ mass = {}, length = {}, radius = {} }}",
+                    echo(r.mass),
+                    echo(r.length),
+                    echo(r.radius)
+                );
+            }
+        }
+        out + " }"
     }
 }
 
@@ -166,7 +208,7 @@ impl From<Cylinder> for CatSection {
 impl CatSection {
     /// The appendages as the model's ([`Appendages`]).
     pub fn appendages(&self) -> Appendages {
-        Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.rod()) }
+        Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.pairs()) }
     }
 
     /// The first appendage section present, `(field, as written)`, for refusals.
@@ -252,6 +294,9 @@ impl CatSection {
         }
         if let Some(legs) = &self.legs {
             validate_half("cat.legs", &legs.rod())?;
+            for (field, rod) in legs.own_pairs() {
+                validate_half(field, &rod)?;
+            }
         }
         if self.joint == Joint::Hinge {
             return Err(bad(

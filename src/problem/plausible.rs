@@ -60,7 +60,8 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
         out.extend(outside(&format!("{section}.mass"), half.mass, "kg", MASS_KG, "tonnes", "g"));
     }
     let body = cat.model();
-    let appendages = [("cat.tail", cat.tail.map(|t| t.rod())), ("cat.legs", cat.legs.map(|l| l.rod()))];
+    let mut appendages = vec![("cat.tail", cat.tail.map(|t| t.rod())), ("cat.legs", cat.legs.map(|l| l.rod()))];
+    appendages.extend(cat.legs.iter().flat_map(|l| l.own_pairs()).map(|(field, rod)| (field, Some(rod))));
     // An appendage's length and mass against the body's: the cat's own scale, not any cat's.
     for (section, rod) in appendages {
         let Some(rod) = rod else { continue };

@@ -258,9 +258,9 @@ impl WholeCat {
         if let Some((tail, _)) = appendages.tail {
             out.push(along_z("tail", tail));
         }
-        if let Some(leg) = appendages.legs {
-            for name in ["front-legs", "hind-legs"] {
-                out.push(NamedBody { name, cylinder: leg, axis: Vector3::y() });
+        if let Some(legs) = appendages.legs {
+            for (name, cylinder) in ["front-legs", "hind-legs"].into_iter().zip(legs) {
+                out.push(NamedBody { name, cylinder, axis: Vector3::y() });
             }
         }
         out
@@ -514,9 +514,9 @@ mod tests {
             (Cylinder { mass: 0.2, length: 1.0, radius: 0.02 }, Cylinder { mass: 0.2, length: 0.45, radius: 0.03 });
         let cats = [
             Appendages { tail: Some((tail, Joint::Hinge)), legs: None },
-            Appendages { tail: None, legs: Some(leg) },
-            Appendages { tail: Some((tail, Joint::Hinge)), legs: Some(leg) },
-            Appendages { tail: Some((tail, Joint::Universal)), legs: Some(leg) },
+            Appendages { tail: None, legs: Some([leg; 2]) },
+            Appendages { tail: Some((tail, Joint::Hinge)), legs: Some([leg; 2]) },
+            Appendages { tail: Some((tail, Joint::Universal)), legs: Some([leg; 2]) },
         ];
         for appendages in cats {
             let whole = WholeCat::appended(cat, appendages).expect("a cat with appendages");

@@ -565,7 +565,7 @@ mod tests {
         let fall = (2.0 * 10.0 / 9.8f64).sqrt();
         let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
         let motors = Motors::ideal();
-        let cat = WholeCat::appended(Cat::equal(half, Joint::NoTwist), Appendages { tail: None, legs: Some(leg) })
+        let cat = WholeCat::appended(Cat::equal(half, Joint::NoTwist), Appendages { tail: None, legs: Some([leg; 2]) })
             .expect("a cat with legs");
         let p = ScvxProblem {
             cat: &cat,

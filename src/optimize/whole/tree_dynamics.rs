@@ -282,7 +282,7 @@ mod tests {
 
     /// Unequal halves on `joint` with legs, and with a tail on `tail`'s joint when given.
     fn legged(joint: Joint, tail: Option<Joint>) -> Tree {
-        let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some(LEG) };
+        let appendages = Appendages { tail: tail.map(|j| (TAIL, j)), legs: Some([LEG; 2]) };
         Cat { front: FRONT, rear: REAR, joint }.tree_with(&appendages)
     }
 

@@ -254,9 +254,9 @@ struct Scene {
     legs: [[Leg; 2]; 2],
     /// Half-length and radius of the problem's `[cat.tail]`, m, drawn where a pose has one.
     tail: Option<(f64, f64)>,
-    /// Half-length and radius of the problem's `[cat.legs]`, m: drawn as rods (in place of the
-    /// drawn legs) where a pose has them.
-    leg_rods: Option<(f64, f64)>,
+    /// Half-length and radius of the problem's `[cat.legs]`, the front pair's and the rear
+    /// pair's, m: drawn as rods (in place of the drawn legs) where a pose has them.
+    leg_rods: Option<[(f64, f64); 2]>,
     title: String,
     /// The timeline's segments: the three phases, or the whole manoeuvre in one.
     segments: Vec<(&'static str, f64)>,
@@ -371,7 +371,7 @@ impl Scene {
             sizes: [(0.5 * front.length, front.radius), (0.5 * rear.length, rear.radius)],
             legs: [legs(&front, Half::A), legs(&rear, Half::B)],
             tail: problem.cat.tail.map(|t| (0.5 * t.length, t.radius)),
-            leg_rods: problem.cat.legs.map(|l| (0.5 * l.length, l.radius)),
+            leg_rods: problem.cat.legs.map(|l| l.pairs().map(|p| (0.5 * p.length, p.radius))),
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -384,11 +384,11 @@ impl Scene {
         let mut out = Vec::new();
         match (self.leg_rods, &pose.legs) {
             // The model's legs (rods of their own): drawn as the halves are, in their halves' colours.
-            (Some(size), Some([front, hind])) => {
+            (Some([front_size, hind_size]), Some([front, hind])) => {
                 self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &[], &mut out);
                 self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &[], &mut out);
-                self.cylinder(front, size, A_FILL, A_EDGE, &[], &mut out);
-                self.cylinder(hind, size, B_FILL, B_EDGE, &[], &mut out);
+                self.cylinder(front, front_size, A_FILL, A_EDGE, &[], &mut out);
+                self.cylinder(hind, hind_size, B_FILL, B_EDGE, &[], &mut out);
             }
             _ => {
                 self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &self.legs[0], &mut out);
