@@ -15,23 +15,21 @@ use std::time::Instant;
 
 use catflip::model::cat::Appendages;
 use catflip::model::motor::Motors;
-use catflip::model::Cylinder;
 use catflip::optimize::whole::{optimize_from, optimize_whole, NamedStart, WholeCat};
 use catflip::problem::Problem;
 
 fn main() -> anyhow::Result<()> {
-    let mut args = std::env::args().skip(1);
-    let path = args.next().unwrap_or_else(|| "problems/real-cat.toml".to_string());
-    let sets: Vec<String> = args.filter(|a| a != "--set").collect();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (path, rest) = match args.split_first() {
+        Some((first, rest)) if !first.starts_with("--") => (first.clone(), rest),
+        _ => ("problems/real-cat.toml".to_string(), &args[..]),
+    };
+    let sets: Vec<String> = rest.iter().filter(|a| *a != "--set").cloned().collect();
     let problem = Problem::load(Path::new(&path), &sets)?;
     let (settings, fall, tolerance) = (&problem.optimize.whole, problem.drop.fall_time(), problem.exact.tolerance);
     let appendages = problem.cat.appendages();
     let [front, rear] = appendages.legs.ok_or_else(|| anyhow::anyhow!("{path} has no [cat.legs]"))?;
-    let mean = Cylinder {
-        mass: 0.5 * (front.mass + rear.mass),
-        length: 0.5 * (front.length + rear.length),
-        radius: 0.5 * (front.radius + rear.radius),
-    };
+    let mean = front.mean(&rear);
     let cat =
         |legs| WholeCat::appended(problem.cat.model(), Appendages { legs: Some(legs), ..appendages }).expect("legs");
     let clock = Instant::now();

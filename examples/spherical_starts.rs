@@ -16,9 +16,12 @@ use catflip::optimize::whole::{optimize_whole, WholeCat};
 use catflip::problem::Problem;
 
 fn main() -> anyhow::Result<()> {
-    let mut args = std::env::args().skip(1);
-    let path = args.next().unwrap_or_else(|| "problems/paper.toml".to_string());
-    let sets: Vec<String> = args.filter(|a| a != "--set").collect();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (path, rest) = match args.split_first() {
+        Some((first, rest)) if !first.starts_with("--") => (first.clone(), rest),
+        _ => ("problems/paper.toml".to_string(), &args[..]),
+    };
+    let sets: Vec<String> = rest.iter().filter(|a| *a != "--set").cloned().collect();
     let problem = Problem::load(Path::new(&path), &sets)?;
     let cat = WholeCat::spherical(Cat { joint: Joint::Spherical, ..problem.cat.model() }).expect("a spherical cat");
     let settings = &problem.optimize.whole;

@@ -21,6 +21,8 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 const HALF: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
 const TAIL: Cylinder = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
 const LEG: Cylinder = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
+/// The hind pair of a cat whose pairs differ (`[cat.legs.rear]`).
+const HIND_LEG: Cylinder = Cylinder { mass: 0.25, length: 0.4, radius: 0.035 };
 
 fn paper() -> Problem {
     let text = std::fs::read_to_string("problems/paper.toml").expect("the paper's problem");
@@ -149,10 +151,11 @@ fn a_replay_reads_the_motors_from_the_balls_couple() {
 /// The MJCF of a no-twist cat with a tail on a universal joint and legs: a ball for the halves,
 /// two hinges through a cross for the tail, one hinge about its half's `x` for each pair of legs,
 /// one motor per hinge and three for the ball; every body's mass, moments and (at `q = 0`)
-/// position relative to A are the tree's; the legs' cylinders are drawn along their `y`.
+/// position relative to A are the tree's; the legs' cylinders are drawn along their `y`, each
+/// pair (they differ here) with its own mass and size under its own name.
 #[test]
 fn the_mjcf_of_a_cat_with_a_tail_and_legs_builds_the_trees_bodies_and_joints() {
-    let appendages = Appendages { tail: Some((TAIL, Joint::Universal)), legs: Some([LEG; 2]) };
+    let appendages = Appendages { tail: Some((TAIL, Joint::Universal)), legs: Some([LEG, HIND_LEG]) };
     let cat = WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), appendages).expect("two-motor joints");
     let model = NamedTree::of(&cat, 1e-6).expect("cylinders");
     let text = tree_mjcf(&model, "tailed", &MjcfOptions::default());
@@ -190,6 +193,14 @@ fn the_mjcf_of_a_cat_with_a_tail_and_legs_builds_the_trees_bodies_and_joints() {
         assert_eq!(inertial.attribute("mass").map(|m| m.parse::<f64>().expect("mass")), Some(body.mass), "{name}");
         let moments = numbers(inertial.attribute("diaginertia").expect("moments"));
         assert_eq!(moments, [body.inertia[(0, 0)], body.inertia[(1, 1)], body.inertia[(2, 2)]], "{name}");
+    }
+    for (name, pair) in [("front-legs", LEG), ("hind-legs", HIND_LEG)] {
+        let body = doc.descendants().find(|n| n.has_tag_name("body") && n.attribute("name") == Some(name)).expect(name);
+        let inertial = body.children().find(|n| n.has_tag_name("inertial")).expect("inertial");
+        assert_eq!(inertial.attribute("mass").map(|m| m.parse::<f64>().expect("mass")), Some(pair.mass), "{name}");
+        let geom = body.children().find(|n| n.has_tag_name("geom")).expect("geom");
+        let size = numbers(geom.attribute("size").expect("size"));
+        assert_eq!(size, [pair.radius, 0.5 * pair.length], "{name}");
     }
     let joints: Vec<(&str, &str)> = doc
         .descendants()

@@ -17,7 +17,7 @@ use serde::Serialize;
 use crate::model::legs::LEG_STATION;
 use crate::model::tree::{Body, Link, Tree};
 use crate::model::{Cylinder, Joint};
-use crate::numeric::numfmt::num;
+use crate::numeric::numfmt::echo;
 
 /// Two halves and a joint.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -57,17 +57,13 @@ impl Cat {
     /// The half whose mass, length and radius are the means of the two halves' (the paper's `C`
     /// of this half is only a starting point when the halves differ).
     pub fn mean_half(&self) -> Cylinder {
-        let (a, b) = (self.front, self.rear);
-        Cylinder {
-            mass: 0.5 * (a.mass + b.mass),
-            length: 0.5 * (a.length + b.length),
-            radius: 0.5 * (a.radius + b.radius),
-        }
+        self.front.mean(&self.rear)
     }
 
     /// The model in words: its joint and its halves (`m kg, l m long, r m radius`).
     pub fn describe(&self) -> String {
-        let half = |c: &Cylinder| format!("{} kg, {} m long, radius {} m", num(c.mass), num(c.length), num(c.radius));
+        let half =
+            |c: &Cylinder| format!("{} kg, {} m long, radius {} m", echo(c.mass), echo(c.length), echo(c.radius));
         let halves = if self.has_equal_halves() {
             format!("two equal halves of {}", half(&self.front))
         } else {
@@ -194,13 +190,13 @@ impl Appendages {
         if let Some((tail, joint)) = self.tail {
             out += &format!(
                 ", with a tail of {} kg, {} m long, radius {} m on a {joint} joint",
-                num(tail.mass),
-                num(tail.length),
-                num(tail.radius)
+                echo(tail.mass),
+                echo(tail.length),
+                echo(tail.radius)
             );
         }
         let rod = |leg: Cylinder| {
-            format!("{} kg a pair, {} m long, radius {} m", num(leg.mass), num(leg.length), num(leg.radius))
+            format!("{} kg a pair, {} m long, radius {} m", echo(leg.mass), echo(leg.length), echo(leg.radius))
         };
         match self.legs {
             Some([front, rear]) if front == rear => {

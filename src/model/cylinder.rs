@@ -35,6 +35,15 @@ impl Default for Cylinder {
 }
 
 impl Cylinder {
+    /// The cylinder whose mass, length and radius are the means of this one's and `other`'s.
+    pub fn mean(&self, other: &Cylinder) -> Cylinder {
+        Cylinder {
+            mass: 0.5 * (self.mass + other.mass),
+            length: 0.5 * (self.length + other.length),
+            radius: 0.5 * (self.radius + other.radius),
+        }
+    }
+
     /// Moment of inertia about a transverse axis through the centre of mass,
     /// `m(3r² + l²)/12`, kg·m².
     pub fn transverse(&self) -> f64 {

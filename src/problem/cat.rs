@@ -71,6 +71,27 @@ pub struct HalfSection {
     pub radius: Option<f64>,
 }
 
+impl HalfSection {
+    /// `base` with the numbers this section gives.
+    pub fn over(own: Option<HalfSection>, base: Cylinder) -> Cylinder {
+        let own = own.unwrap_or_default();
+        Cylinder {
+            mass: own.mass.unwrap_or(base.mass),
+            length: own.length.unwrap_or(base.length),
+            radius: own.radius.unwrap_or(base.radius),
+        }
+    }
+
+    /// The numbers this section gives, as the problem file writes them (`mass = 0.3, …`).
+    fn shown(&self) -> String {
+        [("mass", self.mass), ("length", self.length), ("radius", self.radius)]
+            .into_iter()
+            .filter_map(|(key, value)| value.map(|v| format!("{key} = {}", echo(v))))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 /// Why a command other than `compare-models` refuses the appendage `[section]` (`cat.tail`,
 /// `cat.legs`).
 pub fn appendage_refused(section: &str) -> String {
@@ -128,37 +149,25 @@ impl LegsSection {
 
     /// The front pair's rod and the rear pair's.
     pub fn pairs(&self) -> [Cylinder; 2] {
-        [self.front, self.rear].map(|own| {
-            let own = own.unwrap_or_default();
-            Cylinder {
-                mass: own.mass.unwrap_or(self.mass),
-                length: own.length.unwrap_or(self.length),
-                radius: own.radius.unwrap_or(self.radius),
-            }
-        })
+        [self.front, self.rear].map(|own| HalfSection::over(own, self.rod()))
     }
 
-    /// Each pair with its own section, `(field, rod)`: `cat.legs.front`, `cat.legs.rear`.
-    pub fn own_pairs(&self) -> impl Iterator<Item = (&'static str, Cylinder)> {
+    /// Each pair with a section of its own: `(field, its section, its rod)` for `cat.legs.front`
+    /// and `cat.legs.rear`.
+    pub fn own_pairs(&self) -> impl Iterator<Item = (&'static str, HalfSection, Cylinder)> {
         let [front, rear] = self.pairs();
-        [("cat.legs.front", self.front.map(|_| front)), ("cat.legs.rear", self.rear.map(|_| rear))]
+        [("cat.legs.front", self.front, front), ("cat.legs.rear", self.rear, rear)]
             .into_iter()
-            .filter_map(|(field, rod)| rod.map(|r| (field, r)))
+            .filter_map(|(field, own, rod)| own.map(|o| (field, o, rod)))
     }
 
     /// The section as the problem file writes it, for messages.
     pub fn shown(&self) -> String {
         let mut out =
             format!("{{ mass = {}, length = {}, radius = {}", echo(self.mass), echo(self.length), echo(self.radius));
-        let [front, rear] = self.pairs();
-        for (name, own, r) in [("front", self.front, front), ("rear", self.rear, rear)] {
-            if own.is_some() {
-                out += &format!(
-                    ", {name} = {{ mass = {}, length = {}, radius = {} }}",
-                    echo(r.mass),
-                    echo(r.length),
-                    echo(r.radius)
-                );
+        for (name, own) in [("front", self.front), ("rear", self.rear)] {
+            if let Some(own) = own {
+                out += &format!(", {name} = {{ {} }}", own.shown());
             }
         }
         out + " }"
@@ -233,12 +242,7 @@ impl CatSection {
     }
 
     fn resolve(&self, own: Option<HalfSection>) -> Cylinder {
-        let own = own.unwrap_or_default();
-        Cylinder {
-            mass: own.mass.unwrap_or(self.mass),
-            length: own.length.unwrap_or(self.length),
-            radius: own.radius.unwrap_or(self.radius),
-        }
+        HalfSection::over(own, self.half())
     }
 
     /// The model the engines run.
@@ -294,7 +298,7 @@ impl CatSection {
         }
         if let Some(legs) = &self.legs {
             validate_half("cat.legs", &legs.rod())?;
-            for (field, rod) in legs.own_pairs() {
+            for (field, _, rod) in legs.own_pairs() {
                 validate_half(field, &rod)?;
             }
         }

@@ -60,16 +60,30 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
         out.extend(outside(&format!("{section}.mass"), half.mass, "kg", MASS_KG, "tonnes", "g"));
     }
     let body = cat.model();
-    let mut appendages = vec![("cat.tail", cat.tail.map(|t| t.rod())), ("cat.legs", cat.legs.map(|l| l.rod()))];
-    appendages.extend(cat.legs.iter().flat_map(|l| l.own_pairs()).map(|(field, rod)| (field, Some(rod))));
+    // Each appendage section, its rod and whether it sets the length and the mass (a pair of legs
+    // of its own may leave them to [cat.legs], which is checked itself).
+    let mut appendages = Vec::new();
+    appendages.extend(cat.tail.map(|t| ("cat.tail", t.rod(), [true; 2])));
+    appendages.extend(cat.legs.map(|l| ("cat.legs", l.rod(), [true; 2])));
+    for (field, own, rod) in cat.legs.iter().flat_map(|l| l.own_pairs()) {
+        appendages.push((field, rod, [own.length.is_some(), own.mass.is_some()]));
+    }
     // An appendage's length and mass against the body's: the cat's own scale, not any cat's.
-    for (section, rod) in appendages {
-        let Some(rod) = rod else { continue };
+    for (section, rod, [sets_length, sets_mass]) in appendages {
         let sizes = [
-            ("length", rod.length, body.front.length + body.rear.length, ("long", "short"), "m", ("mm or cm", "km")),
-            ("mass", rod.mass, body.front.mass + body.rear.mass, ("heavy", "light"), "kg", ("g", "tonnes")),
+            (
+                sets_length,
+                "length",
+                rod.length,
+                body.front.length + body.rear.length,
+                ("long", "short"),
+                "m",
+                ("mm or cm", "km"),
+            ),
+            (sets_mass, "mass", rod.mass, body.front.mass + body.rear.mass, ("heavy", "light"), "kg", ("g", "tonnes")),
         ];
-        for (field, value, whole, (more, less), unit, (small_unit, large_unit)) in sizes {
+        for (_, field, value, whole, (more, less), unit, (small_unit, large_unit)) in sizes.into_iter().filter(|s| s.0)
+        {
             let ratio = value / whole;
             let (word, guess) = if ratio > APPENDAGE_TO_BODY.1 {
                 (more, small_unit)
