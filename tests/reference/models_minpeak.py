@@ -9,10 +9,10 @@ for `check`, models.py from this directory.
 Problem.  Two solid cylinders, front half A and rear half B (axial inertia m r^2/2, transverse
 m(3r^2 + l^2)/12), on their axes joined at A's (0,0,-l_A/2) and B's (0,0,+l_B/2); body frames at
 the centres, z along the spine towards the head.  Zero total angular momentum, fall time
-T = sqrt(2*10/9.8) = 1.4285714 s.  Minimise over joint paths q(t) the peak motor torque
-max_{t,j} |tau_j(t)| subject to q = qd = 0 at t = 0 and t = T, A's attitude R_A(0) = I and
-R_A(T) = Rz(+pi) or Rz(-pi) (twist +-pi about A's initial spine, swing 0; quaternion
-(0, 0, 0, +-1), both signs allowed by constraining w = x = y = 0).
+T = sqrt(2*10/9.8) = 1.4285714 s (the r* cases: their own T, below).  Minimise over joint paths
+q(t) the peak motor torque max_{t,j} |tau_j(t)| subject to q = qd = 0 at t = 0 and t = T, A's
+attitude R_A(0) = I and R_A(T) = Rz(+pi) or Rz(-pi) (twist +-pi about A's initial spine, swing 0;
+quaternion (0, 0, 0, +-1), both signs allowed by constraining w = x = y = 0).
 
 Models (R_AB = B's attitude in A's frame):
   a  equal halves 1.0 kg, 0.9 m, r 0.1 m; universal joint  R_AB = Rx(q1) Ry(q2)
@@ -23,6 +23,14 @@ Models (R_AB = B's attitude in A's frame):
   pu the paper cat on the universal joint (= p; the yardstick of ps)
   ps the paper cat on a spherical joint, R_AB = exp([q1, q2, 0]x) Rz(q3) (the no-twist joint's
      swing, then a relative twist q3 about B's own spine), three motors
+  The near-equal halves (a 1 m drop: T = sqrt(2*1.0/9.81) = 0.4515236 s, a case's own fall time):
+  rm  the mean half of a real cat, equal halves 1.16385 kg, 0.1979 m, r 0.0432 m; no-twist joint
+  r1  halves 1 % apart: A 1.169943 kg 0.198245 m r 0.043275, B 1.157757 kg 0.197555 m r 0.043125;
+      no-twist joint (equal halves cannot swing on it by symmetry: is rm a singular case?)
+  r1u the halves of r1 on the universal joint
+  rmu the mean half of rm on the universal joint
+  rn  the real cat's halves: A 1.2857 kg 0.2048 m r 0.0447, B 1.0420 kg 0.1910 m r 0.0417; no-twist
+  rnu the halves of rn on the universal joint
 Motor torques: the torque the joint transmits to B about the joint point, projected on the motor
 axes (universal: A's x and the cross's y = Rx(q1) y; no-twist: A's x and y; spherical: A's x,
 A's y and B's spine e = R z).  On the spherical joint w_rel = J_l(v) v' + q3' R z, checked against
@@ -80,6 +88,9 @@ Run (outside the repo's build; about 15-30 min per case on one core):
   (validation against mintime.py: solve p --starts 45:0.75:1:circle,45:1:1:circle --N 100,200)
   /tmp/ipopt-venv/bin/python models_minpeak.py summary --out /tmp/models_minpeak
   (a finer grid from a saved optimum: refine a --warm OUT/sol_a_N200_0.npz --N 400 --out DIR)
+  (the near-equal halves, about 2-8 min per case: solve r1 rm rn r1u --N 100,200 --budget 420
+   --refine-best 2 --max-wall 150 --out OUT; a flip of one case as another's start, same joint and
+   T: refine r1 --warm OUT/sol_rm_N200_0.npz --N 200 --out DIR)
   (the spherical joint: solve pu --starts 45:0.75:1:circle,60:1:-1 --N 100,200 --out OUT, then
    solve ps --starts 45:0.75:1:cone:0.3,... --map-from OUT/sol_pu_N100_0.npz --N 100,200
    --refine-best 3 --out OUT2, refine ps --warm OUT/sol_pu_N200_0.npz --N 200,400 --out OUT3,
@@ -103,6 +114,7 @@ from mintime import Rx, Ry, skew, qmul, qexp, path_eval, interval_map, reintegra
 
 G = 9.8
 T_FALL = math.sqrt(2 * 10 / G)          # 1.4285714 s
+T_1M = math.sqrt(2 * 1.0 / 9.81)        # 0.4515236 s: the r* cases' 1 m drop at g = 9.81
 MAX_WALL = 300.0                        # s per IPOPT solve (--max-wall)
 MU_INIT = None                          # IPOPT's initial barrier parameter (--mu-init; None: 0.1)
 
@@ -114,7 +126,21 @@ CASES = {
     'p': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='universal'),
     'pu': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='universal'),
     'ps': dict(front=(1.0, 1.0, 0.1), rear=(1.0, 1.0, 0.1), joint='spherical'),
+    # the near-equal halves of a real cat, a 1 m drop at g = 9.81 (each case's T overrides T_FALL)
+    'rm': dict(front=(1.16385, 0.1979, 0.0432), rear=(1.16385, 0.1979, 0.0432), joint='no-twist', T=T_1M),
+    'r1': dict(front=(1.169943, 0.198245, 0.043275), rear=(1.157757, 0.197555, 0.043125),
+               joint='no-twist', T=T_1M),
+    'r1u': dict(front=(1.169943, 0.198245, 0.043275), rear=(1.157757, 0.197555, 0.043125),
+                joint='universal', T=T_1M),
+    'rmu': dict(front=(1.16385, 0.1979, 0.0432), rear=(1.16385, 0.1979, 0.0432), joint='universal', T=T_1M),
+    'rn': dict(front=(1.2857, 0.2048, 0.0447), rear=(1.0420, 0.1910, 0.0417), joint='no-twist', T=T_1M),
+    'rnu': dict(front=(1.2857, 0.2048, 0.0447), rear=(1.0420, 0.1910, 0.0417), joint='universal', T=T_1M),
 }
+
+
+def case_T(c):
+    """a case's fall time: its own T (the r* cases), else T_FALL."""
+    return c.get('T', T_FALL)
 
 
 def n_coords(joint):
@@ -525,6 +551,7 @@ def load_start(model, path, N):
 def run_case(name, Ns, starts, budget, out_dir, max_iter, log, refine_best=None):
     c = CASES[name]
     model = Model(c['front'], c['rear'], c['joint'])
+    T = case_T(c)
     N0 = Ns[0]
     t_start = time.time()
     found = []
@@ -541,12 +568,12 @@ def run_case(name, Ns, starts, budget, out_dir, max_iter, log, refine_best=None)
                 b, tn, sg, kind = st[:4]
                 tw = st[4] if len(st) > 4 else 0.0
                 label = f'{kind} beta={b:g} turns={tn:g} sign={sg:+d}' + (f' twist={tw:g}' if tw else '')
-                init = guess(model, N0, T_FALL, b, tn, sg, kind, tw)
+                init = guess(model, N0, T, b, tn, sg, kind, tw)
         except Exception as e:  # noqa: BLE001
             log(dict(case=name, N=N0, start=str(st), error=repr(e)))
             continue
         try:
-            o, sol = solve(model, N0, init, max_iter=max_iter)
+            o, sol = solve(model, N0, init, T=T, max_iter=max_iter)
         except Exception as e:  # noqa: BLE001
             log(dict(case=name, N=N0, start=label, error=repr(e)))
             continue
@@ -564,7 +591,7 @@ def run_case(name, Ns, starts, budget, out_dir, max_iter, log, refine_best=None)
         else:
             next(cl for cl in clusters if cl['key'] == key)['starts'].append(label)
     for j, cl in enumerate(clusters):
-        np.savez(os.path.join(out_dir, f'sol_{name}_N{N0}_{j}.npz'), T=T_FALL,
+        np.savez(os.path.join(out_dir, f'sol_{name}_N{N0}_{j}.npz'), T=T,
                  **dict(zip(('Q', 'QD', 'A', 'U'), cl['sol'])))
         log(dict(case=name, optimum=j, N=N0, P=cl['o']['P'], twist_sign=cl['o']['twist_sign'],
                  n_starts=len(cl['starts']), starts=cl['starts']))
@@ -580,11 +607,11 @@ def run_case(name, Ns, starts, budget, out_dir, max_iter, log, refine_best=None)
             log(dict(case=name, note=f'2 x budget spent: refinement of start {label} skipped'))
             continue
         for N in Ns[1:]:
-            o, sol = solve(model, N, interp_solution(T_FALL, sol, N), max_iter=max_iter)
+            o, sol = solve(model, N, interp_solution(T, sol, N), T=T, max_iter=max_iter)
             log(dict(case=name, optimum=j, representative=rep, start=label,
                      refined_from=f'N={o0["N"]} P={o0["P"]:.7f}', **fmt(o)))
             if rep:
-                np.savez(os.path.join(out_dir, f'sol_{name}_N{N}_{j}.npz'), T=T_FALL,
+                np.savez(os.path.join(out_dir, f'sol_{name}_N{N}_{j}.npz'), T=T,
                          **dict(zip(('Q', 'QD', 'A', 'U'), sol)))
     log(dict(case=name, note='case done', wall_s=time.time() - t_start))
 
@@ -649,7 +676,7 @@ def summary(path):
         if not rs:
             continue
         c = CASES[name]
-        print(f"\n## case {name}: A {c['front']}, B {c['rear']} (kg, m, m), {c['joint']} joint")
+        print(f"\n## case {name}: A {c['front']}, B {c['rear']} (kg, m, m), {c['joint']} joint, T {case_T(c):.7f} s")
         for N in sorted({r['N'] for r in rs}):
             rn = [r for r in rs if r['N'] == N]
             ok = [r for r in rn if r['status'] in OK]
@@ -716,20 +743,22 @@ def main():
         line = json.dumps(d, default=float)
         print(line, flush=True)
         fh.write(line + '\n'); fh.flush()
-    log(dict(note='models_minpeak', argv=sys.argv, T=T_FALL, date=time.strftime('%Y-%m-%d %H:%M:%S')))
+    log(dict(note='models_minpeak', argv=sys.argv, T=T_FALL,
+             T_cases={n: case_T(CASES[n]) for n in a.cases if n in CASES}, date=time.strftime('%Y-%m-%d %H:%M:%S')))
     if a.what == 'refine':          # one case, from a saved solution, on each grid of --N in turn
         name = a.cases[0]
         c = CASES[name]
         model = Model(c['front'], c['rear'], c['joint'])
+        T = case_T(c)
         z = np.load(a.warm)
         sol = (z['Q'], z['QD'], z['A'], z['U'])
         for i, N in enumerate(Ns):
             init = load_start(model, a.warm, N) if i == 0 else interp_solution(float(z['T']), sol, N)
-            o, sol = solve(model, N, init, max_iter=a.max_iter)
+            o, sol = solve(model, N, init, T=T, max_iter=a.max_iter)
             log(dict(case=name, start='refine ' + os.path.basename(a.warm), **fmt(o)))
-            np.savez(os.path.join(a.out, f'refined_{name}_N{N}.npz'), T=T_FALL,
+            np.savez(os.path.join(a.out, f'refined_{name}_N{N}.npz'), T=T,
                      **dict(zip(('Q', 'QD', 'A', 'U'), sol)))
-            z = dict(T=T_FALL)
+            z = dict(T=T)
         return
     if a.map_from:
         starts = (starts if a.starts else []) + [('map', f) for f in a.map_from.split(',')]
