@@ -10,22 +10,16 @@
 //! `cargo run --release --example legs_continuation -- [PROBLEM.toml] [--set KEY=VALUE ...]`
 //! (default problems/real-cat.toml).
 
-use std::path::Path;
 use std::time::Instant;
+
+mod common;
 
 use catflip::model::cat::Appendages;
 use catflip::model::motor::Motors;
 use catflip::optimize::whole::{optimize_from, optimize_whole, NamedStart, WholeCat};
-use catflip::problem::Problem;
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let (path, rest) = match args.split_first() {
-        Some((first, rest)) if !first.starts_with("--") => (first.clone(), rest),
-        _ => ("problems/real-cat.toml".to_string(), &args[..]),
-    };
-    let sets: Vec<String> = rest.iter().filter(|a| *a != "--set").cloned().collect();
-    let problem = Problem::load(Path::new(&path), &sets)?;
+    let (path, problem) = common::problem_from_args("problems/real-cat.toml")?;
     let (settings, fall, tolerance) = (&problem.optimize.whole, problem.drop.fall_time(), problem.exact.tolerance);
     let appendages = problem.cat.appendages();
     let [front, rear] = appendages.legs.ok_or_else(|| anyhow::anyhow!("{path} has no [cat.legs]"))?;

@@ -7,22 +7,16 @@
 //! `cargo run --release --example spherical_starts [PROBLEM.toml] [--set KEY=VALUE ...]`
 //! (default problems/paper.toml; e.g. `--set optimize.whole.control_points=40`).
 
-use std::path::Path;
 use std::time::Instant;
+
+mod common;
 
 use catflip::model::motor::Motors;
 use catflip::model::{Cat, Joint};
 use catflip::optimize::whole::{optimize_whole, WholeCat};
-use catflip::problem::Problem;
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let (path, rest) = match args.split_first() {
-        Some((first, rest)) if !first.starts_with("--") => (first.clone(), rest),
-        _ => ("problems/paper.toml".to_string(), &args[..]),
-    };
-    let sets: Vec<String> = rest.iter().filter(|a| *a != "--set").cloned().collect();
-    let problem = Problem::load(Path::new(&path), &sets)?;
+    let (_, problem) = common::problem_from_args("problems/paper.toml")?;
     let cat = WholeCat::spherical(Cat { joint: Joint::Spherical, ..problem.cat.model() }).expect("a spherical cat");
     let settings = &problem.optimize.whole;
     let clock = Instant::now();
