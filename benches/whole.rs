@@ -2,17 +2,25 @@
 //! by control points per joint: with every default start, and with the paper's start alone for
 //! the peak and the energy objectives; and the least fall time within motor limits (issue 20:
 //! ≤ 2 s) with every default start, for the three motors of issue 20's targets; and the peak
-//! optimum without and with the knot refinement where the torques switch (issue 20 §6: ≤ 1 s).
+//! optimum without and with the knot refinement where the torques switch (issue 20 §6: ≤ 1 s);
+//! and the least peak of each cat model on the paper's cat (issue 22: ≤ 2 s per model): the
+//! paper's halves on the universal, no-twist and spherical joints, and Kane and Scher's cat with
+//! the tail of `problems/tail.toml` and the legs of `problems/legs.toml`, every default start (as
+//! `compare-models` runs each row, without its verification).
 //!
-//! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`.
+//! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`; the
+//! models: `cargo bench --bench whole -- whole/models` (several minutes: ten solves of each).
 //! Criterion prints the median's confidence interval per size; the worst run is in
 //! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
 use std::hint::black_box;
 use std::time::Duration;
 
+use std::path::Path;
+
 use catflip::model::motor::{Motor, Motors};
-use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeSettings};
+use catflip::model::{Cat, Joint};
+use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeCat, WholeSettings};
 use catflip::problem::Problem;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
@@ -103,5 +111,42 @@ fn min_time(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, paper, refinements, min_time);
+/// Issue 22: the least peak of every cat model on the paper's cat, each with every default start
+/// (the spherical joint's also from the universal joint's optimum lifted); the result must be a
+/// flip ([`WholeOutcome::best`](catflip::optimize::whole::WholeOutcome::best)).
+fn models(c: &mut Criterion) {
+    let problem = |name: &str| Problem::load(&Path::new("problems").join(name), &[]).expect("a committed problem");
+    let paper = problem("paper.toml");
+    let on = |joint: Joint| Cat { joint, ..paper.cat.model() };
+    let appended = |p: &Problem| WholeCat::appended(p.cat.model(), p.cat.appendages()).expect("a cat with appendages");
+    let (tail, legs) = (problem("tail.toml"), problem("legs.toml"));
+    let cases = [
+        ("universal", WholeCat::new(on(Joint::Universal)).expect("two motors"), &paper),
+        ("no-twist", WholeCat::new(on(Joint::NoTwist)).expect("two motors"), &paper),
+        ("spherical", WholeCat::spherical(on(Joint::Spherical)).expect("three motors"), &paper),
+        ("no-twist-tail", appended(&tail), &tail),
+        ("no-twist-legs", appended(&legs), &legs),
+    ];
+    let mut group = c.benchmark_group("whole/models");
+    group.sampling_mode(SamplingMode::Flat).sample_size(10).warm_up_time(Duration::from_secs(1));
+    for (name, cat, p) in &cases {
+        group.bench_with_input(BenchmarkId::from_parameter(name), cat, |b, cat| {
+            b.iter(|| {
+                let outcome = optimize_whole(
+                    black_box(cat),
+                    p.drop.fall_time(),
+                    &p.manoeuvre,
+                    &p.optimize.whole,
+                    &Motors::ideal(),
+                    p.exact.tolerance,
+                )
+                .expect("valid settings");
+                outcome.best().expect("a flip").peak_torque_nm
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, paper, refinements, min_time, models);
 criterion_main!(benches);

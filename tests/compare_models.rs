@@ -147,6 +147,16 @@ fn every_row_is_its_own_models_optimum() {
     let csv = c.to_csv();
     assert_eq!(csv.lines().count(), 1 + c.rows.len(), "{csv}");
     assert!(!csv.contains("NaN") && !md.contains("NaN"), "{csv}\n{md}");
+    // Each optimum's status, in the table and the CSV, is how its last stage ended: an upper
+    // bound exactly when its reason ends on a stage stopped at its budget.
+    for (r, line) in c.rows.iter().zip(csv.lines().skip(1)) {
+        let o = r.optimum.as_ref().expect("an optimum on every coarse model");
+        assert_eq!(line.split(',').nth(5), Some(r.status.as_str()), "{line}");
+        let at_budget = o.reason.ends_with("lower than the optimum it refines)")
+            || (o.reason.contains("iterations used") && !o.reason.contains("spans where the torques switch"));
+        let expected = if at_budget { "upper-bound" } else { "converged" };
+        assert_eq!(r.status, expected, "{}: {}", r.key, o.reason);
+    }
 }
 
 /// Models without an optimum are rows that say so: no numbers, no cheapest, and the files still

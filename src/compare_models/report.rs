@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::{ModelComparison, ModelRow};
 use crate::optimize::whole::spline::SplineShape;
-use crate::optimize::whole::{motors_beyond, MotorsBeyond, Objective};
+use crate::optimize::whole::{motors_beyond, MotorsBeyond, Objective, WholeStatus};
 use crate::report::plot::{flip_filmstrip, line_plot, tree_filmstrip, LinePlot, Series};
 use crate::report::results_dir::{Staging, WriteError};
 
@@ -114,6 +114,10 @@ impl ModelComparison {
         if self.rows.iter().any(|r| r.optimum.is_some()) {
             let _ = writeln!(s, "\nHow each optimum ended:\n");
         }
+        let bound = WholeStatus::UpperBound.to_string();
+        if self.rows.iter().any(|r| r.optimum.is_some() && r.status == bound) {
+            let _ = writeln!(s, "(Status {}.)\n", WholeStatus::UPPER_BOUND_MEANS);
+        }
         for r in &self.rows {
             if let Some(o) = &r.optimum {
                 let _ = writeln!(
@@ -199,7 +203,7 @@ impl ModelComparison {
                 r.key,
                 r.joint.name(),
                 r.motors,
-                if o.is_some() { "converged" } else { "no-optimum" },
+                if o.is_some() { r.status.as_str() } else { "no-optimum" },
                 o.map_or_else(String::new, |o| o.start.clone()),
                 o.map_or_else(String::new, |o| o.iterations.to_string()),
                 cell(o.map(|o| o.peak_torque_nm)),

@@ -84,7 +84,7 @@ impl<T: Trajectory> ShapeTrajectory for Held<'_, T> {
 
 /// A universal-joint trajectory in the spherical joint's coordinates: `R_AB = Rx(q1) Ry(q2)`
 /// split as `exp([v]×) Rz(τ)` (its swing–twist decomposition about `ẑ`,
-/// [`crate::model::orientation::swing_twist`]), `q = (v1, v2, τ)`, with the rates and
+/// [`crate::model::joint::spherical_coordinates`], the twist in `[−π, π]`), `q = (v1, v2, τ)`, with the rates and
 /// accelerations that give the same `ω_rel` and `ω̇_rel`: with `M = [J x̂ | J ŷ | e]`
 /// ([`crate::model::joint::exp_rate`], `e = exp([v]×) ẑ`), `M (v̇1, v̇2, τ̇) = ω_rel` and
 /// `M (v̈1, v̈2, τ̈) = ω̇_rel − J̇ v̇ − τ̇ (J v̇) × e`. `M` is invertible for bends below π
@@ -103,15 +103,12 @@ impl<T: Trajectory> ShapeTrajectory for AsSpherical<'_, T> {
         self.path.piece_durations()
     }
     fn piece_shape(&self, piece: usize, s: f64) -> ShapeState {
-        use crate::model::joint::{exp_accel, exp_rate, exp_so3};
+        use crate::model::joint::{exp_accel, exp_rate, exp_so3, spherical_coordinates};
         use crate::model::Joint;
-        use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+        use nalgebra::{Matrix3, Vector3};
         let st = self.path.piece_state(piece, s);
-        let r = UnitQuaternion::from_matrix(&Joint::Universal.rotation(&st.q));
-        let tau = crate::model::orientation::swing_twist(&r).twist;
-        let twist = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), tau);
-        let sv = (r * twist.inverse()).scaled_axis();
-        let v = Vector3::new(sv.x, sv.y, 0.0);
+        let [v1, v2, tau] = spherical_coordinates(&Joint::Universal.rotation(&st.q), 0.0);
+        let v = Vector3::new(v1, v2, 0.0);
         let e = exp_so3(&v) * Vector3::z();
         let m = Matrix3::from_columns(&[exp_rate(&v, &Vector3::x()), exp_rate(&v, &Vector3::y()), e]);
         let solve = |b: Vector3<f64>| m.lu().solve(&b).unwrap_or_else(|| Vector3::repeat(f64::NAN));

@@ -13,7 +13,7 @@ use crate::measure::retime::RetimeRow;
 use crate::measure::whole::WholeReport;
 use crate::numeric::numfmt::fixed;
 use crate::optimize::retime::RetimeSettings;
-use crate::optimize::whole::{BSpline, Objective, WholeSolution};
+use crate::optimize::whole::{BSpline, Objective, WholeSolution, WholeStatus};
 use crate::problem::PLAUSIBLE_HEIGHT_M;
 use crate::report::check::verification_row;
 use crate::report::compare::CompareRow;
@@ -45,6 +45,9 @@ impl WholeReport {
                     "- Status: **{}** (start `{}`, {} iterations, {} Newton steps, {:.2} s).",
                     self.status, b.start, b.iterations, b.polish_steps, b.seconds
                 );
+                if b.status == WholeStatus::UpperBound {
+                    let _ = writeln!(s, "  (Status {}.)", WholeStatus::UPPER_BOUND_MEANS);
+                }
                 let _ = writeln!(
                     s,
                     "- Flip: twist **{:+.9}°**, swing **{:.3e}°** (| |twist| − 180° | = {:.2e} rad; engine error estimate {:.1e} rad).",

@@ -22,9 +22,9 @@
 //! budget [`refine::BUDGET`] and optimality). Both start with the first trust radius of a refined
 //! solve ([`refine::TRUST_SHARE`]). They run beside the library starts, and the best of all is
 //! refined where its own torques switch, as every cat's optimum is. A lifted stage that stops at
-//! its budget below the universal optimum it started from, on a flip within the limits, is kept,
-//! as a refined stage is, and its reason says that its value is an upper bound on the spherical
-//! joint's least peak. Each lifted solution's time, iterations and log count its universal solve
+//! its budget below the universal optimum it started from, on a flip within the limits, is kept
+//! with the status `upper-bound` ([`WholeStatus::UpperBound`]), as a refined stage is, and its
+//! reason says that its value is an upper bound on the spherical joint's least peak. Each lifted solution's time, iterations and log count its universal solve
 //! (the start it lifts) too.
 //!
 //! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
@@ -176,9 +176,10 @@ fn lifted_name(from: &WholeSolution) -> String {
     format!("universal {} from {}", what(from), from.start)
 }
 
-/// What a universal solution lifted is: an optimum when it converged, else a path.
+/// What a universal solution lifted is: an optimum when it ended on a result (converged, or a
+/// refined stage's upper bound), else a path.
 fn what(from: &WholeSolution) -> &'static str {
-    if from.status == WholeStatus::Converged {
+    if from.status.is_result() {
         "optimum"
     } else {
         "path"
@@ -234,8 +235,9 @@ fn lifted_optima(sub: &WholeOutcome, objective: Objective) -> (Vec<&WholeSolutio
 /// budget): the time, iterations and log of that solve and its own, and where it started in its
 /// reason. A stage that stopped at its iteration budget on a flip within the motors and the bend
 /// limit, below the converged universal optimum it started from (on the same knots), is kept as
-/// converged, as a refined stage is ([`super::refine_solution`]), and its reason says so: a flip
-/// below that optimum, its value an upper bound on the spherical joint's least.
+/// an upper bound ([`WholeStatus::UpperBound`]), as a refined stage is
+/// ([`super::refine_solution`]), and its reason says so: a flip below that optimum, its value
+/// an upper bound on the spherical joint's least.
 fn after(
     from: &WholeSolution,
     mut s: WholeSolution,
@@ -245,11 +247,11 @@ fn after(
 ) -> WholeSolution {
     let objective = settings.objective;
     let mut reason = s.reason.clone();
-    let improved = from.status == WholeStatus::Converged && s.value(objective) < from.value(objective);
+    let improved = from.status.is_result() && s.value(objective) < from.value(objective);
     let most_bend = settings.min_angle_deg.map_or(f64::INFINITY, |a| 180.0 - a + BEND_SLACK_DEG);
     let within = s.flips(tolerance) && s.motors.within() && s.max_bend_deg <= most_bend;
     if s.status == WholeStatus::MaxIterations && improved && within {
-        s.status = WholeStatus::Converged;
+        s.status = WholeStatus::UpperBound;
         reason = format!(
             "{reason}, {:.3} % below it: a flip below the universal joint's optimum on these knots, not proved the spherical joint's least (an upper bound on it{})",
             100.0 * (1.0 - s.value(objective) / from.value(objective)),
@@ -308,7 +310,7 @@ mod tests {
         }
     }
 
-    /// A lifted stage at its budget is kept as converged only below the converged optimum it
+    /// A lifted stage at its budget is kept as an upper bound only below the converged optimum it
     /// started from, on a flip within the bend limit, and says it is an upper bound; either way
     /// it counts the universal solve's iterations and time and names where it started.
     #[test]
@@ -316,7 +318,7 @@ mod tests {
         let settings = WholeSettings { min_angle_deg: Some(120.0), ..WholeSettings::default() };
         let from = solution(WholeStatus::Converged, 0.32, 50.0, 40);
         let kept = after(&from, solution(WholeStatus::MaxIterations, 0.31, 55.0, 200), &settings, false, 1e-8);
-        assert_eq!(kept.status, WholeStatus::Converged, "{}", kept.reason);
+        assert_eq!(kept.status, WholeStatus::UpperBound, "{}", kept.reason);
         assert!(kept.reason.contains("upper bound") && kept.reason.contains("3.125 % below it"), "{}", kept.reason);
         assert_eq!((kept.iterations, kept.seconds), (240, 2.0));
         // Beyond the bend limit (60° here), above its start, or from a start that did not converge.

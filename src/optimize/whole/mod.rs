@@ -311,7 +311,7 @@ fn kept_refinement(
     tolerance: f64,
 ) -> Result<Option<WholeSolution>, WholeError> {
     let refined = refine_solution(problem, best, tolerance)?;
-    Ok((refined.status == WholeStatus::Converged && refined.flips(tolerance)).then_some(refined))
+    Ok((refined.status.is_result() && refined.flips(tolerance)).then_some(refined))
 }
 
 /// The outcome of the starts' `solutions` of `problem`: the best converged flip
@@ -483,10 +483,17 @@ pub fn refine_solution(
                 next.spline.spans(),
                 refine::BUDGET
             )
+        } else if end.status == WholeStatus::UpperBound {
+            // The upper bound it refines is now a converged optimum: the reader is told so.
+            format!("refined to {} spans where the torques switch, where it converged", next.spline.spans())
         } else {
             format!("refined to {} spans where the torques switch", next.spline.spans())
         });
-        end = FinalStage { status: WholeStatus::Converged, reason: best.reason.clone(), ..next };
+        // A stage stopped at its budget is an upper bound below what it refines; one that
+        // stopped on its own test converged, whatever the curve it started from.
+        let status =
+            if next.status == WholeStatus::MaxIterations { WholeStatus::UpperBound } else { WholeStatus::Converged };
+        end = FinalStage { status, reason: best.reason.clone(), ..next };
         kept = true;
     }
     if !kept {
@@ -553,7 +560,7 @@ impl Run {
             }
             _ => (spline, m),
         };
-        if constrained && !m.motors.within() && status == WholeStatus::Converged {
+        if constrained && !m.motors.within() && status.is_result() {
             status = WholeStatus::Infeasible;
             reason = format!("{reason}; the dense re-measurement {}", m.motors.verdict());
         }
@@ -647,7 +654,7 @@ impl Run {
     ) -> WholeSolution {
         let flips = m.twist_error <= self.tolerance && m.flip.swing <= self.tolerance;
         if p.target.is_some() && !flips {
-            if status == WholeStatus::Converged {
+            if status.is_result() {
                 status = WholeStatus::Infeasible;
             }
             reason = format!(
@@ -658,7 +665,7 @@ impl Run {
         if let Some(limit) = p.settings.min_angle_deg {
             let excess = m.max_bend.to_degrees() - (180.0 - limit);
             if excess > BEND_SLACK_DEG {
-                if status == WholeStatus::Converged {
+                if status.is_result() {
                     status = WholeStatus::Infeasible;
                 }
                 reason = format!("{reason}; the bend exceeds its limit by {excess:.3}° between samples");

@@ -16,11 +16,14 @@ use crate::optimize::conic::QpStatus;
 pub enum WholeStatus {
     /// A stationary point of the merit function that flips the cat within the tolerance (for the
     /// peak, also a stage whose progress fell below `3e-5` of the peak over five accepted steps,
-    /// which its reason says: [`super::scvx`]); also a refined stage, or the spherical joint's
-    /// stage from the universal joint's optimum ([`super::lift`]), that stopped at its iteration
-    /// budget below the converged optimum it started from, on a flip within the limits: its
-    /// value an upper bound, which its reason says.
+    /// which its reason says: [`super::scvx`]).
     Converged,
+    /// A refined stage ([`super::refine_solution`]) or the spherical joint's stage from the
+    /// universal joint's optimum ([`super::lift`]) that stopped at its iteration budget, still
+    /// descending, below the converged optimum it started from, on a flip within the limits: a
+    /// flip that exists and the best found, but not proved stationary; its value is an upper
+    /// bound on the optimum it was descending to.
+    UpperBound,
     /// The trust region collapsed (or the subproblems kept failing) before stationarity.
     Stalled,
     /// Stationary with the orientation error still above the tolerance at the largest penalty:
@@ -34,11 +37,23 @@ impl fmt::Display for WholeStatus {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             WholeStatus::Converged => "converged",
+            WholeStatus::UpperBound => "upper-bound",
             WholeStatus::Stalled => "stalled",
             WholeStatus::Infeasible => "infeasible",
             WholeStatus::MaxIterations => "max-iterations",
         })
     }
+}
+
+impl WholeStatus {
+    /// Whether a start that ended so may be the outcome's best: it converged, or it is an upper
+    /// bound below a converged optimum (still to be checked for a flip within the limits).
+    pub fn is_result(self) -> bool {
+        matches!(self, WholeStatus::Converged | WholeStatus::UpperBound)
+    }
+
+    /// What the status `upper-bound` means, in a sentence for the reports that show it.
+    pub const UPPER_BOUND_MEANS: &'static str = "`upper-bound`: the stage that gave the number stopped at its iteration budget, still descending, below the converged optimum it started from: a flip that exists and the best found, its value an upper bound on the optimum it was descending to, not proved one";
 }
 
 /// One trust-region iteration.
@@ -126,12 +141,13 @@ impl WholeSolution {
     }
 }
 
-/// Index of the lowest `objective` among `solutions` that converged and flip the cat within
-/// `tolerance` (none when none did).
+/// Index of the lowest `objective` among `solutions` that ended on a result
+/// ([`WholeStatus::is_result`]: converged, or an upper bound) and flip the cat within `tolerance`
+/// (none when none did).
 pub fn best_of(solutions: &[WholeSolution], objective: Objective, tolerance: f64) -> Option<usize> {
     let value = |i: usize| solutions[i].value(objective);
     (0..solutions.len())
-        .filter(|&i| solutions[i].status == WholeStatus::Converged && solutions[i].flips(tolerance))
+        .filter(|&i| solutions[i].status.is_result() && solutions[i].flips(tolerance))
         .min_by(|&a, &b| value(a).total_cmp(&value(b)))
 }
 
@@ -158,8 +174,9 @@ pub struct SkippedStart {
 pub struct WholeOutcome {
     /// One per start that could be built, in order.
     pub solutions: Vec<WholeSolution>,
-    /// Index in `solutions` of the lowest objective among those that converged and flip the
-    /// cat; none when no start did.
+    /// Index in `solutions` of the lowest objective among those that ended on a result
+    /// (converged, or an upper bound: [`WholeStatus::is_result`]) and flip the cat; none when
+    /// no start did.
     pub best: Option<usize>,
     /// Starts that were not solved, and why: they could not be built, or (the spherical joint,
     /// [`super::lift`]) the universal joint's solution from them was not lifted (another start's
@@ -168,7 +185,7 @@ pub struct WholeOutcome {
 }
 
 impl WholeOutcome {
-    /// The best solution, if any start converged to a flip.
+    /// The best solution, if any start ended on a result that flips the cat ([`best_of`]).
     pub fn best(&self) -> Option<&WholeSolution> {
         self.best.map(|i| &self.solutions[i])
     }
@@ -177,7 +194,7 @@ impl WholeOutcome {
     /// feasible: it flips the cat within `tolerance`, within the motors' limits and within the
     /// bend limit of `settings` (each re-measured by the exact engine, as every start's is). A
     /// schedule that exists, its value an upper bound on the optimum, though not proved a local
-    /// optimum. None when some start converged.
+    /// optimum. None when some start ended on a result ([`WholeOutcome::best`]).
     pub fn unconverged_flip(&self, settings: &WholeSettings, tolerance: f64) -> Option<&WholeSolution> {
         if self.best.is_some() {
             return None;
@@ -186,7 +203,7 @@ impl WholeOutcome {
         let objective = settings.objective;
         self.solutions
             .iter()
-            .filter(|s| s.status != WholeStatus::Converged && s.flips(tolerance))
+            .filter(|s| !s.status.is_result() && s.flips(tolerance))
             .filter(|s| s.motors.within() && s.max_bend_deg <= most_bend)
             .min_by(|a, b| a.value(objective).total_cmp(&b.value(objective)))
     }

@@ -41,7 +41,7 @@ pub fn within(
     tolerance: f64,
 ) -> WholeOutcome {
     for s in &mut outcome.solutions {
-        let optimum = s.status == WholeStatus::Converged && s.flips(tolerance);
+        let optimum = s.status.is_result() && s.flips(tolerance);
         let k = (s.peak_torque_nm / limit).sqrt();
         let least_fall = s.fall_time_s * k;
         if objective == Objective::MinTime && k > 0.0 {
@@ -69,7 +69,7 @@ pub fn within(
         s.motors = m.motors;
         s.chatter = m.chatter;
         if objective == Objective::Peak && !s.motors.within() {
-            if s.status == WholeStatus::Converged {
+            if s.status.is_result() {
                 s.status = WholeStatus::Infeasible;
             }
             s.reason = format!(
