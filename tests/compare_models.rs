@@ -5,6 +5,8 @@
 //! The comparisons here run on a coarse spline (40 control points, one start, no refinement) so
 //! that four models solve in a few seconds; the optimiser itself is tested in tests/whole*.rs.
 
+mod common;
+
 use catflip::compare_models::{compare_models, variants, Beyond, ModelComparison, ModelRow};
 use catflip::engines::models::{self, TwoMotorCat};
 use catflip::engines::rapier::Status;
@@ -148,15 +150,24 @@ fn every_row_is_its_own_models_optimum() {
     assert_eq!(csv.lines().count(), 1 + c.rows.len(), "{csv}");
     assert!(!csv.contains("NaN") && !md.contains("NaN"), "{csv}\n{md}");
     // Each optimum's status, in the table and the CSV, is how its last stage ended: an upper
-    // bound exactly when its reason ends on a stage stopped at its budget.
+    // bound exactly when its reason says that stage stopped at its budget.
     for (r, line) in c.rows.iter().zip(csv.lines().skip(1)) {
         let o = r.optimum.as_ref().expect("an optimum on every coarse model");
         assert_eq!(line.split(',').nth(5), Some(r.status.as_str()), "{line}");
-        let at_budget = o.reason.ends_with("lower than the optimum it refines)")
-            || (o.reason.contains("iterations used") && !o.reason.contains("spans where the torques switch"));
-        let expected = if at_budget { "upper-bound" } else { "converged" };
+        let expected = if common::last_stage_at_budget(&o.reason) { "upper-bound" } else { "converged" };
         assert_eq!(r.status, expected, "{}: {}", r.key, o.reason);
     }
+    // The report says what an upper bound is when a row is one, and the lead flags each one it
+    // quotes (here every row made one).
+    assert_eq!(md.contains("(Status `upper-bound`"), c.rows.iter().any(ModelRow::is_upper_bound), "{md}");
+    let mut bounded = c.clone();
+    for r in &mut bounded.rows {
+        r.status = "upper-bound".into();
+    }
+    let md = bounded.to_markdown();
+    let lead = md.lines().find(|l| l.starts_with("**")).expect("a lead line");
+    assert_eq!(lead.matches("(an upper bound, `upper-bound`)").count(), bounded.rows.len(), "{lead}");
+    assert!(md.contains("(Status `upper-bound`"), "{md}");
 }
 
 /// Models without an optimum are rows that say so: no numbers, no cheapest, and the files still

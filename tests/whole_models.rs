@@ -1,6 +1,6 @@
 //! The whole-manoeuvre optimiser on the two-motor cat models (issue 22): Kane and Scher's
 //! no-twist joint and unequal halves on the universal joint (unequal halves on the no-twist joint
-//! converge too, in 5 s: `tests/compare_models.rs` and README, "More cats"). Each optimum
+//! too, in 5 s, its refinement an upper bound: `tests/compare_models.rs` and README, "More cats"). Each optimum
 //! is re-measured here by the general exact engine ([`TwoMotorCat`]), not taken from the
 //! optimiser, and must beat the best library schedule of the same problem; the paper's cat through
 //! the seam ([`WholeCat`]) gives the optimum committed in `results/paper/whole.json` and, to the

@@ -46,7 +46,7 @@ use crate::model::cat::Appendages;
 use crate::model::tree::Tree;
 use crate::model::Joint;
 use crate::numeric::numfmt::echo;
-use crate::optimize::whole::{BSpline, Objective};
+use crate::optimize::whole::{BSpline, Objective, WholeStatus};
 use crate::problem::cat::CatSection;
 use crate::problem::manoeuvre::BendPath;
 use crate::problem::{Problem, ProblemError};
@@ -175,7 +175,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
 /// The optimum's numbers on one model, re-measured by its exact engine.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OptimumFigures {
-    /// The start it converged from.
+    /// The start it came from.
     pub start: String,
     /// Trust-region iterations.
     pub iterations: usize,
@@ -277,6 +277,11 @@ impl ModelRow {
     /// The optimum's peak torque, when there is one.
     pub fn peak(&self) -> Option<f64> {
         self.optimum.as_ref().map(|o| o.peak_torque_nm)
+    }
+
+    /// Whether its optimum's number is an upper bound ([`WholeStatus::UpperBound`]).
+    pub fn is_upper_bound(&self) -> bool {
+        self.optimum.is_some() && self.status == WholeStatus::UpperBound.to_string()
     }
 }
 

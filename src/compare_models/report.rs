@@ -114,8 +114,7 @@ impl ModelComparison {
         if self.rows.iter().any(|r| r.optimum.is_some()) {
             let _ = writeln!(s, "\nHow each optimum ended:\n");
         }
-        let bound = WholeStatus::UpperBound.to_string();
-        if self.rows.iter().any(|r| r.optimum.is_some() && r.status == bound) {
+        if self.rows.iter().any(ModelRow::is_upper_bound) {
             let _ = writeln!(s, "(Status {}.)\n", WholeStatus::UPPER_BOUND_MEANS);
         }
         for r in &self.rows {
@@ -163,6 +162,8 @@ impl ModelComparison {
     fn lead(&self, best: &ModelRow) -> String {
         let Some(o) = &best.optimum else { return String::new() };
         let value = o.objective_value(self.objective);
+        // A row whose number is an upper bound says so wherever the lead quotes it.
+        let bounded = |r: &ModelRow| if r.is_upper_bound() { " (an upper bound, `upper-bound`)" } else { "" };
         let mut s = match self.objective {
             Objective::Peak => format!("peak {:.4} N·m", o.peak_torque_nm),
             Objective::Energy => format!("energy {:.6} N²·m²·s", o.energy),
@@ -170,14 +171,15 @@ impl ModelComparison {
                 format!("least fall time {:.4} s, a drop of {:.4} m", o.fall_time_s, o.drop_height_m)
             }
         };
+        s.push_str(bounded(best));
         let others: Vec<String> = self
             .rows
             .iter()
             .filter(|r| r.key != best.key)
             .filter_map(|r| {
-                r.optimum
-                    .as_ref()
-                    .map(|x| format!("{:.3}× that with {}", x.objective_value(self.objective) / value, r.label))
+                r.optimum.as_ref().map(|x| {
+                    format!("{:.3}× that with {}{}", x.objective_value(self.objective) / value, r.label, bounded(r))
+                })
             })
             .collect();
         if !others.is_empty() {

@@ -38,7 +38,8 @@ pub struct WholeReport {
     pub cat: String,
     /// What was minimised.
     pub objective: Objective,
-    /// How the best start ended (`converged`), or why there is no optimum.
+    /// How the best start ended (`converged` or `upper-bound`, [`crate::optimize::whole::WholeStatus`]),
+    /// or why there is no optimum.
     pub status: String,
     /// Signed twist of the optimum, degrees (absent when no start flipped the cat).
     pub twist_deg: Option<f64>,
@@ -89,7 +90,8 @@ impl WholeReport {
         !is_zero3(&self.angular_momentum_nms)
     }
 
-    /// The optimum, when a start converged to a flip.
+    /// The optimum, when a start ended on a result that flips the cat
+    /// ([`crate::optimize::whole::WholeOutcome::best`]).
     pub fn best(&self) -> Option<&WholeSolution> {
         self.outcome.best()
     }

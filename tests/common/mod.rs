@@ -60,3 +60,18 @@ pub fn catflip(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stderr).into(),
     )
 }
+
+/// Whether a whole optimum's `reason` says that the stage which gave its number stopped at its
+/// iteration budget (the status `upper-bound`): the last refinement where the torques switch
+/// decides when one was kept ("that stage stopped at its … iterations" against a stage that
+/// stopped on its own test), else the spherical joint's lifted stage ("… % below it: a flip
+/// below the universal joint's optimum").
+pub fn last_stage_at_budget(reason: &str) -> bool {
+    match reason.rfind("refined to ") {
+        Some(at) => {
+            let clause = &reason[at..];
+            clause[..clause.find("; ").unwrap_or(clause.len())].contains("stopped at its")
+        }
+        None => reason.contains("% below it: a flip below"),
+    }
+}

@@ -64,9 +64,10 @@
 //! iterations, now 35). A final phase of minimum-norm Newton
 //! steps drives `|e|` to round-off. With `homotopy` the peak stage starts from the energy
 //! optimum of the same start, which is smooth and reached in a few steps. For `peak` and
-//! `min-time` the best converged start is then refined where its torques switch and solved again
-//! from the same curve ([`refine_solution`]). Several starts
-//! ([`starts`]); the best converged flip is kept, and every start's outcome is reported.
+//! `min-time` the best start (converged, or an upper bound: [`WholeStatus::UpperBound`]) is then
+//! refined where its torques switch and solved again from the same curve ([`refine_solution`]).
+//! Several starts ([`starts`]); the best such flip is kept, and every start's outcome is
+//! reported.
 //!
 //! ## Motor limits (DESIGN.md §9)
 //! With `[actuator]` limits ([`crate::model::motor`]) each torque sample gives linearised rows of
@@ -303,8 +304,9 @@ fn refines(settings: &WholeSettings) -> bool {
     settings.objective != Objective::Energy && settings.switch_refinements > 0
 }
 
-/// `best` refined where its torques switch ([`refine_solution`]) when the refinement ends
-/// converged on a flip; none otherwise (the best then stays as it was).
+/// `best` refined where its torques switch ([`refine_solution`]) when the refinement ends on a
+/// result (converged, or an upper bound) that flips the cat; none otherwise (the best then stays
+/// as it was).
 fn kept_refinement(
     problem: &ScvxProblem<'_>,
     best: &WholeSolution,
@@ -314,7 +316,7 @@ fn kept_refinement(
     Ok((refined.status.is_result() && refined.flips(tolerance)).then_some(refined))
 }
 
-/// The outcome of the starts' `solutions` of `problem`: the best converged flip
+/// The outcome of the starts' `solutions` of `problem`: the best flip among the results
 /// ([`solution::best_of`]), refined where its torques switch ([`refine_solution`]; not for the
 /// energy, whose torques do not switch).
 fn outcome_of(
@@ -417,7 +419,8 @@ pub fn optimize_start(
     Ok(run.finish(problem, &start.name, end, Vec::new(), constrained, clock))
 }
 
-/// The converged `best` of the starts refined where its torques switch ([`refine`]), for at most
+/// The `best` of the starts (converged, or an upper bound) refined where its torques switch
+/// ([`refine`]), for at most
 /// `switch_refinements` rounds, each solved again from the curve it refines; `best` itself (with
 /// the reason why in its own) when no round is kept. Only the best start is refined: the starts
 /// that converge land in the same optimum on the paper's cat, and the refined solve costs about
@@ -470,8 +473,8 @@ pub fn refine_solution(
         let m = &next.measurement;
         let flips = m.twist_error <= tolerance && m.flip.swing <= tolerance;
         let within = !constrained || m.motors.within();
-        // A refined stage that ends at its budget still crawling down from the converged
-        // optimum it refines is kept when it is lower and flips within the limits.
+        // A refined stage that ends at its budget still crawling down from what it refines is
+        // kept when it is lower and flips within the limits (an upper bound, below).
         let usable = matches!(next.status, WholeStatus::Converged | WholeStatus::MaxIterations);
         if !(usable && lower && flips && within) {
             notes.push(format!("a refinement ({} spans) ended {} and was not kept", next.spline.spans(), next.status));
@@ -479,9 +482,10 @@ pub fn refine_solution(
         }
         notes.push(if next.status == WholeStatus::MaxIterations {
             format!(
-                "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the optimum it refines)",
+                "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the {} it refines)",
                 next.spline.spans(),
-                refine::BUDGET
+                refine::BUDGET,
+                if end.status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
             )
         } else if end.status == WholeStatus::UpperBound {
             // The upper bound it refines is now a converged optimum: the reader is told so.

@@ -11,8 +11,9 @@
 //! ([`BSpline::with_knot`]), which leaves the curve as it is, so the refined solve starts from the
 //! optimum it refines, with a trust radius ([`TRUST_SHARE`]) and an optimality ([`OPTIMALITY`])
 //! fit for a start at an optimum, for at most [`BUDGET`] iterations. The refined result is kept
-//! when it is lower than the converged optimum it refines and flips within the limits (also
-//! when it stopped at its budget, which the start's reason says).
+//! when it is lower than what it refines and flips within the limits (also when it stopped at
+//! its budget: then its status is `upper-bound`, [`super::WholeStatus::UpperBound`], and the
+//! start's reason says so).
 
 use super::cat::WholeCat;
 use super::spline::BSpline;

@@ -20,7 +20,8 @@ pub enum WholeStatus {
     Converged,
     /// A refined stage ([`super::refine_solution`]) or the spherical joint's stage from the
     /// universal joint's optimum ([`super::lift`]) that stopped at its iteration budget, still
-    /// descending, below the converged optimum it started from, on a flip within the limits: a
+    /// descending, below what it started from (a converged optimum, or an upper bound below one),
+    /// on a flip within the limits: a
     /// flip that exists and the best found, but not proved stationary; its value is an upper
     /// bound on the optimum it was descending to.
     UpperBound,
@@ -53,7 +54,7 @@ impl WholeStatus {
     }
 
     /// What the status `upper-bound` means, in a sentence for the reports that show it.
-    pub const UPPER_BOUND_MEANS: &'static str = "`upper-bound`: the stage that gave the number stopped at its iteration budget, still descending, below the converged optimum it started from: a flip that exists and the best found, its value an upper bound on the optimum it was descending to, not proved one";
+    pub const UPPER_BOUND_MEANS: &'static str = "`upper-bound`: the stage that gave the number stopped at its iteration budget, still descending, below what it started from (a converged optimum, or an upper bound below one): a flip that exists and the best found, its value an upper bound on the optimum it was descending to, not proved one";
 }
 
 /// One trust-region iteration.
