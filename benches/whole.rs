@@ -14,9 +14,8 @@
 //! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
 use std::hint::black_box;
-use std::time::Duration;
-
 use std::path::Path;
+use std::time::Duration;
 
 use catflip::model::motor::{Motor, Motors};
 use catflip::model::{Cat, Joint};

@@ -240,9 +240,8 @@ pub struct ModelRow {
     /// The cat in words ([`crate::model::Cat::describe`]; beyond two motors
     /// [`crate::optimize::whole::WholeCat::describe`], the tail's too).
     pub cat: String,
-    /// How the optimum ended (`converged`, or `upper-bound`: stopped at its budget below the
-    /// converged optimum it started from, [`crate::optimize::whole::WholeStatus`]), or why there
-    /// is no optimum.
+    /// How the optimum ended (`converged`, or `upper-bound`: its last stage stopped at its budget
+    /// below what it started from, [`WholeStatus::UpperBound`]), or why there is no optimum.
     pub status: String,
     /// The optimum, when one flips the cat.
     pub optimum: Option<OptimumFigures>,

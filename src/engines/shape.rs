@@ -84,8 +84,9 @@ impl<T: Trajectory> ShapeTrajectory for Held<'_, T> {
 
 /// A universal-joint trajectory in the spherical joint's coordinates: `R_AB = Rx(q1) Ry(q2)`
 /// split as `exp([v]×) Rz(τ)` (its swing–twist decomposition about `ẑ`,
-/// [`crate::model::joint::spherical_coordinates`], the twist in `[−π, π]`), `q = (v1, v2, τ)`, with the rates and
-/// accelerations that give the same `ω_rel` and `ω̇_rel`: with `M = [J x̂ | J ŷ | e]`
+/// [`crate::model::joint::spherical_coordinates`], the twist in `[−π, π]`), `q = (v1, v2, τ)`,
+/// with the rates and accelerations that give the same `ω_rel` and `ω̇_rel`: with
+/// `M = [J x̂ | J ŷ | e]`
 /// ([`crate::model::joint::exp_rate`], `e = exp([v]×) ẑ`), `M (v̇1, v̇2, τ̇) = ω_rel` and
 /// `M (v̈1, v̈2, τ̈) = ω̇_rel − J̇ v̇ − τ̇ (J v̇) × e`. `M` is invertible for bends below π
 /// (`det M = sin|v|/|v|`). With `hold_twist` the relative twist is dropped (`τ = 0`): the same

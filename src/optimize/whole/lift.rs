@@ -24,8 +24,8 @@
 //! refined where its own torques switch, as every cat's optimum is. A lifted stage that stops at
 //! its budget below the universal optimum it started from, on a flip within the limits, is kept
 //! with the status `upper-bound` ([`WholeStatus::UpperBound`]), as a refined stage is, and its
-//! reason says that its value is an upper bound on the spherical joint's least peak. Each lifted solution's time, iterations and log count its universal solve
-//! (the start it lifts) too.
+//! reason says that its value is an upper bound on the spherical joint's least peak. Each lifted
+//! solution's time, iterations and log count its universal solve (the start it lifts) too.
 //!
 //! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
 //! 2026-12-05): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
