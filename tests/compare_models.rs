@@ -168,6 +168,14 @@ fn every_row_is_its_own_models_optimum() {
     let lead = md.lines().find(|l| l.starts_with("**")).expect("a lead line");
     assert_eq!(lead.matches("(an upper bound, `upper-bound`)").count(), bounded.rows.len(), "{lead}");
     assert!(md.contains("(Status `upper-bound`"), "{md}");
+    // A field with a comma (a refined lifted start's name) is quoted in the CSV, not split.
+    let mut refined = c.clone();
+    let name = "universal optimum from paper, refined";
+    refined.rows[0].optimum.as_mut().expect("an optimum").start = name.into();
+    let text = refined.to_csv();
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let first = reader.records().next().expect("a row").expect("a CSV record");
+    assert_eq!((first.len(), &first[6]), (20, name), "{text}");
 }
 
 /// Models without an optimum are rows that say so: no numbers, no cheapest, and the files still

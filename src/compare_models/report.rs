@@ -191,21 +191,43 @@ impl ModelComparison {
         s
     }
 
-    /// One row per model; absent numbers are empty cells.
+    /// One row per model; absent numbers are empty cells. Written by
+    /// [`crate::exchange::table::csv_table`], so that a field with a comma (a start refined,
+    /// "universal optimum from paper, refined"; a problem's name) is quoted, not split.
     pub fn to_csv(&self) -> String {
-        let mut out = String::from("problem,model,joint,motors,halves,status,start,iterations,peak_torque_nm,energy,max_bend_deg,bend_turns,twist_deg,swing_deg,fall_time_s,drop_height_m,schedule_twist_deg,schedule_peak_nm,rapier,seconds\n");
-        for r in &self.rows {
+        const HEADER: [&str; 20] = [
+            "problem",
+            "model",
+            "joint",
+            "motors",
+            "halves",
+            "status",
+            "start",
+            "iterations",
+            "peak_torque_nm",
+            "energy",
+            "max_bend_deg",
+            "bend_turns",
+            "twist_deg",
+            "swing_deg",
+            "fall_time_s",
+            "drop_height_m",
+            "schedule_twist_deg",
+            "schedule_peak_nm",
+            "rapier",
+            "seconds",
+        ];
+        let rows = self.rows.iter().map(|r| {
             let o = r.optimum.as_ref();
             let f = r.schedule.as_ref();
             let halves = if r.key.starts_with("unequal-") { "unequal" } else { "equal" };
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{halves},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                self.problem,
-                r.key,
-                r.joint.name(),
-                r.motors,
-                if o.is_some() { r.status.as_str() } else { "no-optimum" },
+            vec![
+                self.problem.clone(),
+                r.key.clone(),
+                r.joint.name().to_string(),
+                r.motors.to_string(),
+                halves.to_string(),
+                if o.is_some() { r.status.clone() } else { "no-optimum".to_string() },
                 o.map_or_else(String::new, |o| o.start.clone()),
                 o.map_or_else(String::new, |o| o.iterations.to_string()),
                 cell(o.map(|o| o.peak_torque_nm)),
@@ -219,10 +241,10 @@ impl ModelComparison {
                 cell(f.map(|f| f.twist_deg)),
                 cell(f.map(|f| f.peak_torque_nm)),
                 r.rapier.as_ref().map_or_else(String::new, |v| v.status.to_string().replace(' ', "-")),
-                r.seconds
-            );
-        }
-        out
+                r.seconds.to_string(),
+            ]
+        });
+        crate::exchange::table::csv_table(&HEADER, rows)
     }
 
     /// The optima's bends over the fall, one line per model with an optimum.
