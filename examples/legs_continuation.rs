@@ -29,11 +29,8 @@ fn main() -> anyhow::Result<()> {
     let clock = Instant::now();
     let mean_cat = cat([mean; 2]);
     let first = optimize_whole(&mean_cat, fall, &problem.manoeuvre, settings, &Motors::ideal(), tolerance)?;
-    let Some(best) = first.best.map(|i| &first.solutions[i]) else {
-        anyhow::bail!(
-            "no optimum with the mean pair of legs: {}",
-            first.solutions.iter().map(|s| s.reason.as_str()).collect::<Vec<_>>().join("; ")
-        );
+    let Some(best) = first.best() else {
+        anyhow::bail!("no optimum with the mean pair of legs: {}", first.no_optimum(settings, tolerance));
     };
     println!("{}", mean_cat.describe());
     println!("- from `{}`: {}, peak {:.6} N·m: {}", best.start, best.status, best.peak_torque_nm, best.reason);

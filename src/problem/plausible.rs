@@ -60,30 +60,22 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
         out.extend(outside(&format!("{section}.mass"), half.mass, "kg", MASS_KG, "tonnes", "g"));
     }
     let body = cat.model();
-    // Each appendage section, its rod and whether it sets the length and the mass (a pair of legs
-    // of its own may leave them to [cat.legs], which is checked itself).
-    let mut appendages = Vec::new();
-    appendages.extend(cat.tail.map(|t| ("cat.tail", t.rod(), [true; 2])));
-    appendages.extend(cat.legs.map(|l| ("cat.legs", l.rod(), [true; 2])));
-    for (field, own, rod) in cat.legs.iter().flat_map(|l| l.own_pairs()) {
-        appendages.push((field, rod, [own.length.is_some(), own.mass.is_some()]));
+    // Each appendage section with the length and the mass it sets itself (a pair of legs of its
+    // own may leave them to [cat.legs], which is checked itself).
+    let mut appendages: Vec<(&str, Option<f64>, Option<f64>)> = Vec::new();
+    appendages.extend(cat.tail.map(|t| ("cat.tail", Some(t.length), Some(t.mass))));
+    appendages.extend(cat.legs.map(|l| ("cat.legs", Some(l.length), Some(l.mass))));
+    for (field, own, _) in cat.legs.iter().flat_map(|l| l.own_pairs()) {
+        appendages.push((field, own.length, own.mass));
     }
     // An appendage's length and mass against the body's: the cat's own scale, not any cat's.
-    for (section, rod, [sets_length, sets_mass]) in appendages {
+    for (section, length, mass) in appendages {
         let sizes = [
-            (
-                sets_length,
-                "length",
-                rod.length,
-                body.front.length + body.rear.length,
-                ("long", "short"),
-                "m",
-                ("mm or cm", "km"),
-            ),
-            (sets_mass, "mass", rod.mass, body.front.mass + body.rear.mass, ("heavy", "light"), "kg", ("g", "tonnes")),
+            ("length", length, body.front.length + body.rear.length, ("long", "short"), "m", ("mm or cm", "km")),
+            ("mass", mass, body.front.mass + body.rear.mass, ("heavy", "light"), "kg", ("g", "tonnes")),
         ];
-        for (_, field, value, whole, (more, less), unit, (small_unit, large_unit)) in sizes.into_iter().filter(|s| s.0)
-        {
+        for (field, value, whole, (more, less), unit, (small_unit, large_unit)) in sizes {
+            let Some(value) = value else { continue };
             let ratio = value / whole;
             let (word, guess) = if ratio > APPENDAGE_TO_BODY.1 {
                 (more, small_unit)

@@ -209,8 +209,7 @@ fn refined_best(
 
 /// The universal joint's solutions of `sub` that the spherical joint starts from on the uniform
 /// knots: its best (the lowest flip among the results, [`super::solution::best_of`]), or every
-/// start's solution when none converged;
-/// and why each other start is not lifted.
+/// start's solution when none converged; and why each other start is not lifted.
 fn lifted_optima(sub: &WholeOutcome, objective: Objective) -> (Vec<&WholeSolution>, Vec<SkippedStart>) {
     let Some(best) = sub.best() else { return (sub.solutions.iter().collect(), Vec::new()) };
     let skipped = sub

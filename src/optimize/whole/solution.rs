@@ -21,9 +21,8 @@ pub enum WholeStatus {
     /// A refined stage ([`super::refine_solution`]) or the spherical joint's stage from the
     /// universal joint's optimum ([`super::lift`]) that stopped at its iteration budget, still
     /// descending, below what it started from (a converged optimum, or an upper bound below one),
-    /// on a flip within the limits: a
-    /// flip that exists and the best found, but not proved stationary; its value is an upper
-    /// bound on the optimum it was descending to.
+    /// on a flip within the limits: a flip that exists and the best found, but not proved
+    /// stationary; its value is an upper bound on the optimum it was descending to.
     UpperBound,
     /// The trust region collapsed (or the subproblems kept failing) before stationarity.
     Stalled,
@@ -48,7 +47,7 @@ impl fmt::Display for WholeStatus {
 
 impl WholeStatus {
     /// Whether a start that ended so may be the outcome's best: it converged, or it is an upper
-    /// bound below a converged optimum (still to be checked for a flip within the limits).
+    /// bound (still to be checked for a flip within the limits).
     pub fn is_result(self) -> bool {
         matches!(self, WholeStatus::Converged | WholeStatus::UpperBound)
     }
