@@ -135,6 +135,19 @@ impl ScvxProblem<'_> {
 
     /// Evaluates torques (and their gradients), bend and orientation at `spline`.
     pub(crate) fn evaluate(&self, spline: BSpline, objective: Objective, steps: usize) -> Iterate {
+        self.evaluate_known(spline, None, objective, steps)
+    }
+
+    /// [`Self::evaluate`] with the final orientation at `spline` already known (`known`, from
+    /// [`final_orientation`] at these `steps` and the target; a projection computes it last):
+    /// without spin it is taken as it is, not integrated again (the same numbers bit for bit).
+    fn evaluate_known(
+        &self,
+        spline: BSpline,
+        known: Option<FinalOrientation>,
+        objective: Objective,
+        steps: usize,
+    ) -> Iterate {
         let layout = self.layout();
         let uniform = uniform_grid(&spline, self.settings.samples_per_span);
         let grid = match objective {
@@ -164,7 +177,7 @@ impl ScvxProblem<'_> {
         };
         let orientation = match spun {
             Some(o) => Some(o),
-            None => self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t)),
+            None => known.or_else(|| self.target.map(|t| final_orientation(self.cat, &spline, &layout, steps, &t))),
         };
         let peak = samples.iter().flat_map(|s| s.tau.iter().map(|t| t.abs())).fold(0.0, f64::max);
         let value = match objective {
@@ -347,16 +360,14 @@ impl ScvxProblem<'_> {
                 };
                 return end(it, WholeStatus::Infeasible, reason);
             }
-            let moved = self.polish(layout.moved(&it.spline, &step.step), steps, PROJECTION_STEPS).0;
-            let mut trial = self.evaluate(moved, objective, steps);
+            let mut trial = self.trial(layout.moved(&it.spline, &step.step), objective, steps);
             let ratio = (now - merit(&trial)) / predicted;
             let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
             if objective == Objective::Energy && ratio > EXTEND_RATIO {
                 let mut factor = 2.0;
                 while factor * length <= radius {
                     let longer: Vec<f64> = step.step.iter().map(|d| d * factor).collect();
-                    let moved = self.polish(layout.moved(&it.spline, &longer), steps, PROJECTION_STEPS).0;
-                    let candidate = self.evaluate(moved, objective, steps);
+                    let candidate = self.trial(layout.moved(&it.spline, &longer), objective, steps);
                     if merit(&candidate) >= merit(&trial) {
                         break;
                     }
@@ -434,14 +445,29 @@ impl ScvxProblem<'_> {
     /// the correction afterwards (as one did on a cat with a tail and legs, its legs folded to
     /// their limit for much of the fall: the flip missed by 1.7e-10 rad).
     pub(crate) fn polish(&self, spline: BSpline, steps: usize, most: usize) -> (BSpline, usize) {
-        let Some(target) = self.target else { return (spline, 0) };
+        let (spline, kept, _) = self.polish_keeping(spline, steps, most);
+        (spline, kept)
+    }
+
+    /// A trial point `moved` returned to the constraint ([`PROJECTION_STEPS`] Newton steps, module
+    /// docs) and evaluated there, with the orientation the last projection step computed.
+    fn trial(&self, moved: BSpline, objective: Objective, steps: usize) -> Iterate {
+        let (spline, _, orientation) = self.polish_keeping(moved, steps, PROJECTION_STEPS);
+        let known = orientation.filter(|_| !self.spins());
+        self.evaluate_known(spline, known, objective, steps)
+    }
+
+    /// [`Self::polish`], also returning the orientation at the spline it returns (none without a
+    /// target).
+    fn polish_keeping(&self, spline: BSpline, steps: usize, most: usize) -> (BSpline, usize, Option<FinalOrientation>) {
+        let Some(target) = self.target else { return (spline, 0, None) };
         let layout = self.layout();
         let limits = self.variable_limits(&layout);
         let mut best = (self.orientation(&spline, &layout, steps, &target), spline);
         for k in 0..most {
             let (o, spline) = &best;
             if o.error.amax() <= 1e-13 {
-                return (best.1, k);
+                return (best.1, k, Some(best.0));
             }
             // The Jacobian without the columns of the control points held on their limits.
             let mut j = o.jacobian.clone();
@@ -451,18 +477,18 @@ impl ScvxProblem<'_> {
                 }
             }
             let j = &j;
-            let Some(y) = Reach::of(j).newton_multipliers(j, &o.error) else { return (best.1, k) };
+            let Some(y) = Reach::of(j).newton_multipliers(j, &o.error) else { return (best.1, k, Some(best.0)) };
             let step: Vec<f64> =
                 (0..layout.variables()).map(|v| -(0..3).map(|a| j[(a, v)] * y[a]).sum::<f64>()).collect();
             let mut next = layout.moved(spline, &step);
             self.clamp_to_limits(&mut next);
             let at = self.orientation(&next, &layout, steps, &target);
             if at.error.norm() >= o.error.norm() {
-                return (best.1, k);
+                return (best.1, k, Some(best.0));
             }
             best = (at, next);
         }
-        (best.1, most)
+        (best.1, most, Some(best.0))
     }
 }
 
@@ -599,6 +625,48 @@ mod tests {
             polished.coefficients[j].iter().zip(&spline.coefficients[j]).any(|(a, b)| a.to_bits() != b.to_bits())
         });
         assert!(moved, "the cat's own control points carry the correction");
+    }
+
+    /// A trial point's evaluation takes the orientation its last projection step computed: the
+    /// same iterate, bit for bit, as projecting and then evaluating afresh (on a step off the
+    /// constraint, so that the projection takes Newton steps).
+    #[test]
+    fn a_trial_is_the_projection_then_the_evaluation() {
+        use crate::model::motor::Motors;
+        use crate::model::{Cat, Cylinder, Joint};
+        use crate::optimize::whole::{build_start, flipped, StartKind};
+        use crate::problem::Manoeuvre;
+        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
+        let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
+        let motors = Motors::ideal();
+        let cat = WholeCat::new(Cat::equal(half, Joint::Universal)).unwrap_or_else(|e| panic!("{e}"));
+        let p = ScvxProblem {
+            cat: &cat,
+            settings: &settings,
+            motors: &motors,
+            target: Some(flipped()),
+            qp: QpSettings::default(),
+            spin: Vector3::zeros(),
+        };
+        let start = build_start(&cat, fall, &Manoeuvre::default(), StartKind::Paper, &settings);
+        let layout = p.layout();
+        let step: Vec<f64> = (0..layout.variables()).map(|v| 1e-2 * (v as f64).sin()).collect();
+        let moved = layout.moved(&start.unwrap_or_else(|e| panic!("{e}")).spline, &step);
+        let steps = settings.steps_per_span;
+        let (projected, kept) = p.polish(moved.clone(), steps, PROJECTION_STEPS);
+        assert!(kept > 0, "the step leaves the constraint and the projection takes Newton steps");
+        let (a, b) = (p.trial(moved, Objective::Peak, steps), p.evaluate(projected, Objective::Peak, steps));
+        assert_eq!(a.values, b.values, "the same projected point");
+        let orientation = |x: &Iterate| x.orientation.clone().expect("a target");
+        let (oa, ob) = (orientation(&a), orientation(&b));
+        assert!(oa
+            .error
+            .iter()
+            .chain(&oa.jacobian)
+            .zip(ob.error.iter().chain(&ob.jacobian))
+            .all(|(x, y)| x.to_bits() == y.to_bits()));
+        assert_eq!((a.objective.to_bits(), a.violation.to_bits()), (b.objective.to_bits(), b.violation.to_bits()));
     }
 
     #[test]
