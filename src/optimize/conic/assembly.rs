@@ -8,9 +8,9 @@
 
 use std::collections::HashSet;
 
-use clarabel::algebra::CscMatrix;
 use clarabel::solver::SupportedConeT;
 
+use super::csc::from_triplets;
 use super::error::ConicError;
 use super::settings::QpSettings;
 use super::solution::{QpStatus, SolveInfo};
@@ -247,14 +247,14 @@ impl Assembly {
     pub(crate) fn solve(self, settings: &QpSettings) -> Result<Solved, ConicError> {
         let (m_eq, m_ineq) = (self.eq.rhs.len(), self.ineq.rhs.len());
         let Assembly { n, q, p, eq, ineq } = self;
-        let p = CscMatrix::new_from_triplets(n, n, p.row, p.col, p.val);
+        let p = from_triplets(n, n, &p.row, &p.col, &p.val);
         let mut row = eq.row;
         row.extend(ineq.row.iter().map(|r| r + m_eq));
         let mut col = eq.col;
         col.extend(ineq.col);
         let mut val = eq.val;
         val.extend(ineq.val);
-        let a = CscMatrix::new_from_triplets(m_eq + m_ineq, n, row, col, val);
+        let a = from_triplets(m_eq + m_ineq, n, &row, &col, &val);
         let mut b = eq.rhs;
         b.extend(ineq.rhs);
         let mut cones = Vec::with_capacity(2);

@@ -11,7 +11,7 @@ use clarabel::solver::SupportedConeT;
 use super::problemdata::{PathPiece, PathProblem, Scales};
 use super::solution::{RawSolution, RetimeSolution};
 use super::RetimeError;
-use crate::optimize::conic::{solve_clarabel, Rows};
+use crate::optimize::conic::{from_triplets, solve_clarabel, Rows};
 
 /// Column indices of one piece's variables.
 #[derive(Clone, Copy)]
@@ -170,7 +170,7 @@ fn clarabel_solve(
     col.extend(ineq.col.iter().chain(&soc.col));
     val.extend(ineq.val.iter().chain(&soc.val));
     b.extend(ineq.rhs.iter().chain(&soc.rhs));
-    let a = CscMatrix::new_from_triplets(m_eq + m_ineq + m_soc, n, row, col, val);
+    let a = from_triplets(m_eq + m_ineq + m_soc, n, &row, &col, &val);
     let p = CscMatrix::zeros((n, n));
     let mut cones = Vec::with_capacity(2 + m_soc / 3);
     if m_eq > 0 {
