@@ -14,7 +14,8 @@
 //! bodies and verified in rapier's tree scene; they take no spin, and ideal motors or one torque
 //! limit on every motor ([`crate::optimize::whole::torque_limited`]), and a row says so otherwise;
 //! their library schedule is the problem's with the further coordinates held at
-//! zero (the twist, the tail straight, the legs standing out).
+//! zero (the twist, the tail straight, the legs standing out), a calibrated circulation
+//! calibrated on the model itself (on a tail or legs, the whole tree with them held still).
 //!
 //! Every model gets the problem's fall, release (`drop.angular_momentum`), motors and
 //! `[optimize.whole]`; the problem's bend path `"cone"` becomes `"joint-circle"` on the no-twist

@@ -21,9 +21,11 @@ use crate::measure::whole::whole;
 use crate::model::motor::Motors;
 use crate::model::tree::Tree;
 use crate::model::{Cat, Joint};
+use crate::numeric::roots::RootStatus;
 use crate::optimize::whole::spline::SplineShape;
 use crate::optimize::whole::{optimize_whole, BSpline, WholeCat, WholeError};
 use crate::problem::cat::CatSection;
+use crate::problem::manoeuvre::Circulation;
 use crate::problem::{Problem, ProblemError};
 
 /// Instants per second of fall at which the optimum's bend is sampled for the plot.
@@ -164,7 +166,7 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
         return Ok(());
     }
     let tree = cat.tree();
-    row.schedule = held_schedule(p, &tree);
+    row.schedule = held_schedule(p, cat, &tree);
     let (settings, tolerance, fall) = (&p.optimize.whole, p.exact.tolerance, p.drop.fall_time());
     let outcome = optimize_whole(cat, fall, &p.manoeuvre, settings, &motors, tolerance)?;
     let Some(b) = outcome.best() else {
@@ -217,13 +219,22 @@ const HELD_SAMPLES: usize = 4000;
 /// zero ([`Held`]: the spherical joint's relative twist, a tail straight behind the cat, the legs
 /// standing out): its flip
 /// by the general core on `tree`, and its peak over every motor, sampled at [`HELD_SAMPLES`] + 1
-/// instants of each phase (each phase's own formula at its ends). `None` when the schedule's
-/// circulation cannot be resolved on the cat's two-motor halves.
-fn held_schedule(p: &Problem, tree: &Tree) -> Option<ScheduleFigures> {
+/// instants of each phase (each phase's own formula at its ends). A calibrated circulation turns
+/// this model by π: on a cat with a tail or legs it is calibrated again on the whole tree, the
+/// appendages held still ([`WholeCat::calibrate`]; held still, they are parts of their halves and
+/// move the flip), from the halves' own. `None` when the schedule's circulation cannot be
+/// resolved on the cat's two-motor halves.
+fn held_schedule(p: &Problem, cat: &WholeCat, tree: &Tree) -> Option<ScheduleFigures> {
     let halves = Problem { cat: CatSection { tail: None, legs: None, ..p.cat }, ..p.clone() };
-    let r = Resolved::new(&halves).ok()?;
-    let held = Held(&r.schedule, tree.dof().saturating_sub(2));
+    let mut schedule = Resolved::new(&halves).ok()?.schedule;
     let zero = Vector3::zeros();
+    if p.manoeuvre.circulation == Circulation::Calibrated && matches!(cat, WholeCat::Appended(_)) {
+        let cal = cat.calibrate(&schedule, &zero, p.exact.tolerance);
+        if cal.status == RootStatus::Converged {
+            schedule = schedule.with_circulation(cal.circulation);
+        }
+    }
+    let held = Held(&schedule, tree.dof().saturating_sub(2));
     let flip = models::flip_on(tree, &held, &zero, p.exact.tolerance);
     let peak = ShapeTrajectory::piece_durations(&held)
         .into_iter()

@@ -13,7 +13,9 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::engines::exact::{flip_spinning, Flip};
-use crate::engines::models::TwoMotorCat;
+use crate::engines::models::{flip_on, TwoMotorCat};
+use crate::engines::shape::Held;
+use crate::model::tree::Tree;
 use crate::model::Cylinder;
 use crate::numeric::roots::{brent, Brackets, RootStatus};
 use crate::schedule::Schedule;
@@ -54,6 +56,15 @@ pub fn calibrate_model(cat: &TwoMotorCat, schedule: &Schedule, spin: &Vector3<f6
         return calibrate_spinning(half, schedule, spin, tolerance);
     }
     calibrate_by(|s, inner| cat.flip_released(s, spin, inner), schedule, tolerance)
+}
+
+/// [`calibrate_spinning`] for a cat of more bodies (`tree`: a cat with a tail or legs) driven by a
+/// schedule of its two joint coordinates with the further ones held at zero ([`Held`]: the tail
+/// straight behind the cat, the legs standing out), through the general core on the whole tree:
+/// held still, the appendages are parts of their halves and move the flip.
+pub fn calibrate_held(tree: &Tree, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
+    let held = tree.dof().saturating_sub(2);
+    calibrate_by(|s, inner| flip_on(tree, &Held(s, held), spin, inner), schedule, tolerance)
 }
 
 /// The calibration with `flip(schedule, tolerance)` the engine's final orientation.

@@ -12,9 +12,11 @@
 //! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model;
 //! [`WholeCat::Appended`] a two-motor cat with appendages (a tail on a one- or two-motor joint, legs
 //! on hinges; up to six coordinates): the general tree's [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
-//! ([`super::torques`]), and start from a two-motor cat's starts ([`WholeCat::start_cat`]: the
-//! same halves on the no-twist joint with the relative twist held at zero; the cat with its tail
-//! held straight behind it and its legs standing out), for a release without spin and ideal motors or one torque limit on
+//! ([`super::torques`]). A spherical cat starts from a two-motor cat's starts
+//! ([`WholeCat::start_cat`]: the same halves on the no-twist joint with the relative twist held
+//! at zero); a cat with appendages from its halves' starts with its tail held straight behind it
+//! and its legs standing out, calibrated on its whole tree ([`WholeCat::calibrate`]). Both are
+//! planned for a release without spin and ideal motors or one torque limit on
 //! every motor ([`super::beyond_two_motors`], [`super::torque_limited`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
@@ -32,7 +34,7 @@ use super::settings::WholeError;
 use super::spline::{BSpline, SplineShape};
 use super::torques::ExactTorques;
 use super::tree_dynamics;
-use crate::engines::calibrate::{calibrate_model, calibrate_spinning, Calibration};
+use crate::engines::calibrate::{calibrate_held, calibrate_model, calibrate_spinning, Calibration};
 use crate::engines::exact::{self, Flip};
 use crate::engines::models::{self, TwoMotorCat};
 use crate::engines::spin::SpinHistory;
@@ -219,19 +221,17 @@ impl WholeCat {
             .collect()
     }
 
-    /// The two-motor cat this one's starts are built and calibrated on, `None` for a two-motor
-    /// cat itself: a spherical joint's halves on the no-twist joint (its twist held at zero, which
-    /// is exactly that joint, DESIGN.md §10); a cat with appendages without them (the tail then
-    /// held straight behind it, the legs standing out).
+    /// The two-motor cat this one's starts are built and calibrated on: a spherical joint's
+    /// halves on the no-twist joint (its twist held at zero, which is exactly that joint,
+    /// DESIGN.md §10); `None` for every other cat, whose starts are calibrated on the cat itself
+    /// (a cat with appendages on its whole tree, the appendages held still:
+    /// [`WholeCat::calibrate`]).
     pub fn start_cat(&self) -> Option<WholeCat> {
         match self {
             WholeCat::Spherical(SphericalCat(cat)) => {
                 let bent =
                     TwoMotorCat::new(Cat { joint: Joint::NoTwist, ..*cat }).expect("the no-twist joint has two motors");
                 Some(WholeCat::Model(bent))
-            }
-            WholeCat::Appended(a) => {
-                Some(WholeCat::from(&TwoMotorCat::new(a.cat).expect("a cat with appendages has two motors")))
             }
             _ => None,
         }
@@ -473,6 +473,7 @@ impl WholeCat {
     pub fn calibrate(&self, schedule: &Schedule, spin: &Vector3<f64>, tolerance: f64) -> Calibration {
         match self {
             WholeCat::Paper(c) => calibrate_spinning(c, schedule, spin, tolerance),
+            WholeCat::Appended(a) => calibrate_held(&a.tree, schedule, spin, tolerance),
             _ => calibrate_model(self.two_motor("the calibration"), schedule, spin, tolerance),
         }
     }

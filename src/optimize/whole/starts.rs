@@ -151,12 +151,10 @@ pub fn build_start_spinning(
     spin: &Vector3<f64>,
 ) -> Result<NamedStart, String> {
     let cat = &cat.into();
-    // A spherical joint starts on its no-twist path (its relative twist held at zero), a tailed
-    // cat on its own path (the tail held straight behind it).
+    // A spherical joint starts on its no-twist path (its relative twist held at zero).
     if let Some(bent) = cat.start_cat() {
         let start = build_start_spinning(bent, duration, manoeuvre, kind, settings, spin)?;
         let spline = start.spline.with_joints(cat.joints());
-        // The tail's inertia moves the flip: the guard below on the cat itself.
         return near_a_flip(cat, &spline, spin).map(|()| NamedStart { spline, ..start });
     }
     let schedule = start_schedule_spinning(
@@ -172,7 +170,10 @@ pub fn build_start_spinning(
     let mut spline = BSpline::fit(duration, settings.control_points, WholeSettings::DEGREE, settings.fixed(), 2, |t| {
         let q = schedule.state(t.min(duration)).q;
         vec![q[0], sign * q[1]]
-    });
+    })
+    // A cat with a tail or legs moves its halves alone, the appendages held still (its schedule
+    // calibrated so, on the whole tree).
+    .with_joints(cat.joints());
     // The fit may overshoot the path a little: the joint limit holds on the control points (and so
     // on the whole curve, by the convex-hull property) from the start.
     if let Some(limit) = settings.joint_limit_deg.map(f64::to_radians) {
