@@ -1,11 +1,11 @@
 //! The whole optimum of a problem's cat with legs of two sizes (`[cat.legs.front]`,
 //! `[cat.legs.rear]`) reached by continuation (issue 22): first the same cat with both pairs of
 //! legs their mean pair, from the library starts, then the problem's cat from that optimum (refit
-//! on the settings' uniform knots). On `problems/real-cat.toml` with its starts bent by 80°
-//! (`--set manoeuvre.theta_deg=100`) the library starts end in a costlier basin (no optimum
-//! within the iterations, best flip 0.608 N·m) and the continuation converges well below it
-//! (README, "A real cat"); at the file's own θ = 45° the mean pair finds no optimum either, and
-//! the example says so and fails.
+//! on the settings' uniform knots). On `problems/real-cat.toml` the library starts end in a
+//! costlier basin (0.602 N·m, `compare-models`) and the continuation ends well below it, 0.525
+//! N·m (README, "A real cat"); with the starts bent by 80° (`--set manoeuvre.theta_deg=100`) the
+//! mean pair finds no optimum, and the example says so and fails. Which start finds which basin
+//! is the optimiser's exploration, not a property of the cat.
 //!
 //! `cargo run --release --example legs_continuation -- [PROBLEM.toml] [--set KEY=VALUE ...]`
 //! (default problems/real-cat.toml).

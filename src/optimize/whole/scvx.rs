@@ -521,6 +521,30 @@ fn crawling(objective: Objective, accepted: &[f64]) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::motor::Motors;
+    use crate::model::{Cat, Cylinder, Joint};
+    use crate::optimize::whole::{build_start, flipped, StartKind};
+    use crate::problem::Manoeuvre;
+
+    /// The paper's half.
+    const HALF: Cylinder = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
+
+    /// The paper's fall from 10 m, s.
+    fn fall() -> f64 {
+        (2.0 * 10.0 / 9.8f64).sqrt()
+    }
+
+    /// The flip of `cat` with `settings` and `motors`, released without spin.
+    fn flip_problem<'a>(cat: &'a WholeCat, settings: &'a WholeSettings, motors: &'a Motors) -> ScvxProblem<'a> {
+        ScvxProblem {
+            cat,
+            settings,
+            motors,
+            target: Some(flipped()),
+            qp: QpSettings::default(),
+            spin: Vector3::zeros(),
+        }
+    }
 
     /// The peaks of six accepted iterates, evenly apart: the five steps between the first and the
     /// last lowered the peak by `fall` of itself.
@@ -535,22 +559,9 @@ mod tests {
     /// moves, the effort falls, and the general core's adaptive engine confirms the flip.
     #[test]
     fn the_loop_plans_the_spherical_joints_three_motors_to_an_exact_flip() {
-        use crate::model::motor::Motors;
-        use crate::model::{Cat, Cylinder, Joint};
-        use crate::optimize::whole::{build_start, flipped, StartKind};
-        use crate::problem::Manoeuvre;
-        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
-        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
         let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
         let motors = Motors::ideal();
-        let problem = |cat| ScvxProblem {
-            cat,
-            settings: &settings,
-            motors: &motors,
-            target: Some(flipped()),
-            qp: QpSettings::default(),
-            spin: Vector3::zeros(),
-        };
+        let problem = |cat| flip_problem(cat, &settings, &motors);
         let solve = |p: &ScvxProblem<'_>, spline: BSpline| {
             let steps = settings.steps_per_span;
             let it = p.evaluate(spline, Objective::Energy, steps);
@@ -560,10 +571,10 @@ mod tests {
             let energy = end.iterate.objective;
             (p.polish(end.iterate.spline, steps, 8).0, energy)
         };
-        let no_twist = WholeCat::new(Cat::equal(half, Joint::NoTwist)).unwrap_or_else(|e| panic!("{e}"));
-        let start = build_start(&no_twist, fall, &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
+        let no_twist = WholeCat::new(Cat::equal(HALF, Joint::NoTwist)).unwrap_or_else(|e| panic!("{e}"));
+        let start = build_start(&no_twist, fall(), &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
         let (bent, _) = solve(&problem(&no_twist), start.unwrap_or_else(|e| panic!("{e}")).spline);
-        let spherical = WholeCat::spherical(Cat::equal(half, Joint::Spherical)).expect("a spherical cat");
+        let spherical = WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("a spherical cat");
         let held =
             problem(&spherical).evaluate(bent.clone().with_joints(3), Objective::Energy, settings.steps_per_span);
         let (planned, energy) = solve(&problem(&spherical), bent.with_joints(3));
@@ -582,26 +593,13 @@ mod tests {
     #[test]
     fn the_newton_phase_holds_control_points_on_their_limit() {
         use crate::model::cat::Appendages;
-        use crate::model::motor::Motors;
-        use crate::model::{Cat, Cylinder, Joint};
-        use crate::optimize::whole::{build_start, flipped, StartKind};
-        use crate::problem::Manoeuvre;
-        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
         let leg = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
-        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
         let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
         let motors = Motors::ideal();
-        let cat = WholeCat::appended(Cat::equal(half, Joint::NoTwist), Appendages { tail: None, legs: Some([leg; 2]) })
+        let cat = WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), Appendages { tail: None, legs: Some([leg; 2]) })
             .expect("a cat with legs");
-        let p = ScvxProblem {
-            cat: &cat,
-            settings: &settings,
-            motors: &motors,
-            target: Some(flipped()),
-            qp: QpSettings::default(),
-            spin: Vector3::zeros(),
-        };
-        let start = build_start(&cat, fall, &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
+        let p = flip_problem(&cat, &settings, &motors);
+        let start = build_start(&cat, fall(), &Manoeuvre::default(), StartKind::ConeMirrored, &settings);
         let mut spline = start.unwrap_or_else(|e| panic!("{e}")).spline;
         let fold = crate::model::cat::LEG_FOLD_LIMIT_DEG.to_radians();
         for (j, sign) in [(2, 1.0), (3, -1.0)] {
@@ -632,24 +630,11 @@ mod tests {
     /// constraint, so that the projection takes Newton steps).
     #[test]
     fn a_trial_is_the_projection_then_the_evaluation() {
-        use crate::model::motor::Motors;
-        use crate::model::{Cat, Cylinder, Joint};
-        use crate::optimize::whole::{build_start, flipped, StartKind};
-        use crate::problem::Manoeuvre;
-        let half = Cylinder { mass: 1.0, length: 1.0, radius: 0.1 };
-        let fall = (2.0 * 10.0 / 9.8f64).sqrt();
         let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
         let motors = Motors::ideal();
-        let cat = WholeCat::new(Cat::equal(half, Joint::Universal)).unwrap_or_else(|e| panic!("{e}"));
-        let p = ScvxProblem {
-            cat: &cat,
-            settings: &settings,
-            motors: &motors,
-            target: Some(flipped()),
-            qp: QpSettings::default(),
-            spin: Vector3::zeros(),
-        };
-        let start = build_start(&cat, fall, &Manoeuvre::default(), StartKind::Paper, &settings);
+        let cat = WholeCat::new(Cat::equal(HALF, Joint::Universal)).unwrap_or_else(|e| panic!("{e}"));
+        let p = flip_problem(&cat, &settings, &motors);
+        let start = build_start(&cat, fall(), &Manoeuvre::default(), StartKind::Paper, &settings);
         let layout = p.layout();
         let step: Vec<f64> = (0..layout.variables()).map(|v| 1e-2 * (v as f64).sin()).collect();
         let moved = layout.moved(&start.unwrap_or_else(|e| panic!("{e}")).spline, &step);
