@@ -7,6 +7,7 @@ use approx::assert_relative_eq;
 use catflip::engines::exact::Flip;
 use catflip::engines::rapier::tree_run::{simulate_tree, verify_tree};
 use catflip::engines::rapier::{RapierOptions, Reference, Status};
+use catflip::engines::shape::Held;
 use catflip::engines::{models, reduction};
 use catflip::model::motor::{Motor, Motors};
 use catflip::model::tree::Tree;
@@ -16,6 +17,7 @@ use catflip::optimize::whole::measure::chatter;
 use catflip::optimize::whole::refine::refined;
 use catflip::optimize::whole::sensitivity::{final_orientation, gauss_grid, torque_samples, Layout};
 use catflip::optimize::whole::spline::SplineShape;
+use catflip::optimize::whole::starts::start_schedule;
 use catflip::optimize::whole::torque_limited;
 use catflip::optimize::whole::{
     build_start, flipped, optimize_from, optimize_start, optimize_whole, optimize_whole_spinning, BSpline, NamedStart,
@@ -23,6 +25,7 @@ use catflip::optimize::whole::{
 };
 use catflip::problem::settings::{RapierSettings, TimeStep};
 use catflip::problem::Manoeuvre;
+use catflip::schedule::Schedule;
 use std::f64::consts::PI;
 
 /// The paper's cat and fall time `√(2·10/9.8)` s (problems/paper.toml).
@@ -257,31 +260,31 @@ fn assert_rapier_verifies(tree: &Tree, spline: &BSpline, flip: &Flip, sampled: &
 
 /// Issue 22: a cat with a tail, its whole optimum planned on all four motors (the cat's two and
 /// the tail's): its starts hold the tail straight behind it, calibrated on the whole tree; it
-/// converges to a flip that the general core's adaptive engine on the three-body tree confirms here, its peak is
-/// the largest of the four motors' torques (the general core's Newton–Euler, sampled densely),
-/// and the tail moves.
+/// converges to a flip that the general core's adaptive engine on the three-body tree confirms
+/// here, its peak is the largest of the four motors' torques (the general core's Newton–Euler,
+/// sampled densely), and the tail moves.
 #[test]
 fn a_tailed_cat_plans_its_four_motors_to_an_exact_flip() {
     let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
     let tail = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
     let cat = WholeCat::tailed(Cat::from(PAPER), tail, Joint::Universal).expect("a two-motor cat and tail");
     let alone = WholeCat::new(Cat::from(PAPER)).expect("the cat without its tail");
-    let on_four =
-        build_start(&cat, FALL, &Manoeuvre::default(), StartKind::Paper, &settings).unwrap_or_else(|e| panic!("{e}"));
-    let on_two =
-        build_start(&alone, FALL, &Manoeuvre::default(), StartKind::Paper, &settings).unwrap_or_else(|e| panic!("{e}"));
     let tree = cat.tree();
-    // The start holds the tail straight behind the cat and calibrates the halves' schedule on the
-    // whole tree: on the tailed cat it misses π by its spline's fit alone (6.7e-3 rad on these 30
-    // points; the tailless cat's start misses its own cat's π by 3.0e-3), where the tailless
-    // cat's start, held so, misses by the tail's inertia too (9.0e-2 rad). Calibrated on the
-    // halves alone, as the starts were before, the two misses were one.
-    assert!(on_four.spline.coefficients[2..].iter().flatten().all(|&c| c == 0.0), "the tail held still");
-    let miss = |s: &BSpline| {
-        (models::flip_on(&tree, &SplineShape(s), &nalgebra::Vector3::zeros(), 1e-12).twist.abs() - PI).abs()
+    // Its starts' schedule, the tail held straight behind the cat, is calibrated on the whole
+    // tree: it turns the tailed cat by π to the calibration's tolerance, where the tailless cat's
+    // schedule, held so, misses by the tail's inertia (as the starts did when they were
+    // calibrated on the halves alone).
+    let schedule = |c: &WholeCat| {
+        start_schedule(c.clone(), FALL, &Manoeuvre::default(), StartKind::Paper, None, None)
+            .unwrap_or_else(|e| panic!("{e}"))
     };
-    let (held, bare) = (miss(&on_four.spline), miss(&on_two.spline.with_joints(4)));
-    assert!(held < 0.1 * bare, "the start misses π by {held} rad on the tailed cat, the tailless cat's by {bare}");
+    let miss =
+        |s: &Schedule| (models::flip_on(&tree, &Held(s, 2), &nalgebra::Vector3::zeros(), 1e-12).twist.abs() - PI).abs();
+    let (held, bare) = (miss(&schedule(&cat)), miss(&schedule(&alone)));
+    assert!(
+        held <= 1e-8 && bare > 1e-2,
+        "the schedule misses π by {held} rad on the tailed cat, the tailless cat's by {bare}"
+    );
     let outcome = optimize_whole(&cat, FALL, &Manoeuvre::default(), &settings, &Motors::ideal(), FLIP)
         .unwrap_or_else(|e| panic!("{e}"));
     let best = outcome.best().unwrap_or_else(|| panic!("{}", outcome.no_optimum(&settings, FLIP)));

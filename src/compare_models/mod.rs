@@ -135,7 +135,8 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     }
     let appendages = problem.cat.appendages();
     if !appendages.is_empty() {
-        // The problem's own cat with its tail and legs; its starts are the same cat's without them.
+        // The problem's own cat with its tail and legs; its starts are its halves' with them held
+        // still, calibrated on its whole tree.
         let own = if equal { String::new() } else { "unequal-".to_string() };
         let key = format!("{own}{}", problem.cat.joint.name());
         if let Some(base) = out.iter().find(|v| v.key == key) {

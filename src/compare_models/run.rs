@@ -222,17 +222,19 @@ const HELD_SAMPLES: usize = 4000;
 /// instants of each phase (each phase's own formula at its ends). A calibrated circulation turns
 /// this model by π: on a cat with a tail or legs it is calibrated again on the whole tree, the
 /// appendages held still ([`WholeCat::calibrate`]; held still, they are parts of their halves and
-/// move the flip), from the halves' own. `None` when the schedule's circulation cannot be
-/// resolved on the cat's two-motor halves.
+/// move the flip), from the halves' own. `None` (the table's "—") when the schedule's
+/// circulation cannot be resolved on the cat's two-motor halves, or a calibrated one on the tree.
 fn held_schedule(p: &Problem, cat: &WholeCat, tree: &Tree) -> Option<ScheduleFigures> {
     let halves = Problem { cat: CatSection { tail: None, legs: None, ..p.cat }, ..p.clone() };
     let mut schedule = Resolved::new(&halves).ok()?.schedule;
     let zero = Vector3::zeros();
     if p.manoeuvre.circulation == Circulation::Calibrated && matches!(cat, WholeCat::Appended(_)) {
         let cal = cat.calibrate(&schedule, &zero, p.exact.tolerance);
-        if cal.status == RootStatus::Converged {
-            schedule = schedule.with_circulation(cal.circulation);
+        // Not the halves' circulation under the name "calibrated": no schedule.
+        if cal.status != RootStatus::Converged {
+            return None;
         }
+        schedule = schedule.with_circulation(cal.circulation);
     }
     let held = Held(&schedule, tree.dof().saturating_sub(2));
     let flip = models::flip_on(tree, &held, &zero, p.exact.tolerance);

@@ -20,8 +20,9 @@
 //! - `solve_clarabel`: the one call to Clarabel (first without iterative refinement of the KKT
 //!   solves, again with it only when that ends short of a full answer);
 //! - `Assembly` and `Rows`: the sparse data, built from triplets and joined once into one
-//!   `CscMatrix` per matrix (`from_triplets`, Clarabel's constructor entry for entry, faster), with `Fold` to solve on a subspace that holds an optimum and
-//!   `active_sides` to leave out rows of a minimax epigraph that cannot bind;
+//!   `CscMatrix` per matrix (`from_triplets`, Clarabel's constructor entry for entry, faster),
+//!   with `Fold` to solve on a subspace that holds an optimum and `active_sides` to leave out
+//!   rows of a minimax epigraph that cannot bind;
 //! - [`QpStatus`] and [`SolveInfo`]: how a solve ended and Clarabel's account of it;
 //! - [`ConicError`]: why a program could not be set up.
 //!

@@ -434,7 +434,8 @@ impl WholeCat {
     }
 
     /// The two-motor model, for what is two-motor still (a spin history, a torque source, a
-    /// calibration: never asked of a cat of more motors, whose starts are a two-motor cat's).
+    /// calibration): never asked of a cat of more motors (a spherical cat's starts are a two-motor
+    /// cat's, an appended cat calibrates on its tree, [`WholeCat::calibrate`]).
     fn two_motor(&self, what: &str) -> &TwoMotorCat {
         match self {
             WholeCat::Model(m) => m,
