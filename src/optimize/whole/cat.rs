@@ -10,14 +10,14 @@
 //! the general core [`TwoMotorCat`] for the flip, the torques and the calibration.
 //! [`WholeCat::new`] chooses the branch by [`Cat::paper`]. [`WholeCat::Spherical`] is a cat on
 //! the spherical joint, three coordinates and motors: [`super::model_dynamics`] for the model;
-//! [`WholeCat::Appended`] a two-motor cat with appendages (a tail on a one- or two-motor joint, legs
-//! on hinges; up to six coordinates): the general tree's [`super::tree_dynamics`]. Both are re-measured by the general core on every coordinate
-//! ([`super::torques`]). A spherical cat starts from a two-motor cat's starts
-//! ([`WholeCat::start_cat`]: the same halves on the no-twist joint with the relative twist held
-//! at zero); a cat with appendages from its halves' starts with its tail held straight behind it
-//! and its legs standing out, calibrated on its whole tree ([`WholeCat::calibrate`]). Both are
-//! planned for a release without spin and ideal motors or one torque limit on
-//! every motor ([`super::beyond_two_motors`], [`super::torque_limited`]).
+//! [`WholeCat::Appended`] a two-motor cat with appendages (a tail on a one- or two-motor joint,
+//! legs on hinges; up to six coordinates): the general tree's [`super::tree_dynamics`]. Both are
+//! re-measured by the general core on every coordinate ([`super::torques`]). A spherical cat
+//! starts from a two-motor cat's starts ([`WholeCat::start_cat`]: the same halves on the no-twist
+//! joint with the relative twist held at zero); a cat with appendages from its halves' starts
+//! with its tail held straight behind it and its legs standing out, calibrated on its whole tree
+//! ([`WholeCat::calibrate`]). Both are planned for a release without spin and ideal motors or
+//! one torque limit on every motor ([`super::beyond_two_motors`], [`super::torque_limited`]).
 //!
 //! What depends on the joint is here too: the bend `β`, the angle between the spines, with
 //! `cos β = e_z` for B's spine `e = R_AB ẑ`: `cos q1 cos q2` on the universal joint, `cos |q|` on

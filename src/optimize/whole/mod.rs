@@ -420,10 +420,10 @@ pub fn optimize_start(
 }
 
 /// The `best` of the starts (converged, or an upper bound) refined where its torques switch
-/// ([`refine`]), for at most `switch_refinements` rounds, each solved again from the curve it refines; `best` itself (with
-/// the reason why in its own) when no round is kept. Only the best start is refined: the starts
-/// that converge land in the same optimum on the paper's cat, and the refined solve costs about
-/// as much again as the whole solve before it.
+/// ([`refine`]), for at most `switch_refinements` rounds, each solved again from the curve it
+/// refines; `best` itself (with the reason why in its own) when no round is kept. Only the best
+/// start is refined: the starts that converge land in the same optimum on the paper's cat, and
+/// the refined solve costs about as much again as the whole solve before it.
 pub fn refine_solution(
     problem: &ScvxProblem<'_>,
     best: &WholeSolution,
