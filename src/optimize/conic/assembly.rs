@@ -6,6 +6,8 @@
 //! [`Assembly`]; the retiming, whose rows include second-order cones, builds its own matrix from
 //! [`Rows`] and calls [`solve_clarabel`] itself.
 
+mod equalities;
+
 use std::collections::HashSet;
 
 use clarabel::solver::SupportedConeT;

@@ -279,36 +279,8 @@ fn after(
 
 #[cfg(test)]
 mod tests {
+    use super::super::solution::tests::solution;
     use super::*;
-    use crate::engines::motors::MotorDemand;
-
-    /// A solution that flips the cat exactly, at `peak` N·m and a largest bend of `bend_deg`,
-    /// after `iterations` iterations that ended `status`.
-    fn solution(status: WholeStatus, peak: f64, bend_deg: f64, iterations: usize) -> WholeSolution {
-        let motors = MotorDemand { peak_speed_rad_s: vec![], peak_power_w: vec![], limits: vec![], stretch: None };
-        WholeSolution {
-            start: "s".into(),
-            status,
-            reason: format!("{iterations} iterations used"),
-            twist: std::f64::consts::PI,
-            swing: 0.0,
-            twist_error: 0.0,
-            flip_error_estimate: 0.0,
-            peak_torque_nm: peak,
-            peak_time: 0.5,
-            energy: 1.0,
-            max_bend_deg: bend_deg,
-            bend_turns: 1.0,
-            fall_time_s: 1.0,
-            motors,
-            chatter: Default::default(),
-            iterations,
-            polish_steps: 0,
-            seconds: 1.0,
-            log: Vec::new(),
-            spline: BSpline::zero(1.0, 8, 3).with_joints(3),
-        }
-    }
 
     /// A lifted stage at its budget is kept as an upper bound only below the converged optimum it
     /// started from, on a flip within the bend limit, and says it is an upper bound; either way
