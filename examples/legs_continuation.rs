@@ -33,7 +33,10 @@ fn main() -> anyhow::Result<()> {
         anyhow::bail!("no optimum with the mean pair of legs: {}", first.no_optimum(settings, tolerance));
     };
     println!("{}", mean_cat.describe());
-    println!("- from `{}`: {}, peak {:.6} N·m: {}", best.start, best.status, best.peak_torque_nm, best.reason);
+    println!(
+        "- from `{}`: {}, peak {:.6} N·m, largest bend {:.2}°: {}",
+        best.start, best.status, best.peak_torque_nm, best.max_bend_deg, best.reason
+    );
     // Back onto the uniform knots every start has (the optimum's may be refined).
     let spline = best.spline.refit(settings.control_points, settings.fixed());
     let own = cat([front, rear]);
@@ -42,8 +45,8 @@ fn main() -> anyhow::Result<()> {
     println!("{}", own.describe());
     for s in &second.solutions {
         println!(
-            "- from {}: {}, {} iterations, peak {:.6} N·m: {}",
-            s.start, s.status, s.iterations, s.peak_torque_nm, s.reason
+            "- from {}: {}, {} iterations, peak {:.6} N·m, largest bend {:.2}°: {}",
+            s.start, s.status, s.iterations, s.peak_torque_nm, s.max_bend_deg, s.reason
         );
     }
     println!("{:.1} s in all", clock.elapsed().as_secs_f64());

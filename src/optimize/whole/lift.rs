@@ -28,16 +28,17 @@
 //! solution's time, iterations and log count its universal solve (the start it lifts) too.
 //!
 //! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
-//! 2026-12-05): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
-//! universal optimum lifted (0.318346 on the uniform knots) 1.263 % below it after its 200
-//! iterations and at 0.311937 refined (1.4 % below the universal joint's 0.316452; an
+//! 2026-12-06): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
+//! universal optimum lifted (0.318346 on the uniform knots) 1.262 % below it after its 200
+//! iterations and at 0.311945 refined (1.4 % below the universal joint's 0.316452; an
 //! independent collocation finds 0.3054), the refined one lifted at 0.316165 after its 25;
-//! 10.0 s in all. On 40 control points (`--set optimize.whole.control_points=40`) the refined
-//! lift is the best (0.318174 against the universal joint's 0.320227; the unrefined one's stage
+//! 8.4 s in all. On 40 control points (`--set optimize.whole.control_points=40`) the refined
+//! lift is the best (0.318143 against the universal joint's 0.320227; the unrefined one's stage
 //! was stopped early by the progress test at 0.325765). On unequal halves
-//! (`problems/unequal-halves.toml`) the universal joint's optimum is 0.457 N·m and its lift ends
-//! at 0.288, while the library's `cone-mirrored` start ends at 0.282670 as before: neither start
-//! alone finds both; 13.0 s.
+//! (`problems/unequal-halves.toml`) the universal joint's `cone-mirrored` optimum (0.459490 N·m)
+//! lifted ends at 0.284772, the library's starts at their 200 iterations at 0.285436 and 0.284828
+//! (on 2026-12-05 `cone-mirrored` converged at 0.282670, before the energy's exact step moved its
+//! path): which start is best moves with the path; 24.3 s.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;

@@ -148,7 +148,7 @@ const TIE: f64 = 1e-9;
 
 /// Index of the lowest `objective` among `solutions` that ended on a result
 /// ([`WholeStatus::is_result`]: converged, or an upper bound) and flip the cat within `tolerance`
-/// (none when none did); of values within [`TIE`] of the lowest, the first start's.
+/// (none when none did); of values within `1e-9` of the lowest (relative), the first start's.
 pub fn best_of(solutions: &[WholeSolution], objective: Objective, tolerance: f64) -> Option<usize> {
     let value = |i: usize| solutions[i].value(objective);
     let results: Vec<usize> =

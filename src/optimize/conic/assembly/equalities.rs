@@ -35,6 +35,9 @@ use crate::optimize::conic::solution::{QpStatus, SolveInfo};
 /// Most active sets tried before the QP is left to Clarabel.
 const MAX_SETS: usize = 40;
 
+/// Largest residual of an answer's equalities and stationarity, relative to the data's size.
+const ACCURACY: f64 = 1e-10;
+
 /// A variable's tightest bounds, the lower and the upper one, when it has any.
 #[derive(Clone, Copy, Default)]
 struct Bounds {
@@ -63,8 +66,9 @@ impl Assembly {
     /// (module docs), with the equalities' multipliers first among the duals, then the
     /// inequalities' (zero but for the bound each held variable sits at: Clarabel's layout,
     /// [`Solved::duals`]); none when `P` is not positive definite, the equalities are
-    /// dependent, a row on several variables is violated, or no active set was found within
-    /// [`MAX_SETS`], where only the whole QP can answer.
+    /// dependent (or so nearly, with the held bounds, that the answer misses its own KKT
+    /// conditions by more than [`ACCURACY`]), a row on several variables is violated, or no active
+    /// set was found within [`MAX_SETS`], where only the whole QP can answer.
     pub(crate) fn solve_on_equalities(&self) -> Option<Solved> {
         let clock = Instant::now();
         let n = self.n;
@@ -89,6 +93,15 @@ impl Assembly {
                 };
             }
             if next == held {
+                // Held variables onto their bounds exactly (the solve meets them to round-off).
+                let mut x = x;
+                for (v, b) in bounds.iter().enumerate() {
+                    match held[v] {
+                        Held::Lower => x[v] = b.lower.map_or(x[v], |l| l.value),
+                        Held::Upper => x[v] = b.upper.map_or(x[v], |u| u.value),
+                        Held::Free => {}
+                    }
+                }
                 let z = z.rows(0, kkt.a.nrows()).into_owned();
                 return self.answer(&kkt, x, z, &gradient, &bounds, &held, clock);
             }
@@ -137,6 +150,12 @@ impl Assembly {
         let objective = 0.5 * x.dot(&(&kkt.p * &x)) + kkt.q.dot(&x);
         let primal = (&kkt.b - &kkt.a * &x).amax();
         let dual = (0..self.n).filter(|&v| held[v] == Held::Free).map(|v| gradient[v].abs()).fold(0.0, f64::max);
+        // Near-dependent equalities (held bounds that all but fix a row) leave a Schur complement
+        // that solves to noise: the answer must meet its own KKT conditions.
+        let (rhs, pull) = (kkt.b.amax(), kkt.q.amax().max((&kkt.p * &x).amax()));
+        if !(primal <= ACCURACY * (1.0 + rhs) && dual <= ACCURACY * (1.0 + pull)) {
+            return None;
+        }
         Some(Solved {
             x: x.as_slice().to_vec(),
             duals,
@@ -406,6 +425,97 @@ mod tests {
         let held = direct.x.iter().filter(|x| (x.abs() - 0.5).abs() < 1e-12).count();
         assert!(held >= 2, "{:?}", direct.x);
         assert!(qp.kkt_violation(&direct) < 1e-10, "KKT violated by {}", qp.kkt_violation(&direct));
+    }
+
+    /// A box that all but fixes an equality's variables (the first row can reach its 0.228 only
+    /// with every variable near its bound of 0.096): with those bounds held the Schur complement
+    /// is nearly singular and solved to noise (a KKT residual of 1e12, found by the property test
+    /// above); such an answer is refused, or it is the optimum.
+    #[test]
+    fn nearly_dependent_equalities_give_the_optimum_or_none() {
+        let m = [
+            0.6244389311289258,
+            -0.5866354173075581,
+            -0.6018158209521731,
+            0.14762009522453462,
+            -0.7544645031945024,
+            -0.6639483201855283,
+            0.7862167266743489,
+            -0.03611668759658208,
+            0.0,
+            0.9543407355367991,
+            0.030851984549858377,
+            -0.2145681408616859,
+            0.5805587678799653,
+            0.818268062376138,
+            0.1049822896552421,
+            0.0,
+            -0.1306832419225893,
+            -0.6814679502691284,
+            0.761189738366684,
+            -0.7541759864224975,
+            0.9923451787525738,
+            -0.7781422158084695,
+            -0.4381361675156497,
+            -0.5988336634584611,
+            -0.12768155456005606,
+            -0.6102666358750839,
+            -0.35572352064758184,
+            0.8890543044888217,
+            0.010575651843480657,
+            -0.6321147359630183,
+            0.5745455682124653,
+            -0.8599169859247521,
+            -0.022428487236407856,
+            0.32755285696118247,
+            0.11111752066629968,
+            0.3558507626384388,
+            0.6527192503325929,
+            0.6253170630013729,
+            -0.36738507042280577,
+            0.9460343081103777,
+            -0.006449367817249321,
+            -0.41288721976203213,
+            0.019422694195146882,
+            0.39223252564448935,
+            0.08413680715073382,
+            0.2704869820348091,
+            -0.2583583916278204,
+            0.5083114298326835,
+        ];
+        let q = [0.0, -0.0897770880618255, -0.6736672767833177, 0.0, 0.0, -0.9126628186739661, 0.0, 0.8729876075793155];
+        let eq = [
+            (
+                vec![
+                    0.0,
+                    0.9292992341704338,
+                    0.29924335948921615,
+                    0.0,
+                    -0.4748046740765005,
+                    0.0,
+                    -0.900869191963746,
+                    0.0,
+                ],
+                0.22825865230328324,
+            ),
+            (
+                vec![
+                    0.808362267900333,
+                    -0.13357087220489744,
+                    -0.29984819668554613,
+                    0.9771555856964226,
+                    0.9698377419691194,
+                    -0.7171982240189483,
+                    -0.3780489300804093,
+                    0.7060578254059281,
+                ],
+                0.3414233702076676,
+            ),
+        ];
+        let qp = Qp { m: &m, q: &q, eq: &eq, radius: 0.09633688712510412, cap: 100.0 };
+        if let Some(direct) = qp.assembly().solve_on_equalities() {
+            assert!(qp.kkt_violation(&direct) < 1e-10, "KKT violated by {}", qp.kkt_violation(&direct));
+        }
     }
 
     /// A row on several variables that binds, or a `P` that is not positive definite, is left to
