@@ -161,7 +161,7 @@ fn spherical_joint_derivatives_match_central_differences_and_the_general_core() 
 /// exactly when the last of those stages stopped at its budget, as its reason says) is a flip that the
 /// general core's adaptive engine confirms here on its own, its peak is the largest of the three
 /// motors' torques (sampled here densely, independently of the optimiser's peak search) and
-/// below the universal joint's least peak on the same halves (measured: 0.318174 against
+/// below the universal joint's least peak on the same halves (measured: 0.318143 against
 /// 0.320227 N·m; the spherical joint holds every motion of the universal joint, and the lifted
 /// start is refined as that optimum is), and the third motor is used: the halves twist relative
 /// to each other.
@@ -219,7 +219,8 @@ fn dense_peaks(tree: &Tree, spline: &BSpline) -> (Vec<f64>, f64) {
             beyond = spline.shape(t).q[2..].iter().fold(beyond, |m, x| m.max(x.abs()));
             for (m, x) in best.iter_mut().zip(torques(t)) {
                 if x > m.0 {
-                    *m = (x, (t - h).max(a), (t + h).min(b));
+                    // Either side, across a knot too (the torques are continuous there).
+                    *m = (x, (t - h).max(0.0), (t + h).min(spline.duration()));
                 }
             }
         }

@@ -6,7 +6,7 @@
 //! [`Assembly`]; the retiming, whose rows include second-order cones, builds its own matrix from
 //! [`Rows`] and calls [`solve_clarabel`] itself.
 
-mod equalities;
+mod active_set;
 
 use std::collections::HashSet;
 

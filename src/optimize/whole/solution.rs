@@ -151,8 +151,9 @@ const TIE: f64 = 1e-9;
 /// (none when none did); of values within `1e-9` of the lowest (relative), the first start's.
 pub fn best_of(solutions: &[WholeSolution], objective: Objective, tolerance: f64) -> Option<usize> {
     let value = |i: usize| solutions[i].value(objective);
-    let results: Vec<usize> =
-        (0..solutions.len()).filter(|&i| solutions[i].status.is_result() && solutions[i].flips(tolerance)).collect();
+    let results: Vec<usize> = (0..solutions.len())
+        .filter(|&i| solutions[i].status.is_result() && solutions[i].flips(tolerance) && value(i).is_finite())
+        .collect();
     let lowest = results.iter().map(|&i| value(i)).min_by(f64::total_cmp)?;
     results.into_iter().find(|&i| value(i) <= lowest + TIE * lowest.abs())
 }

@@ -1,4 +1,5 @@
-//! The convex subproblem of one successive-convexification step, solved by Clarabel.
+//! The convex subproblem of one successive-convexification step, solved by Clarabel (the
+//! energy's with a dense curvature estimate first by its KKT system, below).
 //!
 //! Variables `x = (δ, t, s)`: the step `δ` on the free control points (rad), the epigraph bound
 //! `t` of the peak objective and the bounds `s ∈ ℝ³` on the linearised orientation error (the
@@ -26,10 +27,11 @@
 //!
 //! The energy's model with its dense curvature estimate makes `P` dense, which Clarabel factors
 //! at each of its interior-point iterations (on the legged cat of `problems/legs.toml`, 464
-//! variables: 110 ms a solve, and 8 of 20 solved again with iterative refinement, 210 ms); its
-//! only inequalities are then the trust box and the joint limits, bounds on single variables,
-//! so the step is first sought by its KKT system on an active set of those bounds
-//! (`Assembly::solve_on_equalities`, exact when it answers), Clarabel solving it otherwise.
+//! variables: 110 ms a solve, and 8 of 20 solved again with iterative refinement, 210 ms). With
+//! the orientation imposed exactly and neither a bend nor a motor limit, its only inequalities are
+//! the trust box and the joint limits, bounds on single variables, and the step is first sought
+//! by its KKT system on an active set of those bounds (`Assembly::solve_on_equalities`, exact
+//! when it answers); Clarabel solves it otherwise.
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -321,7 +323,13 @@ impl Subproblem<'_> {
         // Clarabel takes one per interior-point iteration (`Assembly::solve_on_equalities`).
         let dense =
             self.objective == Objective::Energy && matches!(self.curvature_estimate(), Some(Estimate::Dense(_)));
-        let direct = if dense { asm.solve_on_equalities() } else { None };
+        // Its inequalities are bounds alone when the orientation is imposed exactly (no slack
+        // `s`) and no bend or motor limit adds an elastic variable (none of them in `P`).
+        let bounds_only = self.orientation.is_none_or(|_| self.hard)
+            && self.bend.is_none()
+            && self.constraint_bound().is_none()
+            && self.lift.is_none();
+        let direct = if dense && bounds_only { asm.solve_on_equalities() } else { None };
         let solved = match direct {
             Some(solved) => solved,
             None => asm.solve(settings)?,

@@ -19,13 +19,12 @@
 //! often twice over with its iterative refinement; this costs one per active set, and the first
 //! is usually the last.
 //!
-//! ## Reference
+//! ## References
 //! - M. Hintermüller, K. Ito, K. Kunisch, *The primal–dual active set strategy as a semismooth
 //!   Newton method*, SIAM J. Optim. 13 (2003) 865–888.
 
-use std::time::Instant;
-
 use std::collections::{HashMap, HashSet};
+use std::time::Instant;
 
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
@@ -93,37 +92,42 @@ impl Assembly {
                 };
             }
             if next == held {
-                // Held variables onto their bounds exactly (the solve meets them to round-off).
-                let mut x = x;
-                for (v, b) in bounds.iter().enumerate() {
-                    match held[v] {
-                        Held::Lower => x[v] = b.lower.map_or(x[v], |l| l.value),
-                        Held::Upper => x[v] = b.upper.map_or(x[v], |u| u.value),
-                        Held::Free => {}
-                    }
-                }
                 let z = z.rows(0, kkt.a.nrows()).into_owned();
-                return self.answer(&kkt, x, z, &gradient, &bounds, &held, clock);
+                return self.answer(&kkt, x, z, &bounds, &held, clock);
             }
             held = next;
         }
         None
     }
 
-    /// The answer at `(x, z)` with the variables `held` at their bounds, when it meets every
-    /// inequality row: the bounds' multipliers from the objective's `gradient` on the rows that
-    /// hold them.
-    #[allow(clippy::too_many_arguments)]
+    /// The answer at `(x, z)` (`z` the equalities' multipliers) with the variables `held` moved
+    /// onto their bounds exactly, when it meets the KKT conditions there: every inequality row,
+    /// the equalities and stationarity to [`ACCURACY`], the bounds' multipliers (from the
+    /// objective's gradient at the returned point, on the rows that hold them) of the right sign.
     fn answer(
         &self,
         kkt: &Kkt,
-        x: DVector<f64>,
+        mut x: DVector<f64>,
         z: DVector<f64>,
-        gradient: &DVector<f64>,
         bounds: &[Bounds],
         held: &[Held],
         clock: Instant,
     ) -> Option<Solved> {
+        // Held variables onto their bounds exactly (the solve meets them to round-off): how far
+        // each was counts as a residual of its equality.
+        let mut moved: f64 = 0.0;
+        for (v, b) in bounds.iter().enumerate() {
+            let bound = match held[v] {
+                Held::Lower => b.lower,
+                Held::Upper => b.upper,
+                Held::Free => None,
+            };
+            if let Some(bound) = bound {
+                moved = moved.max((x[v] - bound.value).abs());
+                x[v] = bound.value;
+            }
+        }
+        let gradient = &kkt.p * &x + &kkt.q + kkt.a.transpose() * &z;
         let mut lhs = vec![0.0; self.ineq.len()];
         for ((&i, &j), &v) in self.ineq.row.iter().zip(&self.ineq.col).zip(&self.ineq.val) {
             lhs[i] += v * x[j];
@@ -141,6 +145,9 @@ impl Assembly {
                 // Px + q + Aᵀz = 0 on the variable: its row's coefficient times z = −gradient.
                 duals[self.eq.len() + row] = -gradient[v] / coefficient;
                 holding[row] = true;
+                if duals[self.eq.len() + row] < -ACCURACY * (1.0 + kkt.q.amax()) {
+                    return None;
+                }
             }
         }
         // A held variable sits on its row exactly; every other row must hold as it is.
@@ -148,7 +155,7 @@ impl Assembly {
             return None;
         }
         let objective = 0.5 * x.dot(&(&kkt.p * &x)) + kkt.q.dot(&x);
-        let primal = (&kkt.b - &kkt.a * &x).amax();
+        let primal = (&kkt.b - &kkt.a * &x).amax().max(moved);
         let dual = (0..self.n).filter(|&v| held[v] == Held::Free).map(|v| gradient[v].abs()).fold(0.0, f64::max);
         // Near-dependent equalities (held bounds that all but fix a row) leave a Schur complement
         // that solves to noise: the answer must meet its own KKT conditions.
@@ -310,7 +317,7 @@ fn bounds(ineq: &Rows, n: usize) -> Option<Vec<Bounds>> {
 
 #[cfg(test)]
 mod tests {
-    use nalgebra::{DMatrix, DVector};
+    use nalgebra::DVector;
     use proptest::prelude::*;
 
     use super::super::{Assembly, Solved};
@@ -348,41 +355,34 @@ mod tests {
             asm
         }
 
-        /// The largest violation of the KKT conditions at `s` (its point and multipliers, rows
-        /// in the assembly's order): stationarity, primal feasibility, the inequalities'
-        /// multipliers' signs, complementarity.
+        /// The largest violation of the KKT conditions at `s` ([`kkt_violation`]).
         fn kkt_violation(&self, s: &Solved) -> f64 {
-            let n = self.q.len();
-            let m = DMatrix::from_row_slice(self.m.len() / n, n, self.m);
-            let x = DVector::from_column_slice(&s.x);
-            let mut stationarity = m.transpose() * (&m * &x) + &x * 0.1 + DVector::from_column_slice(self.q);
-            let mut worst: f64 = 0.0;
-            let mut k = 0;
-            for (coefficients, rhs) in self.eq {
-                for (v, c) in coefficients.iter().enumerate() {
-                    stationarity[v] += c * s.duals[k];
-                }
-                worst = worst.max((coefficients.iter().zip(&s.x).map(|(c, x)| c * x).sum::<f64>() - rhs).abs());
-                k += 1;
-            }
-            // The inequalities: x_v ≤ r, −x_v ≤ r for each v, then x₀ + x₁ ≤ cap.
-            let mut rows: Vec<(Vec<(usize, f64)>, f64)> = Vec::new();
-            for v in 0..n {
-                rows.push((vec![(v, 1.0)], self.radius));
-                rows.push((vec![(v, -1.0)], self.radius));
-            }
-            rows.push((vec![(0, 1.0), (1, 1.0)], self.cap));
-            for (entries, rhs) in rows {
-                let z = s.duals[k];
-                let slack = rhs - entries.iter().map(|&(v, c)| c * s.x[v]).sum::<f64>();
-                for (v, c) in entries {
-                    stationarity[v] += c * z;
-                }
-                worst = worst.max(-slack).max(-z).max((z * slack).abs());
-                k += 1;
-            }
-            worst.max(stationarity.amax())
+            kkt_violation(&self.assembly(), s)
         }
+    }
+
+    /// The largest violation of the KKT conditions of `asm` at `s` (its point and multipliers,
+    /// rows in the assembly's order, Clarabel's signs): stationarity `Px + q + Aᵀz = 0`, the
+    /// equalities, the inequalities `a·x ≤ b`, their multipliers' signs, complementarity.
+    fn kkt_violation(asm: &Assembly, s: &Solved) -> f64 {
+        let n = asm.n;
+        let p = super::symmetric(&asm.p, n);
+        let x = DVector::from_column_slice(&s.x);
+        let mut stationarity = &p * &x + DVector::from_column_slice(&asm.q);
+        let mut worst: f64 = 0.0;
+        for (rows, offset, inequality) in [(&asm.eq, 0, false), (&asm.ineq, asm.eq.len(), true)] {
+            let mut lhs = vec![0.0; rows.len()];
+            for ((&i, &j), &v) in rows.row.iter().zip(&rows.col).zip(&rows.val) {
+                lhs[i] += v * x[j];
+                stationarity[j] += v * s.duals[offset + i];
+            }
+            for (i, (l, r)) in lhs.iter().zip(&rows.rhs).enumerate() {
+                let (z, slack) = (s.duals[offset + i], r - l);
+                worst =
+                    if inequality { worst.max(-slack).max(-z).max((z * slack).abs()) } else { worst.max(slack.abs()) };
+            }
+        }
+        worst.max(stationarity.amax())
     }
 
     proptest! {
@@ -516,6 +516,27 @@ mod tests {
         if let Some(direct) = qp.assembly().solve_on_equalities() {
             assert!(qp.kkt_violation(&direct) < 1e-10, "KKT violated by {}", qp.kkt_violation(&direct));
         }
+    }
+
+    /// Bounds written with any coefficient, on one side only, and repeated (a looser row beside
+    /// the tightest): the multipliers land on the rows that hold, scaled by their coefficients.
+    #[test]
+    fn bounds_of_any_coefficient_and_repeats_are_held_on_their_tightest_row() {
+        let mut asm = Assembly::new(3);
+        asm.identity_cost(3, 1.0);
+        for (v, c) in [(0, -2.0), (1, 1.0), (2, 0.5)] {
+            asm.linear_cost(v, c);
+        }
+        // x₀ ≤ 0.3 written 2x₀ ≤ 0.6, and x₀ ≤ 0.5 beside it; x₁ ≥ −0.2 written −0.5x₁ ≤ 0.1;
+        // x₂ free of bounds.
+        asm.at_most([(0, 2.0)], 0.6);
+        asm.at_most([(0, 1.0)], 0.5);
+        asm.at_most([(1, -0.5)], 0.1);
+        asm.equal([(0, 1.0), (1, 1.0), (2, 1.0)], 0.0);
+        let s = asm.solve_on_equalities().expect("bounds only");
+        assert!(kkt_violation(&asm, &s) < 1e-12, "KKT violated by {}", kkt_violation(&asm, &s));
+        assert_eq!((s.x[0], s.x[1]), (0.3, -0.2), "both held at their bounds");
+        assert!(s.duals[1] > 0.0 && s.duals[2] == 0.0 && s.duals[3] > 0.0, "{:?}", s.duals);
     }
 
     /// A row on several variables that binds, or a `P` that is not positive definite, is left to
