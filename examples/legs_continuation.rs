@@ -2,8 +2,8 @@
 //! `[cat.legs.rear]`) reached by continuation (issue 22): first the same cat with both pairs of
 //! legs their mean pair, from the library starts, then the problem's cat from that optimum (refit
 //! on the settings' uniform knots). On `problems/real-cat.toml` the library starts end in a
-//! costlier basin (0.602 N·m, `compare-models`) and the continuation ends well below it, 0.525
-//! N·m (README, "A real cat"); with the starts bent by 80° (`--set manoeuvre.theta_deg=100`) the
+//! costlier basin (0.618 N·m, `compare-models`) and the continuation ends well below it, 0.519
+//! N·m, with the halves folded onto each other (README, "A real cat"); with the starts bent by 80° (`--set manoeuvre.theta_deg=100`) the
 //! mean pair finds no optimum, and the example says so and fails. Which start finds which basin
 //! is the optimiser's exploration, not a property of the cat.
 //!

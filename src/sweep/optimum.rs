@@ -17,8 +17,8 @@
 //!   honoured. The best start that ended on a result (converged, or an upper bound) and flips
 //!   the cat to `exact.tolerance`, measured ([`Rig::measure`]), gives twist, swing, peak and the
 //!   motor demand; the optimiser gives its effort, largest bend, and its duration `T` with the
-//!   drop height `g T²/2` (with the objective `min-time`, the least fall within the motors). When no start does, the row is `failed` with
-//!   every start's status and reason.
+//!   drop height `g T²/2` (with the objective `min-time`, the least fall within the motors).
+//!   When no start does, the row is `failed` with every start's status and reason.
 
 use crate::engines::measured::Rig;
 use crate::engines::Engine;

@@ -22,7 +22,7 @@
 //! - `Assembly` and `Rows`: the sparse data, built from triplets and joined once into one
 //!   `CscMatrix` per matrix (`from_triplets`, Clarabel's constructor entry for entry, faster),
 //!   with `Fold` to solve on a subspace that holds an optimum and `active_sides` to leave out
-//!   rows of a minimax epigraph that cannot bind, and `Assembly::solve_on_equalities`, which
+//!   rows of a minimax epigraph that cannot bind, and `Assembly::solve_by_active_set`, which
 //!   answers a QP with a dense `P` whose binding inequalities are bounds on single variables by
 //!   its KKT system on an active set of bounds, exactly, where Clarabel would factor the dense
 //!   block at every interior-point iteration;

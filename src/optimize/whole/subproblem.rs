@@ -30,7 +30,7 @@
 //! variables: 110 ms a solve, and 8 of 20 solved again with iterative refinement, 210 ms). With
 //! the orientation imposed exactly and neither a bend nor a motor limit, its only inequalities are
 //! the trust box and the joint limits, bounds on single variables, and the step is first sought
-//! by its KKT system on an active set of those bounds (`Assembly::solve_on_equalities`, exact
+//! by its KKT system on an active set of those bounds (`Assembly::solve_by_active_set`, exact
 //! when it answers); Clarabel solves it otherwise.
 
 use nalgebra::{DMatrix, Vector3};
@@ -318,18 +318,16 @@ impl Subproblem<'_> {
             }
         }
         let m_eq = asm.equalities();
-        // The energy's model with its dense curvature estimate: a step within the trust box and
-        // the limits is the minimiser on the equalities alone, one dense factorisation where
-        // Clarabel takes one per interior-point iteration (`Assembly::solve_on_equalities`).
+        // The energy's dense model (module docs): its inequalities are bounds alone when the
+        // orientation is imposed exactly (no slack `s`) and no bend or motor limit adds an
+        // elastic variable (none of them in `P`).
         let dense =
             self.objective == Objective::Energy && matches!(self.curvature_estimate(), Some(Estimate::Dense(_)));
-        // Its inequalities are bounds alone when the orientation is imposed exactly (no slack
-        // `s`) and no bend or motor limit adds an elastic variable (none of them in `P`).
         let bounds_only = self.orientation.is_none_or(|_| self.hard)
             && self.bend.is_none()
             && self.constraint_bound().is_none()
             && self.lift.is_none();
-        let direct = if dense && bounds_only { asm.solve_on_equalities() } else { None };
+        let direct = if dense && bounds_only { asm.solve_by_active_set() } else { None };
         let solved = match direct {
             Some(solved) => solved,
             None => asm.solve(settings)?,

@@ -44,6 +44,17 @@ struct Bounds {
     upper: Option<Bound>,
 }
 
+impl Bounds {
+    /// The bound a variable `held` so sits at; none when it is free.
+    fn at(&self, held: Held) -> Option<Bound> {
+        match held {
+            Held::Lower => self.lower,
+            Held::Upper => self.upper,
+            Held::Free => None,
+        }
+    }
+}
+
 /// One bound `x_v ≤ value` (or `≥`) from the inequality row `row`, `coefficient · x_v ≤ rhs`.
 #[derive(Clone, Copy)]
 struct Bound {
@@ -68,7 +79,7 @@ impl Assembly {
     /// dependent (or so nearly, with the held bounds, that the answer misses its own KKT
     /// conditions by more than [`ACCURACY`]), a row on several variables is violated, or no active
     /// set was found within [`MAX_SETS`], where only the whole QP can answer.
-    pub(crate) fn solve_on_equalities(&self) -> Option<Solved> {
+    pub(crate) fn solve_by_active_set(&self) -> Option<Solved> {
         let clock = Instant::now();
         let n = self.n;
         let bounds = bounds(&self.ineq, n)?;
@@ -117,12 +128,7 @@ impl Assembly {
         // each was counts as a residual of its equality.
         let mut moved: f64 = 0.0;
         for (v, b) in bounds.iter().enumerate() {
-            let bound = match held[v] {
-                Held::Lower => b.lower,
-                Held::Upper => b.upper,
-                Held::Free => None,
-            };
-            if let Some(bound) = bound {
+            if let Some(bound) = b.at(held[v]) {
                 moved = moved.max((x[v] - bound.value).abs());
                 x[v] = bound.value;
             }
@@ -136,12 +142,7 @@ impl Assembly {
         duals.resize(self.eq.len() + self.ineq.len(), 0.0);
         let mut holding = vec![false; self.ineq.len()];
         for (v, b) in bounds.iter().enumerate() {
-            let bound = match held[v] {
-                Held::Lower => b.lower,
-                Held::Upper => b.upper,
-                Held::Free => None,
-            };
-            if let Some(Bound { row, coefficient, .. }) = bound {
+            if let Some(Bound { row, coefficient, .. }) = b.at(held[v]) {
                 // Px + q + Aᵀz = 0 on the variable: its row's coefficient times z = −gradient.
                 duals[self.eq.len() + row] = -gradient[v] / coefficient;
                 holding[row] = true;
@@ -211,13 +212,7 @@ impl Kkt {
     /// `EP⁻¹Eᵀ`, refined once on the residual.
     fn solve(&mut self, bounds: &[Bounds], held: &[Held]) -> Option<(DVector<f64>, DVector<f64>)> {
         let n = self.p.nrows();
-        let rows: Vec<(usize, f64)> = (0..n)
-            .filter_map(|v| match held[v] {
-                Held::Lower => bounds[v].lower.map(|b| (v, b.value)),
-                Held::Upper => bounds[v].upper.map(|b| (v, b.value)),
-                Held::Free => None,
-            })
-            .collect();
+        let rows: Vec<(usize, f64)> = (0..n).filter_map(|v| bounds[v].at(held[v]).map(|b| (v, b.value))).collect();
         for &(v, _) in &rows {
             if !self.columns.contains_key(&v) {
                 let mut e = DVector::zeros(n);
@@ -399,7 +394,7 @@ mod tests {
             radius in 0.05f64..2.0,
         ) {
             let qp = Qp { m: &m, q: &q, eq: &eq, radius, cap: 100.0 };
-            let Some(direct) = qp.assembly().solve_on_equalities() else {
+            let Some(direct) = qp.assembly().solve_by_active_set() else {
                 // A box that cannot meet the equalities, or a set the rule did not settle.
                 return Ok(());
             };
@@ -421,7 +416,7 @@ mod tests {
         let q = [3.0, -2.0, 1.5, 0.2, -0.1, 4.0];
         let eq = [(vec![1.0; 6], 0.3)];
         let qp = Qp { m: &m, q: &q, eq: &eq, radius: 0.5, cap: 100.0 };
-        let direct = qp.assembly().solve_on_equalities().expect("bounds only bind");
+        let direct = qp.assembly().solve_by_active_set().expect("bounds only bind");
         let held = direct.x.iter().filter(|x| (x.abs() - 0.5).abs() < 1e-12).count();
         assert!(held >= 2, "{:?}", direct.x);
         assert!(qp.kkt_violation(&direct) < 1e-10, "KKT violated by {}", qp.kkt_violation(&direct));
@@ -513,7 +508,7 @@ mod tests {
             ),
         ];
         let qp = Qp { m: &m, q: &q, eq: &eq, radius: 0.09633688712510412, cap: 100.0 };
-        if let Some(direct) = qp.assembly().solve_on_equalities() {
+        if let Some(direct) = qp.assembly().solve_by_active_set() {
             assert!(qp.kkt_violation(&direct) < 1e-10, "KKT violated by {}", qp.kkt_violation(&direct));
         }
     }
@@ -533,7 +528,7 @@ mod tests {
         asm.at_most([(0, 1.0)], 0.5);
         asm.at_most([(1, -0.5)], 0.1);
         asm.equal([(0, 1.0), (1, 1.0), (2, 1.0)], 0.0);
-        let s = asm.solve_on_equalities().expect("bounds only");
+        let s = asm.solve_by_active_set().expect("bounds only");
         assert!(kkt_violation(&asm, &s) < 1e-12, "KKT violated by {}", kkt_violation(&asm, &s));
         assert_eq!((s.x[0], s.x[1]), (0.3, -0.2), "both held at their bounds");
         assert!(s.duals[1] > 0.0 && s.duals[2] == 0.0 && s.duals[3] > 0.0, "{:?}", s.duals);
@@ -546,11 +541,11 @@ mod tests {
         let m: Vec<f64> = (0..16).map(|k| if k % 5 == 0 { 1.0 } else { 0.0 }).collect();
         let q = [-1.0, -1.0, 0.0, 0.0];
         // Unconstrained x = (0.91, 0.91, 0, 0): x₀ + x₁ ≤ 1 binds; ≤ 3 does not.
-        assert!(Qp { m: &m, q: &q, eq: &[], radius: 2.0, cap: 1.0 }.assembly().solve_on_equalities().is_none());
-        assert!(Qp { m: &m, q: &q, eq: &[], radius: 2.0, cap: 3.0 }.assembly().solve_on_equalities().is_some());
+        assert!(Qp { m: &m, q: &q, eq: &[], radius: 2.0, cap: 1.0 }.assembly().solve_by_active_set().is_none());
+        assert!(Qp { m: &m, q: &q, eq: &[], radius: 2.0, cap: 3.0 }.assembly().solve_by_active_set().is_some());
         let mut flat = Assembly::new(2);
         flat.linear_cost(0, 1.0);
         flat.between(&[(0, 1.0)], -1.0, 1.0);
-        assert!(flat.solve_on_equalities().is_none(), "P = 0");
+        assert!(flat.solve_by_active_set().is_none(), "P = 0");
     }
 }
