@@ -177,6 +177,12 @@ fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
     Ok(problem)
 }
 
+/// Refuses a `--out` that cannot take the folder `name` before anything is computed
+/// ([`catflip::report::results_dir::check_target`]).
+fn check_target(out: &Path, name: &str) -> anyhow::Result<()> {
+    catflip::report::results_dir::check_target(out, name).map_err(anyhow::Error::from)
+}
+
 /// Resolves `problem` (its circulation, calibrated if asked) and prints what the resolution
 /// warns of on stderr.
 fn resolve(problem: &Problem) -> anyhow::Result<Resolved> {
@@ -302,8 +308,9 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Optimize { common, whole: true, verify, out, quiet } => {
             let problem = load(&common, None)?;
-            if out.is_some() {
+            if let Some(o) = &out {
                 catflip::report::whole_files::files_refusal(&problem)?;
+                check_target(o, &format!("{}-whole", problem.name))?;
             }
             let r = resolve(&problem)?;
             let spinner = progress(quiet || common.json, "optimize --whole: successive convexification".into());
@@ -352,23 +359,30 @@ fn run() -> anyhow::Result<()> {
                     })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
+            // Every problem's cat and schedule resolved too (a tail or legs, a circulation its
+            // halves do not define are refused there), before anything is computed or written.
+            let mut resolved = Vec::with_capacity(loaded.len());
             for (path, problem) in &loaded {
                 catflip::report::run::runnable(problem).map_err(|e| named(path, &e))?;
-                // The rate against this fall, before anything is computed or written.
+                // The rate against this fall.
                 export.validate(problem.drop.fall_time()).map_err(|e| named(path, &e))?;
+                resolved.push(Resolved::new(problem).map_err(|e| named(path, &e))?);
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
-            for (path, problem) in loaded {
+            for ((path, problem), r) in loaded.into_iter().zip(resolved) {
                 let coarse = export.coarse(&problem);
                 for w in problem.warnings().into_iter().chain(coarse) {
+                    eprintln!("warning: {}: {w}", path.display());
+                }
+                for w in r.warnings() {
                     eprintln!("warning: {}: {w}", path.display());
                 }
                 let command =
                     regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
                 let spinner =
                     progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
-                let outcome = catflip::report::run::run_with(&resolve(&problem)?, &command, &out, &export)?;
+                let outcome = catflip::report::run::run_with(&r, &command, &out, &export)?;
                 spinner.finish_and_clear();
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
@@ -407,6 +421,9 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Robust { common, schedule, out } => {
             let problem = load(&common, None)?;
+            if let Some(o) = &out {
+                check_target(o, &format!("{}-robust", problem.name))?;
+            }
             let schedule_arg = schedule.as_ref().map_or(String::new(), |f| format!(" --schedule {}", f.display()));
             let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
             let command = regenerate(
@@ -443,6 +460,9 @@ fn run() -> anyhow::Result<()> {
         }
         Command::CompareModels { common, verify, out, quiet } => {
             let problem = load(&common, None)?;
+            if let Some(o) = &out {
+                check_target(o, &format!("{}-models", problem.name))?;
+            }
             let verify_arg = if verify { " --verify" } else { "" };
             let out_arg = out.as_ref().map_or(String::new(), |o| format!(" --out {}", o.display()));
             let command = regenerate(

@@ -118,6 +118,92 @@ fn json_output_keeps_the_warnings_on_stderr() {
     assert!(err.contains("warning: manoeuvre.circulation = 180 rad"), "{err}");
 }
 
+/// A file cut at a line break after a section's header, a half left to the defaults and a
+/// shorthand no half uses are each warned of (a QA run found all three silent).
+#[test]
+fn an_empty_section_and_the_halves_defaults_are_warned_of() {
+    let header = problem_file("bare", "bare.toml", "name = \"bare\"\n[cat]\nmass = 1.0\n[manoeuvre]\n");
+    let warnings = Problem::load(&header, &[]).expect("loads").warnings();
+    let has = |w: &[String], s: &str| w.iter().any(|w| w.contains(s));
+    assert!(has(&warnings, "[manoeuvre] section holds no field: was the file cut short?"), "{warnings:?}");
+    assert!(has(&warnings, "no cat.length: both halves take the default 1"), "{warnings:?}");
+    assert!(!has(&warnings, "no cat.mass"), "{warnings:?}");
+    // Only [cat.front]: the rear half is the default's, said so.
+    let front =
+        problem_file("front", "front.toml", "name = \"front\"\n[cat.front]\nmass = 0.8\nlength = 0.8\nradius = 0.1\n");
+    let warnings = Problem::load(&front, &[]).expect("loads").warnings();
+    assert!(has(&warnings, "no cat.mass: cat.rear takes the default 1"), "{warnings:?}");
+    // [cat]'s mass when both halves give their own is used by neither.
+    let unused = problem_file(
+        "unused",
+        "unused.toml",
+        "name = \"unused\"\n[cat]\nmass = 3.0\nlength = 1.0\nradius = 0.1\n[cat.front]\nmass = 0.8\n[cat.rear]\nmass = 1.2\n",
+    );
+    let warnings = Problem::load(&unused, &[]).expect("loads").warnings();
+    assert!(has(&warnings, "cat.mass is used by neither half"), "{warnings:?}");
+    // The committed files say none of these.
+    for file in ["paper", "unequal-halves", "kane-scher", "real-cat", "tail", "legs", "tail-robot"] {
+        let w = Problem::load(std::path::Path::new(&format!("problems/{file}.toml")), &[]).expect("loads").warnings();
+        assert!(
+            !w.iter().any(|w| w.contains("cat.") && (w.contains("default") || w.contains("neither"))),
+            "{file}: {w:?}"
+        );
+    }
+}
+
+/// `--set` given twice for one key, or replacing a whole section the file gives, is refused,
+/// naming it (the last value won, or the section's other fields fell back to the defaults,
+/// without a word).
+#[test]
+fn an_override_that_would_lose_a_value_is_refused() {
+    let twice = ["cat.front.mass=1".to_string(), "cat.front.mass=2".to_string()];
+    let err = Problem::load(std::path::Path::new("problems/paper.toml"), &twice).expect_err("refused").to_string();
+    assert!(err.contains("cat.front.mass=2") && err.contains("set twice"), "{err}");
+    let whole = ["cat={mass=1.2857}".to_string()];
+    let err = Problem::load(std::path::Path::new("problems/real-cat.toml"), &whole).expect_err("refused").to_string();
+    assert!(err.contains("replaces the whole [cat] section") && err.contains("legs"), "{err}");
+    // A section the file does not give can still be set whole.
+    let new = ["cat.front={mass=0.8}".to_string()];
+    let p = Problem::load(std::path::Path::new("problems/paper.toml"), &new).expect("loads");
+    assert_eq!(p.cat.front().mass, 0.8);
+}
+
+/// `run` resolves every file before it writes anything: a tail among several files is refused
+/// with the file named, and the first file's results are not written (a QA run found them
+/// written, and the error without the file's name).
+#[test]
+fn a_cat_run_cannot_take_among_several_is_named_and_nothing_is_written() {
+    let out = scratch("several-tail").join("results");
+    let (code, _, err) =
+        catflip(&["run", "problems/kane-scher.toml", "problems/tail.toml", "--out", out.to_str().expect("utf-8")]);
+    assert_ne!(code, 0);
+    assert!(err.contains("tail.toml: cat.tail"), "{err}");
+    assert!(!out.exists(), "results were written");
+}
+
+/// `compare-models` refuses a problem whose own halves cannot take its schedule, as `simulate`
+/// does (a QA run got rows "not run" beside the models that could, and exit 0).
+#[test]
+fn compare_models_refuses_a_circulation_its_own_halves_do_not_define() {
+    let (code, out, err) =
+        catflip(&["compare-models", "problems/kane-scher.toml", "--quiet", "--set", "cat.rear.mass=1.2"]);
+    assert_ne!(code, 0);
+    assert!(out.is_empty() && err.contains("circulation = \"paper\"") && err.contains("cat.rear.mass"), "{err}");
+}
+
+/// A `--out` that cannot take the results is refused before the optimisation runs, not after it.
+#[test]
+fn an_out_under_a_file_is_refused_before_the_work() {
+    let file = problem_file("out-file", "a-file", "not a folder\n");
+    let start = std::time::Instant::now();
+    let (code, out, err) =
+        catflip(&["compare-models", "problems/kane-scher.toml", "--quiet", "--out", file.to_str().expect("utf-8")]);
+    assert_ne!(code, 0);
+    assert!(out.is_empty() && err.contains("a-file is a file, not a folder"), "{err}");
+    // No optimisation ran: its report would be on stdout; the time is printed for the reader only.
+    eprintln!("refused after {:.2} s", start.elapsed().as_secs_f64());
+}
+
 #[test]
 fn a_bad_file_among_several_is_named_and_nothing_is_written() {
     let bad = problem_file("several", "falls-up.toml", &PAPER.replace("height = 10.0", "height = -1.0"));

@@ -82,6 +82,11 @@ pub enum Beyond {
     Appendages(Appendages),
 }
 
+/// The status of a row whose model was tried and found no optimum ([`ModelRow::reason`] says why).
+pub const NO_OPTIMUM: &str = "no-optimum";
+/// The status of a row whose model cannot be planned here ([`ModelRow::reason`] says why).
+pub const NOT_RUN: &str = "not-run";
+
 /// The models compared on `problem`'s cat: equal halves (the problem's, or their mean half when
 /// they differ) on the universal, the no-twist and the spherical joint, then, when the problem's
 /// halves differ, those halves on the three joints, and with `[cat.tail]`, `[cat.legs]` the
@@ -243,8 +248,13 @@ pub struct ModelRow {
     /// [`crate::optimize::whole::WholeCat::describe`], the tail's too).
     pub cat: String,
     /// How the optimum ended (`converged`, or `upper-bound`: its last stage stopped at its budget
-    /// below what it started from, [`WholeStatus::UpperBound`]), or why there is no optimum.
+    /// below what it started from, [`WholeStatus::UpperBound`]), or that there is none:
+    /// `no-optimum` (tried, none found) or `not-run` (the model cannot be planned here), with
+    /// `reason`.
     pub status: String,
+    /// Why there is no optimum (the statuses `no-optimum` and `not-run`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
     /// The optimum, when one flips the cat.
     pub optimum: Option<OptimumFigures>,
     /// The problem's library schedule on this model (absent when its circulation cannot be
@@ -283,6 +293,16 @@ impl ModelRow {
     /// Whether its optimum's number is an upper bound ([`WholeStatus::UpperBound`]).
     pub fn is_upper_bound(&self) -> bool {
         self.optimum.is_some() && self.status == WholeStatus::UpperBound.to_string()
+    }
+
+    /// The row of a model that cannot be planned here, and why.
+    pub(crate) fn not_run(&mut self, reason: String) {
+        (self.status, self.reason) = (NOT_RUN.into(), Some(reason));
+    }
+
+    /// The row of a model tried without an optimum, and why.
+    pub(crate) fn no_optimum(&mut self, reason: String) {
+        (self.status, self.reason) = (NO_OPTIMUM.into(), Some(reason));
     }
 }
 

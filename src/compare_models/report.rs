@@ -21,6 +21,26 @@ fn shown(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "—".into(), |v| format!("{v:.digits$}"))
 }
 
+/// A model's place in the plots' palette, the same in every comparison: its joint (universal,
+/// no-twist, spherical) and appendages (none, a tail, legs, both) choose the colour, and the
+/// problem's own unequal halves are drawn dashed beside the mean half's solid line.
+fn palette_slot(key: &str) -> usize {
+    let (unequal, model) = match key.strip_prefix("unequal-") {
+        Some(rest) => (true, rest),
+        None => (false, key.strip_prefix("mean-").unwrap_or(key)),
+    };
+    let joint = ["universal", "no-twist", "spherical"].iter().position(|j| model.starts_with(j)).unwrap_or(0);
+    let appendages = if model.ends_with("-tail-legs") {
+        3
+    } else if model.ends_with("-legs") {
+        2
+    } else {
+        usize::from(model.ends_with("-tail"))
+    };
+    // Ten colours a pass (`style::PALETTE`); the second pass is dashed.
+    (3 * appendages + joint) % 10 + if unequal { 10 } else { 0 }
+}
+
 impl ModelComparison {
     /// The comparison as Markdown: the cheapest model, the table, what each column means.
     pub fn to_markdown(&self) -> String {
@@ -101,7 +121,7 @@ impl ModelComparison {
                 s,
                 "| {} | {} |{fall} {} | {} | {} | {} | {} | {} | {schedule} |{verdict} {:.2} |",
                 r.label,
-                if o.is_some() { r.status.as_str() } else { "**no optimum**" },
+                if o.is_some() { r.status.clone() } else { format!("**{}**", r.status.replace('-', " ")) },
                 shown(o.map(|o| o.peak_torque_nm), 6),
                 shown(o.map(|o| o.energy), 6),
                 shown(o.map(|o| o.max_bend_deg), 2),
@@ -111,6 +131,10 @@ impl ModelComparison {
                 r.seconds
             );
         }
+        let _ = writeln!(
+            s,
+            "\n(`max bend`: the largest angle between the halves' spine axes, 0 when straight; `bend turns`: how far the direction of the bend turns about A's spine over the fall, in turns, signed right-handed about A's +z (while the bend exceeds 1°); `twist` and `swing`: A's final orientation, a flip is ±180° and 0.)"
+        );
         if self.rows.iter().any(|r| r.optimum.is_some()) {
             let _ = writeln!(s, "\nHow each optimum ended:\n");
         }
@@ -130,7 +154,7 @@ impl ModelComparison {
         if !missing.is_empty() {
             let _ = writeln!(s, "\nWhy a model has no optimum:\n");
             for r in missing {
-                let _ = writeln!(s, "- {}: {}", r.label, r.status);
+                let _ = writeln!(s, "- {}: {}", r.label, r.reason.as_deref().unwrap_or(&r.status));
             }
         }
         let _ = writeln!(
@@ -186,7 +210,7 @@ impl ModelComparison {
             let _ = write!(s, "; {}", others.join("; "));
         }
         if let Some(v) = &best.rapier {
-            let _ = write!(s, "; rapier: {}", v.status);
+            let _ = write!(s, "; its rapier verdict: {}", v.status);
         }
         s
     }
@@ -227,7 +251,7 @@ impl ModelComparison {
                 r.joint.name().to_string(),
                 r.motors.to_string(),
                 halves.to_string(),
-                if o.is_some() { r.status.clone() } else { "no-optimum".to_string() },
+                r.status.clone(),
                 o.map_or_else(String::new, |o| o.start.clone()),
                 o.map_or_else(String::new, |o| o.iterations.to_string()),
                 cell(o.map(|o| o.peak_torque_nm)),
@@ -253,7 +277,7 @@ impl ModelComparison {
             .rows
             .iter()
             .filter(|r| !r.bend.is_empty())
-            .map(|r| Series::new(r.key.clone(), r.bend.clone()))
+            .map(|r| Series::new(r.key.clone(), r.bend.clone()).in_slot(palette_slot(&r.key)))
             .collect();
         LinePlot::new(
             "models_bend",
@@ -299,5 +323,28 @@ impl ModelComparison {
             };
         }
         Ok(staging.commit()?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::palette_slot;
+
+    /// One model keeps one look in every comparison (a reader found the no-twist joint orange in
+    /// one bend plot and purple in another): the slot follows the model, not its row.
+    #[test]
+    fn a_model_keeps_its_colour_across_comparisons() {
+        let keys = ["universal", "no-twist", "spherical", "no-twist-tail", "no-twist-legs", "universal-tail"];
+        let slots: Vec<usize> = keys.iter().map(|k| palette_slot(k)).collect();
+        let mut distinct = slots.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), keys.len(), "{slots:?}");
+        for k in keys {
+            // The mean half's model looks as the equal halves' does; the problem's own halves
+            // take the same colour, dashed (the palette's second pass).
+            assert_eq!(palette_slot(&format!("mean-{k}")), palette_slot(k));
+            assert_eq!(palette_slot(&format!("unequal-{k}")), palette_slot(k) + 10);
+        }
     }
 }

@@ -49,12 +49,21 @@ pub enum CompareModelsError {
     /// The problem could not be written as TOML for the report's provenance.
     #[error("compare-models: the problem as TOML")]
     Toml(#[from] toml::ser::Error),
+    /// The problem's own halves cannot take its schedule (its field named).
+    #[error("compare-models: the problem's own cat")]
+    OwnCat(#[from] crate::engines::circulation::CirculationError),
 }
 
 /// The whole optimum of every model of `problem`'s cat ([`variants`]) on its fall, each checked
 /// by rapier when `verify`; `command` is the one that regenerates it.
 pub fn compare_models(problem: &Problem, verify: bool, command: &str) -> Result<ModelComparison, CompareModelsError> {
     let clock = Instant::now();
+    // The problem's own halves take its schedule, as every command's must: a circulation they do
+    // not define (the paper's C on unequal halves) is refused, as `simulate` refuses it, not made
+    // into rows that were not run beside the models that could.
+    let mut halves = problem.clone();
+    (halves.cat.tail, halves.cat.legs) = (None, None);
+    Resolved::new(&halves)?;
     let rows = variants(problem)?.into_par_iter().map(|v| row(v, verify)).collect::<Result<Vec<_>, _>>()?;
     let objective = problem.optimize.whole.objective;
     let cheapest = rows
@@ -92,6 +101,7 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         motors: cat.as_ref().map_or(2, WholeCat::joints),
         cat: cat.as_ref().map_or_else(|| v.problem.cat.model().describe(), WholeCat::describe),
         status: String::new(),
+        reason: None,
         optimum: None,
         schedule: None,
         rapier: None,
@@ -110,14 +120,14 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
             return Ok(row);
         }
         (_, None) => {
-            row.status = "not run: an appendage's joint must have one or two motors (cat.tail.joint = \"universal\", \"no-twist\" or \"hinge\")".into();
+            row.not_run("an appendage's joint must have one or two motors (cat.tail.joint = \"universal\", \"no-twist\" or \"hinge\")".into());
             return Ok(row);
         }
     }
     let r = match Resolved::new(&row.problem) {
         Ok(r) => r,
         Err(e) => {
-            row.status = format!("not run: the problem's schedule has no circulation on this model ({e})");
+            row.not_run(format!("the problem's schedule has no circulation on this model ({e})"));
             row.seconds = clock.elapsed().as_secs_f64();
             return Ok(row);
         }
@@ -130,6 +140,9 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
         report.verify(&r)?;
     }
     row.status = report.status.clone();
+    if report.best().is_none() {
+        row.no_optimum(report.status.clone());
+    }
     if let (Some(b), Some(m)) = (report.best(), report.measured.as_ref()) {
         let e = &m.exact;
         row.optimum = Some(OptimumFigures {
@@ -162,7 +175,7 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
     let p = &row.problem;
     let (spin, motors) = (p.drop.spin(), p.actuator.motors());
     if let Err(e) = crate::optimize::whole::beyond_two_motors(cat, p.optimize.whole.objective, &motors, &spin) {
-        row.status = format!("not run: {e}");
+        row.not_run(e.to_string());
         return Ok(());
     }
     let tree = cat.tree();
@@ -170,7 +183,7 @@ fn beyond_two_motors(row: &mut ModelRow, cat: &WholeCat, verify: bool) -> Result
     let (settings, tolerance, fall) = (&p.optimize.whole, p.exact.tolerance, p.drop.fall_time());
     let outcome = optimize_whole(cat, fall, &p.manoeuvre, settings, &motors, tolerance)?;
     let Some(b) = outcome.best() else {
-        row.status = outcome.no_optimum(settings, tolerance);
+        row.no_optimum(outcome.no_optimum(settings, tolerance));
         return Ok(());
     };
     let flip = models::flip_on(&tree, &SplineShape(&b.spline), &spin, tolerance);

@@ -54,7 +54,7 @@ impl Resolved {
             resolve_circulation(&rig.model, &problem.manoeuvre, fall_time, &spin, problem.exact.tolerance).map_err(
                 |e| match e {
                     CirculationError::PaperUndefined { .. } => CirculationError::PaperUndefined {
-                        field: problem.cat.departure().map_or_else(|| "cat.front".into(), |(f, _)| f),
+                        field: problem.cat.unequal_halves().map_or_else(|| "cat.front".into(), |(f, _)| f),
                     },
                     other => other,
                 },

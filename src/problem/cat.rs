@@ -260,22 +260,26 @@ impl CatSection {
         if self.joint != Joint::Universal {
             return Some(("cat.joint".into(), format!("\"{}\"", self.joint.name())));
         }
+        self.unequal_halves()
+    }
+
+    /// The field that makes the halves differ, with its value: the first number (mass, length,
+    /// radius) that differs, on the half whose section writes it (the rear's when both do).
+    /// None for equal halves.
+    pub fn unequal_halves(&self) -> Option<(String, String)> {
         let (front, rear) = (self.front(), self.rear());
-        if front == rear {
-            return None;
-        }
-        // Name the first number that differs, on the half the user wrote.
-        let written = if self.rear.is_some() { "cat.rear" } else { "cat.front" };
-        let half = if self.rear.is_some() { rear } else { front };
         let differ = |a: f64, b: f64| a.to_bits() != b.to_bits();
-        let (key, value) = if differ(front.mass, rear.mass) {
-            ("mass", half.mass)
-        } else if differ(front.length, rear.length) {
-            ("length", half.length)
-        } else {
-            ("radius", half.radius)
-        };
-        Some((format!("{written}.{key}"), echo(value)))
+        let own = |h: Option<HalfSection>| h.unwrap_or_default();
+        let (f, r) = (own(self.front), own(self.rear));
+        let keys = [
+            ("mass", front.mass, rear.mass, f.mass.is_some(), r.mass.is_some()),
+            ("length", front.length, rear.length, f.length.is_some(), r.length.is_some()),
+            ("radius", front.radius, rear.radius, f.radius.is_some(), r.radius.is_some()),
+        ];
+        let (key, a, b, _, in_rear) = keys.into_iter().find(|k| differ(k.1, k.2))?;
+        // A number differs only where a half's own section writes it.
+        let (half, value) = if in_rear { ("cat.rear", b) } else { ("cat.front", a) };
+        Some((format!("{half}.{key}"), echo(value)))
     }
 
     /// Checks each half's numbers and the joint, naming the field as the user wrote it.
@@ -365,5 +369,26 @@ mod tests {
         assert_eq!(s.departure(), None);
         let k = CatSection { joint: Joint::NoTwist, ..Default::default() };
         assert_eq!(k.departure(), Some(("cat.joint".to_string(), "\"no-twist\"".to_string())));
+    }
+
+    /// The halves' difference is named where it is written: the front's mass with the rear's
+    /// radius written equal to the shorthand's (a QA run named `cat.rear.mass`), and on the
+    /// no-twist joint the halves, not the joint.
+    #[test]
+    fn unequal_halves_are_named_on_the_half_that_writes_the_difference() {
+        let s = CatSection {
+            front: Some(HalfSection { mass: Some(0.8), ..Default::default() }),
+            rear: Some(HalfSection { radius: Some(0.1), ..Default::default() }),
+            ..Default::default()
+        };
+        assert_eq!(s.unequal_halves(), Some(("cat.front.mass".to_string(), "0.8".to_string())));
+        let k = CatSection {
+            joint: Joint::NoTwist,
+            rear: Some(HalfSection { length: Some(1.2), ..Default::default() }),
+            ..Default::default()
+        };
+        assert_eq!(k.unequal_halves(), Some(("cat.rear.length".to_string(), "1.2".to_string())));
+        assert_eq!(k.departure().map(|d| d.0), Some("cat.joint".to_string()));
+        assert_eq!(CatSection { joint: Joint::NoTwist, ..Default::default() }.unequal_halves(), None);
     }
 }

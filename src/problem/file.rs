@@ -3,8 +3,10 @@
 //! the user's name without a word. [`Problem::load`](super::Problem::load) reads the file's own
 //! table here first: an empty file is refused, a missing `name` is the file's stem (so a
 //! nameless file never writes over `results/paper/`), and a missing `[cat]`, `[drop]` or
-//! `[manoeuvre]` section, a missing `drop.height` or a last line without its line break (a file
-//! cut short) is warned of, with the value the default puts there.
+//! `[manoeuvre]` section, a missing `drop.height`, a section that holds no field or a last line
+//! without its line break (a file cut short) is warned of, with the value the default puts
+//! there; so is a half's number that `[cat]` leaves to the default, and one it gives that no half
+//! uses (both `[cat.front]` and `[cat.rear]` give their own).
 
 use super::{bad, names_a_folder, CatSection, Drop, Manoeuvre, ProblemError};
 
@@ -61,6 +63,14 @@ pub(crate) fn omissions(
     if table.contains_key("drop") && !has("drop", "height") {
         out.push(format!("the file gives no drop.height: the default {} m is used", Drop::default().height));
     }
+    for section in empty_sections(table, "") {
+        if !overridden(overrides, &section) {
+            out.push(format!(
+                "the file's [{section}] section holds no field: was the file cut short? (every field of it takes its default)"
+            ));
+        }
+    }
+    out.extend(halves(table, overrides));
     if !text.is_empty() && !text.ends_with('\n') {
         out.push(
             "the file does not end with a line break: was it cut short? (every field it leaves out takes its default)"
@@ -68,6 +78,56 @@ pub(crate) fn omissions(
         );
     }
     Ok(out)
+}
+
+/// The dotted names of the sections of `table` (under `prefix`) that hold no field.
+fn empty_sections(table: &toml::Table, prefix: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (key, value) in table {
+        if let Some(inner) = value.as_table() {
+            let name = format!("{prefix}{key}");
+            if inner.is_empty() {
+                out.push(name);
+            } else {
+                out.extend(empty_sections(inner, &format!("{name}.")));
+            }
+        }
+    }
+    out
+}
+
+/// The halves' numbers the file leaves to the defaults, or gives where no half uses them: with
+/// a `[cat]` section or an override inside it (the section's absence alone is warned of on its
+/// own), each of `mass`, `length` and
+/// `radius` that `[cat]` does not give but a half without its own takes from the default, and
+/// each that `[cat]` gives but both `[cat.front]` and `[cat.rear]` give their own of.
+fn halves(table: &toml::Table, overrides: &[String]) -> Vec<String> {
+    let none = toml::Table::new();
+    let cat = match table.get("cat").and_then(|c| c.as_table()) {
+        Some(cat) => cat,
+        // Without the section but with overrides inside it (`--set cat.front.mass=…`), whose
+        // section warning is then left out.
+        None if overridden(overrides, "cat") => &none,
+        None => return Vec::new(),
+    };
+    let gives = |section: &str, key: &str| {
+        let own = if section == "cat" { Some(cat) } else { cat.get(&section[4..]).and_then(|h| h.as_table()) };
+        own.is_some_and(|t| t.contains_key(key)) || overridden(overrides, &format!("{section}.{key}"))
+    };
+    let default = crate::model::Cylinder::default();
+    let mut out = Vec::new();
+    for (key, value) in [("mass", default.mass), ("length", default.length), ("radius", default.radius)] {
+        let takers: Vec<&str> = ["cat.front", "cat.rear"].into_iter().filter(|h| !gives(h, key)).collect();
+        if !gives("cat", key) && !takers.is_empty() {
+            let who = if takers.len() == 2 { "both halves take".to_string() } else { format!("{} takes", takers[0]) };
+            out.push(format!("the file gives no cat.{key}: {who} the default {value}"));
+        } else if gives("cat", key) && takers.is_empty() {
+            out.push(format!(
+                "cat.{key} is used by neither half: [cat.front] and [cat.rear] both give their own {key}"
+            ));
+        }
+    }
+    out
 }
 
 /// The `name` of a file that gives none: its stem, when that can name a results folder.

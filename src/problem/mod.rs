@@ -162,7 +162,8 @@ impl Problem {
     }
 
     /// A problem a user wrote (a file's text, or the Python package's `loads`): as
-    /// [`Problem::from_toml`], but a text that holds no field is refused, and what it leaves to
+    /// [`Problem::from_toml`], but a key its overrides set twice is refused (the library's
+    /// overrides apply in order, the last winning), a text that holds no field is refused, and what it leaves to
     /// the defaults (a section, the drop height, a last line cut short) is kept as a warning
     /// ([`Problem::warnings`]).
     pub fn from_user_text(text: &str, origin: &str, overrides: &[String]) -> Result<Self, ProblemError> {
@@ -176,6 +177,7 @@ impl Problem {
         origin: &str,
         overrides: &[String],
     ) -> Result<Self, ProblemError> {
+        overrides::refuse_repeats(overrides)?;
         let omissions = file::omissions(text, &table, origin, overrides)?;
         let mut problem = Self::from_table(table, origin, overrides)?;
         problem.omissions = omissions;
@@ -401,7 +403,11 @@ pub(crate) fn names_a_folder(name: &str) -> bool {
 /// A parse error in the user's words: serde's type names replaced by the file's section names and
 /// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
 fn user_message(e: &toml::de::Error) -> String {
-    const NAMES: [(&str, &str); 16] = [
+    const NAMES: [(&str, &str); 20] = [
+        ("invalid type: unit variant, expected string only", "expected a name in quotes"),
+        ("struct TailSection", "the [cat.tail] section"),
+        ("struct LegsSection", "the [cat.legs] section"),
+        ("struct Cylinder", "a body's mass, length and radius"),
         (
             "data did not match any variant of untagged enum PerJoint",
             "expected a number (both joints) or a pair [joint 1, joint 2]",
@@ -422,7 +428,12 @@ fn user_message(e: &toml::de::Error) -> String {
         ("expected u64", "expected a whole number"),
         ("expected i64", "expected a whole number"),
     ];
-    NAMES.iter().fold(one_line(&e.to_string()), |m, (from, to)| m.replace(from, to))
+    let message = NAMES.iter().fold(one_line(&e.to_string()), |m, (from, to)| m.replace(from, to));
+    // One list of joints serves the halves and the tail; the halves' cannot be a hinge.
+    if message.ends_with("in `cat.joint`") {
+        return message.replace(", `hinge`", " (a hinge joins a tail only)");
+    }
+    message
 }
 
 /// The override(s) a parse error that the file alone does not have must come from: the one whose

@@ -156,6 +156,39 @@ pub fn check_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<(), R
     Ok(())
 }
 
+/// Whether `out/name` can take results, touching nothing: refuses a target that exists and is
+/// not a folder, a folder holding files catflip did not write, and an `out` under a file (the
+/// first existing ancestor must be a folder). A command that computes before it writes asks
+/// this first, so that a bad `--out` is said before the work, not after it;
+/// [`Staging::begin`] asks it again.
+pub fn check_target(out: &Path, name: &str) -> Result<(), ResultsDirError> {
+    let target = out.join(name);
+    if std::fs::symlink_metadata(&target).is_ok() && !target.is_dir() {
+        return Err(ResultsDirError::NotAFolder { path: target });
+    }
+    if target.is_dir() {
+        let files = owned::foreign_files(&target).map_err(|source| ResultsDirError::Io {
+            action: "read",
+            path: target.clone(),
+            source,
+        })?;
+        if !files.is_empty() {
+            return Err(ResultsDirError::Foreign { path: target, files });
+        }
+    }
+    if let Some(file) = out.ancestors().find(|a| std::fs::symlink_metadata(a).is_ok()).filter(|a| !a.is_dir()) {
+        return Err(ResultsDirError::Io {
+            action: "create the folder",
+            path: out.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::NotADirectory,
+                format!("{} is a file, not a folder", file.display()),
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// A results folder being written: see the module docs.
 #[derive(Debug)]
 pub struct Staging {
@@ -169,17 +202,9 @@ impl Staging {
     /// Cleans what killed runs left of `out/name` and creates the scratch folder. Refuses,
     /// before touching anything, when `out/name` exists and is not a folder.
     pub fn begin(out: &Path, name: &str) -> Result<Staging, ResultsDirError> {
+        check_target(out, name)?;
         let target = out.join(name);
-        if std::fs::symlink_metadata(&target).is_ok() && !target.is_dir() {
-            return Err(ResultsDirError::NotAFolder { path: target });
-        }
         let fail = |action, source| ResultsDirError::Io { action, path: target.clone(), source };
-        if target.is_dir() {
-            let files = owned::foreign_files(&target).map_err(|e| fail("read", e))?;
-            if !files.is_empty() {
-                return Err(ResultsDirError::Foreign { path: target, files });
-            }
-        }
         std::fs::create_dir_all(out).map_err(|source| ResultsDirError::Io {
             action: "create the folder",
             path: out.to_path_buf(),

@@ -133,11 +133,14 @@ pub fn run(sweep: &Sweep, options: &SweepOptions) -> Result<SweepOutcome, SweepE
     let total = sweep.case_count();
     match options.shard {
         None => {
+            // A bad `--out` is said before the cases run, not after.
+            crate::report::results_dir::check_target(&options.out, &sweep.name)?;
             let records = evaluate(sweep, 0..total, !options.quiet);
             output::write_results(sweep, &records, &options.command, &options.out)
         }
         Some(shard) => {
             shard.check(total)?;
+            crate::report::results_dir::check_target(&options.out, &shard.folder(&sweep.name))?;
             let range = shard.range(total);
             let records = evaluate(sweep, range.clone(), !options.quiet);
             output::write_part(sweep, shard, range, &records, &options.out)

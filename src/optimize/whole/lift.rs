@@ -259,8 +259,12 @@ fn after(
             if refined { "" } else { "; optimize.whole.max_iterations goes further" }
         );
     }
+    // Which of the universal joint's answers: the one on the uniform knots is not its row's
+    // (that one is refined where its torques switch, as every optimum is).
+    let knots =
+        if refined { "refined where its torques switch" } else { "on the uniform knots, before its refinement" };
     s.reason = format!(
-        "from the universal joint's {} ({}, {}), lifted onto the spherical joint: {reason}",
+        "from the universal joint's {} {knots} ({}, {}), lifted onto the spherical joint: {reason}",
         what(from),
         from.status,
         valued(objective, from.value(objective))

@@ -61,16 +61,54 @@ pub fn beyond_two_motors(
         return refuse("drop.angular_momentum", value, "for a release without spin only: set it to [0, 0, 0]");
     }
     match motors_beyond(motors) {
-        MotorsBeyond::Other => refuse(
-            "actuator",
-            "limits".into(),
-            "with ideal motors or one torque limit on every motor (actuator.torque_limit_nm alone, one number or a pair of equal numbers): remove the speed, envelope and power limits, or give one torque limit",
-        ),
+        MotorsBeyond::Other => {
+            let torque_only =
+                motors.joints.iter().all(|m| m.speed.is_none() && m.envelope.is_none() && m.power.is_none());
+            let (field, value, fix) = if torque_only {
+                let t = motors.joints.map(|m| m.torque.map_or("none".to_string(), |t| t.to_string()));
+                (
+                    "actuator.torque_limit_nm",
+                    format!("[{}, {}]", t[0], t[1]),
+                    "give every motor the same torque limit (one number)",
+                )
+            } else {
+                ("actuator", "limits".to_string(), "remove the speed, envelope and power limits")
+            };
+            refuse(
+                field,
+                value,
+                &format!("with ideal motors or one torque limit on every motor (actuator.torque_limit_nm alone, one number or a pair of equal numbers): {fix}"),
+            )
+        }
         MotorsBeyond::TorqueLimit(_) if objective == Objective::Energy => refuse(
             "optimize.whole.objective",
             "\"energy\"".into(),
             "within a torque limit for the objective \"peak\" or \"min-time\" only: use one of them, or remove actuator.torque_limit_nm",
         ),
         _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::motor::Motor;
+    use crate::model::{Cat, Cylinder, Joint};
+
+    /// Unequal torque limits are named as what they are (a QA run was told to remove speed,
+    /// envelope and power limits it never gave); other limits keep that advice.
+    #[test]
+    fn a_refused_limit_names_what_was_given() {
+        let cat = WholeCat::spherical(Cat::equal(Cylinder::default(), Joint::Spherical)).expect("three motors");
+        let torque = |t: f64| Motor { torque: Some(t), ..Motor::default() };
+        let unequal = Motors { joints: [torque(0.5), torque(0.1)] };
+        let e = beyond_two_motors(&cat, Objective::Peak, &unequal, &Vector3::zeros()).expect_err("refused").to_string();
+        assert!(e.contains("actuator.torque_limit_nm") && e.contains("the same torque limit"), "{e}");
+        assert!(!e.contains("speed"), "{e}");
+        let speed = Motors { joints: [Motor { speed: Some(6.0), ..torque(0.5) }, torque(0.5)] };
+        let e = beyond_two_motors(&cat, Objective::Peak, &speed, &Vector3::zeros()).expect_err("refused").to_string();
+        assert!(e.contains("remove the speed, envelope and power limits"), "{e}");
+        let equal = Motors { joints: [torque(0.5), torque(0.5)] };
+        assert!(beyond_two_motors(&cat, Objective::Peak, &equal, &Vector3::zeros()).is_ok());
     }
 }

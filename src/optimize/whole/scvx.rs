@@ -337,7 +337,7 @@ impl ScvxProblem<'_> {
                     return end(
                         it,
                         WholeStatus::Converged,
-                        format!("predicted decrease {predicted:.1e} below optimality {optimality:.0e}"),
+                        format!("predicted decrease {predicted:.1e}, within the optimality tolerance {optimality:.0e}"),
                     );
                 }
                 if penalty < 1e6 * s.penalty {

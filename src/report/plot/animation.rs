@@ -385,14 +385,14 @@ impl Scene {
         match (self.leg_rods, &pose.legs) {
             // The model's legs (rods of their own): drawn as the halves are, in their halves' colours.
             (Some([front_size, hind_size]), Some([front, hind])) => {
-                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &[], &mut out);
-                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &[], &mut out);
-                self.cylinder(front, front_size, A_FILL, A_EDGE, &[], &mut out);
-                self.cylinder(hind, hind_size, B_FILL, B_EDGE, &[], &mut out);
+                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, Some(&[]), &mut out);
+                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, Some(&[]), &mut out);
+                self.cylinder(front, front_size, A_FILL, A_EDGE, None, &mut out);
+                self.cylinder(hind, hind_size, B_FILL, B_EDGE, None, &mut out);
             }
             _ => {
-                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, &self.legs[0], &mut out);
-                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, &self.legs[1], &mut out);
+                self.cylinder(&pose.a, self.sizes[0], A_FILL, A_EDGE, Some(&self.legs[0]), &mut out);
+                self.cylinder(&pose.b, self.sizes[1], B_FILL, B_EDGE, Some(&self.legs[1]), &mut out);
             }
         }
         let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
@@ -412,7 +412,7 @@ impl Scene {
         });
         match (self.tail, &pose.tail) {
             // A real tail (a rod of the model): drawn as the halves are, without legs.
-            (Some(size), Some(tail)) => self.cylinder(tail, size, B_FILL, B_EDGE, &[], &mut out),
+            (Some(size), Some(tail)) => self.cylinder(tail, size, B_FILL, B_EDGE, None, &mut out),
             // Otherwise a drawn one from B's rear end, curling up to its back.
             _ => {
                 let tail = (0..=12).map(|k| {
@@ -437,17 +437,19 @@ impl Scene {
         out
     }
 
-    /// One half: silhouette, axis, visible outline, belly stripe and its two legs (a tail: no
-    /// legs, no stripe).
+    /// One half: silhouette, axis, visible outline, belly stripe and its two drawn legs (`belly`
+    /// none: a rod of the model, a tail or a pair of legs, without stripe or drawn legs; a half
+    /// whose legs are rods of their own has the stripe and no drawn legs).
     fn cylinder(
         &self,
         body: &BodyPose,
         (h, r): (f64, f64),
         fill: RGBColor,
         edge: RGBColor,
-        legs: &[Leg],
+        belly: Option<&[Leg]>,
         out: &mut Vec<Layered>,
     ) {
+        let (belly_drawn, legs) = (belly.is_some(), belly.unwrap_or_default());
         let cam = &self.camera;
         let depth = cam.depth(&body.centre);
         let push = |out: &mut Vec<Layered>, layer, mark| out.push(Layered { depth, layer, mark });
@@ -498,7 +500,7 @@ impl Scene {
             }
         }
         let belly = body.rotation * Vector3::y();
-        if cam.faces(&belly) && !legs.is_empty() {
+        if cam.faces(&belly) && belly_drawn {
             push(
                 out,
                 FEATURE,

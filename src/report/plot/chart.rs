@@ -294,7 +294,7 @@ impl Figure for Prepared<'_> {
             );
             chart.draw_series(std::iter::once(label)).map_err(failed)?;
         }
-        for (i, runs) in self.runs.iter().enumerate() {
+        for (runs, i) in self.runs.iter().zip(self.slots()) {
             let style = colour(i).stroke_width(2);
             for run in runs {
                 if dashed(i) {
@@ -307,7 +307,14 @@ impl Figure for Prepared<'_> {
                 }
             }
         }
-        draw_legend(&legend, &self.labels, plot.markers)
+        draw_legend(&legend, &self.labels, &self.slots().collect::<Vec<_>>(), plot.markers)
+    }
+}
+
+impl Prepared<'_> {
+    /// Each series' place in the palette ([`super::Series::slot`]).
+    fn slots(&self) -> impl Iterator<Item = usize> + '_ {
+        self.plot.series.iter().enumerate().map(|(i, s)| s.slot.unwrap_or(i))
     }
 }
 
@@ -316,11 +323,12 @@ impl Figure for Prepared<'_> {
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     labels: &[Label],
+    slots: &[usize],
     markers: bool,
 ) -> Result<(), String> {
     let (row, note_row) = (26, 17);
     let mut y = 30;
-    for (i, label) in labels.iter().enumerate() {
+    for (label, &i) in labels.iter().zip(slots) {
         let style = colour(i).stroke_width(3);
         if dashed(i) {
             for x in [4, 20] {

@@ -111,17 +111,25 @@ pub struct Series {
     pub name: String,
     /// The points; non-finite ones are skipped (and break the line there).
     pub points: Vec<(f64, f64)>,
+    /// Its place in the palette (colour, and dashed on the palette's second pass), so that one
+    /// thing keeps one look across plots; none: its position among the series.
+    pub slot: Option<usize>,
 }
 
 impl Series {
     /// A series from a name and its points.
     pub fn new(name: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Self { name: name.into(), points }
+        Self { name: name.into(), points, slot: None }
+    }
+
+    /// The series drawn in the palette's place `slot` ([`Series::slot`]).
+    pub fn in_slot(self, slot: usize) -> Self {
+        Self { slot: Some(slot), ..self }
     }
 }
 
 impl From<(String, Vec<(f64, f64)>)> for Series {
     fn from((name, points): (String, Vec<(f64, f64)>)) -> Self {
-        Self { name, points }
+        Self::new(name, points)
     }
 }
