@@ -367,6 +367,7 @@ fn run() -> anyhow::Result<()> {
                 // The rate against this fall.
                 export.validate(problem.drop.fall_time()).map_err(|e| named(path, &e))?;
                 resolved.push(Resolved::new(problem).map_err(|e| named(path, &e))?);
+                check_target(&out, &problem.name).map_err(|e| named(path, &e))?;
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;

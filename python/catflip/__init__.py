@@ -128,8 +128,8 @@ def compare_models(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
     """``catflip compare-models --json``: the whole-manoeuvre optimum of each cat model (the
     problem's halves, and their mean half when they differ, on the universal, the no-twist and
     the spherical joint; with ``[cat.tail]`` the problem's cat with its tail) on the problem's
-    fall: ``["rows"]``, one record per model (``optimum`` is ``None``
-    and ``status`` says why when a model has none), ``["cheapest"]`` the key of the cheapest
+    fall: ``["rows"]``, one record per model (``optimum`` is ``None`` when a model has none, its
+    ``status`` then ``"no-optimum"`` or ``"not-run"`` and ``reason`` says why), ``["cheapest"]`` the key of the cheapest
     model (``None`` without any optimum); with ``verify`` each optimum's rapier verification."""
     return _report(_catflip.compare_models(problem, verify))
 

@@ -258,7 +258,7 @@ pub struct ModelRow {
     /// The optimum, when one flips the cat.
     pub optimum: Option<OptimumFigures>,
     /// The problem's library schedule on this model (absent when its circulation cannot be
-    /// resolved on this model; `status` says why).
+    /// resolved on this model; `reason` says why).
     pub schedule: Option<ScheduleFigures>,
     /// Rapier's verification of the optimum (`--verify` only).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -37,8 +37,11 @@ fn palette_slot(key: &str) -> usize {
     } else {
         usize::from(model.ends_with("-tail"))
     };
-    // Ten colours a pass (`style::PALETTE`); the second pass is dashed.
-    (3 * appendages + joint) % 10 + if unequal { 10 } else { 0 }
+    // The joints take 0–2; a tail, legs or both on the universal or no-twist joint (the halves'
+    // joints that take appendages) 3–8. Ten colours a pass (`style::PALETTE`); the second pass is
+    // dashed.
+    let colour = if appendages == 0 { joint } else { 1 + 2 * appendages + joint.min(1) };
+    colour + if unequal { 10 } else { 0 }
 }
 
 impl ModelComparison {
@@ -334,7 +337,17 @@ mod tests {
     /// one bend plot and purple in another): the slot follows the model, not its row.
     #[test]
     fn a_model_keeps_its_colour_across_comparisons() {
-        let keys = ["universal", "no-twist", "spherical", "no-twist-tail", "no-twist-legs", "universal-tail"];
+        let keys = [
+            "universal",
+            "no-twist",
+            "spherical",
+            "universal-tail",
+            "no-twist-tail",
+            "universal-legs",
+            "no-twist-legs",
+            "universal-tail-legs",
+            "no-twist-tail-legs",
+        ];
         let slots: Vec<usize> = keys.iter().map(|k| palette_slot(k)).collect();
         let mut distinct = slots.clone();
         distinct.sort_unstable();

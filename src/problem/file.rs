@@ -63,14 +63,22 @@ pub(crate) fn omissions(
     if table.contains_key("drop") && !has("drop", "height") {
         out.push(format!("the file gives no drop.height: the default {} m is used", Drop::default().height));
     }
-    for section in empty_sections(table, "") {
+    // An empty `[actuator]` says ideal motors (and is how catflip writes a problem without
+    // limits); any other section is empty only by accident.
+    for section in empty_sections(table, "").into_iter().filter(|s| s != "actuator") {
         if !overridden(overrides, &section) {
             out.push(format!(
                 "the file's [{section}] section holds no field: was the file cut short? (every field of it takes its default)"
             ));
         }
     }
-    out.extend(halves(table, overrides));
+    // The halves as the overrides leave them (one can give a whole section, `cat={…}`); an
+    // override that cannot apply is refused later, naming itself.
+    let mut merged = table.clone();
+    for assignment in overrides {
+        let _ = super::overrides::apply(&mut merged, assignment);
+    }
+    out.extend(halves(&merged, table.contains_key("cat") || overridden(overrides, "cat")));
     if !text.is_empty() && !text.ends_with('\n') {
         out.push(
             "the file does not end with a line break: was it cut short? (every field it leaves out takes its default)"
@@ -96,32 +104,32 @@ fn empty_sections(table: &toml::Table, prefix: &str) -> Vec<String> {
     out
 }
 
-/// The halves' numbers the file leaves to the defaults, or gives where no half uses them: with
-/// a `[cat]` section or an override inside it (the section's absence alone is warned of on its
-/// own), each of `mass`, `length` and
-/// `radius` that `[cat]` does not give but a half without its own takes from the default, and
-/// each that `[cat]` gives but both `[cat.front]` and `[cat.rear]` give their own of.
-fn halves(table: &toml::Table, overrides: &[String]) -> Vec<String> {
+/// The halves' numbers the file leaves to the defaults, or gives where no half uses them, in
+/// `table` (the file's with the overrides applied) when it has a `[cat]` section or an override
+/// inside one (`with_cat`; the section's absence alone is warned of on its own): each of `mass`,
+/// `length` and `radius` that `[cat]` does not give but a half without its own takes from the
+/// default, and each that `[cat]` gives, other than the default, but both `[cat.front]` and
+/// `[cat.rear]` give their own of (a problem catflip writes back gives every `[cat]` number, the
+/// defaults included, so those are not warned of).
+fn halves(table: &toml::Table, with_cat: bool) -> Vec<String> {
     let none = toml::Table::new();
     let cat = match table.get("cat").and_then(|c| c.as_table()) {
         Some(cat) => cat,
-        // Without the section but with overrides inside it (`--set cat.front.mass=…`), whose
-        // section warning is then left out.
-        None if overridden(overrides, "cat") => &none,
+        None if with_cat => &none,
         None => return Vec::new(),
     };
-    let gives = |section: &str, key: &str| {
-        let own = if section == "cat" { Some(cat) } else { cat.get(&section[4..]).and_then(|h| h.as_table()) };
-        own.is_some_and(|t| t.contains_key(key)) || overridden(overrides, &format!("{section}.{key}"))
-    };
+    let half = |name: &str| cat.get(name).and_then(|h| h.as_table());
+    let gives = |t: Option<&toml::Table>, key: &str| t.is_some_and(|t| t.contains_key(key));
     let default = crate::model::Cylinder::default();
     let mut out = Vec::new();
     for (key, value) in [("mass", default.mass), ("length", default.length), ("radius", default.radius)] {
-        let takers: Vec<&str> = ["cat.front", "cat.rear"].into_iter().filter(|h| !gives(h, key)).collect();
-        if !gives("cat", key) && !takers.is_empty() {
-            let who = if takers.len() == 2 { "both halves take".to_string() } else { format!("{} takes", takers[0]) };
+        let takers: Vec<&str> = ["front", "rear"].into_iter().filter(|h| !gives(half(h), key)).collect();
+        let given = cat.get(key).and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+        if !gives(Some(cat), key) && !takers.is_empty() {
+            let who =
+                if takers.len() == 2 { "both halves take".to_string() } else { format!("cat.{} takes", takers[0]) };
             out.push(format!("the file gives no cat.{key}: {who} the default {value}"));
-        } else if gives("cat", key) && takers.is_empty() {
+        } else if given.is_some_and(|g| g.to_bits() != value.to_bits()) && takers.is_empty() {
             out.push(format!(
                 "cat.{key} is used by neither half: [cat.front] and [cat.rear] both give their own {key}"
             ));

@@ -401,7 +401,7 @@ pub(crate) fn names_a_folder(name: &str) -> bool {
 }
 
 /// A parse error in the user's words: serde's type names replaced by the file's section names and
-/// plain descriptions (`expected struct Cylinder` reads `expected the [cat] section`).
+/// plain descriptions (`expected struct CatSection` reads `expected the [cat] section`).
 fn user_message(e: &toml::de::Error) -> String {
     const NAMES: [(&str, &str); 20] = [
         ("invalid type: unit variant, expected string only", "expected a name in quotes"),

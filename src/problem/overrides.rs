@@ -40,13 +40,15 @@ pub(super) fn apply(table: &mut toml::Table, assignment: &str) -> Result<(), Pro
 /// library applies overrides in order, the last winning (a stress test varies a value by
 /// appending one); a problem the user wrote asks this first.
 pub(super) fn refuse_repeats(overrides: &[String]) -> Result<(), ProblemError> {
-    let mut seen = std::collections::HashMap::new();
-    for assignment in overrides {
-        let key = assignment.split_once('=').map_or(assignment.as_str(), |(k, _)| k).trim();
-        if let Some(first) = seen.insert(key, assignment) {
+    let key = |a: &str| a.split_once('=').map_or(a, |(k, _)| k).trim().to_string();
+    for (i, later) in overrides.iter().enumerate() {
+        let k = key(later);
+        // The same key, or one inside a section another sets whole (`cat.front={…}`).
+        let inside = |a: &str, b: &str| a == b || a.starts_with(&format!("{b}."));
+        if let Some(first) = overrides[..i].iter().find(|f| inside(&k, &key(f)) || inside(&key(f), &k)) {
             return Err(ProblemError::BadOverride {
-                assignment: assignment.to_string(),
-                reason: format!("{key} is set twice (first by --set {first}): give it once"),
+                assignment: later.to_string(),
+                reason: format!("{k} is set twice (first by --set {first}): give it once"),
             });
         }
     }

@@ -65,7 +65,7 @@ pub fn beyond_two_motors(
             let torque_only =
                 motors.joints.iter().all(|m| m.speed.is_none() && m.envelope.is_none() && m.power.is_none());
             let (field, value, fix) = if torque_only {
-                let t = motors.joints.map(|m| m.torque.map_or("none".to_string(), |t| t.to_string()));
+                let t = motors.joints.map(|m| m.torque.map_or("none".to_string(), crate::numeric::numfmt::echo));
                 (
                     "actuator.torque_limit_nm",
                     format!("[{}, {}]", t[0], t[1]),
