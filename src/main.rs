@@ -9,6 +9,7 @@ use clap::{Args, Parser, Subcommand};
 use catflip::engines::resolved::Resolved;
 use catflip::engines::Engine;
 use catflip::problem::Problem;
+use catflip::report::results_dir::check_target;
 
 #[derive(Parser)]
 #[command(name = "catflip", version, about = "Plan and check how a falling cat turns itself over")]
@@ -175,12 +176,6 @@ fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
         eprintln!("warning: {w}");
     }
     Ok(problem)
-}
-
-/// Refuses a `--out` that cannot take the folder `name` before anything is computed
-/// ([`catflip::report::results_dir::check_target`]).
-fn check_target(out: &Path, name: &str) -> anyhow::Result<()> {
-    catflip::report::results_dir::check_target(out, name).map_err(anyhow::Error::from)
 }
 
 /// Resolves `problem` (its circulation, calibrated if asked) and prints what the resolution

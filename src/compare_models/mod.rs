@@ -110,7 +110,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
     for (prefix, halves_label, section) in halves {
         for joint in [Joint::Universal, Joint::NoTwist] {
             let mut p = problem.clone();
-            p.cat = CatSection { joint, tail: None, legs: None, ..section };
+            p.cat = CatSection { joint, ..section.halves_only() };
             if joint == Joint::NoTwist && p.manoeuvre.bend_path == BendPath::Cone {
                 p.manoeuvre.bend_path = BendPath::JointCircle;
             }
@@ -293,6 +293,11 @@ impl ModelRow {
     /// Whether its optimum's number is an upper bound ([`WholeStatus::UpperBound`]).
     pub fn is_upper_bound(&self) -> bool {
         self.optimum.is_some() && self.status == WholeStatus::UpperBound.to_string()
+    }
+
+    /// Whether the row is the problem's own unequal halves (keyed `unequal-…`, [`variants`]).
+    pub fn has_unequal_halves(&self) -> bool {
+        self.key.starts_with("unequal-")
     }
 
     /// The row of a model that cannot be planned here, and why.

@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::{ModelComparison, ModelRow};
+use crate::model::Joint;
 use crate::optimize::whole::spline::SplineShape;
 use crate::optimize::whole::{motors_beyond, MotorsBeyond, Objective, WholeStatus};
 use crate::report::plot::{flip_filmstrip, line_plot, tree_filmstrip, LinePlot, Series};
@@ -21,27 +22,26 @@ fn shown(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "—".into(), |v| format!("{v:.digits$}"))
 }
 
-/// A model's place in the plots' palette, the same in every comparison: its joint (universal,
-/// no-twist, spherical) and appendages (none, a tail, legs, both) choose the colour, and the
-/// problem's own unequal halves are drawn dashed beside the mean half's solid line.
-fn palette_slot(key: &str) -> usize {
-    let (unequal, model) = match key.strip_prefix("unequal-") {
-        Some(rest) => (true, rest),
-        None => (false, key.strip_prefix("mean-").unwrap_or(key)),
+/// A model's place in the plots' palette, the same in every comparison: the halves' joint and
+/// whether it has a tail or legs choose the colour, and the problem's own unequal halves are drawn
+/// dashed beside the mean half's solid line.
+fn palette_slot(joint: Joint, tail: bool, legs: bool, unequal: bool) -> usize {
+    let joint = match joint {
+        Joint::Universal => 0,
+        Joint::NoTwist => 1,
+        _ => 2,
     };
-    let joint = ["universal", "no-twist", "spherical"].iter().position(|j| model.starts_with(j)).unwrap_or(0);
-    let appendages = if model.ends_with("-tail-legs") {
-        3
-    } else if model.ends_with("-legs") {
-        2
-    } else {
-        usize::from(model.ends_with("-tail"))
-    };
+    let appendages = usize::from(tail) + 2 * usize::from(legs);
     // The joints take 0–2; a tail, legs or both on the universal or no-twist joint (the halves'
     // joints that take appendages) 3–8. Ten colours a pass (`style::PALETTE`); the second pass is
     // dashed.
     let colour = if appendages == 0 { joint } else { 1 + 2 * appendages + joint.min(1) };
     colour + if unequal { 10 } else { 0 }
+}
+
+/// [`palette_slot`] of a row.
+fn row_slot(r: &ModelRow) -> usize {
+    palette_slot(r.joint, r.problem.cat.tail.is_some(), r.problem.cat.legs.is_some(), r.has_unequal_halves())
 }
 
 impl ModelComparison {
@@ -247,7 +247,7 @@ impl ModelComparison {
         let rows = self.rows.iter().map(|r| {
             let o = r.optimum.as_ref();
             let f = r.schedule.as_ref();
-            let halves = if r.key.starts_with("unequal-") { "unequal" } else { "equal" };
+            let halves = if r.has_unequal_halves() { "unequal" } else { "equal" };
             vec![
                 self.problem.clone(),
                 r.key.clone(),
@@ -280,7 +280,7 @@ impl ModelComparison {
             .rows
             .iter()
             .filter(|r| !r.bend.is_empty())
-            .map(|r| Series::new(r.key.clone(), r.bend.clone()).in_slot(palette_slot(&r.key)))
+            .map(|r| Series::new(r.key.clone(), r.bend.clone()).in_slot(row_slot(r)))
             .collect();
         LinePlot::new(
             "models_bend",
@@ -331,33 +331,27 @@ impl ModelComparison {
 
 #[cfg(test)]
 mod tests {
-    use super::palette_slot;
+    use super::{palette_slot, Joint};
 
     /// One model keeps one look in every comparison (a reader found the no-twist joint orange in
-    /// one bend plot and purple in another): the slot follows the model, not its row.
+    /// one bend plot and purple in another): the slot follows the model, not its row; the
+    /// problem's own unequal halves take the same colour, dashed (the palette's second pass).
     #[test]
     fn a_model_keeps_its_colour_across_comparisons() {
-        let keys = [
-            "universal",
-            "no-twist",
-            "spherical",
-            "universal-tail",
-            "no-twist-tail",
-            "universal-legs",
-            "no-twist-legs",
-            "universal-tail-legs",
-            "no-twist-tail-legs",
-        ];
-        let slots: Vec<usize> = keys.iter().map(|k| palette_slot(k)).collect();
+        let mut models = vec![(Joint::Spherical, false, false)];
+        for joint in [Joint::Universal, Joint::NoTwist] {
+            for (tail, legs) in [(false, false), (true, false), (false, true), (true, true)] {
+                models.push((joint, tail, legs));
+            }
+        }
+        let slots: Vec<usize> = models.iter().map(|&(j, t, l)| palette_slot(j, t, l, false)).collect();
         let mut distinct = slots.clone();
         distinct.sort_unstable();
         distinct.dedup();
-        assert_eq!(distinct.len(), keys.len(), "{slots:?}");
-        for k in keys {
-            // The mean half's model looks as the equal halves' does; the problem's own halves
-            // take the same colour, dashed (the palette's second pass).
-            assert_eq!(palette_slot(&format!("mean-{k}")), palette_slot(k));
-            assert_eq!(palette_slot(&format!("unequal-{k}")), palette_slot(k) + 10);
+        assert_eq!(distinct.len(), models.len(), "{slots:?}");
+        assert!(slots.iter().all(|&s| s < 10), "{slots:?}: one pass of the palette, solid");
+        for &(j, t, l) in &models {
+            assert_eq!(palette_slot(j, t, l, true), palette_slot(j, t, l, false) + 10);
         }
     }
 }

@@ -24,7 +24,6 @@ use crate::model::{Cat, Joint};
 use crate::numeric::roots::RootStatus;
 use crate::optimize::whole::spline::SplineShape;
 use crate::optimize::whole::{optimize_whole, BSpline, WholeCat, WholeError};
-use crate::problem::cat::CatSection;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::{Problem, ProblemError};
 
@@ -61,9 +60,7 @@ pub fn compare_models(problem: &Problem, verify: bool, command: &str) -> Result<
     // The problem's own halves take its schedule, as every command's must: a circulation they do
     // not define (the paper's C on unequal halves) is refused, as `simulate` refuses it, not made
     // into rows that were not run beside the models that could.
-    let mut halves = problem.clone();
-    (halves.cat.tail, halves.cat.legs) = (None, None);
-    Resolved::new(&halves)?;
+    Resolved::new(&Problem { cat: problem.cat.halves_only(), ..problem.clone() })?;
     let rows = variants(problem)?.into_par_iter().map(|v| row(v, verify)).collect::<Result<Vec<_>, _>>()?;
     let objective = problem.optimize.whole.objective;
     let cheapest = rows
@@ -139,9 +136,9 @@ fn row(v: Variant, verify: bool) -> Result<ModelRow, CompareModelsError> {
     if verify {
         report.verify(&r)?;
     }
-    row.status = report.status.clone();
-    if report.best().is_none() {
-        row.no_optimum(report.status.clone());
+    match report.best() {
+        Some(_) => row.status = report.status.clone(),
+        None => row.no_optimum(report.status.clone()),
     }
     if let (Some(b), Some(m)) = (report.best(), report.measured.as_ref()) {
         let e = &m.exact;
@@ -238,7 +235,7 @@ const HELD_SAMPLES: usize = 4000;
 /// move the flip), from the halves' own. `None` (the table's "—") when the schedule's
 /// circulation cannot be resolved on the cat's two-motor halves, or a calibrated one on the tree.
 fn held_schedule(p: &Problem, cat: &WholeCat, tree: &Tree) -> Option<ScheduleFigures> {
-    let halves = Problem { cat: CatSection { tail: None, legs: None, ..p.cat }, ..p.clone() };
+    let halves = Problem { cat: p.cat.halves_only(), ..p.clone() };
     let mut schedule = Resolved::new(&halves).ok()?.schedule;
     let zero = Vector3::zeros();
     if p.manoeuvre.circulation == Circulation::Calibrated && matches!(cat, WholeCat::Appended(_)) {

@@ -93,7 +93,12 @@ pub struct Usage {
 impl Motor {
     /// Whether the motor has no limit.
     pub fn is_ideal(&self) -> bool {
-        self.torque.is_none() && self.speed.is_none() && self.envelope.is_none() && self.power.is_none()
+        self.torque.is_none() && self.torque_only()
+    }
+
+    /// Whether the motor has no limit but (perhaps) a torque limit.
+    pub fn torque_only(&self) -> bool {
+        self.speed.is_none() && self.envelope.is_none() && self.power.is_none()
     }
 
     /// The usage ratio `ρ` of each limit at torque `tau` (N·m) and speed `rate` (rad/s).
@@ -202,9 +207,8 @@ pub fn motors_beyond(motors: &Motors) -> MotorsBeyond {
         return MotorsBeyond::Ideal;
     }
     let [a, b] = motors.joints;
-    let torque_only = |m: Motor| m.speed.is_none() && m.envelope.is_none() && m.power.is_none();
     match (a.torque, b.torque) {
-        (Some(x), Some(y)) if x.total_cmp(&y).is_eq() && torque_only(a) && torque_only(b) => {
+        (Some(x), Some(y)) if x.total_cmp(&y).is_eq() && a.torque_only() && b.torque_only() => {
             MotorsBeyond::TorqueLimit(x)
         }
         _ => MotorsBeyond::Other,

@@ -220,6 +220,11 @@ impl CatSection {
         Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.pairs()) }
     }
 
+    /// The two halves alone: this section without its tail and legs.
+    pub fn halves_only(self) -> CatSection {
+        CatSection { tail: None, legs: None, ..self }
+    }
+
     /// The first appendage section present, `(field, as written)`, for refusals.
     pub fn appendage(&self) -> Option<(&'static str, String)> {
         self.tail.map(|t| ("cat.tail", t.shown())).or_else(|| self.legs.map(|l| ("cat.legs", l.shown())))
@@ -268,16 +273,14 @@ impl CatSection {
     /// None for equal halves.
     pub fn unequal_halves(&self) -> Option<(String, String)> {
         let (front, rear) = (self.front(), self.rear());
-        let differ = |a: f64, b: f64| a.to_bits() != b.to_bits();
-        let own = |h: Option<HalfSection>| h.unwrap_or_default();
-        let (f, r) = (own(self.front), own(self.rear));
+        let r = self.rear.unwrap_or_default();
         let keys = [
-            ("mass", front.mass, rear.mass, f.mass.is_some(), r.mass.is_some()),
-            ("length", front.length, rear.length, f.length.is_some(), r.length.is_some()),
-            ("radius", front.radius, rear.radius, f.radius.is_some(), r.radius.is_some()),
+            ("mass", front.mass, rear.mass, r.mass.is_some()),
+            ("length", front.length, rear.length, r.length.is_some()),
+            ("radius", front.radius, rear.radius, r.radius.is_some()),
         ];
-        let (key, a, b, _, in_rear) = keys.into_iter().find(|k| differ(k.1, k.2))?;
-        // A number differs only where a half's own section writes it.
+        let (key, a, b, in_rear) = keys.into_iter().find(|k| k.1.to_bits() != k.2.to_bits())?;
+        // A number differs only where a half's own section writes it: the rear's, else the front's.
         let (half, value) = if in_rear { ("cat.rear", b) } else { ("cat.front", a) };
         Some((format!("{half}.{key}"), echo(value)))
     }

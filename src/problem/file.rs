@@ -78,7 +78,7 @@ pub(crate) fn omissions(
     for assignment in overrides {
         let _ = super::overrides::apply(&mut merged, assignment);
     }
-    out.extend(halves(&merged, table.contains_key("cat") || overridden(overrides, "cat")));
+    out.extend(halves(&merged));
     if !text.is_empty() && !text.ends_with('\n') {
         out.push(
             "the file does not end with a line break: was it cut short? (every field it leaves out takes its default)"
@@ -105,19 +105,14 @@ fn empty_sections(table: &toml::Table, prefix: &str) -> Vec<String> {
 }
 
 /// The halves' numbers the file leaves to the defaults, or gives where no half uses them, in
-/// `table` (the file's with the overrides applied) when it has a `[cat]` section or an override
-/// inside one (`with_cat`; the section's absence alone is warned of on its own): each of `mass`,
+/// `table` (the file's with the overrides applied) when it has a `[cat]` section (given by the
+/// file or by an override inside it; the section's absence alone is warned of on its own): each of `mass`,
 /// `length` and `radius` that `[cat]` does not give but a half without its own takes from the
 /// default, and each that `[cat]` gives, other than the default, but both `[cat.front]` and
 /// `[cat.rear]` give their own of (a problem catflip writes back gives every `[cat]` number, the
 /// defaults included, so those are not warned of).
-fn halves(table: &toml::Table, with_cat: bool) -> Vec<String> {
-    let none = toml::Table::new();
-    let cat = match table.get("cat").and_then(|c| c.as_table()) {
-        Some(cat) => cat,
-        None if with_cat => &none,
-        None => return Vec::new(),
-    };
+fn halves(table: &toml::Table) -> Vec<String> {
+    let Some(cat) = table.get("cat").and_then(|c| c.as_table()) else { return Vec::new() };
     let half = |name: &str| cat.get(name).and_then(|h| h.as_table());
     let gives = |t: Option<&toml::Table>, key: &str| t.is_some_and(|t| t.contains_key(key));
     let default = crate::model::Cylinder::default();

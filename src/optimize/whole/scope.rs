@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use super::cat::WholeCat;
 use super::settings::{Objective, WholeError, WholeSettings};
-use crate::model::motor::{motors_beyond, Motors, MotorsBeyond};
+use crate::model::motor::{motors_beyond, Motor, Motors, MotorsBeyond};
 
 /// Refuses what the optimiser does not plan with spin: motor limits and the least fall time.
 /// The least fall time slows a path (`q(t/k)`), which with spin changes the flip itself, and the
@@ -62,9 +62,7 @@ pub fn beyond_two_motors(
     }
     match motors_beyond(motors) {
         MotorsBeyond::Other => {
-            let torque_only =
-                motors.joints.iter().all(|m| m.speed.is_none() && m.envelope.is_none() && m.power.is_none());
-            let (field, value, fix) = if torque_only {
+            let (field, value, fix) = if motors.joints.iter().all(Motor::torque_only) {
                 let t = motors.joints.map(|m| m.torque.map_or("none".to_string(), crate::numeric::numfmt::echo));
                 (
                     "actuator.torque_limit_nm",
@@ -92,7 +90,6 @@ pub fn beyond_two_motors(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::motor::Motor;
     use crate::model::{Cat, Cylinder, Joint};
 
     /// Unequal torque limits are named as what they are (a QA run was told to remove speed,

@@ -437,19 +437,19 @@ impl Scene {
         out
     }
 
-    /// One half: silhouette, axis, visible outline, belly stripe and its two drawn legs (`belly`
-    /// none: a rod of the model, a tail or a pair of legs, without stripe or drawn legs; a half
-    /// whose legs are rods of their own has the stripe and no drawn legs).
+    /// One body: silhouette, axis, visible outline, and for a half (`half`: its drawn legs) the
+    /// belly stripe and those legs (none for a half whose legs are rods of their own); a rod of
+    /// the model (a tail, a pair of legs: `half` none) has neither.
     fn cylinder(
         &self,
         body: &BodyPose,
         (h, r): (f64, f64),
         fill: RGBColor,
         edge: RGBColor,
-        belly: Option<&[Leg]>,
+        half: Option<&[Leg]>,
         out: &mut Vec<Layered>,
     ) {
-        let (belly_drawn, legs) = (belly.is_some(), belly.unwrap_or_default());
+        let legs = half.unwrap_or_default();
         let cam = &self.camera;
         let depth = cam.depth(&body.centre);
         let push = |out: &mut Vec<Layered>, layer, mark| out.push(Layered { depth, layer, mark });
@@ -500,7 +500,7 @@ impl Scene {
             }
         }
         let belly = body.rotation * Vector3::y();
-        if cam.faces(&belly) && belly_drawn {
+        if cam.faces(&belly) && half.is_some() {
             push(
                 out,
                 FEATURE,
