@@ -82,8 +82,8 @@ enum Command {
         /// Also verify each optimum in rapier (its verdict against the exact engine).
         #[arg(long)]
         verify: bool,
-        /// Also write models.{md,csv,json}, the torque plot and a filmstrip per optimum into
-        /// <out>/<name>-models/.
+        /// Also write models.{md,csv,json}, the bend plot (models_bend.{png,svg}) and a filmstrip
+        /// per optimum into <out>/<name>-models/.
         #[arg(long)]
         out: Option<PathBuf>,
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
@@ -327,6 +327,11 @@ fn run() -> anyhow::Result<()> {
                 spinner.finish_and_clear();
                 write_whole(out, &r, &check.report, &check, &check.to_markdown(), &command)?;
                 emit(common.json, &check, || check.to_markdown())?;
+                if check.rapier.as_ref().is_some_and(|v| v.runs.is_empty()) {
+                    anyhow::bail!(
+                        "optimize --whole --verify: rapier has no result for the optimum (inconclusive: no usable run; the verification says why)"
+                    );
+                }
             } else {
                 write_whole(out, &r, &report, &report, &report.to_markdown(), &command)?;
                 emit(common.json, &report, || report.to_markdown())?;
@@ -366,6 +371,9 @@ fn run() -> anyhow::Result<()> {
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;
+            // Folders written, and schedules rapier could not verify, for the errors below.
+            let mut written: Vec<String> = Vec::new();
+            let mut without_result: Vec<String> = Vec::new();
             for ((path, problem), r) in loaded.into_iter().zip(resolved) {
                 let coarse = export.coarse(&problem);
                 for w in problem.warnings().into_iter().chain(coarse) {
@@ -378,13 +386,30 @@ fn run() -> anyhow::Result<()> {
                     regenerate(format!("cargo run --release -- run {}{rate_arg}", path.display()), &overrides);
                 let spinner =
                     progress(quiet, format!("run {}: audit, optimisers, rapier verification, plots", problem.name));
-                let outcome = catflip::report::run::run_with(&r, &command, &out, &export)?;
+                let outcome = catflip::report::run::run_with(&r, &command, &out, &export).map_err(|e| {
+                    let before = if written.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (written before it, complete: {})", written.join(", "))
+                    };
+                    anyhow::Error::new(e).context(format!("{}{before}", path.display()))
+                })?;
                 spinner.finish_and_clear();
+                written.push(outcome.dir.display().to_string());
+                if outcome.without_result > 0 {
+                    without_result.push(format!("{} ({} schedules)", problem.name, outcome.without_result));
+                }
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
                 if timings {
                     eprint!("{}", catflip::report::run::timings_table(&outcome.stages, outcome.total_s));
                 }
+            }
+            if !without_result.is_empty() {
+                anyhow::bail!(
+                    "run: rapier has no result (inconclusive: no usable run) in {}; each verification says why in verification.md",
+                    without_result.join(" and ")
+                );
             }
         }
         Command::Bench { problem, overrides, out, json } => {
@@ -401,6 +426,7 @@ fn run() -> anyhow::Result<()> {
             }
         }
         Command::Sweep { sweep, merge, out, shard, quiet, json } => {
+            let whole = shard.is_none();
             let outcome = match sweep {
                 Some(path) => {
                     let command = format!("cargo run --release -- sweep {}", path.display());
@@ -414,6 +440,25 @@ fn run() -> anyhow::Result<()> {
                 }
             };
             emit(json, &outcome, || outcome.to_text())?;
+            if outcome.warned_cases > 0 {
+                eprintln!(
+                    "warning: sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values): {}, \"Warnings\", lists them",
+                    outcome.name,
+                    outcome.warned_cases,
+                    outcome.cases,
+                    outcome.dir.join("sweep.md").display()
+                );
+            }
+            // A sweep (or a merge) without one computed row has no result; a shard's other
+            // parts may have them, so the merge decides.
+            if whole && outcome.rows > 0 && !outcome.statuses.contains_key("ok") {
+                anyhow::bail!(
+                    "sweep {}: no case gave a result ({}): the reason column of {} says why for each",
+                    outcome.name,
+                    outcome.counts(),
+                    outcome.dir.join("sweep.csv").display()
+                );
+            }
         }
         Command::Robust { common, schedule, out } => {
             let problem = load(&common, None)?;
@@ -436,6 +481,19 @@ fn run() -> anyhow::Result<()> {
                         eprintln!("warning: {w}");
                     }
                     let imported = &checked.measured.trajectory;
+                    // Each trial runs the schedule to its end: one of a thousand falls (times in
+                    // milliseconds) would run for hours, warned of and then waited on.
+                    let (lasts, fall) =
+                        (catflip::schedule::Trajectory::total_duration(imported), problem.drop.fall_time());
+                    if !(0.5..=2.0).contains(&(lasts / fall)) {
+                        anyhow::bail!(
+                            "{}: the schedule lasts {} s, the fall {} s (drop.height = {} m): robust runs each trial to the schedule's end, so a schedule more than twice or less than half the fall is refused; write its times in seconds over this fall",
+                            file.display(),
+                            catflip::numeric::numfmt::sig(lasts, 6),
+                            catflip::numeric::numfmt::sig(fall, 6),
+                            catflip::numeric::numfmt::echo(problem.drop.height)
+                        );
+                    }
                     let mut report = catflip::robust::check(&problem, imported, &file.display().to_string())?;
                     report.command = command;
                     let dir = out.as_ref().map(|o| report.write(o, &problem, imported)).transpose()?;

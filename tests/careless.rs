@@ -40,12 +40,23 @@ fn a_file_without_a_name_is_named_after_its_stem_not_the_paper() {
     let path = problem_file("stem", "my-robot.toml", &text);
     let p = Problem::load(&path, &[]).expect("loads");
     assert_eq!(p.name, "my-robot");
-    // A stem that cannot name a folder is refused, naming the field to give.
-    let bad = problem_file("stem-bad", "my robot.toml", &text);
+    // A stem that cannot name a folder is made one, its other characters `-`, and said
+    // (`simulate my.cat.toml` was refused, though it writes no folder); one with nothing to keep
+    // is refused, naming the field to give.
+    for (file, name) in [("my robot.toml", "my-robot"), ("my.cat.toml", "my-cat")] {
+        let made = problem_file("stem-made", file, &text);
+        let p = Problem::load(&made, &[]).expect("loads");
+        assert_eq!(p.name, name);
+        let said = format!("cannot name a results folder (letters, digits, '-' and '_' only): named \"{name}\"");
+        assert!(p.warnings().iter().any(|w| w.contains(&said)), "{:?}", p.warnings());
+        // `--set name=...` names it, without a word.
+        let named = Problem::load(&made, &["name=robot".into()]).expect("loads");
+        assert_eq!(named.name, "robot");
+        assert!(!named.warnings().iter().any(|w| w.contains("stem")), "{:?}", named.warnings());
+    }
+    let bad = problem_file("stem-bad", "....toml", &text);
     let err = Problem::load(&bad, &[]).expect_err("refused").to_string();
-    assert!(err.starts_with("name = (not given)") && err.contains("\"my robot\""), "{err}");
-    // `--set name=...` names it too.
-    assert_eq!(Problem::load(&bad, &["name=robot".into()]).expect("loads").name, "robot");
+    assert!(err.starts_with("name = (not given)") && err.contains("give name = "), "{err}");
 }
 
 #[test]
@@ -109,6 +120,26 @@ fn appendages_in_the_wrong_unit_are_warned_of_naming_the_field() {
     }
 }
 
+/// A calibration that has no π/C to start from names the field as the user wrote it (it said
+/// `manoeuvre.circulation = "paper"`, which the user had not written, a QA run found).
+#[test]
+fn a_calibration_without_a_start_names_calibrated() {
+    let (code, out, err) = catflip(&[
+        "simulate",
+        "problems/paper.toml",
+        "--set",
+        "manoeuvre.circulation=\"calibrated\"",
+        "--set",
+        "manoeuvre.theta_deg=179",
+    ]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.starts_with("error: manoeuvre.circulation = \"calibrated\": the calibration starts from the paper's π/C"),
+        "{err}"
+    );
+    assert!(err.contains("exceeds the 1000 rad") && !err.contains("\"paper\""), "{err}");
+}
+
 #[test]
 fn json_output_keeps_the_warnings_on_stderr() {
     let (code, out, err) =
@@ -119,7 +150,7 @@ fn json_output_keeps_the_warnings_on_stderr() {
 }
 
 /// A file cut at a line break after a section's header, a half left to the defaults and a
-/// shorthand no half uses are each warned of (a QA run found all three silent).
+/// shorthand no half or pair of legs uses are each warned of (QA runs found all four silent).
 #[test]
 fn an_empty_section_and_the_halves_defaults_are_warned_of() {
     let header = problem_file("bare", "bare.toml", "name = \"bare\"\n[cat]\nmass = 1.0\n[manoeuvre]\n");
@@ -141,6 +172,13 @@ fn an_empty_section_and_the_halves_defaults_are_warned_of() {
     );
     let warnings = Problem::load(&unused, &[]).expect("loads").warnings();
     assert!(has(&warnings, "cat.mass is used by neither half"), "{warnings:?}");
+    // So is [cat.legs]' length when both pairs give their own, and only that (each pair's mass
+    // is the shorthand's in one of them).
+    let real = std::path::Path::new("problems/real-cat.toml");
+    let front_length = ["cat.legs.front={length=0.25}".to_string()];
+    let warnings = Problem::load(real, &front_length).expect("loads").warnings();
+    assert!(has(&warnings, "cat.legs.length is used by neither pair"), "{warnings:?}");
+    assert!(!has(&warnings, "cat.legs.mass") && !has(&warnings, "cat.legs.radius"), "{warnings:?}");
     // The committed files say none of these.
     for file in ["paper", "unequal-halves", "kane-scher", "real-cat", "tail", "legs", "tail-robot"] {
         let w = Problem::load(std::path::Path::new(&format!("problems/{file}.toml")), &[]).expect("loads").warnings();
@@ -320,7 +358,7 @@ fn a_rate_too_coarse_for_the_shortest_phase_is_warned_of() {
 }
 
 #[test]
-fn a_schedule_file_made_for_another_cat_is_said_to_be() {
+fn a_schedule_file_made_for_another_cat_or_release_is_said_to_be() {
     // The committed optimum of unequal halves, on the paper's equal halves: its sidecar says so.
     let file = "results/unequal-halves/schedules/whole-optimum.csv";
     let (code, _, err) = catflip(&["simulate", "problems/paper.toml", "--schedule", file]);
@@ -329,7 +367,23 @@ fn a_schedule_file_made_for_another_cat_is_said_to_be() {
     // On its own problem, nothing of the kind.
     let (code, _, err) = catflip(&["simulate", "problems/unequal-halves.toml", "--schedule", file]);
     assert_eq!(code, 0, "{err}");
-    assert!(!err.contains("made for problem"), "{err}");
+    assert!(!err.contains("made for problem") && !err.contains("planned for a release"), "{err}");
+    // Released with a spin it was not planned for (it landed at −132.5°, unsaid).
+    let (code, _, err) = catflip(&[
+        "simulate",
+        "problems/unequal-halves.toml",
+        "--schedule",
+        file,
+        "--set",
+        "drop.angular_momentum=[0,0,0.01]",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "planned for a release with drop.angular_momentum = [0, 0, 0] N·m·s, this problem's is [0, 0, 0.01]"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
@@ -341,6 +395,30 @@ fn robustness_settings_that_say_little_are_warned_of() {
     assert!(few.iter().any(|w| w.starts_with("robust.trials = 5: percentiles")), "{few:?}");
     let any = Problem::load(&paper, &["robust.tolerance_deg=180".into()]).expect("loads").warnings();
     assert!(any.iter().any(|w| w.starts_with("robust.tolerance_deg = 180")), "{any:?}");
+    // 5° typed in radians.
+    let radians = Problem::load(&paper, &["robust.tolerance_deg=0.0873".into()]).expect("loads").warnings();
+    assert!(radians.iter().any(|w| w.contains("robust.tolerance_deg = 0.0873: is it in radians?")), "{radians:?}");
+}
+
+/// A tolerance that makes a verdict or a convergence say nothing is refused, naming the field (a
+/// QA run had rapier 27° from the exact twist "verified", a peak torque tolerance of 2 meant as
+/// 2 %, and an optimality of 1 end the whole optimiser "converged" at twice its optimum).
+#[test]
+fn tolerances_that_would_make_a_verdict_empty_are_refused() {
+    let paper = PathBuf::from("problems/paper.toml");
+    for (set, field) in [
+        ("rapier.twist_tolerance_deg=1000", "rapier.twist_tolerance_deg = 1000: must be at most 10°"),
+        ("rapier.swing_tolerance_deg=11", "rapier.swing_tolerance_deg = 11: must be at most 10°"),
+        ("rapier.peak_torque_tolerance=2", "rapier.peak_torque_tolerance = 2: is a fraction (0.02 is 2 %)"),
+        ("optimize.whole.optimality=1", "optimize.whole.optimality = 1: must be at most 1e-3"),
+    ] {
+        let err = Problem::load(&paper, &[set.into()]).expect_err(set).to_string();
+        assert!(err.contains(field), "{set}: {err}");
+    }
+    // The largest accepted.
+    for set in ["rapier.twist_tolerance_deg=10", "rapier.peak_torque_tolerance=0.5", "optimize.whole.optimality=1e-3"] {
+        assert!(Problem::load(&paper, &[set.into()]).is_ok(), "{set}");
+    }
 }
 
 #[test]
@@ -378,4 +456,38 @@ fn exact_engine_rows_of_robust_csv_leave_the_unused_servo_gains_empty() {
         assert_eq!((r[at("gain1")], r[at("gain2")]), ("", ""), "{r:?}");
         assert!(r[at("landing_error_deg")].parse::<f64>().is_ok(), "{r:?}");
     }
+}
+
+/// `optimize` says how its optima meet the problem's motors (its text said nothing of a torque
+/// limit twenty times exceeded, a QA run found; `compare` says it), and nothing with ideal motors.
+#[test]
+fn optimize_says_how_its_optima_meet_the_motors() {
+    let (code, out, err) = catflip(&["optimize", "problems/paper.toml", "--set", "actuator.torque_limit_nm=1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("**Against the motors** (`[actuator]`):"), "{out}");
+    assert!(out.contains("- exact-refined: exceeds joint 1's torque limit"), "{out}");
+    let (code, out, err) = catflip(&["optimize", "problems/paper.toml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!out.contains("Against the motors"), "{out}");
+}
+
+/// `robust` refuses a schedule far longer or shorter than the fall, whose every trial runs to its
+/// end (times in milliseconds: warned of, then more than two minutes of trials, a QA run found).
+#[test]
+fn robust_refuses_a_schedule_of_another_fall() {
+    let dir = scratch("robust-ms");
+    let csv = std::fs::read_to_string("results/paper/schedules/whole-optimum.csv").expect("the committed optimum");
+    let mut lines = csv.lines();
+    let mut ms = lines.next().unwrap_or_default().to_string() + "\n";
+    for line in lines {
+        let (t, rest) = line.split_once(',').unwrap_or((line, ""));
+        let t: f64 = t.parse().expect("a time");
+        ms += &format!("{},{rest}\n", t * 1e3);
+    }
+    let file = dir.join("ms.csv");
+    std::fs::write(&file, ms).expect("writable");
+    let (code, _, err) = catflip(&["robust", "problems/paper.toml", "--schedule", &file.display().to_string()]);
+    assert_eq!(code, 1, "{err}");
+    let last = err.lines().last().unwrap_or_default();
+    assert!(last.contains("the schedule lasts 1428.57 s, the fall 1.42857 s") && last.contains("is refused"), "{err}");
 }

@@ -390,3 +390,60 @@ fn a_tail_or_legs_are_refused_by_the_commands_that_measure_two_bodies() {
         assert!(!out.join(name).exists(), "no results are written");
     }
 }
+
+/// A verification without one usable run is no result: `run` and `optimize --whole --verify`
+/// exit non-zero, saying so, as `simulate --engine rapier` and `compare --verify` do (both
+/// exited 0, a QA run found, with every verification "inconclusive"); `run` writes its complete
+/// results all the same (they say why for each).
+#[test]
+fn a_verification_without_a_result_exits_non_zero() {
+    let out = scratch("no-rapier-result");
+    let o = out.display().to_string();
+    let (code, _, err) =
+        catflip(&["run", "problems/paper.toml", "--set", "rapier.step_budget=10", "--out", &o, "--quiet"]);
+    assert_eq!(code, 1, "{err}");
+    let last = err.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("error: run: rapier has no result (inconclusive: no usable run) in paper (14 schedules)"),
+        "{err}"
+    );
+    assert!(out.join("paper/verification.md").is_file(), "the results are written");
+    let (code, _, err) =
+        catflip(&["optimize", "problems/paper.toml", "--whole", "--verify", "--set", "rapier.step_budget=10"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.ends_with(
+            "rapier has no result for the optimum (inconclusive: no usable run; the verification says why)\n"
+        ),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A file of `run` that fails in its computation is named, with what was written before it (the
+/// error named neither the file nor the field, a QA run found).
+#[test]
+fn run_names_the_file_that_fails_and_what_was_written_before() {
+    let out = scratch("run-fails-second");
+    std::fs::create_dir_all(&out).expect("scratch");
+    let slow = out.join("slow.toml");
+    std::fs::write(&slow, "name = \"slow\"\n[optimize]\nrate_limit = 0.001\n").expect("writable");
+    let o = out.join("results");
+    let (code, _, err) = catflip(&[
+        "run",
+        "problems/paper.toml",
+        &slow.display().to_string(),
+        "--out",
+        &o.display().to_string(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    let last = err.lines().last().unwrap_or_default();
+    let want = format!(
+        "error: {} (written before it, complete: {}): optimize.rate_limit = 0.001: infeasible",
+        slow.display(),
+        o.join("paper").display()
+    );
+    assert!(last.starts_with(&want), "{err}");
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -347,6 +347,21 @@ fn malformed_files_name_the_line_and_column() {
         ImportError::Csv { line, .. } => assert_eq!(line, 3),
         e => panic!("{e}"),
     }
+    // One quantity in two columns: which was read was a guess (a QA run's first, all zeros, was
+    // flipped by nothing, silently); the same name twice, or two of its names.
+    for (text, columns, what) in [
+        ("t_s,q1_rad,q1_rad,q2_rad\n0,0,0,0\n", (2, 3), "joint 1's angle"),
+        ("t,t_s,q1_rad,q2_rad\n0,0,0,0\n", (1, 2), "the time"),
+        ("t_s,q1,q2_rad,q1_rad\n0,0,0,0\n", (2, 4), "joint 1's angle"),
+    ] {
+        match parse_err(text) {
+            e @ ImportError::RepeatedColumn { first, second, what: w, .. } => {
+                assert_eq!(((first, second), w), (columns, what), "{e}");
+                assert!(e.to_string().ends_with(&format!("both give {what}: keep one")), "{e}");
+            }
+            e => panic!("{text}: {e}"),
+        }
+    }
     // A time written three times in a row is not a piece boundary.
     let triple = "t,q1,q2,qd1,qd2\n0,0,0,0,0\n0.1,0.1,0,1,0\n0.1,0.1,0,1,0\n0.1,0.1,0,1,0\n0.2,0.2,0,1,0\n";
     match parse_err(triple) {

@@ -73,7 +73,8 @@ fn the_actuator_section_is_validated_in_the_users_words() {
     let e = load("[actuator]\ntorque_limit_nm = -1.0\n");
     assert!(e.contains("actuator.torque_limit_nm") && e.contains("positive"), "{e}");
     let e = load("[actuator]\nspeed_limit_rad_s = [6.0, 0.0]\n");
-    assert!(e.contains("actuator.speed_limit_rad_s[2]"), "{e}");
+    // Counted from 0 as manoeuvre.phases[2] is, the joint named (it read `[2]` for joint 2).
+    assert!(e.contains("actuator.speed_limit_rad_s[1] (joint 2) = 0"), "{e}");
     let e = load("[actuator]\nstall_torque_nm = 0.6\n");
     assert!(e.contains("actuator.stall_torque_nm") && e.contains("free_speed_rad_s"), "{e}");
     let e = load("[actuator]\npower_limit_w = \"lots\"\n");

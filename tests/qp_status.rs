@@ -27,12 +27,12 @@ fn a_jerk_limit_below_what_the_move_needs_is_infeasible_in_words() {
     // 32 D/T³ = 32 · 3.22498607925 / 0.857142857³ = 163.877 rad/s³ (Biagiotti & Melchiorri §3.4).
     assert_eq!(
         message(ProfileQp { jerk_limit: Some(85.0), ..paper_qp() }),
-        "infeasible: the jerk limit 85 rad/s³ is below the 163.877 rad/s³ this move needs (32|D|/T³: bang-bang jerk over quarters of the phase)"
+        "optimize.jerk_limit = 85: infeasible: the jerk limit 85 rad/s³ is below the 163.877 rad/s³ this move needs (32|D|/T³: bang-bang jerk over quarters of the phase)"
     );
     // Start-at-rest needs a quarter of it: 8 D/T³ = 40.9693 rad/s³.
     assert_eq!(
         message(ProfileQp { jerk_limit: Some(40.0), boundary: Boundary::StartAtRest, ..paper_qp() }),
-        "infeasible: the jerk limit 40 rad/s³ is below the 40.9693 rad/s³ this move needs (8|D|/T³: bang-bang jerk over halves of the phase)"
+        "optimize.jerk_limit = 40: infeasible: the jerk limit 40 rad/s³ is below the 40.9693 rad/s³ this move needs (8|D|/T³: bang-bang jerk over halves of the phase)"
     );
     // Just above the continuum bound the QP solves.
     let sol = ProfileQp { jerk_limit: Some(1.2 * 163.877), ..paper_qp() }.solve().expect("feasible");
@@ -44,7 +44,7 @@ fn a_rate_limit_below_the_mean_rate_is_infeasible_in_words() {
     // |D|/(T(1 − 1/(N−1))) with N = 200: 3.78149 rad/s.
     assert_eq!(
         message(ProfileQp { rate_limit: Some(3.0), ..paper_qp() }),
-        "infeasible: the rate limit 3 rad/s is below the 3.78149 rad/s this move needs (rates bounded by R cover at most R·T(1 − 1/(N−1)) from rest to rest)"
+        "optimize.rate_limit = 3: infeasible: the rate limit 3 rad/s is below the 3.78149 rad/s this move needs (rates bounded by R cover at most R·T(1 − 1/(N−1)) from rest to rest)"
     );
 }
 
@@ -88,5 +88,9 @@ fn optimize_refuses_an_infeasible_jerk_limit() {
     p.optimize.jerk_limit = Some(85.0);
     let resolved = catflip::engines::resolved::Resolved::new(&p).expect("the paper's circulation");
     let e = catflip::optimize::optimize(&resolved).expect_err("no profile meets the limit");
-    assert!(e.to_string().starts_with("infeasible: the jerk limit 85 rad/s³ is below the 163.877 rad/s³"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("optimize.jerk_limit = 85: infeasible: the jerk limit 85 rad/s³ is below the 163.877 rad/s³"),
+        "{e}"
+    );
 }

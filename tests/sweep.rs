@@ -108,7 +108,22 @@ fn linear_and_log_ranges_include_both_ends_exactly() {
 fn a_bad_axis_is_refused_with_its_field_named() {
     let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"cat.radus\"\nvalues = [0.1]"));
     assert_eq!(field, "axis[0].field");
-    assert!(reason.contains("`cat.radus` is not a problem field") && reason.contains("cat.radius"), "{reason}");
+    assert!(reason.contains("`cat.radus` is not a problem field") && reason.contains("`radius`"), "{reason}");
+    // The fields offered are the section's, the optional ones too (the defaults' leaves alone left
+    // out every motor limit, which an axis may name).
+    let (_, reason) = bad_field(&with_base("[[axis]]\nfield = \"actuator.torque_limt_nm\"\nvalues = [0.1]"));
+    assert!(reason.contains("`torque_limit_nm`") && reason.contains("in `actuator`"), "{reason}");
+    // A value the field cannot hold is the file's mistake, not a refused case (a QA run's sweep
+    // with a string among numbers, or a misspelt profile, ran with exit 0 and "refused" rows).
+    let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, \"0.2\", 0.3]"));
+    assert_eq!(field, "axis[0].values[1]");
+    assert!(reason.contains("expected a number in `cat.radius`"), "{reason}");
+    let (field, reason) =
+        bad_field(&with_base("[[axis]]\nfield = \"manoeuvre.profile\"\nvalues = [\"cycloidal\", \"cycloïdal\"]"));
+    assert_eq!(field, "axis[0].values[1]");
+    assert!(reason.contains("unknown variant `cycloïdal`"), "{reason}");
+    let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \" cat.radius\"\nvalues = [0.1]"));
+    assert_eq!((field.as_str(), reason.as_str()), ("axis[0].field", "` cat.radius` holds spaces: write `cat.radius`"));
     let (field, _) = bad_field(&with_base(
         "[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1]\nrange = { from = 1.0, to = 2.0, count = 2 }",
     ));
@@ -769,10 +784,50 @@ fn a_file_where_the_results_folder_goes_is_refused_and_left_alone() {
     assert_eq!(code, 1, "{stdout}{stderr}");
     assert_eq!(
         stderr.trim(),
-        format!("error: {}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out", out.join("t").display())
+        format!("error: {}: is a file, not a folder, so it is not a results folder to replace; move it away or choose another --out", out.join("t").display())
     );
     assert_eq!(listing(&out), ["t"], "nothing hidden, nothing added");
     assert_eq!(std::fs::read_to_string(out.join("t")).expect("still a file"), "mine");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// `root/tiny.toml` written as [`with_base`] of `body`: the `--out` folder `root/out`, and the
+/// file and that folder as the command line's arguments.
+fn sweep_file(root: &Path, body: &str) -> (PathBuf, String, String) {
+    let file = root.join("tiny.toml");
+    std::fs::write(&file, with_base(body)).expect("the sweep file");
+    let out = root.join("out");
+    let (f, o) = (file.display().to_string(), out.display().to_string());
+    (out, f, o)
+}
+
+/// A sweep whose every case is refused has no result: its table says why for each, and the exit
+/// is non-zero (it was 0, a QA run found, so a script took it for a sweep that worked); a shard
+/// of it exits 0, for the merge decides, and the merge then refuses.
+#[test]
+fn a_sweep_without_one_result_exits_non_zero() {
+    let root = scratch("all-refused");
+    // θ = 90° on the cone path is gimbal lock: every case refused.
+    let axes = "[[axis]]\nfield = \"manoeuvre.bend_path\"\nvalues = [\"cone\"]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [90.0]\n";
+    let (out, f, o) = sweep_file(&root, &format!("{axes}[compute]\ncalibrated = false\npeaks = false"));
+    let (code, stdout, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let table = out.join("t/sweep.csv");
+    assert_eq!(
+        stderr.trim(),
+        format!(
+            "error: sweep t: no case gave a result (1 refused): the reason column of {} says why for each",
+            table.display()
+        )
+    );
+    let csv = std::fs::read_to_string(&table).expect("the table of refusals");
+    assert!(csv.contains(",refused,") && csv.contains("gimbal"), "{csv}");
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet", "--shard", "1/1"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (part, merged) = (out.join("t.part-1-of-1").display().to_string(), root.join("merged").display().to_string());
+    let (code, _, stderr) = catflip(&["sweep", "--merge", &part, "--out", &merged]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("no case gave a result (1 refused)"), "{stderr}");
     let _ = std::fs::remove_dir_all(&root);
 }
 
@@ -999,4 +1054,49 @@ fn a_min_time_case_without_a_flip_is_failed_with_its_reason_never_a_height() {
     let md = catflip::sweep::summary::body(&s, &records, &[]);
     let table = md.split("## Least drop height").nth(1).expect("the drop-height table");
     assert!(table.contains("| — | — | failed: no optimum: none of the 2 start(s) converged to a flip"), "{table}");
+}
+
+/// The cases' warnings reach the terminal and `sweep.md` (a drop height read as kilometres was
+/// said in the CSV's column alone, a QA run found), and a schedule beyond the case's motors is
+/// marked and never named the lowest (it was, 1418 times over its torque limit).
+#[test]
+fn warnings_and_schedules_beyond_the_motors_are_said() {
+    let root = scratch("warned");
+    let axes = "[[axis]]\nfield = \"actuator.torque_limit_nm\"\nvalues = [100.0, 0.05]\n[[axis]]\nfield = \"drop.height\"\nvalues = [3.0, 0.01]\n";
+    let (out, f, o) = sweep_file(&root, &format!("{axes}[compute]\ncalibrated = true\npeaks = true\nretiming = true"));
+    let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("warning: sweep t: 4 of its 4 cases carry warnings"), "{stderr}");
+    let md = std::fs::read_to_string(out.join("t/sweep.md")).expect("the report");
+    assert!(md.contains("## Warnings") && md.contains("drop.height = 0.01 m is outside"), "{md}");
+    // Case 0 (100 N·m, 3 m): the library schedules exceed the limit, the retiming does not.
+    let case = |k: usize| md.lines().find(|l| l.starts_with(&format!("| {k} |"))).unwrap_or_default().to_string();
+    let first = case(0);
+    assert!(first.contains("†") && first.ends_with("| retimed |"), "{first}");
+    // Case 2 (0.05 N·m): nothing within the motors, so no lowest.
+    assert!(case(2).ends_with("| — (none within the motors) |"), "{}", case(2));
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Parts of two sweeps are refused naming what differs (the message said "another sweep or
+/// shard count" whatever it was, a QA run found, after the base file was edited between shards).
+#[test]
+fn parts_of_two_sweeps_are_refused_naming_what_differs() {
+    let s = cheap(2);
+    let root = scratch("two-sweeps");
+    let mut first = parts(&s, &root.join("a"), 2);
+    let edited = sweep_ok(&with_base(
+        "[[axis]]\nfield = \"cat.radius\"\nrange = { from = 0.1, to = 0.2, count = 2 }\n[compute]\npaper_flip = true\ncalibrated = false\npeaks = false\n[base.drop]\nheight = 3.0",
+    ));
+    let second = parts(&edited, &root.join("b"), 2);
+    let out = root.join("merged");
+    let e = merge_error(&[first.remove(0), second[1].clone()], &out);
+    assert!(
+        e.contains("is a part of another sweep than") && e.contains("its base problem (test.toml [base]) differs"),
+        "{e}"
+    );
+    let other_count = parts(&s, &root.join("c"), 1);
+    let e = merge_error(&[first.remove(0), other_count[0].clone()], &out);
+    assert!(e.contains("its shard count (1 against 2) differs"), "{e}");
+    let _ = std::fs::remove_dir_all(&root);
 }

@@ -34,6 +34,12 @@ pub enum CirculationError {
         /// How it ended.
         status: RootStatus,
     },
+    /// The calibration starts from the paper's `π/C`, which this cat and bend do not have.
+    #[error("manoeuvre.circulation = \"calibrated\": the calibration starts from the paper's π/C (of the mean half when the halves differ), and here there is none: {}; bend more (lower manoeuvre.theta_deg) or give the circulation in radians", cause.detail())]
+    NoStart {
+        /// Why there is no `π/C`.
+        cause: ScheduleError,
+    },
     /// The paper's `C` is defined for equal halves only.
     #[error("manoeuvre.circulation = \"paper\": the paper's C (and π/C) is defined for two equal halves only, and {field} makes them differ; give the circulation in radians or set it to \"calibrated\"")]
     PaperUndefined {
@@ -114,7 +120,7 @@ pub fn resolve_circulation(
             ResolvedCirculation { radians: a, source: CirculationSource::Given, calibration: None }
         }
         Circulation::Calibrated => {
-            let near = paper()?;
+            let near = paper().map_err(|cause| CirculationError::NoStart { cause })?;
             let cal = calibrate_model(cat, &Schedule::from_manoeuvre(m, fall_time, near), spin, tolerance);
             ResolvedCirculation::from_calibration(&cal)
                 .ok_or(CirculationError::Calibration { near, status: cal.status })?

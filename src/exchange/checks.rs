@@ -31,6 +31,9 @@
 //! - rows too far apart for the interpolation: the peak torque recomputed with every other row
 //!   dropped, `|P_h − P_2h| / (2^p − 1)` (`p` the order of the scheme's `q̈`: 4 quintic Hermite,
 //!   2 otherwise) larger than [`SAMPLING_TOLERANCE`] of the peak;
+//! - a phase boundary written once (the `phase` column changing within a piece, or an
+//!   interval whose rate change contradicts the accelerations as a jump inside it would):
+//!   catflip writes each boundary's time twice;
 //! - piece boundaries whose rate jump cannot be judged (spline pieces of fewer than seven rows);
 //! - the problem's cat outside the paper's stability argument (`l < √3 r`). The problem's
 //!   manoeuvre is not used, so nothing is said of it.
@@ -50,6 +53,11 @@ pub const ABSURD_DURATION_FACTOR: f64 = 1e6;
 pub const DURATION_TOLERANCE: f64 = 1e-6;
 /// Fraction of the angles' total motion the rates' residual may reach before it is warned.
 pub const CONSISTENCY_FRACTION: f64 = 0.1;
+/// An interval's rate residual, as a share of `h max|q̈|`, above which it reads as an
+/// acceleration jump inside the interval (a phase boundary written once, [`check`]).
+pub const JUMP_SHARE: f64 = 0.01;
+/// How many times its neighbours' residuals an interval's must exceed to read as a jump.
+pub const JUMP_ISOLATION: f64 = 100.0;
 /// Estimated relative error of the peak torque from the rows' spacing above which it is warned.
 pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 
@@ -64,14 +72,17 @@ pub fn check(problem: &Problem, model: &TwoMotorCat, schedule: &ImportedSchedule
     degrees(schedule, &mut warnings);
     ends(model, schedule, &mut warnings);
     consistency(schedule, &mut warnings);
+    unrepeated_boundaries(schedule, &mut warnings);
     warnings.extend(problem.short_halves());
     Ok(warnings)
 }
 
 /// A file catflip wrote carries its sidecar (`NAME.json` beside `NAME.csv`) with the problem it
-/// was made for: a cat other than this problem's is said (the file is still evaluated on this
-/// cat, as asked). A file without a readable sidecar is taken as it is.
+/// was made for: a cat, or a release's spin, other than this problem's is said (the file is still
+/// evaluated on this cat and release, as asked). A file without a readable sidecar is taken as it
+/// is.
 fn made_for(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    use crate::numeric::numfmt::echo;
     let path = std::path::Path::new(&s.path).with_extension("json");
     let Ok(text) = std::fs::read_to_string(&path) else { return };
     let Ok(sidecar) = serde_json::from_str::<crate::exchange::sidecar::Sidecar>(&text) else { return };
@@ -87,6 +98,27 @@ fn made_for(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>)
             source.problem,
             theirs.describe(),
             ours.describe()
+        ));
+    }
+    // The release it was planned for: a plan for zero momentum released with spin turns the
+    // cat otherwise (a QA run's landed at −132.5°, unsaid).
+    let spin = |v: &serde_json::Value| -> Option<[f64; 3]> {
+        match v.get("drop").and_then(|d| d.get("angular_momentum")) {
+            None => Some([0.0; 3]),
+            Some(l) => serde_json::from_value(l.clone()).ok(),
+        }
+    };
+    let Some(planned) = spin(&source.problem_file) else { return };
+    let here = problem.drop.angular_momentum;
+    // Bit for bit (−0 as 0): a sidecar carries the numbers its problem file gave.
+    let bits = |l: [f64; 3]| l.map(|x| (x + 0.0).to_bits());
+    if bits(planned) != bits(here) {
+        let shown = |l: [f64; 3]| format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2]));
+        warnings.push(format!(
+            "its sidecar {} says it was planned for a release with drop.angular_momentum = {} N·m·s, this problem's is {}: the twist here is this release's, not the one it was planned for",
+            path.display(),
+            shown(planned),
+            shown(here)
         ));
     }
 }
@@ -253,6 +285,63 @@ fn consistency(s: &ImportedSchedule, warnings: &mut Vec<String>) {
                 lines[0],
                 lines[1]
             ));
+        }
+    }
+}
+
+/// Phase boundaries written once: catflip writes each boundary's time twice, one row per side,
+/// and the import splits its pieces there, where the accelerations jump. A file that keeps one of
+/// the two rows (a careless de-duplication of the times) joins two phases in one piece, and the
+/// interpolation carries the jump into the rows' intervals (a QA run's peak torque rose by 37 %,
+/// silently). Said when the `phase` column changes within a piece, or, with accelerations given,
+/// when one interval's rate change contradicts them by more than [`JUMP_SHARE`] of the largest
+/// change an interval of its width sees and [`JUMP_ISOLATION`] times its neighbours' residuals.
+fn unrepeated_boundaries(s: &ImportedSchedule, warnings: &mut Vec<String>) {
+    let advice = "catflip writes each phase boundary's time twice, one row per side: keep both rows, or the interpolation carries the jump in the accelerations across the rows around it";
+    for p in &s.pieces {
+        for w in p.rows.windows(2) {
+            if let (Some(a), Some(b)) = (&w[0].phase, &w[1].phase) {
+                if a != b {
+                    warnings.push(format!(
+                        "lines {} and {}: the phase changes from \"{a}\" to \"{b}\" at different times (t = {} and {} s), not at one time written twice; {advice}",
+                        w[0].line, w[1].line, w[0].t, w[1].t
+                    ));
+                    return;
+                }
+            }
+        }
+    }
+    let Some(accels) = &s.columns.accels else { return };
+    for j in 0..2 {
+        let largest =
+            s.pieces.iter().flat_map(|p| &p.rows).filter_map(|r| r.qdd.map(|a| a[j].abs())).fold(0.0, f64::max);
+        for p in &s.pieces {
+            // (residual, width, lines) of each interval.
+            let intervals: Vec<(f64, f64, [u64; 2])> = p
+                .rows
+                .windows(2)
+                .filter_map(|w| {
+                    let (a, b) = (&w[0], &w[1]);
+                    let (va, vb, aa, ab) = (a.qd?, b.qd?, a.qdd?, b.qdd?);
+                    let h = b.t - a.t;
+                    Some(((vb[j] - va[j] - 0.5 * h * (aa[j] + ab[j])).abs(), h, [a.line, b.line]))
+                })
+                .collect();
+            for k in 0..intervals.len() {
+                let (r, h, lines) = intervals[k];
+                let neighbours = [k.checked_sub(1), Some(k + 1)]
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|i| intervals.get(i).map(|n| n.0))
+                    .fold(0.0, f64::max);
+                if r > JUMP_SHARE * h * largest && r > JUMP_ISOLATION * neighbours {
+                    warnings.push(format!(
+                        "lines {} and {}: column `{}` jumps within one interval (the rates change by {:.6} rad/s less or more than the accelerations say), as at a phase boundary written once; {advice}",
+                        lines[0], lines[1], accels[j], r
+                    ));
+                    return;
+                }
+            }
         }
     }
 }

@@ -81,6 +81,23 @@ pub enum ImportError {
         /// The header found.
         header: String,
     },
+    /// Two columns name one quantity (`q1_rad` twice, or `t` beside `t_s`): which to read is a
+    /// guess.
+    #[error("{path}: line 1: columns {first} and {second} (`{a}`, `{b}`) both give {what}: keep one")]
+    RepeatedColumn {
+        /// The file.
+        path: String,
+        /// The columns, counted from 1.
+        first: usize,
+        /// The second.
+        second: usize,
+        /// Their names as the header spells them.
+        a: String,
+        /// The second's.
+        b: String,
+        /// The quantity, in words.
+        what: &'static str,
+    },
     /// One joint has a rate or acceleration column and the other not, or accelerations come
     /// without rates.
     #[error("{path}: line 1: column `{present}` needs column `{missing}`")]
@@ -544,6 +561,31 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
     };
     let header: Vec<String> = reader.headers().map_err(csv_err)?.iter().map(|h| h.to_lowercase()).collect();
     let find = |names: &[&str]| names.iter().find_map(|n| header.iter().position(|h| h == n));
+    // Each quantity from one column: a second that names it too would be read or ignored silently.
+    let quantities: [(&[&str], &'static str); 9] = [
+        (&TIME, "the time"),
+        (&ANGLES[0], "joint 1's angle"),
+        (&ANGLES[1], "joint 2's angle"),
+        (&RATES[0], "joint 1's rate"),
+        (&RATES[1], "joint 2's rate"),
+        (&ACCELS[0], "joint 1's acceleration"),
+        (&ACCELS[1], "joint 2's acceleration"),
+        (&["phase"], "the phase"),
+        (&["boundary"], "the boundary"),
+    ];
+    for (names, what) in quantities {
+        let at: Vec<usize> = (0..header.len()).filter(|&c| names.contains(&header[c].as_str())).collect();
+        if let [first, second, ..] = at[..] {
+            return Err(ImportError::RepeatedColumn {
+                path: path.clone(),
+                first: first + 1,
+                second: second + 1,
+                a: one_line(&header[first]),
+                b: one_line(&header[second]),
+                what,
+            });
+        }
+    }
     let require = |names: &[&str]| {
         find(names).ok_or_else(|| ImportError::MissingColumn {
             path: path.clone(),

@@ -57,6 +57,13 @@ pub fn fixed(x: f64, decimals: usize) -> String {
     }
 }
 
+/// A relative difference `fraction` in words, `"31.2 % above"` or `"31.2 % below"` (one decimal),
+/// never a negative "above".
+pub fn above_or_below(fraction: f64) -> String {
+    let word = if fraction < 0.0 { "below" } else { "above" };
+    format!("{:.1} % {word}", 100.0 * fraction.abs())
+}
+
 /// `x` to `digits` significant digits (at least one) by the module's rule.
 pub fn sig(x: f64, digits: usize) -> String {
     if x.is_nan() {
@@ -107,6 +114,13 @@ fn plain(digits: &str, exponent: i32) -> String {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_relative_difference_is_never_a_negative_above() {
+        assert_eq!(super::above_or_below(0.312), "31.2 % above");
+        assert_eq!(super::above_or_below(-0.312), "31.2 % below");
+        assert_eq!(super::above_or_below(0.0), "0.0 % above");
+    }
+
     use super::*;
 
     #[test]

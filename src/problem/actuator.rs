@@ -68,7 +68,8 @@ impl Actuator {
                 Some(PerJoint::Both(v)) => positive(field, v)?,
                 Some(PerJoint::Each(v)) => {
                     for (j, x) in v.into_iter().enumerate() {
-                        positive(&format!("{field}[{}]", j + 1), x)?;
+                        // Counted from 0, as every list of the file is; the joint named too.
+                        positive(&format!("{field}[{j}] (joint {})", j + 1), x)?;
                     }
                 }
             }

@@ -79,6 +79,7 @@ pub(crate) fn omissions(
         let _ = super::overrides::apply(&mut merged, assignment);
     }
     out.extend(halves(&merged));
+    out.extend(legs_shorthand(&merged));
     if !text.is_empty() && !text.ends_with('\n') {
         out.push(
             "the file does not end with a line break: was it cut short? (every field it leaves out takes its default)"
@@ -133,18 +134,45 @@ fn halves(table: &toml::Table) -> Vec<String> {
     out
 }
 
-/// The `name` of a file that gives none: its stem, when that can name a results folder.
-pub(crate) fn name_from_stem(path: &std::path::Path) -> Result<String, ProblemError> {
+/// The `[cat.legs]` numbers that neither pair uses, in `table` (the file's with the overrides
+/// applied): each of `mass`, `length` and `radius` that both `[cat.legs.front]` and
+/// `[cat.legs.rear]` give their own of. `[cat.legs]` must give all three, so a file whose pairs
+/// give theirs still writes numbers that are read nowhere.
+fn legs_shorthand(table: &toml::Table) -> Vec<String> {
+    let section = |t: Option<&toml::Value>, key: &str| t.and_then(|t| t.as_table()).and_then(|t| t.get(key)).cloned();
+    let Some(legs) = section(table.get("cat"), "legs") else { return Vec::new() };
+    let gives = |pair: &str, key: &str| section(Some(&legs), pair).is_some_and(|p| p.get(key).is_some());
+    ["mass", "length", "radius"]
+        .into_iter()
+        .filter(|key| gives("front", key) && gives("rear", key))
+        .map(|key| {
+            format!("cat.legs.{key} is used by neither pair: [cat.legs.front] and [cat.legs.rear] both give their own {key}")
+        })
+        .collect()
+}
+
+/// The `name` of a file that gives none: its stem, when that can name a results folder; else
+/// the stem with each other character made `-`, said in the warning returned (`my.cat.toml` is
+/// `my-cat`); refused when nothing of it can name a folder.
+pub(crate) fn name_from_stem(path: &std::path::Path) -> Result<(String, Option<String>), ProblemError> {
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     if names_a_folder(&stem) {
-        Ok(stem)
-    } else {
-        Err(bad(
-            "name",
-            "(not given)",
-            &format!(
-                "the file's stem \"{stem}\" cannot name a results folder (letters, digits, '-' and '_' only): give name = \"...\""
-            ),
-        ))
+        return Ok((stem, None));
     }
+    let made: String =
+        stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' }).collect();
+    let made = made.trim_matches('-').to_string();
+    if names_a_folder(&made) && made.chars().any(|c| c.is_ascii_alphanumeric()) {
+        let warning = format!(
+            "the file gives no name and its stem \"{stem}\" cannot name a results folder (letters, digits, '-' and '_' only): named \"{made}\" (give name = \"...\" to choose)"
+        );
+        return Ok((made, Some(warning)));
+    }
+    Err(bad(
+        "name",
+        "(not given)",
+        &format!(
+            "the file's stem \"{stem}\" cannot name a results folder (letters, digits, '-' and '_' only): give name = \"...\""
+        ),
+    ))
 }

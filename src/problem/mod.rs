@@ -156,7 +156,9 @@ impl Problem {
         let named = file::names_itself(&table, overrides);
         let mut problem = Self::from_user_table(&text, table, &origin, overrides)?;
         if !named {
-            problem.name = file::name_from_stem(path)?;
+            let (name, warning) = file::name_from_stem(path)?;
+            problem.name = name;
+            problem.omissions.extend(warning);
         }
         Ok(problem)
     }
@@ -199,11 +201,11 @@ impl Problem {
         for assignment in overrides {
             overrides::apply(&mut table, assignment)?;
         }
-        let problem: Problem = table.try_into().map_err(|e: toml::de::Error| {
+        let problem: Problem = table.clone().try_into().map_err(|e: toml::de::Error| {
             let message = user_message(&e);
             ProblemError::BadOverride { assignment: blamed(overrides, &message), reason: message }
         })?;
-        problem.validate()?;
+        problem.validate().map_err(|e| said_default(e, &table))?;
         Ok(problem)
     }
 
@@ -299,7 +301,7 @@ impl Problem {
         Err(bad(
             "drop.angular_momentum",
             format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2])),
-            &format!("{what} assumes a release without spin; `simulate` (also with --schedule), `compare` and `robust` take a spin (set it to [0, 0, 0] here)"),
+            &format!("{what} assumes a release without spin; `simulate` (also with --schedule), `compare`, `robust` and `optimize --whole` (without --out) take a spin (set it to [0, 0, 0] here)"),
         ))
     }
 
@@ -371,7 +373,8 @@ impl Problem {
                 self.manoeuvre.theta_deg
             ));
         }
-        // The tracked trials' servo is sized on the paper's half (robust, README "Robustness").
+        // The tracked trials' servo is sized on the paper's half (robust; README, "Will it land
+        // on its feet, and how often?").
         let half = self.cat.half();
         let stiffening = (0.5 * half.end_transverse() / half.axial()).sqrt();
         out.extend(self.robust.warnings(self.drop.fall_time(), stiffening));
@@ -434,6 +437,34 @@ fn user_message(e: &toml::de::Error) -> String {
         return message.replace(", `hinge`", " (a hinge joins a tail only)");
     }
     message
+}
+
+/// A refused value the user did not write (`table`: the file with the overrides applied) is said
+/// to be the default, so that the message does not read as if the user had set it (a rapier step
+/// blamed `robust.feedback_hz = 1000`, a default, a QA run found). The cat's fields are left as
+/// they are: a half's number can come from `[cat]`'s shorthand, not from a default.
+fn said_default(e: ProblemError, table: &toml::Table) -> ProblemError {
+    match e {
+        ProblemError::BadFieldValue { field, value, reason } if !field.starts_with("cat.") && !gives(table, &field) => {
+            ProblemError::BadFieldValue { value: format!("{value} (the default: not set here)"), field, reason }
+        }
+        other => other,
+    }
+}
+
+/// Whether `table` gives the dotted `field` (an index such as `phases[2]` is its array's).
+fn gives(table: &toml::Table, field: &str) -> bool {
+    let path = field.split('[').next().unwrap_or(field);
+    let mut at = table;
+    let mut keys = path.split('.').peekable();
+    while let Some(key) = keys.next() {
+        match at.get(key) {
+            None => return false,
+            Some(toml::Value::Table(inner)) if keys.peek().is_some() => at = inner,
+            Some(_) => return keys.peek().is_none(),
+        }
+    }
+    false
 }
 
 /// The override(s) a parse error that the file alone does not have must come from: the one whose

@@ -27,6 +27,9 @@ pub const WARN_FEW_TRIALS: usize = 20;
 /// A landing tolerance at or above this, degrees, is warned of: a cat this far off is not on
 /// its feet.
 pub const WARN_TOLERANCE_DEG: f64 = 90.0;
+/// A landing tolerance below this many degrees reads like one written in radians (5° is
+/// 0.0873 rad): warned about.
+pub const WARN_RADIAN_TOLERANCE: f64 = 0.2;
 
 /// Which engines the robustness check runs its trials through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -361,6 +364,15 @@ impl RobustSettings {
             out.push(format!(
                 "robust.tolerance_deg = {}: a cat within {}° of its target is not on its feet; any schedule lands \"within\" it",
                 echo(self.tolerance_deg),
+                echo(self.tolerance_deg)
+            ));
+        }
+        if self.tolerance_deg < WARN_RADIAN_TOLERANCE {
+            out.push(format!(
+                "robust.tolerance_deg = {}: is it in radians? (the field is in degrees: {} rad is {:.1}°; a landing within {}° is far stricter than any cat needs)",
+                echo(self.tolerance_deg),
+                echo(self.tolerance_deg),
+                self.tolerance_deg.to_degrees(),
                 echo(self.tolerance_deg)
             ));
         }

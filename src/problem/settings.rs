@@ -129,6 +129,11 @@ impl Default for RapierSettings {
     }
 }
 
+/// The largest twist or swing tolerance of a rapier verdict, degrees.
+pub const MAX_ANGLE_TOLERANCE_DEG: f64 = 10.0;
+/// The largest relative peak-torque tolerance of a rapier verdict.
+pub const MAX_PEAK_TOLERANCE: f64 = 0.5;
+
 impl RapierSettings {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         if let TimeStep::Fixed(dt) = self.dt {
@@ -142,9 +147,29 @@ impl RapierSettings {
                 "must be at most 0.01 (the cross is meant to be negligible)",
             ));
         }
-        positive("rapier.twist_tolerance_deg", self.twist_tolerance_deg)?;
-        positive("rapier.swing_tolerance_deg", self.swing_tolerance_deg)?;
+        // A verdict is only as strict as its tolerances: beyond these a "verified" could not
+        // tell a flip from a miss (a QA run had rapier 27° from the exact twist "verified").
+        for (field, value) in [
+            ("rapier.twist_tolerance_deg", self.twist_tolerance_deg),
+            ("rapier.swing_tolerance_deg", self.swing_tolerance_deg),
+        ] {
+            positive(field, value)?;
+            if value > MAX_ANGLE_TOLERANCE_DEG {
+                return Err(bad(
+                    field,
+                    echo(value),
+                    &format!("must be at most {MAX_ANGLE_TOLERANCE_DEG}° (a verdict within more would not tell a flip that lands from one that misses)"),
+                ));
+            }
+        }
         positive("rapier.peak_torque_tolerance", self.peak_torque_tolerance)?;
+        if self.peak_torque_tolerance > MAX_PEAK_TOLERANCE {
+            return Err(bad(
+                "rapier.peak_torque_tolerance",
+                echo(self.peak_torque_tolerance),
+                &format!("is a fraction (0.02 is 2 %) and must be at most {MAX_PEAK_TOLERANCE}: a peak torque half off would be \"verified\""),
+            ));
+        }
         positive_opt("rapier.time_budget_s", self.time_budget_s)?;
         if self.step_budget == 0 || self.step_budget > 1_000_000_000 {
             return Err(bad("rapier.step_budget", self.step_budget, "must be between 1 and 1000000000"));

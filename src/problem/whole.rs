@@ -191,10 +191,21 @@ impl WholeSettings {
             return Err(bad("optimize.whole.starts", "[]", "name at least one start"));
         }
         positive("optimize.whole.optimality", self.optimality)?;
+        if self.optimality > MAX_OPTIMALITY {
+            return Err(bad(
+                "optimize.whole.optimality",
+                self.optimality,
+                &format!("must be at most {MAX_OPTIMALITY:.0e}: a stage would end while its model still predicts a decrease of that share of the objective, far from an optimum (the default is 1e-7)"),
+            ));
+        }
         positive("optimize.whole.trust_radius_deg", self.trust_radius_deg)?;
         positive("optimize.whole.penalty", self.penalty)
     }
 }
+
+/// The largest `optimize.whole.optimality`: the predicted decrease, relative to the objective,
+/// below which a stage ends (with 1, the paper's problem ended "converged" at twice its optimum).
+pub const MAX_OPTIMALITY: f64 = 1e-3;
 
 /// The message of a `min-time` objective without motor limits (shared with the problem file's
 /// validation).

@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::engines::calibrate::Calibration;
 use crate::engines::circulation::ResolvedCirculation;
 use crate::model::Cylinder;
+use crate::numeric::numfmt::above_or_below;
 use crate::optimize::qp::ProfileQpSolution;
 use crate::optimize::refine::Refinement;
 use crate::optimize::{OptimizeReport, Optimum};
@@ -180,6 +181,20 @@ impl OptimizeJson<'_> {
                 w.optimum.evaluation.twist_deg, failed_or(w.optimum.calibrated_twist_deg, 9)
             );
         }
+        // Against the problem's motors, when it gives limits (the optima are torque-optimal, not
+        // made to fit them: said, as `compare` says it, rather than left to the JSON).
+        let optima: Vec<&CompareRow> = [&self.qp_optimum, &self.refined_optimum]
+            .into_iter()
+            .flatten()
+            .chain(self.all_phases.as_ref().map(|w| &w.optimum))
+            .map(|o| &o.evaluation)
+            .collect();
+        if optima.iter().any(|e| e.motors.worst().is_some()) {
+            let _ = writeln!(s, "\n**Against the motors** (`[actuator]`):");
+            for e in optima {
+                let _ = writeln!(s, "- {}: {}", e.profile, e.motors.verdict());
+            }
+        }
         let (name, peak) = self.best_library;
         let _ = writeln!(s, "\nBest library profile by exact twist-phase peak: {name} ({peak:.6} N·m).");
         if let Some(o) = &self.refined_optimum {
@@ -187,9 +202,9 @@ impl OptimizeJson<'_> {
             let refined = t[0].max(t[1]);
             let _ = writeln!(
                 s,
-                "The refined profile's exact twist-phase peak is {:.6} N·m: {:.1}% below the best library profile's.",
+                "The refined profile's exact twist-phase peak is {:.6} N·m: {} the best library profile's.",
                 refined,
-                100.0 * (1.0 - refined / peak)
+                above_or_below(refined / peak - 1.0)
             );
         }
         s

@@ -57,14 +57,16 @@ pub enum ResultsDirError {
         /// The shared name.
         name: String,
     },
-    /// `OUT/NAME` exists but is not a folder: not results, so it is left alone.
+    /// `OUT/NAME` is there but is not a folder: not results, so it is left alone.
     #[error(
-        "{}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out",
+        "{}: is {what}, not a folder, so it is not a results folder to replace; move it away or choose another --out",
         path.display()
     )]
     NotAFolder {
         /// The user's `OUT/NAME`.
         path: PathBuf,
+        /// What it is instead: `a file`, `a link to nothing`, `a link to a file`.
+        what: &'static str,
     },
     /// `OUT/NAME` holds files catflip did not write ([`crate::report::owned`]): replacing the
     /// folder would delete them.
@@ -163,8 +165,8 @@ pub fn check_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<(), R
 /// [`Staging::begin`] asks it again.
 pub fn check_target(out: &Path, name: &str) -> Result<(), ResultsDirError> {
     let target = out.join(name);
-    if std::fs::symlink_metadata(&target).is_ok() && !target.is_dir() {
-        return Err(ResultsDirError::NotAFolder { path: target });
+    if let Some(what) = not_a_folder(&target) {
+        return Err(ResultsDirError::NotAFolder { path: target, what });
     }
     if target.is_dir() {
         let files = owned::foreign_files(&target).map_err(|source| ResultsDirError::Io {
@@ -176,17 +178,38 @@ pub fn check_target(out: &Path, name: &str) -> Result<(), ResultsDirError> {
             return Err(ResultsDirError::Foreign { path: target, files });
         }
     }
-    if let Some(file) = out.ancestors().find(|a| std::fs::symlink_metadata(a).is_ok()).filter(|a| !a.is_dir()) {
+    // The nearest ancestor that is there must be a folder to create the rest in.
+    let nearest = out.ancestors().find(|a| std::fs::symlink_metadata(a).is_ok());
+    if let Some((there, what)) = nearest.and_then(|a| not_a_folder(a).map(|what| (a, what))) {
         return Err(ResultsDirError::Io {
             action: "create the folder",
             path: out.to_path_buf(),
             source: std::io::Error::new(
                 std::io::ErrorKind::NotADirectory,
-                format!("{} is a file, not a folder", file.display()),
+                format!("{} is {what}, not a folder", there.display()),
             ),
         });
     }
     Ok(())
+}
+
+/// What `path` is when it is there but is not a folder (nor a link to one): `a file`, `a link to
+/// nothing` (its target missing), `a link to a file` or `not a folder` (a device, a socket);
+/// none when it is a folder or is not there at all.
+fn not_a_folder(path: &Path) -> Option<&'static str> {
+    let own = std::fs::symlink_metadata(path).ok()?;
+    if own.is_symlink() {
+        return match std::fs::metadata(path) {
+            Err(_) => Some("a link to nothing"),
+            Ok(m) if m.is_dir() => None,
+            Ok(_) => Some("a link to a file"),
+        };
+    }
+    match own {
+        m if m.is_dir() => None,
+        m if m.is_file() => Some("a file"),
+        _ => Some("not a folder"),
+    }
 }
 
 /// A results folder being written: see the module docs.
@@ -478,12 +501,33 @@ mod tests {
         assert_eq!(
             e.to_string(),
             format!(
-                "{}: exists and is not a folder, so it is not a results folder to replace; move it away or choose another --out",
+                "{}: is a file, not a folder, so it is not a results folder to replace; move it away or choose another --out",
                 out.join("paper").display()
             )
         );
         assert_eq!(listing(&out), ["paper"], "nothing hidden, nothing created");
         assert_eq!(read(&out, "paper"), "not results");
+    }
+
+    /// A link whose target is missing is called one, where the results folder goes and among
+    /// `--out`'s folders (a QA run was told "… is a file").
+    #[cfg(unix)]
+    #[test]
+    fn a_link_to_nothing_is_called_so() {
+        let out = out("dangling");
+        std::os::unix::fs::symlink(out.join("gone"), out.join("paper")).expect("a link");
+        let e = check_target(&out, "paper").expect_err("not a folder");
+        assert!(e.to_string().contains("paper: is a link to nothing, not a folder"), "{e}");
+        let e = check_target(&out.join("paper/deeper"), "run").expect_err("not a folder");
+        let cause = std::error::Error::source(&e).map(|c| c.to_string()).unwrap_or_default();
+        assert!(cause.ends_with("paper is a link to nothing, not a folder"), "{e}: {cause}");
+        write(&out, "file", "x");
+        std::os::unix::fs::symlink(out.join("file"), out.join("to-file")).expect("a link");
+        let e = check_target(&out, "to-file").expect_err("not a folder");
+        assert!(e.to_string().contains("to-file: is a link to a file"), "{e}");
+        std::fs::create_dir_all(out.join("real")).expect("a folder");
+        std::os::unix::fs::symlink(out.join("real"), out.join("to-folder")).expect("a link");
+        assert!(check_target(&out, "to-folder").is_ok(), "a link to a folder is a folder");
     }
 
     #[test]

@@ -122,7 +122,7 @@ impl RobustReport {
         if !self.checks.iter().any(|c| c.engine == Engine::RapierFeedback) {
             let _ = writeln!(
                 out,
-                "\nNo trial here fed the attitude back: `--set robust.engine=rapier --set robust.controller=feedback` tracks the schedule with attitude feedback (README, \"Robustness\")."
+                "\nNo trial here fed the attitude back: `--set robust.engine=rapier --set robust.controller=feedback` tracks the schedule with attitude feedback (README, \"Will it land on its feet, and how often?\")."
             );
         }
         out

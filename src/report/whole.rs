@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use crate::engines::measured::Measured;
 use crate::measure::retime::RetimeRow;
 use crate::measure::whole::WholeReport;
-use crate::numeric::numfmt::fixed;
+use crate::numeric::numfmt::{above_or_below, fixed};
 use crate::optimize::retime::RetimeSettings;
 use crate::optimize::whole::{BSpline, Objective, WholeSolution, WholeStatus};
 use crate::problem::PLAUSIBLE_HEIGHT_M;
@@ -80,11 +80,11 @@ impl WholeReport {
                     let c = &b.chatter;
                     let _ = writeln!(
                         s,
-                        "- Torque switches: joint 1 {}×, joint 2 {}×; total variation {:.1} %, {:.1} % above that of a clean bang-bang profile with the same switches; deepest dip of a saturated arc to {:.1} %, {:.1} % of the peak.",
+                        "- Torque switches: joint 1 {}×, joint 2 {}×; total variation {}, {} that of a clean bang-bang profile with the same switches; deepest dip of a saturated arc to {:.1} %, {:.1} % of the peak.",
                         c.switches[0],
                         c.switches[1],
-                        100.0 * c.excess_variation[0],
-                        100.0 * c.excess_variation[1],
+                        above_or_below(c.excess_variation[0]),
+                        above_or_below(c.excess_variation[1]),
                         100.0 * c.deepest_dip[0],
                         100.0 * c.deepest_dip[1]
                     );

@@ -343,6 +343,25 @@ pub enum ScheduleError {
     CirculationTooLarge(f64, f64),
 }
 
+impl ScheduleError {
+    /// Why there is no `π/C`, in a few words for another field's message (the calibration's,
+    /// which starts from it).
+    pub fn detail(&self) -> String {
+        use crate::numeric::numfmt::{echo, num};
+        match self {
+            ScheduleError::NonPositiveC(c, theta) => {
+                format!("the paper's C = {} is not positive at manoeuvre.theta_deg = {}", num(*c), echo(*theta))
+            }
+            ScheduleError::CirculationTooLarge(d, c) => format!(
+                "π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {} rad a schedule may circulate",
+                num(*d),
+                num(*c),
+                crate::problem::manoeuvre::MAX_CIRCULATION
+            ),
+        }
+    }
+}
+
 impl Schedule {
     /// The schedule of a problem's manoeuvre with a given circulation `D`, rad.
     pub fn new(problem: &crate::problem::Problem, circulation: f64) -> Schedule {

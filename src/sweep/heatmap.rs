@@ -70,7 +70,11 @@ pub fn short(v: f64) -> String {
     } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
         format!("{v:.3e}")
     } else {
-        let digits = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+        // The decimals from the exponent after rounding to four digits: 0.99999999 is "1.000",
+        // as 1.0000001 is (its floor(log10) gave "1.0000").
+        let sci = format!("{:.3e}", v.abs());
+        let exponent: i32 = sci.split_once('e').map_or(0, |(_, e)| e.parse().unwrap_or(0));
+        let digits = (3 - exponent).max(0) as usize;
         format!("{v:.digits$}")
     }
 }
@@ -153,5 +157,22 @@ impl Figure for Drawn<'_> {
                 .map_err(failed)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::short;
+
+    /// Four significant digits whichever side of a power of ten a value rounds from (a ratio of
+    /// 1 − 1e-13 read "1.0000" beside "1.000" for 1 + 1e-13 in one table).
+    #[test]
+    fn a_value_that_rounds_up_to_a_power_of_ten_keeps_four_digits() {
+        assert_eq!(short(1.0 - 1e-13), "1.000");
+        assert_eq!(short(1.0 + 1e-13), "1.000");
+        assert_eq!(short(9.99996), "10.00");
+        assert_eq!(short(0.0012346), "0.001235");
+        assert_eq!(short(2.051), "2.051");
+        assert_eq!(short(12345.0), "1.234e4");
     }
 }

@@ -34,20 +34,27 @@ pub struct SweepOutcome {
     pub rows: usize,
     /// Rows per status (`ok`, `refused`, `failed`, `not-available`).
     pub statuses: BTreeMap<String, usize>,
+    /// Cases with warnings (`sweep.md`, "Warnings", lists them).
+    pub warned_cases: usize,
     /// Files written, relative to `dir`.
     pub files: Vec<String>,
 }
 
 impl SweepOutcome {
+    /// The rows per status, `3 ok, 1 refused`.
+    pub fn counts(&self) -> String {
+        let counts: Vec<String> = self.statuses.iter().map(|(s, n)| format!("{n} {s}")).collect();
+        counts.join(", ")
+    }
+
     /// One line per fact, for the terminal.
     pub fn to_text(&self) -> String {
-        let counts: Vec<String> = self.statuses.iter().map(|(s, n)| format!("{n} {s}")).collect();
         format!(
             "sweep {}: {} cases, {} rows ({}); {} files in {}\n",
             self.name,
             self.cases,
             self.rows,
-            counts.join(", "),
+            self.counts(),
             self.files.len(),
             self.dir.display()
         )
@@ -61,7 +68,10 @@ fn outcome(name: &str, dir: &Path, records: &[Record], files: Vec<String>) -> Sw
     }
     let mut cases: Vec<usize> = records.iter().map(|r| r.case).collect();
     cases.dedup();
+    let mut warned: Vec<usize> = records.iter().filter(|r| !r.warnings.is_empty()).map(|r| r.case).collect();
+    warned.dedup();
     SweepOutcome {
+        warned_cases: warned.len(),
         name: name.to_string(),
         dir: dir.to_path_buf(),
         cases: cases.len(),

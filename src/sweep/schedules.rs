@@ -42,7 +42,7 @@ pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
     let names = schedules(sweep);
     let _ = writeln!(
         s,
-        "## Peak torque by schedule\n\nThe exact peak `max |τ|` (N·m) of each schedule per case; `retimed` is the calibrated schedule (`*`: the paper's, the calibration having failed) timed by the certified convex retiming, `bound` the certified lower bound of its discrete program (finer grids lower it); `whole` the whole-manoeuvre optimum; — where the row has no result (see its status in `sweep.csv`).\n"
+        "## Peak torque by schedule\n\nThe exact peak `max |τ|` (N·m) of each schedule per case; `retimed` is the calibrated schedule (`*`: the paper's, the calibration having failed) timed by the certified convex retiming, `bound` the certified lower bound of its discrete program (finer grids lower it); `whole` the whole-manoeuvre optimum; — where the row has no result (see its status in `sweep.csv`); `†` a schedule beyond the case's motors (`within_motors` false in `sweep.csv`), never the `lowest`, which is the lowest within them.\n"
     );
     let mut head = String::from("| case |");
     for a in &sweep.axes {
@@ -68,22 +68,28 @@ pub fn by_schedule(s: &mut String, sweep: &Sweep, records: &[Record]) {
             let _ = write!(line, " {} |", cell(&a.values[p]));
         }
         let mut lowest: Option<(SweepSchedule, f64)> = None;
+        let mut any = false;
         for n in &names {
             let r = rows.iter().find(|r| r.schedule == *n);
             let peak = r.and_then(|r| r.peak_max()).filter(|p| p.is_finite());
             let mark = if r.is_some_and(|r| r.labels.retimed_from == Some(SweepSchedule::Paper)) { "*" } else { "" };
-            let _ = write!(line, " {}{mark} |", peak.map_or_else(|| "—".to_string(), short));
+            let beyond =
+                r.and_then(|r| r.numbers).and_then(|x| x.motors).and_then(|m| m.worst).is_some_and(|w| !w.within());
+            let dagger = if beyond && peak.is_some() { "†" } else { "" };
+            let _ = write!(line, " {}{mark}{dagger} |", peak.map_or_else(|| "—".to_string(), short));
             if *n == SweepSchedule::Retimed {
                 let bound = r.and_then(|r| r.numbers).and_then(|x| x.retiming).map(|x| x.lower_bound_nm);
                 let _ = write!(line, " {} |", bound.map_or_else(|| "—".to_string(), short));
             }
-            if let Some(p) = peak {
+            any |= peak.is_some();
+            if let Some(p) = peak.filter(|_| !beyond) {
                 if lowest.is_none_or(|(_, b)| p < b) {
                     lowest = Some((*n, p));
                 }
             }
         }
-        let _ = writeln!(s, "{line} {} |", lowest.map_or("—", |(n, _)| n.name()));
+        let none = if any { "— (none within the motors)" } else { "—" };
+        let _ = writeln!(s, "{line} {} |", lowest.map_or(none, |(n, _)| n.name()));
     }
     if cases.len() > MAX_ROWS {
         let _ = writeln!(s, "\n({} more cases in `sweep.csv`.)", cases.len() - MAX_ROWS);

@@ -131,6 +131,24 @@ impl Manifest {
     }
 }
 
+/// What differs between the sweeps of two parts, in words; none when they are one sweep.
+fn difference(a: &Sweep, b: &Sweep) -> Option<String> {
+    let what = if a.name != b.name {
+        format!("its name (\"{}\" against \"{}\")", a.name, b.name)
+    } else if a.base_text != b.base_text || a.base_origin != b.base_origin {
+        format!("its base problem ({})", a.base_origin)
+    } else if a.axes != b.axes || a.combine != b.combine {
+        "its axes".to_string()
+    } else if a.compute != b.compute {
+        "its [compute]".to_string()
+    } else if a != b {
+        "its sweep file".to_string()
+    } else {
+        return None;
+    };
+    Some(what)
+}
+
 /// Reads the parts in `dirs` and returns the sweep and every record in case order.
 pub fn read_parts(dirs: &[PathBuf]) -> Result<(Sweep, Vec<Record>), SweepError> {
     let mut parts: Vec<(Manifest, PathBuf)> = Vec::new();
@@ -142,9 +160,14 @@ pub fn read_parts(dirs: &[PathBuf]) -> Result<(Sweep, Vec<Record>), SweepError> 
     };
     let (sweep, n) = (first.sweep.clone(), first.shard.n);
     for (m, dir) in &parts {
-        if m.sweep != sweep || m.shard.n != n {
+        let differs = if m.shard.n != n {
+            Some(format!("its shard count ({} against {n})", m.shard.n))
+        } else {
+            difference(&m.sweep, &sweep)
+        };
+        if let Some(what) = differs {
             return Err(SweepError::Merge(format!(
-                "{} is a part of another sweep or shard count than {}",
+                "{} is a part of another sweep than {}: {what} differs (the parts of one sweep come from one sweep file and one --shard K/N count; run the shards again from the file as it is now)",
                 dir.display(),
                 parts[0].1.display()
             )));

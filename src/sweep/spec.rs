@@ -362,9 +362,31 @@ fn check_axis(
     if a.field == "name" {
         return Err(bad(&at("field"), "`name` cannot be swept: the sweep names its cases"));
     }
-    if !known.contains(&a.field) && !accepted_by_problem(base_text, base_origin, &a.field, &a.values[0]) {
-        let list: Vec<&str> = known.iter().map(String::as_str).collect();
-        return Err(bad(&at("field"), &format!("`{}` is not a problem field (known: {})", a.field, list.join(", "))));
+    if a.field.chars().any(char::is_whitespace) {
+        let written: String = a.field.split_whitespace().collect();
+        return Err(bad(&at("field"), &format!("`{}` holds spaces: write `{written}`", a.field)));
+    }
+    if !known.contains(&a.field) {
+        if let Some(why) = refused_by_problem(base_text, base_origin, &a.field, &a.values[0]) {
+            return Err(bad(&at("field"), &format!("`{}` is not a problem field: {why}", a.field)));
+        }
+    }
+    // A value the field cannot hold (a string among numbers, a misspelt name) is the file's
+    // mistake, said here rather than as a refused case; a value the problem then refuses for what
+    // it means (a bend at gimbal lock) is a case's. Numbers of one kind are held alike, so the
+    // first of each kind stands for the rest.
+    let mut kinds = BTreeSet::new();
+    for (k, value) in a.values.iter().enumerate() {
+        let kind = match value {
+            toml::Value::Float(_) => "float".to_string(),
+            toml::Value::Integer(_) => "integer".to_string(),
+            other => other.to_string(),
+        };
+        if kinds.insert(kind) {
+            if let Some(why) = refused_by_problem(base_text, base_origin, &a.field, value) {
+                return Err(bad(&format!("axis[{i}].values[{k}]"), &format!("{value}: {why}")));
+            }
+        }
     }
     if a.numeric != is_numeric(&a.values) {
         return Err(bad(&at("numeric"), &format!("is {} but the values say otherwise", a.numeric)));
@@ -481,14 +503,18 @@ pub fn known_fields() -> BTreeSet<String> {
     out
 }
 
-/// Whether the problem file accepts `field` (an optional field absent from the defaults): it
-/// parses with that field set, whatever it then says of the value.
-fn accepted_by_problem(base_text: &str, base_origin: &str, field: &str, value: &toml::Value) -> bool {
+/// Why the problem file does not take `field` (an optional field absent from the defaults is
+/// taken): the parser's words when the base problem with that field set does not parse (naming
+/// the section and the fields it has, the optional ones too), none when it parses, whatever it
+/// then says of the value.
+fn refused_by_problem(base_text: &str, base_origin: &str, field: &str, value: &toml::Value) -> Option<String> {
+    use crate::problem::ProblemError;
     let set = format!("{field}={value}");
-    !matches!(
-        Problem::from_toml(base_text, base_origin, &[set]),
-        Err(crate::problem::ProblemError::Parse { .. } | crate::problem::ProblemError::BadOverride { .. })
-    )
+    match Problem::from_toml(base_text, base_origin, &[set]) {
+        Err(ProblemError::Parse { message, .. }) => Some(one_line(&message)),
+        Err(ProblemError::BadOverride { reason, .. }) => Some(one_line(&reason)),
+        _ => None,
+    }
 }
 
 fn bad(field: &str, reason: &str) -> SpecError {

@@ -32,6 +32,7 @@ pub fn body(sweep: &Sweep, records: &[Record], plots: &[PlotInfo]) -> String {
     let mut s = String::new();
     overview(&mut s, sweep, records);
     not_computed(&mut s, records);
+    warnings(&mut s, records);
     super::schedules::by_schedule(&mut s, sweep, records);
     super::schedules::verdicts(&mut s, sweep, records);
     drop_heights(&mut s, sweep, records);
@@ -122,6 +123,36 @@ fn not_computed(s: &mut String, records: &[Record]) {
     }
     if reasons.len() > MAX_ROWS {
         let _ = writeln!(s, "\n({} more reasons in `sweep.csv`.)", reasons.len() - MAX_ROWS);
+    }
+    s.push('\n');
+}
+
+/// "## Warnings": each case's warnings (the problem file's, as `--set` gives them the case's
+/// values: a drop height that reads like kilometres, a bend outside the paper's stability range),
+/// one line per distinct text with its cases; the CSV's `warnings` column holds them too.
+fn warnings(s: &mut String, records: &[Record]) {
+    // (text, first case, cases), in case order.
+    let mut seen: Vec<(&str, usize, usize)> = Vec::new();
+    let mut last = None;
+    for r in records.iter().filter(|r| !r.warnings.is_empty()) {
+        if last == Some(r.case) {
+            continue;
+        }
+        last = Some(r.case);
+        match seen.iter_mut().find(|x| x.0 == r.warnings) {
+            Some(x) => x.2 += 1,
+            None => seen.push((r.warnings.as_str(), r.case, 1)),
+        }
+    }
+    if seen.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "## Warnings\n\n| warnings | cases | first case |\n|---|---:|---:|");
+    for (text, first, n) in seen.iter().take(MAX_ROWS) {
+        let _ = writeln!(s, "| {} | {n} | {first} |", text.replace('|', "\\|"));
+    }
+    if seen.len() > MAX_ROWS {
+        let _ = writeln!(s, "\n({} more in `sweep.csv`.)", seen.len() - MAX_ROWS);
     }
     s.push('\n');
 }

@@ -50,6 +50,16 @@ impl Trajectory for Held {
     }
 }
 
+/// The paper's schedule as catflip exports it at 1 kHz (each phase boundary's time written twice,
+/// one row per side), the CSV's text.
+pub fn paper_csv() -> String {
+    use catflip::exchange::{write_schedule, ExportOptions};
+    let (p, s) = paper();
+    write_schedule(&p, &measured(&p, &s), &ExportOptions { rate_hz: Some(1000.0), ..Default::default() })
+        .expect("writes")
+        .csv
+}
+
 /// Runs the `catflip` binary with `args`: its exit code (-1 when killed by a signal), stdout and
 /// stderr.
 pub fn catflip(args: &[&str]) -> (i32, String, String) {

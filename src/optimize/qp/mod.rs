@@ -91,7 +91,7 @@ pub use solution::ProfileQpSolution;
 pub enum QpError {
     /// A closed-form bound proves the limits infeasible, before any solve (see
     /// [`ProfileQp::feasibility`]).
-    #[error("infeasible: the {} {} {unit} is below the {} {unit} this move needs ({why})", limit.describe(), num(*given), num(*needed))]
+    #[error("{} = {}: infeasible: the {} {} {unit} is below the {} {unit} this move needs ({why})", limit.field(), echo(*given), limit.describe(), num(*given), num(*needed))]
     Infeasible {
         /// Which limit.
         limit: Limit,

@@ -6,7 +6,9 @@
 //! half is drawn as its silhouette (the convex hull of its two projected end circles, filled), its
 //! axis, the end circles and generator lines facing the viewer, and, on its belly (local `+y`,
 //! the inside of the bend), a red stripe and two legs; A carries the head (ears on its back), B
-//! the tail. Hidden lines are left out; the halves are painted far to near. One scale fits every
+//! the tail. The head's disc has 1.5 times A's radius, but no more than 15 % of A's length unless
+//! that is below A's radius: the paper's slender cat keeps its head, a thick short half (a real
+//! cat's front, radius 0.0447 m on 0.2048 m) does not carry a head two thirds its length. Hidden lines are left out; the halves are painted far to near. One scale fits every
 //! frame, so sizes compare across frames.
 
 use std::path::{Path, PathBuf};
@@ -354,6 +356,12 @@ impl Layout {
 }
 
 /// The timeline's segments of a trajectory: its three phases, or one for the whole manoeuvre.
+/// The unit in which the head and ears are drawn on a half of half-length `h` and radius `r`:
+/// the head's disc has radius `1.5 u` (module docs).
+fn head_unit(h: f64, r: f64) -> f64 {
+    r.min(0.2 * h).max(r / 1.5)
+}
+
 fn segments(t: &impl Trajectory) -> Vec<(&'static str, f64)> {
     let d = t.piece_durations();
     if d.len() == Phase::ALL.len() {
@@ -396,11 +404,13 @@ impl Scene {
             }
         }
         let (da, db) = (cam.depth(&pose.a.centre), cam.depth(&pose.b.centre));
-        // The head on A's front end, ears on its back (−y, away from the belly).
-        let head = Vector3::new(0.0, 0.0, h + 1.3 * r);
+        // The head on A's front end, ears on its back (−y, away from the belly), drawn in units
+        // of `u`: the half's radius, or less on a thick short half (module docs).
+        let u = head_unit(h, r);
+        let head = Vector3::new(0.0, 0.0, h + 1.3 * u);
         for s in [-1.0, 1.0] {
             let ear = [(0.35, -1.0), (1.45, -0.3), (1.55, -2.9)]
-                .map(|(x, y)| pose.a.point(head + Vector3::new(s * x * r, y * r, 0.0)));
+                .map(|(x, y)| pose.a.point(head + Vector3::new(s * x * u, y * u, 0.0)));
             let points = ear.iter().map(|p| cam.project(p)).collect();
             out.push(Layered { depth: da, layer: HEAD, mark: Mark::Fill { points, fill: A_EDGE, edge: A_EDGE } });
         }
@@ -408,7 +418,7 @@ impl Scene {
         out.push(Layered {
             depth: da,
             layer: HEAD,
-            mark: Mark::Disc { centre, radius: 1.5 * r, fill: A_FILL, edge: A_EDGE },
+            mark: Mark::Disc { centre, radius: 1.5 * u, fill: A_FILL, edge: A_EDGE },
         });
         match (self.tail, &pose.tail) {
             // A real tail (a rod of the model): drawn as the halves are, without legs.
@@ -689,6 +699,17 @@ mod tests {
         let scene = Scene::new(&problem, "exact-refined-all-phases-calibrated", &schedule);
         assert_eq!(scene.title, "catflip: problem \u{201c}paper\u{201d}, exact-refined-all-phases-calibrated");
         assert!(!scene.title.contains(schedule.profile.name()) || schedule.profile.name().is_empty());
+    }
+
+    #[test]
+    fn head_is_the_paper_cats_and_bounded_on_a_thick_half() {
+        // The paper's halves (1 m by 0.1 m): the unit is the radius itself, as drawn before the bound.
+        assert_eq!(head_unit(0.5, 0.1).to_bits(), 0.1f64.to_bits());
+        // The real cat's front (0.2048 m by 0.0447 m): 15 % of its length is below its radius,
+        // so the head's radius is the half's own.
+        assert!((1.5 * head_unit(0.1024, 0.0447) - 0.0447).abs() < 1e-15);
+        // Between the two (0.5 m by 0.06 m): 15 % of the length, 0.075 m.
+        assert!((1.5 * head_unit(0.25, 0.06) - 0.075).abs() < 1e-15);
     }
 
     #[test]

@@ -82,6 +82,9 @@ pub struct RunOutcome {
     pub summary: String,
     /// How long each stage took (`run --timings`), in order of start; empty for `bench`.
     pub stages: Vec<StageTime>,
+    /// The schedules whose rapier verification made no usable run (inconclusive, nothing to
+    /// compare): `run` exits non-zero when there are any, as `compare --verify` does.
+    pub without_result: usize,
     /// The whole computation's wall time, s.
     pub total_s: f64,
 }
@@ -160,9 +163,10 @@ pub fn run_with(
 ) -> Result<RunOutcome, RunError> {
     runnable(&r.problem)?;
     let clock = Stopwatch::start();
-    let (mut outcome, ()) =
-        atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock).map(|s| (s, ())))?;
+    let (mut outcome, without_result) =
+        atomically(out_root, &r.problem.name, |w| produce(r, command, export, w, &clock))?;
     (outcome.stages, outcome.total_s) = clock.finish();
+    outcome.without_result = without_result;
     Ok(outcome)
 }
 
@@ -213,7 +217,7 @@ fn atomically<T>(
     })?;
     let dir = staging.commit()?;
     let total_s = start.elapsed().as_secs_f64();
-    Ok((RunOutcome { dir, files: w.files, summary, stages: Vec::new(), total_s }, value))
+    Ok((RunOutcome { dir, files: w.files, summary, stages: Vec::new(), total_s, without_result: 0 }, value))
 }
 
 fn produce(
@@ -222,7 +226,7 @@ fn produce(
     export: &crate::exchange::ExportOptions,
     w: &mut Writer,
     clock: &Stopwatch,
-) -> Result<String, RunError> {
+) -> Result<(String, usize), RunError> {
     let problem = &r.problem;
     let settings = toml::to_string(problem)?;
     let plots = w.dir.join("plots");
@@ -230,6 +234,8 @@ fn produce(
     // The whole optimum's animation is drawn beside its verification, as soon as it exists.
     let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
     let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
+    let without_result = verified.iter().filter(|m| m.finest().is_none()).count()
+        + usize::from(whole.verification().is_some_and(|v| v.runs.is_empty()));
     let verified =
         verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
     // The views every format renders: the peak-torque table holds every schedule measured once.
@@ -293,7 +299,7 @@ fn produce(
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         let _ = writeln!(
             summary,
-            "\n{} The trials, the worst ones and the plots: [`robust.md`](robust.md). Tracked by motors in rapier, with attitude feedback and landing: `catflip robust` with `--schedule` this folder's `schedules/{WHOLE}.csv` (README, *Robustness*).",
+            "\n{} The trials, the worst ones and the plots: [`robust.md`](robust.md). Tracked by motors in rapier, with attitude feedback and landing: `catflip robust` with `--schedule` this folder's `schedules/{WHOLE}.csv` (README, *Will it land on its feet, and how often?*).",
             robust_line(c)
         );
         if problem.robust.engine.rapier() {
@@ -318,5 +324,5 @@ fn produce(
     if let Some(c) = robust.as_ref().and_then(|report| report.checks.first()) {
         answer.insert_str(answer.find('\n').map_or(0, |k| k + 1), &format!("{}\n", robust_line(c)));
     }
-    Ok(answer)
+    Ok((answer, without_result))
 }
