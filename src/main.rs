@@ -327,7 +327,7 @@ fn run() -> anyhow::Result<()> {
                 spinner.finish_and_clear();
                 write_whole(out, &r, &check.report, &check, &check.to_markdown(), &command)?;
                 emit(common.json, &check, || check.to_markdown())?;
-                if check.rapier.as_ref().is_some_and(|v| v.runs.is_empty()) {
+                if check.rapier.as_ref().is_some_and(|v| !v.has_result()) {
                     anyhow::bail!(
                         "optimize --whole --verify: rapier has no result for the optimum (inconclusive: no usable run; the verification says why)"
                     );
@@ -397,7 +397,8 @@ fn run() -> anyhow::Result<()> {
                 spinner.finish_and_clear();
                 written.push(outcome.dir.display().to_string());
                 if outcome.without_result > 0 {
-                    without_result.push(format!("{} ({} schedules)", problem.name, outcome.without_result));
+                    let n = outcome.without_result;
+                    without_result.push(format!("{} ({n} schedule{})", problem.name, if n == 1 { "" } else { "s" }));
                 }
                 say(&format!("{}: {} files in {}\n", problem.name, outcome.files.len(), outcome.dir.display()))?;
                 say(&outcome.summary)?;
@@ -441,17 +442,19 @@ fn run() -> anyhow::Result<()> {
             };
             emit(json, &outcome, || outcome.to_text())?;
             if outcome.warned_cases > 0 {
+                let listed = if whole {
+                    format!("{}, \"Warnings\", lists them", outcome.dir.join("sweep.md").display())
+                } else {
+                    format!("the warnings column of {} holds them", outcome.dir.join("cases.csv").display())
+                };
                 eprintln!(
-                    "warning: sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values): {}, \"Warnings\", lists them",
-                    outcome.name,
-                    outcome.warned_cases,
-                    outcome.cases,
-                    outcome.dir.join("sweep.md").display()
+                    "warning: sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values): {listed}",
+                    outcome.name, outcome.warned_cases, outcome.cases
                 );
             }
             // A sweep (or a merge) without one computed row has no result; a shard's other
             // parts may have them, so the merge decides.
-            if whole && outcome.rows > 0 && !outcome.statuses.contains_key("ok") {
+            if whole && outcome.rows > 0 && !outcome.has_result() {
                 anyhow::bail!(
                     "sweep {}: no case gave a result ({}): the reason column of {} says why for each",
                     outcome.name,
@@ -475,25 +478,14 @@ fn run() -> anyhow::Result<()> {
                 Some(file) => {
                     // The import's own checks (units, ends, sampling, numbers that cannot be
                     // computed) apply to the file before any trial runs.
-                    let checked =
-                        catflip::measure::import::measure_import(&problem, catflip::exchange::read_schedule(file)?)?;
+                    let read = catflip::exchange::read_schedule(file)?;
+                    catflip::robust::fits_the_fall(&problem, &read)
+                        .map_err(|why| anyhow::anyhow!("{}: {why}", file.display()))?;
+                    let checked = catflip::measure::import::measure_import(&problem, read)?;
                     for w in &checked.warnings {
                         eprintln!("warning: {w}");
                     }
                     let imported = &checked.measured.trajectory;
-                    // Each trial runs the schedule to its end: one of a thousand falls (times in
-                    // milliseconds) would run for hours, warned of and then waited on.
-                    let (lasts, fall) =
-                        (catflip::schedule::Trajectory::total_duration(imported), problem.drop.fall_time());
-                    if !(0.5..=2.0).contains(&(lasts / fall)) {
-                        anyhow::bail!(
-                            "{}: the schedule lasts {} s, the fall {} s (drop.height = {} m): robust runs each trial to the schedule's end, so a schedule more than twice or less than half the fall is refused; write its times in seconds over this fall",
-                            file.display(),
-                            catflip::numeric::numfmt::sig(lasts, 6),
-                            catflip::numeric::numfmt::sig(fall, 6),
-                            catflip::numeric::numfmt::echo(problem.drop.height)
-                        );
-                    }
                     let mut report = catflip::robust::check(&problem, imported, &file.display().to_string())?;
                     report.command = command;
                     let dir = out.as_ref().map(|o| report.write(o, &problem, imported)).transpose()?;

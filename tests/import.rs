@@ -198,3 +198,60 @@ fn a_phase_boundary_written_once_is_warned_of() {
     let w = warnings(&p, &(bare.join("\n") + "\n"));
     assert!(w.iter().any(|w| w.contains("jumps within one interval")) && said(&w), "{w:?}");
 }
+
+/// A jerk-limited profile (continuous `q̈`, the jerk switching between rows) is not a boundary
+/// written once: its kink leaves a residual of the trapezoid rule, isolated as a jump's is, but
+/// changes `q̈` as its neighbours do (a review found it warned of).
+#[test]
+fn a_jerk_limited_profile_is_not_taken_for_a_boundary_written_once() {
+    let p = Problem::default();
+    let fall = p.drop.fall_time();
+    // Jerk +J, −J, +J over the quarters, halves and quarter of the fall: q̈ continuous, zero at
+    // both ends, q̇ from rest to rest; 1001 intervals, so the switches fall inside intervals.
+    let jerk = 400.0;
+    let switches = [0.0, 0.25 * fall, 0.75 * fall, fall];
+    let signs = [1.0, -1.0, 1.0];
+    let state = |t: f64| {
+        let (mut q, mut qd, mut qdd) = (0.0, 0.0, 0.0);
+        for (k, s) in signs.iter().enumerate() {
+            let (t0, t1) = (switches[k], switches[k + 1]);
+            let d = t.min(t1) - t0;
+            if d <= 0.0 {
+                break;
+            }
+            let j = s * jerk;
+            q += qd * d + qdd * d * d / 2.0 + j * d.powi(3) / 6.0;
+            qd += qdd * d + j * d * d / 2.0;
+            qdd += j * d;
+        }
+        (q, qd, qdd)
+    };
+    let n = 1001;
+    let mut text = String::from("t_s,q1_rad,q2_rad,qd1_rad_s,qd2_rad_s,qdd1_rad_s2,qdd2_rad_s2\n");
+    for k in 0..=n {
+        let t = fall * k as f64 / n as f64;
+        let (q, qd, qdd) = state(t);
+        text += &format!("{t:e},{q:e},0,{qd:e},0,{qdd:e},0\n");
+    }
+    let w = warnings(&p, &text);
+    assert!(!w.iter().any(|w| w.contains("jumps within one interval")), "{w:?}");
+    // The same profile with q̈ stepping up by 50 rad/s² at row 500's time, written once (that
+    // row holds the value after the step, as a de-duplication keeping the `start` row leaves
+    // it): said.
+    let step = fall * 500.0 / n as f64;
+    let mut stepped = String::from("t_s,q1_rad,q2_rad,qd1_rad_s,qd2_rad_s,qdd1_rad_s2,qdd2_rad_s2\n");
+    for k in 0..=n {
+        let t = fall * k as f64 / n as f64;
+        let (mut q, mut qd, mut qdd) = state(t);
+        if k >= 500 {
+            let d = t - step;
+            (q, qd, qdd) = (q + 25.0 * d * d, qd + 50.0 * d, qdd + 50.0);
+        }
+        stepped += &format!("{t:e},{q:e},0,{qd:e},0,{qdd:e},0\n");
+    }
+    let w = warnings(&p, &stepped);
+    assert!(
+        w.iter().any(|w| w.starts_with("lines 501 and 502: column `qdd1_rad_s2` jumps within one interval")),
+        "{w:?}"
+    );
+}

@@ -122,6 +122,12 @@ fn a_bad_axis_is_refused_with_its_field_named() {
         bad_field(&with_base("[[axis]]\nfield = \"manoeuvre.profile\"\nvalues = [\"cycloidal\", \"cycloïdal\"]"));
     assert_eq!(field, "axis[0].values[1]");
     assert!(reason.contains("unknown variant `cycloïdal`"), "{reason}");
+    // An optional field (none in the defaults) with a value of the wrong type: the value, not
+    // the field, is wrong; an integer out of its field's range is found wherever it stands.
+    let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"optimize.rate_limit\"\nvalues = [\"fast\"]"));
+    assert_eq!(field, "axis[0].values[0]", "{reason}");
+    let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"robust.seed\"\nvalues = [1, 2, -3]"));
+    assert_eq!(field, "axis[0].values[2]", "{reason}");
     let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \" cat.radius\"\nvalues = [0.1]"));
     assert_eq!((field.as_str(), reason.as_str()), ("axis[0].field", "` cat.radius` holds spaces: write `cat.radius`"));
     let (field, _) = bad_field(&with_base(
@@ -1062,14 +1068,16 @@ fn a_min_time_case_without_a_flip_is_failed_with_its_reason_never_a_height() {
 #[test]
 fn warnings_and_schedules_beyond_the_motors_are_said() {
     let root = scratch("warned");
-    let axes = "[[axis]]\nfield = \"actuator.torque_limit_nm\"\nvalues = [100.0, 0.05]\n[[axis]]\nfield = \"drop.height\"\nvalues = [3.0, 0.01]\n";
+    // θ = 100°, inside the paper's stability range: only the two 1 cm drops are warned of.
+    let axes = "[[axis]]\nfield = \"actuator.torque_limit_nm\"\nvalues = [10.0, 0.05]\n[[axis]]\nfield = \"drop.height\"\nvalues = [3.0, 0.01]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [100.0]\n";
     let (out, f, o) = sweep_file(&root, &format!("{axes}[compute]\ncalibrated = true\npeaks = true\nretiming = true"));
     let (code, _, stderr) = catflip(&["sweep", &f, "--out", &o, "--quiet"]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("warning: sweep t: 4 of its 4 cases carry warnings"), "{stderr}");
+    assert!(stderr.contains("warning: sweep t: 2 of its 4 cases carry warnings"), "{stderr}");
     let md = std::fs::read_to_string(out.join("t/sweep.md")).expect("the report");
     assert!(md.contains("## Warnings") && md.contains("drop.height = 0.01 m is outside"), "{md}");
-    // Case 0 (100 N·m, 3 m): the library schedules exceed the limit, the retiming does not.
+    // Case 0 (10 N·m, 3 m): the library schedules exceed the limit (26.6 N·m), the retiming
+    // (7.0 N·m) does not.
     let case = |k: usize| md.lines().find(|l| l.starts_with(&format!("| {k} |"))).unwrap_or_default().to_string();
     let first = case(0);
     assert!(first.contains("†") && first.ends_with("| retimed |"), "{first}");

@@ -44,6 +44,7 @@ use crate::engines::JUMP_TOLERANCE;
 use crate::exchange::import::{
     ImportError, ImportedSchedule, Interpolation, Row, TimeRounding, POSITION_JUMP_TOLERANCE, TIME_ROUNDING_WARNED,
 };
+use crate::numeric::numfmt::sig;
 use crate::problem::Problem;
 use crate::schedule::Trajectory;
 
@@ -58,6 +59,9 @@ pub const CONSISTENCY_FRACTION: f64 = 0.1;
 pub const JUMP_SHARE: f64 = 0.01;
 /// How many times its neighbours' residuals an interval's must exceed to read as a jump.
 pub const JUMP_ISOLATION: f64 = 100.0;
+/// How many times its neighbours' changes of acceleration an interval's must exceed to read as a
+/// jump (a jerk-limited profile's kink changes it as they do).
+pub const ACCEL_ISOLATION: f64 = 10.0;
 /// Estimated relative error of the peak torque from the rows' spacing above which it is warned.
 pub const SAMPLING_TOLERANCE: f64 = 1e-3;
 
@@ -110,9 +114,10 @@ fn made_for(problem: &Problem, s: &ImportedSchedule, warnings: &mut Vec<String>)
     };
     let Some(planned) = spin(&source.problem_file) else { return };
     let here = problem.drop.angular_momentum;
-    // Bit for bit (−0 as 0): a sidecar carries the numbers its problem file gave.
-    let bits = |l: [f64; 3]| l.map(|x| (x + 0.0).to_bits());
-    if bits(planned) != bits(here) {
+    // To 1e-12 of the larger spin: a sidecar carries the numbers its problem file gave.
+    let gap = (0..3).map(|i| (planned[i] - here[i]).abs()).fold(0.0, f64::max);
+    let size = (0..3).map(|i| planned[i].abs().max(here[i].abs())).fold(0.0, f64::max);
+    if gap > 1e-12 * size {
         let shown = |l: [f64; 3]| format!("[{}, {}, {}]", echo(l[0]), echo(l[1]), echo(l[2]));
         warnings.push(format!(
             "its sidecar {} says it was planned for a release with drop.angular_momentum = {} N·m·s, this problem's is {}: the twist here is this release's, not the one it was planned for",
@@ -252,12 +257,12 @@ fn consistency(s: &ImportedSchedule, warnings: &mut Vec<String>) {
                 let (a, b) = (&w[0], &w[1]);
                 let h = b.t - a.t;
                 let (Some(va), Some(vb)) = (a.qd, b.qd) else { continue };
-                let correction = match (a.qdd, b.qdd) {
-                    (Some(aa), Some(ab)) => {
-                        qd.add(vb[j] - va[j], 0.5 * h * (aa[j] + ab[j]), [a.line, b.line]);
-                        h * h * (ab[j] - aa[j]) / 12.0
+                let correction = match AccelStep::of(a, b, j) {
+                    Some(step) => {
+                        qd.add(step.change, step.integral, step.lines);
+                        h * h * step.accel_change / 12.0
                     }
-                    _ => 0.0,
+                    None => 0.0,
                 };
                 q.add(b.q[j] - a.q[j], 0.5 * h * (va[j] + vb[j]) - correction, [a.line, b.line]);
             }
@@ -295,9 +300,10 @@ fn consistency(s: &ImportedSchedule, warnings: &mut Vec<String>) {
 /// interpolation carries the jump into the rows' intervals (a QA run's peak torque rose by 37 %,
 /// silently). Said when the `phase` column changes within a piece, or, with accelerations given,
 /// when one interval's rate change contradicts them by more than [`JUMP_SHARE`] of the largest
-/// change an interval of its width sees and [`JUMP_ISOLATION`] times its neighbours' residuals.
+/// change an interval of its width sees, that residual more than [`JUMP_ISOLATION`] times its two
+/// neighbours' and its change of acceleration more than [`ACCEL_ISOLATION`] times theirs.
 fn unrepeated_boundaries(s: &ImportedSchedule, warnings: &mut Vec<String>) {
-    let advice = "catflip writes each phase boundary's time twice, one row per side: keep both rows, or the interpolation carries the jump in the accelerations across the rows around it";
+    let advice = "catflip writes each phase boundary's time twice, one row per side, and the import splits the file there, where the accelerations may jump: keep both rows, or the interpolation carries any such jump into the rows around it";
     for p in &s.pieces {
         for w in p.rows.windows(2) {
             if let (Some(a), Some(b)) = (&w[0].phase, &w[1].phase) {
@@ -316,33 +322,58 @@ fn unrepeated_boundaries(s: &ImportedSchedule, warnings: &mut Vec<String>) {
         let largest =
             s.pieces.iter().flat_map(|p| &p.rows).filter_map(|r| r.qdd.map(|a| a[j].abs())).fold(0.0, f64::max);
         for p in &s.pieces {
-            // (residual, width, lines) of each interval.
-            let intervals: Vec<(f64, f64, [u64; 2])> = p
-                .rows
-                .windows(2)
-                .filter_map(|w| {
-                    let (a, b) = (&w[0], &w[1]);
-                    let (va, vb, aa, ab) = (a.qd?, b.qd?, a.qdd?, b.qdd?);
-                    let h = b.t - a.t;
-                    Some(((vb[j] - va[j] - 0.5 * h * (aa[j] + ab[j])).abs(), h, [a.line, b.line]))
-                })
-                .collect();
-            for k in 0..intervals.len() {
-                let (r, h, lines) = intervals[k];
-                let neighbours = [k.checked_sub(1), Some(k + 1)]
-                    .into_iter()
-                    .flatten()
-                    .filter_map(|i| intervals.get(i).map(|n| n.0))
-                    .fold(0.0, f64::max);
-                if r > JUMP_SHARE * h * largest && r > JUMP_ISOLATION * neighbours {
+            let steps: Vec<AccelStep> = p.rows.windows(2).filter_map(|w| AccelStep::of(&w[0], &w[1], j)).collect();
+            // An interval with a neighbour on each side, isolated in both its residual and its
+            // change of acceleration: a jerk-limited profile's kink (continuous q̈, a jump in the
+            // jerk) leaves a residual of J h²/8 but changes q̈ as its neighbours do.
+            for w in steps.windows(3) {
+                let [before, step, after] = [&w[0], &w[1], &w[2]];
+                let r = step.residual();
+                let isolated = r > JUMP_ISOLATION * before.residual().max(after.residual())
+                    && step.accel_change.abs()
+                        > ACCEL_ISOLATION * before.accel_change.abs().max(after.accel_change.abs());
+                if r > JUMP_SHARE * step.h * largest && isolated {
                     warnings.push(format!(
-                        "lines {} and {}: column `{}` jumps within one interval (the rates change by {:.6} rad/s less or more than the accelerations say), as at a phase boundary written once; {advice}",
-                        lines[0], lines[1], accels[j], r
+                        "lines {} and {}: column `{}` jumps within one interval (by {} rad/s², the rates changing by {} rad/s less or more than the accelerations say), as at a phase boundary written once; {advice}",
+                        step.lines[0],
+                        step.lines[1],
+                        accels[j],
+                        sig(step.accel_change, 6),
+                        sig(r, 3)
                     ));
                     return;
                 }
             }
         }
+    }
+}
+
+/// One row interval's rates and accelerations for joint `j` (both given at both ends): the
+/// change of rate, its trapezoid integral of the accelerations, the change of acceleration.
+struct AccelStep {
+    h: f64,
+    lines: [u64; 2],
+    change: f64,
+    integral: f64,
+    accel_change: f64,
+}
+
+impl AccelStep {
+    fn of(a: &Row, b: &Row, j: usize) -> Option<AccelStep> {
+        let (va, vb, aa, ab) = (a.qd?, b.qd?, a.qdd?, b.qdd?);
+        let h = b.t - a.t;
+        Some(AccelStep {
+            h,
+            lines: [a.line, b.line],
+            change: vb[j] - va[j],
+            integral: 0.5 * h * (aa[j] + ab[j]),
+            accel_change: ab[j] - aa[j],
+        })
+    }
+
+    /// How far the rates' change departs from the accelerations' trapezoid, rad/s.
+    fn residual(&self) -> f64 {
+        (self.change - self.integral).abs()
     }
 }
 

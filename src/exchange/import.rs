@@ -2,7 +2,9 @@
 //!
 //! # The file
 //!
-//! A header row names the columns (case-insensitive, in any order, other columns ignored):
+//! A header row names the columns (case-insensitive, in any order, other columns ignored; a
+//! quantity named by two columns, or a `phase` column given twice, is refused: which to read
+//! would be a guess):
 //!
 //! | quantity | accepted names | unit |
 //! |---|---|---|
@@ -562,7 +564,7 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
     let header: Vec<String> = reader.headers().map_err(csv_err)?.iter().map(|h| h.to_lowercase()).collect();
     let find = |names: &[&str]| names.iter().find_map(|n| header.iter().position(|h| h == n));
     // Each quantity from one column: a second that names it too would be read or ignored silently.
-    let quantities: [(&[&str], &'static str); 9] = [
+    let quantities: [(&[&str], &'static str); 8] = [
         (&TIME, "the time"),
         (&ANGLES[0], "joint 1's angle"),
         (&ANGLES[1], "joint 2's angle"),
@@ -571,7 +573,6 @@ pub fn parse_schedule(text: &str, origin: &str) -> Result<ImportedSchedule, Impo
         (&ACCELS[0], "joint 1's acceleration"),
         (&ACCELS[1], "joint 2's acceleration"),
         (&["phase"], "the phase"),
-        (&["boundary"], "the boundary"),
     ];
     for (names, what) in quantities {
         let at: Vec<usize> = (0..header.len()).filter(|&c| names.contains(&header[c].as_str())).collect();

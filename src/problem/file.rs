@@ -79,7 +79,6 @@ pub(crate) fn omissions(
         let _ = super::overrides::apply(&mut merged, assignment);
     }
     out.extend(halves(&merged));
-    out.extend(legs_shorthand(&merged));
     if !text.is_empty() && !text.ends_with('\n') {
         out.push(
             "the file does not end with a line break: was it cut short? (every field it leaves out takes its default)"
@@ -132,23 +131,6 @@ fn halves(table: &toml::Table) -> Vec<String> {
         }
     }
     out
-}
-
-/// The `[cat.legs]` numbers that neither pair uses, in `table` (the file's with the overrides
-/// applied): each of `mass`, `length` and `radius` that both `[cat.legs.front]` and
-/// `[cat.legs.rear]` give their own of. `[cat.legs]` must give all three, so a file whose pairs
-/// give theirs still writes numbers that are read nowhere.
-fn legs_shorthand(table: &toml::Table) -> Vec<String> {
-    let section = |t: Option<&toml::Value>, key: &str| t.and_then(|t| t.as_table()).and_then(|t| t.get(key)).cloned();
-    let Some(legs) = section(table.get("cat"), "legs") else { return Vec::new() };
-    let gives = |pair: &str, key: &str| section(Some(&legs), pair).is_some_and(|p| p.get(key).is_some());
-    ["mass", "length", "radius"]
-        .into_iter()
-        .filter(|key| gives("front", key) && gives("rear", key))
-        .map(|key| {
-            format!("cat.legs.{key} is used by neither pair: [cat.legs.front] and [cat.legs.rear] both give their own {key}")
-        })
-        .collect()
 }
 
 /// The `name` of a file that gives none: its stem, when that can name a results folder; else

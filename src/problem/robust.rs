@@ -29,7 +29,7 @@ pub const WARN_FEW_TRIALS: usize = 20;
 pub const WARN_TOLERANCE_DEG: f64 = 90.0;
 /// A landing tolerance below this many degrees reads like one written in radians (5° is
 /// 0.0873 rad): warned about.
-pub const WARN_RADIAN_TOLERANCE: f64 = 0.2;
+pub const WARN_RADIAN_TOLERANCE_DEG: f64 = 0.2;
 
 /// Which engines the robustness check runs its trials through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -367,7 +367,7 @@ impl RobustSettings {
                 echo(self.tolerance_deg)
             ));
         }
-        if self.tolerance_deg < WARN_RADIAN_TOLERANCE {
+        if self.tolerance_deg < WARN_RADIAN_TOLERANCE_DEG {
             out.push(format!(
                 "robust.tolerance_deg = {}: is it in radians? (the field is in degrees: {} rad is {:.1}°; a landing within {}° is far stricter than any cat needs)",
                 echo(self.tolerance_deg),

@@ -194,8 +194,11 @@ impl WholeSettings {
         if self.optimality > MAX_OPTIMALITY {
             return Err(bad(
                 "optimize.whole.optimality",
-                self.optimality,
-                &format!("must be at most {MAX_OPTIMALITY:.0e}: a stage would end while its model still predicts a decrease of that share of the objective, far from an optimum (the default is 1e-7)"),
+                crate::numeric::numfmt::echo(self.optimality),
+                &format!(
+                    "must be at most {MAX_OPTIMALITY:.0e}: a stage would end while its model still predicts a decrease of that share of the objective, far from an optimum (the default is {:.0e})",
+                    WholeSettings::default().optimality
+                ),
             ));
         }
         positive("optimize.whole.trust_radius_deg", self.trust_radius_deg)?;

@@ -65,7 +65,8 @@ pub enum ResultsDirError {
     NotAFolder {
         /// The user's `OUT/NAME`.
         path: PathBuf,
-        /// What it is instead: `a file`, `a link to nothing`, `a link to a file`.
+        /// What it is instead: `a file`, `a link to nothing`, `a link to a file`, `a link to a
+        /// folder`.
         what: &'static str,
     },
     /// `OUT/NAME` holds files catflip did not write ([`crate::report::owned`]): replacing the
@@ -165,7 +166,10 @@ pub fn check_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<(), R
 /// [`Staging::begin`] asks it again.
 pub fn check_target(out: &Path, name: &str) -> Result<(), ResultsDirError> {
     let target = out.join(name);
-    if let Some(what) = not_a_folder(&target) {
+    // A link to a folder would be replaced, not its folder (the commit renames the link aside):
+    // the results would land beside the folder it names, the link gone.
+    let linked = std::fs::symlink_metadata(&target).is_ok_and(|m| m.is_symlink()) && target.is_dir();
+    if let Some(what) = not_a_folder(&target).or(linked.then_some("a link to a folder")) {
         return Err(ResultsDirError::NotAFolder { path: target, what });
     }
     if target.is_dir() {
@@ -525,9 +529,13 @@ mod tests {
         std::os::unix::fs::symlink(out.join("file"), out.join("to-file")).expect("a link");
         let e = check_target(&out, "to-file").expect_err("not a folder");
         assert!(e.to_string().contains("to-file: is a link to a file"), "{e}");
+        // A link to a folder: refused where the results folder goes (its commit would replace
+        // the link, not the folder), taken among `--out`'s folders.
         std::fs::create_dir_all(out.join("real")).expect("a folder");
         std::os::unix::fs::symlink(out.join("real"), out.join("to-folder")).expect("a link");
-        assert!(check_target(&out, "to-folder").is_ok(), "a link to a folder is a folder");
+        let e = check_target(&out, "to-folder").expect_err("a link where the results go");
+        assert!(e.to_string().contains("to-folder: is a link to a folder, not a folder"), "{e}");
+        assert!(check_target(&out.join("to-folder"), "run").is_ok(), "a link among --out's folders");
     }
 
     #[test]

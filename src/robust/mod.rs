@@ -324,6 +324,29 @@ pub struct RobustReport {
     pub command: String,
 }
 
+/// The least and the most a schedule given to `robust` may last, as multiples of the fall: each
+/// trial runs it to its end, so one of a thousand falls (times in milliseconds) would run for
+/// hours, warned of and then waited on.
+pub const FALL_MULTIPLES: [f64; 2] = [0.5, 2.0];
+
+/// Refuses, in words, a schedule `traj` whose duration is outside [`FALL_MULTIPLES`] of the
+/// problem's fall.
+pub fn fits_the_fall(problem: &Problem, traj: &impl Trajectory) -> Result<(), String> {
+    use crate::numeric::numfmt::{echo, sig};
+    let (lasts, fall) = (traj.total_duration(), problem.drop.fall_time());
+    let [least, most] = FALL_MULTIPLES;
+    if (least * fall..=most * fall).contains(&lasts) {
+        return Ok(());
+    }
+    Err(format!(
+        "the schedule lasts {} s, the fall {} s (drop.height = {} m, drop.gravity = {} m/s²): robust runs each trial to the schedule's end, so a schedule more than {most} or less than {least} times the fall is refused; write its times in seconds over this fall",
+        sig(lasts, 6),
+        sig(fall, 6),
+        echo(problem.drop.height),
+        echo(problem.drop.gravity)
+    ))
+}
+
 /// Runs the engines `problem.robust.engine` names on `traj` (named `schedule`).
 pub fn check(
     problem: &Problem,

@@ -336,22 +336,24 @@ pub fn nearest_straight(q: [f64; 2]) -> [f64; 2] {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ScheduleError {
     /// The paper's `C` is not positive, so `π/C` is no circulation.
-    #[error("manoeuvre.circulation = \"paper\": the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive at manoeuvre.theta_deg = {}, so π/C is no circulation; bend more (lower manoeuvre.theta_deg) or set manoeuvre.circulation = \"calibrated\" or a number of radians", crate::numeric::numfmt::num(*.0), crate::numeric::numfmt::echo(*.1))]
+    #[error("manoeuvre.circulation = \"paper\": {}, so π/C is no circulation; bend more (lower manoeuvre.theta_deg) or set manoeuvre.circulation = \"calibrated\" or a number of radians", self.detail())]
     NonPositiveC(f64, f64),
     /// The paper's `π/C` is beyond [`crate::problem::manoeuvre::MAX_CIRCULATION`].
-    #[error("manoeuvre.circulation = \"paper\": π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {max} rad a schedule may circulate; bend more (lower manoeuvre.theta_deg) or give a circulation", crate::numeric::numfmt::num(*.0), crate::numeric::numfmt::num(*.1), max = crate::problem::manoeuvre::MAX_CIRCULATION)]
+    #[error("manoeuvre.circulation = \"paper\": {}; bend more (lower manoeuvre.theta_deg) or give a circulation", self.detail())]
     CirculationTooLarge(f64, f64),
 }
 
 impl ScheduleError {
-    /// Why there is no `π/C`, in a few words for another field's message (the calibration's,
-    /// which starts from it).
+    /// Why there is no `π/C`, in a few words: its own message's, and the calibration's (which
+    /// starts from it).
     pub fn detail(&self) -> String {
         use crate::numeric::numfmt::{echo, num};
         match self {
-            ScheduleError::NonPositiveC(c, theta) => {
-                format!("the paper's C = {} is not positive at manoeuvre.theta_deg = {}", num(*c), echo(*theta))
-            }
+            ScheduleError::NonPositiveC(c, theta) => format!(
+                "the paper's C = 1 − I_zz sin(θ/2)/I_yy = {} is not positive at manoeuvre.theta_deg = {}",
+                num(*c),
+                echo(*theta)
+            ),
             ScheduleError::CirculationTooLarge(d, c) => format!(
                 "π/C = {} rad (C = {}: the cat is nearly straight) exceeds the {} rad a schedule may circulate",
                 num(*d),

@@ -66,16 +66,17 @@ fn colour(u: f64) -> RGBColor {
 /// A number in four significant digits.
 pub fn short(v: f64) -> String {
     if v == 0.0 {
-        "0".into()
-    } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
-        format!("{v:.3e}")
-    } else {
-        // The decimals from the exponent after rounding to four digits: 0.99999999 is "1.000",
-        // as 1.0000001 is (its floor(log10) gave "1.0000").
-        let sci = format!("{:.3e}", v.abs());
-        let exponent: i32 = sci.split_once('e').map_or(0, |(_, e)| e.parse().unwrap_or(0));
+        return "0".into();
+    }
+    // The exponent after rounding to four digits decides, so that 0.99999999 is "1.000" as
+    // 1.0000001 is (floor(log10) gave "1.0000"), and 9999.6 is "1.000e4" as 10000 is.
+    let sci = format!("{:.3e}", v.abs());
+    let exponent: i32 = sci.split_once('e').map_or(0, |(_, e)| e.parse().unwrap_or(0));
+    if (-3..4).contains(&exponent) {
         let digits = (3 - exponent).max(0) as usize;
         format!("{v:.digits$}")
+    } else {
+        format!("{v:.3e}")
     }
 }
 
@@ -174,5 +175,7 @@ mod tests {
         assert_eq!(short(0.0012346), "0.001235");
         assert_eq!(short(2.051), "2.051");
         assert_eq!(short(12345.0), "1.234e4");
+        assert_eq!(short(9999.6), "1.000e4");
+        assert_eq!(short(0.00099996), "0.001000");
     }
 }

@@ -32,15 +32,21 @@ pub struct SweepOutcome {
     pub cases: usize,
     /// Rows written.
     pub rows: usize,
-    /// Rows per status (`ok`, `refused`, `failed`, `not-available`).
+    /// Rows per status (`ok`, `refused`, `failed`, `skipped`).
     pub statuses: BTreeMap<String, usize>,
-    /// Cases with warnings (`sweep.md`, "Warnings", lists them).
+    /// Cases with warnings (a sweep's `sweep.md` lists them under "Warnings", a shard's
+    /// `cases.csv` in its `warnings` column).
     pub warned_cases: usize,
     /// Files written, relative to `dir`.
     pub files: Vec<String>,
 }
 
 impl SweepOutcome {
+    /// Whether any row has a result (status `ok`).
+    pub fn has_result(&self) -> bool {
+        self.statuses.contains_key(super::row::Status::Ok.name())
+    }
+
     /// The rows per status, `3 ok, 1 refused`.
     pub fn counts(&self) -> String {
         let counts: Vec<String> = self.statuses.iter().map(|(s, n)| format!("{n} {s}")).collect();

@@ -363,29 +363,51 @@ fn check_axis(
         return Err(bad(&at("field"), "`name` cannot be swept: the sweep names its cases"));
     }
     if a.field.chars().any(char::is_whitespace) {
-        let written: String = a.field.split_whitespace().collect();
-        return Err(bad(&at("field"), &format!("`{}` holds spaces: write `{written}`", a.field)));
+        let trimmed = a.field.trim();
+        let hint = if trimmed.contains(char::is_whitespace) { String::new() } else { format!(": write `{trimmed}`") };
+        return Err(bad(&at("field"), &format!("`{}` holds spaces{hint}", a.field)));
     }
-    if !known.contains(&a.field) {
-        if let Some(why) = refused_by_problem(base_text, base_origin, &a.field, &a.values[0]) {
-            return Err(bad(&at("field"), &format!("`{}` is not a problem field: {why}", a.field)));
+    // Each value the field cannot hold (a string among numbers, a misspelt name, an integer out
+    // of its range) is the file's mistake, said here rather than as a refused case; a value the
+    // problem then refuses for what it means (a bend at gimbal lock) is a case's. A field the
+    // parser does not know is the axis's. Every non-number is tried, and of the numbers the first
+    // float and the least and largest integer (their type and range decide).
+    let (mut least, mut most) = (None::<(usize, i64)>, None::<(usize, i64)>);
+    let mut tried: Vec<usize> = Vec::new();
+    let mut float = false;
+    let mut seen = BTreeSet::new();
+    for (k, value) in a.values.iter().enumerate() {
+        match value {
+            toml::Value::Integer(n) => {
+                if least.is_none_or(|(_, m)| *n < m) {
+                    least = Some((k, *n));
+                }
+                if most.is_none_or(|(_, m)| *n > m) {
+                    most = Some((k, *n));
+                }
+            }
+            toml::Value::Float(_) => {
+                if !std::mem::replace(&mut float, true) {
+                    tried.push(k);
+                }
+            }
+            other => {
+                if seen.insert(other.to_string()) {
+                    tried.push(k);
+                }
+            }
         }
     }
-    // A value the field cannot hold (a string among numbers, a misspelt name) is the file's
-    // mistake, said here rather than as a refused case; a value the problem then refuses for what
-    // it means (a bend at gimbal lock) is a case's. Numbers of one kind are held alike, so the
-    // first of each kind stands for the rest.
-    let mut kinds = BTreeSet::new();
-    for (k, value) in a.values.iter().enumerate() {
-        let kind = match value {
-            toml::Value::Float(_) => "float".to_string(),
-            toml::Value::Integer(_) => "integer".to_string(),
-            other => other.to_string(),
-        };
-        if kinds.insert(kind) {
-            if let Some(why) = refused_by_problem(base_text, base_origin, &a.field, value) {
-                return Err(bad(&format!("axis[{i}].values[{k}]"), &format!("{value}: {why}")));
+    tried.extend(least.map(|l| l.0));
+    tried.extend(most.map(|m| m.0).filter(|m| least.is_none_or(|l| l.0 != *m)));
+    tried.sort_unstable();
+    for k in tried {
+        let value = &a.values[k];
+        if let Some(why) = refused_by_problem(base_text, base_origin, &a.field, value) {
+            if why.contains("unknown field") && !known.contains(&a.field) {
+                return Err(bad(&at("field"), &format!("`{}` is not a problem field: {why}", a.field)));
             }
+            return Err(bad(&format!("axis[{i}].values[{k}]"), &format!("{value}: {why}")));
         }
     }
     if a.numeric != is_numeric(&a.values) {

@@ -131,17 +131,21 @@ fn not_computed(s: &mut String, records: &[Record]) {
 /// values: a drop height that reads like kilometres, a bend outside the paper's stability range),
 /// one line per distinct text with its cases; the CSV's `warnings` column holds them too.
 fn warnings(s: &mut String, records: &[Record]) {
-    // (text, first case, cases), in case order.
+    // (text, first case, cases), in case order, and each text's place in it.
     let mut seen: Vec<(&str, usize, usize)> = Vec::new();
+    let mut at: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
     let mut last = None;
     for r in records.iter().filter(|r| !r.warnings.is_empty()) {
         if last == Some(r.case) {
             continue;
         }
         last = Some(r.case);
-        match seen.iter_mut().find(|x| x.0 == r.warnings) {
-            Some(x) => x.2 += 1,
-            None => seen.push((r.warnings.as_str(), r.case, 1)),
+        match at.get(r.warnings.as_str()) {
+            Some(&k) => seen[k].2 += 1,
+            None => {
+                at.insert(r.warnings.as_str(), seen.len());
+                seen.push((r.warnings.as_str(), r.case, 1));
+            }
         }
     }
     if seen.is_empty() {

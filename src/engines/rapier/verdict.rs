@@ -358,6 +358,12 @@ pub struct Verification {
 }
 
 impl Verification {
+    /// Whether it made at least one usable run (without one it has nothing to compare: `run`,
+    /// `compare --verify` and `optimize --whole --verify` then exit 1).
+    pub fn has_result(&self) -> bool {
+        !self.runs.is_empty()
+    }
+
     /// The convergence record of one quantity.
     pub fn quantity(&self, q: Quantity) -> Option<&Convergence> {
         self.quantities.iter().find(|c| c.quantity == q)

@@ -8,8 +8,9 @@
 //! the inside of the bend), a red stripe and two legs; A carries the head (ears on its back), B
 //! the tail. The head's disc has 1.5 times A's radius, but no more than 15 % of A's length unless
 //! that is below A's radius: the paper's slender cat keeps its head, a thick short half (a real
-//! cat's front, radius 0.0447 m on 0.2048 m) does not carry a head two thirds its length. Hidden lines are left out; the halves are painted far to near. One scale fits every
-//! frame, so sizes compare across frames.
+//! cat's front, radius 0.0447 m on 0.2048 m) does not carry a head two thirds its length. Hidden
+//! lines are left out; the halves are painted far to near. One scale fits every frame, so sizes
+//! compare across frames.
 
 use std::path::{Path, PathBuf};
 
@@ -355,13 +356,13 @@ impl Layout {
     }
 }
 
-/// The timeline's segments of a trajectory: its three phases, or one for the whole manoeuvre.
 /// The unit in which the head and ears are drawn on a half of half-length `h` and radius `r`:
 /// the head's disc has radius `1.5 u` (module docs).
 fn head_unit(h: f64, r: f64) -> f64 {
     r.min(0.2 * h).max(r / 1.5)
 }
 
+/// The timeline's segments of a trajectory: its three phases, or one for the whole manoeuvre.
 fn segments(t: &impl Trajectory) -> Vec<(&'static str, f64)> {
     let d = t.piece_durations();
     if d.len() == Phase::ALL.len() {

@@ -234,8 +234,8 @@ fn produce(
     // The whole optimum's animation is drawn beside its verification, as soon as it exists.
     let (results, animation) = compute(r, export, clock, |m| figures::animation_of(r, &plots, WHOLE, &m.trajectory))?;
     let RunResults { audit, opt, whole, retimed, verified, robustness, files } = results;
-    let without_result = verified.iter().filter(|m| m.finest().is_none()).count()
-        + usize::from(whole.verification().is_some_and(|v| v.runs.is_empty()));
+    let without_result = verified.iter().filter_map(|m| m.verification()).filter(|v| !v.has_result()).count()
+        + usize::from(whole.verification().is_some_and(|v| !v.has_result()));
     let verified =
         verified.iter().map(|m| Shown::new(r, m)).collect::<Result<Vec<_>, _>>().map_err(ComputeError::from)?;
     // The views every format renders: the peak-torque table holds every schedule measured once.
