@@ -76,8 +76,7 @@ pub fn sig(x: f64, digits: usize) -> String {
         return "0".to_string();
     }
     let digits = digits.max(1);
-    // Rust's `{:e}` rounds correctly to the asked precision: "d.ddddde±x".
-    let sci = format!("{:.*e}", digits - 1, x.abs());
+    let sci = rounded(x, digits);
     let (mantissa, exponent) = sci.split_once('e').unwrap_or((sci.as_str(), "0"));
     let exponent: i32 = exponent.parse().unwrap_or(0);
     let all: String = mantissa.chars().filter(char::is_ascii_digit).collect();
@@ -95,6 +94,21 @@ pub fn sig(x: f64, digits: usize) -> String {
         }
     };
     format!("{sign}{body}")
+}
+
+/// `|x|` rounded to `digits` significant digits (at least one) in Rust's `{:e}` form,
+/// "d.ddddde±x": it rounds correctly, so the exponent is the rounded number's.
+fn rounded(x: f64, digits: usize) -> String {
+    format!("{:.*e}", digits.max(1) - 1, x.abs())
+}
+
+/// The decimal exponent of `x` once rounded to `digits` significant digits (0.99999999 to four
+/// is 1.000, exponent 0); 0 for zero and what is not finite.
+pub fn rounded_exponent(x: f64, digits: usize) -> i32 {
+    if x == 0.0 || !x.is_finite() {
+        return 0;
+    }
+    rounded(x, digits).split_once('e').map_or(0, |(_, e)| e.parse().unwrap_or(0))
 }
 
 /// Plain decimal notation of the digits `d₀d₁…` times `10^exponent` (first digit non-zero, no

@@ -199,7 +199,8 @@ pub fn check_target(out: &Path, name: &str) -> Result<(), ResultsDirError> {
 
 /// What `path` is when it is there but is not a folder (nor a link to one): `a file`, `a link to
 /// nothing` (its target missing), `a link to a file` or `not a folder` (a device, a socket);
-/// none when it is a folder or is not there at all.
+/// none when it is a folder, a link to one or not there at all ([`check_target`] refuses a link
+/// to a folder where the results go, whose commit would replace the link).
 fn not_a_folder(path: &Path) -> Option<&'static str> {
     let own = std::fs::symlink_metadata(path).ok()?;
     if own.is_symlink() {

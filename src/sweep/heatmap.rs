@@ -70,8 +70,7 @@ pub fn short(v: f64) -> String {
     }
     // The exponent after rounding to four digits decides, so that 0.99999999 is "1.000" as
     // 1.0000001 is (floor(log10) gave "1.0000"), and 9999.6 is "1.000e4" as 10000 is.
-    let sci = format!("{:.3e}", v.abs());
-    let exponent: i32 = sci.split_once('e').map_or(0, |(_, e)| e.parse().unwrap_or(0));
+    let exponent = crate::numeric::numfmt::rounded_exponent(v, 4);
     if (-3..4).contains(&exponent) {
         let digits = (3 - exponent).max(0) as usize;
         format!("{v:.digits$}")
