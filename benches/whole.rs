@@ -117,7 +117,10 @@ fn models(c: &mut Criterion) {
     let problem = |name: &str| Problem::load(&Path::new("problems").join(name), &[]).expect("a committed problem");
     let paper = problem("paper.toml");
     let on = |joint: Joint| Cat { joint, ..paper.cat.model() };
-    let appended = |p: &Problem| WholeCat::appended(p.cat.model(), p.cat.appendages()).expect("a cat with appendages");
+    let appended = |p: &Problem| {
+        WholeCat::appended(p.cat.model(), p.cat.appendages().expect("a validated problem"))
+            .expect("a cat with appendages")
+    };
     let (tail, legs) = (problem("tail.toml"), problem("legs.toml"));
     let cases = [
         ("universal", WholeCat::new(on(Joint::Universal)).expect("two motors"), &paper),

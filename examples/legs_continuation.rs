@@ -21,7 +21,7 @@ use catflip::optimize::whole::{optimize_from, optimize_whole, NamedStart, WholeC
 fn main() -> anyhow::Result<()> {
     let (path, problem) = common::problem_from_args("problems/real-cat.toml")?;
     let (settings, fall, tolerance) = (&problem.optimize.whole, problem.drop.fall_time(), problem.exact.tolerance);
-    let appendages = problem.cat.appendages();
+    let appendages = problem.cat.appendages()?;
     let [front, rear] = appendages.legs.ok_or_else(|| anyhow::anyhow!("{path} has no [cat.legs]"))?;
     let mean = front.mean(&rear);
     let cat =

@@ -354,7 +354,7 @@ fn a_cat_with_legs_is_planned_within_the_fold_and_verified() {
     let keys: Vec<(&str, usize)> = c.rows.iter().map(|r| (r.key.as_str(), r.motors)).collect();
     assert_eq!(keys, [("universal", 2), ("no-twist", 2), ("spherical", 3), ("no-twist-legs", 4)]);
     let legs = &c.rows[3];
-    let tree = p.cat.model().tree_with(&p.cat.appendages());
+    let tree = p.cat.model().tree_with(&p.cat.appendages().expect("validated"));
     assert_eq!(tree.links().iter().map(|l| l.joint).collect::<Vec<_>>(), [Joint::NoTwist, Joint::Hinge, Joint::Hinge]);
     assert_beyond_row(legs, &tree);
     let v = legs.rapier.as_ref().unwrap_or_else(|| panic!("not verified"));
@@ -390,7 +390,7 @@ fn a_cat_with_a_tail_and_legs_is_planned_remeasured_and_verified() {
     let v = row.rapier.as_ref().unwrap_or_else(|| panic!("no rapier verification\n{}", c.to_markdown()));
     assert_eq!(v.status, Status::Verified, "{}\n{}", v.verdict, c.to_markdown());
     assert!(row.cat.ends_with("2.6 kg in all"), "{}", row.cat);
-    assert_beyond_row(row, &p.cat.model().tree_with(&p.cat.appendages()));
+    assert_beyond_row(row, &p.cat.model().tree_with(&p.cat.appendages().expect("validated")));
     let spline = row.spline.as_ref().expect("an optimum");
     let fold = catflip::model::cat::LEG_FOLD_LIMIT_DEG.to_radians();
     for curve in &spline.coefficients[4..] {

@@ -47,7 +47,7 @@ fn real_cat_is_the_cited_cat() {
     let (body, head, trunk) = (3.2014286, 0.410103, 1.7511814);
     let (fore, hind) = (2.0 * 0.1983124, 2.0 * 0.2385583);
     let cat = p.cat.model();
-    let [fore_pair, hind_pair] = p.cat.legs.expect("legs").pairs();
+    let [fore_pair, hind_pair] = p.cat.legs.expect("legs").pairs().expect("both pairs whole");
     let close = |what: &str, got: f64, want: f64, tol: f64| {
         assert!((got - want).abs() <= tol, "{what}: {got} against {want}");
     };
@@ -262,7 +262,7 @@ fn a_bad_tail_is_refused_naming_its_field() {
 fn bad_legs_and_a_hinge_between_the_halves_are_refused_naming_their_field() {
     let legs = |body: &str| format!("{PAPER}\n[cat.legs]\n{body}\n");
     let p = Problem::from_toml(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03"), "test.toml", &[]).expect("legs");
-    assert_eq!(p.cat.appendages().dof(), 2, "one hinge a pair");
+    assert_eq!(p.cat.appendages().expect("validated").dof(), 2, "one hinge a pair");
     for (body, field) in [
         ("mass = 0.0\nlength = 0.45\nradius = 0.03", "cat.legs.mass"),
         ("mass = 0.2\nlength = -1.0\nradius = 0.03", "cat.legs.length"),
@@ -278,9 +278,9 @@ fn bad_legs_and_a_hinge_between_the_halves_are_refused_naming_their_field() {
     // A pair of its own: each field it leaves out is [cat.legs]'s, each bad one named as written.
     let own = legs("mass = 0.2\nlength = 0.45\nradius = 0.03\n[cat.legs.rear]\nmass = 0.3");
     let p = Problem::from_toml(&own, "test.toml", &[]).expect("a rear pair of its own");
-    let [front, rear] = p.cat.legs.expect("legs").pairs();
+    let [front, rear] = p.cat.legs.expect("legs").pairs().expect("both pairs whole");
     assert_eq!((front.mass, rear.mass, rear.length, rear.radius), (0.2, 0.3, 0.45, 0.03));
-    assert_eq!(p.cat.appendages().legs, Some([front, rear]));
+    assert_eq!(p.cat.appendages().expect("validated").legs, Some([front, rear]));
     let e = error_of(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03\n[cat.legs.front]\nlength = 0.0"), &[]);
     assert!(e.starts_with("cat.legs.front.length"), "{e}");
     let e = error_of(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03\n[cat.legs.rear]\nradius = 0.9"), &[]);
@@ -289,7 +289,62 @@ fn bad_legs_and_a_hinge_between_the_halves_are_refused_naming_their_field() {
     assert!(e.contains("unknown field `hind`"), "{e}");
     let hinged = format!("{PAPER}\n[cat.tail]\nmass = 0.2\nlength = 1.0\nradius = 0.02\njoint = \"hinge\"\n");
     let p = Problem::from_toml(&hinged, "test.toml", &[]).expect("a tail on a hinge");
-    assert_eq!(p.cat.appendages().dof(), 1);
+    assert_eq!(p.cat.appendages().expect("validated").dof(), 1);
+}
+
+/// `[cat.legs]` gives what both pairs share and may give nothing when `[cat.legs.front]` and
+/// `[cat.legs.rear]` give everything; a number neither a pair's section nor `[cat.legs]` gives is
+/// refused where the user would write it; a number no pair uses is warned of; and the problem
+/// written back loads the same.
+#[test]
+fn each_pair_of_legs_takes_its_numbers_from_its_section_or_the_shorthand() {
+    let legs = |body: &str| format!("{PAPER}\n[cat.legs]\n{body}\n");
+    let pairs = "[cat.legs.front]\nmass = 0.2\nlength = 0.45\nradius = 0.03\n[cat.legs.rear]\nmass = 0.3\nlength = 0.4\nradius = 0.035";
+    let p = Problem::from_user_text(&legs(pairs), "test.toml", &[]).expect("two pairs of their own, no shorthand");
+    let [front, rear] = p.cat.appendages().expect("validated").legs.expect("legs");
+    assert_eq!((front.mass, front.length, front.radius), (0.2, 0.45, 0.03));
+    assert_eq!((rear.mass, rear.length, rear.radius), (0.3, 0.4, 0.035));
+    assert!(p.warnings().iter().all(|w| !w.contains("cat.legs")), "{:?}", p.warnings());
+    let written = toml::to_string(&p).expect("TOML");
+    let again = Problem::from_user_text(&written, "written.toml", &[]).expect("loads back");
+    assert!(again.warnings().iter().all(|w| !w.contains("cat.legs")), "{:?}\n{written}", again.warnings());
+    assert_eq!(again.cat, p.cat);
+    // What the pairs share in [cat.legs], the rest their own.
+    let shared =
+        "length = 0.45\n[cat.legs.front]\nmass = 0.2\nradius = 0.03\n[cat.legs.rear]\nmass = 0.3\nradius = 0.035";
+    let p = Problem::from_toml(&legs(shared), "test.toml", &[]).expect("the length shared");
+    let [front, rear] = p.cat.appendages().expect("validated").legs.expect("legs");
+    assert_eq!((front.length, rear.length, rear.mass), (0.45, 0.45, 0.3));
+    // A number neither gives: named in the pair's section when it has one, else in [cat.legs].
+    let e = error_of(&legs("mass = 0.2\nlength = 0.45\n[cat.legs.rear]\nmass = 0.3\nradius = 0.03"), &[]);
+    assert!(e.starts_with("cat.legs.radius = (not given): the front pair has no [cat.legs.front] to give it"), "{e}");
+    let e =
+        error_of(&legs("mass = 0.2\nlength = 0.45\n[cat.legs.front]\nmass = 0.3\n[cat.legs.rear]\nradius = 0.03"), &[]);
+    assert!(
+        e.starts_with("cat.legs.front.radius = (not given): given neither in [cat.legs.front] nor in [cat.legs]"),
+        "{e}"
+    );
+    // Missing for both pairs: the one line that supplies both is named.
+    let e =
+        error_of(&legs("mass = 0.2\nlength = 0.45\n[cat.legs.front]\nmass = 0.3\n[cat.legs.rear]\nmass = 0.3"), &[]);
+    assert!(e.starts_with("cat.legs.radius = (not given): neither pair's section gives it, nor [cat.legs]"), "{e}");
+    // A [cat.legs] number is checked though both pairs replace it.
+    let e = error_of(&legs(&format!("mass = -1.0\n{pairs}")), &[]);
+    assert!(e.starts_with("cat.legs.mass = -1"), "{e}");
+    let e = error_of(&legs(&format!("radius = 0.0\n{pairs}")), &[]);
+    assert!(e.starts_with("cat.legs.radius = 0"), "{e}");
+    // A bad number is blamed where it is written, though the other pair's section exists.
+    let e = error_of(&legs("mass = 0.2\nlength = -0.45\nradius = 0.03\n[cat.legs.rear]\nmass = 0.3"), &[]);
+    assert!(e.starts_with("cat.legs.length"), "{e}");
+    let e =
+        error_of(&legs("mass = 0.2\nlength = 0.45\nradius = 0.03\n[cat.legs.front]\nmass = 0.3\nradius = 0.9"), &[]);
+    assert!(e.starts_with("cat.legs.front.radius") && e.contains("times cat.legs.length = 0.45 m"), "{e}");
+    // A shorthand number both pairs replace is said, the others not.
+    let p = Problem::from_user_text(&legs(&format!("mass = 0.25\nlength = 0.5\n{pairs}")), "test.toml", &[])
+        .expect("loads");
+    let unused: Vec<String> = p.warnings().into_iter().filter(|w| w.contains("used by neither pair")).collect();
+    assert_eq!(unused.len(), 2, "{unused:?}");
+    assert!(unused[0].starts_with("cat.legs.mass is used by neither pair") && unused[1].starts_with("cat.legs.length"));
 }
 
 /// A command for the paper's cat alone (a sweep, the audit) refuses `[cat.tail]` naming it and

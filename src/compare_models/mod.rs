@@ -138,7 +138,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
             });
         }
     }
-    let appendages = problem.cat.appendages();
+    let appendages = problem.cat.appendages()?;
     if !appendages.is_empty() {
         // The problem's own cat with its tail and legs; its starts are its halves' with them held
         // still, calibrated on its whole tree.
@@ -158,8 +158,7 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
                 );
                 key += "-tail";
             }
-            if let Some(legs) = problem.cat.legs {
-                let [front, rear] = legs.pairs();
+            if let Some([front, rear]) = appendages.legs {
                 label += &if front == rear {
                     format!(", with legs of {} kg a pair, {} m", echo(front.mass), echo(front.length))
                 } else {

@@ -55,6 +55,9 @@ fn is_universal(j: &Joint) -> bool {
     *j == Joint::Universal
 }
 
+/// A rod's numbers as a section names them: a half's, a tail's, a pair of legs'.
+pub const ROD_KEYS: [&str; 3] = ["mass", "length", "radius"];
+
 /// `[cat.front]` or `[cat.rear]`: a half's own numbers, each defaulting to `[cat]`'s; as
 /// `[cat.legs.front]` or `[cat.legs.rear]`, a pair of legs' own, each defaulting to `[cat.legs]`'s.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -79,6 +82,15 @@ impl HalfSection {
             mass: own.mass.unwrap_or(base.mass),
             length: own.length.unwrap_or(base.length),
             radius: own.radius.unwrap_or(base.radius),
+        }
+    }
+
+    /// The number this section gives for `key` ([`ROD_KEYS`]).
+    fn get(&self, key: &str) -> Option<f64> {
+        match key {
+            "mass" => self.mass,
+            "length" => self.length,
+            _ => self.radius,
         }
     }
 
@@ -122,17 +134,20 @@ pub struct TailSection {
 /// motor a pair): at zero the legs stand out along the belly, and they swing towards the head or
 /// the tail by at most 90° (parallel to the spine; [`Cat::tree_with`]). Its numbers are both
 /// pairs' unless `[cat.legs.front]` or `[cat.legs.rear]` give a pair its own (as `[cat.front]`
-/// and `[cat.rear]` do for the halves). Refused as `[cat.tail]` is by every command but
-/// `compare-models`.
+/// and `[cat.rear]` do for the halves); each number a pair needs must come from one of the two
+/// ([`LegsSection::pairs`]). Refused as `[cat.tail]` is by every command but `compare-models`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LegsSection {
-    /// Mass of each pair, kg.
-    pub mass: f64,
-    /// Length of a leg, m.
-    pub length: f64,
-    /// Radius of a leg, m.
-    pub radius: f64,
+    /// Mass of each pair, kg (none when each pair gives its own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Length of a leg, m (none when each pair gives its own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+    /// Radius of a leg, m (none when each pair gives its own).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// The front half's pair, where it differs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub front: Option<HalfSection>,
@@ -142,35 +157,99 @@ pub struct LegsSection {
 }
 
 impl LegsSection {
-    /// The shorthand's rod: both pairs' unless a pair has its own.
-    pub fn rod(&self) -> Cylinder {
-        Cylinder { mass: self.mass, length: self.length, radius: self.radius }
+    /// The numbers `[cat.legs]` itself gives (both pairs' unless a pair gives its own).
+    fn shorthand(&self) -> HalfSection {
+        HalfSection { mass: self.mass, length: self.length, radius: self.radius }
     }
 
-    /// The front pair's rod and the rear pair's.
-    pub fn pairs(&self) -> [Cylinder; 2] {
-        [self.front, self.rear].map(|own| HalfSection::over(own, self.rod()))
+    /// Each pair's field and own section: `cat.legs.front`, then `cat.legs.rear`.
+    fn own(&self) -> [(&'static str, Option<HalfSection>); 2] {
+        [("cat.legs.front", self.front), ("cat.legs.rear", self.rear)]
     }
 
-    /// Each pair with a section of its own: `(field, its section, its rod)` for `cat.legs.front`
-    /// and `cat.legs.rear`.
-    pub fn own_pairs(&self) -> impl Iterator<Item = (&'static str, HalfSection, Cylinder)> {
-        let [front, rear] = self.pairs();
-        [("cat.legs.front", self.front, front), ("cat.legs.rear", self.rear, rear)]
-            .into_iter()
-            .filter_map(|(field, own, rod)| own.map(|o| (field, o, rod)))
+    /// Each pair's numbers ([`ROD_KEYS`]) with the field each comes from: the pair's own section's
+    /// when it gives it (`cat.legs.front.mass`), else `[cat.legs]`'s (`cat.legs.mass`); refused
+    /// as [`Self::pairs`] says.
+    fn sourced(&self) -> Result<[[(String, f64); 3]; 2], ProblemError> {
+        let shorthand = self.shorthand();
+        let own = self.own();
+        let mut out: [[(String, f64); 3]; 2] = Default::default();
+        for (k, key) in ROD_KEYS.into_iter().enumerate() {
+            let lacking: Vec<usize> = (0..2).filter(|&p| own[p].1.and_then(|o| o.get(key)).is_none()).collect();
+            for pair in 0..2 {
+                let (field, section) = own[pair];
+                out[pair][k] = match (section.and_then(|o| o.get(key)), shorthand.get(key)) {
+                    (Some(v), _) => (format!("{field}.{key}"), v),
+                    (None, Some(v)) => (format!("cat.legs.{key}"), v),
+                    (None, None) => {
+                        let (at, reason) = match section {
+                            _ if lacking.len() == 2 => (
+                                format!("cat.legs.{key}"),
+                                "neither pair's section gives it, nor [cat.legs]".to_string(),
+                            ),
+                            Some(_) => {
+                                (format!("{field}.{key}"), format!("given neither in [{field}] nor in [cat.legs]"))
+                            }
+                            None => {
+                                let name = field.trim_start_matches("cat.legs.");
+                                (format!("cat.legs.{key}"), format!("the {name} pair has no [{field}] to give it"))
+                            }
+                        };
+                        return Err(bad(
+                            &at,
+                            "(not given)",
+                            &format!("{reason}: each pair of legs needs a mass, a length and a radius"),
+                        ));
+                    }
+                };
+            }
+        }
+        Ok(out)
+    }
+
+    /// The front pair's rod and the rear pair's, each number its own section's, else
+    /// `[cat.legs]`'s; a number neither gives is refused, named where one line supplies it
+    /// (`cat.legs.radius` when both pairs lack it or the pair has no section of its own, else the
+    /// pair's own field).
+    pub fn pairs(&self) -> Result<[Cylinder; 2], ProblemError> {
+        Ok(self.sourced()?.map(|[(_, mass), (_, length), (_, radius)]| Cylinder { mass, length, radius }))
+    }
+
+    /// Checks every number: each `[cat.legs]` gives (used by a pair or not), then each pair's
+    /// rod, each number named where it comes from.
+    fn validate(&self) -> Result<(), ProblemError> {
+        let shorthand = self.shorthand();
+        if let Some(m) = shorthand.mass {
+            in_range("cat.legs.mass", m, limits::MASS)?;
+        }
+        if let Some(l) = shorthand.length {
+            in_range("cat.legs.length", l, limits::LENGTH)?;
+        }
+        if let Some(r) = shorthand.radius {
+            positive("cat.legs.radius", r)?;
+        }
+        for [(mass_field, mass), (length_field, length), (radius_field, radius)] in self.sourced()? {
+            validate_rod(&[mass_field, length_field, radius_field], &Cylinder { mass, length, radius })?;
+        }
+        Ok(())
+    }
+
+    /// Each pair with a section of its own: `(field, its section)` for `cat.legs.front` and
+    /// `cat.legs.rear`.
+    pub fn own_pairs(&self) -> impl Iterator<Item = (&'static str, HalfSection)> {
+        self.own().into_iter().filter_map(|(field, own)| own.map(|o| (field, o)))
     }
 
     /// The section as the problem file writes it, for messages.
     pub fn shown(&self) -> String {
-        let mut out =
-            format!("{{ mass = {}, length = {}, radius = {}", echo(self.mass), echo(self.length), echo(self.radius));
+        let mut parts = vec![self.shorthand().shown()];
         for (name, own) in [("front", self.front), ("rear", self.rear)] {
             if let Some(own) = own {
-                out += &format!(", {name} = {{ {} }}", own.shown());
+                parts.push(format!("{name} = {{ {} }}", own.shown()));
             }
         }
-        out + " }"
+        let parts: Vec<String> = parts.into_iter().filter(|p| !p.is_empty()).collect();
+        format!("{{ {} }}", parts.join(", "))
     }
 }
 
@@ -216,8 +295,8 @@ impl From<Cylinder> for CatSection {
 
 impl CatSection {
     /// The appendages as the model's ([`Appendages`]).
-    pub fn appendages(&self) -> Appendages {
-        Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.pairs()) }
+    pub fn appendages(&self) -> Result<Appendages, ProblemError> {
+        Ok(Appendages { tail: self.tail.map(|t| (t.rod(), t.joint)), legs: self.legs.map(|l| l.pairs()).transpose()? })
     }
 
     /// The two halves alone: this section without its tail and legs.
@@ -304,10 +383,7 @@ impl CatSection {
             }
         }
         if let Some(legs) = &self.legs {
-            validate_half("cat.legs", &legs.rod())?;
-            for (field, _, rod) in legs.own_pairs() {
-                validate_half(field, &rod)?;
-            }
+            legs.validate()?;
         }
         if self.joint == Joint::Hinge {
             return Err(bad(
@@ -329,21 +405,29 @@ impl CatSection {
 
 /// One half's mass, length and radius, fields named `{prefix}.mass` and so on.
 fn validate_half(prefix: &str, c: &Cylinder) -> Result<(), ProblemError> {
-    in_range(&format!("{prefix}.mass"), c.mass, limits::MASS)?;
-    in_range(&format!("{prefix}.length"), c.length, limits::LENGTH)?;
-    positive(&format!("{prefix}.radius"), c.radius)?;
+    validate_rod(&ROD_KEYS.map(|key| format!("{prefix}.{key}")), c)
+}
+
+/// A rod's (a half's, a tail's, a pair of legs') mass, length and radius, named `fields` (in
+/// the order of [`ROD_KEYS`]).
+fn validate_rod(fields: &[String; 3], c: &Cylinder) -> Result<(), ProblemError> {
+    let [mass, length, radius] = fields;
+    in_range(mass, c.mass, limits::MASS)?;
+    in_range(length, c.length, limits::LENGTH)?;
+    positive(radius, c.radius)?;
     let ratio = limits::RADIUS_OVER_LENGTH;
     // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
     let r_over_l = c.radius / c.length;
     if !(ratio.min * (1.0 - 1e-12)..=ratio.max * (1.0 + 1e-12)).contains(&r_over_l) {
         return Err(bad(
-            &format!("{prefix}.radius"),
+            radius,
             echo(c.radius),
             &format!(
-                "must lie in [{}, {}] m, {} times {prefix}.length = {} m",
+                "must lie in [{}, {}] m, {} times {} = {} m",
                 echo(ratio.min * c.length),
                 echo(ratio.max * c.length),
                 ratio,
+                length,
                 echo(c.length)
             ),
         ));

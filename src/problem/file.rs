@@ -5,8 +5,9 @@
 //! nameless file never writes over `results/paper/`), and a missing `[cat]`, `[drop]` or
 //! `[manoeuvre]` section, a missing `drop.height`, a section that holds no field or a last line
 //! without its line break (a file cut short) is warned of, with the value the default puts
-//! there; so is a half's number that `[cat]` leaves to the default, and one it gives that no half
-//! uses (both `[cat.front]` and `[cat.rear]` give their own).
+//! there; so is a half's number that `[cat]` leaves to the default, one it gives that no half
+//! uses (both `[cat.front]` and `[cat.rear]` give their own), and a `[cat.legs]` number that both
+//! pairs of legs replace.
 
 use super::{bad, names_a_folder, CatSection, Drop, Manoeuvre, ProblemError};
 
@@ -110,15 +111,14 @@ fn empty_sections(table: &toml::Table, prefix: &str) -> Vec<String> {
 /// `length` and `radius` that `[cat]` does not give but a half without its own takes from the
 /// default, and each that `[cat]` gives, other than the default, but both `[cat.front]` and
 /// `[cat.rear]` give their own of (a problem catflip writes back gives every `[cat]` number, the
-/// defaults included, so those are not warned of).
+/// defaults included, so those are not warned of). Likewise each `[cat.legs]` number that both
+/// `[cat.legs.front]` and `[cat.legs.rear]` give their own of (the legs have no defaults).
 fn halves(table: &toml::Table) -> Vec<String> {
     let Some(cat) = table.get("cat").and_then(|c| c.as_table()) else { return Vec::new() };
-    let half = |name: &str| cat.get(name).and_then(|h| h.as_table());
-    let gives = |t: Option<&toml::Table>, key: &str| t.is_some_and(|t| t.contains_key(key));
     let default = crate::model::Cylinder::default();
     let mut out = Vec::new();
     for (key, value) in [("mass", default.mass), ("length", default.length), ("radius", default.radius)] {
-        let takers: Vec<&str> = ["front", "rear"].into_iter().filter(|h| !gives(half(h), key)).collect();
+        let takers: Vec<&str> = ["front", "rear"].into_iter().filter(|h| !gives(part(cat, h), key)).collect();
         let given = cat.get(key).and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
         if !gives(Some(cat), key) && !takers.is_empty() {
             let who =
@@ -130,7 +130,26 @@ fn halves(table: &toml::Table) -> Vec<String> {
             ));
         }
     }
+    if let Some(legs) = part(cat, "legs") {
+        for key in ["mass", "length", "radius"] {
+            if gives(Some(legs), key) && ["front", "rear"].into_iter().all(|p| gives(part(legs, p), key)) {
+                out.push(format!(
+                    "cat.legs.{key} is used by neither pair: [cat.legs.front] and [cat.legs.rear] both give their own {key}"
+                ));
+            }
+        }
+    }
     out
+}
+
+/// The section `name` inside `section`, if it has one.
+fn part<'a>(section: &'a toml::Table, name: &str) -> Option<&'a toml::Table> {
+    section.get(name).and_then(|h| h.as_table())
+}
+
+/// Whether `section` (if there is one) gives `key`.
+fn gives(section: Option<&toml::Table>, key: &str) -> bool {
+    section.is_some_and(|t| t.contains_key(key))
 }
 
 /// The `name` of a file that gives none: its stem, when that can name a results folder; else

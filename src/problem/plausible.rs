@@ -64,8 +64,8 @@ pub(crate) fn warnings(p: &Problem) -> Vec<String> {
     // own may leave them to [cat.legs], which is checked itself).
     let mut appendages: Vec<(&str, Option<f64>, Option<f64>)> = Vec::new();
     appendages.extend(cat.tail.map(|t| ("cat.tail", Some(t.length), Some(t.mass))));
-    appendages.extend(cat.legs.map(|l| ("cat.legs", Some(l.length), Some(l.mass))));
-    for (field, own, _) in cat.legs.iter().flat_map(|l| l.own_pairs()) {
+    appendages.extend(cat.legs.map(|l| ("cat.legs", l.length, l.mass)));
+    for (field, own) in cat.legs.iter().flat_map(|l| l.own_pairs()) {
         appendages.push((field, own.length, own.mass));
     }
     // An appendage's length and mass against the body's: the cat's own scale, not any cat's.

@@ -26,6 +26,7 @@ use super::style::{bold, create_dir, ensure_fonts, failed, png_written, save_fai
 use super::PlotError;
 use crate::engines::models::TwoMotorCat;
 use crate::engines::shape::ShapeTrajectory;
+use crate::model::cat::Appendages;
 use crate::model::legs::{legs, Half, Leg, PAW_RADIUS};
 use crate::model::tree::Tree;
 use crate::problem::Problem;
@@ -71,11 +72,11 @@ pub fn flip_animation(
         return Err(bad(format!("the schedule lasts {total} s; it must last a positive, finite time")));
     }
     let cat = model_of(problem, path)?;
+    let scene = Scene::new(problem, &appendages_of(problem, path)?, name, schedule);
     ensure_fonts()?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
-    let scene = Scene::new(problem, name, schedule);
     let spin = problem.drop.spin();
     let poses = cat_poses_spinning(&cat, &spin, schedule, &spaced(total, frames));
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
@@ -138,9 +139,14 @@ pub fn tree_filmstrip(
         let reason = format!("the schedule lasts {total} s; it must last a positive, finite time");
         return Err(PlotError::BadArgument { path: path.to_path_buf(), reason });
     }
-    let poses = tree_poses(tree, &problem.cat.appendages(), shape, &spaced(total, FILMSTRIP_PANELS));
+    let poses = tree_poses(tree, &appendages_of(problem, path)?, shape, &spaced(total, FILMSTRIP_PANELS));
     let caption = format!("the flip at {} instants", poses.len());
     pose_filmstrip(path, problem, name, timeline, &poses, &caption)
+}
+
+/// The problem's tail and legs as the model's, or why a picture of them cannot be drawn.
+fn appendages_of(problem: &Problem, path: &Path) -> Result<Appendages, PlotError> {
+    problem.cat.appendages().map_err(|e| PlotError::BadArgument { path: path.to_path_buf(), reason: e.to_string() })
 }
 
 /// The problem's cat as the engines run it, or why a picture of it cannot be drawn.
@@ -163,11 +169,11 @@ pub fn pose_filmstrip(
     if poses.is_empty() {
         return Err(PlotError::BadArgument { path: path.to_path_buf(), reason: "a filmstrip needs a pose".into() });
     }
+    let scene = Scene::new(problem, &appendages_of(problem, path)?, name, schedule);
     ensure_fonts()?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
-    let scene = Scene::new(problem, name, schedule);
     let extent = poses.iter().map(|p| scene.marks(p)).fold(Extent::EMPTY, |e, m| e.with(&m));
     write_strip(&scene, path, poses, &extent, caption)?;
     Ok(path.to_path_buf())
@@ -373,14 +379,15 @@ fn segments(t: &impl Trajectory) -> Vec<(&'static str, f64)> {
 }
 
 impl Scene {
-    fn new(problem: &Problem, name: &str, schedule: &impl Trajectory) -> Scene {
+    /// The scene of `problem`'s cat with its `appendages` ([`crate::problem::cat::CatSection::appendages`]).
+    fn new(problem: &Problem, appendages: &Appendages, name: &str, schedule: &impl Trajectory) -> Scene {
         let (front, rear) = (problem.cat.front(), problem.cat.rear());
         Scene {
             camera: Camera::new(),
             sizes: [(0.5 * front.length, front.radius), (0.5 * rear.length, rear.radius)],
             legs: [legs(&front, Half::A), legs(&rear, Half::B)],
-            tail: problem.cat.tail.map(|t| (0.5 * t.length, t.radius)),
-            leg_rods: problem.cat.legs.map(|l| l.pairs().map(|p| (0.5 * p.length, p.radius))),
+            tail: appendages.tail.map(|(t, _)| (0.5 * t.length, t.radius)),
+            leg_rods: appendages.legs.map(|pairs| pairs.map(|p| (0.5 * p.length, p.radius))),
             title: format!("catflip: problem \u{201c}{}\u{201d}, {name}", problem.name),
             segments: segments(schedule),
         }
@@ -697,7 +704,7 @@ mod tests {
         // profile is still named `exact-refined-all-phases`, the schedule is not.
         let problem = Problem::default();
         let schedule = Schedule::new(&problem, 4.0);
-        let scene = Scene::new(&problem, "exact-refined-all-phases-calibrated", &schedule);
+        let scene = Scene::new(&problem, &Appendages::default(), "exact-refined-all-phases-calibrated", &schedule);
         assert_eq!(scene.title, "catflip: problem \u{201c}paper\u{201d}, exact-refined-all-phases-calibrated");
         assert!(!scene.title.contains(schedule.profile.name()) || schedule.profile.name().is_empty());
     }
