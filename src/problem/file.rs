@@ -9,6 +9,7 @@
 //! uses (both `[cat.front]` and `[cat.rear]` give their own), and a `[cat.legs]` number that both
 //! pairs of legs replace.
 
+use super::cat::ROD_KEYS;
 use super::{bad, names_a_folder, CatSection, Drop, Manoeuvre, ProblemError};
 
 /// The sections that define the problem, each with its default's fields as the file would
@@ -131,7 +132,7 @@ fn halves(table: &toml::Table) -> Vec<String> {
         }
     }
     if let Some(legs) = part(cat, "legs") {
-        for key in ["mass", "length", "radius"] {
+        for key in ROD_KEYS {
             if gives(Some(legs), key) && ["front", "rear"].into_iter().all(|p| gives(part(legs, p), key)) {
                 out.push(format!(
                     "cat.legs.{key} is used by neither pair: [cat.legs.front] and [cat.legs.rear] both give their own {key}"
