@@ -178,6 +178,11 @@ fn a_spherical_joint_and_a_bad_half_are_refused_naming_the_field() {
     assert!(spherical.to_string().starts_with("cat.joint = \"spherical\""), "{spherical}");
     let bad_half = Problem::from_toml("[cat.front]\nradius = 2.0\n", "t.toml", &[]).expect_err("refused");
     assert!(bad_half.to_string().starts_with("cat.front.radius = 2"), "{bad_half}");
+    // A half's number it takes from [cat] is named there, the half's own beside it.
+    let short =
+        Problem::from_toml("[cat]\nradius = 0.1\n[cat.front]\nlength = 0.05\n", "t.toml", &[]).expect_err("refused");
+    assert!(short.to_string().starts_with("cat.radius = 0.1: must lie in"), "{short}");
+    assert!(short.to_string().contains("times cat.front.length = 0.05 m"), "{short}");
 }
 
 /// One case of `tests/reference/models.py` (an independent engine, tests/reference/README.md):

@@ -367,9 +367,14 @@ impl CatSection {
     /// Checks each half's numbers and the joint, naming the field as the user wrote it.
     pub fn validate(&self) -> Result<(), ProblemError> {
         validate_half("cat", &self.half())?;
+        // A half of its own: each number named where it comes from, its section's or [cat]'s.
         for (name, own, half) in [("cat.front", self.front, self.front()), ("cat.rear", self.rear, self.rear())] {
-            if own.is_some() {
-                validate_half(name, &half)?;
+            if let Some(own) = own {
+                let fields = ROD_KEYS.map(|key| match own.get(key) {
+                    Some(_) => format!("{name}.{key}"),
+                    None => format!("cat.{key}"),
+                });
+                validate_rod(&fields, &half)?;
             }
         }
         if let Some(tail) = &self.tail {
