@@ -219,15 +219,7 @@ impl LegsSection {
     /// rod, each number named where it comes from.
     fn validate(&self) -> Result<(), ProblemError> {
         let shorthand = self.shorthand();
-        if let Some(m) = shorthand.mass {
-            in_range("cat.legs.mass", m, limits::MASS)?;
-        }
-        if let Some(l) = shorthand.length {
-            in_range("cat.legs.length", l, limits::LENGTH)?;
-        }
-        if let Some(r) = shorthand.radius {
-            positive("cat.legs.radius", r)?;
-        }
+        validate_numbers(&ROD_KEYS.map(|key| format!("cat.legs.{key}")), ROD_KEYS.map(|key| shorthand.get(key)))?;
         for [(mass_field, mass), (length_field, length), (radius_field, radius)] in self.sourced()? {
             validate_rod(&[mass_field, length_field, radius_field], &Cylinder { mass, length, radius })?;
         }
@@ -413,13 +405,22 @@ fn validate_half(prefix: &str, c: &Cylinder) -> Result<(), ProblemError> {
     validate_rod(&ROD_KEYS.map(|key| format!("{prefix}.{key}")), c)
 }
 
+/// Each of a rod's numbers given (`numbers`: mass, length, radius, in the order of
+/// [`ROD_KEYS`], named `fields`) on its own: the mass and the length within their ranges, the
+/// radius positive.
+fn validate_numbers(fields: &[String; 3], numbers: [Option<f64>; 3]) -> Result<(), ProblemError> {
+    let ([mass, length, radius], [m, l, r]) = (fields, numbers);
+    m.map_or(Ok(()), |m| in_range(mass, m, limits::MASS))?;
+    l.map_or(Ok(()), |l| in_range(length, l, limits::LENGTH))?;
+    r.map_or(Ok(()), |r| positive(radius, r))
+}
+
 /// A rod's (a half's, a tail's, a pair of legs') mass, length and radius, named `fields` (in
-/// the order of [`ROD_KEYS`]).
+/// the order of [`ROD_KEYS`]): each number ([`validate_numbers`]), then the radius against the
+/// length.
 fn validate_rod(fields: &[String; 3], c: &Cylinder) -> Result<(), ProblemError> {
-    let [mass, length, radius] = fields;
-    in_range(mass, c.mass, limits::MASS)?;
-    in_range(length, c.length, limits::LENGTH)?;
-    positive(radius, c.radius)?;
+    validate_numbers(fields, [Some(c.mass), Some(c.length), Some(c.radius)])?;
+    let [_, length, radius] = fields;
     let ratio = limits::RADIUS_OVER_LENGTH;
     // A relative slack of 1e-12 admits the bounds themselves despite the rounding of r/l.
     let r_over_l = c.radius / c.length;
