@@ -511,7 +511,10 @@ def solve(model, N, init, T=T_FALL, max_iter=3000):
         parts.append(xs[k:k + rows * (N + 1)].reshape((rows, N + 1), order='F')); k += rows * (N + 1)
     Qs, QDs, As, Us = parts
     out = analyse(model, T, Qs, QDs, As, Us)
-    out.update(P=float(xs[-1]), status=st['return_status'], iters=st['iter_count'], wall_s=wall)
+    out.update(P=float(xs[-1]), status=st['return_status'], iters=st['iter_count'], wall_s=wall,
+               # where the wall time went: CasADi's evaluation of the Lagrangian's Hessian and of
+               # the constraints' Jacobian; the rest is IPOPT's own (MUMPS, line search)
+               hess_s=float(st['t_wall_nlp_hess_l']), jac_s=float(st['t_wall_nlp_jac_g']))
     if 'peak_colloc_j' in out:             # motors whose bound is active (to 1e-6 of P)
         out['n_motors_at_peak'] = int(sum(v >= out['P'] * (1 - 1e-6) for v in out['peak_colloc_j']))
     return out, (Qs, QDs, As, Us)
@@ -521,7 +524,7 @@ OK = ('Solve_Succeeded', 'Solved_To_Acceptable_Level')
 
 
 def fmt(o):
-    keys = ['N', 'status', 'iters', 'wall_s', 'P', 'peak_dense', 'peak_dense_j', 'twist_sign',
+    keys = ['N', 'status', 'iters', 'wall_s', 'hess_s', 'jac_s', 'P', 'peak_dense', 'peak_dense_j', 'twist_sign',
             'twist_deg', 'twist_err_deg', 'swing_deg', 'twist_colloc_deg', 'max_bend_deg',
             'max_spine_angle_deg', 'turns', 'peak_qd']
     keys += [k for k in ('max_q3_deg', 'peak_colloc_j', 'n_motors_at_peak') if k in o]
