@@ -809,6 +809,48 @@ fn simulate_schedule_json_names_jumps_as_simulate_does() {
 }
 
 #[test]
+fn simulate_schedule_reports_the_motor_demand_and_the_release_as_simulate_does() {
+    // README, "Motor limits": every report of a peak torque says what it asks of the motors. A
+    // file of the paper's schedule at 1 kHz, measured against a torque limit of half its peak and
+    // a speed limit of 90 % of its fastest joint: its motor figures are the schedule's own (the
+    // file interpolates it to O(h⁴) in q̈, so its demand agrees to far better than 1e-6) and both
+    // limits are exceeded, by 2 and by 1/0.9.
+    let mut p = problem();
+    let s = paper_schedule(&p);
+    let own = common::measured(&p, &s).exact;
+    let fastest = own.motors.peak_speed_rad_s.iter().map(|v| v.value).fold(0.0, f64::max);
+    p.actuator.torque_limit_nm = Some(catflip::problem::actuator::PerJoint::Both(0.5 * own.peaks.max));
+    p.actuator.speed_limit_rad_s = Some(catflip::problem::actuator::PerJoint::Both(0.9 * fastest));
+    let r = evaluate(&p, &parse_schedule(&paper_csv(&p, 1000.0), "paper.csv").expect("reads")).expect("evaluates");
+    for j in 0..2 {
+        assert_relative_eq!(r.motors.peak_speed_rad_s[j], own.motors.peak_speed_rad_s[j].value, max_relative = 1e-6);
+        assert_relative_eq!(r.motors.peak_power_w[j], own.motors.peak_power_w[j].value, max_relative = 1e-6);
+    }
+    assert!(!r.motors.within, "{}", r.motors.verdict);
+    use catflip::model::motor::Limit;
+    let worst = |limit: Limit| r.motors.limits.iter().filter(|l| l.limit == limit).map(|l| l.ratio).fold(0.0, f64::max);
+    assert_relative_eq!(worst(Limit::Torque), 2.0, max_relative = 1e-6);
+    assert_relative_eq!(worst(Limit::Speed), 1.0 / 0.9, max_relative = 1e-6);
+    let text = r.to_text();
+    assert!(text.contains("  motors           exceeds joint "), "{text}");
+    assert!(text.contains("  peak speed ") && !text.contains("release spin"), "{text}");
+    let v = serde_json::to_value(&r).expect("serialises");
+    assert_eq!(v["motors"]["within"], false);
+    assert_eq!(v["angular_momentum_nms"], serde_json::json!([0.0, 0.0, 0.0]));
+    // Released with spin, the report says so, as `simulate` does.
+    p.drop.angular_momentum = [0.0, 0.0, 0.01];
+    let spun =
+        evaluate(&p, &parse_schedule(&paper_csv(&problem(), 1000.0), "paper.csv").expect("reads")).expect("evaluates");
+    assert_eq!(
+        serde_json::to_value(&spun).expect("serialises")["angular_momentum_nms"],
+        serde_json::json!([0.0, 0.0, 0.01])
+    );
+    let text = spun.to_text();
+    assert!(text.contains("  release spin     L = [0, 0, 0.01] N·m·s (world frame)"), "{text}");
+    assert!(text.contains("|R H − L|"), "{text}");
+}
+
+#[test]
 fn plain_text_simulate_schedule_says_nothing_of_the_manoeuvre_and_ends_its_line() {
     // problems/paper.toml has theta_deg = 45 (< 90), which `simulate` warns of; an imported
     // schedule does not use the manoeuvre.

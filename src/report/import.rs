@@ -19,6 +19,7 @@ use crate::engines::Engine;
 use crate::exchange::import::{ImportError, ImportedSchedule, Interpolation};
 use crate::measure::import::{measure_import, MeasuredImport, UncheckedBoundary};
 use crate::problem::Problem;
+use crate::report::simulate::{momentum_line, spin_line, MotorReport};
 use crate::schedule::Trajectory;
 
 /// Peak motor torques of one piece (or of consecutive pieces with the same name), N·m.
@@ -54,6 +55,9 @@ pub struct ImportReport {
     pub interpolation: Interpolation,
     /// Duration, s.
     pub duration_s: f64,
+    /// The release spin: total angular momentum about the centre of mass, world frame, N·m·s
+    /// (`drop.angular_momentum`; zero for a release without spin).
+    pub angular_momentum_nms: [f64; 3],
     /// Peak motor torques, N·m.
     pub peak_torque_nm: ImportedPeaks,
     /// Joint-rate jumps between pieces (impulses); empty when the rates are continuous (or
@@ -61,6 +65,9 @@ pub struct ImportReport {
     pub velocity_jumps: Vec<VelocityJump>,
     /// Piece boundaries where whether the rates jump could not be checked.
     pub velocity_jumps_unchecked: Vec<UncheckedBoundary>,
+    /// What the schedule asks of its motors, by the exact engine: peak speed and power per joint,
+    /// each `[actuator]` limit's worst usage, and the verdict in words.
+    pub motors: MotorReport,
     /// What looks wrong in the file (units, duration, ends, rates, sampling), in the user's words
     /// with the line or the column; empty when nothing does.
     pub warnings: Vec<String>,
@@ -114,9 +121,11 @@ impl ImportReport {
             rows: schedule.rows,
             interpolation: schedule.interpolation,
             duration_s: schedule.total_duration(),
+            angular_momentum_nms: m.rig.spin.into(),
             peak_torque_nm: ImportedPeaks { pieces: merged(schedule, per_piece), max: e.peaks.max },
             velocity_jumps: e.jumps.clone(),
             velocity_jumps_unchecked: m.unchecked.clone(),
+            motors: MotorReport::new(&e.motors),
             warnings: m.warnings.clone(),
             figures: EngineFigures::exact(&e.flip, e.momentum_max, e.peaks.action_reaction_gap, e.run_time_s),
         }
@@ -182,6 +191,7 @@ impl ImportReport {
             self.peak_torque_nm.pieces.len(),
             self.duration_s
         );
+        s.push_str(&spin_line(&self.angular_momentum_nms));
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
         let per: Vec<String> = self
@@ -191,6 +201,7 @@ impl ImportReport {
             .map(|p| format!("{} [{:.4}, {:.4}]", p.piece, p.tau_nm[0], p.tau_nm[1]))
             .collect();
         let _ = writeln!(s, "  peak torque N·m  {}  max {:.4}", per.join("  "), self.peak_torque_nm.max);
+        s.push_str(&self.motors.to_text());
         if !self.velocity_jumps_unchecked.is_empty() {
             let at: Vec<String> = self
                 .velocity_jumps_unchecked
@@ -204,7 +215,7 @@ impl ImportReport {
         for j in &self.velocity_jumps {
             s.push_str(&crate::report::check::jump_line(j));
         }
-        let _ = writeln!(s, "  momentum max     {:.3e} (relative to I*·max|q̇|)", self.figures.momentum_max);
+        s.push_str(&momentum_line(self.figures.momentum_max, &self.angular_momentum_nms, self.engine));
         s.push_str(&self.figures.closing_text("piece"));
         s
     }

@@ -162,11 +162,7 @@ impl SimulationReport {
         if let Some(m) = &self.model {
             let _ = writeln!(s, "  cat              {m}");
         }
-        let spins = self.angular_momentum_nms.iter().any(|l| l.abs() > 0.0);
-        if spins {
-            let l = self.angular_momentum_nms;
-            let _ = writeln!(s, "  release spin     L = [{}, {}, {}] N·m·s (world frame)", l[0], l[1], l[2]);
-        }
+        s.push_str(&spin_line(&self.angular_momentum_nms));
         let _ = writeln!(s, "  circulation      {:.9} rad ({})", self.circulation_rad, self.circulation_source);
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
@@ -175,25 +171,14 @@ impl SimulationReport {
             "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}",
             p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max
         );
-        let m = &self.motors;
-        let _ = writeln!(
-            s,
-            "  peak speed       [{:.4}, {:.4}] rad/s   peak power [{:.4}, {:.4}] W",
-            m.peak_speed_rad_s[0], m.peak_speed_rad_s[1], m.peak_power_w[0], m.peak_power_w[1]
-        );
-        let _ = writeln!(s, "  motors           {}", m.verdict);
+        s.push_str(&self.motors.to_text());
         if self.velocity_jumps.is_empty() {
             let _ = writeln!(s, "  velocity jumps   none");
         }
         for j in &self.velocity_jumps {
             s.push_str(&crate::report::check::jump_line(j));
         }
-        let scale = match (spins, self.engine) {
-            (true, Engine::Exact) => "|R H − L|, relative to max(I*·max|q̇|, |L|)",
-            (true, Engine::Rapier) => "drift of H from its start, relative to I*·max|q̇|",
-            (false, _) => "relative to I*·max|q̇|",
-        };
-        let _ = writeln!(s, "  momentum max     {:.3e} ({scale})", self.figures.momentum_max);
+        s.push_str(&momentum_line(self.figures.momentum_max, &self.angular_momentum_nms, self.engine));
         s.push_str(&self.figures.closing_text("phase"));
         s
     }
@@ -215,7 +200,39 @@ pub struct MotorReport {
     pub verdict: String,
 }
 
+/// The release-spin line of a report's text; empty for a release without spin.
+pub(crate) fn spin_line(l: &[f64; 3]) -> String {
+    if l.iter().all(|c| *c == 0.0) {
+        return String::new();
+    }
+    format!("  release spin     L = [{}, {}, {}] N·m·s (world frame)\n", l[0], l[1], l[2])
+}
+
+/// The momentum line of a report's text: `momentum_max` and what it is relative to, which
+/// depends on the release spin `l` and on the engine (module docs).
+pub(crate) fn momentum_line(momentum_max: f64, l: &[f64; 3], engine: Engine) -> String {
+    let spins = l.iter().any(|c| *c != 0.0);
+    let scale = match (spins, engine) {
+        (true, Engine::Exact) => "|R H − L|, relative to max(I*·max|q̇|, |L|)",
+        (true, Engine::Rapier) => "drift of H from its start, relative to I*·max|q̇|",
+        (false, _) => "relative to I*·max|q̇|",
+    };
+    format!("  momentum max     {momentum_max:.3e} ({scale})\n")
+}
+
 impl MotorReport {
+    /// The report's motor lines: peak speed and power per joint, and the verdict.
+    pub fn to_text(&self) -> String {
+        format!(
+            "  peak speed       [{:.4}, {:.4}] rad/s   peak power [{:.4}, {:.4}] W\n  motors           {}\n",
+            self.peak_speed_rad_s[0],
+            self.peak_speed_rad_s[1],
+            self.peak_power_w[0],
+            self.peak_power_w[1],
+            self.verdict
+        )
+    }
+
     /// From the exact engine's measurement.
     pub fn new(m: &MotorDemand) -> Self {
         MotorReport {
