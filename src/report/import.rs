@@ -200,7 +200,13 @@ impl ImportReport {
             .iter()
             .map(|p| format!("{} [{:.4}, {:.4}]", p.piece, p.tau_nm[0], p.tau_nm[1]))
             .collect();
-        let _ = writeln!(s, "  peak torque N·m  {}  max {:.4}", per.join("  "), self.peak_torque_nm.max);
+        let _ = writeln!(
+            s,
+            "  peak torque N·m  {}  max {:.4}{}",
+            per.join("  "),
+            self.peak_torque_nm.max,
+            self.figures.peaks_note()
+        );
         s.push_str(&self.motors.to_text());
         if !self.velocity_jumps_unchecked.is_empty() {
             let at: Vec<String> = self

@@ -168,8 +168,15 @@ impl SimulationReport {
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
         let _ = writeln!(
             s,
-            "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}",
-            p.bend[0], p.bend[1], p.twist[0], p.twist[1], p.unbend[0], p.unbend[1], p.max
+            "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}{}",
+            p.bend[0],
+            p.bend[1],
+            p.twist[0],
+            p.twist[1],
+            p.unbend[0],
+            p.unbend[1],
+            p.max,
+            self.figures.peaks_note()
         );
         s.push_str(&self.motors.to_text());
         if self.velocity_jumps.is_empty() {

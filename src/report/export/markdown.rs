@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::problem::Problem;
-use crate::report::check::{verification_row, VERIFICATION_TABLE_HEADER};
+use crate::report::check::{verification_row, VERIFICATION_TABLE_CELLS, VERIFICATION_TABLE_HEADER};
 
 /// The Markdown exporter.
 pub struct Markdown;
@@ -36,7 +36,7 @@ pub fn verification_markdown(problem: &Problem, rows: &[Shown]) -> String {
         "## Verification in rapier3d-f64 (`{}`, first dt {})\n\nEvery schedule of the peak-torque table, through the exact engine and rapier. Twist and swing in degrees; torques in N·m; momentum relative to I*·max|q̇|.\n\n",
         problem.name, problem.rapier.dt
     );
-    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step; — where rapier has no such number (no run, or fewer than two).\n\n");
+    s.push_str("rapier's multibody integrator is first order and leaks angular momentum at a rate proportional to dt, which moves the twist; *rapier → 0* is the Richardson extrapolation from the last two steps of the dt sequence, and *estimates* are rapier's own errors of the extrapolated twist, swing and peak torque (the change between the last two extrapolations). The rapier columns are from the finest step, the *rapier → 0* ones are what the verdict judges (the peak's difference is the extrapolated peak's); — where rapier has no such number (no run, fewer than two, or no extrapolation: a saturated motor is not smooth in the step).\n\n");
     if let Some(v) = rows.iter().find_map(Shown::verification) {
         let _ =
             writeln!(s, "Tolerances: {}; budget {} rapier steps per schedule.\n", v.tolerances_text(), v.step_budget);
@@ -46,7 +46,7 @@ pub fn verification_markdown(problem: &Problem, rows: &[Shown]) -> String {
         match v.verification() {
             Some(x) => s.push_str(&verification_row(&v.name(), &v.measured.reference(), x)),
             None => {
-                let _ = writeln!(s, "| {} | {} |", v.name(), ["—"; 15].join(" | "));
+                let _ = writeln!(s, "| {} | {} |", v.name(), ["—"; VERIFICATION_TABLE_CELLS].join(" | "));
             }
         }
     }
