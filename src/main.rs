@@ -44,7 +44,7 @@ enum Command {
         engine: Engine,
         /// First time step for --engine rapier, s (sets rapier.dt; the verification halves it
         /// until rapier's own error meets the tolerances).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         dt: Option<f64>,
         /// Evaluate this schedule CSV (t, q1, q2 and optionally q̇, q̈) instead of the problem's
         /// own schedule; the problem gives the cat and the engine settings.
@@ -121,7 +121,7 @@ enum Command {
         #[arg(long, default_value = "results")]
         out: PathBuf,
         /// Write the schedule CSVs on a uniform grid at this rate, Hz (default: 400 steps per phase).
-        #[arg(long, value_name = "HZ")]
+        #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
         rate: Option<f64>,
         /// No progress spinner on stderr (it is also hidden when stderr is not a terminal).
         #[arg(long)]
@@ -150,7 +150,8 @@ enum Command {
         /// The sweep file (TOML).
         #[arg(required_unless_present = "merge")]
         sweep: Option<PathBuf>,
-        /// Join these shard part folders into the output one run would write, instead.
+        /// Instead of running a sweep file, join these shard part folders into the folder one
+        /// unsharded run would write.
         #[arg(long, num_args = 1.., conflicts_with_all = ["sweep", "shard"])]
         merge: Vec<PathBuf>,
         /// Where results go.
@@ -171,11 +172,15 @@ enum Command {
 /// Loads the problem (its rapier step set to `dt` when given) and prints its warnings on stderr
 /// (also with `--json`, whose output is stdout's).
 fn load(common: &Common, dt: Option<f64>) -> anyhow::Result<Problem> {
-    let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
+    Ok(warned(Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?))
+}
+
+/// `problem`, its warnings printed on stderr.
+fn warned(problem: Problem) -> Problem {
     for w in problem.warnings() {
         eprintln!("warning: {w}");
     }
-    Ok(problem)
+    problem
 }
 
 /// Resolves `problem` (its circulation, calibrated if asked) and prints what the resolution
@@ -270,9 +275,12 @@ fn run() -> anyhow::Result<()> {
                 );
             }
             if let Some(file) = schedule {
-                // The problem gives the cat and the settings; its manoeuvre is not used, so its
-                // warnings are not printed: the import's checks say what applies.
+                // The problem gives the cat and the settings; its manoeuvre is not used, so the
+                // manoeuvre's warnings are not printed (the import's checks say what applies).
                 let problem = Problem::load(&common.problem, &common.overrides)?.with_rapier_dt(dt)?;
+                for w in problem.warnings_without_manoeuvre() {
+                    eprintln!("warning: {w}");
+                }
                 let imported = catflip::exchange::read_schedule(&file)?;
                 let report = catflip::report::import::simulate_import(&problem, imported, engine)?;
                 if !common.json {
@@ -414,7 +422,7 @@ fn run() -> anyhow::Result<()> {
             }
         }
         Command::Bench { problem, overrides, out, json } => {
-            let p = Problem::load(&problem, &overrides)?;
+            let p = warned(Problem::load(&problem, &overrides)?);
             p.require_no_spin("bench")?;
             let command =
                 regenerate(format!("cargo run --release -- bench --problem {}", problem.display()), &overrides);

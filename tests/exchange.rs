@@ -494,6 +494,14 @@ fn a_bad_rate_is_refused_before_any_work() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--rate -5"), "{err}");
+    // Written with a space, the same refusal (not the parser's "unexpected argument '-5'").
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_catflip"))
+        .args(["run", "problems/paper.toml", "--rate", "-5", "--out"])
+        .arg(std::env::temp_dir().join(format!("catflip-badrate-{}", std::process::id())))
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("error: --rate -5: must be a positive number of Hz"), "{err}");
 }
 
 #[test]
@@ -859,6 +867,11 @@ fn plain_text_simulate_schedule_says_nothing_of_the_manoeuvre_and_ends_its_line(
     assert_eq!(code, Some(0), "{err}");
     assert!(!err.contains("theta_deg"), "{err}");
     assert!(out.ends_with('\n'), "{out:?}");
+    // The cat is used: a careless mass (grams?) is warned of as every command warns of it.
+    let (code, _, err) = simulate_file(&path, &["--set", "cat.mass=1000"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("warning: cat.mass = 1000 kg is outside the 0.01–500 kg"), "{err}");
+    assert!(!err.contains("theta_deg"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -57,6 +57,9 @@ fn cli_time_steps_are_checked_and_named() {
     assert_eq!((code, err.as_str()), (1, "error: --dt NaN: must be a finite, positive time step in seconds"));
     let (code, err) = catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt=-1e300"]);
     assert_eq!((code, err.as_str()), (1, "error: --dt -1e300: must be a finite, positive time step in seconds"));
+    // Written with a space, a negative step is a value, not an unknown flag `-1`.
+    let (code, err) = catflip(&["simulate", "problems/paper.toml", "--engine", "rapier", "--dt", "-1"]);
+    assert_eq!((code, err.as_str()), (1, "error: --dt -1: must be a finite, positive time step in seconds"));
     let (code, err) = catflip(&["simulate", "problems/paper.toml", "--dt", "0"]);
     assert_eq!(
         (code, err.as_str()),

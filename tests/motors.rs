@@ -76,7 +76,10 @@ fn the_actuator_section_is_validated_in_the_users_words() {
     // Counted from 0 as manoeuvre.phases[2] is, the joint named (it read `[2]` for joint 2).
     assert!(e.contains("actuator.speed_limit_rad_s[1] (joint 2) = 0"), "{e}");
     let e = load("[actuator]\nstall_torque_nm = 0.6\n");
-    assert!(e.contains("actuator.stall_torque_nm") && e.contains("free_speed_rad_s"), "{e}");
+    // The value as given (it read `= given`).
+    assert!(e.contains("actuator.stall_torque_nm = 0.6: ") && e.contains("free_speed_rad_s"), "{e}");
+    let e = load("[actuator]\nfree_speed_rad_s = [30.0, 20.0]\n");
+    assert!(e.contains("actuator.free_speed_rad_s = [30, 20]: ") && e.contains("stall_torque_nm"), "{e}");
     let e = load("[actuator]\npower_limit_w = \"lots\"\n");
     assert!(e.contains("a number (both joints) or a pair"), "{e}");
     let e = load("[optimize.whole]\nobjective = \"min-time\"\n");

@@ -177,6 +177,23 @@ fn a_base_problem_file_that_cannot_be_read_is_refused_naming_base() {
 }
 
 #[test]
+fn a_file_that_is_not_a_sweep_is_refused_on_its_line_and_a_problem_file_is_named_as_one() {
+    // A problem file given to `sweep`: the line of its first section, the parser's message on one
+    // line (it quoted the file across several, squashed into one), and what a sweep file is.
+    let problem = std::fs::read_to_string("problems/paper.toml").expect("a committed problem");
+    let e = sweep(&problem).map(|_| ()).expect_err("refused").to_string();
+    assert!(e.starts_with("sweep file test.toml, line 5: unknown field `cat`, expected one of"), "{e}");
+    assert!(e.contains("(this reads as a problem file: a sweep file names its problem as base ="), "{e}");
+    assert!(!e.contains('|') && !e.contains('^'), "the parser's quotation of the file: {e}");
+    // A sweep file's own slip: its line, and no hint about problem files.
+    let e =
+        sweep("base = \"problems/paper.toml\"\n[[axis]]\nfeild = \"cat.radius\"\n").map(|_| ()).expect_err("refused");
+    let e = e.to_string();
+    assert!(e.starts_with("sweep file test.toml, line 3: unknown field `feild`"), "{e}");
+    assert!(!e.contains("problem file:"), "{e}");
+}
+
+#[test]
 fn a_refused_case_carries_its_reason_and_never_a_nan() {
     // θ = 90° on the cone path is gimbal lock; θ = 200° is no angle between the halves.
     let s = sweep_ok(&with_base(

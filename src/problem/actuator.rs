@@ -27,6 +27,15 @@ pub enum PerJoint {
 }
 
 impl PerJoint {
+    /// As the file gives it: a number, or the pair `[joint 1, joint 2]`.
+    pub fn echo(self) -> String {
+        use crate::numeric::numfmt::echo;
+        match self {
+            PerJoint::Both(v) => echo(v),
+            PerJoint::Each([a, b]) => format!("[{}, {}]", echo(a), echo(b)),
+        }
+    }
+
     /// The value for joint `j` (0 or 1).
     pub fn joint(self, j: usize) -> f64 {
         match self {
@@ -75,14 +84,14 @@ impl Actuator {
             }
         }
         match (self.stall_torque_nm, self.free_speed_rad_s) {
-            (Some(_), None) => Err(bad(
+            (Some(stall), None) => Err(bad(
                 "actuator.stall_torque_nm",
-                "given",
+                stall.echo(),
                 "the DC-motor envelope needs actuator.free_speed_rad_s too",
             )),
-            (None, Some(_)) => Err(bad(
+            (None, Some(free)) => Err(bad(
                 "actuator.free_speed_rad_s",
-                "given",
+                free.echo(),
                 "the DC-motor envelope needs actuator.stall_torque_nm too",
             )),
             _ => Ok(()),

@@ -355,6 +355,14 @@ impl Problem {
             .collect()
     }
 
+    /// [`Self::warnings`] but those of `[manoeuvre]` (each names its field or section first), for a
+    /// command that measures a schedule file on the problem's cat and does not use its manoeuvre
+    /// (`simulate --schedule`): a careless mass or drop height is still warned of, the paper's θ
+    /// is not.
+    pub fn warnings_without_manoeuvre(&self) -> Vec<String> {
+        self.warnings().into_iter().filter(|w| !w.starts_with("manoeuvre.") && !w.contains("[manoeuvre]")).collect()
+    }
+
     /// Warnings about a problem that loads but sits outside the paper's assumptions (§3).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = self.omissions.clone();
@@ -382,20 +390,26 @@ impl Problem {
     }
 }
 
-/// `text` as a TOML table, or the parser's error on the line it names (counted from 1: a span at
-/// a line's start is on that line, not the one before), a duplicate key named (toml says
-/// "duplicate key" without it; its span holds it).
+/// `text` as a TOML table, or the parser's error on the line it names ([`toml_error`]).
 fn parse_table(text: &str, origin: &str) -> Result<toml::Table, ProblemError> {
     text.parse().map_err(|e: toml::de::Error| {
-        let line =
-            e.span().map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
-        let quoted = e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty() && !k.contains('\n'));
-        let message = match quoted {
-            Some(key) if e.message().trim() == "duplicate key" => format!("duplicate key `{key}`"),
-            _ => one_line(e.message()),
-        };
-        ProblemError::Parse { origin: line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")), message }
+        let (origin, message) = toml_error(text, origin, &e);
+        ProblemError::Parse { origin, message }
     })
+}
+
+/// The TOML error `e` in `text` (read from `origin`) as `origin, line N` and the parser's
+/// message on one line (without its quotation of the file): the line counted from 1 (a span at a
+/// line's start is on that line, not the one before), a duplicate key named (toml says
+/// "duplicate key" without it; its span holds it). The problem files' and the sweep files' form.
+pub(crate) fn toml_error(text: &str, origin: &str, e: &toml::de::Error) -> (String, String) {
+    let line = e.span().map(|s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1);
+    let quoted = e.span().and_then(|s| text.get(s)).map(str::trim).filter(|k| !k.is_empty() && !k.contains('\n'));
+    let message = match quoted {
+        Some(key) if e.message().trim() == "duplicate key" => format!("duplicate key `{key}`"),
+        _ => one_line(e.message()),
+    };
+    (line.map_or(origin.to_string(), |l| format!("{origin}, line {l}")), message)
 }
 
 /// Whether `name` can name a results folder: non-empty, letters, digits, `-` and `_` only.
@@ -483,6 +497,7 @@ fn blamed(overrides: &[String], message: &str) -> String {
     }
 }
 
-fn one_line(s: &str) -> String {
+/// `s` on one line, its runs of white space (line breaks included) made one space.
+pub(crate) fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }

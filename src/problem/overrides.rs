@@ -23,9 +23,10 @@ pub(super) fn apply(table: &mut toml::Table, assignment: &str) -> Result<(), Pro
         let entry = node.entry(part.to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
         node = entry.as_table_mut().ok_or_else(|| fail(&format!("`{part}` is not a section")))?;
     }
-    if let (toml::Value::Table(_), Some(toml::Value::Table(given))) = (&value, node.get(*last)) {
-        if !given.is_empty() {
-            let fields: Vec<&str> = given.keys().map(String::as_str).collect();
+    if let (toml::Value::Table(set), Some(toml::Value::Table(given))) = (&value, node.get(*last)) {
+        // The file's fields the new section leaves out (those it gives are replaced, not lost).
+        let fields: Vec<&str> = given.keys().map(String::as_str).filter(|k| !set.contains_key(*k)).collect();
+        if !fields.is_empty() {
             return Err(fail(&format!(
                 "it replaces the whole [{key}] section, whose other fields ({}) would fall back to their defaults: set its fields one by one, as {key}.<field>=…",
                 fields.join(", ")

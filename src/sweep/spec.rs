@@ -256,8 +256,10 @@ impl Sweep {
     /// Parses and checks sweep text; `stem` names the sweep when the text does not, and `dir` is
     /// where a base path is resolved from.
     pub fn from_toml(text: &str, origin: &str, stem: &str, dir: &Path) -> Result<Sweep, SpecError> {
-        let file: SweepFile = toml::from_str(text)
-            .map_err(|e| SpecError::Parse { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
+        let file: SweepFile = toml::from_str(text).map_err(|e| {
+            let (origin, message) = crate::problem::toml_error(text, origin, &e);
+            SpecError::Parse { origin, message: format!("{message}{}", problem_file_hint(text)) }
+        })?;
         let name = file.name.clone().unwrap_or_else(|| stem.to_string());
         check_name(&name)?;
         let (base_text, base_origin) = match &file.base {
@@ -539,14 +541,23 @@ fn refused_by_problem(base_text: &str, base_origin: &str, field: &str, value: &t
     }
 }
 
+/// What a sweep file's parse error adds when `text` reads as a problem file (it has one of a
+/// problem's sections at its top level): that a sweep file names its problem instead.
+fn problem_file_hint(text: &str) -> &'static str {
+    let problem_sections = ["cat", "drop", "manoeuvre", "actuator", "exact", "rapier", "optimize", "robust"];
+    let table: Option<toml::Table> = text.parse().ok();
+    if table.is_some_and(|t| problem_sections.iter().any(|s| t.get(*s).is_some_and(toml::Value::is_table))) {
+        " (this reads as a problem file: a sweep file names its problem as base = \"problems/….toml\" and what it varies in [[axis]] tables; README, \"Sweeps\")"
+    } else {
+        ""
+    }
+}
+
 fn bad(field: &str, reason: &str) -> SpecError {
     SpecError::BadField { field: field.to_string(), reason: reason.to_string() }
 }
 
-/// A message on one line.
-pub(crate) fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
-}
+pub(crate) use crate::problem::one_line;
 
 /// `e` and its causes, joined as the command line prints them (`the sweep's base problem: …`).
 pub fn with_causes(e: &dyn std::error::Error) -> String {
