@@ -439,6 +439,12 @@ fn the_paper_schedule_beyond_its_motors_saturates_and_is_not_verified() {
     assert!(report.figures.check.extrapolated.is_none());
     // The exact engine agrees that the schedule is beyond its motors.
     assert!(v.motor_demand.as_ref().is_some_and(|d| !d.within()));
+    // The report's peaks are the finest run's, and it says they do not converge, with each run's.
+    let raw = v.quantities.iter().find(|c| c.quantity == Quantity::PeakTorque).map(|c| c.raw.clone()).unwrap();
+    let listed: Vec<String> = raw.iter().map(|x| format!("{x:.4}")).collect();
+    let text = report.to_text();
+    let note = format!("a motor saturated, and rapier's peaks do not converge as dt → 0: {} N·m", listed.join(", "));
+    assert!(text.contains(&note), "{text}");
 }
 
 /// Issue 20 §5: the least fall time for `|τ| ≤ 0.5 N·m` (the whole optimiser, 40 control points;

@@ -49,7 +49,7 @@ impl EngineFigures {
     /// engine; for rapier, that they are its finest run's, raw (the estimate at `dt → 0`, which
     /// the verdict judges, is in the check's lines below them), and, when a motor saturated, that
     /// they are not converged in the step (no extrapolation is made then), with the raw peak of
-    /// each run (on Kane and Scher's cat at a 10 N·m limit: 66.99, 46.65, 30.34 N·m).
+    /// each run (on Kane and Scher's cat at a 10 N·m limit: 66.9931, 46.6468, 30.3401 N·m).
     pub fn peaks_note(&self) -> String {
         let Some(v) = self.check.verification.as_ref().filter(|_| self.check.dt.is_some()) else {
             return String::new();
@@ -58,7 +58,7 @@ impl EngineFigures {
             return "  (rapier's finest run, raw; dt → 0 below)".into();
         }
         let raw = v.quantity(Quantity::PeakTorque).map_or(String::new(), |c| {
-            let list: Vec<String> = c.raw.iter().map(|x| format!("{x:.2}")).collect();
+            let list: Vec<String> = c.raw.iter().map(|x| format!("{x:.4}")).collect();
             format!(": {} N·m over its steps", list.join(", "))
         });
         format!("  (rapier's finest run, raw; a motor saturated, and rapier's peaks do not converge as dt → 0{raw})")

@@ -1,12 +1,14 @@
 //! `catflip simulate PROBLEM --schedule FILE.csv`: an imported schedule's measurement
 //! ([`crate::measure::import`]) as a report, the exact engine's or rapier's.
 //!
-//! The same quantities as [`crate::report::simulate::SimulationReport`] where they apply: signed
-//! twist about A's initial `+z` and swing (degrees), peak motor torques per piece and joint and
-//! overall (N·m), the rate jumps between pieces with their impulses, the largest angular
-//! momentum relative to `I* · max|q̇|`, and the engine's error estimate. An imported schedule has
-//! no profile or circulation; it has a file, a row count and an interpolation scheme. rapier's
-//! report has its own twist, swing, per-piece peaks and momentum drift, and beside them the
+//! The same quantities as [`crate::report::simulate::SimulationReport`] where they apply: the
+//! release spin, signed twist about A's initial `+z` and swing (degrees), peak motor torques per
+//! piece and joint and overall (N·m), what they ask of the motors (peak speed and power, each
+//! `[actuator]` limit's usage, the verdict), the rate jumps between pieces with their impulses,
+//! the largest angular momentum (relative as `simulate`'s is), and the engine's error estimate.
+//! An imported schedule has no profile or circulation; it has a file, a row count and an
+//! interpolation scheme. rapier's report has its own twist, swing, per-piece peaks and momentum
+//! drift, and beside them the
 //! [`crate::engines::rapier_check::RapierCheck`] of every rapier report (step, tracking error,
 //! `dt → 0`, errors against the exact engine on the same imported schedule, verdict).
 
