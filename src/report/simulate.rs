@@ -166,17 +166,11 @@ impl SimulationReport {
         let _ = writeln!(s, "  circulation      {:.9} rad ({})", self.circulation_rad, self.circulation_source);
         let _ = writeln!(s, "  twist            {:+.9}° (target ±180°)", self.figures.twist_deg);
         let _ = writeln!(s, "  swing            {:.9}° (target 0°)", self.figures.swing_deg);
+        let (b, t, u, note) = (p.bend, p.twist, p.unbend, self.figures.peaks_note());
         let _ = writeln!(
             s,
-            "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}{}",
-            p.bend[0],
-            p.bend[1],
-            p.twist[0],
-            p.twist[1],
-            p.unbend[0],
-            p.unbend[1],
-            p.max,
-            self.figures.peaks_note()
+            "  peak torque N·m  bend [{:.4}, {:.4}]  twist [{:.4}, {:.4}]  unbend [{:.4}, {:.4}]  max {:.4}{note}",
+            b[0], b[1], t[0], t[1], u[0], u[1], p.max
         );
         s.push_str(&self.motors.to_text());
         if self.velocity_jumps.is_empty() {
