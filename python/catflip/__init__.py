@@ -77,13 +77,62 @@ def _report(pair: Any) -> Dict[str, Any]:
     return json.loads(text)
 
 
+def _spin(problem: Problem) -> List[float]:
+    """The problem's release spin, ``drop.angular_momentum`` (N·m·s; zeros without spin)."""
+    return list(problem.to_dict().get("drop", {}).get("angular_momentum", [0.0, 0.0, 0.0]))
+
+
+def _series_wanted(problem: Problem, series: Optional[bool]) -> bool:
+    """Whether a call samples the time series: ``series`` as given, or (``None``) when the
+    release has no spin. The series is the zero-momentum flip's, so asking for it with spin is
+    refused here, naming the argument (the library's refusal names the CLI's files)."""
+    spin = _spin(problem)
+    spins = any(x != 0.0 for x in spin)
+    if series is None:
+        return not spins
+    if series and spins:
+        raise CatflipError(
+            f"series=True: the time series is the zero-momentum flip's, and drop.angular_momentum = {spin} "
+            "releases the cat with spin: pass series=False (the report itself is the spinning release's)"
+        )
+    return bool(series)
+
+
+def _sampling(steps_per_piece: Optional[int], rate_hz: Optional[float]) -> "tuple[int, Optional[float]]":
+    """The series' sampling, checked and named as the arguments are: ``steps_per_piece``
+    intervals per phase (default :data:`STEPS_PER_PIECE`) or the uniform grid ``rate_hz``, one of
+    the two."""
+    if steps_per_piece is not None and rate_hz is not None:
+        raise CatflipError(
+            f"steps_per_piece = {steps_per_piece!r} and rate_hz = {rate_hz!r}: give one of them "
+            "(intervals per phase, or a uniform grid in Hz)"
+        )
+    if steps_per_piece is not None and (
+        isinstance(steps_per_piece, bool) or not isinstance(steps_per_piece, int) or steps_per_piece < 1
+    ):
+        raise CatflipError(f"steps_per_piece = {steps_per_piece!r}: must be a whole number of intervals, at least 1")
+    if rate_hz is not None:
+        ok = isinstance(rate_hz, (int, float)) and not isinstance(rate_hz, bool)
+        if not ok or not (float(rate_hz) > 0.0 and float(rate_hz) < float("inf")):
+            raise CatflipError(f"rate_hz = {rate_hz!r}: must be a finite, positive number of Hz (or None)")
+        return STEPS_PER_PIECE, float(rate_hz)
+    return (STEPS_PER_PIECE if steps_per_piece is None else steps_per_piece), None
+
+
+def _engine(engine: Any) -> str:
+    """``engine`` when it is a name (the library says which names are engines)."""
+    if not isinstance(engine, str):
+        raise CatflipError(f'engine = {engine!r}: must be "exact" or "rapier"')
+    return engine
+
+
 def simulate(
     problem: Problem,
     engine: str = "exact",
     *,
     schedule: Optional[Schedule] = None,
-    series: bool = True,
-    steps_per_piece: int = STEPS_PER_PIECE,
+    series: Optional[bool] = None,
+    steps_per_piece: Optional[int] = None,
     rate_hz: Optional[float] = None,
 ) -> Measurement:
     """Runs the problem's schedule (or ``schedule``, imported, on the problem's cat) through an
@@ -91,28 +140,41 @@ def simulate(
     verification, ending in a verdict). ``report`` is ``catflip simulate --json`` (with
     ``--schedule`` when ``schedule`` is given).
 
-    With ``series`` the problem's schedule is sampled too (:class:`Series`: ``steps_per_piece``
-    intervals per phase, or the uniform grid ``rate_hz``), the exact engine's torques and
-    orientation on every row. The series is the zero-momentum flip's, so it is refused (a
-    :class:`CatflipError` naming ``drop.angular_momentum``) for a release with spin: pass
-    ``series=False`` there.
+    The problem's schedule is sampled too (:class:`Series`: ``steps_per_piece`` intervals per
+    phase, 400 by default, or the uniform grid ``rate_hz``, one of the two), the exact engine's
+    torques and orientation on every row, unless ``series`` is false. The series is the
+    zero-momentum flip's: by default (``series=None``) it is left out for a release with spin,
+    and ``series=True`` with spin is refused. An imported ``schedule`` is measured as given:
+    ``series``, ``steps_per_piece`` and ``rate_hz`` sample the problem's own, and are refused
+    beside it.
     """
+    engine = _engine(engine)
     if schedule is not None:
+        sampling = (("series", series), ("steps_per_piece", steps_per_piece), ("rate_hz", rate_hz))
+        given = [f"{k} = {v!r}" for k, v in sampling if v is not None]
+        if given:
+            raise CatflipError(
+                f"{', '.join(given)}: an imported schedule is measured as given; these sample the problem's own schedule"
+            )
         return Measurement(_report(_catflip.simulate_schedule(problem, schedule, engine)))
+    steps, rate = _sampling(steps_per_piece, rate_hz)
+    wanted = _series_wanted(problem, series)
     report = _report(_catflip.simulate(problem, engine))
-    return Measurement(report, schedule_series(problem, steps_per_piece, rate_hz) if series else None)
+    return Measurement(report, schedule_series(problem, steps, rate) if wanted else None)
 
 
-def verify(problem: Problem, *, schedule: Optional[Schedule] = None, series: bool = False) -> Measurement:
+def verify(problem: Problem, *, schedule: Optional[Schedule] = None, series: Optional[bool] = False) -> Measurement:
     """The rapier verification of the problem's schedule (or of ``schedule``):
     ``simulate(problem, "rapier")``; ``report["verdict"]`` is ``verified``, ``not verified`` or
     ``inconclusive`` against the ``[rapier]`` tolerances."""
     return simulate(problem, "rapier", schedule=schedule, series=series)
 
 
-def schedule_series(problem: Problem, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None) -> Series:
-    """The problem's schedule sampled as ``catflip run`` writes ``schedules/problem.csv``."""
-    return Series.from_csv(*_catflip.schedule_file(problem, steps_per_piece, rate_hz))
+def schedule_series(problem: Problem, steps_per_piece: Optional[int] = None, rate_hz: Optional[float] = None) -> Series:
+    """The problem's schedule sampled as ``catflip run`` writes ``schedules/problem.csv``
+    (``steps_per_piece`` intervals per phase, 400 by default, or the uniform grid ``rate_hz``)."""
+    steps, rate = _sampling(steps_per_piece, rate_hz)
+    return Series.from_csv(*_catflip.schedule_file(problem, steps, rate))
 
 
 def compare(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
@@ -135,23 +197,36 @@ def compare_models(problem: Problem, *, verify: bool = False) -> Dict[str, Any]:
 
 
 def optimize(
-    problem: Problem, *, series: bool = True, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None
+    problem: Problem, *, series: bool = True, steps_per_piece: Optional[int] = None, rate_hz: Optional[float] = None
 ) -> Optimization:
     """``catflip optimize --json``: the profile QP (Clarabel), its exact-dynamics refinement and
     every phase retimed against its exact peak, with the problem's ``[optimize]`` settings; with
-    ``series``, each optimum's time series by name. Refused for a problem released with spin."""
-    text, warnings, files = _catflip.optimize(problem, series, steps_per_piece, rate_hz)
+    ``series``, each optimum's time series by name (sampled as :func:`schedule_series`). Refused
+    for a problem released with spin."""
+    steps, rate = _sampling(steps_per_piece, rate_hz)
+    text, warnings, files = _catflip.optimize(problem, series, steps, rate)
     _warn(warnings)
     return Optimization(json.loads(text), {name: Series.from_csv(csv, sidecar) for name, csv, sidecar in files})
 
 
 def optimize_whole(
-    problem: Problem, *, series: bool = True, steps_per_piece: int = STEPS_PER_PIECE, rate_hz: Optional[float] = None
+    problem: Problem,
+    *,
+    series: Optional[bool] = None,
+    steps_per_piece: Optional[int] = None,
+    rate_hz: Optional[float] = None,
 ) -> WholeOptimum:
     """``catflip optimize --whole --json``: both joint paths optimised over the whole fall (twist
-    π and swing 0 as constraints), with ``[optimize.whole]``. No optimum is not an error here:
-    ``solved`` is false and ``report["status"]`` says why (the CLI exits non-zero)."""
-    text, warnings, file = _catflip.optimize_whole(problem, series, steps_per_piece, rate_hz)
+    π and swing 0 as constraints), with ``[optimize.whole]``; a release with spin is planned
+    under its spin. No optimum is not an error here: ``solved`` is false and
+    ``report["status"]`` says why (the CLI exits non-zero). The optimum's time series
+    (``whole-optimum.csv``: ``steps_per_piece`` intervals per knot span of its spline, 400 by
+    default, or the uniform grid ``rate_hz``) comes with it unless ``series`` is false; it is the
+    zero-momentum flip's, so by default (``series=None``) it is left out with spin, and
+    ``series=True`` with spin is refused."""
+    steps, rate = _sampling(steps_per_piece, rate_hz)
+    wanted = _series_wanted(problem, series)
+    text, warnings, file = _catflip.optimize_whole(problem, wanted, steps, rate)
     _warn(warnings)
     return WholeOptimum(json.loads(text), Series.from_csv(*file) if file is not None else None)
 
@@ -174,16 +249,25 @@ def import_schedule(
     optionally rates ``qd`` and accelerations ``qdd`` (``(n, 2)``). Read by the same parser as a
     schedule file, with the same checks and messages (row ``k`` is "line ``k + 2``", ``name``
     stands for the file); a time written twice in a row splits the schedule into pieces there."""
-    times = np.asarray(t, dtype=float)
+    def numbers(label: str, value: Any) -> Any:
+        try:
+            return np.asarray(value, dtype=float)
+        except (TypeError, ValueError) as e:
+            raise CatflipError(f"{name}: `{label}` must hold numbers: {e}") from None
+
+    times = numbers("t", t)
     if times.ndim != 1:
         raise CatflipError(f"{name}: `t` must have shape (n,), not {times.shape}")
     columns = [("t", times)]
     for names, value in ((("q1", "q2"), q), (("qd1", "qd2"), qd), (("qdd1", "qdd2"), qdd)):
         if value is None:
             continue
-        a = np.asarray(value, dtype=float)
+        label = names[0][:-1]
+        a = numbers(label, value)
         if a.ndim != 2 or a.shape[1] != 2:
-            raise CatflipError(f"{name}: `{names[0][:-1]}` must have shape (n, 2), not {a.shape}")
+            raise CatflipError(f"{name}: `{label}` must have shape (n, 2), not {a.shape}")
+        if a.shape[0] != times.shape[0]:
+            raise CatflipError(f"{name}: `{label}` has {a.shape[0]} rows and `t` {times.shape[0]}: one row per time")
         columns += [(names[0], a[:, 0]), (names[1], a[:, 1])]
     return _catflip.schedule_from_columns([c[0] for c in columns], [c[1].tolist() for c in columns], name)
 
@@ -201,21 +285,31 @@ def export(
     out: Union[str, "os.PathLike[str]"],
     *,
     optimum: Optional[WholeOptimum] = None,
-    steps_per_piece: int = STEPS_PER_PIECE,
+    steps_per_piece: Optional[int] = None,
     rate_hz: Optional[float] = None,
 ) -> List[str]:
     """Writes into the folder ``out`` what ``catflip run`` writes into ``schedules/``: the
     problem's schedule (``problem.csv`` + ``problem.json`` sidecar), the model (``model.urdf``,
     ``model.xml``) and, when given and solved, the whole optimum (``whole-optimum.csv`` +
     ``whole-optimum.json``).
-    Returns the paths written."""
-    os.makedirs(out, exist_ok=True)
-    csv, sidecar = _catflip.schedule_file(problem, steps_per_piece, rate_hz)
+    Returns the paths written. Everything is computed before the folder is made: a refused call
+    leaves nothing behind. An optimum without its time series (solved with ``series=False``) is
+    refused; one not solved is left out with a :class:`CatflipWarning`."""
+    steps, rate = _sampling(steps_per_piece, rate_hz)
+    csv, sidecar = _catflip.schedule_file(problem, steps, rate)
     files = {"problem.csv": csv, "problem.json": sidecar, **model_files(problem)}
-    if optimum is not None and optimum.series is not None:
+    if optimum is not None and not optimum.solved:
+        _warn([f"optimum: not solved ({optimum.report.get('status')}): whole-optimum.csv is not written"])
+    elif optimum is not None and optimum.series is None:
+        raise CatflipError(
+            "optimum: solved without its time series (optimize_whole(..., series=False)): "
+            "solve it with series=True to export it"
+        )
+    elif optimum is not None:
         files["whole-optimum.csv"] = optimum.series.csv
         if optimum.series.sidecar is not None:
             files["whole-optimum.json"] = optimum.series.sidecar
+    os.makedirs(out, exist_ok=True)
     written = []
     for name, text in files.items():
         path = os.path.join(out, name)
@@ -229,5 +323,6 @@ def sweep(path: Union[str, "os.PathLike[str]"], *, out: Union[str, "os.PathLike[
     """Runs a sweep file (``catflip sweep SWEEP.toml``) and returns its tidy table, one record per
     case × schedule × engine (the rows of ``sweep.csv``); with ``out``, also writes the CLI's
     output folder ``<out>/<name>/`` (table, summary, plots). :func:`frame` makes it a frame."""
-    text, _written = _catflip.sweep(os.fspath(path), os.fspath(out) if out is not None else None)
+    text, _written, warnings = _catflip.sweep(os.fspath(path), os.fspath(out) if out is not None else None)
+    _warn(warnings)
     return records_from_csv(text)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 import warnings
 from typing import Any, Mapping, Sequence, Union
 
@@ -23,9 +24,25 @@ class CatflipWarning(UserWarning):
     """What the CLI prints as ``warning: …``: careless input that is not an error."""
 
 
+#: The package's own folder: a warning is attributed to the first caller outside it.
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first frame outside the package, as seen from :func:`_warn`'s
+    call to :func:`warnings.warn` (1 is :func:`_warn` itself), so that a warning points at the
+    user's line whichever of the package's functions raised it."""
+    frame = sys._getframe(1)
+    level = 1
+    while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == _PACKAGE_DIR:
+        frame = frame.f_back
+        level += 1
+    return level
+
+
 def _warn(messages: Sequence[str]) -> None:
     for m in messages:
-        warnings.warn(m, CatflipWarning, stacklevel=3)
+        warnings.warn(m, CatflipWarning, stacklevel=_caller_level())
 
 
 def toml_value(value: Any) -> str:

@@ -8,6 +8,8 @@ import csv
 import io
 from typing import Any, Dict, List, Optional
 
+from ._catflip import CatflipError
+
 #: Columns whose cells are words (the rest are numbers, or an axis's values).
 _WORDS = {
     "schedule",
@@ -48,6 +50,8 @@ def records_from_csv(text: str) -> List[Dict[str, Any]]:
 def frame(records: List[Dict[str, Any]], backend: Optional[str] = None) -> Any:
     """``records`` as a data frame: pandas when installed (or ``backend="pandas"``), else polars
     (or ``backend="polars"``). Raises ``ImportError`` naming both when neither is installed."""
+    if backend not in (None, "pandas", "polars"):
+        raise CatflipError(f'backend = {backend!r}: must be "pandas" or "polars" (or None: whichever is installed)')
     order = [backend] if backend else ["pandas", "polars"]
     for name in order:
         try:

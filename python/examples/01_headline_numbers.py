@@ -48,7 +48,8 @@ w = whole.report
 show("whole optimum: largest bend, deg", w["max_bend_deg"], ".1f", "46.8")
 show("whole optimum: twist, deg", w["twist_deg"], ".9f", "-180.000000000")
 show("whole optimum: peak motor torque, N·m", w["peak_torque_nm"]["max"], ".4f", "0.3165")
-print(f"whole optimum: swing {w['swing_deg']:.1e}° (README: 1e-13°); its time series has {len(whole.series.t)} rows")
+show("whole optimum: swing, deg", w["swing_deg"], ".1e", "2.9e-13")
+print(f"whole optimum: its time series has {len(whole.series.t)} rows")
 
 wrong = [(what, text, readme) for what, text, readme in checks if text != readme]
 for what, text, readme in wrong:

@@ -264,19 +264,33 @@ pub fn model_files(problem: &Problem) -> PyResult<Vec<(String, String)>> {
 /// `catflip sweep SWEEP.toml`: the tidy table (the `sweep.csv` text) of every case; with `out`,
 /// the sweep's whole output folder written to `<out>/<name>/` too, and what was written as JSON.
 #[pyfunction]
-pub fn sweep(py: Python<'_>, path: PathBuf, out: Option<PathBuf>) -> PyResult<(String, Option<String>)> {
+pub fn sweep(py: Python<'_>, path: PathBuf, out: Option<PathBuf>) -> PyResult<(String, Option<String>, Vec<String>)> {
     run(py, move || {
         let sweep = catflip::sweep::Sweep::load(&path)?;
         let records = catflip::sweep::evaluate(&sweep, 0..sweep.case_count(), false);
         let csv = catflip::sweep::table::to_csv(&sweep, &records)?;
-        let written = match out {
+        let written = match &out {
             Some(out) => {
                 let command = format!("cargo run --release -- sweep {}", path.display());
-                let outcome = catflip::sweep::output::write_results(&sweep, &records, &command, &out)?;
+                let outcome = catflip::sweep::output::write_results(&sweep, &records, &command, out)?;
                 Some(json(&outcome)?)
             }
             None => None,
         };
-        Ok((csv, written))
+        // The cases' warnings, as the CLI says them: how many cases, and one case's in full (the
+        // records carry every case's; `sweep.md` lists them all under "Warnings").
+        let mut warned: Vec<(usize, &str)> =
+            records.iter().filter(|r| !r.warnings.is_empty()).map(|r| (r.case, r.warnings.as_str())).collect();
+        warned.dedup_by_key(|w| w.0);
+        let warnings = match warned.first() {
+            None => Vec::new(),
+            Some((case, first)) => vec![format!(
+                "sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values; each record's \"warnings\" holds its own), case {case}'s: {first}",
+                sweep.name,
+                warned.len(),
+                sweep.case_count(),
+            )],
+        };
+        Ok((csv, written, warnings))
     })
 }

@@ -1,6 +1,7 @@
 """Each class of bad input the CLI refuses is a ``catflip.CatflipError`` (a ``ValueError``) with
 the CLI's message, word for word (its ``error: …`` line without the prefix); never a crash."""
 
+import json
 import warnings
 
 import numpy as np
@@ -68,10 +69,12 @@ def test_truncated_schedule(tmp_path, cli):
     path = tmp_path / "cut.csv"
     path.write_text("t,q1,q2\n0,0,0\n0.1,0.01,0\n0.2,0.02,0\n0.3,0.03\n")
     same_as_cli(cli, ["simulate", PAPER, "--schedule", str(path)], lambda: catflip.read_schedule(path))
-    # Arrays of unequal lengths are the same truncated file.
+    # Arrays of unequal lengths are refused naming the shorter (as a file they read as a row
+    # with a field missing, which is the file's own refusal above).
     t = [0.0, 0.1, 0.2, 0.3]
     q = np.array([[0, 0], [0.01, 0], [0.02, 0], [0.03, 0]])
-    assert refused(lambda: catflip.import_schedule(t, q[:3], name=str(path))).startswith(f"{path}: line ")
+    message = refused(lambda: catflip.import_schedule(t, q[:3], name=str(path)))
+    assert message == f"{path}: `q` has 3 rows and `t` 4: one row per time"
 
 
 def test_not_finite_arrays_name_the_row_and_column():
@@ -93,12 +96,77 @@ def test_spin_refused_by_optimize(cli, args, call):
     assert "spin" in message
 
 
-def test_spin_whole_optimum_series_refused():
-    # `optimize --whole` plans a release with spin; its schedule file (the series) is refused,
-    # before the solve, as `catflip run` refuses it.
+def test_spin_whole_optimum_series_refused_naming_the_argument():
+    # `optimize --whole` plans a release with spin; its time series is the zero-momentum flip's:
+    # asked for, it is refused before the solve, naming `series` (the library's refusal named
+    # the CLI's files and told the user to remove the spin).
     problem = catflip.load(PAPER, ["drop.angular_momentum=[0.0, 0.0, 0.01]"])
-    message = refused(lambda: catflip.optimize_whole(problem))
-    assert "drop.angular_momentum" in message and "schedule file" in message
+    message = refused(lambda: catflip.optimize_whole(problem, series=True))
+    assert message.startswith("series=True: the time series is the zero-momentum flip's") and "series=False" in message
+
+
+def test_simulate_takes_a_spinning_release_by_default_as_the_cli_does(cli):
+    # `catflip simulate` measures a release with spin; the package's default left the series in
+    # and refused the call. Now the series is left out by default, and asked for, refused.
+    spin = "drop.angular_momentum=[0.0, 0.0, 0.01]"
+    problem = catflip.load(PAPER, [spin])
+    m = catflip.simulate(problem)
+    assert m.series is None
+    code, out, err = cli("simulate", PAPER, "--set", spin, "--json")
+    assert code == 0, err
+    assert m.report["twist_deg"] == json.loads(out)["twist_deg"]
+    assert "series=True" in refused(lambda: catflip.simulate(problem, series=True))
+
+
+@pytest.mark.parametrize(
+    "kwargs, says",
+    [
+        ({"rate_hz": "100"}, "rate_hz = '100': must be a finite, positive number of Hz"),
+        ({"rate_hz": float("nan")}, "rate_hz = nan: must be a finite, positive number of Hz"),
+        ({"steps_per_piece": -1}, "steps_per_piece = -1: must be a whole number of intervals"),
+        ({"steps_per_piece": True}, "steps_per_piece = True: must be a whole number of intervals"),
+        ({"steps_per_piece": 7, "rate_hz": 100.0}, "give one of them"),
+    ],
+)
+def test_sampling_arguments_are_named_when_refused(kwargs, says):
+    problem = catflip.load(PAPER)
+    assert says in refused(lambda: catflip.simulate(problem, **kwargs))
+
+
+def test_an_engine_that_is_not_one_is_named():
+    problem = catflip.load(PAPER)
+    assert refused(lambda: catflip.simulate(problem, None)) == 'engine = None: must be "exact" or "rapier"'
+
+
+def test_sampling_beside_an_imported_schedule_is_refused():
+    problem = catflip.load(PAPER)
+    s = catflip.simulate(problem).series
+    given = catflip.import_schedule(s.t, s.q, s.qd, s.qdd)
+    message = refused(lambda: catflip.simulate(problem, schedule=given, rate_hz=-1, steps_per_piece=0))
+    assert message.startswith("steps_per_piece = 0, rate_hz = -1: an imported schedule is measured as given"), message
+
+
+def test_arrays_of_different_lengths_name_the_shorter():
+    t = np.linspace(0.0, 1.0, 50)
+    q = np.zeros((50, 2))
+    assert "`q` has 50 rows and `t` 47: one row per time" in refused(lambda: catflip.import_schedule(t[:-3], q))
+    assert "`qd` has 49 rows and `t` 50" in refused(lambda: catflip.import_schedule(t, q, q[:-1]))
+    assert "`q` must hold numbers" in refused(lambda: catflip.import_schedule(t, [["a", "b"]] * 50))
+
+
+def test_export_refuses_an_optimum_without_its_series_and_writes_nothing(tmp_path):
+    problem = catflip.load(PAPER)
+    whole = catflip.optimize_whole(problem, series=False)
+    assert whole.solved
+    out = tmp_path / "out"
+    assert "solved without its time series" in refused(lambda: catflip.export(problem, out, optimum=whole))
+    assert not out.exists()
+    assert "steps_per_piece = 0" in refused(lambda: catflip.export(problem, out, steps_per_piece=0))
+    assert not out.exists()
+
+
+def test_a_frame_backend_that_is_not_one_is_named():
+    assert "backend = 'numpy'" in refused(lambda: catflip.frame([{"a": 1}], backend="numpy"))
 
 
 def test_unknown_engine():

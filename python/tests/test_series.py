@@ -4,6 +4,7 @@ the report they come with."""
 import csv
 import io
 import json
+import warnings
 import signal
 import threading
 import _thread
@@ -90,6 +91,29 @@ def test_sweep_records_are_the_clis_table(tmp_path, cli):
     except ImportError:
         return  # neither pandas nor polars: the records are the table
     assert len(frame) == len(records)
+
+
+def test_warnings_point_at_the_callers_line_and_a_sweeps_cases_warn(tmp_path):
+    # A warning from deep in the package (simulate → its report) was attributed to the package's
+    # own line; a sweep's cases' warnings were dropped.
+    problem = catflip.load(PAPER)
+    s = catflip.simulate(problem).series
+    late = catflip.import_schedule(s.t + 0.5, s.q, s.qd, s.qdd)  # times that do not start at zero
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        catflip.simulate(problem, schedule=late)
+    assert caught and all(w.filename == __file__ for w in caught), [(w.filename, str(w.message)) for w in caught]
+    sweep = tmp_path / "careless.toml"
+    sweep.write_text(
+        f'name = "careless"\nbase = "{PROBLEMS / "script-defaults.toml"}"\n[[axis]]\nfield = "cat.mass"\nvalues = [1.0, 1000.0]\n'
+        "[compute]\npeaks = true\n"
+    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        catflip.sweep(sweep)
+    said = [str(w.message) for w in caught if issubclass(w.category, catflip.CatflipWarning)]
+    assert any(m.startswith("sweep careless: 1 of its 2 cases carry warnings") and "cat.mass = 1000 kg" in m for m in said), said
+    assert all(w.filename == __file__ for w in caught)
 
 
 def test_interrupt_raises_at_once_and_the_gil_is_free():
