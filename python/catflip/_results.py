@@ -76,8 +76,15 @@ class Series:
             sidecar=sidecar,
         )
 
-    def to_dict(self) -> Dict[str, np.ndarray]:
-        """The arrays by name (``q1``, ``q2``, ``tau1`` … split per joint), for a data frame."""
+    def __repr__(self) -> str:
+        # Its rows are summarised: the arrays (and the per-row phase names) can run to thousands.
+        phases = list(dict.fromkeys(self.phase))
+        span = f"t {self.t[0]:g}–{self.t[-1]:g} s" if len(self.t) else "empty"
+        return f"Series({len(self.t)} rows, {span}, phases {phases})"
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every column by name (``q1``, ``q2``, ``tau1`` … split per joint, the jump impulses,
+        each row's ``phase`` and ``boundary``), for a data frame: the schedule file's columns."""
         return {
             "t": self.t,
             "q1": self.q[:, 0],
@@ -88,12 +95,16 @@ class Series:
             "qdd2": self.qdd[:, 1],
             "tau1": self.tau[:, 0],
             "tau2": self.tau[:, 1],
+            "impulse1": self.impulse[:, 0],
+            "impulse2": self.impulse[:, 1],
             "qw": self.orientation[:, 0],
             "qx": self.orientation[:, 1],
             "qy": self.orientation[:, 2],
             "qz": self.orientation[:, 3],
             "twist_deg": self.twist_deg,
             "swing_deg": self.swing_deg,
+            "phase": list(self.phase),
+            "boundary": list(self.boundary),
         }
 
 

@@ -104,7 +104,11 @@ pub fn compare_models(py: Python<'_>, problem: &Problem, verify: bool) -> PyResu
     let inner = problem.inner.clone();
     run(py, move || {
         let p = &inner.problem;
-        let comparison = catflip::compare_models::compare_models(p, verify, "")?;
+        // The call that made it (the CLI's field holds its command line; a problem here may
+        // come from a dict or a string, with no file to name).
+        let verified = if verify { ", verify=True" } else { "" };
+        let command = format!("catflip.compare_models(problem {:?}{verified}) (Python)", p.name);
+        let comparison = catflip::compare_models::compare_models(p, verify, &command)?;
         Ok((json(&comparison)?, p.warnings()))
     })
 }

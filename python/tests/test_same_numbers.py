@@ -110,6 +110,7 @@ def test_compare_models_gives_the_clis_numbers(cli_json):
     cli = cli_json("compare-models", "problems/kane-scher.toml", *[a for k, v in sets.items() for a in ("--set", f"{k}={v}")])
     assert [(r["key"], r["motors"]) for r in python["rows"]] == [("universal", 2), ("no-twist", 2), ("spherical", 3)]
     assert python["cheapest"] in ("universal", "no-twist", "spherical")
-    python.pop("command")
-    cli.pop("command")
+    # The one field that differs: what made it (the CLI's command line, the package's call).
+    assert python.pop("command") == 'catflip.compare_models(problem "kane-scher") (Python)'
+    assert cli.pop("command").startswith("cargo run --release -- compare-models problems/kane-scher.toml")
     same(python, cli)

@@ -48,6 +48,13 @@ def test_series_is_the_exported_file(paper, tmp_path):
     rows = list(csv.DictReader(io.StringIO(text)))
     assert [float(r["tau1_nm"]) for r in rows] == s.tau[:, 0].tolist()
     assert json.loads((tmp_path / "problem.json").read_text())["columns"]
+    # Its dict holds every column of the file (the impulses, each row's phase and boundary were
+    # left out), and its repr is a line, not its 1203 rows.
+    d = s.to_dict()
+    assert d["impulse1"].tolist() == [float(r["impulse1_nms"]) for r in rows]
+    assert d["phase"] == [r["phase"] for r in rows] and d["boundary"] == [r["boundary"] for r in rows]
+    assert len(d) == len(rows[0]), sorted(rows[0])
+    assert repr(s) == f"Series({len(rows)} rows, t 0–{s.t[-1]:g} s, phases ['bend', 'twist', 'unbend'])"
     mjcf = catflip.model_files(paper)["model.xml"]
     assert "<mujoco" in mjcf and mjcf.rstrip().endswith("</mujoco>")
 
