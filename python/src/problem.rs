@@ -69,7 +69,17 @@ impl Problem {
     fn __repr__(&self) -> String {
         format!("<catflip.Problem {:?}>", self.inner.problem.name)
     }
+
+    /// Pickling (a `multiprocessing` pool's workers): the problem as its TOML text, every default
+    /// written, which `from_toml` loads back to the same problem.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Reduced<'py>> {
+        let load = py.import("catflip._catflip")?.getattr("from_toml")?;
+        Ok((load, (self.to_toml()?, format!("<pickled problem {:?}>", self.inner.problem.name), Vec::new())))
+    }
 }
+
+/// What `__reduce__` gives pickle: the loader and its arguments (text, origin, overrides).
+type Reduced<'py> = (Bound<'py, PyAny>, (String, String, Vec<String>));
 
 fn wrap(problem: catflip::problem::Problem) -> Problem {
     Problem { inner: Arc::new(Loaded { problem, resolved: OnceLock::new() }) }

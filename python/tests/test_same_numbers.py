@@ -114,3 +114,16 @@ def test_compare_models_gives_the_clis_numbers(cli_json):
     assert python.pop("command") == 'catflip.compare_models(problem "kane-scher") (Python)'
     assert cli.pop("command").startswith("cargo run --release -- compare-models problems/kane-scher.toml")
     same(python, cli)
+
+
+def test_a_problem_pickles_to_the_same_problem():
+    # multiprocessing hands a Problem to its workers by pickle (it raised TypeError).
+    import pickle
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", catflip.CatflipWarning)
+        problem = catflip.load(PROBLEMS / "unequal-halves.toml", {"cat.rear.mass": 1.3})
+    back = pickle.loads(pickle.dumps(problem))
+    assert back.name == problem.name and back.to_dict() == problem.to_dict()
+    twist = [catflip.simulate(p, series=False).report["twist_deg"] for p in (back, problem)]
+    assert twist[0] == twist[1]
