@@ -255,3 +255,45 @@ fn rapier_trials_are_refused_on_other_cats_naming_the_engine() {
     let message = e.expect("refused");
     assert!(message.contains("robust.engine"), "{message}");
 }
+
+#[test]
+fn the_histogram_holds_every_trial_and_spreads_errors_over_decades_on_a_log_axis() {
+    use catflip::report::plot::Scale;
+    // Counts of the step outline: every bin's height once (each bin is two points at one height).
+    let counted = |plot: &catflip::report::plot::LinePlot| -> Vec<f64> {
+        plot.series.iter().map(|s| s.points[1..s.points.len() - 1].iter().step_by(2).map(|p| p.1).sum()).collect()
+    };
+    // Without spin, the mass draws alone move the landing by less than a decade (on this
+    // calibrated cat not at all: 1.2718° for every trial): equal bins from 0 on a linear axis.
+    let p = problem(&["robust.spin_sigma_nms=0"]);
+    let r = Resolved::new(&p).expect("calibrates");
+    let c = robustness(&p, &r.schedule, "s").expect("two motors");
+    let report = catflip::robust::RobustReport { checks: vec![c.clone()], command: String::new() };
+    let within = report.histogram_plot();
+    let (least, most) = c
+        .trials
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t.landing_error_deg), b.max(t.landing_error_deg)));
+    assert!(most <= 10.0 * least, "{least}–{most}°");
+    assert_eq!(within.scale, Scale::Linear);
+    assert!(within.y_label.starts_with("trials per ") && within.y_label.ends_with("° bin"), "{}", within.y_label);
+    assert_eq!(counted(&within), vec![40.0]);
+    // With a spin of σ = 0.05 N·m·s the errors run from tenths of a degree to tens: bins equal in
+    // log error on a log axis, and still every trial counted once.
+    let p = problem(&["robust.spin_sigma_nms=0.05"]);
+    let c = robustness(&p, &r.schedule, "s").expect("two motors");
+    let (least, most) = c
+        .trials
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t.landing_error_deg), b.max(t.landing_error_deg)));
+    assert!(most > 10.0 * least, "the spin should spread the landing over a decade: {least}–{most}°");
+    let report = catflip::robust::RobustReport { checks: vec![c], command: String::new() };
+    let spread = report.histogram_plot();
+    assert_eq!(spread.scale, Scale::LogX);
+    assert!(spread.y_label.contains("equal in log error"), "{}", spread.y_label);
+    assert_eq!(counted(&spread), vec![40.0]);
+    let edges: Vec<f64> = spread.series[0].points.iter().map(|p| p.0).collect();
+    assert!(edges[0] > 0.0 && edges[0] <= least && edges.windows(2).all(|w| w[1] >= w[0]), "{edges:?}");
+    // The distribution of the same trials is drawn on the log axis too.
+    assert_eq!(report.distribution_plot().scale, Scale::LogX);
+}

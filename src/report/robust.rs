@@ -13,7 +13,9 @@ use nalgebra::Vector3;
 use crate::engines::rapier::Snapshot;
 use crate::model::orientation::swing_twist;
 use crate::problem::Problem;
-use crate::report::plot::{line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Series};
+use crate::report::plot::{
+    line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Scale, Series,
+};
 use crate::report::results_dir::{Staging, WriteError};
 use crate::robust::tracked::{FeedbackSummary, Film, TrackingSummary};
 use crate::robust::{Engine, Percentiles, RobustReport, Robustness};
@@ -218,6 +220,10 @@ impl RobustReport {
             ));
             series.push(Series::new(format!("swing{tag}"), cdf(c.trials.iter().map(|t| t.swing_deg).collect())));
         }
+        // Over more than a decade of errors (feedback's tenths of a degree beside open loop's tens)
+        // a linear axis squeezes the small ones into a line at its left: then it is logarithmic.
+        let positive = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).filter(|x| *x > 0.0);
+        let (least, most) = positive.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
         let mut plot = LinePlot::new(
             "robust",
             format!("{}: {}", self.title(), self.engines_in_words()),
@@ -225,6 +231,9 @@ impl RobustReport {
             "fraction of trials at or below",
             series,
         );
+        if most > 10.0 * least {
+            plot.scale = Scale::LogX;
+        }
         for c in &self.checks {
             let tag = if both { format!(" ({})", c.engine.describe()) } else { String::new() };
             plot.ref_lines.push(RefLine {
@@ -237,38 +246,68 @@ impl RobustReport {
 
     /// The landing error's histogram, [`HISTOGRAM_BINS`] bins from 0 to the largest error of any
     /// engine (at least 1.2 times the tolerance, so that the tolerance is on the scale even when
-    /// every trial lands within it, or all alike), each engine's counts as a step outline; the
-    /// tolerance starts a band.
+    /// every trial lands within it, or all alike), equal in the error, or in its logarithm from
+    /// the decade of the least error when the errors span more than a decade; each engine's
+    /// counts as a step outline; the tolerance starts a band.
     pub fn histogram_plot(&self) -> LinePlot {
         let tolerance = self.checks.first().map_or(0.0, |c| c.settings.tolerance_deg);
         let top =
             self.checks.iter().map(|c| c.landing_error_deg.max).fold(0.0, f64::max).max(1.2 * tolerance).max(1e-9);
-        let width = top / HISTOGRAM_BINS as f64;
+        // Over more than a decade of errors (feedback's tenths of a degree beside open loop's tens)
+        // equal bins put one engine's trials in the first bin and flatten the others: then the
+        // bins are equal in log error, from the decade of the least error, on a log axis.
+        let least = self
+            .checks
+            .iter()
+            .flat_map(|c| c.trials.iter().map(|t| t.landing_error_deg))
+            .filter(|e| *e > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let log = least.is_finite() && top > 10.0 * least;
+        let bottom = if log { 10f64.powf(least.log10().floor()) } else { 0.0 };
+        let edge = |i: usize| {
+            let u = i as f64 / HISTOGRAM_BINS as f64;
+            if log {
+                bottom * (top / bottom).powf(u)
+            } else {
+                top * u
+            }
+        };
+        let bin_of = |e: f64| {
+            let u = if log { (e.max(bottom) / bottom).ln() / (top / bottom).ln() } else { e / top };
+            ((u * HISTOGRAM_BINS as f64).floor().max(0.0) as usize).min(HISTOGRAM_BINS - 1)
+        };
         let series = self
             .checks
             .iter()
             .map(|c| {
                 let mut counts = [0usize; HISTOGRAM_BINS];
                 for t in &c.trials {
-                    let bin = ((t.landing_error_deg / width).floor() as usize).min(HISTOGRAM_BINS - 1);
-                    counts[bin] += 1;
+                    counts[bin_of(t.landing_error_deg)] += 1;
                 }
-                let mut points = vec![(0.0, 0.0)];
+                let mut points = vec![(bottom, 0.0)];
                 for (i, n) in counts.iter().enumerate() {
-                    points.push((i as f64 * width, *n as f64));
-                    points.push(((i + 1) as f64 * width, *n as f64));
+                    points.push((edge(i), *n as f64));
+                    points.push((edge(i + 1), *n as f64));
                 }
                 points.push((top, 0.0));
                 Series::new(c.engine.describe(), points)
             })
             .collect();
+        let per_bin = if log {
+            format!("trials per bin ({HISTOGRAM_BINS} bins, equal in log error)")
+        } else {
+            format!("trials per {}° bin", crate::numeric::numfmt::sig(top / HISTOGRAM_BINS as f64, 3))
+        };
         let mut plot = LinePlot::new(
             "robust_histogram",
             format!("{}: landing error, {} trials", self.title(), self.checks.first().map_or(0, |c| c.trials.len())),
             "landing error (degrees)",
-            format!("trials per {}° bin", crate::numeric::numfmt::sig(width, 3)),
+            per_bin,
             series,
         );
+        if log {
+            plot.scale = Scale::LogX;
+        }
         if let Some(c) = self.checks.first() {
             let tol = c.settings.tolerance_deg;
             if tol < top {

@@ -140,9 +140,9 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
                 let stem = format!("line-{}", q.stem);
                 let fields = series_fields(sweep, &lay);
                 let x_label = if fields.is_empty() {
-                    sweep.axes[r].field.clone()
+                    with_unit(&sweep.axes[r].field)
                 } else {
-                    format!("{}        (series: {fields})", sweep.axes[r].field)
+                    format!("{}        (series: {fields})", with_unit(&sweep.axes[r].field))
                 };
                 let plot = LinePlot {
                     markers: true,
@@ -215,6 +215,7 @@ fn line_series(gs: &[Grid], cols: Option<usize>) -> Vec<Series> {
 
 /// The fields the series of a line plot are named by: the group axes, then the columns axis.
 fn series_fields(sweep: &Sweep, lay: &super::grid::Layout) -> String {
-    let fields: Vec<&str> = lay.groups.iter().chain(lay.cols.iter()).map(|&a| sweep.axes[a].field.as_str()).collect();
+    let fields: Vec<String> =
+        lay.groups.iter().chain(lay.cols.iter()).map(|&a| with_unit(&sweep.axes[a].field)).collect();
     fields.join(", ")
 }

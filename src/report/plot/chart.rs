@@ -19,6 +19,21 @@ pub enum Scale {
     Linear,
     /// Both axes logarithmic (base 10); points with a non-positive coordinate are left out.
     LogLog,
+    /// The x axis logarithmic (base 10), the y axis linear: a distribution over decades of
+    /// errors; points with a non-positive x are left out.
+    LogX,
+}
+
+impl Scale {
+    /// Whether the x axis is logarithmic.
+    fn log_x(self) -> bool {
+        matches!(self, Scale::LogLog | Scale::LogX)
+    }
+
+    /// Whether the y axis is logarithmic.
+    fn log_y(self) -> bool {
+        self == Scale::LogLog
+    }
 }
 
 /// A labelled interval of the x axis, e.g. a phase: its start is marked by a dashed vertical
@@ -112,8 +127,10 @@ impl<'a> Prepared<'a> {
         if plot.series.is_empty() {
             return Err("no series given".to_string());
         }
-        let log = plot.scale == Scale::LogLog;
-        let map = |(x, y): (f64, f64)| if log { (x.log10(), y.log10()) } else { (x, y) };
+        let (log_x, log_y) = (plot.scale.log_x(), plot.scale.log_y());
+        let log = log_x || log_y;
+        let axis = |v: f64, log: bool| if log { v.log10() } else { v };
+        let map = |(x, y): (f64, f64)| (axis(x, log_x), axis(y, log_y));
         let runs: Vec<Vec<Vec<(f64, f64)>>> = plot
             .series
             .iter()
@@ -136,12 +153,13 @@ impl<'a> Prepared<'a> {
             return Err(format!("no {kind} point in any of the {} series", plot.series.len()));
         }
         let x = span(all().map(|p| p.0));
-        let y = span(all().map(|p| p.1).chain(plot.ref_lines.iter().map(|r| if log { r.y.log10() } else { r.y })));
-        let (x, y) = if log {
-            (pad(decades(x), 0.03, 0.03), pad(decades(y), 0.03, 0.03))
+        let y = span(all().map(|p| p.1).chain(plot.ref_lines.iter().map(|r| axis(r.y, log_y))));
+        let x = if log_x { pad(decades(x), 0.03, 0.03) } else { x };
+        let y = if log_y {
+            pad(decades(y), 0.03, 0.03)
         } else {
             let top = if plot.bands.is_empty() { 0.06 } else { 0.14 };
-            (x, pad(y, 0.06, top))
+            pad(y, 0.06, top)
         };
         let names: Vec<&str> = plot.series.iter().map(|s| s.name.as_str()).collect();
         let drawn: Vec<&Runs> = runs.iter().map(Vec::as_slice).collect();
@@ -216,8 +234,12 @@ fn linear_tick((lo, hi): (f64, f64)) -> impl Fn(&f64) -> String {
 /// Text sizes of a legend entry's name and of its note, pixels.
 const LEGEND_TEXT: (f64, f64) = (16.0, 13.0);
 
-/// Width of the legend column for these entries, pixels.
-fn legend_width<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Label]) -> Result<u32, String> {
+/// The smallest text a title or a legend is shrunk to so that it fits, pixels.
+const SMALLEST_TEXT: f64 = 10.0;
+
+/// The legend column: its width, pixels, and the scale of its text ([`LEGEND_TEXT`] shrunk, to
+/// no less than [`SMALLEST_TEXT`], when its widest entry would not fit in a third of the figure).
+fn legend_layout<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Label]) -> Result<(u32, f64), String> {
     let mut widest = 0;
     for label in labels {
         widest = widest.max(root.estimate_text_size(&label.name, &text(LEGEND_TEXT.0)).map_err(failed)?.0);
@@ -225,7 +247,54 @@ fn legend_width<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Lab
             widest = widest.max(root.estimate_text_size(note, &text(LEGEND_TEXT.1)).map_err(failed)?.0);
         }
     }
-    Ok((widest + 64).clamp(140, root.dim_in_pixel().0 / 3))
+    let (w, h) = root.dim_in_pixel();
+    let most = w / 3;
+    let room = f64::from(most.saturating_sub(64));
+    // Its rows, top to bottom, in the figure's height below the title (draw_legend's spacing).
+    let notes = labels.iter().filter(|l| l.note.is_some()).count() as f64;
+    let tall = 30.0 + LEGEND_ROWS.0 * labels.len() as f64 + LEGEND_ROWS.1 * notes;
+    let high = f64::from(h.saturating_sub(48 + 10));
+    let fits = (room / f64::from(widest.max(1))).min(high / tall);
+    let scale = if fits < 1.0 { fits.max(SMALLEST_TEXT / LEGEND_TEXT.1) } else { 1.0 };
+    Ok((((f64::from(widest) * scale) as u32 + 64).clamp(140, most), scale))
+}
+
+/// The legend's row spacing, and the extra spacing of an entry's note, pixels at full size.
+const LEGEND_ROWS: (f64, f64) = (26.0, 17.0);
+
+/// The largest size up to `size` at which `title` fits in `width` pixels, bold (no less than
+/// [`SMALLEST_TEXT`]).
+fn title_size<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    size: f64,
+    width: u32,
+) -> Result<f64, String> {
+    let wide = root.estimate_text_size(title, &bold(size)).map_err(failed)?.0;
+    Ok(if wide > width { (size * f64::from(width) / f64::from(wide)).floor().max(SMALLEST_TEXT) } else { size })
+}
+
+/// Where each reference line's label goes: above its line, or below it when the label above
+/// would overlap the label of the line above it (two lines closer than a label's height, in
+/// pixels of `height` for the range `y`); in the order of `ys`.
+fn label_sides(ys: &[f64], y: (f64, f64), height: f64) -> Vec<VPos> {
+    const LABEL: f64 = 18.0;
+    let pixel = |v: f64| (y.1 - v) / (y.1 - y.0) * height;
+    let mut order: Vec<usize> = (0..ys.len()).collect();
+    order.sort_by(|&a, &b| ys[b].total_cmp(&ys[a]));
+    let mut sides = vec![VPos::Bottom; ys.len()];
+    let mut last_bottom = f64::NEG_INFINITY;
+    for i in order {
+        let at = pixel(ys[i]);
+        // A label above its line spans (at − LABEL, at); below, (at, at + LABEL).
+        if at - LABEL < last_bottom {
+            sides[i] = VPos::Top;
+            last_bottom = at + LABEL;
+        } else {
+            last_bottom = at;
+        }
+    }
+    sides
 }
 
 impl Figure for Prepared<'_> {
@@ -234,13 +303,14 @@ impl Figure for Prepared<'_> {
         root.fill(&WHITE).map_err(failed)?;
         let (w, _) = root.dim_in_pixel();
         let (head, body) = root.split_vertically(48);
+        let size = title_size(root, &plot.title, 22.0, w.saturating_sub(24))?;
         head.draw(&Text::new(
             plot.title.clone(),
             (w as i32 / 2, 14),
-            bold(22.0).pos(Pos::new(HPos::Center, VPos::Top)),
+            bold(size).pos(Pos::new(HPos::Center, VPos::Top)),
         ))
         .map_err(failed)?;
-        let legend_w = legend_width(root, &self.labels)?;
+        let (legend_w, legend_scale) = legend_layout(root, &self.labels)?;
         let (area, legend) = body.split_horizontally(w - legend_w);
         let (x, y) = (self.x, self.y);
         let mut chart = ChartBuilder::on(&area)
@@ -249,48 +319,62 @@ impl Figure for Prepared<'_> {
             .y_label_area_size(88)
             .build_cartesian_2d(x.0..x.1, y.0..y.1)
             .map_err(failed)?;
-        let log = plot.scale == Scale::LogLog;
-        let ticks = |(lo, hi): (f64, f64)| if log { ((hi - lo).round() as usize + 1).clamp(2, 12) } else { 10 };
+        let (log_x, log_y) = (plot.scale.log_x(), plot.scale.log_y());
+        let ticks =
+            |(lo, hi): (f64, f64), log: bool| if log { ((hi - lo).round() as usize + 1).clamp(2, 12) } else { 10 };
+        // The axis labels at 18 px, or smaller so that each fits along its axis.
+        let (across, along) = chart.plotting_area().dim_in_pixel();
+        let fit = |label: &str, room: u32| -> Result<f64, String> {
+            let wide = root.estimate_text_size(label, &text(18.0)).map_err(failed)?.0;
+            Ok(if wide > room { (18.0 * f64::from(room) / f64::from(wide)).floor().max(SMALLEST_TEXT) } else { 18.0 })
+        };
+        let desc = fit(&plot.x_label, across)?.min(fit(&plot.y_label, along)?);
         let mut mesh = chart.configure_mesh();
         mesh.x_desc(plot.x_label.as_str())
             .y_desc(plot.y_label.as_str())
             .label_style(text(16.0))
-            .axis_desc_style(text(18.0))
-            .x_labels(ticks(x))
-            .y_labels(ticks(y))
+            .axis_desc_style(text(desc))
+            .x_labels(ticks(x, log_x))
+            .y_labels(ticks(y, log_y))
             .light_line_style(RGBColor(238, 238, 238))
-            .max_light_lines(if log { 0 } else { 1 });
+            .max_light_lines(if log_x || log_y { 0 } else { 1 });
         let (x_tick, y_tick) = (linear_tick(x), linear_tick(y));
-        if log {
-            mesh.x_label_formatter(&log_tick).y_label_formatter(&log_tick);
+        if log_x {
+            mesh.x_label_formatter(&log_tick);
         } else {
-            mesh.x_label_formatter(&x_tick).y_label_formatter(&y_tick);
+            mesh.x_label_formatter(&x_tick);
+        }
+        if log_y {
+            mesh.y_label_formatter(&log_tick);
+        } else {
+            mesh.y_label_formatter(&y_tick);
         }
         mesh.draw().map_err(failed)?;
 
         let guide = GUIDE.stroke_width(1);
+        let on_x = |v: f64| if log_x { v.log10() } else { v };
         for band in &plot.bands {
-            if band.from > x.0 + 1e-9 * (x.1 - x.0) {
-                chart
-                    .draw_series(DashedLineSeries::new([(band.from, y.0), (band.from, y.1)], 6, 5, guide))
-                    .map_err(failed)?;
+            let (from, to) = (on_x(band.from), on_x(band.to));
+            if from > x.0 + 1e-9 * (x.1 - x.0) {
+                chart.draw_series(DashedLineSeries::new([(from, y.0), (from, y.1)], 6, 5, guide)).map_err(failed)?;
             }
             let label = Text::new(
                 band.label.clone(),
-                (0.5 * (band.from + band.to), y.1),
+                (0.5 * (from + to), y.1),
                 text(16.0).color(&GUIDE).pos(Pos::new(HPos::Center, VPos::Top)),
             );
             chart.draw_series(std::iter::once(label)).map_err(failed)?;
         }
-        for line in &plot.ref_lines {
-            let yv = if log { line.y.log10() } else { line.y };
+        let levels: Vec<f64> = plot.ref_lines.iter().map(|l| if log_y { l.y.log10() } else { l.y }).collect();
+        let height = f64::from(chart.plotting_area().dim_in_pixel().1);
+        for ((line, &yv), side) in plot.ref_lines.iter().zip(&levels).zip(label_sides(&levels, y, height)) {
             chart
                 .draw_series(DashedLineSeries::new([(x.0, yv), (x.1, yv)], 10, 6, GUIDE.stroke_width(2)))
                 .map_err(failed)?;
             let label = Text::new(
                 line.label.clone(),
                 (x.0 + 0.01 * (x.1 - x.0), yv),
-                text(15.0).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Bottom)),
+                text(15.0).color(&GUIDE).pos(Pos::new(HPos::Left, side)),
             );
             chart.draw_series(std::iter::once(label)).map_err(failed)?;
         }
@@ -307,7 +391,7 @@ impl Figure for Prepared<'_> {
                 }
             }
         }
-        draw_legend(&legend, &self.labels, &self.slots().collect::<Vec<_>>(), plot.markers)
+        draw_legend(&legend, &self.labels, &self.slots().collect::<Vec<_>>(), plot.markers, legend_scale)
     }
 }
 
@@ -325,26 +409,30 @@ fn draw_legend<DB: DrawingBackend>(
     labels: &[Label],
     slots: &[usize],
     markers: bool,
+    scale: f64,
 ) -> Result<(), String> {
-    let (row, note_row) = (26, 17);
+    let (row, note_row) = ((LEGEND_ROWS.0 * scale).round() as i32, (LEGEND_ROWS.1 * scale).round() as i32);
     let mut y = 30;
     for (label, &i) in labels.iter().zip(slots) {
         let style = colour(i).stroke_width(3);
         if dashed(i) {
-            for x in [4, 20] {
-                area.draw(&PathElement::new(vec![(x, y), (x + 10, y)], style)).map_err(failed)?;
+            // Two dashes with a gap that stays visible beside a marker between them (drawn at
+            // 19 px, 4 px in radius: the dashes of 4–14 and 20–30 px read as one solid line).
+            let dashes: [(i32, i32); 2] = if markers { [(2, 9), (29, 36)] } else { [(4, 14), (20, 30)] };
+            for (from, to) in dashes {
+                area.draw(&PathElement::new(vec![(from, y), (to, y)], style)).map_err(failed)?;
             }
         } else {
-            area.draw(&PathElement::new(vec![(4, y), (34, y)], style)).map_err(failed)?;
+            area.draw(&PathElement::new(vec![(2, y), (36, y)], style)).map_err(failed)?;
         }
         if markers {
             area.draw(&Circle::new((19, y), 4, colour(i).filled())).map_err(failed)?;
         }
-        let name = text(LEGEND_TEXT.0).pos(Pos::new(HPos::Left, VPos::Center));
-        area.draw(&Text::new(label.name.clone(), (42, y), name)).map_err(failed)?;
+        let name = text(LEGEND_TEXT.0 * scale).pos(Pos::new(HPos::Left, VPos::Center));
+        area.draw(&Text::new(label.name.clone(), (44, y), name)).map_err(failed)?;
         if let Some(note) = &label.note {
-            let style = text(LEGEND_TEXT.1).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Center));
-            area.draw(&Text::new(note.clone(), (42, y + note_row), style)).map_err(failed)?;
+            let style = text(LEGEND_TEXT.1 * scale).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Center));
+            area.draw(&Text::new(note.clone(), (44, y + note_row), style)).map_err(failed)?;
             y += note_row;
         }
         y += row;
@@ -372,6 +460,16 @@ mod tests {
         assert_eq!(fine(&0.02), "0.02", "a step of 0.02 keeps two decimals");
         let narrow = linear_tick((0.31645, 0.3166));
         assert_eq!(narrow(&0.3165), "0.31650");
+    }
+
+    #[test]
+    fn reference_labels_that_would_overlap_go_below_their_line() {
+        // On 400 px for 0–1, lines at 0.125 and 0.115 are 4 px apart: the lower one's label goes
+        // below it (it read on top of the other's, robust.png); a line far off keeps its label
+        // above; the order of the lines given does not matter.
+        let below = |sides: Vec<VPos>| sides.iter().map(|s| matches!(s, VPos::Top)).collect::<Vec<_>>();
+        assert_eq!(below(label_sides(&[0.115, 0.995, 0.125], (0.0, 1.0), 400.0)), [true, false, false]);
+        assert_eq!(below(label_sides(&[0.2, 0.8], (0.0, 1.0), 400.0)), [false, false]);
     }
 
     #[test]
