@@ -1,5 +1,5 @@
 //! The one line chart every static figure is made of: named series, optional phase bands,
-//! dashed reference lines, linear or log–log axes, and a legend beside the plot (never on it).
+//! dashed reference lines, linear, log–log or log-x axes, and a legend beside the plot (never on it).
 
 use std::path::{Path, PathBuf};
 
@@ -74,7 +74,7 @@ pub struct LinePlot {
     pub bands: Vec<Band>,
     /// Dashed horizontal reference lines.
     pub ref_lines: Vec<RefLine>,
-    /// Linear or log–log axes.
+    /// Linear, log–log or log-x axes.
     pub scale: Scale,
     /// Whether each point is also marked by a dot (for sparse data such as benchmarks).
     pub markers: bool,
