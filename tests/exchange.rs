@@ -821,7 +821,7 @@ fn simulate_schedule_reports_the_motor_demand_and_the_release_as_simulate_does()
     // README, "Motor limits": every report of a peak torque says what it asks of the motors. A
     // file of the paper's schedule at 1 kHz, measured against a torque limit of half its peak and
     // a speed limit of 90 % of its fastest joint: its motor figures are the schedule's own (the
-    // file interpolates it to O(h⁴) in q̈, so its demand agrees to far better than 1e-6) and both
+    // file interpolates it to O(h⁴) in q̈, so its demand agrees to 1e-6) and both
     // limits are exceeded, by 2 and by 1/0.9.
     let mut p = problem();
     let s = paper_schedule(&p);

@@ -259,6 +259,12 @@ fn rapier_trials_are_refused_on_other_cats_naming_the_engine() {
 #[test]
 fn the_histogram_holds_every_trial_and_spreads_errors_over_decades_on_a_log_axis() {
     use catflip::report::plot::Scale;
+    // The least and the largest landing error of a check's trials, degrees.
+    let range = |c: &catflip::robust::Robustness| {
+        c.trials
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t.landing_error_deg), b.max(t.landing_error_deg)))
+    };
     // Counts of the step outline: every bin's height once (each bin is two points at one height).
     let counted = |plot: &catflip::report::plot::LinePlot| -> Vec<f64> {
         plot.series.iter().map(|s| s.points[1..s.points.len() - 1].iter().step_by(2).map(|p| p.1).sum()).collect()
@@ -270,10 +276,7 @@ fn the_histogram_holds_every_trial_and_spreads_errors_over_decades_on_a_log_axis
     let c = robustness(&p, &r.schedule, "s").expect("two motors");
     let report = catflip::robust::RobustReport { checks: vec![c.clone()], command: String::new() };
     let within = report.histogram_plot();
-    let (least, most) = c
-        .trials
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t.landing_error_deg), b.max(t.landing_error_deg)));
+    let (least, most) = range(&c);
     assert!(most <= 10.0 * least, "{least}–{most}°");
     assert_eq!(within.scale, Scale::Linear);
     assert!(within.y_label.starts_with("trials per ") && within.y_label.ends_with("° bin"), "{}", within.y_label);
@@ -282,10 +285,7 @@ fn the_histogram_holds_every_trial_and_spreads_errors_over_decades_on_a_log_axis
     // log error on a log axis, and still every trial counted once.
     let p = problem(&["robust.spin_sigma_nms=0.05"]);
     let c = robustness(&p, &r.schedule, "s").expect("two motors");
-    let (least, most) = c
-        .trials
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), t| (a.min(t.landing_error_deg), b.max(t.landing_error_deg)));
+    let (least, most) = range(&c);
     assert!(most > 10.0 * least, "the spin should spread the landing over a decade: {least}–{most}°");
     let report = catflip::robust::RobustReport { checks: vec![c], command: String::new() };
     let spread = report.histogram_plot();

@@ -24,6 +24,13 @@ use crate::schedule::Trajectory;
 /// Bins of the landing-error histogram.
 pub const HISTOGRAM_BINS: usize = 30;
 
+/// Whether errors from `least` to `most` (degrees, `least` positive or infinite when there is
+/// none) span more than a decade: then the distribution and the histogram are drawn on a log
+/// error axis.
+fn spans_decades(least: f64, most: f64) -> bool {
+    least.is_finite() && most > 10.0 * least
+}
+
 fn percentile_row(out: &mut String, name: &str, p: &Percentiles) {
     let _ = writeln!(out, "| {name} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} |", p.p50, p.p90, p.p95, p.p99, p.max);
 }
@@ -231,7 +238,7 @@ impl RobustReport {
             "fraction of trials at or below",
             series,
         );
-        if most > 10.0 * least {
+        if spans_decades(least, most) {
             plot.scale = Scale::LogX;
         }
         for c in &self.checks {
@@ -262,7 +269,7 @@ impl RobustReport {
             .flat_map(|c| c.trials.iter().map(|t| t.landing_error_deg))
             .filter(|e| *e > 0.0)
             .fold(f64::INFINITY, f64::min);
-        let log = least.is_finite() && top > 10.0 * least;
+        let log = spans_decades(least, top);
         let bottom = if log { 10f64.powf(least.log10().floor()) } else { 0.0 };
         let edge = |i: usize| {
             let u = i as f64 / HISTOGRAM_BINS as f64;

@@ -262,16 +262,24 @@ fn legend_layout<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[La
 /// The legend's row spacing, and the extra spacing of an entry's note, pixels at full size.
 const LEGEND_ROWS: (f64, f64) = (26.0, 17.0);
 
-/// The largest size up to `size` at which `title` fits in `width` pixels, bold (no less than
-/// [`SMALLEST_TEXT`]).
+/// The largest size up to `size` at which a text `wide` pixels wide at `size` fits in `room`
+/// pixels (no less than [`SMALLEST_TEXT`]): the title's and the axis labels' rule.
+fn fitted(size: f64, wide: u32, room: u32) -> f64 {
+    if wide > room {
+        (size * f64::from(room) / f64::from(wide)).floor().max(SMALLEST_TEXT)
+    } else {
+        size
+    }
+}
+
+/// The largest size up to `size` at which `title` fits in `width` pixels, bold ([`fitted`]).
 fn title_size<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     size: f64,
     width: u32,
 ) -> Result<f64, String> {
-    let wide = root.estimate_text_size(title, &bold(size)).map_err(failed)?.0;
-    Ok(if wide > width { (size * f64::from(width) / f64::from(wide)).floor().max(SMALLEST_TEXT) } else { size })
+    Ok(fitted(size, root.estimate_text_size(title, &bold(size)).map_err(failed)?.0, width))
 }
 
 /// Where each reference line's label goes: above its line, or below it when the label above
@@ -325,8 +333,7 @@ impl Figure for Prepared<'_> {
         // The axis labels at 18 px, or smaller so that each fits along its axis.
         let (across, along) = chart.plotting_area().dim_in_pixel();
         let fit = |label: &str, room: u32| -> Result<f64, String> {
-            let wide = root.estimate_text_size(label, &text(18.0)).map_err(failed)?.0;
-            Ok(if wide > room { (18.0 * f64::from(room) / f64::from(wide)).floor().max(SMALLEST_TEXT) } else { 18.0 })
+            Ok(fitted(18.0, root.estimate_text_size(label, &text(18.0)).map_err(failed)?.0, room))
         };
         let desc = fit(&plot.x_label, across)?.min(fit(&plot.y_label, along)?);
         let mut mesh = chart.configure_mesh();
