@@ -70,6 +70,8 @@ const PROJECTION_STEPS: usize = 3;
 const EXTEND_RATIO: f64 = 1.5;
 /// The trust radius below which a stage has stalled, rad.
 const MIN_RADIUS: f64 = 1e-10;
+/// The share of the trust radius from which a step counts as cut short by it.
+const BOUNDARY: f64 = 0.999;
 
 /// One whole-manoeuvre problem: the cat, the settings and the target orientation.
 #[derive(Clone, Debug)]
@@ -244,7 +246,8 @@ impl ScvxProblem<'_> {
     ) -> Result<StageEnd, WholeError> {
         let layout = self.layout();
         let s = self.settings;
-        let mut radius = s.trust_radius_deg.to_radians();
+        let first_radius = s.trust_radius_deg.to_radians();
+        let mut radius = first_radius;
         let max_radius = 4.0 * radius;
         let mut penalty = s.penalty;
         // A floor for the unit so that an objective driven to zero stays a number.
@@ -327,6 +330,21 @@ impl ScvxProblem<'_> {
                 }
                 continue;
             }
+            let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
+            if predicted <= optimality && length >= BOUNDARY * radius {
+                // A step the trust region cut short predicts little because the region is small,
+                // not because the iterate is optimal: widen it, or at its largest say so.
+                log.push(entry);
+                if radius < max_radius {
+                    radius = (2.0 * radius).min(max_radius);
+                    continue;
+                }
+                let reason = format!(
+                    "the predicted decrease {predicted:.1e} is below the optimality tolerance only because the trust region, at its largest ({:.3e}°, four times optimize.whole.trust_radius_deg), cuts every step short: not an optimum",
+                    max_radius.to_degrees()
+                );
+                return end(it, WholeStatus::Stalled, reason);
+            }
             if predicted <= optimality {
                 log.push(entry);
                 let limit_violation = it.limit_violation(bound);
@@ -362,7 +380,6 @@ impl ScvxProblem<'_> {
             }
             let mut trial = self.trial(layout.moved(&it.spline, &step.step), objective, steps);
             let ratio = (now - merit(&trial)) / predicted;
-            let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
             if objective == Objective::Energy && ratio > EXTEND_RATIO {
                 let mut factor = 2.0;
                 while factor * length <= radius {
@@ -405,7 +422,10 @@ impl ScvxProblem<'_> {
                     && it.limit_violation(bound) <= LOOP_FEASIBILITY;
                 if feasible {
                     accepted.push(it.objective);
-                    if let Some(reason) = crawling(objective, &accepted) {
+                    // A crawl is the model failing at longer steps: judged only once the ratio test
+                    // has cut the radius below the stage's first (a radius set small takes short
+                    // steps that lower the peak slowly however far the optimum is).
+                    if let Some(reason) = crawling(objective, &accepted).filter(|_| radius < first_radius) {
                         return end(it, WholeStatus::Converged, reason);
                     }
                 } else {

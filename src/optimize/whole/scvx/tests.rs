@@ -139,3 +139,41 @@ fn a_peak_that_falls_rises_or_has_too_few_steps_is_not_a_crawl() {
     assert_eq!(crawling(Objective::Peak, &peaks(1e-5)[1..]), None, "five peaks are four steps");
     assert_eq!(crawling(Objective::Energy, &peaks(1e-5)), None, "the peak's test only");
 }
+
+/// A trust radius set far too small (1e-6°, reported by a review) takes steps so short that the
+/// peak falls slowly (the progress test) and the model predicts little at each (below a loose
+/// optimality tolerance): neither is convergence. From the `paper` start (3.4 N·m there, the
+/// optimum 0.32) the peak and the energy stages end stalled, saying why, or at their budget,
+/// never converged.
+#[test]
+fn a_trust_radius_too_small_to_move_is_not_convergence() {
+    for optimality in [WholeSettings::default().optimality, 1e-3] {
+        too_small_a_radius(WholeSettings {
+            control_points: 30,
+            trust_radius_deg: 1e-6,
+            optimality,
+            ..WholeSettings::default()
+        });
+    }
+}
+
+fn too_small_a_radius(settings: WholeSettings) {
+    let motors = Motors::ideal();
+    let cat = WholeCat::new(Cat::equal(HALF, Joint::Universal)).unwrap_or_else(|e| panic!("{e}"));
+    let p = flip_problem(&cat, &settings, &motors);
+    let start = build_start(&cat, fall(), &Manoeuvre::default(), StartKind::Paper, &settings);
+    let spline = start.unwrap_or_else(|e| panic!("{e}")).spline;
+    let steps = settings.steps_per_span;
+    for objective in [Objective::Peak, Objective::Energy] {
+        let it = p.evaluate(spline.clone(), objective, steps);
+        let first = it.objective;
+        let end = p.stage(it, objective, None, None, settings.optimality, 40, steps, &mut Vec::new());
+        let end = end.unwrap_or_else(|e| panic!("{e}"));
+        assert_ne!(end.status, WholeStatus::Converged, "{objective:?}: {}", end.reason);
+        assert!(
+            end.iterate.objective > 0.5 * first,
+            "{objective:?} hardly moved: {} from {first}",
+            end.iterate.objective
+        );
+    }
+}
