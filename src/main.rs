@@ -354,7 +354,8 @@ fn run() -> anyhow::Result<()> {
             let rate_arg = rate.map_or(String::new(), |r| format!(" --rate {r}"));
             // Load every problem first, so a bad one stops the run before anything is written.
             // Each error names its file: `run` takes several.
-            let named = |p: &std::path::PathBuf, e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", p.display());
+            // The error with its causes (a folder's "afile is a file, not a folder"), after the file.
+            let named = |p: &std::path::PathBuf, e: anyhow::Error| e.context(p.display().to_string());
             let loaded = problems
                 .iter()
                 .map(|p| {
@@ -363,7 +364,7 @@ fn run() -> anyhow::Result<()> {
                         catflip::problem::ProblemError::Io { .. } | catflip::problem::ProblemError::Parse { .. } => {
                             anyhow::Error::from(e)
                         }
-                        other => named(p, &other),
+                        other => named(p, other.into()),
                     })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
@@ -371,11 +372,11 @@ fn run() -> anyhow::Result<()> {
             // halves do not define are refused there), before anything is computed or written.
             let mut resolved = Vec::with_capacity(loaded.len());
             for (path, problem) in &loaded {
-                catflip::report::run::runnable(problem).map_err(|e| named(path, &e))?;
+                catflip::report::run::runnable(problem).map_err(|e| named(path, e.into()))?;
                 // The rate against this fall.
-                export.validate(problem.drop.fall_time()).map_err(|e| named(path, &e))?;
-                resolved.push(Resolved::new(problem).map_err(|e| named(path, &e))?);
-                check_target(&out, &problem.name).map_err(|e| named(path, &e))?;
+                export.validate(problem.drop.fall_time()).map_err(|e| named(path, e.into()))?;
+                resolved.push(Resolved::new(problem).map_err(|e| named(path, e.into()))?);
+                check_target(&out, &problem.name).map_err(|e| named(path, e.into()))?;
             }
             // Reserved names (`bench`) and two problems of one name would overwrite results.
             catflip::report::results_dir::check_names(loaded.iter().map(|(_, p)| p.name.as_str()))?;

@@ -357,3 +357,22 @@ fn a_tail_is_refused_where_the_papers_cat_is_required() {
     assert!(e.starts_with("cat.tail = { mass = 0.2, length = 1, radius = 0.02, joint = \"universal\" }: "), "{e}");
     assert!(e.contains("`catflip compare-models` only"), "{e}");
 }
+
+/// A robustness study whose spreads would draw cats the loader refuses is refused itself, naming
+/// the spread (a review's radius 0.5 m on a 1 m half with `length_pct = 90` drew halves of 0.1 m
+/// and ran them without a word); spreads whose every draw is a valid cat load.
+#[test]
+fn robust_spreads_that_draw_refused_cats_are_refused() {
+    let e = error_of(PAPER, &["cat.radius=0.5", "robust.length_pct=90.0"]);
+    assert!(e.starts_with("robust.length_pct = 90: the study would draw cats the problem refuses"), "{e}");
+    assert!(e.contains("0.1 m and radius 0.5 m") && e.contains("cat.radius = 0.5: must lie in"), "{e}");
+    let e = error_of(PAPER, &["cat.radius=0.9", "robust.radius_pct=20.0"]);
+    assert!(e.starts_with("robust.radius_pct = 20:"), "{e}");
+    let e = error_of(PAPER, &["cat.mass=9.5e5", "robust.mass_pct=10.0"]);
+    assert!(e.starts_with("robust.mass_pct = 10:") && e.contains("cat.mass = 1.045e6: must lie in"), "{e}");
+    for ok in [&["cat.radius=0.5", "robust.length_pct=40.0"][..], &["robust.radius_pct=50.0", "robust.length_pct=50.0"]]
+    {
+        Problem::from_toml(PAPER, "paper.toml", &ok.iter().map(|s| s.to_string()).collect::<Vec<_>>())
+            .unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+    }
+}

@@ -297,3 +297,24 @@ fn the_histogram_holds_every_trial_and_spreads_errors_over_decades_on_a_log_axis
     // The distribution of the same trials is drawn on the log axis too.
     assert_eq!(report.distribution_plot().scale, Scale::LogX);
 }
+
+/// An overdamped servo is stiffer than its `servo_hz` says: its fast mode decays at
+/// ω_n (ζ + √(ζ² − 1)), 9.9 ω_n at ζ = 5, and the warning before a tracked run counts it and names
+/// `robust.servo_damping` (a review's ζ = 5 diverged at the default step with a warning and an
+/// error that named only the step and the frequency); at ζ = 1 the default step draws none.
+#[test]
+fn an_overdamped_servo_is_warned_of_by_its_damping() {
+    let warned = |damping: &str| {
+        let p = problem(&["robust.engine=\"rapier\"", &format!("robust.servo_damping={damping}")]);
+        p.warnings().into_iter().filter(|w| w.contains("rad per step")).collect::<Vec<_>>()
+    };
+    let w = warned("5.0");
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("robust.servo_hz = 10 with robust.servo_damping = 5 (its fast mode 9.9× ω_n)"),
+        "{}",
+        w[0]
+    );
+    assert!(w[0].ends_with("bring robust.servo_damping down towards 1"), "{}", w[0]);
+    assert!(warned("1.0").is_empty(), "the default damping at the default step is stable");
+}

@@ -128,6 +128,13 @@ fn a_bad_axis_is_refused_with_its_field_named() {
     assert_eq!(field, "axis[0].values[0]", "{reason}");
     let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \"robust.seed\"\nvalues = [1, 2, -3]"));
     assert_eq!(field, "axis[0].values[2]", "{reason}");
+    // A value that is no number is refused wherever it stands (a review's `[0.1, nan]` ran and
+    // wrote a `NaN` row: only the first float was tried).
+    for (values, k) in [("[0.1, nan]", 1), ("[inf, 0.2]", 0), ("[0.1, 0.2, -inf]", 2)] {
+        let (field, reason) = bad_field(&with_base(&format!("[[axis]]\nfield = \"cat.radius\"\nvalues = {values}")));
+        assert_eq!(field, format!("axis[0].values[{k}]"), "{values}");
+        assert!(reason.ends_with("must be a finite number"), "{reason}");
+    }
     let (field, reason) = bad_field(&with_base("[[axis]]\nfield = \" cat.radius\"\nvalues = [0.1]"));
     assert_eq!((field.as_str(), reason.as_str()), ("axis[0].field", "` cat.radius` holds spaces: write `cat.radius`"));
     let (field, _) = bad_field(&with_base(
@@ -316,6 +323,9 @@ fn shards_slice_the_cases_contiguously_and_completely() {
     }
     assert_eq!("3/16".parse::<Shard>(), Ok(Shard { k: 3, n: 16 }));
     assert!("0/4".parse::<Shard>().is_err() && "5/4".parse::<Shard>().is_err() && "x".parse::<Shard>().is_err());
+    let huge = "99999999999999999999/3".parse::<Shard>().expect_err("beyond usize");
+    assert!(huge.ends_with("K is too large (at most 18446744073709551615)"), "{huge}");
+    assert!("1.5/3".parse::<Shard>().expect_err("not whole").ends_with("K must be a whole number"));
 }
 
 #[test]

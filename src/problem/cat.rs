@@ -400,6 +400,56 @@ impl CatSection {
     }
 }
 
+impl CatSection {
+    /// Whether every cat a robustness study draws (each half's mass, length and radius scaled by
+    /// up to `±pct` percent of itself, [`crate::robust::drawn_cat`]) is one this section would
+    /// take: the halves at the corners of the draws, checked as the loader checks a half. The
+    /// error names the spread that reaches past (`spreads`: the mass's, the length's and the
+    /// radius's field and value) and the half it makes.
+    pub fn validate_spreads(&self, spreads: [(&str, f64); 3]) -> Result<(), ProblemError> {
+        let factors = |pct: f64| [1.0 - pct / 100.0, 1.0 + pct / 100.0];
+        let [(mass_field, m), (length_field, l), (radius_field, r)] = spreads;
+        let halves = [("cat", self.half()), ("cat.front", self.front()), ("cat.rear", self.rear())];
+        for (name, half) in halves {
+            for fm in factors(m) {
+                for fl in factors(l) {
+                    for fr in factors(r) {
+                        let drawn =
+                            Cylinder { mass: half.mass * fm, length: half.length * fl, radius: half.radius * fr };
+                        if let Err(e) = validate_half(name, &drawn) {
+                            // The half itself is valid (checked first): a drawn mass that is
+                            // not is the mass's spread.
+                            let (field, pct) = if validate_numbers(
+                                &ROD_KEYS.map(|k| format!("{name}.{k}")),
+                                [Some(drawn.mass), None, None],
+                            )
+                            .is_err()
+                            {
+                                (mass_field, m)
+                            } else if l > 0.0 {
+                                (length_field, l)
+                            } else {
+                                (radius_field, r)
+                            };
+                            return Err(bad(
+                                field,
+                                echo(pct),
+                                &format!(
+                                    "the study would draw cats the problem refuses: a half of {} kg, {} m and radius {} m ({e})",
+                                    echo(drawn.mass),
+                                    echo(drawn.length),
+                                    echo(drawn.radius)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// One half's mass, length and radius, fields named `{prefix}.mass` and so on.
 fn validate_half(prefix: &str, c: &Cylinder) -> Result<(), ProblemError> {
     validate_rod(&ROD_KEYS.map(|key| format!("{prefix}.{key}")), c)

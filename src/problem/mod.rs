@@ -263,6 +263,12 @@ impl Problem {
         self.rapier.validate()?;
         self.optimize.validate()?;
         self.robust.validate()?;
+        let r = &self.robust;
+        self.cat.validate_spreads([
+            ("robust.mass_pct", r.mass_pct),
+            ("robust.length_pct", r.length_pct),
+            ("robust.radius_pct", r.radius_pct),
+        ])?;
         if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
             return Err(bad("optimize.whole.objective", "\"min-time\"", whole::MIN_TIME_NEEDS_LIMITS));
         }

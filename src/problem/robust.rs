@@ -230,6 +230,11 @@ mod default {
     );
 }
 
+/// What steadies a tracked scene that diverges at its step: the warning's advice and the
+/// divergence error's.
+pub const SERVO_REMEDY: &str =
+    "shorten robust.dt_s, lower robust.servo_hz, or bring robust.servo_damping down towards 1";
+
 impl RobustSettings {
     pub(crate) fn validate(&self) -> Result<(), ProblemError> {
         count_in_range("robust.trials", self.trials, TRIALS)?;
@@ -379,11 +384,23 @@ impl RobustSettings {
         if !self.engine.rapier() {
             return out;
         }
-        let per_step =
-            std::f64::consts::TAU * self.servo_hz * self.dt_s * (1.0 + self.gain_pct / 100.0).sqrt() * servo_stiffening;
+        // An overdamped servo's fast mode decays at ω_n (ζ + √(ζ² − 1)), up to 2ζ ω_n.
+        let zeta = self.servo_damping;
+        let damped = if zeta > 1.0 { zeta + (zeta * zeta - 1.0).sqrt() } else { 1.0 };
+        let per_step = std::f64::consts::TAU
+            * self.servo_hz
+            * self.dt_s
+            * (1.0 + self.gain_pct / 100.0).sqrt()
+            * servo_stiffening
+            * damped;
         if per_step > WARN_SERVO_PER_STEP {
+            let damping = if zeta > 1.0 {
+                format!(" with robust.servo_damping = {} (its fast mode {damped:.1}× ω_n)", echo(zeta))
+            } else {
+                String::new()
+            };
             out.push(format!(
-                "robust.servo_hz = {} at robust.dt_s = {} turns the servo's stiffest mode by {per_step:.2} rad per step (a bend that brings B's spine near joint 1's axis leaves that joint little more than B's axial inertia, so the mode runs up to {servo_stiffening:.1}× faster than the servo's ω_n, with the gains drawn up to +{}%): the explicit PD diverges beyond about {WARN_SERVO_PER_STEP} rad per step (and the run stops, naming the trial); shorten robust.dt_s or lower robust.servo_hz",
+                "robust.servo_hz = {}{damping} at robust.dt_s = {} turns the servo's stiffest mode by {per_step:.2} rad per step (a bend that brings B's spine near joint 1's axis leaves that joint little more than B's axial inertia, so the mode runs up to {servo_stiffening:.1}× faster than the servo's ω_n, with the gains drawn up to +{}%): the explicit PD diverges beyond about {WARN_SERVO_PER_STEP} rad per step (and the run stops, naming the trial); {SERVO_REMEDY}",
                 echo(self.servo_hz),
                 echo(self.dt_s),
                 echo(self.gain_pct)

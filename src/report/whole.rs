@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use crate::engines::measured::Measured;
 use crate::measure::retime::RetimeRow;
 use crate::measure::whole::WholeReport;
-use crate::numeric::numfmt::{above_or_below, fixed};
+use crate::numeric::numfmt::{above_or_below, echo, fixed};
 use crate::optimize::retime::RetimeSettings;
 use crate::optimize::whole::{BSpline, Objective, WholeSolution, WholeStatus};
 use crate::problem::PLAUSIBLE_HEIGHT_M;
@@ -149,6 +149,23 @@ impl WholeReport {
     }
 }
 
+/// What a least drop height outside [`PLAUSIBLE_HEIGHT_M`] says about the motors: far too weak
+/// above it, and below it so strong (or given in another unit: N·cm as N·m, rpm as rad/s) that
+/// the cat flips in less than any drop. Empty within.
+fn height_note(h: f64) -> String {
+    let (low, high) = PLAUSIBLE_HEIGHT_M;
+    if h > high {
+        format!(" (beyond the {} m of any drop: the motors are far too weak for this cat)", echo(high))
+    } else if h < low {
+        format!(
+            " (below the {} m of any drop: the motors flip the cat in less; are the [actuator] limits in their units, N·m and rad/s?)",
+            echo(low)
+        )
+    } else {
+        String::new()
+    }
+}
+
 impl WholeReport {
     /// The fall and motor lines of the Markdown report.
     fn motor_lines(&self, b: &WholeSolution, measured: &Measured<BSpline>) -> String {
@@ -158,14 +175,7 @@ impl WholeReport {
                 "- Least fall time within the motors **{:.6} s**: drop height **{:.4} m**{}; active limits: {}.",
                 b.fall_time_s,
                 h,
-                if h > PLAUSIBLE_HEIGHT_M.1 {
-                    format!(
-                        " (beyond the {} m of any drop: the motors are far too weak for this cat)",
-                        PLAUSIBLE_HEIGHT_M.1
-                    )
-                } else {
-                    String::new()
-                },
+                height_note(h),
                 if self.active_limits.is_empty() {
                     "none".to_string()
                 } else {
@@ -261,8 +271,9 @@ pub fn summary_lines(report: &WholeReport, retimed: &[RetimeRow]) -> String {
             if let (Objective::MinTime, Some(h)) = (report.objective, report.drop_height_m) {
                 let _ = writeln!(
                     s,
-                    "- **Least fall time within the motors: {:.4} s, a drop of {h:.4} m**; the limits it reaches: {}.",
+                    "- **Least fall time within the motors: {:.4} s, a drop of {h:.4} m**{}; the limits it reaches: {}.",
                     b.fall_time_s,
+                    height_note(h),
                     report.active_limits.iter().map(|l| l.describe()).collect::<Vec<_>>().join(", ")
                 );
             }
@@ -300,4 +311,19 @@ pub fn summary_lines(report: &WholeReport, retimed: &[RetimeRow]) -> String {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A least drop height outside the drops any cat meets is said (a review's 500 N·m motors,
+    /// N·cm typed as N·m, flipped the paper's cat within 6.4 mm without a word).
+    #[test]
+    fn a_least_drop_height_outside_any_drop_is_said() {
+        assert!(height_note(0.0064).contains("below the 0.05 m of any drop"), "{}", height_note(0.0064));
+        assert!(height_note(0.0064).contains("N·m and rad/s"));
+        assert!(height_note(800.0).contains("beyond the 500 m of any drop"));
+        assert_eq!(height_note(2.05), "", "a plausible height needs no note");
+    }
 }

@@ -39,8 +39,15 @@ impl FromStr for Shard {
     /// Parses `K/N`.
     fn from_str(s: &str) -> Result<Shard, String> {
         let (k, n) = s.split_once('/').ok_or_else(|| format!("--shard {s}: expected K/N, e.g. 3/16"))?;
-        let k: usize = k.trim().parse().map_err(|_| format!("--shard {s}: K must be a whole number"))?;
-        let n: usize = n.trim().parse().map_err(|_| format!("--shard {s}: N must be a whole number"))?;
+        let whole = |x: &str, name: &str| {
+            x.trim().parse::<usize>().map_err(|e| match e.kind() {
+                std::num::IntErrorKind::PosOverflow => {
+                    format!("--shard {s}: {name} is too large (at most {})", usize::MAX)
+                }
+                _ => format!("--shard {s}: {name} must be a whole number"),
+            })
+        };
+        let (k, n) = (whole(k, "K")?, whole(n, "N")?);
         if n == 0 || k == 0 || k > n {
             return Err(format!("--shard {s}: need 1 ≤ K ≤ N"));
         }

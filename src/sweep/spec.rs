@@ -369,6 +369,11 @@ fn check_axis(
         let hint = if trimmed.contains(char::is_whitespace) { String::new() } else { format!(": write `{trimmed}`") };
         return Err(bad(&at("field"), &format!("`{}` holds spaces{hint}", a.field)));
     }
+    // A value that is no number (`nan`, `inf`) is the file's mistake whatever the field: only the
+    // first float is tried below, so a NaN later in the list would reach the cases.
+    if let Some(k) = a.values.iter().position(|v| matches!(v, toml::Value::Float(x) if !x.is_finite())) {
+        return Err(bad(&format!("axis[{i}].values[{k}]"), &format!("{}: must be a finite number", a.values[k])));
+    }
     // Each value the field cannot hold (a string among numbers, a misspelt name, an integer out
     // of its range) is the file's mistake, said here rather than as a refused case; a value the
     // problem then refuses for what it means (a bend at gimbal lock) is a case's. A field the

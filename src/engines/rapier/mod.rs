@@ -300,7 +300,7 @@ pub enum RapierError {
     Diverged(f64),
     /// A tracked trial of the robustness check diverged: which one, under which controller, when,
     /// at which step.
-    #[error("robust: {trial} ({controller}) diverged in rapier (non-finite state) at t = {at:.4} s with robust.dt_s = {dt:e} s: the tracked scene is unstable at this step; shorten robust.dt_s or lower robust.servo_hz (on the paper's cat trials diverge from 5e-4 s open loop and from 4e-4 s with feedback)")]
+    #[error("robust: {trial} ({controller}) diverged in rapier (non-finite state) at t = {at:.4} s with robust.dt_s = {dt:e} s: the tracked scene is unstable at this step; {remedy} (on the paper's cat trials diverge from 5e-4 s open loop and from 4e-4 s with feedback)", remedy = crate::problem::robust::SERVO_REMEDY)]
     TrialDiverged {
         /// "trial K" (from 1) or "the nominal cat".
         trial: String,
