@@ -5,11 +5,11 @@
 //! combination of their values, in case order.
 
 use super::cases::cell;
-use super::heatmap::short;
 use super::row::SweepSchedule;
 use super::spec::Sweep;
 use super::table::Record;
 use crate::engines::Engine;
+use crate::numeric::numfmt::echo;
 
 /// Which axes play which part.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -42,7 +42,8 @@ pub struct Grid {
     pub group: String,
     /// The group axes' values alone, as labels.
     pub group_values: Vec<String>,
-    /// Row labels (the row axis' values; numbers to four significant digits).
+    /// Row labels (the row axis' values as written; with `combine = "zip"` the zipped axes'
+    /// values beside each).
     pub row_labels: Vec<String>,
     /// Row values as numbers (for line plots), NaN where not numeric.
     pub row_values: Vec<f64>,
@@ -57,9 +58,10 @@ fn number(v: &toml::Value) -> Option<f64> {
     v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
 }
 
-/// A value as a short label: numbers to four significant digits.
+/// A value as a label: a number as the user wrote it (`2` and `10`, not `2.000` beside `10.00`;
+/// [`echo`]), anything else as its CSV cell.
 fn label(v: &toml::Value) -> String {
-    number(v).map_or_else(|| cell(v), short)
+    number(v).map_or_else(|| cell(v), echo)
 }
 
 /// The labels and numeric values of an axis (one unnamed entry when there is no such axis).
@@ -79,7 +81,20 @@ pub fn grids(
     quantity: impl Fn(&Record) -> Option<f64>,
 ) -> Vec<Grid> {
     let lay = layout(sweep);
-    let (row_labels, row_values) = labels(sweep, lay.rows);
+    let (mut row_labels, row_values) = labels(sweep, lay.rows);
+    if let Some(r) = lay.rows.filter(|_| sweep.combine == super::spec::Combine::Zip) {
+        // The axes zipped with the rows' change with them: each row names their values too,
+        // or a table along one axis would credit it with the others' effect.
+        for (k, row) in row_labels.iter_mut().enumerate() {
+            let partners: Vec<String> = (0..sweep.axes.len())
+                .filter(|&a| a != r)
+                .map(|a| format!("{} = {}", sweep.axes[a].field, label(&sweep.axes[a].values[k])))
+                .collect();
+            if !partners.is_empty() {
+                *row = format!("{row} ({})", partners.join(", "));
+            }
+        }
+    }
     let (col_labels, _) = labels(sweep, lay.cols);
     let mut keys: Vec<Vec<usize>> = Vec::new();
     let mut out: Vec<Grid> = Vec::new();
@@ -92,7 +107,7 @@ pub fn grids(
                     .groups
                     .iter()
                     .zip(&key)
-                    .map(|(&a, &k)| format!("{} = {}", sweep.axes[a].field, cell(&sweep.axes[a].values[k])))
+                    .map(|(&a, &k)| format!("{} = {}", sweep.axes[a].field, label(&sweep.axes[a].values[k])))
                     .collect::<Vec<_>>()
                     .join(", ");
                 let group_values =

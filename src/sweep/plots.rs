@@ -139,11 +139,16 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
                 let series = line_series(&gs, lay.cols);
                 let stem = format!("line-{}", q.stem);
                 let fields = series_fields(sweep, &lay);
-                let x_label = if fields.is_empty() {
+                let zipped: Vec<&str> = (0..sweep.axes.len())
+                    .filter(|&a| a != r && sweep.combine == super::spec::Combine::Zip)
+                    .map(|a| sweep.axes[a].field.as_str())
+                    .collect();
+                let axis = if zipped.is_empty() {
                     with_unit(&sweep.axes[r].field)
                 } else {
-                    format!("{}        (series: {fields})", with_unit(&sweep.axes[r].field))
+                    format!("{}, with {} zipped", with_unit(&sweep.axes[r].field), zipped.join(", "))
                 };
+                let x_label = if fields.is_empty() { axis } else { format!("{axis}        (series: {fields})") };
                 let plot = LinePlot {
                     markers: true,
                     ..LinePlot::new(

@@ -237,26 +237,69 @@ const LEGEND_TEXT: (f64, f64) = (16.0, 13.0);
 /// The smallest text a title or a legend is shrunk to so that it fits, pixels.
 const SMALLEST_TEXT: f64 = 10.0;
 
-/// The legend column: its width, pixels, and the scale of its text ([`LEGEND_TEXT`] shrunk, to
-/// no less than [`SMALLEST_TEXT`], when its widest entry would not fit in a third of the figure).
-fn legend_layout<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Label]) -> Result<(u32, f64), String> {
-    let mut widest = 0;
+/// The legend column as drawn: its width, pixels, the scale of its text, and each entry's note
+/// as the lines it is drawn on.
+struct LegendLayout {
+    width: u32,
+    scale: f64,
+    notes: Vec<Vec<String>>,
+}
+
+/// The legend column ([`LegendLayout`]): [`LEGEND_TEXT`] shrunk, to no less than
+/// [`SMALLEST_TEXT`], when its widest entry would not fit in a third of the figure or its rows
+/// in its height; a note still too wide at that size is wrapped after a comma ([`wrapped`]), so
+/// that every series it names is shown.
+fn legend_layout<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, labels: &[Label]) -> Result<LegendLayout, String> {
+    let wide = |s: &str, size: f64| root.estimate_text_size(s, &text(size)).map(|(w, _)| w).map_err(failed);
+    let (mut names, mut widest) = (0, 0);
     for label in labels {
-        widest = widest.max(root.estimate_text_size(&label.name, &text(LEGEND_TEXT.0)).map_err(failed)?.0);
-        if let Some(note) = &label.note {
-            widest = widest.max(root.estimate_text_size(note, &text(LEGEND_TEXT.1)).map_err(failed)?.0);
+        names = names.max(wide(&label.name, LEGEND_TEXT.0)?);
+        if let Some(note) = label.note() {
+            widest = widest.max(wide(&note, LEGEND_TEXT.1)?);
         }
     }
     let (w, h) = root.dim_in_pixel();
     let most = w / 3;
     let room = f64::from(most.saturating_sub(64));
-    // Its rows, top to bottom, in the figure's height below the title (draw_legend's spacing).
-    let notes = labels.iter().filter(|l| l.note.is_some()).count() as f64;
-    let tall = 30.0 + LEGEND_ROWS.0 * labels.len() as f64 + LEGEND_ROWS.1 * notes;
     let high = f64::from(h.saturating_sub(48 + 10));
-    let fits = (room / f64::from(widest.max(1))).min(high / tall);
+    // The scale the width allows: every line whole if the smallest text allows it, else the
+    // names' and the notes wrapped.
+    let least = SMALLEST_TEXT / LEGEND_TEXT.1;
+    let whole = room / f64::from(names.max(widest).max(1));
+    let across = if whole >= least { whole } else { (room / f64::from(names.max(1))).max(least) };
+    // Each note on the lines it takes at the size the width allows.
+    let mut notes = Vec::with_capacity(labels.len());
+    for label in labels {
+        let fits = |line: &str| Ok(f64::from(wide(line, LEGEND_TEXT.1 * across.min(1.0))?) <= room);
+        notes.push(wrapped(&label.note_pieces(), fits)?);
+    }
+    // Its rows, top to bottom, in the figure's height below the title (draw_legend's spacing).
+    let note_lines = notes.iter().map(Vec::len).sum::<usize>() as f64;
+    let tall = 30.0 + LEGEND_ROWS.0 * labels.len() as f64 + LEGEND_ROWS.1 * note_lines;
+    let fits = across.min(high / tall);
     let scale = if fits < 1.0 { fits.max(SMALLEST_TEXT / LEGEND_TEXT.1) } else { 1.0 };
-    Ok((((f64::from(widest) * scale) as u32 + 64).clamp(140, most), scale))
+    let mut drawn = 0;
+    for line in
+        labels.iter().map(|l| (&l.name, LEGEND_TEXT.0)).chain(notes.iter().flatten().map(|n| (n, LEGEND_TEXT.1)))
+    {
+        drawn = drawn.max(wide(line.0, line.1 * scale)?);
+    }
+    Ok(LegendLayout { width: (drawn + 64).clamp(140, most), scale, notes })
+}
+
+/// A note's pieces ([`Label::note_pieces`]) on as few lines as `fits` allows, broken between
+/// two covering series and continued with an indent; a single piece wider than the room keeps
+/// its line. No pieces, no lines.
+fn wrapped(pieces: &[String], fits: impl Fn(&str) -> Result<bool, String>) -> Result<Vec<String>, String> {
+    let mut lines: Vec<String> = Vec::new();
+    for piece in pieces {
+        match lines.last_mut() {
+            Some(line) if fits(&format!("{line} {piece}"))? => *line = format!("{line} {piece}"),
+            Some(_) => lines.push(format!("  {piece}")),
+            None => lines.push(piece.clone()),
+        }
+    }
+    Ok(lines)
 }
 
 /// The legend's row spacing, and the extra spacing of an entry's note, pixels at full size.
@@ -318,8 +361,8 @@ impl Figure for Prepared<'_> {
             bold(size).pos(Pos::new(HPos::Center, VPos::Top)),
         ))
         .map_err(failed)?;
-        let (legend_w, legend_scale) = legend_layout(root, &self.labels)?;
-        let (area, legend) = body.split_horizontally(w - legend_w);
+        let layout = legend_layout(root, &self.labels)?;
+        let (area, legend) = body.split_horizontally(w - layout.width);
         let (x, y) = (self.x, self.y);
         let mut chart = ChartBuilder::on(&area)
             .margin(12)
@@ -398,7 +441,7 @@ impl Figure for Prepared<'_> {
                 }
             }
         }
-        draw_legend(&legend, &self.labels, &self.slots().collect::<Vec<_>>(), plot.markers, legend_scale)
+        draw_legend(&legend, &self.labels, &layout, &self.slots().collect::<Vec<_>>(), plot.markers)
     }
 }
 
@@ -410,17 +453,18 @@ impl Prepared<'_> {
 }
 
 /// The legend: one short line (and dot) and name per series, top to bottom; a hidden series'
-/// note ("under …") on a second, smaller grey line.
+/// note ("under …") below it in smaller grey lines ([`LegendLayout`]).
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     labels: &[Label],
+    layout: &LegendLayout,
     slots: &[usize],
     markers: bool,
-    scale: f64,
 ) -> Result<(), String> {
+    let scale = layout.scale;
     let (row, note_row) = ((LEGEND_ROWS.0 * scale).round() as i32, (LEGEND_ROWS.1 * scale).round() as i32);
     let mut y = 30;
-    for (label, &i) in labels.iter().zip(slots) {
+    for ((label, note), &i) in labels.iter().zip(&layout.notes).zip(slots) {
         let style = colour(i).stroke_width(3);
         if dashed(i) {
             // Two dashes with a gap that stays visible beside a marker between them (drawn at
@@ -437,9 +481,9 @@ fn draw_legend<DB: DrawingBackend>(
         }
         let name = text(LEGEND_TEXT.0 * scale).pos(Pos::new(HPos::Left, VPos::Center));
         area.draw(&Text::new(label.name.clone(), (44, y), name)).map_err(failed)?;
-        if let Some(note) = &label.note {
+        for line in note {
             let style = text(LEGEND_TEXT.1 * scale).color(&GUIDE).pos(Pos::new(HPos::Left, VPos::Center));
-            area.draw(&Text::new(note.clone(), (44, y + note_row), style)).map_err(failed)?;
+            area.draw(&Text::new(line.clone(), (44, y + note_row), style)).map_err(failed)?;
             y += note_row;
         }
         y += row;
@@ -452,6 +496,25 @@ mod tests {
     use super::super::raster::Raster;
     use super::super::style::PNG_SIZE;
     use super::*;
+
+    #[test]
+    fn a_note_too_wide_is_wrapped_after_its_commas_and_keeps_every_name() {
+        let label = |under: &[&str]| Label { name: "x".into(), under: under.iter().map(|n| n.to_string()).collect() };
+        let hidden = label(&["modified-trapezoid, 10", "modified-sine, 10", "poly-345, 10"]);
+        let fits = |n: usize| move |line: &str| Ok::<bool, String>(line.chars().count() <= n);
+        let lines = wrapped(&hidden.note_pieces(), fits(32)).unwrap();
+        assert_eq!(lines, ["under modified-trapezoid, 10;", "  modified-sine, 10;", "  poly-345, 10"]);
+        assert!(lines.iter().all(|l| l.chars().count() <= 32));
+        let whole = hidden.note().unwrap();
+        assert_eq!(
+            wrapped(&hidden.note_pieces(), fits(200)).unwrap(),
+            std::slice::from_ref(&whole),
+            "one line where it fits"
+        );
+        assert_eq!(whole, "under modified-trapezoid, 10; modified-sine, 10; poly-345, 10");
+        assert_eq!(wrapped(&label(&["a-very-long-name"]).note_pieces(), fits(5)).unwrap(), ["under a-very-long-name"]);
+        assert!(wrapped(&label(&[]).note_pieces(), fits(5)).unwrap().is_empty(), "a seen series has no note");
+    }
 
     #[test]
     fn linear_ticks_have_the_decimals_of_their_spacing() {

@@ -23,8 +23,28 @@ pub(crate) type Runs = [Vec<(f64, f64)>];
 pub(crate) struct Label {
     /// The series' name.
     pub name: String,
-    /// `Some("under a, b")` when the series is hidden under later ones.
-    pub note: Option<String>,
+    /// The later series that cover it (empty when it is seen).
+    pub under: Vec<String>,
+}
+
+impl Label {
+    /// The note's pieces, `["under a,", "b"]`: each covering series' name, the first after
+    /// "under", each but the last followed by the separator's mark, a comma, or a semicolon when
+    /// a name has a comma of its own (`under poly-345, 10; s-curve, 10`).
+    pub fn note_pieces(&self) -> Vec<String> {
+        let mark = if self.under.iter().any(|n| n.contains(',')) { ";" } else { "," };
+        let last = self.under.len().saturating_sub(1);
+        self.under
+            .iter()
+            .enumerate()
+            .map(|(k, n)| format!("{}{n}{}", if k == 0 { "under " } else { "" }, if k < last { mark } else { "" }))
+            .collect()
+    }
+
+    /// The note on one line, `Some("under a, b")`, when the series is hidden.
+    pub fn note(&self) -> Option<String> {
+        (!self.under.is_empty()).then(|| self.note_pieces().join(" "))
+    }
 }
 
 /// The legend entry of each series ([`Label`]).
@@ -38,11 +58,10 @@ pub(crate) fn legend_labels(names: &[&str], runs: &[&Runs], x: (f64, f64), y: (f
         .map(|(i, name)| {
             let points: Vec<(f64, f64)> =
                 runs.get(i).into_iter().flat_map(|r| r.iter()).flatten().map(|&p| norm(p)).collect();
-            let under = cover(&points, &curves[i + 1..]).map(|js| {
-                let names: Vec<&str> = js.iter().filter_map(|&j| names.get(i + 1 + j).copied()).collect();
-                format!("under {}", names.join(", "))
+            let under = cover(&points, &curves[i + 1..]).map_or_else(Vec::new, |js| {
+                js.iter().filter_map(|&j| names.get(i + 1 + j).map(|n| (*n).to_string())).collect()
             });
-            Label { name: (*name).to_string(), note: under }
+            Label { name: (*name).to_string(), under }
         })
         .collect()
 }
@@ -122,7 +141,7 @@ mod tests {
     }
 
     fn notes(names: &[&str], runs: &[&Runs]) -> Vec<Option<String>> {
-        legend_labels(names, runs, (0.0, 1.0), (0.0, 1.0)).into_iter().map(|l| l.note).collect()
+        legend_labels(names, runs, (0.0, 1.0), (0.0, 1.0)).into_iter().map(|l| l.note()).collect()
     }
 
     #[test]
@@ -153,5 +172,7 @@ mod tests {
         // Partly covered is visible.
         let half: Vec<Vec<(f64, f64)>> = vec![vec![(0.0, 0.0), (0.5, 0.5)]];
         assert_eq!(notes(&["a", "half"], &[&a, &half])[0], None);
+        // Names with commas of their own (a sweep's "poly-345, 10") are told apart by semicolons.
+        assert_eq!(notes(&["a, 2", "b, 10", "c, 10"], &[&a, &b, &c])[0].as_deref(), Some("under b, 10; c, 10"));
     }
 }
