@@ -457,7 +457,7 @@ fn run() -> anyhow::Result<()> {
                     format!("the warnings column of {} holds them", outcome.dir.join("cases.csv").display())
                 };
                 eprintln!(
-                    "warning: sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values): {listed}",
+                    "warning: sweep {}: {} of its {} cases carry warnings (the problem file's with the case's values, and flips that end swung past 45°): {listed}",
                     outcome.name, outcome.warned_cases, outcome.cases
                 );
             }

@@ -1135,3 +1135,45 @@ fn parts_of_two_sweeps_are_refused_naming_what_differs() {
     assert!(e.contains("its shard count (1 against 2) differs"), "{e}");
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Axes zipped together change together: each row of `sweep.md` names the zipped axes' values
+/// beside its own (a review's radius zipped with the drop height read as if the radius alone made
+/// the peak rise 6×), and values read as written (`2`, not `2.000`).
+#[test]
+fn a_zipped_sweeps_rows_name_every_zipped_value() {
+    let root = scratch("zip-rows");
+    let s = sweep_ok(&with_base(
+        "combine = \"zip\"\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.2]\n[[axis]]\nfield = \"drop.height\"\nvalues = [10.0, 2.0]",
+    ));
+    run(&s, &options(&root, None)).expect("the sweep runs");
+    let md = std::fs::read_to_string(root.join("t/sweep.md")).expect("the report");
+    assert!(md.contains("\n| 0.1 (drop.height = 10) | "), "{md}");
+    assert!(md.contains("\n| 0.2 (drop.height = 2) | "), "{md}");
+}
+
+/// A case whose flip ends with the spine swung past 45° does not land on its feet whatever its
+/// twist: its warnings say so for each such schedule, and no other case's do (a review found the
+/// π/C sweep's cone cases at r = 0.4 swung by 48–155° with only the θ warning).
+#[test]
+fn a_flip_that_ends_swung_is_warned_of_in_its_case() {
+    let s = sweep_ok(&with_base(
+        "[[axis]]\nfield = \"manoeuvre.bend_path\"\nvalues = [\"cone\"]\n[[axis]]\nfield = \"cat.radius\"\nvalues = [0.1, 0.4]\n[[axis]]\nfield = \"manoeuvre.theta_deg\"\nvalues = [60.0, 75.0, 135.0]\n[compute]\npaper_flip = true\ncalibrated = true\npeaks = false",
+    ));
+    let records = evaluate(&s, 0..s.case_count(), false);
+    let mut swung = 0;
+    for r in records.iter().filter(|r| r.engine == catflip::engines::Engine::Exact) {
+        let Some(n) = r.numbers else { continue };
+        let said = r.warnings.contains(&format!("the {} schedule ends with the spine swung by", r.schedule.name()));
+        assert_eq!(
+            said,
+            n.swing_deg.abs() > 45.0,
+            "case {} {}: swing {}°, warnings {}",
+            r.case,
+            r.schedule.name(),
+            n.swing_deg,
+            r.warnings
+        );
+        swung += usize::from(said);
+    }
+    assert!(swung > 0, "the sample has a swung flip");
+}

@@ -289,7 +289,7 @@ pub fn sweep(py: Python<'_>, path: PathBuf, out: Option<PathBuf>) -> PyResult<(S
         let warnings = match warned.first() {
             None => Vec::new(),
             Some((case, first)) => vec![format!(
-                "sweep {}: {} of its {} cases carry warnings (the problem file's, with the case's values; each record's \"warnings\" holds its own), case {case}'s: {first}",
+                "sweep {}: {} of its {} cases carry warnings (the problem file's with the case's values, and flips that end swung past 45°; each record's \"warnings\" holds its own), case {case}'s: {first}",
                 sweep.name,
                 warned.len(),
                 sweep.case_count(),

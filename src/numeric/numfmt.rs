@@ -57,6 +57,17 @@ pub fn fixed(x: f64, decimals: usize) -> String {
     }
 }
 
+/// `x` with `decimals` decimals and an explicit sign, except where it rounds to zero, which
+/// reads unsigned (`0.000`, not `-0.000` for `−4e-14`).
+pub fn signed_fixed(x: f64, decimals: usize) -> String {
+    let shown = format!("{x:+.decimals$}");
+    if shown[1..].chars().all(|c| c == '0' || c == '.') {
+        shown[1..].to_string()
+    } else {
+        shown
+    }
+}
+
 /// A relative difference `fraction` in words, `"31.2 % above"` or `"31.2 % below"` (one decimal),
 /// never a negative "above".
 pub fn above_or_below(fraction: f64) -> String {
@@ -128,6 +139,12 @@ fn plain(digits: &str, exponent: i32) -> String {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_signed_fixed_zero_has_no_sign() {
+        assert_eq!([signed_fixed(-4e-14, 3), signed_fixed(4e-14, 3), signed_fixed(0.0, 2)], ["0.000", "0.000", "0.00"]);
+        assert_eq!([signed_fixed(52.0138, 3), signed_fixed(-0.0006, 3)], ["+52.014", "-0.001"]);
+    }
+
     #[test]
     fn a_relative_difference_is_never_a_negative_above() {
         assert_eq!(super::above_or_below(0.312), "31.2 % above");

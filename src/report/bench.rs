@@ -13,7 +13,7 @@ use crate::report::plot::{line_plot, LinePlot, PlotError, Scale, Series};
 /// The targets of the time-to-reach table, rad.
 pub const TARGETS: [f64; 3] = [1e-3, 1e-6, 1e-9];
 
-/// Measured from outside the project (issue 11: one sitting, the paper's problem, 2 cores):
+/// Measured from outside the project (by an independent script in one sitting, the paper's problem, 2 cores):
 /// `(method, time to 1e-3, 1e-6, 1e-9 rad in s; None = not reached or not reported)`.
 pub const OUTSIDE: [(&str, [Option<f64>; 3]); 4] = [
     ("exact engine (outside measurement)", [None, None, Some(0.63e-3)]),
@@ -27,7 +27,7 @@ const DEGRADATION: &str = "Where accuracy degrades, and why:\n\n\
 - **Near-singular joint configurations** are refused, not integrated: the cone path within 5° of 90° meets gimbal lock of the Rx·Ry joint (B's spine along joint 1's axis).\n\
 - **Nearly straight cats** (θ → 180°): `C → 0`, so the paper's circulation `π/C` grows past the 1000 rad a schedule may circulate and is refused (give a circulation).\n\
 - **High circulations** need more torque samples: the sampling follows the radians the bend direction turns (64 per radian), and the steps per phase of the flip grow with the circulation (8192 at 60 rad).\n\
-- **Short, fast, sharp schedules** (fall times ~0.1 s, s-curve or trapezoid profiles): the stated peak accuracy (the change when every other sample is dropped) rises to ~1e-3 and the case is marked degraded; it is pessimistic (the halved grid is the one that misses; on case 36 of seed 2026 the default grid agrees with 4e5 samples to 1e-15).\n\
+- **Short, fast, sharp schedules** (fall times ~0.1 s, s-curve or trapezoid profiles): the stated peak accuracy (the change when every other sample is dropped) rises to ~1e-3 and the case is marked degraded; it is pessimistic (the halved grid is the one that misses; on case 36 of the sample drawn with `--seed 2026`, not necessarily this run's, the default grid agrees with 4e5 samples to 1e-15).\n\
 - **Locked-inertia conditioning**: thin cylinders (r/l = 1e-3) make the axial inertia tiny; the momentum map stays exact (residuals ~1e-14 relative) because the locked inertia is solved by Cholesky, not inverted.\n\n";
 
 fn time(t: Option<f64>) -> String {
@@ -60,7 +60,7 @@ impl BenchReport {
             self.machine
         );
         s.push_str(&self.reach_table());
-        s.push_str("\nRows marked *outside* were measured outside this project (issue 11), not by this run. `—`: not reported; *not reached*: no point of this run's sweep got there.\n\n");
+        s.push_str("\nRows marked *outside* were measured outside this project (an independent measurement in one sitting on the paper's problem, 2 cores), not by this run. `—`: not reported; *not reached*: no point of this run's sweep got there. In the tables below the rows run from coarse to fine, and *observed order* is `ln(e₁/e₂) / |ln(x₁/x₂)|` between a row and the one above: positive where the error fell, negative where it grew.\n\n");
         let _ = writeln!(
             s,
             "One default evaluation of the problem's schedule (flip to `exact.tolerance`, peak torques, jumps): best {:.3} ms, median {:.3} ms.\n",

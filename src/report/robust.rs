@@ -12,6 +12,7 @@ use nalgebra::Vector3;
 
 use crate::engines::rapier::Snapshot;
 use crate::model::orientation::swing_twist;
+use crate::numeric::numfmt::signed_fixed;
 use crate::problem::Problem;
 use crate::report::plot::{
     line_plot, pose_filmstrip, Band, BodyPose, CatPose, LinePlot, PlotError, RefLine, Scale, Series,
@@ -57,7 +58,7 @@ impl RobustReport {
         }
         let _ = writeln!(
             out,
-            "Each of {} trials (seed {}) draws each half's mass ±{} %, length ±{} %, radius ±{} % (uniform, both halves alike) and a release spin with σ = {} N·m·s per world axis. Landing error: the angle between A's attitude at the end of the schedule and the half turn about its initial spine.\n",
+            "Each of {} trials (seed {}) draws each half's mass ±{} %, length ±{} %, radius ±{} % (uniform, both halves alike) and a release spin with σ = {} N·m·s per world axis. Landing error: the angle between the front half's (A's) attitude at the end of the schedule and the half turn about its initial spine.\n",
             s.trials, s.seed, s.mass_pct, s.length_pct, s.radius_pct, s.spin_sigma_nms
         );
         for c in &self.checks {
@@ -106,10 +107,10 @@ impl RobustReport {
             let n = &c.nominal;
             let _ = writeln!(
                 out,
-                "\nThe nominal cat (no draw), {}: {:.3}° from the target (twist error {:+.3}°, swing {:.3}°).",
+                "\nThe nominal cat (no draw), {}: {:.3}° from the target (twist error {}°, swing {:.3}°).",
                 c.engine.describe(),
                 n.landing_error_deg,
-                n.twist_error_deg,
+                signed_fixed(n.twist_error_deg, 3),
                 n.swing_deg
             );
             if c.not_converged > 0 {
@@ -424,7 +425,7 @@ fn worst_section(out: &mut String, c: &Robustness) {
     let _ = writeln!(out, "\n## The worst trials, {}\n", c.engine.describe());
     let _ = writeln!(
         out,
-        "| trial | mass kg | length m | radius m | L N·m·s |{} landing error ° | twist error ° | swing ° |",
+        "| trial | mass kg | length m | radius m | L N·m·s |{} landing error ° | twist error ° (signed: − short of 180°) | swing ° |",
         if gains { " servo gains |" } else { "" }
     );
     let _ = writeln!(out, "|---:|---:|---:|---:|---|{}---:|---:|---:|", if gains { "---|" } else { "" });

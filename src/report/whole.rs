@@ -97,7 +97,7 @@ impl WholeReport {
         }
         let _ = writeln!(
             s,
-            "\n| start | status | twist ° | swing ° | peak N·m | energy | max bend ° | iterations | time s | why |"
+            "\n| start | status | twist ° | swing ° | peak N·m | energy N²·m²·s | max bend ° | iterations | time s | why |"
         );
         let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---|");
         for o in &self.outcome.solutions {
@@ -122,7 +122,7 @@ impl WholeReport {
         if let Some(b) = self.best() {
             let _ = writeln!(
                 s,
-                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective):\n",
+                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective). *peak* is the largest torque on the loop's samples at the iterate (`samples_per_span` per knot span, on the knots that stage solves: a refined stage's are finer), which can lie a little below the optimum's dense re-measurement above; *violation* `|e|₁` is the flip's error, rad; *trust radius* the largest step a subproblem may take, rad; *ratio* the actual merit decrease over the predicted one (a step is accepted at 0.1 or more); *Newton steps* are the final phase's, which drive `|e|` to round-off:\n",
                 b.start
             );
             let _ = writeln!(

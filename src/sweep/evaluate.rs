@@ -33,6 +33,7 @@ use serde::Serialize;
 use crate::engines::circulation::{resolve_circulation, CirculationError};
 use crate::engines::evaluate::released_on;
 use crate::engines::measured::Rig;
+use crate::engines::resolved::LANDING_SWING_DEG;
 use crate::engines::Engine;
 use crate::problem::manoeuvre::Circulation;
 use crate::problem::Problem;
@@ -161,7 +162,26 @@ pub fn evaluate_case(problem: &Problem, compute: &Compute) -> CaseOutcome {
     if compute.rapier {
         rows.extend(measured.iter().map(|m| super::verify::rapier_row(&rig, m)));
     }
-    CaseOutcome { warnings: problem.warnings().join("; "), paper_rad, calibrated_rad, rows }
+    let mut warnings = problem.warnings();
+    warnings.extend(swung(&rows));
+    CaseOutcome { warnings: warnings.join("; "), paper_rad, calibrated_rad, rows }
+}
+
+/// A warning for each exact row whose spine ends swung by more than [`LANDING_SWING_DEG`]: its
+/// twist may be a half turn, but the cat does not land on its feet (as `simulate` warns of a
+/// calibrated flip).
+fn swung(rows: &[Row]) -> Vec<String> {
+    rows.iter()
+        .filter(|r| r.engine == Engine::Exact)
+        .filter_map(|r| Some((r, r.numbers?.swing_deg)))
+        .filter(|(_, swing)| swing.abs() > LANDING_SWING_DEG)
+        .map(|(r, swing)| {
+            format!(
+                "the {} schedule ends with the spine swung by {swing:.1}° (more than {LANDING_SWING_DEG}°): whatever its twist, the cat does not land on its feet",
+                r.schedule.name()
+            )
+        })
+        .collect()
 }
 
 /// The calibrated circulation of the case's manoeuvre.

@@ -515,10 +515,13 @@ fn one_turn(c: &Ctx) -> Vec<Entry> {
             .reading("closed form of C(θ) = α: x = I_y'y'/(I_z'z'/(2(1 − α)) + √(…)), θ = 2 arcsin x", closed)
             .reading("root of §9's equation as printed (one_turn_theta_paper_equation), correct inertia", paper_cor)
             .why(format!(
-                "the printed closed form takes the wrong root of its quadratic: arcsin of {} (the other root lies outside [−1, 1] for every cat with I_y'y' ≠ I_z'z'); right: C(θ) = α with the code's C and correct inertia, I_z'z' sin(θ/2)/I_yy = 1 − α, solved by bracketing: θ = {}° (the closed form agrees within {} deg); a root in (0°, 180°) exists for every cat since the residual changes sign; whether this θ really turns the cat by π is for the exact engine",
+                "the printed closed form takes the wrong root of its quadratic: arcsin of {} (the other root lies outside [−1, 1] for every cat with I_y'y' ≠ I_z'z'); right: C(θ) = α with the code's C and correct inertia, I_z'z' sin(θ/2)/I_yy = 1 − α, solved by bracketing: θ = {}° (the closed form {}); a root in (0°, 180°) exists for every cat since the residual changes sign; whether this θ really turns the cat by π is for the exact engine",
                 no(printed_arg),
                 no(root),
-                gap.map_or_else(|| "undefined".to_string(), |g| format!("{g:.1e}"))
+                gap.map_or_else(
+                    || "is undefined".to_string(),
+                    |g| if g == 0.0 { "agrees to the last bit".to_string() } else { format!("agrees within {g:.1e}°") }
+                )
             )),
         Entry::new("one_turn_theta_paper_equation", "§9", "deg", "root of §9's equation as printed, 1 = (α + 1)(2 I_z'z'/I_yy) sin(θ/2), α = 1/2")
             .values(paper_lit, paper_cor)

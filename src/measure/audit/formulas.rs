@@ -99,9 +99,14 @@ pub fn stability_threshold(transverse: f64, axial: f64, shift: f64) -> Option<f6
     (d > 0.0 && h >= 0.0).then(|| (h / (d + h)).acos())
 }
 
-/// Which principal axis `y` is for given moments: least, greatest or intermediate.
+/// Which principal axis `y` is for given moments: least, greatest or intermediate, or tied with
+/// another when the two moments agree to round-off (`10⁻¹²` of the largest: §3's model at
+/// θ = 90°, where `I_zz − I_yy = −(I_x'x' − I_z'z') cos θ` is `10⁻¹⁷` with either sign).
 pub fn y_axis_rank(b: &BentMoments) -> &'static str {
-    if b.yy <= b.xx.min(b.zz) {
+    let tie = 1e-12 * b.xx.abs().max(b.yy.abs()).max(b.zz.abs());
+    if (b.yy - b.xx).abs() <= tie || (b.yy - b.zz).abs() <= tie {
+        "neutral (its moment equal to another's to round-off)"
+    } else if b.yy <= b.xx.min(b.zz) {
         "least (stable)"
     } else if b.yy >= b.xx.max(b.zz) {
         "greatest (stable)"
@@ -124,6 +129,16 @@ pub fn first_root_theta(f: impl Fn(f64) -> f64) -> Option<f64> {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn a_y_moment_equal_to_another_to_round_off_is_neutral() {
+        let m = |yy: f64| BentMoments { xx: 0.3, yy, zz: 0.2 };
+        assert_eq!(y_axis_rank(&m(0.2 + 1e-17)), "neutral (its moment equal to another's to round-off)");
+        assert_eq!(y_axis_rank(&m(0.2 - 1e-17)), "neutral (its moment equal to another's to round-off)");
+        assert_eq!(y_axis_rank(&m(0.1)), "least (stable)");
+        assert_eq!(y_axis_rank(&m(0.25)), "intermediate (unstable)");
+        assert_eq!(y_axis_rank(&m(0.4)), "greatest (stable)");
+    }
 
     #[test]
     fn stability_threshold_of_the_papers_model_is_a_right_angle() {

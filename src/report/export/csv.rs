@@ -3,7 +3,7 @@
 use super::{ExportError, Shown};
 use super::{Exporter, Files, Views};
 use crate::engines::peaks::PhasePeaks;
-use crate::engines::rapier::Verification;
+use crate::engines::rapier::{Quantity, Verification};
 use crate::engines::Engine;
 use crate::report::simulate::{RapierOutcome, SimulationReport};
 
@@ -29,7 +29,10 @@ const MEASURED: [&str; 4] = ["momentum_max", "dt_s", "tracking1_rad", "tracking2
 
 /// `verification.csv`: one row per schedule and engine, sorted. A rapier row carries the
 /// verification's columns and `verdict_reason` (the verdict in words); a rapier row without a
-/// result has empty number fields.
+/// result has empty number fields. rapier's `twist_deg` and `swing_deg` are extrapolated to
+/// `dt → 0` (as its report's), its peaks the finest run's, raw: the last two columns give the
+/// other two, `twist_raw_deg` (the finest run's twist) and `max_extrapolated_nm` (the peak the
+/// verdict judges; empty where a saturated motor left it out).
 fn verification_csv(rows: &[Shown]) -> String {
     let mut header = REPORT_HEAD.to_vec();
     header.extend(PhasePeaks::CSV_HEADER.split(','));
@@ -37,11 +40,18 @@ fn verification_csv(rows: &[Shown]) -> String {
     header.push("run_time_s");
     header.extend(Verification::CSV_HEADER.split(','));
     header.push("verdict_reason");
+    let reasoned = header.len();
+    header.extend(["twist_raw_deg", "max_extrapolated_nm"]);
     let mut all: Vec<(String, Engine, Vec<String>)> = Vec::new();
     for v in rows {
         let name = v.name();
         all.push((name.clone(), Engine::Exact, report_fields(&name, &v.exact)));
-        all.push((name.clone(), Engine::Rapier, rapier_fields(&name, v)));
+        let mut rapier = rapier_fields(&name, v);
+        rapier.resize(reasoned, String::new());
+        let raw = v.rapier.report().and_then(|r| r.figures.check.twist_deg_raw);
+        let peak = v.verification().and_then(|x| x.quantity(Quantity::PeakTorque)).and_then(|c| c.value);
+        rapier.extend([raw, peak].map(|x| x.map_or(String::new(), |x| format!("{x:.9}"))));
+        all.push((name.clone(), Engine::Rapier, rapier));
     }
     all.sort_by(|a, b| (&a.0, a.1).cmp(&(&b.0, b.1)));
     let width = header.len();
