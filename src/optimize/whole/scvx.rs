@@ -246,8 +246,7 @@ impl ScvxProblem<'_> {
     ) -> Result<StageEnd, WholeError> {
         let layout = self.layout();
         let s = self.settings;
-        let first_radius = s.trust_radius_deg.to_radians();
-        let mut radius = first_radius;
+        let mut radius = s.trust_radius_deg.to_radians();
         let max_radius = 4.0 * radius;
         let mut penalty = s.penalty;
         // A floor for the unit so that an objective driven to zero stays a number.
@@ -261,8 +260,9 @@ impl ScvxProblem<'_> {
             Objective::Peak => Form::Scalar,
             _ => Form::Bfgs,
         });
-        // The objective at each accepted iterate of the stage (the peak's progress test).
-        let mut accepted: Vec<f64> = Vec::new();
+        // The objective at each accepted iterate of the stage and the ratio of the step that
+        // reached it (the peak's progress test).
+        let mut accepted: Vec<(f64, f64)> = Vec::new();
         loop {
             if enough.is_some_and(|e| it.objective <= e) && it.violation <= LOOP_FEASIBILITY {
                 let reason = format!("objective {:.6} within {:.6}", it.objective, enough.unwrap_or(0.0));
@@ -331,21 +331,12 @@ impl ScvxProblem<'_> {
                 continue;
             }
             let length = step.step.iter().zip(&it.trust_scales).fold(0.0f64, |m, (d, s)| m.max(d.abs() / s));
-            if predicted <= optimality && length >= BOUNDARY * radius {
-                // A step the trust region cut short predicts little because the region is small,
-                // not because the iterate is optimal: widen it, or at its largest say so.
-                log.push(entry);
-                if radius < max_radius {
-                    radius = (2.0 * radius).min(max_radius);
-                    continue;
-                }
-                let reason = format!(
-                    "the predicted decrease {predicted:.1e} is below the optimality tolerance only because the trust region, at its largest ({:.3e}°, four times optimize.whole.trust_radius_deg), cuts every step short: not an optimum",
-                    max_radius.to_degrees()
-                );
-                return end(it, WholeStatus::Stalled, reason);
-            }
-            if predicted <= optimality {
+            // A step the trust region cuts short predicts a decrease in proportion to the radius:
+            // there the test is on the decrease per radian of radius (up to one), so that a radius
+            // set small does not pass for an optimum (a review's trust_radius_deg = 1e-6 ended
+            // "converged" at 130 times the optimum); an interior step is the model's own optimum.
+            let stationary = if length >= BOUNDARY * radius { optimality * radius.min(1.0) } else { optimality };
+            if predicted <= stationary {
                 log.push(entry);
                 let limit_violation = it.limit_violation(bound);
                 if it.violation <= LOOP_FEASIBILITY
@@ -421,11 +412,8 @@ impl ScvxProblem<'_> {
                     && it.bend_violation <= LOOP_FEASIBILITY
                     && it.limit_violation(bound) <= LOOP_FEASIBILITY;
                 if feasible {
-                    accepted.push(it.objective);
-                    // A crawl is the model failing at longer steps: judged only once the ratio test
-                    // has cut the radius below the stage's first (a radius set small takes short
-                    // steps that lower the peak slowly however far the optimum is).
-                    if let Some(reason) = crawling(objective, &accepted).filter(|_| radius < first_radius) {
+                    accepted.push((it.objective, ratio));
+                    if let Some(reason) = crawling(objective, &accepted) {
                         return end(it, WholeStatus::Converged, reason);
                     }
                 } else {
@@ -516,22 +504,29 @@ impl ScvxProblem<'_> {
 const PROGRESS_STEPS: usize = 5;
 /// The peak's least relative progress over [`PROGRESS_STEPS`] accepted steps.
 const PROGRESS: f64 = 3e-5;
+/// The mean ratio of those steps below which the model is taking back its predictions (the
+/// ratio above which the radius may grow).
+const MODEL_FAILS: f64 = 0.75;
 
 /// Why the peak's stage should end although its model still predicts a decrease: over its last
-/// [`PROGRESS_STEPS`] accepted steps between feasible iterates (`accepted`, their peaks, at one
-/// penalty) the peak fell, but by less than [`PROGRESS`] of itself (a peak that rose, as when a
-/// tightened motor bound is being met, is not a stall). Near a
+/// [`PROGRESS_STEPS`] accepted steps between feasible iterates (`accepted`, their peaks and the
+/// ratios of the steps, at one penalty) the peak fell, but by less than [`PROGRESS`] of itself
+/// (a peak that rose, as when a tightened motor bound is being met, is not a stall), with a mean
+/// ratio below [`MODEL_FAILS`] (steps the model predicts well are no crawl, only short: a review's
+/// trust radius of 1e-6° ended "converged" at 130 times the optimum). Near a
 /// minimax optimum that is not a vertex the linear model keeps predicting a decrease that the
 /// torques' curvature takes back (ratios of 0.1–0.3 at radii near 1e-4 rad): measured on Kane and
 /// Scher's cat, 50 more iterations would lower the peak by 1e-5 of itself. None for the other
 /// objectives, or while the peak still moves.
-fn crawling(objective: Objective, accepted: &[f64]) -> Option<String> {
+fn crawling(objective: Objective, accepted: &[(f64, f64)]) -> Option<String> {
     if objective != Objective::Peak || accepted.len() <= PROGRESS_STEPS {
         return None;
     }
-    let (then, now) = (accepted[accepted.len() - 1 - PROGRESS_STEPS], accepted[accepted.len() - 1]);
+    let last = &accepted[accepted.len() - 1 - PROGRESS_STEPS..];
+    let (then, now) = (last[0].0, last[PROGRESS_STEPS].0);
     let progress = (then - now) / now.abs().max(f64::MIN_POSITIVE);
-    (0.0..PROGRESS).contains(&progress).then(|| {
+    let ratio = last[1..].iter().map(|a| a.1).sum::<f64>() / PROGRESS_STEPS as f64;
+    ((0.0..PROGRESS).contains(&progress) && ratio < MODEL_FAILS).then(|| {
         format!(
             "the peak fell by {progress:.1e} of itself over the last {PROGRESS_STEPS} accepted steps (below {PROGRESS:.0e}): the linear model's predicted decrease is taken back by the torques' curvature"
         )

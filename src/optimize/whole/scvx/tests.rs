@@ -20,11 +20,12 @@ fn flip_problem<'a>(cat: &'a WholeCat, settings: &'a WholeSettings, motors: &'a 
     ScvxProblem { cat, settings, motors, target: Some(flipped()), qp: QpSettings::default(), spin: Vector3::zeros() }
 }
 
-/// The peaks of six accepted iterates, evenly apart: the five steps between the first and the
-/// last lowered the peak by `fall` of itself.
-fn peaks(fall: f64) -> Vec<f64> {
+/// The peaks of six accepted iterates, evenly apart, and the ratios of the steps that reached
+/// them (0.3, the model taking back most of its prediction): the five steps between the first
+/// and the last lowered the peak by `fall` of itself.
+fn peaks(fall: f64) -> Vec<(f64, f64)> {
     let now = 0.3;
-    (0..=5).map(|k| now * (1.0 + fall * (5 - k) as f64 / 5.0)).collect()
+    (0..=5).map(|k| (now * (1.0 + fall * (5 - k) as f64 / 5.0), 0.3)).collect()
 }
 
 /// The spherical joint (issue 22): from the no-twist joint's energy optimum with the relative
@@ -138,6 +139,8 @@ fn a_peak_that_falls_rises_or_has_too_few_steps_is_not_a_crawl() {
     assert_eq!(crawling(Objective::Peak, &peaks(-1e-5)), None, "a rising peak is no stall");
     assert_eq!(crawling(Objective::Peak, &peaks(1e-5)[1..]), None, "five peaks are four steps");
     assert_eq!(crawling(Objective::Energy, &peaks(1e-5)), None, "the peak's test only");
+    let predicted: Vec<(f64, f64)> = peaks(1e-5).into_iter().map(|(p, _)| (p, 0.98)).collect();
+    assert_eq!(crawling(Objective::Peak, &predicted), None, "steps the model predicts are short, not a crawl");
 }
 
 /// A trust radius set far too small (1e-6°, reported by a review) takes steps so short that the
