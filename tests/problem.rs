@@ -358,21 +358,27 @@ fn a_tail_is_refused_where_the_papers_cat_is_required() {
     assert!(e.contains("`catflip compare-models` only"), "{e}");
 }
 
-/// A robustness study whose spreads would draw cats the loader refuses is refused itself, naming
-/// the spread (a review's radius 0.5 m on a 1 m half with `length_pct = 90` drew halves of 0.1 m
-/// and ran them without a word); spreads whose every draw is a valid cat load.
+/// A robustness study whose spreads would draw cats the loader refuses is refused by the
+/// commands that run it, naming the spread (a review's radius 0.5 m on a 1 m half with
+/// `length_pct = 90` drew halves of 0.1 m and ran them without a word); the problem itself loads
+/// (a cat near a bound is not refused by a study it never runs), and spreads whose every draw
+/// is a valid cat pass.
 #[test]
 fn robust_spreads_that_draw_refused_cats_are_refused() {
-    let e = error_of(PAPER, &["cat.radius=0.5", "robust.length_pct=90.0"]);
+    let draws = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let p = Problem::from_toml(PAPER, "paper.toml", &sets).unwrap_or_else(|e| panic!("{sets:?} loads: {e}"));
+        p.validate_robust_draws().map_err(|e| e.to_string())
+    };
+    let e = draws(&["cat.radius=0.5", "robust.length_pct=90.0"]).expect_err("0.1 m halves of radius 0.5 m");
     assert!(e.starts_with("robust.length_pct = 90: the study would draw cats the problem refuses"), "{e}");
     assert!(e.contains("0.1 m and radius 0.5 m") && e.contains("cat.radius = 0.5: must lie in"), "{e}");
-    let e = error_of(PAPER, &["cat.radius=0.9", "robust.radius_pct=20.0"]);
+    let e = draws(&["cat.radius=0.9", "robust.radius_pct=20.0"]).expect_err("radius beyond the length");
     assert!(e.starts_with("robust.radius_pct = 20:"), "{e}");
-    let e = error_of(PAPER, &["cat.mass=9.5e5", "robust.mass_pct=10.0"]);
+    let e = draws(&["cat.mass=9.5e5", "robust.mass_pct=10.0"]).expect_err("mass beyond its bound");
     assert!(e.starts_with("robust.mass_pct = 10:") && e.contains("cat.mass = 1.045e6: must lie in"), "{e}");
     for ok in [&["cat.radius=0.5", "robust.length_pct=40.0"][..], &["robust.radius_pct=50.0", "robust.length_pct=50.0"]]
     {
-        Problem::from_toml(PAPER, "paper.toml", &ok.iter().map(|s| s.to_string()).collect::<Vec<_>>())
-            .unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+        draws(ok).unwrap_or_else(|e| panic!("{ok:?}: {e}"));
     }
 }

@@ -263,16 +263,22 @@ impl Problem {
         self.rapier.validate()?;
         self.optimize.validate()?;
         self.robust.validate()?;
+        if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
+            return Err(bad("optimize.whole.objective", "\"min-time\"", whole::MIN_TIME_NEEDS_LIMITS));
+        }
+        Ok(())
+    }
+
+    /// Whether every cat the robustness study draws around this one is a cat the loader takes
+    /// ([`CatSection::validate_spreads`]): checked by the commands that run the study (`robust`,
+    /// `run`), not on loading, so that a cat near a bound is not refused by a study it never runs.
+    pub fn validate_robust_draws(&self) -> Result<(), ProblemError> {
         let r = &self.robust;
         self.cat.validate_spreads([
             ("robust.mass_pct", r.mass_pct),
             ("robust.length_pct", r.length_pct),
             ("robust.radius_pct", r.radius_pct),
-        ])?;
-        if self.optimize.whole.objective == whole::Objective::MinTime && self.actuator.motors().is_ideal() {
-            return Err(bad("optimize.whole.objective", "\"min-time\"", whole::MIN_TIME_NEEDS_LIMITS));
-        }
-        Ok(())
+        ])
     }
 
     /// `drop.angular_momentum`: finite, and not so large that the fall is a spin.

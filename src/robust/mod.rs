@@ -353,6 +353,7 @@ pub fn check(
     traj: &(impl Trajectory + Sync),
     schedule: &str,
 ) -> Result<RobustReport, crate::engines::rapier::RapierError> {
+    problem.validate_robust_draws()?;
     let engine = problem.robust.engine;
     if engine.rapier() {
         problem.require_paper_cat(

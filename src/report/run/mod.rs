@@ -151,7 +151,8 @@ pub fn run(r: &Resolved, command: &str, out_root: &Path) -> Result<RunOutcome, R
 /// The CLI asks it of every problem before the first is run, so that a bad one writes nothing.
 pub fn runnable(problem: &crate::problem::Problem) -> Result<(), crate::problem::ProblemError> {
     problem.require_no_spin("run (its optimisers and retimings)")?;
-    problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")
+    problem.require_two_motor_joint("run (its optimisers, rapier verifications and exports)")?;
+    problem.validate_robust_draws()
 }
 
 /// [`run`] with the schedule files sampled as `export` says (e.g. a uniform `--rate`).
