@@ -9,7 +9,7 @@ use super::row::SweepSchedule;
 use super::spec::Sweep;
 use super::table::Record;
 use crate::engines::Engine;
-use crate::numeric::numfmt::echo;
+use crate::numeric::numfmt::sig;
 
 /// Which axes play which part.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -42,7 +42,7 @@ pub struct Grid {
     pub group: String,
     /// The group axes' values alone, as labels.
     pub group_values: Vec<String>,
-    /// Row labels (the row axis' values as written; with `combine = "zip"` the zipped axes'
+    /// Row labels (the row axis' values, [`label`]; with `combine = "zip"` the zipped axes'
     /// values beside each).
     pub row_labels: Vec<String>,
     /// Row values as numbers (for line plots), NaN where not numeric.
@@ -58,10 +58,10 @@ fn number(v: &toml::Value) -> Option<f64> {
     v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
 }
 
-/// A value as a label: a number as the user wrote it (`2` and `10`, not `2.000` beside `10.00`;
-/// [`echo`]), anything else as its CSV cell.
+/// A value as a label: a number to four significant digits without trailing zeros (`2` and
+/// `10`, not `2.000` beside `10.00`; a log range's `0.1516`), anything else as its CSV cell.
 fn label(v: &toml::Value) -> String {
-    number(v).map_or_else(|| cell(v), echo)
+    number(v).map_or_else(|| cell(v), |x| sig(x, 4))
 }
 
 /// The labels and numeric values of an axis (one unnamed entry when there is no such axis).
