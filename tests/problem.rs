@@ -375,6 +375,11 @@ fn robust_spreads_that_draw_refused_cats_are_refused() {
     assert!(e.contains("0.1 m and radius 0.5 m") && e.contains("cat.radius = 0.5: must lie in"), "{e}");
     let e = draws(&["cat.radius=0.9", "robust.radius_pct=20.0"]).expect_err("radius beyond the length");
     assert!(e.starts_with("robust.radius_pct = 20:"), "{e}");
+    // The spread that fails alone is named, whatever else is spread; a combination names both.
+    let e = draws(&["cat.radius=0.9", "robust.radius_pct=20.0", "robust.length_pct=5.0"]).expect_err("radius");
+    assert!(e.starts_with("robust.radius_pct = 20:"), "{e}");
+    let e = draws(&["cat.radius=0.8", "robust.radius_pct=10.0", "robust.length_pct=15.0"]).expect_err("both");
+    assert!(e.starts_with("robust.length_pct and robust.radius_pct = 15 and 10:"), "{e}");
     let e = draws(&["cat.mass=9.5e5", "robust.mass_pct=10.0"]).expect_err("mass beyond its bound");
     assert!(e.starts_with("robust.mass_pct = 10:") && e.contains("cat.mass = 1.045e6: must lie in"), "{e}");
     for ok in [&["cat.radius=0.5", "robust.length_pct=40.0"][..], &["robust.radius_pct=50.0", "robust.length_pct=50.0"]]

@@ -409,39 +409,46 @@ impl CatSection {
     pub fn validate_spreads(&self, spreads: [(&str, f64); 3]) -> Result<(), ProblemError> {
         let factors = |pct: f64| [1.0 - pct / 100.0, 1.0 + pct / 100.0];
         let [(mass_field, m), (length_field, l), (radius_field, r)] = spreads;
-        let halves = [("cat", self.half()), ("cat.front", self.front()), ("cat.rear", self.rear())];
+        // The halves the draws scale: the shorthand's on the paper's cat, each half's otherwise.
+        let halves = if self.is_paper() {
+            vec![("cat", self.half())]
+        } else {
+            vec![("cat.front", self.front()), ("cat.rear", self.rear())]
+        };
+        let scaled = |c: Cylinder, [fm, fl, fr]: [f64; 3]| Cylinder {
+            mass: c.mass * fm,
+            length: c.length * fl,
+            radius: c.radius * fr,
+        };
         for (name, half) in halves {
             for fm in factors(m) {
                 for fl in factors(l) {
                     for fr in factors(r) {
-                        let drawn =
-                            Cylinder { mass: half.mass * fm, length: half.length * fl, radius: half.radius * fr };
-                        if let Err(e) = validate_half(name, &drawn) {
-                            // The half itself is valid (checked first): a drawn mass that is
-                            // not is the mass's spread.
-                            let (field, pct) = if validate_numbers(
-                                &ROD_KEYS.map(|k| format!("{name}.{k}")),
-                                [Some(drawn.mass), None, None],
-                            )
-                            .is_err()
-                            {
-                                (mass_field, m)
-                            } else if l > 0.0 {
-                                (length_field, l)
-                            } else {
-                                (radius_field, r)
-                            };
-                            return Err(bad(
-                                field,
-                                echo(pct),
-                                &format!(
-                                    "the study would draw cats the problem refuses: a half of {} kg, {} m and radius {} m ({e})",
-                                    echo(drawn.mass),
-                                    echo(drawn.length),
-                                    echo(drawn.radius)
-                                ),
-                            ));
-                        }
+                        let drawn = scaled(half, [fm, fl, fr]);
+                        let Err(e) = validate_half(name, &drawn) else { continue };
+                        // The half itself is valid (checked first): the spread that fails alone
+                        // at this corner is blamed, the length's and the radius's together when
+                        // only their combination does.
+                        let alone = |f: [f64; 3]| validate_half(name, &scaled(half, f)).is_err();
+                        let (field, pct) = if alone([fm, 1.0, 1.0]) {
+                            (mass_field.to_string(), echo(m))
+                        } else if alone([1.0, fl, 1.0]) {
+                            (length_field.to_string(), echo(l))
+                        } else if alone([1.0, 1.0, fr]) {
+                            (radius_field.to_string(), echo(r))
+                        } else {
+                            (format!("{length_field} and {radius_field}"), format!("{} and {}", echo(l), echo(r)))
+                        };
+                        return Err(bad(
+                            &field,
+                            pct,
+                            &format!(
+                                "the study would draw cats the problem refuses: a half of {} kg, {} m and radius {} m ({e})",
+                                echo(drawn.mass),
+                                echo(drawn.length),
+                                echo(drawn.radius)
+                            ),
+                        ));
                     }
                 }
             }

@@ -98,7 +98,7 @@ pub struct WholeSettings {
     /// then the peak from there.
     pub homotopy: bool,
     /// Stop when the predicted decrease of the merit function is below this fraction of the
-    /// objective.
+    /// objective (times the trust radius in radians, up to one, for a step the radius cut short).
     pub optimality: f64,
     /// Initial trust radius on the control points, degrees.
     pub trust_radius_deg: f64,

@@ -58,10 +58,22 @@ fn number(v: &toml::Value) -> Option<f64> {
     v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
 }
 
-/// A value as a label: a number to four significant digits without trailing zeros (`2` and
-/// `10`, not `2.000` beside `10.00`; a log range's `0.1516`), anything else as its CSV cell.
+/// A value as a label: an integer whole, a float to four significant digits without trailing
+/// zeros (`2` and `10`, not `2.000` beside `10.00`; a log range's `0.1516`), anything else as its
+/// CSV cell.
 fn label(v: &toml::Value) -> String {
-    number(v).map_or_else(|| cell(v), |x| sig(x, 4))
+    match v {
+        toml::Value::Float(x) => sig(*x, 4),
+        other => cell(other),
+    }
+}
+
+/// The axes zipped with axis `r` (every other axis, with `combine = "zip"`; none otherwise).
+pub fn zipped_with(sweep: &Sweep, r: usize) -> Vec<usize> {
+    if sweep.combine != super::spec::Combine::Zip {
+        return Vec::new();
+    }
+    (0..sweep.axes.len()).filter(|&a| a != r).collect()
 }
 
 /// The labels and numeric values of an axis (one unnamed entry when there is no such axis).
@@ -82,12 +94,12 @@ pub fn grids(
 ) -> Vec<Grid> {
     let lay = layout(sweep);
     let (mut row_labels, row_values) = labels(sweep, lay.rows);
-    if let Some(r) = lay.rows.filter(|_| sweep.combine == super::spec::Combine::Zip) {
+    if let Some(r) = lay.rows {
         // The axes zipped with the rows' change with them: each row names their values too,
         // or a table along one axis would credit it with the others' effect.
         for (k, row) in row_labels.iter_mut().enumerate() {
-            let partners: Vec<String> = (0..sweep.axes.len())
-                .filter(|&a| a != r)
+            let partners: Vec<String> = zipped_with(sweep, r)
+                .into_iter()
                 .map(|a| format!("{} = {}", sweep.axes[a].field, label(&sweep.axes[a].values[k])))
                 .collect();
             if !partners.is_empty() {

@@ -139,15 +139,7 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
                 let series = line_series(&gs, lay.cols);
                 let stem = format!("line-{}", q.stem);
                 let fields = series_fields(sweep, &lay);
-                let zipped: Vec<&str> = (0..sweep.axes.len())
-                    .filter(|&a| a != r && sweep.combine == super::spec::Combine::Zip)
-                    .map(|a| sweep.axes[a].field.as_str())
-                    .collect();
-                let axis = if zipped.is_empty() {
-                    with_unit(&sweep.axes[r].field)
-                } else {
-                    format!("{}, with {} zipped", with_unit(&sweep.axes[r].field), zipped.join(", "))
-                };
+                let axis = along(sweep, r, with_unit(&sweep.axes[r].field));
                 let x_label = if fields.is_empty() { axis } else { format!("{axis}        (series: {fields})") };
                 let plot = LinePlot {
                     markers: true,
@@ -160,7 +152,9 @@ pub fn plots(sweep: &Sweep, records: &[Record], dir: &Path) -> Result<Vec<PlotIn
                     )
                 };
                 match line_plot(dir, &plot) {
-                    Ok(_) => record(stem, format!("{} along {}", q.label, sweep.axes[r].field)),
+                    Ok(_) => {
+                        record(stem, format!("{} along {}", q.label, along(sweep, r, sweep.axes[r].field.clone())))
+                    }
                     Err(PlotError::NoData { .. }) => {}
                     Err(e) => return Err(e),
                 }
@@ -216,6 +210,18 @@ fn line_series(gs: &[Grid], cols: Option<usize>) -> Vec<Series> {
     }
     out.truncate(MAX_SERIES);
     out
+}
+
+/// The axis `r` a line plot runs along, named `name`, with the axes zipped with it
+/// (`cat.radius (m), with drop.height zipped`).
+fn along(sweep: &Sweep, r: usize, name: String) -> String {
+    let zipped: Vec<&str> =
+        super::grid::zipped_with(sweep, r).into_iter().map(|a| sweep.axes[a].field.as_str()).collect();
+    if zipped.is_empty() {
+        name
+    } else {
+        format!("{name}, with {} zipped", zipped.join(", "))
+    }
 }
 
 /// The fields the series of a line plot are named by: the group axes, then the columns axis.

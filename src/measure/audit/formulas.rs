@@ -133,8 +133,10 @@ mod tests {
     #[test]
     fn a_y_moment_equal_to_another_to_round_off_is_neutral() {
         let m = |yy: f64| BentMoments { xx: 0.3, yy, zz: 0.2 };
-        assert_eq!(y_axis_rank(&m(0.2 + 1e-17)), "neutral (its moment equal to another's to round-off)");
-        assert_eq!(y_axis_rank(&m(0.2 - 1e-17)), "neutral (its moment equal to another's to round-off)");
+        // Either side of I_zz within the tie (3e-13 here), and just outside it.
+        assert_eq!(y_axis_rank(&m(0.2 + 2e-13)), "neutral (its moment equal to another's to round-off)");
+        assert_eq!(y_axis_rank(&m(0.2 - 2e-13)), "neutral (its moment equal to another's to round-off)");
+        assert_eq!(y_axis_rank(&m(0.2 - 1e-12)), "least (stable)");
         assert_eq!(y_axis_rank(&m(0.1)), "least (stable)");
         assert_eq!(y_axis_rank(&m(0.25)), "intermediate (unstable)");
         assert_eq!(y_axis_rank(&m(0.4)), "greatest (stable)");

@@ -12,11 +12,14 @@
 //! the trust boundary (Malyuta et al. 2021, §4.3; Nocedal & Wright, Alg. 4.1).
 //!
 //! A stage ends **converged** when the predicted decrease is below `optimality` with `|e|₁`
-//! below the loop's feasibility threshold; when it is below `optimality` with the error still
-//! above, the penalty `λ` grows tenfold, up to `10⁶` times its setting, and then the stage ends
-//! **infeasible**. It ends **stalled** when the radius falls below `10⁻¹⁰` rad. A peak stage also
-//! ends converged when its last five accepted steps, between iterates on the constraint and
-//! within the limits, lowered the peak by less than `3·10⁻⁵` of itself (the reason says so): there the linear model
+//! below the loop's feasibility threshold (for a step the trust region cut short, below
+//! `optimality` times the radius in radians, up to one: such a step predicts in proportion to
+//! the radius, and a radius set small must not pass for an optimum); when it is below with the
+//! error still above, the penalty `λ` grows tenfold, up to `10⁶` times its setting, and then the
+//! stage ends **infeasible**. It ends **stalled** when the radius falls below `10⁻¹⁰` rad. A peak
+//! stage also ends converged when its last five accepted steps, between iterates on the
+//! constraint and within the limits, lowered the peak by less than `3·10⁻⁵` of itself with a mean
+//! ratio below 0.75 (the reason says so): there the linear model
 //! of a minimax optimum that is not a vertex keeps predicting a decrease that the torques'
 //! curvature takes back, and the stage crawled for 50 iterations at radii near `10⁻⁴` rad for
 //! `10⁻⁵` of the peak (Kane and Scher's cat; the paper's cat converges before the test applies).
@@ -346,7 +349,13 @@ impl ScvxProblem<'_> {
                     return end(
                         it,
                         WholeStatus::Converged,
-                        format!("predicted decrease {predicted:.1e}, within the optimality tolerance {optimality:.0e}"),
+                        if stationary < optimality {
+                            format!("predicted decrease {predicted:.1e} on the trust boundary, within the optimality tolerance {optimality:.0e} per radian of the radius ({stationary:.1e})")
+                        } else {
+                            format!(
+                                "predicted decrease {predicted:.1e}, within the optimality tolerance {optimality:.0e}"
+                            )
+                        },
                     );
                 }
                 if penalty < 1e6 * s.penalty {
