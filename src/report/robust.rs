@@ -433,19 +433,11 @@ fn worst_section(out: &mut String, c: &Robustness) {
         let d = &t.draw;
         let l = d.angular_momentum_nms;
         let g = if gains { format!(" [{:.3}, {:.3}] |", d.gain[0], d.gain[1]) } else { String::new() };
+        let twist = signed_fixed(t.twist_error_deg, 3);
         let _ = writeln!(
             out,
-            "| {} | {:.4} | {:.4} | {:.4} | [{:.4}, {:.4}, {:.4}] |{g} {:.3} | {} | {:.3} |",
-            d.trial,
-            d.mass,
-            d.length,
-            d.radius,
-            l[0],
-            l[1],
-            l[2],
-            t.landing_error_deg,
-            signed_fixed(t.twist_error_deg, 3),
-            t.swing_deg
+            "| {} | {:.4} | {:.4} | {:.4} | [{:.4}, {:.4}, {:.4}] |{g} {:.3} | {twist} | {:.3} |",
+            d.trial, d.mass, d.length, d.radius, l[0], l[1], l[2], t.landing_error_deg, t.swing_deg
         );
     }
     if c.unequal_halves {
