@@ -42,8 +42,8 @@ pub struct Grid {
     pub group: String,
     /// The group axes' values alone, as labels.
     pub group_values: Vec<String>,
-    /// Row labels (the row axis' values, four significant digits, integers whole; with `combine = "zip"` the zipped axes'
-    /// values beside each).
+    /// Row labels (the row axis' values, four significant digits, integers whole; with
+    /// `combine = "zip"` the zipped axes' values beside each).
     pub row_labels: Vec<String>,
     /// Row values as numbers (for line plots), NaN where not numeric.
     pub row_values: Vec<f64>,
