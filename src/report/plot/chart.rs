@@ -498,7 +498,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_note_too_wide_is_wrapped_after_its_commas_and_keeps_every_name() {
+    fn a_note_too_wide_is_wrapped_between_its_series_and_keeps_every_name() {
         let label = |under: &[&str]| Label { name: "x".into(), under: under.iter().map(|n| n.to_string()).collect() };
         let hidden = label(&["modified-trapezoid, 10", "modified-sine, 10", "poly-345, 10"]);
         let fits = |n: usize| move |line: &str| Ok::<bool, String>(line.chars().count() <= n);

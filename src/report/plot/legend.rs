@@ -10,7 +10,8 @@
 //! so at most a pixel of the curve underneath peeks out.
 //!
 //! A hidden series keeps its legend entry, with the note "under a" naming one later series that
-//! covers it alone, or "under a, b" naming those that cover it together (in painting order).
+//! covers it alone, or "under a, b" naming those that cover it together (in painting order;
+//! "under a, 2; b, 10" when the names hold commas of their own, [`Label::note_pieces`]).
 
 /// Distance, as a fraction of each axis span, within which a point lies on a curve.
 pub(crate) const COINCIDENT: f64 = 5e-3;
