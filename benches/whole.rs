@@ -6,10 +6,12 @@
 //! and the least peak of each cat model on the paper's cat (issue 22: ≤ 2 s per model): the
 //! paper's halves on the universal, no-twist and spherical joints, and Kane and Scher's cat with
 //! the tail of `problems/tail.toml` and the legs of `problems/legs.toml`, every default start (as
-//! `compare-models` runs each row, without its verification).
+//! `compare-models` runs each row, without its verification), by each method of the peak's stage
+//! (`optimize.whole.method`: the trust region's ids are the cat's name, the interior point's
+//! `interior-point/<cat>`).
 //!
 //! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`; the
-//! models: `cargo bench --bench whole -- whole/models` (several minutes: ten solves of each).
+//! models: `cargo bench --bench whole -- whole/models` (several minutes: ten solves of each, by each method).
 //! Criterion prints the median's confidence interval per size; the worst run is in
 //! `target/criterion/<group>/<size>/new/sample.json` (README, "Tests and benchmarks").
 
@@ -19,7 +21,7 @@ use std::time::Duration;
 
 use catflip::model::motor::{Motor, Motors};
 use catflip::model::{Cat, Joint};
-use catflip::optimize::whole::{optimize_whole, Objective, StartKind, WholeCat, WholeSettings};
+use catflip::optimize::whole::{optimize_whole, Method, Objective, StartKind, WholeCat, WholeSettings};
 use catflip::problem::Problem;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, SamplingMode};
 
@@ -111,7 +113,8 @@ fn min_time(c: &mut Criterion) {
 }
 
 /// Issue 22: the least peak of every cat model on the paper's cat, each with every default start
-/// (the spherical joint's also from the universal joint's optimum lifted); the result must be a
+/// (the spherical joint's also from the universal joint's optimum lifted), by the trust-region
+/// loop and by the interior-point method (`optimize.whole.method`); the result must be a
 /// flip ([`WholeOutcome::best`](catflip::optimize::whole::WholeOutcome::best)).
 fn models(c: &mut Criterion) {
     let problem = |name: &str| Problem::load(&Path::new("problems").join(name), &[]).expect("a committed problem");
@@ -131,21 +134,29 @@ fn models(c: &mut Criterion) {
     ];
     let mut group = c.benchmark_group("whole/models");
     group.sampling_mode(SamplingMode::Flat).sample_size(10).warm_up_time(Duration::from_secs(1));
-    for (name, cat, p) in &cases {
-        group.bench_with_input(BenchmarkId::from_parameter(name), cat, |b, cat| {
-            b.iter(|| {
-                let outcome = optimize_whole(
-                    black_box(cat),
-                    p.drop.fall_time(),
-                    &p.manoeuvre,
-                    &p.optimize.whole,
-                    &Motors::ideal(),
-                    p.exact.tolerance,
-                )
-                .expect("valid settings");
-                outcome.best().expect("a flip").peak_torque_nm
-            })
-        });
+    for method in [Method::TrustRegion, Method::InteriorPoint] {
+        for (name, cat, p) in &cases {
+            // The trust region's ids as before this choice existed, so that its history compares.
+            let id = match method {
+                Method::TrustRegion => name.to_string(),
+                _ => format!("{}/{name}", method.name()),
+            };
+            let settings = WholeSettings { method, ..p.optimize.whole.clone() };
+            group.bench_with_input(BenchmarkId::from_parameter(id), cat, |b, cat| {
+                b.iter(|| {
+                    let outcome = optimize_whole(
+                        black_box(cat),
+                        p.drop.fall_time(),
+                        &p.manoeuvre,
+                        &settings,
+                        &Motors::ideal(),
+                        p.exact.tolerance,
+                    )
+                    .expect("valid settings");
+                    outcome.best().expect("a flip").peak_torque_nm
+                })
+            });
+        }
     }
     group.finish();
 }

@@ -62,7 +62,7 @@ fn main() -> anyhow::Result<()> {
         for s in &outcome.solutions {
             for l in &s.log {
                 println!(
-                    "{} {:3} {:?} val {:.6} peak {:.6} viol {:.2e} r {:.2e} {:?} rho {:?} {}",
+                    "{} {:3} {:?} val {:.6} peak {:.6} viol {:.2e} r {:?} mu {:?} {:?} rho {:?} {}",
                     s.start,
                     l.iteration,
                     l.objective,
@@ -70,6 +70,7 @@ fn main() -> anyhow::Result<()> {
                     l.peak_nm,
                     l.violation,
                     l.trust_radius,
+                    l.barrier,
                     l.subproblem,
                     l.ratio,
                     l.accepted

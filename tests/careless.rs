@@ -507,3 +507,29 @@ fn bench_warns_of_a_careless_problem_as_every_command_does() {
     assert!(err.contains("error: drop.angular_momentum = [0, 0, 0.01]: bench assumes"), "{err}");
     assert!(!std::path::Path::new(&out).exists(), "a refused bench wrote {out}");
 }
+
+/// The interior-point method asked for where it does not plan (a bend limit, motor limits, the
+/// effort) is warned of, naming what keeps the trust-region loop; asked for on the least peak with
+/// ideal motors it is not. An unknown method is refused naming the field and the two it knows.
+#[test]
+fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
+    let paper = std::path::Path::new("problems/paper.toml");
+    let method = "optimize.whole.method=\"interior-point\"";
+    let said = |sets: &[&str]| {
+        let sets: Vec<String> = std::iter::once(method).chain(sets.iter().copied()).map(String::from).collect();
+        let warnings = Problem::load(paper, &sets).expect("loads").warnings();
+        warnings.into_iter().find(|w| w.starts_with("optimize.whole.method"))
+    };
+    assert_eq!(said(&[]), None, "the least peak with ideal motors is the interior point's");
+    let bend = said(&["optimize.whole.min_angle_deg=120"]).expect("a bend limit is warned of");
+    assert!(bend.contains("optimize.whole.min_angle_deg") && bend.contains("trust-region loop"), "{bend}");
+    let both = said(&["actuator.torque_limit_nm=1", "optimize.whole.objective=\"energy\""]).expect("warned of");
+    assert!(both.contains("[actuator]") && both.contains("objective = \"energy\""), "{both}");
+    let unknown = Problem::load(paper, &["optimize.whole.method=\"ipm\"".into()]).expect_err("refused").to_string();
+    assert!(
+        unknown.contains("optimize.whole.method")
+            && unknown.contains("trust-region")
+            && unknown.contains("interior-point"),
+        "{unknown}"
+    );
+}

@@ -398,7 +398,30 @@ impl Problem {
         let half = self.cat.half();
         let stiffening = (0.5 * half.end_transverse() / half.axial()).sqrt();
         out.extend(self.robust.warnings(self.drop.fall_time(), stiffening));
+        out.extend(self.method_warning());
         out
+    }
+
+    /// The interior-point method asked for where the trust-region loop plans instead: it solves
+    /// the least peak with ideal motors, without spin and without a bend limit.
+    fn method_warning(&self) -> Option<String> {
+        let w = &self.optimize.whole;
+        if !w.method.interior_point() {
+            return None;
+        }
+        let elsewhere = [
+            (w.objective != whole::Objective::Peak, format!("objective = \"{}\"", w.objective.name())),
+            (!self.actuator.motors().is_ideal(), "the [actuator] limits".to_string()),
+            (self.drop.spins(), "drop.angular_momentum".to_string()),
+            (w.min_angle_deg.is_some(), "optimize.whole.min_angle_deg".to_string()),
+        ];
+        let why: Vec<String> = elsewhere.into_iter().filter(|(on, _)| *on).map(|(_, what)| what).collect();
+        (!why.is_empty()).then(|| {
+            format!(
+                "optimize.whole.method = \"interior-point\" solves the least peak with ideal motors, without spin and without a bend limit: with {} this problem is planned by the trust-region loop",
+                why.join(" and ")
+            )
+        })
     }
 }
 

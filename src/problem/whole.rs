@@ -57,12 +57,41 @@ impl StartKind {
     }
 }
 
+/// The method of the least-peak stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Successive convexification in a trust region, Clarabel's subproblems.
+    TrustRegion,
+    /// The primal-dual interior-point method with the torques' exact curvature, wherever it
+    /// applies (ideal motors, no spin, no bend limit); the trust-region loop elsewhere.
+    InteriorPoint,
+}
+
+impl Method {
+    /// The kebab-case name used in problem files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TrustRegion => "trust-region",
+            Method::InteriorPoint => "interior-point",
+        }
+    }
+
+    /// Whether the least peak is the interior-point method's (where it applies).
+    pub fn interior_point(self) -> bool {
+        self == Method::InteriorPoint
+    }
+}
+
 /// Settings of the whole-manoeuvre optimisation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct WholeSettings {
     /// What to minimise.
     pub objective: Objective,
+    /// The method of the least-peak stage (the energy's stages and every stage with motor
+    /// limits, spin or a bend limit are the trust-region loop's).
+    pub method: Method,
     /// Smallest angle allowed between the halves (180 = straight), degrees; none when absent.
     pub min_angle_deg: Option<f64>,
     /// Bound on `|q1|` and `|q2|`, degrees, imposed on the control points (so on the whole
@@ -89,7 +118,7 @@ pub struct WholeSettings {
     /// Magnus steps per knot span in the optimisation loop (the final flip is re-measured by
     /// [`crate::engines::exact::flip`] to the requested tolerance).
     pub steps_per_span: usize,
-    /// Most trust-region iterations per start (all stages together).
+    /// Most iterations per start (all stages together).
     pub max_iterations: usize,
     /// The starts, in order; the best feasible result is kept. The default pair covers both twist
     /// directions and both bend paths (the paper's twists by −π, the mirrored cone by +π).
@@ -98,7 +127,9 @@ pub struct WholeSettings {
     /// then the peak from there.
     pub homotopy: bool,
     /// Stop when the predicted decrease of the merit function is below this fraction of the
-    /// objective (times the trust radius in radians, up to one, for a step the radius cut short).
+    /// objective (times the trust radius in radians, up to one, for a step the radius cut short);
+    /// the interior-point method stops when its optimality error, in units of the start's peak,
+    /// is below it.
     pub optimality: f64,
     /// Initial trust radius on the control points, degrees.
     pub trust_radius_deg: f64,
@@ -111,6 +142,7 @@ impl Default for WholeSettings {
     fn default() -> Self {
         Self {
             objective: Objective::Peak,
+            method: Method::TrustRegion,
             min_angle_deg: None,
             joint_limit_deg: None,
             control_points: 120,

@@ -25,9 +25,15 @@ impl WholeReport {
         let mut s = String::new();
         let _ = writeln!(s, "## Whole-manoeuvre optimum (`{}`, objective {})\n", self.problem, self.objective.name());
         let _ = writeln!(s, "The cat: {}.\n", self.cat);
+        let interior = self.best().is_some_and(|b| b.log.iter().any(|l| l.barrier.is_some()));
         let _ = writeln!(
             s,
-            "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n"
+            "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems{}; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n",
+            if interior {
+                " and the least peak by a primal-dual interior-point method with the torques' exact curvature (`optimize.whole.method = \"interior-point\"`)"
+            } else {
+                ""
+            }
         );
         if self.spins() {
             let l = self.angular_momentum_nms;
@@ -122,24 +128,26 @@ impl WholeReport {
         if let Some(b) = self.best() {
             let _ = writeln!(
                 s,
-                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective). *peak* is the largest torque on the loop's samples at the iterate (`samples_per_span` per knot span, on the knots that stage solves: a refined stage's are finer), which can lie a little below the optimum's dense re-measurement above; *violation* `|e|₁` is the flip's error, rad; *trust radius* the largest step a subproblem may take, rad; *ratio* the actual merit decrease over the predicted one (a step is accepted at 0.1 or more); *Newton steps* are the final phase's, which drive `|e|` to round-off:\n",
+                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective). *peak* is the largest torque on the loop's samples at the iterate (`samples_per_span` per knot span, on the knots that stage solves: a refined stage's are finer), which can lie a little below the optimum's dense re-measurement above; *violation* `|e|₁` is the flip's error, rad; *trust radius* the largest step a subproblem may take, rad; *ratio* the actual merit decrease over the predicted one (a step is accepted at 0.1 or more); *barrier μ* the barrier parameter of an interior-point iteration (in units of the stage's first peak), which has no trust radius, subproblem or ratio (its steps are judged by a filter); *Newton steps* are the final phase's, which drive `|e|` to round-off:\n",
                 b.start
             );
             let _ = writeln!(
                 s,
-                "| # | stage objective | peak N·m | violation | trust radius | subproblem | ratio | accepted |"
+                "| # | stage objective | peak N·m | violation | trust radius | barrier μ | subproblem | ratio | accepted |"
             );
-            let _ = writeln!(s, "|---:|---|---:|---:|---:|---|---:|---|");
+            let _ = writeln!(s, "|---:|---|---:|---:|---:|---:|---|---:|---|");
+            let sci = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2e}"));
             for (i, l) in b.log.iter().enumerate() {
                 let _ = writeln!(
                     s,
-                    "| {} | {} | {:.6} | {:.2e} | {:.2e} | {} | {} | {} |",
+                    "| {} | {} | {:.6} | {:.2e} | {} | {} | {} | {} | {} |",
                     i + 1,
                     l.objective.name(),
                     l.peak_nm,
                     l.violation,
-                    l.trust_radius,
-                    l.subproblem,
+                    sci(l.trust_radius),
+                    sci(l.barrier),
+                    l.subproblem.map_or("—".to_string(), |q| q.to_string()),
                     l.ratio.map_or("—".to_string(), |x| format!("{x:.3}")),
                     if l.accepted { "yes" } else { "no" }
                 );

@@ -67,7 +67,9 @@
 //! `min-time` the best start (converged, or an upper bound: [`WholeStatus::UpperBound`]) is then
 //! refined where its torques switch and solved again from the same curve ([`refine_solution`]).
 //! Several starts ([`starts`]); the best such flip is kept, and every start's outcome is
-//! reported.
+//! reported. With `method = "interior-point"` the least-peak stage (ideal motors, no spin, no
+//! bend limit) is a primal-dual interior-point method with the torques' exact curvature
+//! instead (`interior`), on the same spline and samples; the energy's stages stay the loop's.
 //!
 //! ## Motor limits (DESIGN.md §9)
 //! With `[actuator]` limits ([`crate::model::motor`]) each torque sample gives linearised rows of
@@ -106,6 +108,7 @@ pub mod cat;
 pub mod curvature;
 pub mod dual;
 pub mod dynamics;
+mod interior;
 pub mod lift;
 pub mod limits;
 pub mod measure;
@@ -135,7 +138,7 @@ pub use crate::model::motor::{motors_beyond, MotorsBeyond};
 pub use cat::{NamedBody, WholeCat};
 pub use scope::{beyond_two_motors, spin_supported};
 pub use scvx::ScvxProblem;
-pub use settings::{Objective, StartKind, WholeError, WholeSettings};
+pub use settings::{Method, Objective, StartKind, WholeError, WholeSettings};
 pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
 pub use spline::BSpline;
 pub use starts::{build_start, build_start_spinning, NamedStart};
@@ -615,8 +618,12 @@ impl Run {
         budget: usize,
     ) -> Result<(WholeStatus, String, BSpline, measure::Measurement), WholeError> {
         let optimality = p.settings.optimality;
-        let it = p.evaluate(spline, objective, self.steps);
-        let end = p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?;
+        let end = if interior::applies(p, objective, bound, enough) {
+            interior::stage(p, spline, optimality, budget, self.steps, &mut self.log)?
+        } else {
+            let it = p.evaluate(spline, objective, self.steps);
+            p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?
+        };
         // The loop's projections move every control point, those on a limit too (by ~1e-11 rad on
         // refined knots): back within the limits, as in the subproblems, before the Newton phase
         // (which holds them there, ScvxProblem::polish).

@@ -306,8 +306,9 @@ impl ScvxProblem<'_> {
                 value: it.objective,
                 peak_nm: it.peak,
                 violation: it.violation,
-                trust_radius: radius,
-                subproblem: step.status,
+                trust_radius: Some(radius),
+                barrier: None,
+                subproblem: Some(step.status),
                 ratio: None,
                 accepted: false,
             };

@@ -1,7 +1,7 @@
 //! Errors of the whole-manoeuvre optimisation; its settings live with the problem file
 //! ([`crate::problem::whole`]).
 
-pub use crate::problem::whole::{Objective, StartKind, WholeSettings};
+pub use crate::problem::whole::{Method, Objective, StartKind, WholeSettings};
 
 /// Why the whole-manoeuvre optimisation could not run.
 #[derive(Debug, thiserror::Error)]

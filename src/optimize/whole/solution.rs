@@ -56,7 +56,7 @@ impl WholeStatus {
     pub const UPPER_BOUND_MEANS: &'static str = "`upper-bound`: the stage that gave the number stopped at its iteration budget, still descending, below what it started from (a converged optimum, or an upper bound below one): a flip that exists and the best found, its value an upper bound on the optimum it was descending to, not proved one";
 }
 
-/// One trust-region iteration.
+/// One iteration: of the trust-region loop or of the interior-point method.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct IterationLog {
     /// Iteration number, from one, counted over all stages.
@@ -69,10 +69,13 @@ pub struct IterationLog {
     pub peak_nm: f64,
     /// `|e|₁` of the final orientation at the current iterate, rad.
     pub violation: f64,
-    /// Trust radius of the subproblem, rad.
-    pub trust_radius: f64,
-    /// The subproblem's status.
-    pub subproblem: QpStatus,
+    /// Trust radius of the subproblem, rad (none for an interior-point iteration).
+    pub trust_radius: Option<f64>,
+    /// The barrier parameter `μ` of an interior-point iteration, in units of the start's peak
+    /// (none for a trust-region iteration).
+    pub barrier: Option<f64>,
+    /// The subproblem's status (none for an interior-point iteration, which has no subproblem).
+    pub subproblem: Option<QpStatus>,
     /// Actual over predicted decrease of the merit function (none when nothing was tried).
     pub ratio: Option<f64>,
     /// Whether the step was accepted.

@@ -1,0 +1,429 @@
+//! The least peak by a primal-dual interior-point method with the torques' exact curvature
+//! (issue 22: the whole optimiser beyond two motors).
+//!
+//! ## Why
+//! Successive linear programming ([`super::scvx`]) crawls at a least-peak optimum that is not a
+//! vertex of its linearisation: beyond two motors every motor sits at the peak along arcs, the
+//! model keeps predicting a decrease that the torques' curvature takes back, and the stage ran its
+//! 200 iterations at trust radii near `10⁻³` rad (the spherical joint, the tailed and legged cats:
+//! 8–25 s). A method whose steps carry the Lagrangian's curvature, indefinite as it is, ends the
+//! crawl: an independent collocation with IPOPT reached the spherical joint's optimum in 51
+//! iterations from the same start (`tests/reference/README.md`).
+//!
+//! ## Problem
+//! On the control points `c` of the spline ([`super::spline`], the ends held as the settings say)
+//! and the peak bound `t` (in units of the start's sampled peak `τ_u`):
+//!
+//! $$ \min_{c, t}\; t \quad\text{s.t.}\quad t ∓ τ_{kj}(c)/τ_u ≥ 0 \;\;\forall k, j,\qquad
+//!    q_{max} ∓ c_v ≥ 0, \qquad e(c) = 0, $$
+//!
+//! the torques on the same samples as the trust-region loop's (`samples_per_span` per span), the
+//! control points within their coordinate's limit where it has one (the legs' fold), and the
+//! flip `e = log(R_z(π)ᵀ R(T))` in the directions the controls reach ([`super::reach`]). Each
+//! inequality `g_r ≥ 0` gets a slack `s_r > 0` and the barrier `−μ Σ ln s_r`.
+//!
+//! ## Method
+//! IPOPT's algorithm in the parts this problem needs (Wächter and Biegler 2006): Newton steps on
+//! the primal-dual equations of the barrier problem ([`newton`]) with the Lagrangian's Hessian
+//! `Σ z_r ∇²g_r`, the torques' curvature taken exactly sample by sample ([`curvature`]) — the
+//! flip's curvature is left out: with it (by finite differences of the flip's Jacobian, a
+//! second a step) the spherical joint took as many iterations — regularised until positive
+//! definite; the steps kept within the slacks' bounds by the fraction to the boundary
+//! `τ = max(0.99, 1 − μ)`, judged by a filter ([`filter`]), with up to four second-order
+//! corrections of the constraint residuals when the first trial is rejected; the multipliers
+//! kept within `[μ/(10¹⁰ s), 10¹⁰ μ/s]`; `μ` from `10⁻⁴` lowered to `max(ε/10, min(μ/5, μ^{1.5}))`
+//! whenever the barrier problem's error is below `100 μ` ([`BARRIER_SOLVED`]). It ends **converged** when the error of
+//! the original problem (the Lagrangian's gradient, the flip, the rows' residuals and
+//! complementarity, each in the scaled units) is within `optimality`, at its budget with the status
+//! max-iterations, and **stalled** when a line search or a factorisation fails. The Newton phase
+//! and the re-measurement of the trust-region loop ([`super::optimize_start`]) follow as for
+//! every stage.
+//!
+//! It solves the least peak of a cat with ideal motors released without spin and without a
+//! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the
+//! homotopy that starts the peak's) and every other problem keep the trust-region loop.
+//!
+//! ## References
+//! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
+//!   algorithm for large-scale nonlinear programming*, Math. Program. 106 (2006) 25–57;
+//! - J. Nocedal, S. J. Wright, *Numerical Optimization* (2nd ed., 2006), ch. 19.
+
+mod banded;
+mod curvature;
+mod filter;
+mod newton;
+#[cfg(test)]
+mod tests;
+
+use nalgebra::{DVector, UnitQuaternion, Vector3};
+
+use super::reach::Reach;
+use super::scvx::{ScvxProblem, StageEnd};
+use super::sensitivity::{final_orientation, torque_samples, uniform_grid, GridPoint, Layout};
+use super::settings::{Objective, WholeError};
+use super::solution::{IterationLog, WholeStatus};
+use super::spline::BSpline;
+use filter::{Current, Filter, Verdict};
+use newton::{Newton, Order, Rows};
+
+/// The first barrier parameter, in the scaled units.
+const FIRST_BARRIER: f64 = 1e-4;
+/// The bound `t` starts this share above the start's sampled peak.
+const FIRST_MARGIN: f64 = 1e-3;
+/// The least first slack.
+const LEAST_SLACK: f64 = 1e-8;
+/// `κ_Σ`: how far the multipliers may stray from `μ/s`.
+const DUAL_SPREAD: f64 = 1e10;
+/// `κ_ε`: the barrier problem counts as solved at this multiple of `μ` (IPOPT's 10 left the
+/// spherical joint's `cone-mirrored` start 125 iterations at one `μ`, wandering along the
+/// relative twist; at 100 it converged in 28 to the same optimum, 0.312461 N·m against 0.312518).
+const BARRIER_SOLVED: f64 = 100.0;
+/// Second-order corrections tried after a rejected first trial.
+const CORRECTIONS: usize = 4;
+/// The shortest step of a line search.
+const LEAST_STEP: f64 = 1e-10;
+
+/// One evaluated point: the unknowns, the inequality rows and the flip's equality rows.
+#[derive(Clone)]
+struct Point {
+    /// `(c, t)`.
+    x: Vec<f64>,
+    rows: Rows,
+    /// The flip's error `e`.
+    error: Vector3<f64>,
+    /// The reachable equality rows over the control points, and their residuals.
+    equality: Vec<Vec<f64>>,
+    equality_residual: Vec<f64>,
+    /// The largest sampled `|τ|`, N·m.
+    peak: f64,
+}
+
+/// The problem in the method's unknowns: the spline they move, the grid, the scales.
+struct Barrier<'a> {
+    problem: &'a ScvxProblem<'a>,
+    layout: Layout,
+    base: BSpline,
+    grid: Vec<GridPoint>,
+    steps: usize,
+    target: UnitQuaternion<f64>,
+    /// `τ_u`, N·m.
+    unit: f64,
+    /// Each control point's limit, rad.
+    limits: Vec<Option<f64>>,
+}
+
+impl Barrier<'_> {
+    fn variables(&self) -> usize {
+        self.layout.variables()
+    }
+
+    /// The spline at the control points `x[..n]`.
+    fn spline(&self, x: &[f64]) -> BSpline {
+        let now = self.layout.values(&self.base);
+        let step: Vec<f64> = now.iter().zip(x).map(|(c, v)| v - c).collect();
+        self.layout.moved(&self.base, &step)
+    }
+
+    /// Evaluates torques, limits and flip at `x`.
+    fn evaluate(&self, x: &[f64]) -> Point {
+        let n = self.variables();
+        let spline = self.spline(x);
+        let samples = torque_samples(self.problem.cat, &spline, &self.layout, &self.grid);
+        let flip = final_orientation(self.problem.cat, &spline, &self.layout, self.steps, &self.target);
+        let mut rows = Rows::default();
+        rows.start.push(0);
+        let mut peak = 0.0f64;
+        for sample in &samples {
+            for (tau, gradient) in sample.tau.iter().zip(&sample.gradient) {
+                peak = peak.max(tau.abs());
+                for sign in [1.0, -1.0] {
+                    rows.values.push(x[n] - sign * tau / self.unit);
+                    rows.t.push(1.0);
+                    rows.entries.extend(gradient.iter().map(|&(v, d)| (v, -sign * d / self.unit)));
+                    rows.start.push(rows.entries.len());
+                }
+            }
+        }
+        for (v, limit) in self.limits.iter().enumerate() {
+            if let Some(l) = limit {
+                for sign in [1.0, -1.0] {
+                    rows.values.push(l - sign * x[v]);
+                    rows.t.push(0.0);
+                    rows.entries.push((v, -sign));
+                    rows.start.push(rows.entries.len());
+                }
+            }
+        }
+        let constraint = Reach::of(&flip.jacobian).constraint_rows(&flip.jacobian, &flip.error);
+        let (equality, equality_residual) = constraint.into_iter().map(|(a, b)| (a, -b)).unzip();
+        Point { x: x.to_vec(), rows, error: flip.error, equality, equality_residual, peak }
+    }
+
+    /// The torques' curvature `Σ z_r ∇²g_r` on the control points at `point` for the
+    /// multipliers `z`, as entries ([`curvature::weighted_torque_hessian`]).
+    fn curvature(&self, point: &Point, z: &[f64]) -> Vec<(usize, usize, f64)> {
+        let joints = self.layout.joints;
+        let weights: Vec<Vec<f64>> = (0..self.grid.len())
+            .map(|k| (0..joints).map(|j| (z[2 * (k * joints + j)] - z[2 * (k * joints + j) + 1]) / self.unit).collect())
+            .collect();
+        let spline = self.spline(&point.x);
+        curvature::weighted_torque_hessian(self.problem.cat, &spline, &self.layout, &self.grid, &weights)
+    }
+
+    /// The order of the Newton matrix's unknowns.
+    fn order(&self) -> Order {
+        Order { joints: self.layout.joints, free: self.layout.free() }
+    }
+}
+
+/// `∇f − Eᵀλ − Aᵀz` over `(c, t)` at `point`.
+fn lagrangian_gradient(point: &Point, lambda: &DVector<f64>, z: &[f64]) -> DVector<f64> {
+    let n = point.x.len() - 1;
+    let mut g = DVector::zeros(n + 1);
+    g[n] = 1.0;
+    for (row, l) in point.equality.iter().zip(lambda.iter()) {
+        for (v, a) in row.iter().enumerate() {
+            g[v] -= a * l;
+        }
+    }
+    let minus: Vec<f64> = z.iter().map(|x| -x).collect();
+    point.rows.add_transposed(&minus, &mut g);
+    g
+}
+
+/// `|e|₁ + Σ|g − s|`.
+fn violation(point: &Point, slacks: &[f64]) -> f64 {
+    point.equality_residual.iter().map(|c| c.abs()).sum::<f64>()
+        + point.rows.values.iter().zip(slacks).map(|(g, s)| (g - s).abs()).sum::<f64>()
+}
+
+/// `t − μ Σ ln s`.
+fn barrier_objective(point: &Point, slacks: &[f64], mu: f64) -> f64 {
+    point.x[point.x.len() - 1] - mu * slacks.iter().map(|s| s.ln()).sum::<f64>()
+}
+
+/// Whether this stage is the interior-point method's: the least peak with ideal motors, no
+/// spin, no bend limit and a target, as `optimize.whole.method` chooses.
+pub(crate) fn applies(
+    problem: &ScvxProblem<'_>,
+    objective: Objective,
+    bound: Option<f64>,
+    enough: Option<f64>,
+) -> bool {
+    let s = problem.settings;
+    objective == Objective::Peak
+        && bound.is_none()
+        && enough.is_none()
+        && problem.motors.is_ideal()
+        && !problem.spins()
+        && problem.target.is_some()
+        && s.min_angle_deg.is_none()
+        && s.method.interior_point()
+}
+
+/// The least-peak stage from `spline` (module docs) until the log holds `budget` entries.
+pub(crate) fn stage(
+    problem: &ScvxProblem<'_>,
+    spline: BSpline,
+    optimality: f64,
+    budget: usize,
+    steps: usize,
+    log: &mut Vec<IterationLog>,
+) -> Result<StageEnd, WholeError> {
+    let s = problem.settings;
+    let layout = Layout { control_points: s.control_points, fixed: s.fixed(), joints: problem.cat.joints() };
+    let grid = uniform_grid(&spline, s.samples_per_span);
+    let first = torque_samples(problem.cat, &spline, &layout, &grid);
+    let unit = first.iter().flat_map(|q| q.tau.iter().map(|t| t.abs())).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let coordinates = problem.cat.control_limits(s.joint_limit_deg);
+    let limits = (0..layout.variables()).map(|v| coordinates[v / layout.free()]).collect();
+    let target = problem.target.unwrap_or_else(UnitQuaternion::identity);
+    let barrier = Barrier { problem, layout, base: spline, grid, steps, target, unit, limits };
+    let mut x = layout.values(&barrier.base);
+    x.push(1.0 + FIRST_MARGIN);
+    let point = barrier.evaluate(&x);
+    let (status, reason, point) = solve(&barrier, point, optimality, budget, log);
+    let iterate = problem.evaluate(barrier.spline(&point.x), Objective::Peak, steps);
+    Ok(StageEnd { iterate, status, reason })
+}
+
+/// The method's iterations from `p` (module docs): how they ended, why, and the last point.
+fn solve(
+    b: &Barrier<'_>,
+    mut p: Point,
+    tolerance: f64,
+    budget: usize,
+    log: &mut Vec<IterationLog>,
+) -> (WholeStatus, String, Point) {
+    let m = p.rows.len();
+    let mut mu = FIRST_BARRIER;
+    let mut slacks: Vec<f64> = p.rows.values.iter().map(|g| g.max(LEAST_SLACK)).collect();
+    let mut z: Vec<f64> = slacks.iter().map(|s| mu / s).collect();
+    let mut lambda = DVector::zeros(p.equality.len());
+    let mut filter = Filter::new(violation(&p, &slacks));
+    let mut regularisation = 0.0;
+    loop {
+        if lambda.len() != p.equality.len() {
+            // The reachable directions changed: their multipliers start again.
+            lambda = DVector::zeros(p.equality.len());
+        }
+        let residual: Vec<f64> = (0..m).map(|r| p.rows.values[r] - slacks[r]).collect();
+        let dual = lagrangian_gradient(&p, &lambda, &z).amax();
+        let primal = p.equality_residual.iter().chain(&residual).fold(0.0f64, |a, c| a.max(c.abs()));
+        let complementarity = |target: f64| (0..m).map(|r| (slacks[r] * z[r] - target).abs()).fold(0.0, f64::max);
+        let error = dual.max(primal).max(complementarity(0.0));
+        let mut entry = IterationLog {
+            iteration: log.len() + 1,
+            objective: Objective::Peak,
+            value: p.peak,
+            peak_nm: p.peak,
+            violation: p.error.abs().sum(),
+            trust_radius: None,
+            barrier: Some(mu),
+            subproblem: None,
+            ratio: None,
+            accepted: false,
+        };
+        if error <= tolerance {
+            return (
+                WholeStatus::Converged,
+                format!("interior point: optimality error {error:.1e}, within the tolerance {tolerance:.0e}"),
+                p,
+            );
+        }
+        if log.len() >= budget {
+            return (WholeStatus::MaxIterations, format!("{budget} iterations used"), p);
+        }
+        let least = 0.1 * tolerance;
+        if mu > least && dual.max(primal).max(complementarity(mu)) <= BARRIER_SOLVED * mu {
+            // The barrier problem is solved: the next, smaller μ (at least ε/10, where it stays).
+            mu = (0.2 * mu).min(mu.powf(1.5)).max(least);
+            filter.clear();
+            continue;
+        }
+        let curvature = b.curvature(&p, &z);
+        let degree = b.base.degree;
+        let Some(newton) =
+            Newton::factor(b.order(), degree, &curvature, &p.rows, &slacks, &z, &p.equality, regularisation)
+        else {
+            log.push(entry);
+            return (WholeStatus::Stalled, "interior point: the Newton system could not be factored".into(), p);
+        };
+        regularisation = newton.regularisation;
+        let d = newton.direction(&p.rows, &slacks, &z, mu, &residual, &p.equality_residual, &lambda);
+        let dz: Vec<f64> = (0..m).map(|r| mu / slacks[r] - z[r] - z[r] / slacks[r] * d.s[r]).collect();
+        let tau = (1.0 - mu).max(0.99);
+        let boundary = |from: &[f64], step: &[f64]| {
+            from.iter().zip(step).filter(|(_, s)| **s < 0.0).fold(1.0f64, |a, (x, s)| a.min(-tau * x / s))
+        };
+        let alpha_max = boundary(&slacks, &d.s);
+        let alpha_z = boundary(&z, &dz);
+        let n = b.variables();
+        let slope = d.x[n] - mu * (0..m).map(|r| d.s[r] / slacks[r]).sum::<f64>();
+        let current = Current { theta: violation(&p, &slacks), phi: barrier_objective(&p, &slacks, mu), slope };
+        let Some((alpha, next, next_slacks, verdict)) = line_search(
+            b,
+            &p,
+            &slacks,
+            &d,
+            &newton,
+            Search { mu, tau, alpha_max, current, lambda: &lambda, z: &z },
+            &filter,
+        ) else {
+            log.push(entry);
+            return (
+                WholeStatus::Stalled,
+                format!("interior point: the line search found no acceptable step (μ = {mu:.1e})"),
+                p,
+            );
+        };
+        if verdict == Verdict::Filter {
+            filter.add(current);
+        }
+        entry.accepted = true;
+        log.push(entry);
+        lambda += &d.lambda * alpha;
+        p = next;
+        slacks = next_slacks;
+        for r in 0..m {
+            z[r] = (z[r] + alpha_z * dz[r]).clamp(mu / (DUAL_SPREAD * slacks[r]), DUAL_SPREAD * mu / slacks[r]);
+        }
+    }
+}
+
+/// What a line search needs besides the point and the direction.
+struct Search<'a> {
+    mu: f64,
+    tau: f64,
+    alpha_max: f64,
+    current: Current,
+    lambda: &'a DVector<f64>,
+    z: &'a [f64],
+}
+
+/// Backtracks from the longest step within the slacks' bounds until the filter accepts,
+/// trying second-order corrections after a rejected first trial; the step, the point and slacks
+/// it reached and the verdict, none when the step falls below [`LEAST_STEP`].
+fn line_search(
+    b: &Barrier<'_>,
+    p: &Point,
+    slacks: &[f64],
+    d: &newton::Direction,
+    newton: &Newton,
+    search: Search<'_>,
+    filter: &Filter,
+) -> Option<(f64, Point, Vec<f64>, Verdict)> {
+    let m = slacks.len();
+    let Search { mu, tau, alpha_max, current, lambda, z } = search;
+    let judge =
+        |q: &Point, s: &[f64], alpha: f64| filter.judge(current, violation(q, s), barrier_objective(q, s, mu), alpha);
+    let mut alpha = alpha_max;
+    let mut first = true;
+    while alpha >= LEAST_STEP {
+        let x: Vec<f64> = p.x.iter().zip(d.x.iter()).map(|(x, dx)| x + alpha * dx).collect();
+        let s: Vec<f64> = (0..m).map(|r| slacks[r] + alpha * d.s[r]).collect();
+        let trial = b.evaluate(&x);
+        let verdict = judge(&trial, &s, alpha);
+        if verdict != Verdict::Reject {
+            return Some((alpha, trial, s, verdict));
+        }
+        if first && violation(&trial, &s) >= current.theta {
+            // Second-order corrections (Wächter and Biegler 2006, §2.4): the residuals of each
+            // trial added to the step's.
+            let mut row_sum: Vec<f64> = (0..m).map(|r| alpha * (p.rows.values[r] - slacks[r])).collect();
+            let mut equality_sum: Vec<f64> = p.equality_residual.iter().map(|c| alpha * c).collect();
+            let (mut last, mut last_s) = (trial, s);
+            let mut last_theta = violation(&last, &last_s);
+            for _ in 0..CORRECTIONS {
+                if last.equality_residual.len() != equality_sum.len() {
+                    break;
+                }
+                for r in 0..m {
+                    row_sum[r] += last.rows.values[r] - last_s[r];
+                }
+                for (sum, c) in equality_sum.iter_mut().zip(&last.equality_residual) {
+                    *sum += c;
+                }
+                let c = newton.direction(&p.rows, slacks, z, mu, &row_sum, &equality_sum, lambda);
+                if (0..m).any(|r| slacks[r] + c.s[r] < (1.0 - tau) * slacks[r]) {
+                    break;
+                }
+                let x: Vec<f64> = p.x.iter().zip(c.x.iter()).map(|(x, dx)| x + dx).collect();
+                let s: Vec<f64> = (0..m).map(|r| slacks[r] + c.s[r]).collect();
+                let corrected = b.evaluate(&x);
+                let verdict = judge(&corrected, &s, alpha);
+                if verdict != Verdict::Reject {
+                    return Some((alpha, corrected, s, verdict));
+                }
+                let theta = violation(&corrected, &s);
+                if theta > 0.99 * last_theta {
+                    break;
+                }
+                (last, last_s, last_theta) = (corrected, s, theta);
+            }
+        }
+        first = false;
+        alpha *= 0.5;
+    }
+    None
+}
