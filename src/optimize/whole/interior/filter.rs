@@ -6,8 +6,10 @@
 //! improves on the current point: in `θ` or in `φ` by a margin of `θ`; where the current point is
 //! nearly feasible and the step is a descent direction of `φ` that outweighs the violation (the
 //! switching condition), by an Armijo decrease of `φ` alone, and such a step leaves the filter as
-//! it was. Every other accepted step adds the current pair, with its margins, to the filter. A
-//! new barrier parameter starts a new filter.
+//! it was. Every other accepted step adds the current pair, with its margins, to the filter (the
+//! paper spares the filter also a step that meets both the switching and the Armijo conditions
+//! above `θ_min`; adding it there is only more cautious). A new barrier parameter starts a new
+//! filter.
 
 /// `γ_θ`: the share of the violation a step must remove.
 const GAMMA_THETA: f64 = 1e-5;
@@ -15,8 +17,9 @@ const GAMMA_THETA: f64 = 1e-5;
 const GAMMA_PHI: f64 = 1e-8;
 /// `η_φ`: the Armijo constant.
 const ETA_PHI: f64 = 1e-8;
-/// `s_φ`, `s_θ`: the switching condition's exponents.
+/// `s_φ`: the switching condition's exponent of the slope.
 const SWITCH_PHI: f64 = 2.3;
+/// `s_θ`: the switching condition's exponent of the violation.
 const SWITCH_THETA: f64 = 1.1;
 
 /// The pairs `(θ, φ)` that trial points must not be dominated by.
@@ -97,10 +100,14 @@ mod tests {
         // Less violation: accepted by the filter, and the pair joins it.
         assert_eq!(f.judge(current, 5e-3, 1.1, 1.0), Verdict::Filter);
         f.add(current);
-        // Neither less violation nor a lower objective than the pair: rejected.
-        assert_eq!(f.judge(current, 1.2e-2, 1.2, 1.0), Verdict::Reject);
-        // More violation at a lower objective: neither dominated nor without progress.
-        assert_eq!(f.judge(current, 2e-2, 0.99, 1.0), Verdict::Filter);
+        // From a worse point later, a trial that improves on it but that the stored pair
+        // dominates (more violation and a higher objective than the pair) is rejected...
+        let later = Current { theta: 3e-2, phi: 1.5, slope: -1e-9 };
+        assert_eq!(f.judge(later, 1.5e-2, 1.1, 1.0), Verdict::Reject);
+        // ...and the same trial without the pair is accepted.
+        assert_eq!(Filter::new(1.0).judge(later, 1.5e-2, 1.1, 1.0), Verdict::Filter);
+        // More violation at a lower objective than the pair: not dominated, and an improvement.
+        assert_eq!(f.judge(later, 2e-2, 0.99, 1.0), Verdict::Filter);
         // Beyond the largest violation the filter allows: rejected whatever the objective.
         assert_eq!(f.judge(current, 2e4, 0.0, 1.0), Verdict::Reject);
     }

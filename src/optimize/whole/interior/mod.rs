@@ -23,9 +23,11 @@
 //! inequality `g_r ≥ 0` gets a slack `s_r > 0` and the barrier `−μ Σ ln s_r`.
 //!
 //! ## Method
-//! IPOPT's algorithm in the parts this problem needs (Wächter and Biegler 2006): Newton steps on
+//! After IPOPT's algorithm, in the parts this problem needs (Wächter and Biegler 2006): Newton steps on
 //! the primal-dual equations of the barrier problem ([`newton`]) with the Lagrangian's Hessian
-//! `Σ z_r ∇²g_r`, the torques' curvature taken exactly sample by sample ([`curvature`]) — the
+//! `−Σ z_r ∇²g_r = Σ_kj (z⁺_kj − z⁻_kj) ∇²τ_kj / τ_u` (the rows `t ∓ τ_kj/τ_u` of each sample's
+//! torques, `L = t − λᵀe − zᵀ(g − s)`), the torques' curvature taken exactly sample by sample
+//! ([`curvature`]) — the
 //! flip's curvature is left out: with it (by finite differences of the flip's Jacobian, a
 //! second a step) the spherical joint took as many iterations — regularised until positive
 //! definite; the steps kept within the slacks' bounds by the fraction to the boundary
@@ -55,7 +57,7 @@ mod newton;
 #[cfg(test)]
 mod tests;
 
-use nalgebra::{DVector, UnitQuaternion, Vector3};
+use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
 use super::reach::Reach;
 use super::scvx::{ScvxProblem, StageEnd};
@@ -88,23 +90,69 @@ const LEAST_STEP: f64 = 1e-10;
 struct Point {
     /// `(c, t)`.
     x: Vec<f64>,
+    /// The inequality rows at `x`.
     rows: Rows,
     /// The flip's error `e`.
     error: Vector3<f64>,
-    /// The reachable equality rows over the control points, and their residuals.
+    /// `∂e/∂c`.
+    jacobian: DMatrix<f64>,
+    /// The directions of `e` the equality rows measure ([`Reach`]): the point's own once it is
+    /// the iterate, the iterate's while it is a trial (so that its residuals are comparable).
+    reach: Reach,
+    /// The equality rows over the control points in those directions, and their residuals.
     equality: Vec<Vec<f64>>,
     equality_residual: Vec<f64>,
     /// The largest sampled `|τ|`, N·m.
     peak: f64,
 }
 
+impl Point {
+    /// The point with its equality rows in the directions `reach`.
+    fn measured_in(mut self, reach: Reach) -> Point {
+        let rows = reach.constraint_rows(&self.jacobian, &self.error);
+        (self.equality, self.equality_residual) = rows.into_iter().map(|(a, b)| (a, -b)).unzip();
+        self.reach = reach;
+        self
+    }
+
+    /// The point with its equality rows in its own reachable directions.
+    fn measured_in_own(self) -> Point {
+        let reach = Reach::of(&self.jacobian);
+        self.measured_in(reach)
+    }
+}
+
+/// The multipliers of the equality rows in the directions `reach` for the multiplier `nu` of `e`
+/// itself: `nu` where every direction is reached, its components along the reached ones else.
+fn row_multipliers(reach: &Reach, nu: &Vector3<f64>) -> DVector<f64> {
+    match reach {
+        Reach::Full => DVector::from_column_slice(nu.as_slice()),
+        Reach::Directions(dirs) => DVector::from_iterator(dirs.len(), dirs.iter().map(|(u, _)| u.dot(nu))),
+    }
+}
+
+/// The multiplier of `e` itself for the rows' multipliers `lambda` in the directions `reach`
+/// (the inverse of [`row_multipliers`] on the reached directions).
+fn error_multiplier(reach: &Reach, lambda: &DVector<f64>) -> Vector3<f64> {
+    match reach {
+        Reach::Full => Vector3::new(lambda[0], lambda[1], lambda[2]),
+        Reach::Directions(dirs) => dirs.iter().zip(lambda.iter()).map(|((u, _), l)| u * *l).sum(),
+    }
+}
+
 /// The problem in the method's unknowns: the spline they move, the grid, the scales.
 struct Barrier<'a> {
+    /// The cat, the settings and the target.
     problem: &'a ScvxProblem<'a>,
+    /// The free control points.
     layout: Layout,
+    /// The spline the unknowns move (its held control points stay).
     base: BSpline,
+    /// The torque samples, `samples_per_span` per span.
     grid: Vec<GridPoint>,
+    /// Magnus steps per span of the flip's integration.
     steps: usize,
+    /// The final orientation required.
     target: UnitQuaternion<f64>,
     /// `τ_u`, N·m.
     unit: f64,
@@ -124,8 +172,8 @@ impl Barrier<'_> {
         self.layout.moved(&self.base, &step)
     }
 
-    /// Evaluates torques, limits and flip at `x`.
-    fn evaluate(&self, x: &[f64]) -> Point {
+    /// Evaluates torques, limits and flip at `x`, the flip's rows in the directions `reach`.
+    fn evaluate(&self, x: &[f64], reach: &Reach) -> Point {
         let n = self.variables();
         let spline = self.spline(x);
         let samples = torque_samples(self.problem.cat, &spline, &self.layout, &self.grid);
@@ -154,13 +202,22 @@ impl Barrier<'_> {
                 }
             }
         }
-        let constraint = Reach::of(&flip.jacobian).constraint_rows(&flip.jacobian, &flip.error);
-        let (equality, equality_residual) = constraint.into_iter().map(|(a, b)| (a, -b)).unzip();
-        Point { x: x.to_vec(), rows, error: flip.error, equality, equality_residual, peak }
+        let point = Point {
+            x: x.to_vec(),
+            rows,
+            error: flip.error,
+            jacobian: flip.jacobian,
+            reach: Reach::Full,
+            equality: Vec::new(),
+            equality_residual: Vec::new(),
+            peak,
+        };
+        point.measured_in(reach.clone())
     }
 
-    /// The torques' curvature `Σ z_r ∇²g_r` on the control points at `point` for the
-    /// multipliers `z`, as entries ([`curvature::weighted_torque_hessian`]).
+    /// The Lagrangian's curvature `−Σ z_r ∇²g_r` on the control points at `point` for the
+    /// multipliers `z` (the torque rows' `Σ (z⁺ − z⁻) ∇²τ / τ_u`; the limit rows are linear), as
+    /// entries ([`curvature::weighted_torque_hessian`]).
     fn curvature(&self, point: &Point, z: &[f64]) -> Vec<(usize, usize, f64)> {
         let joints = self.layout.joints;
         let weights: Vec<Vec<f64>> = (0..self.grid.len())
@@ -241,7 +298,7 @@ pub(crate) fn stage(
     let barrier = Barrier { problem, layout, base: spline, grid, steps, target, unit, limits };
     let mut x = layout.values(&barrier.base);
     x.push(1.0 + FIRST_MARGIN);
-    let point = barrier.evaluate(&x);
+    let point = barrier.evaluate(&x, &Reach::Full).measured_in_own();
     let (status, reason, point) = solve(&barrier, point, optimality, budget, log);
     let iterate = problem.evaluate(barrier.spline(&point.x), Objective::Peak, steps);
     Ok(StageEnd { iterate, status, reason })
@@ -259,19 +316,21 @@ fn solve(
     let mut mu = FIRST_BARRIER;
     let mut slacks: Vec<f64> = p.rows.values.iter().map(|g| g.max(LEAST_SLACK)).collect();
     let mut z: Vec<f64> = slacks.iter().map(|s| mu / s).collect();
-    let mut lambda = DVector::zeros(p.equality.len());
+    // The flip's multiplier, carried as that of `e` itself: the rows' directions may change
+    // from one iterate to the next (a symmetric cat's, [`Reach`]).
+    let mut nu = Vector3::zeros();
     let mut filter = Filter::new(violation(&p, &slacks));
     let mut regularisation = 0.0;
     loop {
-        if lambda.len() != p.equality.len() {
-            // The reachable directions changed: their multipliers start again.
-            lambda = DVector::zeros(p.equality.len());
-        }
+        let lambda = row_multipliers(&p.reach, &nu);
         let residual: Vec<f64> = (0..m).map(|r| p.rows.values[r] - slacks[r]).collect();
         let dual = lagrangian_gradient(&p, &lambda, &z).amax();
         let primal = p.equality_residual.iter().chain(&residual).fold(0.0f64, |a, c| a.max(c.abs()));
         let complementarity = |target: f64| (0..m).map(|r| (slacks[r] * z[r] - target).abs()).fold(0.0, f64::max);
         let error = dual.max(primal).max(complementarity(0.0));
+        if !error.is_finite() {
+            return (WholeStatus::Stalled, format!("interior point: the optimality error is {error}"), p);
+        }
         let mut entry = IterationLog {
             iteration: log.len() + 1,
             objective: Objective::Peak,
@@ -342,8 +401,8 @@ fn solve(
         }
         entry.accepted = true;
         log.push(entry);
-        lambda += &d.lambda * alpha;
-        p = next;
+        nu = error_multiplier(&p.reach, &(lambda + &d.lambda * alpha));
+        p = next.measured_in_own();
         slacks = next_slacks;
         for r in 0..m {
             z[r] = (z[r] + alpha_z * dz[r]).clamp(mu / (DUAL_SPREAD * slacks[r]), DUAL_SPREAD * mu / slacks[r]);
@@ -353,11 +412,17 @@ fn solve(
 
 /// What a line search needs besides the point and the direction.
 struct Search<'a> {
+    /// The barrier parameter.
     mu: f64,
+    /// The fraction to the boundary.
     tau: f64,
+    /// The longest step within it.
     alpha_max: f64,
+    /// The current point's violation, barrier objective and slope.
     current: Current,
+    /// The equality rows' multipliers.
     lambda: &'a DVector<f64>,
+    /// The rows' multipliers.
     z: &'a [f64],
 }
 
@@ -382,7 +447,7 @@ fn line_search(
     while alpha >= LEAST_STEP {
         let x: Vec<f64> = p.x.iter().zip(d.x.iter()).map(|(x, dx)| x + alpha * dx).collect();
         let s: Vec<f64> = (0..m).map(|r| slacks[r] + alpha * d.s[r]).collect();
-        let trial = b.evaluate(&x);
+        let trial = b.evaluate(&x, &p.reach);
         let verdict = judge(&trial, &s, alpha);
         if verdict != Verdict::Reject {
             return Some((alpha, trial, s, verdict));
@@ -395,9 +460,6 @@ fn line_search(
             let (mut last, mut last_s) = (trial, s);
             let mut last_theta = violation(&last, &last_s);
             for _ in 0..CORRECTIONS {
-                if last.equality_residual.len() != equality_sum.len() {
-                    break;
-                }
                 for r in 0..m {
                     row_sum[r] += last.rows.values[r] - last_s[r];
                 }
@@ -410,7 +472,7 @@ fn line_search(
                 }
                 let x: Vec<f64> = p.x.iter().zip(c.x.iter()).map(|(x, dx)| x + dx).collect();
                 let s: Vec<f64> = (0..m).map(|r| slacks[r] + c.s[r]).collect();
-                let corrected = b.evaluate(&x);
+                let corrected = b.evaluate(&x, &p.reach);
                 let verdict = judge(&corrected, &s, alpha);
                 if verdict != Verdict::Reject {
                     return Some((alpha, corrected, s, verdict));

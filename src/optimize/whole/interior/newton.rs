@@ -12,10 +12,10 @@
 //!
 //! with `r = g − s` and `c` the rows' residuals (`r` and `c` replaced by their corrected sums in a
 //! second-order correction), then `d_s = A d_x + r` and `d_z = μ/s − z − Σ d_s`. The `(c, t)`
-//! block is factored by Cholesky after `δ` (on the control points) makes it positive
-//! definite, `δ` found as IPOPT finds its inertia correction (from a third of the last one, by
-//! factors of four from `10⁻⁴`); the few equality rows enter by their Schur complement
-//! `E H⁻¹ Eᵀ`.
+//! block, banded but for `t` ([`super::banded`]), is factored by Cholesky once `δ` (on the
+//! control points) makes it positive definite, after IPOPT's inertia correction: from a third of
+//! the last `δ` (none below `10⁻¹⁰`), else from `10⁻⁴`, by factors of four (IPOPT tries none
+//! first and grows by eight). The few equality rows enter by their Schur complement `E H⁻¹ Eᵀ`.
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
@@ -175,6 +175,7 @@ impl Newton {
         }
         let mut delta = if last > 0.0 { last / 3.0 } else { 0.0 };
         if delta < 1e-6 * FIRST_REGULARISATION {
+            // Below 1e-10: none.
             delta = 0.0;
         }
         let factor = loop {
@@ -224,5 +225,88 @@ impl Newton {
         let x = free + &self.spread * &d_lambda;
         let s = (0..rows.len()).map(|r| rows.dot(r, &x) + row_residual[r]).collect();
         Direction { x, lambda: d_lambda, s }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::numeric::random::SplitMix64;
+
+    /// The condensed direction solves the full primal-dual Newton system (module docs) of a
+    /// small random problem: `W d_x − Eᵀ d_λ − Aᵀ d_z = −(∇f − Eᵀλ − Aᵀz)`, `E d_x = −c`,
+    /// `A d_x − d_s = −r`, `Z d_s + S d_z = μ − S z`, solved densely.
+    #[test]
+    fn the_condensed_direction_solves_the_full_newton_system() {
+        let mut rng = SplitMix64::new(11);
+        let order = Order { joints: 2, free: 3 };
+        let (n, m, k) = (order.variables(), 7, 2);
+        let nx = n + 1;
+        // A positive definite W on the control points (so that no regularisation enters).
+        let g = DMatrix::from_fn(n, n, |_, _| rng.uniform(-1.0, 1.0));
+        let w = &g * g.transpose() + DMatrix::identity(n, n);
+        let curvature: Vec<(usize, usize, f64)> =
+            (0..n).flat_map(|v| (0..n).map(move |u| (v, u))).map(|(v, u)| (v, u, w[(v, u)])).collect();
+        let mut rows = Rows { start: vec![0], ..Rows::default() };
+        for _ in 0..m {
+            rows.values.push(rng.uniform(0.1, 1.0));
+            rows.t.push(if rng.unit() < 0.7 { 1.0 } else { 0.0 });
+            rows.entries.extend((0..n).map(|v| (v, rng.uniform(-1.0, 1.0))));
+            rows.start.push(rows.entries.len());
+        }
+        let slacks: Vec<f64> = (0..m).map(|_| rng.uniform(0.05, 1.0)).collect();
+        let duals: Vec<f64> = (0..m).map(|_| rng.uniform(0.05, 1.0)).collect();
+        let equality: Vec<Vec<f64>> = (0..k).map(|_| (0..n).map(|_| rng.uniform(-1.0, 1.0)).collect()).collect();
+        let residual: Vec<f64> = (0..m).map(|_| rng.uniform(-0.1, 0.1)).collect();
+        let c: Vec<f64> = (0..k).map(|_| rng.uniform(-0.1, 0.1)).collect();
+        let lambda = DVector::from_fn(k, |_, _| rng.uniform(-1.0, 1.0));
+        let mu = 1e-2;
+        let newton = Newton::factor(order, 3, &curvature, &rows, &slacks, &duals, &equality, 0.0).expect("factors");
+        assert!(newton.regularisation <= 0.0, "no regularisation: {}", newton.regularisation);
+        let d = newton.direction(&rows, &slacks, &duals, mu, &residual, &c, &lambda);
+        // The full system over (d_x, d_λ, d_s, d_z).
+        let size = nx + k + 2 * m;
+        let mut a = DMatrix::zeros(size, size);
+        let mut b = DVector::zeros(size);
+        let row_of = |r: usize| DVector::from_fn(nx, |v, _| if v == n { rows.t[r] } else { rows.row(r)[v].1 });
+        // ∇f − Eᵀλ − Aᵀz with ∇f = e_t.
+        let mut gradient = DVector::zeros(nx);
+        gradient[n] = 1.0;
+        for i in 0..k {
+            for v in 0..n {
+                gradient[v] -= equality[i][v] * lambda[i];
+                a[(v, nx + i)] = -equality[i][v];
+                a[(nx + i, v)] = equality[i][v];
+            }
+            b[nx + i] = -c[i];
+        }
+        for v in 0..n {
+            for u in 0..n {
+                a[(v, u)] = w[(v, u)];
+            }
+        }
+        for r in 0..m {
+            let ar = row_of(r);
+            gradient -= &ar * duals[r];
+            let (srow, zcol) = (nx + k + r, nx + k + m + r);
+            for v in 0..nx {
+                a[(v, zcol)] = -ar[v];
+                a[(srow, v)] = ar[v];
+            }
+            a[(srow, nx + k + r)] = -1.0;
+            b[srow] = -residual[r];
+            // Z d_s + S d_z = μ − S z.
+            a[(zcol, nx + k + r)] = duals[r];
+            a[(zcol, zcol)] = slacks[r];
+            b[zcol] = mu - slacks[r] * duals[r];
+        }
+        for v in 0..nx {
+            b[v] = -gradient[v];
+        }
+        let full = a.lu().solve(&b).expect("a regular system");
+        let worst_x = (0..nx).map(|v| (full[v] - d.x[v]).abs()).fold(0.0, f64::max);
+        let worst_l = (0..k).map(|i| (full[nx + i] - d.lambda[i]).abs()).fold(0.0, f64::max);
+        let worst_s = (0..m).map(|r| (full[nx + k + r] - d.s[r]).abs()).fold(0.0, f64::max);
+        assert!(worst_x < 1e-10 && worst_l < 1e-10 && worst_s < 1e-10, "{worst_x:.1e} {worst_l:.1e} {worst_s:.1e}");
     }
 }
