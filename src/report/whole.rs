@@ -126,35 +126,50 @@ impl WholeReport {
             let _ = writeln!(s, "| {} | not started | | | | | | | | {} |", k.start, k.reason);
         }
         if let Some(b) = self.best() {
-            let _ = writeln!(
-                s,
-                "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective). *peak* is the largest torque on the loop's samples at the iterate (`samples_per_span` per knot span, on the knots that stage solves: a refined stage's are finer), which can lie a little below the optimum's dense re-measurement above; *violation* `|e|₁` is the flip's error, rad; *trust radius* the largest step a subproblem may take, rad; *ratio* the actual merit decrease over the predicted one (a step is accepted at 0.1 or more); *barrier μ* the barrier parameter of an interior-point iteration (in units of the stage's first peak), which has no trust radius, subproblem or ratio (its steps are judged by a filter); *Newton steps* are the final phase's, which drive `|e|` to round-off:\n",
-                b.start
-            );
-            let _ = writeln!(
-                s,
-                "| # | stage objective | peak N·m | violation | trust radius | barrier μ | subproblem | ratio | accepted |"
-            );
-            let _ = writeln!(s, "|---:|---|---:|---:|---:|---:|---|---:|---|");
-            let sci = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2e}"));
-            for (i, l) in b.log.iter().enumerate() {
-                let _ = writeln!(
-                    s,
-                    "| {} | {} | {:.6} | {:.2e} | {} | {} | {} | {} | {} |",
-                    i + 1,
-                    l.objective.name(),
-                    l.peak_nm,
-                    l.violation,
-                    sci(l.trust_radius),
-                    sci(l.barrier),
-                    l.subproblem.map_or("—".to_string(), |q| q.to_string()),
-                    l.ratio.map_or("—".to_string(), |x| format!("{x:.3}")),
-                    if l.accepted { "yes" } else { "no" }
-                );
-            }
+            s.push_str(&iteration_table(b));
         }
         s
     }
+}
+
+/// The iteration log of the best start `b` as a Markdown table, with its legend; the barrier
+/// column only when an interior-point stage planned (`optimize.whole.method`).
+fn iteration_table(b: &WholeSolution) -> String {
+    let interior = b.log.iter().any(|l| l.barrier.is_some());
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nIterations of the best start (`{}`; the stages: coarse and fine energy, then the objective). *peak* is the largest torque on the loop's samples at the iterate (`samples_per_span` per knot span, on the knots that stage solves: a refined stage's are finer), which can lie a little below the optimum's dense re-measurement above; *violation* `|e|₁` is the flip's error, rad; *trust radius* the largest step a subproblem may take, rad; *ratio* the actual merit decrease over the predicted one (a step is accepted at 0.1 or more); {}*Newton steps* are the final phase's, which drive `|e|` to round-off:\n",
+        b.start,
+        if interior {
+            "*barrier μ* the barrier parameter of an interior-point iteration (in units of the stage's first peak), which has no trust radius, subproblem or ratio (its steps are judged by a filter); "
+        } else {
+            ""
+        }
+    );
+    let barrier = if interior { " barrier μ |" } else { "" };
+    let _ = writeln!(
+        s,
+        "| # | stage objective | peak N·m | violation | trust radius |{barrier} subproblem | ratio | accepted |"
+    );
+    let _ = writeln!(s, "|---:|---|---:|---:|---:|{}---|---:|---|", if interior { "---:|" } else { "" });
+    let sci = |x: Option<f64>| x.map_or("—".to_string(), |x| format!("{x:.2e}"));
+    for (i, l) in b.log.iter().enumerate() {
+        let barrier = if interior { format!(" {} |", sci(l.barrier)) } else { String::new() };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.6} | {:.2e} | {} |{barrier} {} | {} | {} |",
+            i + 1,
+            l.objective.name(),
+            l.peak_nm,
+            l.violation,
+            sci(l.trust_radius),
+            l.subproblem.map_or("—".to_string(), |q| q.to_string()),
+            l.ratio.map_or("—".to_string(), |x| format!("{x:.3}")),
+            if l.accepted { "yes" } else { "no" }
+        );
+    }
+    s
 }
 
 /// What a least drop height outside [`PLAUSIBLE_HEIGHT_M`] says about the motors: far too weak

@@ -18,32 +18,41 @@
 //!    q_{max} ∓ c_v ≥ 0, \qquad e(c) = 0, $$
 //!
 //! the torques on the same samples as the trust-region loop's (`samples_per_span` per span), the
-//! control points within their coordinate's limit where it has one (the legs' fold), and the
-//! flip `e = log(R_z(π)ᵀ R(T))` in the directions the controls reach ([`super::reach`]). Each
-//! inequality `g_r ≥ 0` gets a slack `s_r > 0` and the barrier `−μ Σ ln s_r`.
+//! control points within their coordinate's limit where it has one (the legs' fold,
+//! `joint_limit_deg`), and the flip `e = log(R_z(π)ᵀ R(T))` in the directions the controls
+//! reach ([`super::reach`]). Each inequality `g_r ≥ 0` gets a slack `s_r > 0` and the barrier
+//! `−μ Σ ln s_r`.
 //!
 //! ## Method
-//! After IPOPT's algorithm, in the parts this problem needs (Wächter and Biegler 2006): Newton steps on
-//! the primal-dual equations of the barrier problem ([`newton`]) with the Lagrangian's Hessian
-//! `−Σ z_r ∇²g_r = Σ_kj (z⁺_kj − z⁻_kj) ∇²τ_kj / τ_u` (the rows `t ∓ τ_kj/τ_u` of each sample's
-//! torques, `L = t − λᵀe − zᵀ(g − s)`), the torques' curvature taken exactly sample by sample
-//! ([`curvature`]) — the
-//! flip's curvature is left out: with it (by finite differences of the flip's Jacobian, a
-//! second a step) the spherical joint took as many iterations — regularised until positive
-//! definite; the steps kept within the slacks' bounds by the fraction to the boundary
-//! `τ = max(0.99, 1 − μ)`, judged by a filter ([`filter`]), with up to four second-order
-//! corrections of the constraint residuals when the first trial is rejected; the multipliers
-//! kept within `[μ/(10¹⁰ s), 10¹⁰ μ/s]`; `μ` from `10⁻⁴` lowered to `max(ε/10, min(μ/5, μ^{1.5}))`
-//! whenever the barrier problem's error is below `100 μ` ([`BARRIER_SOLVED`]). It ends **converged** when the error of
-//! the original problem (the Lagrangian's gradient, the flip, the rows' residuals and
-//! complementarity, each in the scaled units) is within `optimality`, at its budget with the status
-//! max-iterations, and **stalled** when a line search or a factorisation fails. The Newton phase
-//! and the re-measurement of the trust-region loop ([`super::optimize_start`]) follow as for
-//! every stage.
+//! After IPOPT's algorithm, in the parts this problem needs (Wächter and Biegler 2006):
+//! - Newton steps on the primal-dual equations of the barrier problem ([`newton`]) with the
+//!   Lagrangian's Hessian `−Σ z_r ∇²g_r = Σ_kj (z⁺_kj − z⁻_kj) ∇²τ_kj / τ_u` (the rows
+//!   `t ∓ τ_kj/τ_u` of each sample's torques, `L = t − λᵀe − zᵀ(g − s)`), the torques' curvature
+//!   taken exactly sample by sample ([`curvature`]), regularised until positive definite. The
+//!   flip's curvature is left out: with it (by finite differences of the flip's Jacobian, a
+//!   second a step) the spherical joint took as many iterations.
+//! - Steps kept within the slacks' bounds by the fraction to the boundary `τ = max(0.99, 1 − μ)`
+//!   and judged by a filter ([`filter`]), with up to four second-order corrections of the
+//!   constraint residuals when the first trial is rejected; the multipliers kept within
+//!   `[μ/(10¹⁰ s), 10¹⁰ μ/s]`.
+//! - `μ` from `10⁻⁴`, lowered to `max(ε/10, min(μ/5, μ^{1.5}))` whenever the barrier problem's
+//!   error is below `100 μ` ([`BARRIER_SOLVED`]).
+//!
+//! It ends **converged** when the error of the original problem (the Lagrangian's gradient, the
+//! flip, the rows' residuals and complementarity, in the scaled units) is within `optimality`;
+//! at its budget with the status max-iterations; **stalled** when a line search or a
+//! factorisation fails or the error is not a number. The Newton phase and the re-measurement of
+//! the trust-region loop ([`super::optimize_start`]) follow as for every stage.
 //!
 //! It solves the least peak of a cat with ideal motors released without spin and without a
 //! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the
-//! homotopy that starts the peak's) and every other problem keep the trust-region loop.
+//! homotopy that starts the peak's) and every other problem keep the trust-region loop. It is
+//! not the default: on the five cats of the bench it is faster (the spherical joint 5.3–5.5 s
+//! against 9.1–11.6, the tailed cat 9.5 against 22.6–23.5) and its peaks lie from 0.8 % below
+//! the trust region's to 0.16 % above (lower on three, higher on two; README, "More motors"),
+//! but the energy
+//! homotopy before it, the starts it converges from slowly, and a refinement from a fresh
+//! barrier within 25 iterations keep it above 2 s beyond two motors.
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
