@@ -25,7 +25,7 @@ impl WholeReport {
         let mut s = String::new();
         let _ = writeln!(s, "## Whole-manoeuvre optimum (`{}`, objective {})\n", self.problem, self.objective.name());
         let _ = writeln!(s, "The cat: {}.\n", self.cat);
-        let interior = self.best().is_some_and(|b| b.log.iter().any(|l| l.barrier.is_some()));
+        let interior = self.best().is_some_and(WholeSolution::interior_point);
         let _ = writeln!(
             s,
             "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems{}; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n",
@@ -135,7 +135,7 @@ impl WholeReport {
 /// The iteration log of the best start `b` as a Markdown table, with its legend; the barrier
 /// column only when an interior-point stage planned (`optimize.whole.method`).
 fn iteration_table(b: &WholeSolution) -> String {
-    let interior = b.log.iter().any(|l| l.barrier.is_some());
+    let interior = b.interior_point();
     let mut s = String::new();
     let _ = writeln!(
         s,

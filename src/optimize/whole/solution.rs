@@ -129,6 +129,12 @@ pub struct WholeSolution {
 }
 
 impl WholeSolution {
+    /// Whether an interior-point stage planned it (`optimize.whole.method`): its log holds a
+    /// barrier parameter.
+    pub fn interior_point(&self) -> bool {
+        self.log.iter().any(|l| l.barrier.is_some())
+    }
+
     /// Whether it flips the cat within `tolerance` (twist and swing).
     pub fn flips(&self, tolerance: f64) -> bool {
         self.twist_error <= tolerance && self.swing <= tolerance
