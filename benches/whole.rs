@@ -113,7 +113,7 @@ fn min_time(c: &mut Criterion) {
 }
 
 /// Issue 22: the least peak of every cat model on the paper's cat, each with every default start
-/// (the spherical joint's also from the universal joint's optimum lifted), by the trust-region
+/// (the spherical joint's also from the universal joint's optimum lifted, by the trust region), by the trust-region
 /// loop and by the interior-point method (`optimize.whole.method`); the result must be a
 /// flip ([`WholeOutcome::best`](catflip::optimize::whole::WholeOutcome::best)).
 fn models(c: &mut Criterion) {

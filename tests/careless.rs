@@ -510,7 +510,7 @@ fn bench_warns_of_a_careless_problem_as_every_command_does() {
 
 /// The interior-point method asked for where it does not plan (a bend limit, motor limits, the
 /// effort) is warned of, naming what keeps the trust-region loop; asked for on the least peak with
-/// ideal motors it is not. An unknown method is refused naming the field and the two it knows.
+/// ideal motors, or beyond two motors within one torque limit, it is not. An unknown method is refused naming the field and the two it knows.
 #[test]
 fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     let paper = std::path::Path::new("problems/paper.toml");
@@ -525,6 +525,14 @@ fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     assert!(bend.contains("optimize.whole.min_angle_deg") && bend.contains("trust-region loop"), "{bend}");
     let both = said(&["actuator.torque_limit_nm=1", "optimize.whole.objective=\"energy\""]).expect("warned of");
     assert!(both.contains("[actuator]") && both.contains("objective = \"energy\""), "{both}");
+    // Beyond two motors one torque limit on every motor is planned as the least peak with ideal
+    // motors, then slowed: the interior point's, whatever the objective; not on two motors.
+    let tail = Problem::load(
+        std::path::Path::new("problems/tail.toml"),
+        &[method.into(), "actuator.torque_limit_nm=1".into(), "optimize.whole.objective=\"energy\"".into()],
+    )
+    .expect("loads");
+    assert!(!tail.warnings().iter().any(|w| w.starts_with("optimize.whole.method")), "{:?}", tail.warnings());
     let unknown = Problem::load(paper, &["optimize.whole.method=\"ipm\"".into()]).expect_err("refused").to_string();
     assert!(
         unknown.contains("optimize.whole.method")

@@ -183,10 +183,11 @@ pub fn variants(problem: &Problem) -> Result<Vec<Variant>, ProblemError> {
 pub struct OptimumFigures {
     /// The start it came from.
     pub start: String,
-    /// Trust-region iterations.
+    /// The optimiser's iterations (the trust region's or the interior-point method's).
     pub iterations: usize,
-    /// How the optimiser ended, in its words (its stopping test; on the spherical joint also the
-    /// universal optimum it started from, and when its stage stopped at its budget below that
+    /// How the optimiser ended, in its words (its stopping test; on the spherical joint planned by
+    /// the trust region also the universal optimum it started from when it did, and when its
+    /// stage stopped at its budget below that
     /// optimum, that its value is an upper bound on the model's optimum).
     pub reason: String,
     /// Signed twist, degrees.

@@ -23,6 +23,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::model::motor::{motors_beyond, MotorsBeyond};
 use crate::model::Joint;
 use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
@@ -403,15 +404,20 @@ impl Problem {
     }
 
     /// The interior-point method asked for where the trust-region loop plans instead: it solves
-    /// the least peak with ideal motors, without spin and without a bend limit.
+    /// the least peak with ideal motors, without spin and without a bend limit (and so a cat of
+    /// more than two motors within one torque limit on every motor, planned as that least peak
+    /// and then slowed, whatever its objective).
     fn method_warning(&self) -> Option<String> {
         let w = &self.optimize.whole;
         if !w.method.interior_point() {
             return None;
         }
+        let motors = self.actuator.motors();
+        let joints = self.cat.model().dof() + self.cat.appendages().map_or(0, |a| a.dof());
+        let held = joints > 2 && matches!(motors_beyond(&motors), MotorsBeyond::TorqueLimit(_));
         let elsewhere = [
-            (w.objective != whole::Objective::Peak, format!("objective = \"{}\"", w.objective.name())),
-            (!self.actuator.motors().is_ideal(), "the [actuator] limits".to_string()),
+            (w.objective != whole::Objective::Peak && !held, format!("objective = \"{}\"", w.objective.name())),
+            (!motors.is_ideal() && !held, "the [actuator] limits".to_string()),
             (self.drop.spins(), "drop.angular_momentum".to_string()),
             (w.min_angle_deg.is_some(), "optimize.whole.min_angle_deg".to_string()),
         ];

@@ -124,7 +124,8 @@ pub struct WholeSettings {
     /// directions and both bend paths (the paper's twists by −π, the mirrored cone by +π).
     pub starts: Vec<StartKind>,
     /// With the peak objective, first minimise the energy from each start (a smooth problem),
-    /// then the peak from there.
+    /// then the peak from there: the trust region's peak stage; the interior-point method's
+    /// (`method`) starts without it (after the coarse solve, where there is one).
     pub homotopy: bool,
     /// Stop when the predicted decrease of the merit function is below this fraction of the
     /// objective (times the trust radius in radians, up to one, for a step the radius cut short);

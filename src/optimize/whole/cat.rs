@@ -362,6 +362,23 @@ impl WholeCat {
         }
     }
 
+    /// The motor torques at `(q, q̇, q̈)` (zero momentum), N·m, without partials: one per motor,
+    /// [`WholeCat::joints`] of them.
+    pub fn torques(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> Vec<f64> {
+        fn at<const N: usize>(cat: &WholeCat, q: &[f64], qd: &[f64], qdd: &[f64]) -> Vec<f64> {
+            let take = |x: &[f64]| -> [f64; N] { std::array::from_fn(|j| x[j]) };
+            cat.motor_torques(take(q), take(qd), take(qdd)).to_vec()
+        }
+        match q.len() {
+            2 => at::<2>(self, q, qd, qdd),
+            3 => at::<3>(self, q, qd, qdd),
+            4 => at::<4>(self, q, qd, qdd),
+            5 => at::<5>(self, q, qd, qdd),
+            6 => at::<6>(self, q, qd, qdd),
+            n => panic!("a shape of {n} coordinates"),
+        }
+    }
+
     /// The motor torques with the total momentum `λ = Rᵀ L` in A's frame.
     pub fn motor_torques_spinning<T: Real>(&self, q: [T; 2], qd: [T; 2], qdd: [T; 2], lambda: V3<T>) -> [T; 2] {
         match self {

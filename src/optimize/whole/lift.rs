@@ -27,6 +27,14 @@
 //! reason says that its value is an upper bound on the spherical joint's least peak. Each lifted
 //! solution's time, iterations and log count its universal solve (the start it lifts) too.
 //!
+//! The lifted starts serve the trust region's crawl. Where the least peak is the interior-point
+//! method's (`optimize.whole.method = "interior-point"`, ideal motors) the spherical joint is
+//! planned from the library starts alone (a skipped start says so): its `cone-mirrored` start
+//! reaches 0.312451 N·m in 60 iterations, its coarse energy solve's 10 included (`cargo run
+//! --release --example whole_methods`, 2026-12-07); measured before the barrier was lowered by
+//! tenths, the lifted start had reached 0.312436 after 164 interior-point iterations besides its
+//! universal solve, the `cone-mirrored` one 0.312460 after 30 (scratch).
+//!
 //! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
 //! 2026-12-06): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
 //! universal optimum lifted (0.318346 on the uniform knots) 1.262 % below it after its 200
@@ -48,8 +56,8 @@ use super::solution::{valued, SkippedStart, WholeOutcome, WholeSolution, WholeSt
 use super::spline::BSpline;
 use super::starts::NamedStart;
 use super::{
-    build_starts, flipped, held_to_one_limit, kept_refinement, optimize_start, optimize_whole, outcome_of, refine,
-    refines, ScvxProblem, WholeCat, BEND_SLACK_DEG,
+    build_starts, flipped, held_to_one_limit, interior, kept_refinement, optimize_start, optimize_whole, outcome_of,
+    refine, refines, ScvxProblem, WholeCat, BEND_SLACK_DEG,
 };
 use crate::model::joint::spherical_coordinates;
 use crate::model::motor::Motors;
@@ -96,13 +104,21 @@ pub(super) fn optimize_spherical(plan: &Plan<'_>) -> Result<WholeOutcome, WholeE
         return held;
     }
     // The library starts (the no-twist joint's, the twist held at zero) beside the universal
-    // joint's optimum, lifted: the one goes further on some cats, the other on others.
-    let (library, lifted) = rayon::join(|| library_solutions(plan), || lifted_solutions(plan));
+    // joint's optimum, lifted: the one goes further on some cats, the other on others. The
+    // lifted starts serve the trust region's crawl: the interior-point method's least peak
+    // plans from the library's alone (the module's docs).
+    let problem = problem_of(cat, settings, motors);
+    let (library, lifted) = if interior::applies(&problem, settings.objective, None, None) {
+        let reason = "the interior-point method plans the least peak from the library starts alone".to_string();
+        (library_solutions(plan), Ok((Vec::new(), vec![SkippedStart { start: "universal optimum".into(), reason }])))
+    } else {
+        rayon::join(|| library_solutions(plan), || lifted_solutions(plan))
+    };
     let (mut solutions, mut skipped) = library?;
     let (more, more_skipped) = lifted?;
     solutions.extend(more);
     skipped.extend(more_skipped);
-    let mut outcome = outcome_of(&problem_of(cat, settings, motors), solutions, tolerance)?;
+    let mut outcome = outcome_of(&problem, solutions, tolerance)?;
     outcome.skipped = skipped;
     Ok(outcome)
 }

@@ -63,7 +63,8 @@
 //! could crawl to the iteration limit along a curved, flat valley (a fat cat, r/l = 0.25: 200
 //! iterations, now 35). A final phase of minimum-norm Newton
 //! steps drives `|e|` to round-off. With `homotopy` the peak stage starts from the energy
-//! optimum of the same start, which is smooth and reached in a few steps. For `peak` and
+//! optimum of the same start, which is smooth and reached in a few steps (the trust region's:
+//! the interior-point method's peak stage starts from the start, after the coarse solve). For `peak` and
 //! `min-time` the best start (converged, or an upper bound: [`WholeStatus::UpperBound`]) is then
 //! refined where its torques switch and solved again from the same curve ([`refine_solution`]).
 //! Several starts ([`starts`]); the best such flip is kept, and every start's outcome is
@@ -369,7 +370,7 @@ pub fn optimize_start(
             ),
         });
     }
-    let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance };
+    let mut run = Run { steps: s.steps_per_span, log: Vec::new(), polish_steps: 0, tolerance, warm: false };
     let (duration, fixed) = (start.spline.duration(), s.fixed());
     let mut spline = start.spline.clone();
     let quarter = (s.max_iterations / 4).max(1);
@@ -386,7 +387,10 @@ pub fn optimize_start(
         spline = solved.refit(s.control_points, fixed);
     }
     spline = problem.polish(spline, run.steps, 8).0;
-    if s.homotopy && s.objective != Objective::Energy {
+    // The interior-point method's peak stage starts from here, without the homotopy (its
+    // module's docs).
+    let interior_peak = interior::applies(problem, s.objective, None, None);
+    if s.homotopy && s.objective != Objective::Energy && !interior_peak {
         let it = problem.evaluate(spline, Objective::Energy, run.steps);
         let budget = run.log.len() + quarter;
         spline = problem
@@ -436,7 +440,8 @@ pub fn refine_solution(
     let s = problem.settings;
     let constrained = !problem.motors.is_ideal() && s.objective != Objective::MinTime;
     let mut bound = 1.0 - LIMIT_MARGIN;
-    let mut run = Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance };
+    let mut run =
+        Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance, warm: true };
     let measurement =
         measure::measure_spinning(problem.cat, &best.spline, problem.motors, run.flip_tolerance(), &problem.spin);
     let mut end = FinalStage {
@@ -529,13 +534,15 @@ struct FinalStage {
     tightenings: usize,
 }
 
-/// The state of one start's optimisation: the loop's Magnus steps per span, the log and the
-/// Newton steps spent.
+/// The state of one start's optimisation: the loop's Magnus steps per span, the log, the
+/// Newton steps spent, and whether its stages start at an optimum (or an upper bound) of a
+/// coarser layout (a refinement: the interior-point method then starts with a small barrier).
 struct Run {
     steps: usize,
     log: Vec<IterationLog>,
     polish_steps: usize,
     tolerance: f64,
+    warm: bool,
 }
 
 impl Run {
@@ -619,7 +626,7 @@ impl Run {
     ) -> Result<(WholeStatus, String, BSpline, measure::Measurement), WholeError> {
         let optimality = p.settings.optimality;
         let end = if interior::applies(p, objective, bound, enough) {
-            interior::stage(p, spline, optimality, budget, self.steps, &mut self.log)?
+            interior::stage(p, spline, self.warm, optimality, budget, self.steps, &mut self.log)?
         } else {
             let it = p.evaluate(spline, objective, self.steps);
             p.stage(it, objective, bound, enough, optimality, budget, self.steps, &mut self.log)?

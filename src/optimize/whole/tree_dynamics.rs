@@ -133,7 +133,8 @@ type JointPoint<T> = (V3<T>, Vec<V3<T>>);
 fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (Vec<Moving<T>>, Vec<JointPoint<T>>) {
     let zero = [T::cst(0.0); 3];
     let identity = constant(&Matrix3::identity());
-    let mut bodies = vec![Moving {
+    let mut bodies = Vec::with_capacity(tree.bodies().len());
+    bodies.push(Moving {
         rotation: identity,
         inertia: constant(&tree.bodies()[0].inertia),
         position: zero,
@@ -141,10 +142,10 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (Vec<Mo
         acceleration: zero,
         rate: zero,
         rate_dot: zero,
-    }];
+    });
     let mut links = Vec::with_capacity(tree.links().len());
     for (i, l) in tree.links().iter().enumerate() {
-        let p = bodies[l.parent];
+        let p = &bodies[l.parent];
         let range = tree.coordinates(i);
         let (jq, jqd) = (&q[range.clone()], &qd[range.clone()]);
         let jqdd = qdd.map(|x| &x[range]);
@@ -169,8 +170,8 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (Vec<Mo
         } else {
             (zero, zero)
         };
-        bodies.push(Moving { rotation, inertia, position: sub(point, b), velocity, acceleration, rate, rate_dot });
         links.push((point, axes.into_iter().map(|x| apply(&p.rotation, x)).collect()));
+        bodies.push(Moving { rotation, inertia, position: sub(point, b), velocity, acceleration, rate, rate_dot });
     }
     let total = tree.mass();
     let mean = |f: fn(&Moving<T>) -> V3<T>| {

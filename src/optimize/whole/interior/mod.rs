@@ -35,8 +35,17 @@
 //!   and judged by a filter ([`filter`]), with up to four second-order corrections of the
 //!   constraint residuals when the first trial is rejected; the multipliers kept within
 //!   `[μ/(10¹⁰ s), 10¹⁰ μ/s]`.
-//! - `μ` from `10⁻⁴`, lowered to `max(ε/10, min(μ/5, μ^{1.5}))` whenever the barrier problem's
-//!   error is below `100 μ` ([`BARRIER_SOLVED`]).
+//! - `μ` from `10⁻⁴` (`10⁻⁶` for a refinement, which starts at an optimum: [`WARM_BARRIER`]),
+//!   divided by ten down to `ε/10` whenever the barrier problem's error is below `100 μ`
+//!   ([`BARRIER_DECREASE`], [`BARRIER_SOLVED`]).
+//! - The stage starts from the start (after the coarse energy solve, where
+//!   `optimize.whole.coarse_control_points` asks for one), not from the energy's optimum on the
+//!   fine spline as the trust region's does (`optimize.whole.homotopy` is the trust region's):
+//!   the homotopy's 20 to 80 iterations
+//!   cost more than they saved (without it, before the barrier was lowered by tenths: the
+//!   spherical joint 3.9 s against 6.6, the tailed cat 7.3 against 8.7, the legged cat 4.0
+//!   against 6.7, the same peaks or lower; scratch). Nor is the spherical joint started at the
+//!   universal joint's optimum ([`super::lift`]), which serves the trust region's crawl.
 //!
 //! It ends **converged** when the error of the original problem (the Lagrangian's gradient, the
 //! flip, the rows' residuals and complementarity, in the scaled units) is within `optimality`;
@@ -45,14 +54,14 @@
 //! the trust-region loop ([`super::optimize_start`]) follow as for every stage.
 //!
 //! It solves the least peak of a cat with ideal motors released without spin and without a
-//! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the
-//! homotopy that starts the peak's) and every other problem keep the trust-region loop. It is
-//! not the default: on the five cats of the bench it is faster (the spherical joint 5.3–5.5 s
-//! against 9.1–11.6, the tailed cat 9.5 against 22.6–23.5) and its peaks lie from 0.8 % below
-//! the trust region's to 0.16 % above (lower on three, higher on two; README, "More motors"),
-//! but the energy
-//! homotopy before it, the starts it converges from slowly, and a refinement from a fresh
-//! barrier within 25 iterations keep it above 2 s beyond two motors.
+//! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the coarse
+//! solve that starts each start) and every other problem keep the trust-region loop. On the
+//! five cats of the bench it is 1.6 to 5 times faster than the trust region (the spherical
+//! joint 1.7–2.0 s against 8.9–11.4, the tailed cat 3.8–5.2 against 19–25, the legged cat
+//! 2.7–3.8 against 7.7–8.4) and its peaks lie from 0.8 % below the trust region's to 0.16 %
+//! above (README, "More motors"). It is not the default: that would move every committed whole
+//! optimum and the replays made of them; and the tailed and legged cats are still above 2 s
+//! (a tailed cat's iteration costs about 60 ms, half of it the curvature).
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
@@ -79,6 +88,16 @@ use newton::{Newton, Order, Rows};
 
 /// The first barrier parameter, in the scaled units.
 const FIRST_BARRIER: f64 = 1e-4;
+/// The first barrier parameter of a stage that starts at an optimum (or an upper bound) of a
+/// coarser layout, a refinement where the torques switch: a fresh `10⁻⁴` pushed the iterate off
+/// it and back, and the tailed cat's refinement stopped at its 25 iterations; from `10⁻⁶` the
+/// tailed cat's refined in 19 and the legged cat's in 13 (timed stage by stage in scratch).
+const WARM_BARRIER: f64 = 1e-6;
+/// `κ_μ`: each barrier problem solved, `μ` is divided by ten (IPOPT's superlinear
+/// `min(μ/5, μ^{1.5})` jumped from `10⁻⁴` to `10⁻⁶` while the tailed cat's peak was still 40 %
+/// above its optimum, and the iterate then wandered 70 iterations at steps cut short by the
+/// fraction to the boundary: 110 iterations from its `paper` start against 53 by tenths).
+const BARRIER_DECREASE: f64 = 0.1;
 /// The bound `t` starts this share above the start's sampled peak.
 const FIRST_MARGIN: f64 = 1e-3;
 /// The least first slack.
@@ -287,10 +306,12 @@ pub(crate) fn applies(
         && s.method.interior_point()
 }
 
-/// The least-peak stage from `spline` (module docs) until the log holds `budget` entries.
+/// The least-peak stage from `spline` (module docs) until the log holds `budget` entries;
+/// `warm` when `spline` is an optimum (or an upper bound) of a coarser layout ([`WARM_BARRIER`]).
 pub(crate) fn stage(
     problem: &ScvxProblem<'_>,
     spline: BSpline,
+    warm: bool,
     optimality: f64,
     budget: usize,
     steps: usize,
@@ -308,21 +329,23 @@ pub(crate) fn stage(
     let mut x = layout.values(&barrier.base);
     x.push(1.0 + FIRST_MARGIN);
     let point = barrier.evaluate(&x, &Reach::Full).measured_in_own();
-    let (status, reason, point) = solve(&barrier, point, optimality, budget, log);
+    let first = if warm { WARM_BARRIER } else { FIRST_BARRIER };
+    let (status, reason, point) = solve(&barrier, point, first, optimality, budget, log);
     let iterate = problem.evaluate(barrier.spline(&point.x), Objective::Peak, steps);
     Ok(StageEnd { iterate, status, reason })
 }
 
-/// The method's iterations from `p` (module docs): how they ended, why, and the last point.
+/// The method's iterations from `p` with the first barrier parameter `mu` (module docs): how
+/// they ended, why, and the last point.
 fn solve(
     b: &Barrier<'_>,
     mut p: Point,
+    mut mu: f64,
     tolerance: f64,
     budget: usize,
     log: &mut Vec<IterationLog>,
 ) -> (WholeStatus, String, Point) {
     let m = p.rows.len();
-    let mut mu = FIRST_BARRIER;
     let mut slacks: Vec<f64> = p.rows.values.iter().map(|g| g.max(LEAST_SLACK)).collect();
     let mut z: Vec<f64> = slacks.iter().map(|s| mu / s).collect();
     // The flip's multiplier, carried as that of `e` itself: the rows' directions may change
@@ -365,7 +388,7 @@ fn solve(
         let least = 0.1 * tolerance;
         if mu > least && dual.max(primal).max(complementarity(mu)) <= BARRIER_SOLVED * mu {
             // The barrier problem is solved: the next, smaller μ (at least ε/10, where it stays).
-            mu = (0.2 * mu).min(mu.powf(1.5)).max(least);
+            mu = (BARRIER_DECREASE * mu).max(least);
             filter.clear();
             continue;
         }

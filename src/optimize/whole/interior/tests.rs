@@ -40,16 +40,21 @@ fn weighted_gradient(
 }
 
 /// The curvature of [`weighted_torque_hessian`] applied to a direction equals the central
-/// difference of the exact (dual-number) gradients along it, on the spherical joint and on a
-/// cat with a tail (four coordinates), at a bent path with random weights.
+/// difference of the exact (dual-number) gradients along it, on the spherical joint, on a cat
+/// with a tail and on a cat with legs (three, four and four coordinates), at a bent path with random
+/// weights: the differences along the angles and the rates' quadratic form together.
 #[test]
 fn the_torque_curvature_matches_differences_of_the_exact_gradients() {
     // problems/tail.toml's tail: a tenth of the cat's mass, as long as a half.
     let rod = Cylinder { mass: 0.2, length: 1.0, radius: 0.02 };
     let tail = crate::model::cat::Appendages { tail: Some((rod, Joint::Universal)), legs: None };
+    // problems/legs.toml's legs: each pair a tenth of the cat's mass, 0.45 m.
+    let leg = Cylinder { mass: 0.2, length: 0.45, radius: 0.03 };
+    let legs = crate::model::cat::Appendages { tail: None, legs: Some([leg; 2]) };
     let cats = [
         WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("a spherical cat"),
         WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), tail).expect("a cat with a tail"),
+        WholeCat::appended(Cat::equal(HALF, Joint::NoTwist), legs).expect("a cat with legs"),
     ];
     let settings = WholeSettings { control_points: 14, ..WholeSettings::default() };
     for cat in &cats {
@@ -115,4 +120,41 @@ fn the_interior_point_least_peak_flips_the_paper_cat_near_the_trust_regions() {
     let o = optimize_whole(&cat, fall(), &Manoeuvre::default(), &energy, &Motors::ideal(), 1e-8)
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(o.solutions.iter().all(|s| s.log.iter().all(|l| l.barrier.is_none())));
+}
+
+/// Where the interior-point method plans the least peak, its stage starts from the start itself
+/// (no energy homotopy: with no coarse solve the log holds no energy iteration), the spherical
+/// joint is planned from the library starts alone (no lifted universal optimum), and a
+/// refinement (the paper's cat's, which is kept) starts at the smaller barrier of a stage that
+/// starts at an optimum.
+#[test]
+fn the_interior_point_plans_from_the_starts_and_refines_warm() {
+    let settings = WholeSettings {
+        method: Method::InteriorPoint,
+        control_points: 40,
+        coarse_control_points: None,
+        homotopy: true,
+        ..WholeSettings::default()
+    };
+    let solve = |cat: &WholeCat| {
+        optimize_whole(cat, fall(), &Manoeuvre::default(), &settings, &Motors::ideal(), 1e-8)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let spherical = solve(&WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("a spherical cat"));
+    let names: Vec<&str> = spherical.solutions.iter().map(|s| s.start.as_str()).collect();
+    assert_eq!(names, ["paper", "cone-mirrored"], "the library starts alone");
+    assert!(spherical.skipped.iter().any(|s| s.start == "universal optimum"), "{:?}", spherical.skipped);
+    let paper = solve(&WholeCat::new(Cat::equal(HALF, Joint::Universal)).expect("the paper's cat"));
+    for s in spherical.solutions.iter().chain(&paper.solutions) {
+        let interior = !s.log.is_empty() && s.log.iter().all(|l| l.objective == Objective::Peak && l.barrier.is_some());
+        assert!(interior, "{}: every iteration the interior point's peak stage: {:?}", s.start, s.log);
+    }
+    let best = &paper.solutions[paper.best.expect("a best start")];
+    assert!(best.flips(1e-8), "{}", best.reason);
+    assert!(best.reason.contains("refined to"), "a refinement kept: {}", best.reason);
+    // Each stage's first barrier: where μ rises, a new stage began.
+    let barriers: Vec<f64> = best.log.iter().filter_map(|l| l.barrier).collect();
+    let firsts: Vec<f64> =
+        (0..barriers.len()).filter(|&i| i == 0 || barriers[i] > barriers[i - 1]).map(|i| barriers[i]).collect();
+    assert_eq!(firsts, [super::FIRST_BARRIER, super::WARM_BARRIER], "{barriers:?}");
 }
