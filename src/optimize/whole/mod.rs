@@ -471,7 +471,9 @@ pub fn refine_solution(
             ..s.clone()
         };
         let fine = ScvxProblem { settings: &settings, ..problem.clone() };
-        let budget = run.log.len() + refine::BUDGET;
+        let stage_budget =
+            if interior::applies(&fine, s.objective, None, None) { refine::INTERIOR_BUDGET } else { refine::BUDGET };
+        let budget = run.log.len() + stage_budget;
         let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
         let lower = match s.objective {
             Objective::MinTime => stretch(&next.measurement) < stretch(&end.measurement),
@@ -491,7 +493,7 @@ pub fn refine_solution(
             format!(
                 "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the {} it refines)",
                 next.spline.spans(),
-                refine::BUDGET,
+                stage_budget,
                 if end.status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
             )
         } else if end.status == WholeStatus::UpperBound {

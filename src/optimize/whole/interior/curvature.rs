@@ -18,11 +18,12 @@
 //!   the unit rates and their pairwise sums (polarisation), in plain floating point.
 //!
 //! That is `J` gradients and `J(J+1)/2` torques besides the sample's own gradient, against the
-//! `2J` gradients of differences along the rates too: the tailed cat's curvature in half the time.
+//! `2J` gradients of differences along the rates too: the tailed cat's curvature on 469 samples
+//! in 26–27 ms against 34–35 on one thread (scratch timing, best of eight, 2026-12-07).
 //! The step `10⁻⁶` rad, for angles of order one, leaves a truncation error of about `10⁻⁶` of the
 //! curvature and a round-off of the gradients' (about `10⁻¹²` of them) over the step: measured
-//! against central differences of the gradients, 3·10⁻⁷ of the curvature on the spherical joint
-//! (`tests.rs`).
+//! against central differences of the gradients, 3.7·10⁻⁷ of the curvature on the spherical
+//! joint, 7.6·10⁻⁷ with a tail and 9.3·10⁻⁷ with legs (`tests.rs`, 2026-12-07).
 
 use rayon::prelude::*;
 

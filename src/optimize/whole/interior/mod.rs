@@ -56,12 +56,13 @@
 //! It solves the least peak of a cat with ideal motors released without spin and without a
 //! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the coarse
 //! solve that starts each start) and every other problem keep the trust-region loop. On the
-//! five cats of the bench it is 1.6 to 5 times faster than the trust region (the spherical
-//! joint 1.7–2.0 s against 8.9–11.4, the tailed cat 3.8–5.2 against 19–25, the legged cat
-//! 2.7–3.8 against 7.7–8.4) and its peaks lie from 0.8 % below the trust region's to 0.16 %
-//! above (README, "More motors"). It is not the default: that would move every committed whole
-//! optimum and the replays made of them; and the tailed and legged cats are still above 2 s
-//! (a tailed cat's iteration costs about 60 ms, half of it the curvature).
+//! five cats of the bench it is 1.5 to 6 times faster than the trust region (the spherical
+//! joint 2.4–3.2 s against 8.9–11.4, the tailed cat 3.7–4.2 against 19–25, the legged cat
+//! 2.9–3.8 against 7.7–8.4) and its peaks lie from 1.2 % below the trust region's (the
+//! spherical joint's, refined in 66 of its [`super::refine::INTERIOR_BUDGET`]) to 0.004 % above
+//! (README, "More motors"). It is not the default: that would move every committed whole
+//! optimum and the replays made of them; and beyond two motors it is still above 2 s (a tailed
+//! cat's iteration costs about 50 ms, half of it the curvature).
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
