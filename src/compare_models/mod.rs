@@ -187,8 +187,8 @@ pub struct OptimumFigures {
     pub iterations: usize,
     /// How the optimiser ended, in its words (its stopping test; on the spherical joint planned by
     /// the trust region also the universal optimum it started from when it did, and when its
-    /// stage stopped at its budget below that
-    /// optimum, that its value is an upper bound on the model's optimum).
+    /// stage stopped at its budget below that optimum, that its value is an upper bound on the
+    /// model's optimum).
     pub reason: String,
     /// Signed twist, degrees.
     pub twist_deg: f64,

@@ -41,11 +41,11 @@
 //! - The stage starts from the start (after the coarse energy solve, where
 //!   `optimize.whole.coarse_control_points` asks for one), not from the energy's optimum on the
 //!   fine spline as the trust region's does (`optimize.whole.homotopy` is the trust region's):
-//!   the homotopy's 20 to 80 iterations
-//!   cost more than they saved (without it, before the barrier was lowered by tenths: the
-//!   spherical joint 3.9 s against 6.6, the tailed cat 7.3 against 8.7, the legged cat 4.0
-//!   against 6.7, the same peaks or lower; scratch). Nor is the spherical joint started at the
-//!   universal joint's optimum ([`super::lift`]), which serves the trust region's crawl.
+//!   the homotopy's 20 to 80 iterations cost more than they saved (without it, before the
+//!   barrier was lowered by tenths: the spherical joint 3.9 s against 6.6, the tailed cat 7.3
+//!   against 8.7, the legged cat 4.0 against 6.7, the same peaks or lower; scratch). Nor is the
+//!   spherical joint started at the universal joint's optimum ([`super::lift`]), which serves
+//!   the trust region's crawl.
 //!
 //! It ends **converged** when the error of the original problem (the Lagrangian's gradient, the
 //! flip, the rows' residuals and complementarity, in the scaled units) is within `optimality`;
@@ -97,7 +97,8 @@ const WARM_BARRIER: f64 = 1e-6;
 /// `κ_μ`: each barrier problem solved, `μ` is divided by ten (IPOPT's superlinear
 /// `min(μ/5, μ^{1.5})` jumped from `10⁻⁴` to `10⁻⁶` while the tailed cat's peak was still 40 %
 /// above its optimum, and the iterate then wandered 70 iterations at steps cut short by the
-/// fraction to the boundary: 110 iterations from its `paper` start against 53 by tenths).
+/// fraction to the boundary: 110 iterations from its `paper` start against 53 by tenths;
+/// scratch).
 const BARRIER_DECREASE: f64 = 0.1;
 /// The bound `t` starts this share above the start's sampled peak.
 const FIRST_MARGIN: f64 = 1e-3;

@@ -41,8 +41,8 @@ fn weighted_gradient(
 
 /// The curvature of [`weighted_torque_hessian`] applied to a direction equals the central
 /// difference of the exact (dual-number) gradients along it, on the spherical joint, on a cat
-/// with a tail and on a cat with legs (three, four and four coordinates), at a bent path with random
-/// weights: the differences along the angles and the rates' quadratic form together.
+/// with a tail and on a cat with legs (three, four and four coordinates), at a bent path with
+/// random weights: the differences along the angles and the rates' quadratic form together.
 #[test]
 fn the_torque_curvature_matches_differences_of_the_exact_gradients() {
     // problems/tail.toml's tail: a tenth of the cat's mass, as long as a half.
