@@ -201,6 +201,16 @@ pub enum MotorsBeyond {
     Other,
 }
 
+/// The one torque limit, N·m, that a cat of `joints` motors beyond two is held to: planned as
+/// the least peak with ideal motors, then slowed to the limit; none on two motors or for other
+/// limits.
+pub fn held_to_torque_limit(joints: usize, motors: &Motors) -> Option<f64> {
+    match motors_beyond(motors) {
+        MotorsBeyond::TorqueLimit(limit) if joints > 2 => Some(limit),
+        _ => None,
+    }
+}
+
 /// How the problem's two motors `motors` extend to every motor of a cat beyond two motors.
 pub fn motors_beyond(motors: &Motors) -> MotorsBeyond {
     if motors.is_ideal() {

@@ -23,7 +23,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::model::motor::{motors_beyond, MotorsBeyond};
+use crate::model::motor::held_to_torque_limit;
 use crate::model::Joint;
 use crate::numeric::numfmt::{echo, num};
 use crate::problem::settings::{ExactSettings, OptimizeSettings, RapierSettings};
@@ -414,7 +414,7 @@ impl Problem {
         }
         let motors = self.actuator.motors();
         let joints = self.cat.model().dof() + self.cat.appendages().map_or(0, |a| a.dof());
-        let held = joints > 2 && matches!(motors_beyond(&motors), MotorsBeyond::TorqueLimit(_));
+        let held = held_to_torque_limit(joints, &motors).is_some();
         let elsewhere = [
             (w.objective != whole::Objective::Peak && !held, format!("objective = \"{}\"", w.objective.name())),
             (!motors.is_ideal() && !held, "the [actuator] limits".to_string()),

@@ -30,7 +30,7 @@
 //! The lifted starts serve the trust region's crawl. Where the least peak is the interior-point
 //! method's (`optimize.whole.method = "interior-point"`, ideal motors) the spherical joint is
 //! planned from the library starts alone (a skipped start says so): its `cone-mirrored` start
-//! reaches 0.312451 N·m in 50 iterations besides its coarse energy solve's 10, and 0.308286
+//! reaches 0.312451 N·m in 60 iterations (its coarse energy solve's 10 among them), and 0.308286
 //! refined in 66 more (`cargo run --release --example whole_methods`, 2026-12-07), 1.2 % below
 //! the trust region's best of the four starts; measured before the barrier was lowered by
 //! tenths, the lifted start had reached 0.312436 after 164 interior-point iterations besides its

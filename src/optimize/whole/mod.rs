@@ -135,7 +135,7 @@ use std::time::Instant;
 use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
-pub use crate::model::motor::{motors_beyond, MotorsBeyond};
+pub use crate::model::motor::{held_to_torque_limit, motors_beyond, MotorsBeyond};
 pub use cat::{NamedBody, WholeCat};
 pub use scope::{beyond_two_motors, spin_supported};
 pub use scvx::ScvxProblem;
@@ -296,7 +296,7 @@ fn held_to_one_limit(
     tolerance: f64,
     plan: impl FnOnce(&WholeSettings, &Motors) -> Result<WholeOutcome, WholeError>,
 ) -> Option<Result<WholeOutcome, WholeError>> {
-    let (true, MotorsBeyond::TorqueLimit(limit)) = (cat.joints() > 2, motors_beyond(motors)) else { return None };
+    let limit = held_to_torque_limit(cat.joints(), motors)?;
     let planning = WholeSettings { objective: Objective::Peak, ..settings.clone() };
     let outcome = plan(&planning, &Motors::ideal());
     Some(outcome.map(|o| torque_limited::within(cat, o, settings.objective, motors, limit, tolerance)))
