@@ -141,48 +141,49 @@ impl<const N: usize> Real for Dual<N> {
     }
 }
 
-/// A 3-vector over a [`Real`].
+/// A 3-vector over a [`Real`]. The helpers below take vectors by reference: a dual vector passed
+/// by value is copied at every call (`Dual<12>`'s is 312 bytes).
 pub type V3<T> = [T; 3];
 
 /// `a + b`.
-pub fn add<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+pub fn add<T: Real>(a: &V3<T>, b: &V3<T>) -> V3<T> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// `a − b`.
-pub fn sub<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+pub fn sub<T: Real>(a: &V3<T>, b: &V3<T>) -> V3<T> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// `k a`.
-pub fn scale<T: Real>(k: T, a: V3<T>) -> V3<T> {
+pub fn scale<T: Real>(k: T, a: &V3<T>) -> V3<T> {
     [k * a[0], k * a[1], k * a[2]]
 }
 
 /// `k a` for a constant `k`.
-pub fn scale_by<T: Real>(k: f64, a: V3<T>) -> V3<T> {
+pub fn scale_by<T: Real>(k: f64, a: &V3<T>) -> V3<T> {
     [a[0] * k, a[1] * k, a[2] * k]
 }
 
 /// `a · b`.
-pub fn dot<T: Real>(a: V3<T>, b: V3<T>) -> T {
+pub fn dot<T: Real>(a: &V3<T>, b: &V3<T>) -> T {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// `a × b`.
-pub fn cross<T: Real>(a: V3<T>, b: V3<T>) -> V3<T> {
+pub fn cross<T: Real>(a: &V3<T>, b: &V3<T>) -> V3<T> {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 /// Solves `M x = b` for a symmetric 3×3 `M` given as its rows, by Cramer's rule (the locked
 /// inertia is positive definite and well conditioned, so no pivoting is needed).
-pub fn solve3<T: Real>(m: [V3<T>; 3], b: V3<T>) -> V3<T> {
-    let c0 = cross(m[1], m[2]);
-    let c1 = cross(m[2], m[0]);
-    let c2 = cross(m[0], m[1]);
-    let det = dot(m[0], c0);
+pub fn solve3<T: Real>(m: &[V3<T>; 3], b: &V3<T>) -> V3<T> {
+    let c0 = cross(&m[1], &m[2]);
+    let c1 = cross(&m[2], &m[0]);
+    let c2 = cross(&m[0], &m[1]);
+    let det = dot(&m[0], &c0);
     // x = (adj M) b / det, the adjugate's columns being the cross products of rows.
-    let x = [dot(c0, b), dot(c1, b), dot(c2, b)];
+    let x = [dot(&c0, b), dot(&c1, b), dot(&c2, b)];
     [x[0] / det, x[1] / det, x[2] / det]
 }
 
@@ -206,9 +207,9 @@ mod tests {
     fn solve3_solves() {
         let m = [[4.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 2.0]];
         let b = [1.0, -2.0, 0.5];
-        let x = solve3(m, b);
+        let x = solve3(&m, &b);
         for (row, rhs) in m.iter().zip(b) {
-            assert_relative_eq!(dot(*row, x), rhs, epsilon = 1e-14);
+            assert_relative_eq!(dot(row, &x), rhs, epsilon = 1e-14);
         }
     }
 }

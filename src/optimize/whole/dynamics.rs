@@ -37,13 +37,13 @@ impl Halves {
 
     /// `R I_B Rᵀ v = I_t v + (I_a − I_t)(e·v) e`.
     fn inertia_b<T: Real>(&self, e: V3<T>, v: V3<T>) -> V3<T> {
-        add(scale_by(self.transverse, v), scale(dot(e, v) * self.axial_minus_transverse, e))
+        add(&scale_by(self.transverse, &v), &scale(dot(&e, &v) * self.axial_minus_transverse, &e))
     }
 
     /// Rows of `I_lock = I_A + R I_B Rᵀ + μ(|p|² 𝟙 − p pᵀ)`.
     fn locked<T: Real>(&self, e: V3<T>, p: V3<T>) -> [V3<T>; 3] {
         let (it, d, mu) = (self.transverse, self.axial_minus_transverse, self.reduced_mass);
-        let pp = dot(p, p) * mu;
+        let pp = dot(&p, &p) * mu;
         let diag = [pp + 2.0 * it, pp + 2.0 * it, pp + (2.0 * it + d)];
         std::array::from_fn(|i| {
             std::array::from_fn(|j| {
@@ -72,9 +72,9 @@ pub fn body_rate<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2]) -> V3<T> {
     let h = Halves::of(cat);
     let (e, w_rel, _, _) = joint_kinematics(q, qd);
     let p = [e[0] * -h.half, e[1] * -h.half, (e[2] + 1.0) * -h.half];
-    let pd = scale_by(-h.half, cross(w_rel, e));
-    let rhs = add(h.inertia_b(e, w_rel), scale_by(h.reduced_mass, cross(p, pd)));
-    scale_by(-1.0, solve3(h.locked(e, p), rhs))
+    let pd = scale_by(-h.half, &cross(&w_rel, &e));
+    let rhs = add(&h.inertia_b(e, w_rel), &scale_by(h.reduced_mass, &cross(&p, &pd)));
+    scale_by(-1.0, &solve3(&h.locked(e, p), &rhs))
 }
 
 /// A's angular velocity `Ω = I_lock⁻¹(λ − h)` (A's frame) when the total angular momentum in A's
@@ -83,9 +83,9 @@ pub fn body_rate_spinning<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], lambda
     let h = Halves::of(cat);
     let (e, w_rel, _, _) = joint_kinematics(q, qd);
     let p = [e[0] * -h.half, e[1] * -h.half, (e[2] + 1.0) * -h.half];
-    let pd = scale_by(-h.half, cross(w_rel, e));
-    let rhs = add(h.inertia_b(e, w_rel), scale_by(h.reduced_mass, cross(p, pd)));
-    solve3(h.locked(e, p), sub(lambda, rhs))
+    let pd = scale_by(-h.half, &cross(&w_rel, &e));
+    let rhs = add(&h.inertia_b(e, w_rel), &scale_by(h.reduced_mass, &cross(&p, &pd)));
+    solve3(&h.locked(e, p), &sub(&lambda, &rhs))
 }
 
 /// Motor torques `(τ1, τ2)`, N·m, of the zero-momentum motion through `(q, q̇, q̈)`.
@@ -107,49 +107,53 @@ fn motor_torques_with<T: Real>(cat: &Cylinder, q: [T; 2], qd: [T; 2], qdd: [T; 2
     let a2 = [T::cst(0.0), c1, s1];
     let x_cross_a2 = [T::cst(0.0), -s1, c1];
     let x = [T::cst(1.0), T::cst(0.0), T::cst(0.0)];
-    let w_rel_dot = add(add(scale(qdd[0], x), scale(qdd[1], a2)), scale(qd[0] * qd[1], x_cross_a2));
-    let e_dot = cross(w_rel, e);
-    let e_ddot = add(cross(w_rel_dot, e), cross(w_rel, e_dot));
+    let w_rel_dot = add(&add(&scale(qdd[0], &x), &scale(qdd[1], &a2)), &scale(qd[0] * qd[1], &x_cross_a2));
+    let e_dot = cross(&w_rel, &e);
+    let e_ddot = add(&cross(&w_rel_dot, &e), &cross(&w_rel, &e_dot));
     let p = [e[0] * -h.half, e[1] * -h.half, (e[2] + 1.0) * -h.half];
-    let (pd, pdd) = (scale_by(-h.half, e_dot), scale_by(-h.half, e_ddot));
+    let (pd, pdd) = (scale_by(-h.half, &e_dot), scale_by(-h.half, &e_ddot));
     let mu = h.reduced_mass;
     let locked = h.locked(e, p);
-    let shape = add(h.inertia_b(e, w_rel), scale_by(mu, cross(p, pd)));
+    let shape = add(&h.inertia_b(e, w_rel), &scale_by(mu, &cross(&p, &pd)));
     let omega = match lambda {
-        None => scale_by(-1.0, solve3(locked, shape)),
-        Some(l) => solve3(locked, sub(l, shape)),
+        None => scale_by(-1.0, &solve3(&locked, &shape)),
+        Some(l) => solve3(&locked, &sub(&l, &shape)),
     };
     // (d/dt R I_B Rᵀ) v = ω_rel × (I_B v) − I_B (ω_rel × v).
-    let ib_dot = |v: V3<T>| sub(cross(w_rel, h.inertia_b(e, v)), h.inertia_b(e, cross(w_rel, v)));
+    let ib_dot = |v: V3<T>| sub(&cross(&w_rel, &h.inertia_b(e, v)), &h.inertia_b(e, cross(&w_rel, &v)));
     // Ṁ Ω = İ_B Ω − μ (ṗ × (p × Ω) + p × (ṗ × Ω)).
-    let m_dot_omega = sub(ib_dot(omega), scale_by(mu, add(cross(pd, cross(p, omega)), cross(p, cross(pd, omega)))));
-    let k_dot = add(add(ib_dot(w_rel), h.inertia_b(e, w_rel_dot)), scale_by(mu, cross(p, pdd)));
+    let m_dot_omega =
+        sub(&ib_dot(omega), &scale_by(mu, &add(&cross(&pd, &cross(&p, &omega)), &cross(&p, &cross(&pd, &omega)))));
+    let k_dot = add(&add(&ib_dot(w_rel), &h.inertia_b(e, w_rel_dot)), &scale_by(mu, &cross(&p, &pdd)));
     let omega_dot = match lambda {
-        None => scale_by(-1.0, solve3(locked, add(m_dot_omega, k_dot))),
-        Some(l) => solve3(locked, sub(cross(l, omega), add(m_dot_omega, k_dot))),
+        None => scale_by(-1.0, &solve3(&locked, &add(&m_dot_omega, &k_dot))),
+        Some(l) => solve3(&locked, &sub(&cross(&l, &omega), &add(&m_dot_omega, &k_dot))),
     };
     let a_b = scale_by(
         0.5,
-        add(add(pdd, cross(omega_dot, p)), add(scale_by(2.0, cross(omega, pd)), cross(omega, cross(omega, p)))),
+        &add(
+            &add(&pdd, &cross(&omega_dot, &p)),
+            &add(&scale_by(2.0, &cross(&omega, &pd)), &cross(&omega, &cross(&omega, &p))),
+        ),
     );
-    let force = scale_by(h.mass, a_b);
-    let w_b = add(omega, w_rel);
-    let alpha_b = add(add(omega_dot, w_rel_dot), cross(omega, w_rel));
-    let d_b = scale_by(h.half, e);
-    let couple = sub(add(h.inertia_b(e, alpha_b), cross(w_b, h.inertia_b(e, w_b))), cross(d_b, force));
-    [couple[0], dot(couple, a2)]
+    let force = scale_by(h.mass, &a_b);
+    let w_b = add(&omega, &w_rel);
+    let alpha_b = add(&add(&omega_dot, &w_rel_dot), &cross(&omega, &w_rel));
+    let d_b = scale_by(h.half, &e);
+    let couple = sub(&add(&h.inertia_b(e, alpha_b), &cross(&w_b, &h.inertia_b(e, w_b))), &cross(&d_b, &force));
+    [couple[0], dot(&couple, &a2)]
 }
 
 /// The sixth-order Magnus exponent of one step from the rates at the three Gauss–Legendre nodes
 /// (the formula of [`crate::engines::exact::magnus6`]).
 pub fn magnus6<T: Real>(h: f64, w1: V3<T>, w2: V3<T>, w3: V3<T>) -> V3<T> {
-    let a1 = scale_by(h, w2);
-    let a2 = scale_by(15f64.sqrt() * h / 3.0, sub(w3, w1));
-    let a3 = scale_by(10.0 * h / 3.0, add(sub(w3, scale_by(2.0, w2)), w1));
-    let c1 = cross(a1, a2);
-    let c2 = scale_by(1.0 / 60.0, cross(a1, sub(c1, scale_by(2.0, a3))));
-    let bracket = cross(add(add(scale_by(20.0, a1), a3), c1), sub(c2, a2));
-    sub(add(a1, scale_by(1.0 / 12.0, a3)), scale_by(1.0 / 240.0, bracket))
+    let a1 = scale_by(h, &w2);
+    let a2 = scale_by(15f64.sqrt() * h / 3.0, &sub(&w3, &w1));
+    let a3 = scale_by(10.0 * h / 3.0, &add(&sub(&w3, &scale_by(2.0, &w2)), &w1));
+    let c1 = cross(&a1, &a2);
+    let c2 = scale_by(1.0 / 60.0, &cross(&a1, &sub(&c1, &scale_by(2.0, &a3))));
+    let bracket = cross(&add(&add(&scale_by(20.0, &a1), &a3), &c1), &sub(&c2, &a2));
+    sub(&add(&a1, &scale_by(1.0 / 12.0, &a3)), &scale_by(1.0 / 240.0, &bracket))
 }
 
 #[cfg(test)]

@@ -380,10 +380,8 @@ pub fn optimize_start(
         let steps = run.steps;
         let fitted = coarse.polish(spline.refit(n, fixed), steps, 8).0;
         let it = coarse.evaluate(fitted, Objective::Energy, steps);
-        let solved = coarse
-            .stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, quarter, steps, &mut run.log)?
-            .iterate
-            .spline;
+        let solved =
+            coarse.stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, quarter, steps, &mut run.log)?.spline;
         spline = solved.refit(s.control_points, fixed);
     }
     spline = problem.polish(spline, run.steps, 8).0;
@@ -395,7 +393,6 @@ pub fn optimize_start(
         let budget = run.log.len() + quarter;
         spline = problem
             .stage(it, Objective::Energy, None, None, COARSE_OPTIMALITY, budget, run.steps, &mut run.log)?
-            .iterate
             .spline;
     }
     let constrained = !problem.motors.is_ideal() && s.objective != Objective::MinTime;
@@ -636,7 +633,7 @@ impl Run {
         // The loop's projections move every control point, those on a limit too (by ~1e-11 rad on
         // refined knots): back within the limits, as in the subproblems, before the Newton phase
         // (which holds them there, ScvxProblem::polish).
-        let mut last = end.iterate.spline;
+        let mut last = end.spline;
         p.clamp_to_limits(&mut last);
         let (mut spline, k) = p.polish(last, self.steps, 8);
         self.polish_steps += k;

@@ -196,42 +196,42 @@ pub fn joint_motion<T: Real, const N: usize>(
         Joint::Universal => {
             let (s1, c1) = q[0].sin_cos();
             let a2 = [zero, c1, s1];
-            let rate = add(scale(qd[0], x), scale(qd[1], a2));
+            let rate = add(&scale(qd[0], &x), &scale(qd[1], &a2));
             let accel = qdd.map_or([zero; 3], |dd| {
-                add(add(scale(dd[0], x), scale(dd[1], a2)), scale(qd[0] * qd[1], [zero, -s1, c1]))
+                add(&add(&scale(dd[0], &x), &scale(dd[1], &a2)), &scale(qd[0] * qd[1], &[zero, -s1, c1]))
             });
             let axes = std::array::from_fn(|i| [x, a2][i]);
             JointMotion { spine: spine(joint, q), rate, accel, axes }
         }
         Joint::NoTwist | Joint::Spherical => {
             let (v, vd) = ([q[0], q[1], zero], [qd[0], qd[1], zero]);
-            let k = ExpSeries::at(dot(v, v));
+            let k = ExpSeries::at(dot(&v, &v));
             // J_l(v) u = u + a v × u + b v × (v × u).
             let jl = |u: V3<T>| {
-                let c = cross(v, u);
-                add(add(u, scale(k.a, c)), scale(k.b, cross(v, c)))
+                let c = cross(&v, &u);
+                add(&add(&u, &scale(k.a, &c)), &scale(k.b, &cross(&v, &c)))
             };
-            let spine = [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * dot(v, v)) + 1.0];
+            let spine = [k.sinc * q[1], -(k.sinc * q[0]), -(k.a * dot(&v, &v)) + 1.0];
             let bend = jl(vd);
             let twisting = joint == Joint::Spherical;
-            let c = cross(v, vd);
+            let c = cross(&v, &vd);
             let accel = qdd.map_or([zero; 3], |dd| {
-                let along = dot(v, vd) * 2.0;
-                let d = add(scale(along * k.a_s, c), scale(along * k.b_s, cross(v, c)));
-                let bent = add(add(jl([dd[0], dd[1], zero]), d), scale(k.b, cross(vd, c)));
+                let along = dot(&v, &vd) * 2.0;
+                let d = add(&scale(along * k.a_s, &c), &scale(along * k.b_s, &cross(&v, &c)));
+                let bent = add(&add(&jl([dd[0], dd[1], zero]), &d), &scale(k.b, &cross(&vd, &c)));
                 if twisting {
-                    add(add(bent, scale(dd[2], spine)), scale(qd[2], cross(bend, spine)))
+                    add(&add(&bent, &scale(dd[2], &spine)), &scale(qd[2], &cross(&bend, &spine)))
                 } else {
                     bent
                 }
             });
-            let rate = if twisting { add(bend, scale(qd[2], spine)) } else { bend };
+            let rate = if twisting { add(&bend, &scale(qd[2], &spine)) } else { bend };
             let axes = std::array::from_fn(|i| [x, [zero, one, zero], spine][i]);
             JointMotion { spine, rate, accel, axes }
         }
         Joint::Hinge => {
-            let rate = scale(qd[0], x);
-            let accel = qdd.map_or([zero; 3], |dd| scale(dd[0], x));
+            let rate = scale(qd[0], &x);
+            let accel = qdd.map_or([zero; 3], |dd| scale(dd[0], &x));
             JointMotion { spine: spine(joint, q), rate, accel, axes: std::array::from_fn(|_| x) }
         }
     }
@@ -273,12 +273,12 @@ impl MassProperties {
 
     /// `R I_B Rᵀ v` for B's spine `e`.
     fn rear<T: Real>(&self, e: V3<T>, v: V3<T>) -> V3<T> {
-        add(scale_by(self.rear_transverse, v), scale(dot(e, v) * self.rear_excess, e))
+        add(&scale_by(self.rear_transverse, &v), &scale(dot(&e, &v) * self.rear_excess, &e))
     }
 
     /// B's centre from A's, `p = −(l_A/2) ẑ − (l_B/2) e`.
     fn offset<T: Real>(&self, e: V3<T>) -> V3<T> {
-        let p = scale_by(-self.rear_half, e);
+        let p = scale_by(-self.rear_half, &e);
         [p[0], p[1], p[2] + -self.front_half]
     }
 
@@ -286,13 +286,13 @@ impl MassProperties {
     fn locked<T: Real>(&self, e: V3<T>, p: V3<T>) -> [V3<T>; 3] {
         let [t, z] = self.front_moments;
         let front = [t, t, z];
-        let pp = dot(p, p) * self.reduced;
+        let pp = dot(&p, &p) * self.reduced;
         std::array::from_fn(|i| {
             let mut unit = [T::cst(0.0); 3];
             unit[i] = T::cst(1.0);
             // Column i of I_lock applied to the unit vector: I_A eᵢ + R I_B Rᵀ eᵢ + μ(|p|² eᵢ − p pᵢ).
-            let inertia = add(scale_by(front[i], unit), self.rear(e, unit));
-            add(inertia, sub(scale(pp, unit), scale(p[i] * self.reduced, p)))
+            let inertia = add(&scale_by(front[i], &unit), &self.rear(e, unit));
+            add(&inertia, &sub(&scale(pp, &unit), &scale(p[i] * self.reduced, &p)))
         })
     }
 }
@@ -313,11 +313,11 @@ fn base<T: Real, const N: usize>(
 ) -> (BaseMotion<T, N>, [V3<T>; 3]) {
     let e = joint.spine;
     let offset = m.offset(e);
-    let offset_rate = scale_by(-m.rear_half, cross(joint.rate, e));
+    let offset_rate = scale_by(-m.rear_half, &cross(&joint.rate, &e));
     let locked = m.locked(e, offset);
-    let h = add(m.rear(e, joint.rate), scale_by(m.reduced, cross(offset, offset_rate)));
-    let rhs = lambda.map_or_else(|| scale_by(-1.0, h), |l| sub(l, h));
-    let omega = solve3(locked, rhs);
+    let h = add(&m.rear(e, joint.rate), &scale_by(m.reduced, &cross(&offset, &offset_rate)));
+    let rhs = lambda.map_or_else(|| scale_by(-1.0, &h), |l| sub(&l, &h));
+    let omega = solve3(&locked, &rhs);
     (BaseMotion { joint, offset, offset_rate, omega }, locked)
 }
 
@@ -370,21 +370,23 @@ fn torques<T: Real, const N: usize>(cat: &Cat, [q, qd, qdd]: [[T; N]; 3], lambda
     let (b, locked) = base(&m, joint_motion(cat.joint, q, qd, Some(qdd)), lambda);
     let (j, p, pd, w) = (b.joint, b.offset, b.offset_rate, b.omega);
     let e = j.spine;
-    let e_rate = cross(j.rate, e);
-    let pdd = scale_by(-m.rear_half, add(cross(j.accel, e), cross(j.rate, e_rate)));
+    let e_rate = cross(&j.rate, &e);
+    let pdd = scale_by(-m.rear_half, &add(&cross(&j.accel, &e), &cross(&j.rate, &e_rate)));
     // d/dt (R I_B Rᵀ) v = ω_rel × (R I_B Rᵀ v) − R I_B Rᵀ (ω_rel × v).
-    let rear_rate = |v: V3<T>| sub(cross(j.rate, m.rear(e, v)), m.rear(e, cross(j.rate, v)));
-    let locked_rate_omega = sub(rear_rate(w), scale_by(m.reduced, add(cross(pd, cross(p, w)), cross(p, cross(pd, w)))));
-    let h_rate = add(add(rear_rate(j.rate), m.rear(e, j.accel)), scale_by(m.reduced, cross(p, pdd)));
-    let spin_term = lambda.map_or([T::cst(0.0); 3], |l| cross(l, w));
-    let w_dot = solve3(locked, sub(spin_term, add(locked_rate_omega, h_rate)));
-    let relative = add(add(pdd, cross(w_dot, p)), add(scale_by(2.0, cross(w, pd)), cross(w, cross(w, p))));
-    let force = scale_by(m.rear_mass * m.front_share, relative);
-    let w_b = add(w, j.rate);
-    let alpha_b = add(add(w_dot, j.accel), cross(w, j.rate));
-    let spin_rate = add(m.rear(e, alpha_b), cross(w_b, m.rear(e, w_b)));
-    let couple = sub(spin_rate, cross(scale_by(m.rear_half, e), force));
-    j.axes.map(|axis| dot(couple, axis))
+    let rear_rate = |v: V3<T>| sub(&cross(&j.rate, &m.rear(e, v)), &m.rear(e, cross(&j.rate, &v)));
+    let locked_rate_omega =
+        sub(&rear_rate(w), &scale_by(m.reduced, &add(&cross(&pd, &cross(&p, &w)), &cross(&p, &cross(&pd, &w)))));
+    let h_rate = add(&add(&rear_rate(j.rate), &m.rear(e, j.accel)), &scale_by(m.reduced, &cross(&p, &pdd)));
+    let spin_term = lambda.map_or([T::cst(0.0); 3], |l| cross(&l, &w));
+    let w_dot = solve3(&locked, &sub(&spin_term, &add(&locked_rate_omega, &h_rate)));
+    let relative =
+        add(&add(&pdd, &cross(&w_dot, &p)), &add(&scale_by(2.0, &cross(&w, &pd)), &cross(&w, &cross(&w, &p))));
+    let force = scale_by(m.rear_mass * m.front_share, &relative);
+    let w_b = add(&w, &j.rate);
+    let alpha_b = add(&add(&w_dot, &j.accel), &cross(&w, &j.rate));
+    let spin_rate = add(&m.rear(e, alpha_b), &cross(&w_b, &m.rear(e, w_b)));
+    let couple = sub(&spin_rate, &cross(&scale_by(m.rear_half, &e), &force));
+    j.axes.map(|axis| dot(&couple, &axis))
 }
 
 #[cfg(test)]

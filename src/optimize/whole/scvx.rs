@@ -125,10 +125,10 @@ impl Iterate {
     }
 }
 
-/// How a stage ended.
+/// How a stage ended: its last iterate's spline, status and why.
 #[derive(Clone, Debug)]
 pub(crate) struct StageEnd {
-    pub(crate) iterate: Iterate,
+    pub(crate) spline: BSpline,
     pub(crate) status: WholeStatus,
     pub(crate) reason: String,
 }
@@ -256,7 +256,7 @@ impl ScvxProblem<'_> {
         let floor = 1e-12 * it.objective.max(1e-300);
         let bend_floor = s.min_angle_deg.map(|a| (std::f64::consts::PI - a.to_radians()).cos());
         let joint_limits = self.variable_limits(&layout);
-        let end = |iterate, status, reason: String| Ok(StageEnd { iterate, status, reason });
+        let end = |iterate: Iterate, status, reason: String| Ok(StageEnd { spline: iterate.spline, status, reason });
         // The curvature the energy's and the peak's models leave out, learnt from the accepted
         // steps ([`super::curvature`]).
         let mut curvature = Curvature::new(match objective {

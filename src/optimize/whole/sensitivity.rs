@@ -287,13 +287,36 @@ pub fn gauss_grid(spline: &BSpline, parts: usize) -> Vec<GridPoint> {
 
 /// Torques and their gradients on a grid (each instant on its own, in parallel).
 pub fn torque_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
+    chained_samples(spline, layout, grid, &grid_partials(cat, spline, layout.joints, grid))
+}
+
+/// Each instant's motor torques with their partials in `(q, q̇, q̈)` ([`WholeCat::torque_partials`]),
+/// `joints` coordinates, in parallel.
+pub fn grid_partials(cat: &WholeCat, spline: &BSpline, joints: usize, grid: &[GridPoint]) -> Vec<Vec<Partials>> {
     grid.par_iter()
         .with_min_len(16)
-        .map(|&(span, time, weight)| {
+        .map(|&(span, time, _)| {
+            let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&spline.basis(span, time));
+            cat.torque_partials(&q[..joints], &qd[..joints], &qdd[..joints])
+        })
+        .collect()
+}
+
+/// The samples on `grid` from each instant's torque `partials` ([`grid_partials`]): their
+/// gradients on the layout's variables through the spline's basis.
+pub fn chained_samples(
+    spline: &BSpline,
+    layout: &Layout,
+    grid: &[GridPoint],
+    partials: &[Vec<Partials>],
+) -> Vec<TorqueSample> {
+    grid.par_iter()
+        .zip(partials)
+        .with_min_len(16)
+        .map(|(&(span, time, weight), tau)| {
             let basis = spline.basis(span, time);
             let joints = layout.joints;
-            let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&basis);
-            let tau = cat.torque_partials(&q[..joints], &qd[..joints], &qdd[..joints]);
+            let [_, qd, _] = spline.values::<MAX_JOINTS>(&basis);
             let width = joints * basis.values[0].len();
             let gradient = tau
                 .iter()

@@ -61,8 +61,8 @@ type Q<T> = [T; 4];
 
 fn qmul<T: Real>(a: Q<T>, b: Q<T>) -> Q<T> {
     let (av, bv) = ([a[1], a[2], a[3]], [b[1], b[2], b[3]]);
-    let v = add(add(scale(a[0], bv), scale(b[0], av)), cross(av, bv));
-    [a[0] * b[0] - dot(av, bv), v[0], v[1], v[2]]
+    let v = add(&add(&scale(a[0], &bv), &scale(b[0], &av)), &cross(&av, &bv));
+    [a[0] * b[0] - dot(&av, &bv), v[0], v[1], v[2]]
 }
 
 fn qadd<T: Real>(a: Q<T>, b: Q<T>, k: f64) -> Q<T> {
@@ -78,8 +78,8 @@ fn normalised<T: Real>(y: Q<T>) -> Q<T> {
 fn inverse_rotate<T: Real>(u: Q<T>, l: &Vector3<f64>) -> V3<T> {
     let v = [u[1], u[2], u[3]];
     let l = [T::cst(l.x), T::cst(l.y), T::cst(l.z)];
-    let vl = cross(v, l);
-    add(sub(l, scale_by(2.0, scale(u[0], vl))), scale_by(2.0, cross(v, vl)))
+    let vl = cross(&v, &l);
+    add(&sub(&l, &scale_by(2.0, &scale(u[0], &vl))), &scale_by(2.0, &cross(&v, &vl)))
 }
 
 /// The joint state at one instant of the span as duals on the span's control points.

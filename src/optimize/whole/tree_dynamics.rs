@@ -33,35 +33,47 @@ use crate::model::Joint;
 /// A 3×3 matrix over a [`Real`], as its rows.
 type M3<T> = [V3<T>; 3];
 
-/// `M v`.
-fn apply<T: Real>(m: &M3<T>, v: V3<T>) -> V3<T> {
-    [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
-}
-
-/// `A B` (written out: `array::from_fn` moved every dual number through a copy; memory moves were
-/// 13 % of a tailed cat's optimisation, most of them here and in [`transpose`]).
-fn product<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
-    let c = transpose(b);
+/// The matrix of `entry(i, j)`, written out: `array::from_fn` moves every dual number through a
+/// copy (memory moves were 15 % of the tailed cat's interior-point optimisation, perf,
+/// 2026-12-07, most of them from the products and their transposed copies).
+fn written<T: Real>(entry: impl Fn(usize, usize) -> T) -> M3<T> {
     [
-        [dot(a[0], c[0]), dot(a[0], c[1]), dot(a[0], c[2])],
-        [dot(a[1], c[0]), dot(a[1], c[1]), dot(a[1], c[2])],
-        [dot(a[2], c[0]), dot(a[2], c[1]), dot(a[2], c[2])],
+        [entry(0, 0), entry(0, 1), entry(0, 2)],
+        [entry(1, 0), entry(1, 1), entry(1, 2)],
+        [entry(2, 0), entry(2, 1), entry(2, 2)],
     ]
 }
 
-/// `Aᵀ`.
-fn transpose<T: Real>(a: &M3<T>) -> M3<T> {
-    [[a[0][0], a[1][0], a[2][0]], [a[0][1], a[1][1], a[2][1]], [a[0][2], a[1][2], a[2][2]]]
+/// `A B`, `B`'s columns read in place.
+fn product<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
+    written(|i, j| a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j])
+}
+
+/// `A Bᵀ`.
+fn product_transposed<T: Real>(a: &M3<T>, b: &M3<T>) -> M3<T> {
+    written(|i, j| dot(&a[i], &b[j]))
+}
+
+/// `A C` for a constant `C`: the numbers of `A` times `C` as constant duals, without the products
+/// of their zero derivatives.
+fn product_constant<T: Real>(a: &M3<T>, c: &Matrix3<f64>) -> M3<T> {
+    written(|i, j| a[i][0] * c[(0, j)] + a[i][1] * c[(1, j)] + a[i][2] * c[(2, j)])
+}
+
+/// `M v`.
+fn apply<T: Real>(m: &M3<T>, v: &V3<T>) -> V3<T> {
+    [dot(&m[0], v), dot(&m[1], v), dot(&m[2], v)]
+}
+
+/// `M v` for a constant `v`, as [`product_constant`].
+fn apply_constant<T: Real>(m: &M3<T>, v: &Vector3<f64>) -> V3<T> {
+    let entry = |i: usize| m[i][0] * v.x + m[i][1] * v.y + m[i][2] * v.z;
+    [entry(0), entry(1), entry(2)]
 }
 
 /// A constant matrix.
 fn constant<T: Real>(m: &Matrix3<f64>) -> M3<T> {
     std::array::from_fn(|i| std::array::from_fn(|j| T::cst(m[(i, j)])))
-}
-
-/// A constant vector.
-fn constant3<T: Real>(v: &Vector3<f64>) -> V3<T> {
-    [T::cst(v.x), T::cst(v.y), T::cst(v.z)]
 }
 
 /// The joint's rotation `J(q)` of the child's frame in the parent's ([`Joint::rotation`]):
@@ -151,41 +163,41 @@ fn motion<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: Option<&[T]>) -> (Vec<Mo
         let jqdd = qdd.map(|x| &x[range]);
         let rotation = product(&p.rotation, &rotation_of(l.joint, jq));
         let (rel, rel_dot, axes) = joint_kinematics(l.joint, jq, jqd, jqdd);
-        let w_rel = apply(&p.rotation, rel);
-        let rate = add(p.rate, w_rel);
-        let (a, b) = (apply(&p.rotation, constant3(&l.at_parent)), apply(&rotation, constant3(&l.at_child)));
-        let point = add(p.position, a);
-        let inertia = product(&product(&rotation, &constant(&tree.bodies()[i + 1].inertia)), &transpose(&rotation));
-        let velocity = sub(add(p.velocity, cross(p.rate, a)), cross(rate, b));
+        let w_rel = apply(&p.rotation, &rel);
+        let rate = add(&p.rate, &w_rel);
+        let (a, b) = (apply_constant(&p.rotation, &l.at_parent), apply_constant(&rotation, &l.at_child));
+        let point = add(&p.position, &a);
+        let inertia = product_transposed(&product_constant(&rotation, &tree.bodies()[i + 1].inertia), &rotation);
+        let velocity = sub(&add(&p.velocity, &cross(&p.rate, &a)), &cross(&rate, &b));
         let (rate_dot, acceleration) = if qdd.is_some() {
-            let rate_dot = add(add(p.rate_dot, cross(p.rate, w_rel)), apply(&p.rotation, rel_dot));
+            let rate_dot = add(&add(&p.rate_dot, &cross(&p.rate, &w_rel)), &apply(&p.rotation, &rel_dot));
             let acceleration = sub(
-                sub(
-                    add(add(p.acceleration, cross(p.rate_dot, a)), cross(p.rate, cross(p.rate, a))),
-                    cross(rate_dot, b),
+                &sub(
+                    &add(&add(&p.acceleration, &cross(&p.rate_dot, &a)), &cross(&p.rate, &cross(&p.rate, &a))),
+                    &cross(&rate_dot, &b),
                 ),
-                cross(rate, cross(rate, b)),
+                &cross(&rate, &cross(&rate, &b)),
             );
             (rate_dot, acceleration)
         } else {
             (zero, zero)
         };
-        links.push((point, axes.into_iter().map(|x| apply(&p.rotation, x)).collect()));
-        bodies.push(Moving { rotation, inertia, position: sub(point, b), velocity, acceleration, rate, rate_dot });
+        links.push((point, axes.iter().map(|x| apply(&p.rotation, x)).collect()));
+        bodies.push(Moving { rotation, inertia, position: sub(&point, &b), velocity, acceleration, rate, rate_dot });
     }
     let total = tree.mass();
-    let mean = |f: fn(&Moving<T>) -> V3<T>| {
-        bodies.iter().zip(tree.bodies()).fold(zero, |s, (m, b)| add(s, scale_by(b.mass / total, f(m))))
+    let mean = |f: fn(&Moving<T>) -> &V3<T>| {
+        bodies.iter().zip(tree.bodies()).fold(zero, |s, (m, b)| add(&s, &scale_by(b.mass / total, f(m))))
     };
-    let (c, cd) = (mean(|m| m.position), mean(|m| m.velocity));
-    let cdd = if qdd.is_some() { mean(|m| m.acceleration) } else { zero };
+    let (c, cd) = (mean(|m| &m.position), mean(|m| &m.velocity));
+    let cdd = if qdd.is_some() { mean(|m| &m.acceleration) } else { zero };
     for m in &mut bodies {
-        m.position = sub(m.position, c);
-        m.velocity = sub(m.velocity, cd);
-        m.acceleration = sub(m.acceleration, cdd);
+        m.position = sub(&m.position, &c);
+        m.velocity = sub(&m.velocity, &cd);
+        m.acceleration = sub(&m.acceleration, &cdd);
     }
     for l in &mut links {
-        l.0 = sub(l.0, c);
+        l.0 = sub(&l.0, &c);
     }
     (bodies, links)
 }
@@ -195,7 +207,7 @@ fn locked<T: Real>(tree: &Tree, bodies: &[Moving<T>]) -> (M3<T>, V3<T>) {
     let mut m = [[T::cst(0.0); 3]; 3];
     let mut h = [T::cst(0.0); 3];
     for (k, b) in bodies.iter().zip(tree.bodies()) {
-        let r = k.position;
+        let r = &k.position;
         let rr = dot(r, r);
         for (i, row) in m.iter_mut().enumerate() {
             for (j, x) in row.iter_mut().enumerate() {
@@ -203,7 +215,7 @@ fn locked<T: Real>(tree: &Tree, bodies: &[Moving<T>]) -> (M3<T>, V3<T>) {
                 *x = *x + k.inertia[i][j] + (diagonal - r[i] * r[j]) * b.mass;
             }
         }
-        h = add(add(h, apply(&k.inertia, k.rate)), scale_by(b.mass, cross(r, k.velocity)));
+        h = add(&add(&h, &apply(&k.inertia, &k.rate)), &scale_by(b.mass, &cross(r, &k.velocity)));
     }
     (m, h)
 }
@@ -213,7 +225,7 @@ fn locked<T: Real>(tree: &Tree, bodies: &[Moving<T>]) -> (M3<T>, V3<T>) {
 pub fn body_rate<T: Real>(tree: &Tree, q: &[T], qd: &[T], lambda: V3<T>) -> V3<T> {
     let (bodies, _) = motion(tree, q, qd, None);
     let (m, h) = locked(tree, &bodies);
-    solve3(m, sub(lambda, h))
+    solve3(&m, &sub(&lambda, &h))
 }
 
 /// Every joint's motor torques, in link order, N·m, through `(q, q̇, q̈)` with the total momentum
@@ -221,30 +233,32 @@ pub fn body_rate<T: Real>(tree: &Tree, q: &[T], qd: &[T], lambda: V3<T>) -> V3<T
 pub fn motor_torques<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T], lambda: V3<T>) -> Vec<T> {
     let (bodies, links) = motion(tree, q, qd, Some(qdd));
     let (m, h) = locked(tree, &bodies);
-    let w = solve3(m, sub(lambda, h));
+    let w = solve3(&m, &sub(&lambda, &h));
     // İ_lock Ω and ḣ, body by body: d/dt (R I Rᵀ) v = w × (R I Rᵀ v) − R I Rᵀ (w × v).
-    let mut rhs = cross(lambda, w);
+    let mut rhs = cross(&lambda, &w);
     for (k, b) in bodies.iter().zip(tree.bodies()) {
-        let (r, v) = (k.position, k.velocity);
-        let turning = |x: V3<T>| sub(cross(k.rate, apply(&k.inertia, x)), apply(&k.inertia, cross(k.rate, x)));
-        let m_dot_w = sub(turning(w), scale_by(b.mass, add(cross(v, cross(r, w)), cross(r, cross(v, w)))));
-        let h_dot =
-            add(add(turning(k.rate), apply(&k.inertia, k.rate_dot)), scale_by(b.mass, cross(r, k.acceleration)));
-        rhs = sub(rhs, add(m_dot_w, h_dot));
+        let (r, v) = (&k.position, &k.velocity);
+        let turning = |x: &V3<T>| sub(&cross(&k.rate, &apply(&k.inertia, x)), &apply(&k.inertia, &cross(&k.rate, x)));
+        let m_dot_w = sub(&turning(&w), &scale_by(b.mass, &add(&cross(v, &cross(r, &w)), &cross(r, &cross(v, &w)))));
+        let h_dot = add(
+            &add(&turning(&k.rate), &apply(&k.inertia, &k.rate_dot)),
+            &scale_by(b.mass, &cross(r, &k.acceleration)),
+        );
+        rhs = sub(&rhs, &add(&m_dot_w, &h_dot));
     }
-    let w_dot = solve3(m, rhs);
-    let loads: Vec<(V3<T>, V3<T>, V3<T>)> = bodies
+    let w_dot = solve3(&m, &rhs);
+    let loads: Vec<(V3<T>, V3<T>)> = bodies
         .iter()
         .zip(tree.bodies())
         .map(|(k, b)| {
-            let omega = add(w, k.rate);
-            let alpha = add(add(w_dot, k.rate_dot), cross(w, k.rate));
+            let omega = add(&w, &k.rate);
+            let alpha = add(&add(&w_dot, &k.rate_dot), &cross(&w, &k.rate));
             let a = add(
-                add(add(k.acceleration, cross(w_dot, k.position)), scale_by(2.0, cross(w, k.velocity))),
-                cross(w, cross(w, k.position)),
+                &add(&add(&k.acceleration, &cross(&w_dot, &k.position)), &scale_by(2.0, &cross(&w, &k.velocity))),
+                &cross(&w, &cross(&w, &k.position)),
             );
-            let spin = add(apply(&k.inertia, alpha), cross(omega, apply(&k.inertia, omega)));
-            (spin, k.position, scale_by(b.mass, a))
+            let spin = add(&apply(&k.inertia, &alpha), &cross(&omega, &apply(&k.inertia, &omega)));
+            (spin, scale_by(b.mass, &a))
         })
         .collect();
     let mut out = Vec::with_capacity(q.len());
@@ -252,10 +266,11 @@ pub fn motor_torques<T: Real>(tree: &Tree, q: &[T], qd: &[T], qdd: &[T], lambda:
         let inside = tree.subtree(i);
         let couple = loads
             .iter()
+            .zip(&bodies)
             .zip(&inside)
             .filter(|(_, s)| **s)
-            .fold([T::cst(0.0); 3], |c, ((spin, r, f), _)| add(add(c, *spin), cross(sub(*r, *point), *f)));
-        out.extend(axes.iter().map(|x| dot(couple, *x)));
+            .fold([T::cst(0.0); 3], |c, (((spin, f), k), _)| add(&add(&c, spin), &cross(&sub(&k.position, point), f)));
+        out.extend(axes.iter().map(|x| dot(&couple, x)));
     }
     out
 }

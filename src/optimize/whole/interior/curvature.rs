@@ -17,9 +17,12 @@
 //! - the `q̇`-`q̇` block, `2S` for `Σ_j w_j τ_j(q, q̇, 0) = q̇ᵀ S q̇`, exactly from the torques at
 //!   the unit rates and their pairwise sums (polarisation), in plain floating point.
 //!
-//! That is `J` gradients and `J(J+1)/2` torques besides the sample's own gradient, against the
-//! `2J` gradients of differences along the rates too: the tailed cat's curvature on 469 samples
-//! in 26–27 ms against 34–35 on one thread (scratch timing, best of eight, 2026-12-07).
+//! That is `J` gradients and `J(J+1)/2` torques besides the sample's own gradient, which the
+//! iterate's evaluation has already made and keeps
+//! ([`grid_partials`](super::super::sensitivity::grid_partials)), against the `2J` gradients of
+//! differences along the rates too: the tailed cat's curvature on 469 samples in 26–27 ms against
+//! 34–35 on one thread, the own gradient then made again (scratch timing, best of eight,
+//! 2026-12-07).
 //! The step `10⁻⁶` rad, for angles of order one, leaves a truncation error of about `10⁻⁶` of the
 //! curvature and a round-off of the gradients' (about `10⁻¹²` of them) over the step: measured
 //! against central differences of the gradients, 3.7·10⁻⁷ of the curvature on the spherical
@@ -27,7 +30,7 @@
 
 use rayon::prelude::*;
 
-use super::super::cat::{WholeCat, MAX_JOINTS};
+use super::super::cat::{Partials, WholeCat, MAX_JOINTS};
 use super::super::sensitivity::{GridPoint, Layout};
 use super::super::spline::BSpline;
 
@@ -35,19 +38,23 @@ use super::super::spline::BSpline;
 const STEP_ANGLE: f64 = 1e-6;
 
 /// `Σ_k ∇²_c Σ_j w_kj τ_kj` over the samples of `grid` with the weights `weights[k][j]`, as
-/// `(row, column, value)` entries on the layout's variables (duplicates to be summed). Samples
-/// whose weights all vanish are skipped.
+/// `(row, column, value)` entries on the layout's variables (duplicates to be summed), from each
+/// sample's own torque partials `own[k]` on `spline`
+/// ([`grid_partials`](super::super::sensitivity::grid_partials)). Samples whose weights all
+/// vanish are skipped.
 pub(crate) fn weighted_torque_hessian(
     cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     grid: &[GridPoint],
+    own: &[Vec<Partials>],
     weights: &[Vec<f64>],
 ) -> Vec<(usize, usize, f64)> {
     grid.par_iter()
+        .zip(own)
         .zip(weights)
         .with_min_len(16)
-        .flat_map_iter(|(&(span, time, _), w)| sample_hessian(cat, spline, layout, span, time, w))
+        .flat_map_iter(|((&(span, time, _), at), w)| sample_hessian(cat, spline, layout, (span, time), at, w))
         .collect()
 }
 
@@ -56,8 +63,8 @@ fn sample_hessian(
     cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
-    span: usize,
-    time: f64,
+    (span, time): (usize, f64),
+    at: &[Partials],
     w: &[f64],
 ) -> Vec<(usize, usize, f64)> {
     if w.iter().all(|&x| x == 0.0) {
@@ -68,7 +75,6 @@ fn sample_hessian(
     let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&basis);
     let (q, qd, qdd) = (&q[..joints], &qd[..joints], &qdd[..joints]);
     let weighted = |t: &[f64]| w.iter().zip(t).map(|(w, t)| w * t).sum::<f64>();
-    let at = cat.torque_partials(q, qd, qdd);
     // H over (derivative order a, coordinate j) at index a·J + j.
     let size = 3 * joints;
     let mut h = vec![0.0; size * size];

@@ -56,13 +56,14 @@
 //! It solves the least peak of a cat with ideal motors released without spin and without a
 //! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the coarse
 //! solve that starts each start) and every other problem keep the trust-region loop. On the
-//! five cats of the bench it is 1.5 to 6 times faster than the trust region (the spherical
-//! joint 2.4–3.2 s against 8.9–11.4, the tailed cat 3.7–4.2 against 19–25, the legged cat
-//! 2.9–3.8 against 7.7–8.4) and its peaks lie from 1.2 % below the trust region's (the
+//! five cats of the bench it is 2 to 8 times faster than the trust region (the spherical joint
+//! 2.0–2.9 s against 11.3–12.9, the tailed cat 3.4–3.9 against 23–28, the legged cat 2.8–3.2
+//! against 8.9–10.0; 2026-12-07) and its peaks lie from 1.2 % below the trust region's (the
 //! spherical joint's, refined in 66 of its [`super::refine::INTERIOR_BUDGET`]) to 0.004 % above
 //! (README, "More motors"). It is not the default: that would move every committed whole
-//! optimum and the replays made of them; and beyond two motors it is still above 2 s (a tailed
-//! cat's iteration costs about 50 ms, half of it the curvature).
+//! optimum and the replays made of them; and beyond two motors it is still above 2 s (an
+//! iteration of the tailed cat's `paper` start, alone on two cores: 13 ms of curvature, 7 of
+//! trial, 2 of factorisation; scratch timing, medians of 40).
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
@@ -78,9 +79,10 @@ mod tests;
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
+use super::cat::Partials;
 use super::reach::Reach;
 use super::scvx::{ScvxProblem, StageEnd};
-use super::sensitivity::{final_orientation, torque_samples, uniform_grid, GridPoint, Layout};
+use super::sensitivity::{chained_samples, final_orientation, grid_partials, uniform_grid, GridPoint, Layout};
 use super::settings::{Objective, WholeError};
 use super::solution::{IterationLog, WholeStatus};
 use super::spline::BSpline;
@@ -115,6 +117,17 @@ const CORRECTIONS: usize = 4;
 /// The shortest step of a line search.
 const LEAST_STEP: f64 = 1e-10;
 
+/// The Magnus steps per span the stage integrates the flip with for the loop's `steps`: half of
+/// them, at least two. At four (the default eight halved) the flip's error `e` lies within
+/// `6·10⁻¹²` rad of its value at 64 steps and its Jacobian within `7·10⁻⁸` of its largest entry,
+/// on the optima of the universal and spherical joints and the tailed and legged cats (scratch,
+/// 2026-12-07): far below the flip's tolerance. The Newton phase after the stage
+/// ([`super::optimize_start`]) integrates with the loop's own steps, doubled until the adaptive
+/// engine agrees, and holds the flip there.
+fn stage_steps(steps: usize) -> usize {
+    steps.div_ceil(2).max(2)
+}
+
 /// One evaluated point: the unknowns, the inequality rows and the flip's equality rows.
 #[derive(Clone)]
 struct Point {
@@ -134,6 +147,8 @@ struct Point {
     equality_residual: Vec<f64>,
     /// The largest sampled `|τ|`, N·m.
     peak: f64,
+    /// Each sample's torques with their partials in `(q, q̇, q̈)`, for the curvature.
+    partials: Vec<Vec<Partials>>,
 }
 
 impl Point {
@@ -206,7 +221,8 @@ impl Barrier<'_> {
     fn evaluate(&self, x: &[f64], reach: &Reach) -> Point {
         let n = self.variables();
         let spline = self.spline(x);
-        let samples = torque_samples(self.problem.cat, &spline, &self.layout, &self.grid);
+        let partials = grid_partials(self.problem.cat, &spline, self.layout.joints, &self.grid);
+        let samples = chained_samples(&spline, &self.layout, &self.grid, &partials);
         let flip = final_orientation(self.problem.cat, &spline, &self.layout, self.steps, &self.target);
         let mut rows = Rows::default();
         rows.start.push(0);
@@ -241,6 +257,7 @@ impl Barrier<'_> {
             equality: Vec::new(),
             equality_residual: Vec::new(),
             peak,
+            partials,
         };
         point.measured_in(reach.clone())
     }
@@ -254,7 +271,14 @@ impl Barrier<'_> {
             .map(|k| (0..joints).map(|j| (z[2 * (k * joints + j)] - z[2 * (k * joints + j) + 1]) / self.unit).collect())
             .collect();
         let spline = self.spline(&point.x);
-        curvature::weighted_torque_hessian(self.problem.cat, &spline, &self.layout, &self.grid, &weights)
+        curvature::weighted_torque_hessian(
+            self.problem.cat,
+            &spline,
+            &self.layout,
+            &self.grid,
+            &point.partials,
+            &weights,
+        )
     }
 
     /// The order of the Newton matrix's unknowns.
@@ -322,19 +346,19 @@ pub(crate) fn stage(
     let s = problem.settings;
     let layout = Layout { control_points: s.control_points, fixed: s.fixed(), joints: problem.cat.joints() };
     let grid = uniform_grid(&spline, s.samples_per_span);
-    let first = torque_samples(problem.cat, &spline, &layout, &grid);
-    let unit = first.iter().flat_map(|q| q.tau.iter().map(|t| t.abs())).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let first = grid_partials(problem.cat, &spline, layout.joints, &grid);
+    let unit = first.iter().flatten().map(|t| t.value.abs()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
     let coordinates = problem.cat.control_limits(s.joint_limit_deg);
     let limits = (0..layout.variables()).map(|v| coordinates[v / layout.free()]).collect();
     let target = problem.target.unwrap_or_else(UnitQuaternion::identity);
+    let steps = stage_steps(steps);
     let barrier = Barrier { problem, layout, base: spline, grid, steps, target, unit, limits };
     let mut x = layout.values(&barrier.base);
     x.push(1.0 + FIRST_MARGIN);
     let point = barrier.evaluate(&x, &Reach::Full).measured_in_own();
     let first = if warm { WARM_BARRIER } else { FIRST_BARRIER };
     let (status, reason, point) = solve(&barrier, point, first, optimality, budget, log);
-    let iterate = problem.evaluate(barrier.spline(&point.x), Objective::Peak, steps);
-    Ok(StageEnd { iterate, status, reason })
+    Ok(StageEnd { spline: barrier.spline(&point.x), status, reason })
 }
 
 /// The method's iterations from `p` with the first barrier parameter `mu` (module docs): how

@@ -161,15 +161,18 @@ impl Newton {
         for &(v, u, a) in curvature {
             h.add(order.position(v), order.position(u), a);
         }
+        // Each row's positions in the matrix, found once a row (not once an entry pair).
+        let mut positions = Vec::new();
         for r in 0..rows.len() {
             let sigma = duals[r] / slacks[r];
             let (t, row) = (rows.t[r], rows.row(r));
             h.add(n, n, sigma * t * t);
-            for &(v, a) in row {
-                let pv = order.position(v);
+            positions.clear();
+            positions.extend(row.iter().map(|&(v, _)| order.position(v)));
+            for (&(_, a), &pv) in row.iter().zip(&positions) {
                 h.add(n, pv, sigma * a * t);
-                for &(u, b) in row {
-                    h.add(pv, order.position(u), sigma * a * b);
+                for (&(_, b), &pu) in row.iter().zip(&positions) {
+                    h.add(pv, pu, sigma * a * b);
                 }
             }
         }
