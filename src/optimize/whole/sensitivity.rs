@@ -285,7 +285,8 @@ pub fn gauss_grid(spline: &BSpline, parts: usize) -> Vec<GridPoint> {
     out
 }
 
-/// Torques and their gradients on a grid (each instant on its own, in parallel).
+/// Torques and their gradients on a grid (each instant on its own, in parallel): [`grid_partials`]
+/// chained to the control points by [`chained_samples`].
 pub fn torque_samples(cat: &WholeCat, spline: &BSpline, layout: &Layout, grid: &[GridPoint]) -> Vec<TorqueSample> {
     chained_samples(spline, layout, grid, &grid_partials(cat, spline, layout.joints, grid))
 }
