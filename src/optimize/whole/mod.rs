@@ -439,25 +439,24 @@ pub fn refine_solution(
     let mut bound = 1.0 - LIMIT_MARGIN;
     let mut run =
         Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance, warm: true };
-    let measurement =
-        measure::measure_spinning(problem.cat, &best.spline, problem.motors, run.flip_tolerance(), &problem.spin);
-    let mut end = FinalStage {
+    // What each round refines: `best` (its peak and stretch as its own re-measurement found
+    // them), then the last round kept.
+    let mut incumbent = Incumbent {
         status: best.status,
-        reason: best.reason.clone(),
         spline: best.spline.clone(),
-        measurement,
-        tightenings: 0,
+        peak: best.peak_torque_nm,
+        stretch: best.motors.stretch.map_or(0.0, |k| k.value),
     };
+    let mut end = None;
     let mut notes = Vec::new();
-    let mut kept = false;
     for _ in 0..s.switch_refinements {
         let spans = if problem.spins() {
-            let (_, history) = problem.cat.spin_history(&end.spline, &problem.spin, run.flip_tolerance());
-            refine::switching_spans_from(&problem.cat.exact_torques(Some(&history)), &end.spline)
+            let (_, history) = problem.cat.spin_history(&incumbent.spline, &problem.spin, run.flip_tolerance());
+            refine::switching_spans_from(&problem.cat.exact_torques(Some(&history)), &incumbent.spline)
         } else {
-            refine::switching_spans(problem.cat, &end.spline)
+            refine::switching_spans(problem.cat, &incumbent.spline)
         };
-        let finer = refine::refined(&end.spline, &spans);
+        let finer = refine::refined(&incumbent.spline, &spans);
         if spans.is_empty() || finer.control_points() > WholeSettings::MAX_CONTROL_POINTS {
             break;
         }
@@ -473,8 +472,8 @@ pub fn refine_solution(
         let budget = run.log.len() + stage_budget;
         let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
         let lower = match s.objective {
-            Objective::MinTime => stretch(&next.measurement) < stretch(&end.measurement),
-            _ => next.measurement.peak < end.measurement.peak,
+            Objective::MinTime => stretch(&next.measurement) < incumbent.stretch,
+            _ => next.measurement.peak < incumbent.peak,
         };
         let m = &next.measurement;
         let flips = m.twist_error <= tolerance && m.flip.swing <= tolerance;
@@ -491,9 +490,9 @@ pub fn refine_solution(
                 "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the {} it refines)",
                 next.spline.spans(),
                 stage_budget,
-                if end.status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
+                if incumbent.status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
             )
-        } else if end.status == WholeStatus::UpperBound {
+        } else if incumbent.status == WholeStatus::UpperBound {
             // The upper bound it refines is now a converged optimum: the reader is told so.
             format!("refined to {} spans where the torques switch, where it converged", next.spline.spans())
         } else {
@@ -503,16 +502,21 @@ pub fn refine_solution(
         // stopped on its own test converged, whatever the curve it started from.
         let status =
             if next.status == WholeStatus::MaxIterations { WholeStatus::UpperBound } else { WholeStatus::Converged };
-        end = FinalStage { status, reason: best.reason.clone(), ..next };
-        kept = true;
+        incumbent = Incumbent {
+            status,
+            spline: next.spline.clone(),
+            peak: next.measurement.peak,
+            stretch: stretch(&next.measurement),
+        };
+        end = Some(FinalStage { status, reason: best.reason.clone(), ..next });
     }
-    if !kept {
+    let Some(end) = end else {
         let mut same = best.clone();
         for note in notes {
             same.reason = format!("{}; {note}", same.reason);
         }
         return Ok(same);
-    }
+    };
     let mut refined = run.finish(problem, &best.start, end, notes, constrained, clock);
     refined.seconds += best.seconds;
     Ok(refined)
@@ -521,6 +525,15 @@ pub fn refine_solution(
 /// The largest stretch of a measurement (0 with ideal motors).
 fn stretch(m: &measure::Measurement) -> f64 {
     m.motors.stretch.map_or(0.0, |k| k.value)
+}
+
+/// What a round of [`refine_solution`] refines: the status, the spline, and the peak and the
+/// largest stretch its re-measurement found.
+struct Incumbent {
+    status: WholeStatus,
+    spline: BSpline,
+    peak: f64,
+    stretch: f64,
 }
 
 /// How the final stage of one layout ended: its status, why, the spline, its measurement and the

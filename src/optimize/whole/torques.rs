@@ -12,6 +12,7 @@
 
 use super::spline::{BSpline, SplineShape};
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::engines::motors::{LimitUse, MotorDemand, StretchPeak};
 use crate::engines::reduction;
@@ -115,22 +116,42 @@ fn general(tree: &Tree, shape: &ShapeState) -> Vec<f64> {
 /// The peak of each channel of `f(span, s)` (all `≥ 0`) over `spline`: every channel sampled at
 /// once on `samples + 1` points per span, each sampled local maximum that could be its peak
 /// refined by golden section on that channel, as [`crate::engines::torque::peak_torques_on`]
-/// refines them; the times global, s.
-fn spline_peaks(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> Vec<f64>) -> Vec<Peak> {
+/// refines them; the times global, s. The spans are searched in parallel and their peaks
+/// compared in order, so the result does not depend on the threads.
+fn spline_peaks(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> Vec<f64> + Sync) -> Vec<Peak> {
+    let durations = Trajectory::piece_durations(spline);
+    let starts: Vec<f64> = durations
+        .iter()
+        .scan(0.0, |t0, d| {
+            let start = *t0;
+            *t0 += d;
+            Some(start)
+        })
+        .collect();
+    let per_span: Vec<Vec<Peak>> = durations
+        .par_iter()
+        .zip(&starts)
+        .enumerate()
+        .map(|(span, (d, t0))| {
+            let h = d / samples as f64;
+            let rows: Vec<Vec<f64>> = (0..=samples).map(|k| f(span, h * k as f64)).collect();
+            (0..rows[0].len())
+                .map(|c| {
+                    let values: Vec<f64> = rows.iter().map(|r| r[c]).collect();
+                    let (s, value) = refine_peak(&values, h, &|s| f(span, s)[c]);
+                    Peak { value, time: t0 + s }
+                })
+                .collect()
+        })
+        .collect();
     let mut best: Vec<Peak> = Vec::new();
-    let mut t0 = 0.0;
-    for (span, d) in Trajectory::piece_durations(spline).into_iter().enumerate() {
-        let h = d / samples as f64;
-        let rows: Vec<Vec<f64>> = (0..=samples).map(|k| f(span, h * k as f64)).collect();
-        best.resize(rows[0].len(), Peak { value: 0.0, time: 0.0 });
-        for (c, peak) in best.iter_mut().enumerate() {
-            let values: Vec<f64> = rows.iter().map(|r| r[c]).collect();
-            let (s, value) = refine_peak(&values, h, &|s| f(span, s)[c]);
-            if value > peak.value {
-                *peak = Peak { value, time: t0 + s };
+    for peaks in per_span {
+        best.resize(peaks.len(), Peak { value: 0.0, time: 0.0 });
+        for (peak, candidate) in best.iter_mut().zip(peaks) {
+            if candidate.value > peak.value {
+                *peak = candidate;
             }
         }
-        t0 += d;
     }
     best
 }
