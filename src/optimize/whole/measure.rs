@@ -155,8 +155,8 @@ pub fn measure_spinning(
                     unreachable!("other limits beyond two motors are refused before the optimiser (beyond_two_motors)")
                 }
             };
-            let p = torques.peak(spline, PEAK_SAMPLES_PER_SPAN);
-            (p.value, p.time, torques.demand(spline, PEAK_SAMPLES_PER_SPAN, limit))
+            let (p, demand) = torques.peak_and_demand(spline, PEAK_SAMPLES_PER_SPAN, limit);
+            (p.value, p.time, demand)
         }
     };
     // Five-point Gauss–Legendre on four parts of every span.

@@ -62,31 +62,42 @@ impl ExactTorques<'_> {
         }
     }
 
-    /// The largest peak `|τ_j|` of every motor over `spline`: `samples + 1` points per span, every
-    /// sampled local maximum that could be the peak refined by golden section, as
-    /// [`crate::engines::torque::peak_torques_on`] refines them.
-    pub fn peak(&self, spline: &BSpline, samples: usize) -> Peak {
-        let peaks = spline_peaks(spline, samples, |span, s| self.at(spline, span, s).iter().map(|t| t.abs()).collect());
-        peaks.into_iter().fold(Peak { value: 0.0, time: 0.0 }, |best, p| if p.value > best.value { p } else { best })
-    }
-
-    /// What `spline` asks of its motors, one entry per motor: the peaks of `|q̇_j|` and
-    /// `|τ_j q̇_j|`, found as [`ExactTorques::peak`] finds the torque's, and with `torque_limit`
-    /// (one limit on every motor, a cat beyond two motors) each motor's torque usage
-    /// `max |τ_j| / τ_max` and the largest stretch `√(max |τ_j| / τ_max)` (the two-motor models'
-    /// usage is [`crate::engines::motors::motor_demand_from`]'s).
-    pub fn demand(&self, spline: &BSpline, samples: usize, torque_limit: Option<f64>) -> MotorDemand {
+    /// The largest peak `|τ_j|` of every motor over `spline`, and what `spline` asks of its
+    /// motors, one entry per motor: the peaks of `|q̇_j|` and `|τ_j q̇_j|`, and with
+    /// `torque_limit` (one limit on every motor, a cat beyond two motors) each motor's torque
+    /// usage `max |τ_j| / τ_max` and the largest stretch `√(max |τ_j| / τ_max)` (the two-motor
+    /// models' usage is [`crate::engines::motors::motor_demand_from`]'s). Every peak is found on
+    /// `samples + 1` points per span, each sampled local maximum that could be the peak refined by
+    /// golden section, as [`crate::engines::torque::peak_torques_on`] refines them; the torques
+    /// and rates of a point are made once for all of them.
+    pub fn peak_and_demand(&self, spline: &BSpline, samples: usize, torque_limit: Option<f64>) -> (Peak, MotorDemand) {
         let joints = spline.joints();
-        let mut peaks = spline_peaks(spline, samples, |span, s| {
+        // Channel c of a point: |τ_j|, |q̇_j| or |τ_j q̇_j| for the group c / J, joint j = c % J;
+        // a rate's channel alone needs no torque.
+        let value = |c: usize, tau: &[f64], qd: &[f64]| {
+            let j = c % joints;
+            match c / joints {
+                0 => tau[j].abs(),
+                1 => qd[j].abs(),
+                _ => (tau[j] * qd[j]).abs(),
+            }
+        };
+        let channels = |span: usize, s: f64| {
             let shape = SplineShape(spline).piece_shape(span, s);
             let tau = self.at_shape(spline, span, s, Some(&shape));
-            let qd = &shape.qd;
-            let power = tau.iter().zip(qd).map(|(t, w)| (t * w).abs());
-            let torque = tau.iter().map(|t| t.abs()).take(if torque_limit.is_some() { joints } else { 0 });
-            qd.iter().map(|w| w.abs()).chain(power).chain(torque).collect()
-        });
-        let torque = peaks.split_off(2 * joints);
-        let peak_power_w = peaks.split_off(joints);
+            (0..3 * joints).map(|c| value(c, &tau, &shape.qd)).collect()
+        };
+        let channel = |span: usize, s: f64, c: usize| {
+            let shape = SplineShape(spline).piece_shape(span, s);
+            let tau = if c / joints == 1 { Vec::new() } else { self.at_shape(spline, span, s, Some(&shape)) };
+            value(c, &tau, &shape.qd)
+        };
+        let mut peaks = spline_peaks(spline, samples, channels, channel);
+        let peak_power_w = peaks.split_off(2 * joints);
+        let peak_speed_rad_s = peaks.split_off(joints);
+        let torque = peaks;
+        let peak =
+            torque.iter().fold(Peak { value: 0.0, time: 0.0 }, |best, p| if p.value > best.value { *p } else { best });
         let limits: Vec<LimitUse> = torque_limit
             .map(|limit| {
                 let usage = |(j, p): (usize, &Peak)| LimitUse {
@@ -104,7 +115,7 @@ impl ExactTorques<'_> {
             joint: w.joint,
             limit: Limit::Torque,
         });
-        MotorDemand { peak_speed_rad_s: peaks, peak_power_w, limits, stretch }
+        (peak, MotorDemand { peak_speed_rad_s, peak_power_w, limits, stretch })
     }
 }
 
@@ -115,10 +126,16 @@ fn general(tree: &Tree, shape: &ShapeState) -> Vec<f64> {
 
 /// The peak of each channel of `f(span, s)` (all `≥ 0`) over `spline`: every channel sampled at
 /// once on `samples + 1` points per span, each sampled local maximum that could be its peak
-/// refined by golden section on that channel, as [`crate::engines::torque::peak_torques_on`]
+/// refined by golden section on that channel alone (`channel(span, s, c)`, the value of
+/// `f(span, s)[c]`), as [`crate::engines::torque::peak_torques_on`]
 /// refines them; the times global, s. The spans are searched in parallel and their peaks
 /// compared in order, so the result does not depend on the threads.
-fn spline_peaks(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> Vec<f64> + Sync) -> Vec<Peak> {
+fn spline_peaks(
+    spline: &BSpline,
+    samples: usize,
+    f: impl Fn(usize, f64) -> Vec<f64> + Sync,
+    channel: impl Fn(usize, f64, usize) -> f64 + Sync,
+) -> Vec<Peak> {
     let durations = Trajectory::piece_durations(spline);
     let starts: Vec<f64> = durations
         .iter()
@@ -138,7 +155,7 @@ fn spline_peaks(spline: &BSpline, samples: usize, f: impl Fn(usize, f64) -> Vec<
             (0..rows[0].len())
                 .map(|c| {
                     let values: Vec<f64> = rows.iter().map(|r| r[c]).collect();
-                    let (s, value) = refine_peak(&values, h, &|s| f(span, s)[c]);
+                    let (s, value) = refine_peak(&values, h, &|s| channel(span, s, c));
                     Peak { value, time: t0 + s }
                 })
                 .collect()

@@ -23,6 +23,13 @@
 //! differences along the rates too: the tailed cat's curvature on 469 samples in 26–27 ms against
 //! 34–35 on one thread, the own gradient then made again (scratch timing, best of eight,
 //! 2026-12-07).
+//!
+//! The differences and the torques at the unit rates do not depend on the weights: they are made
+//! once per sample for each torque ([`SampleCurvature`], [`torque_curvatures`]) and weighed
+//! afterwards ([`weighted_torque_hessian`]), so that the method can weigh the curvature it holds
+//! with new multipliers while the control points stay near where it was made
+//! (`super::CURVATURE_KEPT`).
+//!
 //! The step `10⁻⁶` rad, for angles of order one, leaves a truncation error of about `10⁻⁶` of the
 //! curvature and a round-off of the gradients' (about `10⁻¹²` of them) over the step: measured
 //! against central differences of the gradients, 3.7·10⁻⁷ of the curvature on the spherical
@@ -37,34 +44,95 @@ use super::super::spline::BSpline;
 /// The forward-difference step on an angle, rad.
 const STEP_ANGLE: f64 = 1e-6;
 
+/// One sample's torque curvature, before the weights: each torque's second derivatives along
+/// the angles and its quadratic form in the rates (module docs). It depends on the control
+/// points only, so the Lagrangian's curvature at new multipliers is its weighted sum.
+#[derive(Clone, Debug)]
+pub(crate) struct SampleCurvature {
+    /// `∂(∂τ_i/∂x_{b,k})/∂q_j` (`x_b` the angles, rates and accelerations) at index
+    /// `((j J + i) 3 + b) J + k`.
+    angles: Vec<f64>,
+    /// `τ_i(q, e_a + e_b, 0)` for `b ≤ a` at index `(a (a + 1)/2 + b) J + i`.
+    forms: Vec<f64>,
+}
+
+/// Each sample's [`SampleCurvature`] on `spline` at the samples of `grid`, from each sample's own
+/// torque partials `own[k]` ([`grid_partials`](super::super::sensitivity::grid_partials)), in
+/// parallel.
+pub(crate) fn torque_curvatures(
+    cat: &WholeCat,
+    spline: &BSpline,
+    joints: usize,
+    grid: &[GridPoint],
+    own: &[Vec<Partials>],
+) -> Vec<SampleCurvature> {
+    grid.par_iter()
+        .zip(own)
+        .with_min_len(16)
+        .map(|(&(span, time, _), at)| sample_curvature(cat, spline, joints, (span, time), at))
+        .collect()
+}
+
+/// One sample's [`SampleCurvature`]: `J` gradients along the angles and `J(J+1)/2` torques.
+fn sample_curvature(
+    cat: &WholeCat,
+    spline: &BSpline,
+    joints: usize,
+    (span, time): (usize, f64),
+    at: &[Partials],
+) -> SampleCurvature {
+    let basis = spline.basis(span, time);
+    let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&basis);
+    let (q, qd, qdd) = (&q[..joints], &qd[..joints], &qdd[..joints]);
+    let mut angles = Vec::with_capacity(3 * joints * joints * joints);
+    for j in 0..joints {
+        let mut moved_q = q.to_vec();
+        moved_q[j] += STEP_ANGLE;
+        let moved = cat.torque_partials(&moved_q, qd, qdd);
+        for i in 0..joints {
+            for b in 0..3 {
+                angles.extend((0..joints).map(|k| (moved[i].d[b][k] - at[i].d[b][k]) / STEP_ANGLE));
+            }
+        }
+    }
+    let zero = vec![0.0; joints];
+    let mut forms = Vec::with_capacity(joints * joints * (joints + 1) / 2);
+    for a in 0..joints {
+        for b in 0..=a {
+            let mut rate = zero.clone();
+            rate[a] += 1.0;
+            rate[b] += 1.0;
+            forms.extend(cat.torques(q, &rate, &zero));
+        }
+    }
+    SampleCurvature { angles, forms }
+}
+
 /// `Σ_k ∇²_c Σ_j w_kj τ_kj` over the samples of `grid` with the weights `weights[k][j]`, as
 /// `(row, column, value)` entries on the layout's variables (duplicates to be summed), from each
-/// sample's own torque partials `own[k]` on `spline`
-/// ([`grid_partials`](super::super::sensitivity::grid_partials)). Samples whose weights all
-/// vanish are skipped.
+/// sample's curvature `curvatures[k]` ([`torque_curvatures`]; `spline` gives the samples' basis,
+/// its knots alone). Samples whose weights all vanish are skipped.
 pub(crate) fn weighted_torque_hessian(
-    cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     grid: &[GridPoint],
-    own: &[Vec<Partials>],
+    curvatures: &[SampleCurvature],
     weights: &[Vec<f64>],
 ) -> Vec<(usize, usize, f64)> {
     grid.par_iter()
-        .zip(own)
+        .zip(curvatures)
         .zip(weights)
         .with_min_len(16)
-        .flat_map_iter(|((&(span, time, _), at), w)| sample_hessian(cat, spline, layout, (span, time), at, w))
+        .flat_map_iter(|((&(span, time, _), sample), w)| sample_hessian(spline, layout, (span, time), sample, w))
         .collect()
 }
 
 /// One sample's `Bᵀ H B` (module docs) as entries on the layout's variables.
 fn sample_hessian(
-    cat: &WholeCat,
     spline: &BSpline,
     layout: &Layout,
     (span, time): (usize, f64),
-    at: &[Partials],
+    sample: &SampleCurvature,
     w: &[f64],
 ) -> Vec<(usize, usize, f64)> {
     if w.iter().all(|&x| x == 0.0) {
@@ -72,21 +140,15 @@ fn sample_hessian(
     }
     let joints = layout.joints;
     let basis = spline.basis(span, time);
-    let [q, qd, qdd] = spline.values::<MAX_JOINTS>(&basis);
-    let (q, qd, qdd) = (&q[..joints], &qd[..joints], &qdd[..joints]);
-    let weighted = |t: &[f64]| w.iter().zip(t).map(|(w, t)| w * t).sum::<f64>();
     // H over (derivative order a, coordinate j) at index a·J + j.
     let size = 3 * joints;
     let mut h = vec![0.0; size * size];
-    // The columns along each angle, by differences of the gradients: every block's.
+    // The columns along each angle: every block's.
     for j in 0..joints {
-        let mut moved_q = q.to_vec();
-        moved_q[j] += STEP_ANGLE;
-        let moved = cat.torque_partials(&moved_q, qd, qdd);
         for b in 0..3 {
             for k in 0..joints {
-                let d: f64 = (0..joints).map(|i| w[i] * (moved[i].d[b][k] - at[i].d[b][k])).sum::<f64>();
-                h[(b * joints + k) * size + j] = d / STEP_ANGLE;
+                let d: f64 = (0..joints).map(|i| w[i] * sample.angles[((j * joints + i) * 3 + b) * joints + k]).sum();
+                h[(b * joints + k) * size + j] = d;
             }
         }
     }
@@ -106,12 +168,9 @@ fn sample_hessian(
     }
     // The rates' block: `Σ w τ` at rest in q̈ is the quadratic form `q̇ᵀ S q̇`, so `∂²/∂q̇² = 2S`
     // from its values at the unit rates and their sums (polarisation), exact.
-    let zero = vec![0.0; joints];
     let form = |a: usize, b: usize| {
-        let mut rate = zero.clone();
-        rate[a] += 1.0;
-        rate[b] += 1.0;
-        weighted(&cat.torques(q, &rate, &zero))
+        let at = (a * (a + 1) / 2 + b) * joints;
+        (0..joints).map(|i| w[i] * sample.forms[at + i]).sum::<f64>()
     };
     let diagonal: Vec<f64> = (0..joints).map(|a| form(a, a) / 4.0).collect();
     for a in 0..joints {

@@ -28,7 +28,9 @@
 //! - Newton steps on the primal-dual equations of the barrier problem ([`newton`]) with the
 //!   Lagrangian's Hessian `−Σ z_r ∇²g_r = Σ_kj (z⁺_kj − z⁻_kj) ∇²τ_kj / τ_u` (the rows
 //!   `t ∓ τ_kj/τ_u` of each sample's torques, `L = t − λᵀe − zᵀ(g − s)`), the torques' curvature
-//!   taken exactly sample by sample ([`curvature`]), regularised until positive definite. The
+//!   taken exactly sample by sample ([`curvature`]) where it was last made (made again once a
+//!   control point has moved [`CURVATURE_KEPT`] from there) and weighed with the iteration's
+//!   own multipliers, regularised until positive definite. The
 //!   flip's curvature is left out: with it (by finite differences of the flip's Jacobian, a
 //!   second a step) the spherical joint took as many iterations.
 //! - Steps kept within the slacks' bounds by the fraction to the boundary `τ = max(0.99, 1 − μ)`
@@ -56,14 +58,12 @@
 //! It solves the least peak of a cat with ideal motors released without spin and without a
 //! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the coarse
 //! solve that starts each start) and every other problem keep the trust-region loop. On the
-//! five cats of the bench it is 2 to 8 times faster than the trust region (the spherical joint
-//! 2.0–2.9 s against 11.3–12.9, the tailed cat 3.4–3.9 against 23–28, the legged cat 2.8–3.2
-//! against 8.9–10.0; 2026-12-07) and its peaks lie from 1.2 % below the trust region's (the
-//! spherical joint's, refined in 66 of its [`super::refine::INTERIOR_BUDGET`]) to 0.004 % above
-//! (README, "More motors"). It is not the default: that would move every committed whole
-//! optimum and the replays made of them; and beyond two motors it is still above 2 s (an
-//! iteration of the tailed cat's `paper` start, alone on two cores: 13 ms of curvature, 7 of
-//! trial, 2 of factorisation; scratch timing, medians of 40).
+//! five cats of the bench it is 3 to 12 times faster than the trust region (the spherical joint
+//! 0.95–1.19 s against 8.4–8.8, the tailed cat 1.51–1.58 against 18.0–18.6, the legged cat
+//! 1.08–1.13 against 6.3–6.5; 2 cores, 2026-12-07) and its peaks lie from 1.2 % below the trust
+//! region's (the spherical joint's, refined within its [`super::refine::INTERIOR_BUDGET`]) to
+//! 0.004 % above (README, "More motors"). It is not the default: that would move every committed
+//! whole optimum and the replays made of them.
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
@@ -86,6 +86,7 @@ use super::sensitivity::{chained_samples, final_orientation, grid_partials, unif
 use super::settings::{Objective, WholeError};
 use super::solution::{IterationLog, WholeStatus};
 use super::spline::BSpline;
+use curvature::SampleCurvature;
 use filter::{Current, Filter, Verdict};
 use newton::{Newton, Order, Rows};
 
@@ -112,20 +113,43 @@ const DUAL_SPREAD: f64 = 1e10;
 /// spherical joint's `cone-mirrored` start 125 iterations at one `μ`, wandering along the
 /// relative twist; at 100 it converged in 28 to the same optimum, 0.312461 N·m against 0.312518).
 const BARRIER_SOLVED: f64 = 100.0;
+/// How far any control point may move, rad, before the samples' torque curvature is made again
+/// ([`curvature::torque_curvatures`]); until then each iteration weighs the curvature it holds
+/// with its own multipliers. An inexact Hessian changes the path, not the point the method
+/// converges to (its error is measured with exact gradients). Made at every iteration, the
+/// curvature was three fifths of an iteration's time (the tailed cat's `paper` start: 13 of 22
+/// ms); kept within 0.03 rad it is made at a third of the iterations or fewer (both starts and
+/// the refinement: the spherical joint 57 of 165, the tailed cat 39 of 102, the legged cat 20 of
+/// 69; the universal joint 10 of 49), with the peaks of every cat unchanged to six digits and
+/// the iterations within three but for the spherical joint's `paper` start (67 against 77). At
+/// 0.1 rad the spherical joint's `paper` start ran out of iterations, and so it did when the
+/// curvature was kept for four iterations whatever the motion (scratch, 2026-12-07).
+const CURVATURE_KEPT: f64 = 0.03;
 /// Second-order corrections tried after a rejected first trial.
 const CORRECTIONS: usize = 4;
 /// The shortest step of a line search.
 const LEAST_STEP: f64 = 1e-10;
 
-/// The Magnus steps per span the stage integrates the flip with for the loop's `steps`: half of
-/// them, at least two. At four (the default eight halved) the flip's error `e` lies within
-/// `6·10⁻¹²` rad of its value at 64 steps and its Jacobian within `7·10⁻⁸` of its largest entry,
-/// on the optima of the universal and spherical joints and the tailed and legged cats (scratch,
-/// 2026-12-07): far below the flip's tolerance. The Newton phase after the stage
-/// ([`super::optimize_start`]) integrates with the loop's own steps, doubled until the adaptive
-/// engine agrees, and holds the flip there.
-fn stage_steps(steps: usize) -> usize {
-    steps.div_ceil(2).max(2)
+/// The longest Magnus step of the stage's flip, as a share of the fall: two steps on each of the
+/// default 117 spans.
+const STAGE_STEP: f64 = 1.0 / 234.0;
+
+/// The Magnus steps on the widest span of `spline` the stage integrates the flip with (the
+/// narrower spans get proportionally fewer, [`BSpline::by_width`]), for the loop's `steps`: the
+/// fewest that keep each step within [`STAGE_STEP`] of the fall, at least two and at most the
+/// loop's. Against 64 steps a span, at two on the default 117 spans the flip's error `e` lies
+/// within `10⁻¹¹` rad and its Jacobian within `7·10⁻⁸` of its largest entry, on both starts'
+/// optima of all five cats of `whole_methods` (the refined layouts' included), and the peaks and
+/// iterations are those of four steps; there the beyond-two-motor cats took an eighth less
+/// processor time than at four. On 37 spans (40 control points) two steps were `6·10⁻¹⁰` rad
+/// off, and the paper's cat's least peak moved by `7·10⁻⁶` of itself; there it takes seven
+/// (scratch, 2026-12-07). The Newton phase after the stage ([`super::optimize_start`])
+/// integrates with the loop's own steps, doubled until the adaptive engine agrees, and holds
+/// the flip there.
+fn stage_steps(spline: &BSpline, steps: usize) -> usize {
+    let needed = spline.widest_span() / (STAGE_STEP * spline.duration());
+    // A hair below, so that a span of exactly two steps' length takes two.
+    ((needed - 1e-9).ceil() as usize).clamp(2, steps.max(2))
 }
 
 /// One evaluated point: the unknowns, the inequality rows and the flip's equality rows.
@@ -262,23 +286,21 @@ impl Barrier<'_> {
         point.measured_in(reach.clone())
     }
 
-    /// The Lagrangian's curvature `−Σ z_r ∇²g_r` on the control points at `point` for the
-    /// multipliers `z` (the torque rows' `Σ (z⁺ − z⁻) ∇²τ / τ_u`; the limit rows are linear), as
-    /// entries ([`curvature::weighted_torque_hessian`]).
-    fn curvature(&self, point: &Point, z: &[f64]) -> Vec<(usize, usize, f64)> {
+    /// Each sample's torque curvature at `point` ([`curvature::torque_curvatures`]).
+    fn torque_curvatures(&self, point: &Point) -> Vec<SampleCurvature> {
+        let spline = self.spline(&point.x);
+        curvature::torque_curvatures(self.problem.cat, &spline, self.layout.joints, &self.grid, &point.partials)
+    }
+
+    /// The Lagrangian's curvature `−Σ z_r ∇²g_r` on the control points for the multipliers `z`
+    /// (the torque rows' `Σ (z⁺ − z⁻) ∇²τ / τ_u`; the limit rows are linear) from the samples'
+    /// `curvatures`, as entries ([`curvature::weighted_torque_hessian`]).
+    fn curvature(&self, curvatures: &[SampleCurvature], z: &[f64]) -> Vec<(usize, usize, f64)> {
         let joints = self.layout.joints;
         let weights: Vec<Vec<f64>> = (0..self.grid.len())
             .map(|k| (0..joints).map(|j| (z[2 * (k * joints + j)] - z[2 * (k * joints + j) + 1]) / self.unit).collect())
             .collect();
-        let spline = self.spline(&point.x);
-        curvature::weighted_torque_hessian(
-            self.problem.cat,
-            &spline,
-            &self.layout,
-            &self.grid,
-            &point.partials,
-            &weights,
-        )
+        curvature::weighted_torque_hessian(&self.base, &self.layout, &self.grid, curvatures, &weights)
     }
 
     /// The order of the Newton matrix's unknowns.
@@ -351,7 +373,7 @@ pub(crate) fn stage(
     let coordinates = problem.cat.control_limits(s.joint_limit_deg);
     let limits = (0..layout.variables()).map(|v| coordinates[v / layout.free()]).collect();
     let target = problem.target.unwrap_or_else(UnitQuaternion::identity);
-    let steps = stage_steps(steps);
+    let steps = stage_steps(&spline, steps);
     let barrier = Barrier { problem, layout, base: spline, grid, steps, target, unit, limits };
     let mut x = layout.values(&barrier.base);
     x.push(1.0 + FIRST_MARGIN);
@@ -379,6 +401,8 @@ fn solve(
     let mut nu = Vector3::zeros();
     let mut filter = Filter::new(violation(&p, &slacks));
     let mut regularisation = 0.0;
+    // The samples' curvature and the control points it was made at ([`CURVATURE_KEPT`]).
+    let mut held: Option<(Vec<f64>, Vec<SampleCurvature>)> = None;
     loop {
         let lambda = row_multipliers(&p.reach, &nu);
         let residual: Vec<f64> = (0..m).map(|r| p.rows.values[r] - slacks[r]).collect();
@@ -418,7 +442,12 @@ fn solve(
             filter.clear();
             continue;
         }
-        let curvature = b.curvature(&p, &z);
+        let n = b.variables();
+        let moved = |at: &[f64]| at.iter().zip(&p.x[..n]).any(|(a, x)| (a - x).abs() > CURVATURE_KEPT);
+        if held.as_ref().is_none_or(|(at, _)| moved(at)) {
+            held = Some((p.x[..n].to_vec(), b.torque_curvatures(&p)));
+        }
+        let curvature = b.curvature(&held.as_ref().expect("made above").1, &z);
         let degree = b.base.degree;
         let Some(newton) =
             Newton::factor(b.order(), degree, &curvature, &p.rows, &slacks, &z, &p.equality, regularisation)
@@ -435,7 +464,6 @@ fn solve(
         };
         let alpha_max = boundary(&slacks, &d.s);
         let alpha_z = boundary(&z, &dz);
-        let n = b.variables();
         let slope = d.x[n] - mu * (0..m).map(|r| d.s[r] / slacks[r]).sum::<f64>();
         let current = Current { theta: violation(&p, &slacks), phi: barrier_objective(&p, &slacks, mu), slope };
         let Some((alpha, next, next_slacks, verdict)) = line_search(
