@@ -145,7 +145,7 @@ pub use solution::{IterationLog, SkippedStart, WholeOutcome, WholeSolution, Whol
 pub use spline::BSpline;
 pub use starts::{build_start, build_start_spinning, NamedStart};
 
-use crate::engines::motors::RATIO_TOLERANCE;
+use crate::engines::motors::{MotorDemand, RATIO_TOLERANCE};
 use crate::model::motor::Motors;
 use crate::optimize::conic::QpSettings;
 use crate::problem::manoeuvre::Manoeuvre;
@@ -401,7 +401,7 @@ pub fn optimize_start(
         // Feasibility first: shorten the least fall time until the path fits this one.
         let (status, reason, shape, m) =
             run.solve(problem, spline, Objective::MinTime, None, Some(bound), s.max_iterations)?;
-        let least = m.motors.stretch.map_or(0.0, |k| k.value);
+        let least = stretch(&m.motors);
         if least > 1.0 + RATIO_TOLERANCE {
             let reason = if status == WholeStatus::Converged {
                 format!(
@@ -437,24 +437,22 @@ pub fn refine_solution(
     let mut bound = 1.0 - LIMIT_MARGIN;
     let mut run =
         Run { steps: s.steps_per_span, log: best.log.clone(), polish_steps: best.polish_steps, tolerance, warm: true };
-    // What each round refines: `best` (its peak and stretch as its own re-measurement found
-    // them), then the last round kept.
-    let mut incumbent = Incumbent {
-        status: best.status,
-        spline: best.spline.clone(),
-        peak: best.peak_torque_nm,
-        stretch: best.motors.stretch.map_or(0.0, |k| k.value),
-    };
-    let mut end = None;
+    let mut end: Option<FinalStage> = None;
     let mut notes = Vec::new();
     for _ in 0..s.switch_refinements {
-        let spans = if problem.spins() {
-            let (_, history) = problem.cat.spin_history(&incumbent.spline, &problem.spin, run.flip_tolerance());
-            refine::switching_spans_from(&problem.cat.exact_torques(Some(&history)), &incumbent.spline)
-        } else {
-            refine::switching_spans(problem.cat, &incumbent.spline)
+        // What this round refines: the last round kept, else `best` (its peak and stretch as its
+        // own re-measurement found them).
+        let (from, from_status, from_peak, from_stretch) = match &end {
+            Some(e) => (&e.spline, e.status, e.measurement.peak, stretch(&e.measurement.motors)),
+            None => (&best.spline, best.status, best.peak_torque_nm, stretch(&best.motors)),
         };
-        let finer = refine::refined(&incumbent.spline, &spans);
+        let spans = if problem.spins() {
+            let (_, history) = problem.cat.spin_history(from, &problem.spin, run.flip_tolerance());
+            refine::switching_spans_from(&problem.cat.exact_torques(Some(&history)), from)
+        } else {
+            refine::switching_spans(problem.cat, from)
+        };
+        let finer = refine::refined(from, &spans);
         if spans.is_empty() || finer.control_points() > WholeSettings::MAX_CONTROL_POINTS {
             break;
         }
@@ -470,8 +468,8 @@ pub fn refine_solution(
         let budget = run.log.len() + stage_budget;
         let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
         let lower = match s.objective {
-            Objective::MinTime => stretch(&next.measurement) < incumbent.stretch,
-            _ => next.measurement.peak < incumbent.peak,
+            Objective::MinTime => stretch(&next.measurement.motors) < from_stretch,
+            _ => next.measurement.peak < from_peak,
         };
         let m = &next.measurement;
         let flips = m.twist_error <= tolerance && m.flip.swing <= tolerance;
@@ -488,9 +486,9 @@ pub fn refine_solution(
                 "refined to {} spans where the torques switch (that stage stopped at its {} iterations, lower than the {} it refines)",
                 next.spline.spans(),
                 stage_budget,
-                if incumbent.status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
+                if from_status == WholeStatus::UpperBound { "upper bound" } else { "optimum" }
             )
-        } else if incumbent.status == WholeStatus::UpperBound {
+        } else if from_status == WholeStatus::UpperBound {
             // The upper bound it refines is now a converged optimum: the reader is told so.
             format!("refined to {} spans where the torques switch, where it converged", next.spline.spans())
         } else {
@@ -500,12 +498,6 @@ pub fn refine_solution(
         // stopped on its own test converged, whatever the curve it started from.
         let status =
             if next.status == WholeStatus::MaxIterations { WholeStatus::UpperBound } else { WholeStatus::Converged };
-        incumbent = Incumbent {
-            status,
-            spline: next.spline.clone(),
-            peak: next.measurement.peak,
-            stretch: stretch(&next.measurement),
-        };
         end = Some(FinalStage { status, reason: best.reason.clone(), ..next });
     }
     let Some(end) = end else {
@@ -520,16 +512,7 @@ pub fn refine_solution(
     Ok(refined)
 }
 
-/// The largest stretch of a measurement (0 with ideal motors).
-fn stretch(m: &measure::Measurement) -> f64 {
-    m.motors.stretch.map_or(0.0, |k| k.value)
-}
-
-/// What a round of [`refine_solution`] refines: the status, the spline, and the peak and the
-/// largest stretch its re-measurement found.
-struct Incumbent {
-    status: WholeStatus,
-    spline: BSpline,
-    peak: f64,
-    stretch: f64,
+/// The largest stretch of a motor demand (0 with ideal motors).
+fn stretch(demand: &MotorDemand) -> f64 {
+    demand.stretch.map_or(0.0, |k| k.value)
 }

@@ -140,7 +140,7 @@ const STAGE_STEP: f64 = 1.0 / 234.0;
 /// loop's. Against 64 steps a span, at two on the default 117 spans the flip's error `e` lies
 /// within `10⁻¹¹` rad and its Jacobian within `7·10⁻⁸` of its largest entry, on both starts'
 /// optima of all five cats of `whole_methods` (the refined layouts' included), and the peaks and
-/// iterations are those of four steps; there the beyond-two-motor cats took an eighth less
+/// iterations are those of four steps; there the five cats together took an eighth less
 /// processor time than at four. On 37 spans (40 control points) two steps were `6·10⁻¹⁰` rad
 /// off, and the paper's cat's least peak moved by `7·10⁻⁶` of itself; there it takes seven
 /// (scratch, 2026-12-07). The Newton phase after the stage ([`super::optimize_start`])
