@@ -7,8 +7,8 @@
 //! paper's halves on the universal, no-twist and spherical joints, and Kane and Scher's cat with
 //! the tail of `problems/tail.toml` and the legs of `problems/legs.toml`, every default start (as
 //! `compare-models` runs each row, without its verification), by each method of the peak's stage
-//! (`optimize.whole.method`: the trust region's ids are the cat's name, the interior point's
-//! `interior-point/<cat>`).
+//! (`optimize.whole.method`: the ids are `<method>/<cat>`; the default, `auto`, is the interior point
+//! beyond two motors and the trust region on two).
 //!
 //! `cargo bench --bench whole`; one size: `cargo bench --bench whole -- 'whole/peak/120'`; the
 //! models: `cargo bench --bench whole -- whole/models` (several minutes: ten solves of each, by each method).
@@ -136,11 +136,7 @@ fn models(c: &mut Criterion) {
     group.sampling_mode(SamplingMode::Flat).sample_size(10).warm_up_time(Duration::from_secs(1));
     for method in [Method::TrustRegion, Method::InteriorPoint] {
         for (name, cat, p) in &cases {
-            // The trust region's ids as before this choice existed, so that its history compares.
-            let id = match method {
-                Method::TrustRegion => name.to_string(),
-                _ => format!("{}/{name}", method.name()),
-            };
+            let id = format!("{}/{name}", method.name());
             let settings = WholeSettings { method, ..p.optimize.whole.clone() };
             group.bench_with_input(BenchmarkId::from_parameter(id), cat, |b, cat| {
                 b.iter(|| {

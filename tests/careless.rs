@@ -508,9 +508,11 @@ fn bench_warns_of_a_careless_problem_as_every_command_does() {
     assert!(!std::path::Path::new(&out).exists(), "a refused bench wrote {out}");
 }
 
-/// The interior-point method asked for where it does not plan (a bend limit, motor limits, the
-/// effort) is warned of, naming what keeps the trust-region loop; asked for on the least peak with
-/// ideal motors, or beyond two motors within one torque limit, it is not. An unknown method is refused naming the field and the two it knows.
+/// The interior-point method asked for by name where it does not plan (a bend limit, motor
+/// limits, the effort) is warned of, naming what keeps the trust-region loop; asked for on the
+/// least peak with ideal motors, or beyond two motors within one torque limit, it is not; as the
+/// default, not asked for, it is not either. An unknown method is refused naming the field and
+/// the two it knows.
 #[test]
 fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     let paper = std::path::Path::new("problems/paper.toml");
@@ -523,6 +525,8 @@ fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     assert_eq!(said(&[]), None, "the least peak with ideal motors is the interior point's");
     let bend = said(&["optimize.whole.min_angle_deg=120"]).expect("a bend limit is warned of");
     assert!(bend.contains("optimize.whole.min_angle_deg") && bend.contains("trust-region loop"), "{bend}");
+    let default = Problem::load(paper, &["optimize.whole.min_angle_deg=120".into()]).expect("loads").warnings();
+    assert!(!default.iter().any(|w| w.starts_with("optimize.whole.method")), "the default: {default:?}");
     let both = said(&["actuator.torque_limit_nm=1", "optimize.whole.objective=\"energy\""]).expect("warned of");
     assert!(both.contains("[actuator]") && both.contains("objective = \"energy\""), "{both}");
     // Beyond two motors one torque limit on every motor is planned as the least peak with ideal

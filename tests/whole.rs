@@ -161,10 +161,11 @@ fn spherical_joint_derivatives_match_central_differences_and_the_general_core() 
 /// exactly when the last of those stages stopped at its budget, as its reason says) is a flip that the
 /// general core's adaptive engine confirms here on its own, its peak is the largest of the three
 /// motors' torques (sampled here densely, independently of the optimiser's peak search) and
-/// below the universal joint's least peak on the same halves (measured: 0.318143 against
-/// 0.320227 N·m; the spherical joint holds every motion of the universal joint, and the lifted
-/// start is refined as that optimum is), and the third motor is used: the halves twist relative
-/// to each other.
+/// below the universal joint's least peak on the same halves (the default method, `auto`: the
+/// interior point on three motors, the trust region on two; measured 0.308073 against 0.320227
+/// N·m, and by the trust region on both 0.318143; the spherical joint holds every motion of the
+/// universal joint, and the lifted start is refined as that optimum is), and the third motor is
+/// used: the halves twist relative to each other.
 #[test]
 fn the_spherical_joint_plans_its_three_motors_to_an_exact_flip() {
     let settings = WholeSettings { control_points: 40, ..WholeSettings::default() };

@@ -403,13 +403,14 @@ impl Problem {
         out
     }
 
-    /// The interior-point method asked for where the trust-region loop plans instead: it solves
+    /// The interior-point method asked for by name where the trust-region loop plans instead
+    /// (`auto` says nothing where it does not apply): it solves
     /// the least peak with ideal motors, without spin and without a bend limit (and so a cat of
     /// more than two motors within one torque limit on every motor, planned as that least peak
     /// and then slowed, whatever its objective).
     fn method_warning(&self) -> Option<String> {
         let w = &self.optimize.whole;
-        if !w.method.interior_point() {
+        if w.method != whole::Method::InteriorPoint {
             return None;
         }
         let motors = self.actuator.motors();

@@ -58,9 +58,13 @@ impl StartKind {
 }
 
 /// The method of the least-peak stage.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
+    /// The interior point beyond two motors and the trust region on two: each where it planned
+    /// lower or as low, and faster (README, "More motors").
+    #[default]
+    Auto,
     /// Successive convexification in a trust region, Clarabel's subproblems.
     TrustRegion,
     /// The primal-dual interior-point method with the torques' exact curvature, wherever it
@@ -72,14 +76,20 @@ impl Method {
     /// The kebab-case name used in problem files.
     pub fn name(self) -> &'static str {
         match self {
+            Method::Auto => "auto",
             Method::TrustRegion => "trust-region",
             Method::InteriorPoint => "interior-point",
         }
     }
 
-    /// Whether the least peak is the interior-point method's (where it applies).
-    pub fn interior_point(self) -> bool {
-        self == Method::InteriorPoint
+    /// Whether the least peak of a cat of `motors` motors is the interior-point method's (where
+    /// it applies).
+    pub fn interior_point(self, motors: usize) -> bool {
+        match self {
+            Method::Auto => motors > 2,
+            Method::TrustRegion => false,
+            Method::InteriorPoint => true,
+        }
     }
 }
 
@@ -143,7 +153,7 @@ impl Default for WholeSettings {
     fn default() -> Self {
         Self {
             objective: Objective::Peak,
-            method: Method::TrustRegion,
+            method: Method::Auto,
             min_angle_deg: None,
             joint_limit_deg: None,
             control_points: 120,

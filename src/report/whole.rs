@@ -30,7 +30,7 @@ impl WholeReport {
             s,
             "Both joint trajectories over the whole fall (clamped cubic B-splines), optimised by successive convexification with Clarabel subproblems{}; the flip R(T) = Rz(π) is a constraint, and every number below is re-measured by the exact engine on the final trajectory.\n",
             if interior {
-                " and the least peak by a primal-dual interior-point method with the torques' exact curvature (`optimize.whole.method = \"interior-point\"`)"
+                " and the least peak by a primal-dual interior-point method with the torques' exact curvature (`optimize.whole.method`)"
             } else {
                 ""
             }

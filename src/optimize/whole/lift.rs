@@ -27,18 +27,20 @@
 //! reason says that its value is an upper bound on the spherical joint's least peak. Each lifted
 //! solution's time, iterations and log count its universal solve (the start it lifts) too.
 //!
-//! The lifted starts serve the trust region's crawl. Where the least peak is the interior-point
-//! method's (`optimize.whole.method = "interior-point"`, ideal motors) the spherical joint is
-//! planned from the library starts alone (a skipped start says so): its `cone-mirrored` start
-//! reaches 0.312451 N·m in 60 iterations (its coarse energy solve's 10 among them), and 0.308286
-//! refined in 66 more (`cargo run --release --example whole_methods`, 2026-12-07), 1.2 % below
-//! the trust region's best of the four starts; measured before the barrier was lowered by
-//! tenths, the lifted start had reached 0.312436 after 164 interior-point iterations besides its
-//! universal solve, the `cone-mirrored` one 0.312460 after 30 (scratch).
+//! Where the least peak is the interior-point method's (ideal motors; `optimize.whole.method`
+//! `auto` beyond two motors), the universal joint is solved by that method too, and only its
+//! refined optimum is lifted (on its budget [`refine::INTERIOR_BUDGET`]; the unrefined one is a
+//! skipped start that says why). From the library starts alone the spherical joint ended above
+//! the universal joint at 40 control points (0.321760 against 0.320226 N·m); with the refined
+//! lift it ends at 0.308073 there, and at 0.306843 on the default 120 (against 0.308286 from the
+//! library starts, 0.5 % above an independent collocation's 0.3054), 1.55 s in all on 2 cores;
+//! lifting the unrefined optimum too reached 0.312505 from it and took 2.0 s
+//! (`cargo run --release --example spherical_starts`, 2026-12-07).
 //!
-//! Measured (`cargo run --release --example spherical_starts`, which prints every start; 2 cores,
-//! 2026-12-06): on the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the
-//! universal optimum lifted (0.318346 on the uniform knots) 1.262 % below it after its 200
+//! Measured by the trust region (`cargo run --release --example spherical_starts` with
+//! `optimize.whole.method = "trust-region"`, which prints every start; 2 cores, 2026-12-06): on
+//! the paper's cat the library starts end at 0.318285 and 0.317192 N·m, the universal optimum
+//! lifted (0.318346 on the uniform knots) 1.262 % below it after its 200
 //! iterations and at 0.311945 refined (1.4 % below the universal joint's 0.316452; an
 //! independent collocation finds 0.3054), the refined one lifted at 0.316165 after its 25;
 //! 8.4 s in all. On 40 control points (`--set optimize.whole.control_points=40`) the refined
@@ -52,7 +54,7 @@
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::settings::{Objective, WholeError, WholeSettings};
+use super::settings::{Method, Objective, WholeError, WholeSettings};
 use super::solution::{valued, SkippedStart, WholeOutcome, WholeSolution, WholeStatus};
 use super::spline::BSpline;
 use super::starts::NamedStart;
@@ -105,16 +107,9 @@ pub(super) fn optimize_spherical(plan: &Plan<'_>) -> Result<WholeOutcome, WholeE
         return held;
     }
     // The library starts (the no-twist joint's, the twist held at zero) beside the universal
-    // joint's optimum, lifted: the one goes further on some cats, the other on others. The
-    // lifted starts serve the trust region's crawl: the interior-point method's least peak
-    // plans from the library's alone (the module's docs).
+    // joint's optimum, lifted: the one goes further on some cats, the other on others.
     let problem = problem_of(cat, settings, motors);
-    let (library, lifted) = if interior::applies(&problem, settings.objective, None, None) {
-        let reason = "the interior-point method plans the least peak from the library starts alone".to_string();
-        (library_solutions(plan), Ok((Vec::new(), vec![SkippedStart { start: "universal optimum".into(), reason }])))
-    } else {
-        rayon::join(|| library_solutions(plan), || lifted_solutions(plan))
-    };
+    let (library, lifted) = rayon::join(|| library_solutions(plan), || lifted_solutions(plan));
     let (mut solutions, mut skipped) = library?;
     let (more, more_skipped) = lifted?;
     solutions.extend(more);
@@ -141,7 +136,11 @@ fn library_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<Skipped
 fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedStart>), WholeError> {
     let (cat, settings, motors, tolerance) = (plan.cat, plan.settings, plan.motors, plan.tolerance);
     let universal = WholeCat::new(Cat { joint: Joint::Universal, ..cat.cat() })?;
-    let unrefined = WholeSettings { switch_refinements: 0, ..settings.clone() };
+    // The universal joint is solved by the spherical joint's method (`auto` chooses by motors).
+    let interior_point = interior::applies(&problem_of(cat, settings, motors), settings.objective, None, None);
+    let method = if interior_point { Method::InteriorPoint } else { Method::TrustRegion };
+    let on_two = WholeSettings { method, ..settings.clone() };
+    let unrefined = WholeSettings { switch_refinements: 0, ..on_two.clone() };
     let sub = match optimize_whole(&universal, plan.duration, plan.manoeuvre, &unrefined, motors, tolerance) {
         Ok(sub) => sub,
         // The library starts do not need it: a start that could not be tried, said so.
@@ -150,7 +149,16 @@ fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedS
             return Ok((Vec::new(), vec![SkippedStart { start: "universal optimum".into(), reason }]));
         }
     };
-    let (froms, mut skipped) = lifted_optima(&sub, settings.objective);
+    let (mut froms, mut skipped) = lifted_optima(&sub, settings.objective);
+    let refined = refined_best(&universal, &sub, &on_two, motors, tolerance)?;
+    // The interior point lifts the refined optimum alone where there is one: on the paper's cat
+    // it ends lower from there than from the unrefined one, whose solve cost 0.4 s more in all
+    // (module docs).
+    if interior_point && refined.is_some() {
+        let reason =
+            "not lifted: the interior-point method lifts the universal optimum refined where its torques switch";
+        skipped.extend(froms.drain(..).map(|f| SkippedStart { start: lifted_name(f), reason: reason.to_string() }));
+    }
     // Each start: the universal solution it lifts, its name, its own settings (the layout of
     // its knots, the budget and optimality of its solve) and whether it is the refined optimum.
     let layout = |from: &WholeSolution| WholeSettings {
@@ -162,10 +170,10 @@ fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedS
     };
     let mut starts: Vec<(WholeSolution, String, WholeSettings, bool)> =
         froms.iter().map(|&f| (f.clone(), lifted_name(f), layout(f), false)).collect();
-    if let Some(refined) = refined_best(&universal, &sub, settings, motors, tolerance)? {
+    if let Some(refined) = refined {
         let name = format!("{}, refined", lifted_name(&refined));
         let own = WholeSettings {
-            max_iterations: refine::BUDGET,
+            max_iterations: if interior_point { refine::INTERIOR_BUDGET } else { refine::BUDGET },
             optimality: settings.optimality.max(refine::OPTIMALITY),
             ..layout(&refined)
         };

@@ -68,9 +68,10 @@
 //! `min-time` the best start (converged, or an upper bound: [`WholeStatus::UpperBound`]) is then
 //! refined where its torques switch and solved again from the same curve ([`refine_solution`]).
 //! Several starts ([`starts`]); the best such flip is kept, and every start's outcome is
-//! reported. With `method = "interior-point"` the least-peak stage (ideal motors, no spin, no
-//! bend limit) is a primal-dual interior-point method with the torques' exact curvature
-//! instead (`interior`), on the same spline and samples; the energy's stages stay the loop's.
+//! reported. With `method = "interior-point"`, and by default (`"auto"`) on a cat of more than
+//! two motors, the least-peak stage (ideal motors, no spin, no bend limit) is a primal-dual
+//! interior-point method with the torques' exact curvature instead (`interior`), on the same
+//! spline and samples; the energy's stages stay the loop's.
 //!
 //! ## Motor limits (DESIGN.md §9)
 //! With `[actuator]` limits ([`crate::model::motor`]) each torque sample gives linearised rows of

@@ -56,14 +56,16 @@
 //! the trust-region loop ([`super::optimize_start`]) follow as for every stage.
 //!
 //! It solves the least peak of a cat with ideal motors released without spin and without a
-//! bend limit, when `optimize.whole.method = "interior-point"`; the energy's stages (the coarse
-//! solve that starts each start) and every other problem keep the trust-region loop. On the
-//! five cats of the bench it is 3 to 12 times faster than the trust region (the spherical joint
-//! 0.95–1.19 s against 8.4–8.8, the tailed cat 1.51–1.58 against 18.0–18.6, the legged cat
-//! 1.08–1.13 against 6.3–6.5; 2 cores, 2026-12-07) and its peaks lie from 1.2 % below the trust
-//! region's (the spherical joint's, refined within its [`super::refine::INTERIOR_BUDGET`]) to
-//! 0.004 % above (README, "More motors"). It is not the default: that would move every committed
-//! whole optimum and the replays made of them.
+//! bend limit, when `optimize.whole.method = "interior-point"`, or `"auto"` (the default) on a
+//! cat of more than two motors; the energy's stages (the coarse solve that starts each start)
+//! and every other problem keep the trust-region loop. On the five cats of the bench it is 3 to
+//! 11 times faster than the trust region (the spherical joint 1.57–1.59 s against 8.4, the tailed
+//! cat 1.51–1.58 against 17.5–18.6, the legged cat 1.08–1.13 against 6.3–6.5; 2 cores,
+//! 2026-12-07) and its peaks lie from 1.6 % below the trust region's (the spherical joint's, from
+//! the refined universal optimum lifted, [`super::lift`]) to 0.004 % above (README, "More
+//! motors"). On two motors `auto` keeps the trust region: there the interior point's refinement
+//! of unequal halves cycles at its last barrier and stops at its budget, 0.3 % above the trust
+//! region's optimum.
 //!
 //! ## References
 //! - A. Wächter, L. T. Biegler, *On the implementation of an interior-point filter line-search
@@ -351,7 +353,7 @@ pub(crate) fn applies(
         && !problem.spins()
         && problem.target.is_some()
         && s.min_angle_deg.is_none()
-        && s.method.interior_point()
+        && s.method.interior_point(problem.cat.joints())
 }
 
 /// The least-peak stage from `spline` (module docs) until the log holds `budget` entries;

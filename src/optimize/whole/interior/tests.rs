@@ -126,9 +126,10 @@ fn the_interior_point_least_peak_flips_the_paper_cat_near_the_trust_regions() {
 
 /// Where the interior-point method plans the least peak, its stage starts from the start itself
 /// (no energy homotopy: with no coarse solve the log holds no energy iteration), the spherical
-/// joint is planned from the library starts alone (no lifted universal optimum) and its
-/// refinement is kept within the interior point's budget, and a refinement (the paper's cat's)
-/// starts at the smaller barrier of a stage that starts at an optimum.
+/// joint is planned from the library starts and from the universal joint's optimum refined and
+/// lifted (not the unrefined one), and ends below the universal joint's least peak, and a
+/// refinement (the paper's cat's) starts at the smaller barrier of a stage that starts at an
+/// optimum.
 #[test]
 fn the_interior_point_plans_from_the_starts_and_refines_warm() {
     let settings = WholeSettings {
@@ -144,14 +145,16 @@ fn the_interior_point_plans_from_the_starts_and_refines_warm() {
     };
     let spherical = solve(&WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("a spherical cat"));
     let names: Vec<&str> = spherical.solutions.iter().map(|s| s.start.as_str()).collect();
-    assert_eq!(names, ["paper", "cone-mirrored"], "the library starts alone");
-    assert!(spherical.skipped.iter().any(|s| s.start == "universal optimum"), "{:?}", spherical.skipped);
-    // Its refinement wanders above the optimum it refines before it comes down: within the
-    // trust region's 25 iterations it was not kept (2026-12-07), within the interior point's
-    // budget it is, lower.
-    let refined = &spherical.solutions[spherical.best.expect("a best start")];
-    assert!(refined.reason.contains("refined to"), "the spherical joint's refinement kept: {}", refined.reason);
+    assert_eq!(names[..2], ["paper", "cone-mirrored"], "the library starts first: {names:?}");
+    assert!(
+        names.len() == 3 && names[2].starts_with("universal optimum from ") && names[2].ends_with(", refined"),
+        "the refined universal optimum lifted, alone: {names:?}"
+    );
+    let unrefined = spherical.skipped.iter().any(|s| s.reason.contains("lifts the universal optimum refined"));
+    assert!(unrefined, "the unrefined optimum not lifted, said so: {:?}", spherical.skipped);
     let paper = solve(&WholeCat::new(Cat::equal(HALF, Joint::Universal)).expect("the paper's cat"));
+    let least = |o: &super::super::WholeOutcome| o.best().expect("a best start").peak_torque_nm;
+    assert!(least(&spherical) < least(&paper), "spherical {}, universal {}", least(&spherical), least(&paper));
     for s in spherical.solutions.iter().chain(&paper.solutions) {
         let interior = !s.log.is_empty() && s.log.iter().all(|l| l.objective == Objective::Peak && l.barrier.is_some());
         assert!(interior, "{}: every iteration the interior point's peak stage: {:?}", s.start, s.log);
@@ -164,4 +167,26 @@ fn the_interior_point_plans_from_the_starts_and_refines_warm() {
     let firsts: Vec<f64> =
         (0..barriers.len()).filter(|&i| i == 0 || barriers[i] > barriers[i - 1]).map(|i| barriers[i]).collect();
     assert_eq!(firsts, [super::FIRST_BARRIER, super::WARM_BARRIER], "{barriers:?}");
+}
+
+/// The default method, `auto`, plans the least peak by the interior point beyond two motors (a
+/// barrier in every peak iteration's log, the lifted universal solve's too) and by the trust
+/// region on two (no barrier anywhere): the choice README's "More motors" measures.
+#[test]
+fn the_default_method_is_the_interior_point_beyond_two_motors_only() {
+    let settings = WholeSettings { control_points: 30, ..WholeSettings::default() };
+    assert_eq!(settings.method, Method::Auto);
+    let solve = |cat: &WholeCat| {
+        optimize_whole(cat, fall(), &Manoeuvre::default(), &settings, &Motors::ideal(), 1e-8)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let peak_barriers = |o: &super::super::WholeOutcome| -> Vec<bool> {
+        let logs = o.solutions.iter().flat_map(|s| &s.log);
+        logs.filter(|l| l.objective == Objective::Peak).map(|l| l.barrier.is_some()).collect()
+    };
+    let two = peak_barriers(&solve(&WholeCat::new(Cat::equal(HALF, Joint::Universal)).expect("two motors")));
+    assert!(!two.is_empty() && two.iter().all(|b| !b), "two motors: the trust region's log");
+    let three = WholeCat::spherical(Cat::equal(HALF, Joint::Spherical)).expect("three motors");
+    let three = peak_barriers(&solve(&three));
+    assert!(!three.is_empty() && three.iter().all(|&b| b), "three motors: the interior point's log");
 }
