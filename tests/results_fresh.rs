@@ -281,6 +281,10 @@ fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
     let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
     let (rapier, exact): (Vec<_>, Vec<_>) = rows.iter().partition(|r| r[col("engine")] == "rapier");
     assert!(!rapier.is_empty() && rapier.len() == exact.len(), "{} rapier rows, {} exact", rapier.len(), exact.len());
+    // The whole optimum's two rows beside the schedules': the same verdict, no circulation.
+    let whole = |r: &[String]| r[col("schedule")] == "whole-optimum";
+    let wholes = |rows: &[&Vec<String>]| rows.iter().filter(|r| whole(&r[..])).count();
+    assert_eq!((wholes(&rapier), wholes(&exact)), (1, 1), "{rows:?}");
     for r in &rapier {
         assert_eq!(r[col("verdict")], "inconclusive", "{r:?}");
         let reason = &r[col("verdict_reason")];
@@ -288,14 +292,15 @@ fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
         for empty in ["twist_deg", "swing_deg", "max_nm", "momentum_max", "dt_s", "tracking1_rad"] {
             assert!(r[col(empty)].is_empty(), "{empty} of {r:?}");
         }
-        assert!(!r[col("circulation_rad")].is_empty(), "{r:?}");
+        assert_eq!(r[col("circulation_rad")].is_empty(), whole(&r[..]), "{r:?}");
     }
     assert!(exact.iter().all(|r| !r[col("twist_deg")].is_empty() && r[col("verdict")].is_empty()));
+    assert!(exact.iter().all(|r| r[col("max_nm")].parse::<f64>().is_ok()), "every exact row has its peak");
     // The Markdown row of each schedule: the exact engine's numbers, — for rapier's, the verdict.
     let md = read("verification.md");
     let schedule_rows: Vec<&str> =
         md.lines().filter(|l| l.starts_with("| ") && l.contains("inconclusive: 0 of the 3 runs")).collect();
-    assert_eq!(schedule_rows.len(), rapier.len() + 1, "the schedules and the whole optimum:\n{md}");
+    assert_eq!(schedule_rows.len(), rapier.len(), "the schedules and the whole optimum, as in the CSV:\n{md}");
     for l in &schedule_rows {
         let cells: Vec<&str> = l.split(" | ").collect();
         assert!(cells[1].parse::<f64>().is_ok() && cells[2] == "—" && cells[3] == "—", "{l}");
@@ -303,14 +308,14 @@ fn a_run_without_rapier_results_completes_with_inconclusive_rows() {
     // simulate_rapier.json: null numbers beside the verdict and its reason.
     let json: serde_json::Value = serde_json::from_str(&read("simulate_rapier.json")).expect("JSON");
     let entries = json.as_array().expect("a list");
-    assert_eq!(entries.len(), rapier.len());
+    assert_eq!(entries.len(), rapier.len() - 1, "the schedules'");
     for e in entries {
         assert!(e["engine"] == "rapier" && e["verdict"] == "inconclusive", "{e}");
         assert!(e["twist_deg"].is_null() && e["peak_torque_nm"].is_null(), "{e}");
         assert!(e["reason"].as_str().is_some_and(|r| r.starts_with("inconclusive: ")), "{e}");
     }
     // The report's summary counts them; the terminal's table says so on every row.
-    let n = rapier.len();
+    let n = rapier.len() - 1; // the schedules (the report counts the whole optimum on its own line)
     let report = read("report.md");
     let counted = format!("0 verified, 0 not verified, {n} inconclusive");
     assert!(report.contains(&counted), "{report}");
