@@ -1,9 +1,10 @@
 //! Every start of the spherical joint's whole optimum on the problem's halves (issue 22): the
 //! library starts (the no-twist joint's, the relative twist held at zero) and the universal
 //! joint's optimum lifted onto the spherical joint's coordinates, as found and refined
-//! (`optimize::whole::lift`; by the trust region, `--set optimize.whole.method="trust-region"`:
-//! the default interior-point method does not try the lifted optimum, and its skipped start says
-//! why), each with how it ended, and the starts not tried with why.
+//! (`optimize::whole::lift`: by the default method, the interior point on three motors, the
+//! refined universal optimum alone, the unrefined one a skipped start that says why; by the trust
+//! region, `--set optimize.whole.method='"trust-region"'`, both), each with how it ended, and the
+//! starts not tried with why.
 //! `compare-models` reports the best of them only.
 //!
 //! `cargo run --release --example spherical_starts [PROBLEM.toml] [--set KEY=VALUE ...]`

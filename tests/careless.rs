@@ -512,7 +512,7 @@ fn bench_warns_of_a_careless_problem_as_every_command_does() {
 /// limits, the effort) is warned of, naming what keeps the trust-region loop; asked for on the
 /// least peak with ideal motors, or beyond two motors within one torque limit, it is not; as the
 /// default, not asked for, it is not either. An unknown method is refused naming the field and
-/// the two it knows.
+/// the three it knows.
 #[test]
 fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     let paper = std::path::Path::new("problems/paper.toml");
@@ -540,6 +540,7 @@ fn the_interior_point_method_where_it_does_not_plan_is_warned_of() {
     let unknown = Problem::load(paper, &["optimize.whole.method=\"ipm\"".into()]).expect_err("refused").to_string();
     assert!(
         unknown.contains("optimize.whole.method")
+            && unknown.contains("auto")
             && unknown.contains("trust-region")
             && unknown.contains("interior-point"),
         "{unknown}"

@@ -61,8 +61,10 @@ impl StartKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
-    /// The interior point beyond two motors and the trust region on two: each where it planned
-    /// lower or as low, and faster (README, "More motors").
+    /// The interior point beyond two motors, where it is 5 to 11 times faster and ends lower, or
+    /// converged where the trust region stops at its budget; the trust region on two, where it is
+    /// within 2 s and the interior point's refinement can cycle (unequal halves; README, "More
+    /// motors").
     #[default]
     Auto,
     /// Successive convexification in a trust region, Clarabel's subproblems.
