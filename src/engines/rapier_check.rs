@@ -15,7 +15,7 @@
 
 use serde::Serialize;
 
-use crate::engines::exact::Flip;
+use crate::engines::evaluate::Evaluation;
 use crate::engines::models::TwoMotorCat;
 use crate::engines::rapier::{
     JumpTorque, Quantity, RapierError, RapierOptions, RapierRun, Reference, Status, Verification,
@@ -100,17 +100,19 @@ pub struct EngineFigures {
 }
 
 impl EngineFigures {
-    /// The exact engine's figures: its flip, the momentum residual and the two sides' torque gap.
-    pub fn exact(flip: &Flip, momentum_max: f64, action_reaction_gap_nm: f64, run_time_s: f64) -> Self {
+    /// The exact engine's figures of its evaluation `e`: its flip, the momentum residual, the two
+    /// sides' torque gap and the run time.
+    pub fn exact(e: &Evaluation) -> Self {
+        let flip = &e.flip;
         Self {
             twist_deg: flip.twist.to_degrees(),
             swing_deg: flip.swing.to_degrees(),
-            momentum_max,
+            momentum_max: e.momentum_max,
             steps: flip.steps_per_phase,
             error_estimate_rad: Some(flip.error_estimate),
             converged: Some(flip.converged),
-            action_reaction_gap_nm: Some(action_reaction_gap_nm),
-            run_time_s,
+            action_reaction_gap_nm: Some(e.peaks.action_reaction_gap),
+            run_time_s: e.run_time_s,
             check: RapierCheck::default(),
         }
     }

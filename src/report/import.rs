@@ -129,7 +129,7 @@ impl ImportReport {
             velocity_jumps_unchecked: m.unchecked.clone(),
             motors: MotorReport::new(&e.motors),
             warnings: m.warnings.clone(),
-            figures: EngineFigures::exact(&e.flip, e.momentum_max, e.peaks.action_reaction_gap, e.run_time_s),
+            figures: EngineFigures::exact(e),
         }
     }
 

@@ -88,7 +88,7 @@ impl SimulationReport {
             peak_torque_nm: e.phase_peaks(),
             velocity_jumps: e.jumps.clone(),
             motors: MotorReport::new(&e.motors),
-            figures: EngineFigures::exact(&e.flip, e.momentum_max, e.peaks.action_reaction_gap, e.run_time_s),
+            figures: EngineFigures::exact(e),
         }
     }
 

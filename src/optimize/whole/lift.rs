@@ -173,7 +173,7 @@ fn lifted_solutions(plan: &Plan<'_>) -> Result<(Vec<WholeSolution>, Vec<SkippedS
     if let Some(refined) = refined {
         let name = format!("{}, refined", lifted_name(&refined));
         let own = WholeSettings {
-            max_iterations: if interior_point { refine::INTERIOR_BUDGET } else { refine::BUDGET },
+            max_iterations: refine::budget(interior_point),
             optimality: settings.optimality.max(refine::OPTIMALITY),
             ..layout(&refined)
         };

@@ -464,8 +464,7 @@ pub fn refine_solution(
             ..s.clone()
         };
         let fine = ScvxProblem { settings: &settings, ..problem.clone() };
-        let stage_budget =
-            if interior::applies(&fine, s.objective, None, None) { refine::INTERIOR_BUDGET } else { refine::BUDGET };
+        let stage_budget = refine::budget(interior::applies(&fine, s.objective, None, None));
         let budget = run.log.len() + stage_budget;
         let next = run.final_stage(&fine, finer, constrained, &mut bound, budget)?;
         let lower = match s.objective {

@@ -48,6 +48,16 @@ pub const BUDGET: usize = 25;
 /// above the optimum it refines and was not kept; converged, 0.308286 N·m against 0.312451).
 pub const INTERIOR_BUDGET: usize = 100;
 
+/// The budget of a refined solve: the interior point's ([`INTERIOR_BUDGET`]) where its method
+/// plans the stage, the trust region's ([`BUDGET`]) elsewhere.
+pub fn budget(interior_point: bool) -> usize {
+    if interior_point {
+        INTERIOR_BUDGET
+    } else {
+        BUDGET
+    }
+}
+
 /// Torque samples per span of the switch search, ends included.
 const SAMPLES: usize = 8;
 

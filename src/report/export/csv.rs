@@ -64,7 +64,7 @@ fn verification_csv(problem: &str, rows: &[Shown], whole: Option<&Measured<BSpli
     if let Some(m) = whole {
         let name = m.name.to_string();
         let e = &m.exact;
-        let figures = EngineFigures::exact(&e.flip, e.momentum_max, e.peaks.action_reaction_gap, e.run_time_s);
+        let figures = EngineFigures::exact(e);
         let exact = Numbers { figures: &figures, peaks: one_piece(e.peak()) };
         all.push((name.clone(), Engine::Exact, fields(problem, &name, Engine::Exact, None, Ok(exact))));
         if let Some(outcome) = &m.rapier {
